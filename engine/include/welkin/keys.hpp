@@ -1,0 +1,47 @@
+// The engine's well-known SkyVars keys. Elements add their own beside their class.
+//
+//   vars.set(welkin::keys::observerLatitude, glm::radians(35.9));
+//   glm::dvec3 sun = vars.get(welkin::keys::sunDirection);   // unit vector, world ENU frame
+//
+// World frame: a local East-North-Up frame at the observer (x = east, y = north, z = up).
+// Azimuth is measured from north through east; altitude from the horizon, up positive.
+#pragma once
+#include <welkin/vars.hpp>
+
+#include <numbers>
+
+namespace welkin::keys {
+
+inline constexpr double kPi = std::numbers::pi;
+
+// --- Time and observer (written by SkyProcessor from its Observer and UtcInstant) ---------------
+/// Julian date on the UTC scale as (day, fraction), days.
+inline const Key<glm::dvec2> timeJdUtc{"time.jd_utc", "Julian date (UTC) as day + fraction, days"};
+/// The instant in ISO 8601 UTC.
+inline const Key<std::string> timeIso{"time.iso", "instant, ISO 8601 UTC"};
+/// Geodetic latitude, radians, [-pi/2, pi/2] (north positive).
+inline const Key<double> observerLatitude{"observer.latitude_rad", Range{-kPi / 2, kPi / 2}, "geodetic latitude, rad"};
+/// Longitude, radians, [-pi, pi] (east positive).
+inline const Key<double> observerLongitude{"observer.longitude_rad", Range{-kPi, kPi}, "longitude east positive, rad"};
+/// Height above the WGS84 ellipsoid, metres, [-1e4, 1e9].
+inline const Key<double> observerHeight{"observer.height_m", Range{-1e4, 1e9}, "height above the ellipsoid, m"};
+
+// --- Light sources (written by the processor's astronomy step) ---------------------------------
+/// Unit vector towards the Sun's centre (topocentric, refracted), world ENU frame.
+inline const Key<glm::dvec3> sunDirection{"sun.direction", Range{-1, 1}, "unit vector to the Sun, ENU"};
+/// Unit vector towards the Moon's centre (topocentric, refracted), world ENU frame.
+inline const Key<glm::dvec3> moonDirection{"moon.direction", Range{-1, 1}, "unit vector to the Moon, ENU"};
+
+// --- Rendering --------------------------------------------------------------------------------
+/// Quality preset: 0 low, 1 medium (default), 2 high, 3 reference.
+inline const Key<int> quality{"render.quality", Range{0, 3}, "quality preset: 0 low, 1 medium, 2 high, 3 reference"};
+/// Manual exposure, EV100, [-20, 30] (used when exposureAuto is false).
+inline const Key<double> exposureEv100{"exposure.ev100", Range{-20, 30}, "exposure value at ISO 100"};
+/// Automatic exposure from the scene's log-average luminance.
+inline const Key<bool> exposureAuto{"exposure.auto", "automatic exposure from log-average luminance"};
+
+// --- Planet ------------------------------------------------------------------------------------
+/// Mean planet radius used for rendering, metres.
+inline const Key<double> planetRadius{"planet.radius_m", Range{1e3, 1e9}, "planet radius, m"};
+
+}  // namespace welkin::keys

@@ -1,0 +1,237 @@
+// SkyVars: the scene's shared, typed key/value registry.
+//
+//   inline const welkin::Key<double> kTurbidity{"sky.turbidity", {1.0, 10.0}, "Linke turbidity (1)"};
+//   welkin::SkyVars vars = welkin::SkyVars::earth();
+//   vars.declare(kTurbidity, 2.0);        // a second element declaring it shares the same value
+//   vars.set(kTurbidity, 3.0);            // validated against [1, 10]; bumps the version
+//   double t = vars.get(kTurbidity);      // unset or wrong-typed reads throw, naming the key
+//   uint64_t v = vars.version(kTurbidity);
+//
+// Keys are typed (Key<T>); values are one of: bool, int, double, glm::dvec2/3/4, glm::dmat3/4,
+// std::string, TextureRef (a non-owning GL texture handle) or std::shared_ptr<U> (a shared
+// object such as a generator instance). Every value carries a version, bumped whenever set()
+// changes it (setting an equal value leaves the version alone): generators compare versions to
+// decide whether they must run again.
+#pragma once
+#include <welkin/error.hpp>
+
+#include <glm/glm.hpp>
+
+#include <any>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <typeindex>
+#include <vector>
+
+namespace welkin {
+
+/// Non-owning reference to a GL texture owned by a generator or element (id 0 = none).
+struct TextureRef {
+    unsigned id = 0;      ///< GL texture name
+    unsigned target = 0;  ///< GL_TEXTURE_2D, GL_TEXTURE_3D, ...
+    int width = 0, height = 0, depth = 0;
+    bool operator==(const TextureRef&) const = default;
+};
+
+/// Closed numeric range for a key; both ends inclusive.
+struct Range {
+    double min = 0.0;
+    double max = 0.0;
+};
+
+namespace detail {
+template <class T> struct TypeName { static constexpr const char* value = "object"; };
+template <> struct TypeName<bool> { static constexpr const char* value = "bool"; };
+template <> struct TypeName<int> { static constexpr const char* value = "int"; };
+template <> struct TypeName<double> { static constexpr const char* value = "double"; };
+template <> struct TypeName<glm::dvec2> { static constexpr const char* value = "dvec2"; };
+template <> struct TypeName<glm::dvec3> { static constexpr const char* value = "dvec3"; };
+template <> struct TypeName<glm::dvec4> { static constexpr const char* value = "dvec4"; };
+template <> struct TypeName<glm::dmat3> { static constexpr const char* value = "dmat3"; };
+template <> struct TypeName<glm::dmat4> { static constexpr const char* value = "dmat4"; };
+template <> struct TypeName<std::string> { static constexpr const char* value = "string"; };
+template <> struct TypeName<TextureRef> { static constexpr const char* value = "texture"; };
+
+template <class T> struct IsSharedPtr : std::false_type {};
+template <class U> struct IsSharedPtr<std::shared_ptr<U>> : std::true_type {};
+
+template <class T>
+constexpr bool kSupported = std::is_same_v<T, bool> || std::is_same_v<T, int> || std::is_same_v<T, double> ||
+                            std::is_same_v<T, glm::dvec2> || std::is_same_v<T, glm::dvec3> ||
+                            std::is_same_v<T, glm::dvec4> || std::is_same_v<T, glm::dmat3> ||
+                            std::is_same_v<T, glm::dmat4> || std::is_same_v<T, std::string> ||
+                            std::is_same_v<T, TextureRef> || IsSharedPtr<T>::value;
+}  // namespace detail
+
+/// Type-erased description of a key (for element declarations, stats and error messages).
+struct KeyInfo {
+    std::string name;
+    std::type_index type = typeid(void);
+    const char* typeName = "";
+    std::optional<Range> range;
+    std::string description;
+};
+
+/// A typed key. Name them `area.quantity_unit` (e.g. "observer.height_m", "sun.direction").
+template <class T>
+class Key {
+    static_assert(detail::kSupported<T>, "Key<T>: unsupported value type");
+
+public:
+    explicit Key(std::string name, std::string description = {}) : name_(std::move(name)), description_(std::move(description)) {}
+    /// A key whose scalar values (or every component of a vector) must lie in `range`.
+    Key(std::string name, Range range, std::string description = {})
+        : name_(std::move(name)), range_(range), description_(std::move(description)) {}
+
+    const std::string& name() const { return name_; }
+    const std::optional<Range>& range() const { return range_; }
+    const std::string& description() const { return description_; }
+    KeyInfo info() const { return {name_, typeid(T), detail::TypeName<T>::value, range_, description_}; }
+
+private:
+    std::string name_;
+    std::optional<Range> range_;
+    std::string description_;
+};
+
+class SkyVars {
+public:
+    SkyVars() = default;
+    SkyVars(const SkyVars&) = delete;
+    SkyVars& operator=(const SkyVars&) = delete;
+    SkyVars(SkyVars&&) = default;
+    SkyVars& operator=(SkyVars&&) = default;
+
+    /// Earth defaults: observer, time, camera, exposure and quality keys (and, as elements are
+    /// added to the library, their shared keys such as the atmosphere).
+    static SkyVars earth();
+
+    /// Declares `key` with a default value. If the key already exists with the same type, the
+    /// existing value is kept and shared; a different type is an error naming the key.
+    template <class T>
+    void declare(const Key<T>& key, T defaultValue) {
+        auto it = entries_.find(key.name());
+        if (it != entries_.end()) {
+            checkType<T>(it->second, key.name());
+            if (key.range() && !it->second.range) it->second.range = key.range();
+            return;
+        }
+        validate(key.name(), key.range(), defaultValue);
+        Entry e{std::any(std::move(defaultValue)), typeid(T), detail::TypeName<T>::value, key.range(), 1, true};
+        entries_.emplace(key.name(), std::move(e));
+    }
+
+    /// Declares `key` with no value yet: reading it before set() is an error.
+    template <class T>
+    void declareUnset(const Key<T>& key) {
+        auto it = entries_.find(key.name());
+        if (it != entries_.end()) {
+            checkType<T>(it->second, key.name());
+            return;
+        }
+        entries_.emplace(key.name(), Entry{std::any(), typeid(T), detail::TypeName<T>::value, key.range(), 0, false});
+    }
+
+    /// Sets a value (declaring the key if needed), validating the key's range. The version is
+    /// bumped only if the value changed.
+    template <class T>
+    void set(const Key<T>& key, T value) {
+        validate(key.name(), key.range(), value);
+        auto it = entries_.find(key.name());
+        if (it == entries_.end()) {
+            entries_.emplace(key.name(), Entry{std::any(std::move(value)), typeid(T), detail::TypeName<T>::value, key.range(), 1, true});
+            return;
+        }
+        Entry& e = it->second;
+        checkType<T>(e, key.name());
+        if (e.range && !key.range()) validate(key.name(), e.range, value);
+        if (e.isSet && std::any_cast<const T&>(e.value) == value) return;
+        e.value = std::move(value);
+        e.isSet = true;
+        ++e.version;
+    }
+
+    /// The value of `key`. Throws welkin::Error naming the key if unset or of another type.
+    template <class T>
+    const T& get(const Key<T>& key) const {
+        auto it = entries_.find(key.name());
+        if (it == entries_.end() || !it->second.isSet)
+            throw Error("SkyVars: key '" + key.name() + "' is not set");
+        checkType<T>(it->second, key.name());
+        return std::any_cast<const T&>(it->second.value);
+    }
+
+    /// The value of `key`, or `fallback` if it is not set (wrong type is still an error).
+    template <class T>
+    T getOr(const Key<T>& key, T fallback) const {
+        return has(key) ? get(key) : fallback;
+    }
+
+    /// Shared object under `key`, created with `make()` on first request: the way two elements
+    /// share one generator instance (one transmittance LUT for Sky and Clouds).
+    template <class U>
+    std::shared_ptr<U> obtain(const Key<std::shared_ptr<U>>& key, const std::function<std::shared_ptr<U>()>& make) {
+        if (has(key)) return get(key);
+        auto obj = make();
+        set(key, obj);
+        return obj;
+    }
+
+    template <class T>
+    bool has(const Key<T>& key) const {
+        auto it = entries_.find(key.name());
+        return it != entries_.end() && it->second.isSet;
+    }
+    bool contains(std::string_view name) const { return entries_.find(std::string(name)) != entries_.end(); }
+
+    /// Version counter of a key (0 if unset or undeclared); bumped on every change.
+    uint64_t version(std::string_view name) const {
+        auto it = entries_.find(std::string(name));
+        return it == entries_.end() ? 0 : it->second.version;
+    }
+    template <class T>
+    uint64_t version(const Key<T>& key) const { return version(key.name()); }
+
+    /// Names of all declared keys, sorted.
+    std::vector<std::string> names() const;
+    /// Type name ("double", "dvec3", ...) of a declared key, or "" if undeclared.
+    std::string typeName(std::string_view name) const;
+
+private:
+    struct Entry {
+        std::any value;
+        std::type_index type;
+        const char* typeName;
+        std::optional<Range> range;
+        uint64_t version = 0;
+        bool isSet = false;
+    };
+
+    template <class T>
+    static void checkType(const Entry& e, const std::string& name) {
+        if (e.type != std::type_index(typeid(T)))
+            throw Error("SkyVars: key '" + name + "' holds " + e.typeName + ", requested " + detail::TypeName<T>::value);
+    }
+
+    template <class T>
+    static void validate(const std::string& name, const std::optional<Range>& range, const T& value) {
+        if constexpr (std::is_same_v<T, double> || std::is_same_v<T, int>) {
+            checkScalar(name, range, double(value));
+        } else if constexpr (std::is_same_v<T, glm::dvec2> || std::is_same_v<T, glm::dvec3> || std::is_same_v<T, glm::dvec4>) {
+            for (int i = 0; i < T::length(); ++i) checkScalar(name, range, value[i]);
+        } else if constexpr (std::is_same_v<T, glm::dmat3> || std::is_same_v<T, glm::dmat4>) {
+            for (int c = 0; c < T::length(); ++c)
+                for (int r = 0; r < T::length(); ++r) checkScalar(name, range, value[c][r]);
+        }
+    }
+    static void checkScalar(const std::string& name, const std::optional<Range>& range, double v);
+
+    std::map<std::string, Entry, std::less<>> entries_;
+};
+
+}  // namespace welkin
