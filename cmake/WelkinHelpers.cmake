@@ -1,6 +1,7 @@
 # Compiler warnings for welkin's own code (not for third-party headers).
 function(welkin_warnings target)
-  target_compile_options(${target} PRIVATE -Wall -Wextra -Werror -Wno-missing-field-initializers)
+  # -Wno-restrict: GCC 12 false positives in std::string concatenation (GCC bug 105329).
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Werror -Wno-missing-field-initializers -Wno-restrict)
 endfunction()
 
 if(WELKIN_SANITIZE)

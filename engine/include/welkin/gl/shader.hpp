@@ -1,0 +1,58 @@
+// Shader assembly in an explicit order, with compile errors that name the source file and line.
+//
+//   auto program = welkin::gl::ProgramBuilder("Grid")
+//       .define("GRID_STEP_DEG", 10)                                    // generated header
+//       .vertex("engine/fullscreen.vert.glsl", engineShader("fullscreen.vert.glsl"))
+//       .fragment("engine/common.glsl", engineShader("common.glsl"))  // shared chunks first
+//       .fragment("grid/grid.frag.glsl", gridText)                     // then the owner's code
+//       .build();                                                      // throws welkin::Error
+//
+// Each stage is assembled as: a generated header (`#version 450 core`, then every define in the
+// order given), then each chunk in the order added, each preceded by `#line 1 <n>` so that the
+// driver's messages can be mapped back: "grid/grid.frag.glsl:12: error: ...".
+#pragma once
+#include <welkin/gl/objects.hpp>
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace welkin::gl {
+
+/// Text of one of the engine's embedded GLSL chunks (engine/shaders/<path>).
+std::string_view engineShader(std::string_view path);
+
+class ProgramBuilder {
+public:
+    explicit ProgramBuilder(std::string label) : label_(std::move(label)) {}
+
+    ProgramBuilder& define(const std::string& name, const std::string& value = "1");
+    ProgramBuilder& define(const std::string& name, int value);
+    ProgramBuilder& define(const std::string& name, double value);
+    ProgramBuilder& vertex(std::string name, std::string_view text);
+    ProgramBuilder& fragment(std::string name, std::string_view text);
+    ProgramBuilder& compute(std::string name, std::string_view text);
+    /// Adds the engine's fullscreen-triangle vertex shader (draw 3 vertices, no attributes).
+    ProgramBuilder& fullscreenVertex();
+
+    /// The assembled source of a stage (GL_VERTEX_SHADER, ...), as the driver sees it.
+    std::string assembled(GLenum stage) const;
+    /// Compiles and links. Throws welkin::Error whose message names the label, file and line.
+    Program build() const;
+
+private:
+    struct Chunk {
+        std::string name;
+        std::string text;
+    };
+    std::string label_;
+    std::vector<std::pair<std::string, std::string>> defines_;
+    std::vector<Chunk> vertex_, fragment_, compute_;
+
+    std::string header() const;
+    std::vector<std::string> sources(const std::vector<Chunk>& chunks) const;
+    GLuint compileStage(GLenum stage, const std::vector<Chunk>& chunks) const;
+    std::string mapLog(const std::string& log, const std::vector<Chunk>& chunks) const;
+};
+
+}  // namespace welkin::gl

@@ -1,0 +1,32 @@
+// Float images and atomic image files (OpenImageIO).
+//
+//   welkin::Image img = processor.readHdr();             // RGB float, cd/m^2, top row first
+//   welkin::writeImage(img, "sky.exr");                  // linear float EXR
+//   welkin::writeImage(processor.readToneMapped(), "sky.png");   // 8-bit sRGB PNG
+//
+// Files are written to a temporary name beside the target and renamed, so a failed write never
+// leaves a partial file. Errors name the path.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace welkin {
+
+struct Image {
+    int width = 0;
+    int height = 0;
+    int channels = 3;
+    std::vector<float> pixels;  ///< row-major, top row first, `channels` floats per pixel
+    float& at(int x, int y, int c) { return pixels[(size_t(y) * width + x) * channels + c]; }
+    float at(int x, int y, int c) const { return pixels[(size_t(y) * width + x) * channels + c]; }
+};
+
+/// Writes .exr (float, linear) or .png/.jpg/.tif (8-bit: values clamped to [0, 1], written as
+/// they are, i.e. already encoded) atomically. Throws welkin::Error naming the path.
+void writeImage(const Image& image, const std::string& path);
+/// Reads any OpenImageIO format as float (top row first).
+Image readImage(const std::string& path);
+/// Checks that `path` can be created (its directory exists and is writable) before rendering.
+void checkWritable(const std::string& path);
+
+}  // namespace welkin

@@ -1,0 +1,158 @@
+// SkyProcessor: the scene. Holds the SkyVars and the ordered elements; per frame it derives the
+// time and observer variables, runs the generators that are due, composites the elements in
+// registration order into an HDR target and tone-maps into the caller's framebuffer or an image.
+//
+//   auto ctx = welkin::gl::HeadlessContext::create({}, log);
+//   welkin::SkyProcessor sky;                                  // SkyVars::earth(), own logger
+//   sky.add(std::make_unique<welkin::elements::Grid>());
+//   sky.setObserver({.latitudeRad = 0.6227, .longitudeRad = 0.2517, .heightMeters = 30});
+//   sky.setTime(welkin::UtcInstant::parse("2026-07-15T21:30:00+02:00"));
+//   sky.setCamera(camera);
+//   sky.setExposure({.automatic = true});
+//   sky.renderFrame();                                         // HDR composite + tone map
+//   welkin::Image hdr = sky.readHdr();                         // cd/m^2, top row first
+//
+// Embedding in a game loop: render the host scene into an HDR framebuffer with a depth buffer,
+// then call renderInto({.framebuffer = hostFbo, ...}): elements are drawn at the far plane with
+// depth test GL_LEQUAL, so the host's geometry hides the sky. Or call renderFrame() and
+// toneMapInto(0) to present. No global state: two processors in one process are independent
+// (each needs its context current when called).
+//
+// HDR format: RGBA32F. Starlight (~1e-5 cd/m^2) and the solar disk (~1.6e9 cd/m^2) both keep
+// 24-bit relative precision; fp16 would clip at 65504 cd/m^2 without pre-exposure. Cost and
+// memory are measured by `welkin bench` (docs/architecture.md).
+#pragma once
+#include <welkin/camera.hpp>
+#include <welkin/element.hpp>
+#include <welkin/gl/objects.hpp>
+#include <welkin/image.hpp>
+#include <welkin/log.hpp>
+#include <welkin/time.hpp>
+#include <welkin/vars.hpp>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include <chrono>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace welkin {
+
+/// Where the observer stands. Geodetic on WGS84.
+struct Observer {
+    double latitudeRad = 0.0;   ///< [-pi/2, pi/2], north positive
+    double longitudeRad = 0.0;  ///< [-pi, pi], east positive
+    double heightMeters = 0.0;  ///< above the ellipsoid, [-1e4, 1e9]
+    /// Throws welkin::Error naming the member and range.
+    void validate() const;
+};
+
+/// Tone-mapping exposure.
+struct Exposure {
+    bool automatic = false;       ///< from the log-average luminance of the frame
+    double ev100 = 15.0;          ///< manual exposure value at ISO 100, [-20, 30]
+    double compensationEv = 0.0;  ///< added brightness for automatic exposure, EV, [-10, 10]
+};
+
+/// A caller-provided framebuffer to composite into (game-loop embedding).
+struct RenderTarget {
+    unsigned framebuffer = 0;  ///< GL framebuffer name (0 = default framebuffer)
+    int width = 0;             ///< pixels; must equal the camera's size
+    int height = 0;
+    bool depthTest = true;     ///< test against the target's depth buffer (sky at the far plane)
+};
+
+struct ProcessorOptions {
+    bool timing = false;  ///< bracket every element and generator call with glFinish (for --stats)
+};
+
+class SkyProcessor {
+public:
+    explicit SkyProcessor(SkyVars vars = SkyVars::earth(), Logger log = Logger(), ProcessorOptions options = {});
+    ~SkyProcessor();
+    SkyProcessor(const SkyProcessor&) = delete;
+    SkyProcessor& operator=(const SkyProcessor&) = delete;
+
+    SkyVars& vars() { return vars_; }
+    const SkyVars& vars() const { return vars_; }
+    Logger& logger() { return log_; }
+
+    /// Appends an element (composited after the ones already added). Initialised lazily on the
+    /// next frame, or now if init() was already called. Names must be unique.
+    SkyElement& add(std::unique_ptr<SkyElement> element);
+    template <class E, class... Args>
+    E& emplace(Args&&... args) {
+        return static_cast<E&>(add(std::make_unique<E>(std::forward<Args>(args)...)));
+    }
+    const std::vector<std::unique_ptr<SkyElement>>& elements() const { return elements_; }
+    /// The element with this name, or nullptr.
+    SkyElement* find(std::string_view name) const;
+
+    void setTime(const UtcInstant& t);
+    const UtcInstant& time() const { return time_; }
+    void setObserver(const Observer& o);
+    const Observer& observer() const { return observer_; }
+    void setCamera(const Camera& c);
+    const Camera& camera() const { return camera_; }
+    void setExposure(const Exposure& e);
+    const Exposure& exposure() const { return exposure_; }
+
+    /// Initialises every element not yet initialised (needs a current GL 4.5 context).
+    void init();
+    /// Derives time/observer variables, runs the due generators and every element's update().
+    void update();
+    /// update(), then composites all elements into the processor's HDR target and tone-maps
+    /// into its LDR target.
+    void renderFrame();
+    /// update(), then composites into a caller's framebuffer (its current contents are the
+    /// background; blending is additive-attenuating). Does not tone-map.
+    void renderInto(const RenderTarget& target);
+    /// Tone-maps the last HDR frame into `framebuffer` (0 = default) at the camera's size.
+    void toneMapInto(unsigned framebuffer);
+
+    /// The HDR composite of the last renderFrame() (RGBA32F, cd/m^2).
+    const gl::Texture2D& hdrTexture() const { return hdr_; }
+    /// Reads the HDR frame back: RGB float, cd/m^2, top row first.
+    Image readHdr() const;
+    /// Reads the tone-mapped frame back: RGB float in [0, 1] (sRGB-encoded), top row first.
+    Image readToneMapped() const;
+    /// EV100 used by the last tone map (reads 1 texel back when automatic).
+    double lastEv100() const;
+
+    /// Seconds since construction (animation time passed to elements).
+    double seconds() const;
+    /// Stats of the last frame: inputs, per element and generator CPU-timed cost (ms).
+    nlohmann::json stats() const;
+    /// Frees every GL resource (also done by the destructor; needs the context current).
+    void release();
+
+private:
+    void ensureTargets();
+    void deriveVariables();
+    void runGenerators();
+    void composite(unsigned framebuffer, bool depthTest);
+    FrameContext frameContext();
+
+    SkyVars vars_;
+    Logger log_;
+    ProcessorOptions options_;
+    std::vector<std::unique_ptr<SkyElement>> elements_;
+    UtcInstant time_ = UtcInstant::parse("2000-01-01T12:00:00Z");
+    Observer observer_{};
+    Camera camera_{};
+    Exposure exposure_{};
+    bool glReady_ = false;
+    std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+
+    gl::Texture2D hdr_, ldr_, logLum_;
+    gl::Framebuffer hdrFbo_, ldrFbo_, logLumFbo_;
+    gl::Program toneMap_, logLumProgram_;
+    gl::VertexArray emptyVao_;
+    gl::Buffer cameraUbo_;
+    double frameMs_ = 0.0, toneMapMs_ = 0.0, generatorsMs_ = 0.0;
+    int frames_ = 0;
+};
+
+}  // namespace welkin

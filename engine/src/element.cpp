@@ -1,0 +1,109 @@
+#include <welkin/element.hpp>
+#include <welkin/error.hpp>
+#include <welkin/gl/objects.hpp>
+
+#include <chrono>
+
+namespace welkin {
+
+namespace {
+class Stopwatch {
+public:
+    explicit Stopwatch(bool finish) : finish_(finish) {
+        if (finish_) glFinish();
+        start_ = std::chrono::steady_clock::now();
+    }
+    double ms() const {
+        if (finish_) glFinish();
+        return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
+    }
+
+private:
+    bool finish_;
+    std::chrono::steady_clock::time_point start_;
+};
+}  // namespace
+
+void FrameContext::drawFullscreen() const {
+    if (emptyVao) emptyVao->bind();
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+}
+
+// --- Generator ---------------------------------------------------------------------------------
+
+bool Generator::isDue(const SkyVars& vars) const {
+    if (timing_.calls == 0 || seen_.size() != inputs_.size()) return true;
+    for (size_t i = 0; i < inputs_.size(); ++i)
+        if (vars.version(inputs_[i].name) != seen_[i]) return true;
+    return false;
+}
+
+bool Generator::runIfDue(SkyVars& vars, const Logger& log, bool finish) {
+    if (!isDue(vars)) return false;
+    run(vars, log, finish);
+    return true;
+}
+
+void Generator::run(SkyVars& vars, const Logger& log, bool finish) {
+    Stopwatch sw(finish);
+    doRun(vars, log);  // GL errors are checked by the caller (SkyProcessor), so CPU-only
+                       // generators run without a context
+    timing_.add(sw.ms());
+    // Record the versions after running: a generator may itself update one of its inputs.
+    seen_.resize(inputs_.size());
+    for (size_t i = 0; i < inputs_.size(); ++i) seen_[i] = vars.version(inputs_[i].name);
+}
+
+// --- SkyElement --------------------------------------------------------------------------------
+
+void SkyElement::addGenerator(std::shared_ptr<Generator> g) {
+    if (!g) throw Error(name_ + "::addGenerator(): null generator");
+    for (auto& existing : generators_)
+        if (existing == g) return;
+    generators_.push_back(std::move(g));
+}
+
+void SkyElement::requireInitialized(const char* what) const {
+    if (!initialized_) throw Error(name_ + "::" + what + "(): element not initialised (call init() first)");
+}
+
+void SkyElement::init(InitContext& ctx) {
+    if (initialized_) throw Error(name_ + "::init(): already initialised");
+    Stopwatch sw(timingEnabled_);
+    doInit(ctx);
+    gl::checkError(name_ + "::init()");
+    initTiming_.add(sw.ms());
+    initialized_ = true;
+}
+
+void SkyElement::update(const FrameContext& ctx) {
+    requireInitialized("update");
+    Stopwatch sw(timingEnabled_);
+    doUpdate(ctx);
+    gl::checkError(name_ + "::update()");
+    updateTiming_.add(sw.ms());
+}
+
+void SkyElement::render(const FrameContext& ctx) {
+    requireInitialized("render");
+    Stopwatch sw(timingEnabled_);
+    doRender(ctx);
+    gl::checkError(name_ + "::render()");
+    renderTiming_.add(sw.ms());
+}
+
+void SkyElement::resize(int width, int height) {
+    if (width < 1 || height < 1)
+        throw Error(name_ + "::resize(): " + std::to_string(width) + "x" + std::to_string(height) + " must be at least 1x1");
+    if (!initialized_) return;
+    doResize(width, height);
+    gl::checkError(name_ + "::resize()");
+}
+
+void SkyElement::release() {
+    if (!initialized_) return;
+    doRelease();
+    initialized_ = false;
+}
+
+}  // namespace welkin

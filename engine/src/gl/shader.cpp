@@ -1,0 +1,141 @@
+#include <welkin/embedded/engine_shaders.hpp>
+#include <welkin/error.hpp>
+#include <welkin/gl/shader.hpp>
+
+#include <cstdio>
+#include <regex>
+#include <sstream>
+
+namespace welkin::gl {
+
+std::string_view engineShader(std::string_view path) { return embedded::engine_shaders(path); }
+
+ProgramBuilder& ProgramBuilder::define(const std::string& name, const std::string& value) {
+    defines_.emplace_back(name, value);
+    return *this;
+}
+ProgramBuilder& ProgramBuilder::define(const std::string& name, int value) { return define(name, std::to_string(value)); }
+ProgramBuilder& ProgramBuilder::define(const std::string& name, double value) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.9g", value);
+    std::string s = buf;
+    if (s.find_first_of(".eE") == std::string::npos) s += ".0";
+    return define(name, s);
+}
+ProgramBuilder& ProgramBuilder::vertex(std::string name, std::string_view text) {
+    vertex_.push_back({std::move(name), std::string(text)});
+    return *this;
+}
+ProgramBuilder& ProgramBuilder::fragment(std::string name, std::string_view text) {
+    fragment_.push_back({std::move(name), std::string(text)});
+    return *this;
+}
+ProgramBuilder& ProgramBuilder::compute(std::string name, std::string_view text) {
+    compute_.push_back({std::move(name), std::string(text)});
+    return *this;
+}
+ProgramBuilder& ProgramBuilder::fullscreenVertex() {
+    return vertex("engine/fullscreen.vert.glsl", engineShader("fullscreen.vert.glsl"));
+}
+
+std::string ProgramBuilder::header() const {
+    std::string h = "#version 450 core\n";
+    for (const auto& [n, v] : defines_) h += "#define " + n + " " + v + "\n";
+    return h;
+}
+
+std::vector<std::string> ProgramBuilder::sources(const std::vector<Chunk>& chunks) const {
+    std::vector<std::string> out{header()};
+    for (size_t i = 0; i < chunks.size(); ++i) {
+        // Source-string number i+1 identifies the chunk in driver messages.
+        out.push_back("#line 1 " + std::to_string(i + 1) + "\n" + chunks[i].text + "\n");
+    }
+    return out;
+}
+
+std::string ProgramBuilder::assembled(GLenum stage) const {
+    const auto& chunks = stage == GL_VERTEX_SHADER ? vertex_ : stage == GL_FRAGMENT_SHADER ? fragment_ : compute_;
+    std::string all;
+    for (const auto& s : sources(chunks)) all += s;
+    return all;
+}
+
+std::string ProgramBuilder::mapLog(const std::string& log, const std::vector<Chunk>& chunks) const {
+    // Mesa writes "3:12(5): error: ..."; others "ERROR: 3:12: ...". Rewrite the source-string
+    // number into the chunk's file name.
+    static const std::regex re(R"((\d+):(\d+)(\(\d+\))?)");
+    std::string out;
+    std::istringstream in(log);
+    std::string line;
+    while (std::getline(in, line)) {
+        if (line.empty()) continue;
+        std::smatch m;
+        if (std::regex_search(line, m, re)) {
+            size_t idx = std::stoul(m[1]);
+            std::string file = idx == 0 ? "<generated header>" : idx <= chunks.size() ? chunks[idx - 1].name : "?";
+            line = m.prefix().str() + file + ":" + m[2].str() + m.suffix().str();
+        }
+        if (!out.empty()) out += " | ";
+        out += line;
+    }
+    return out;
+}
+
+GLuint ProgramBuilder::compileStage(GLenum stage, const std::vector<Chunk>& chunks) const {
+    auto srcs = sources(chunks);
+    std::vector<const char*> ptrs;
+    for (const auto& s : srcs) ptrs.push_back(s.c_str());
+    GLuint sh = glCreateShader(stage);
+    glShaderSource(sh, GLsizei(ptrs.size()), ptrs.data(), nullptr);
+    glCompileShader(sh);
+    GLint ok = 0;
+    glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        GLint len = 0;
+        glGetShaderiv(sh, GL_INFO_LOG_LENGTH, &len);
+        std::string log(size_t(std::max(len, 1)), '\0');
+        glGetShaderInfoLog(sh, len, nullptr, log.data());
+        glDeleteShader(sh);
+        const char* kind = stage == GL_VERTEX_SHADER ? "vertex" : stage == GL_FRAGMENT_SHADER ? "fragment" : "compute";
+        throw Error(label_ + ": " + kind + " shader failed to compile: " + mapLog(log.c_str(), chunks));
+    }
+    return sh;
+}
+
+Program ProgramBuilder::build() const {
+    if (compute_.empty() && (vertex_.empty() || fragment_.empty()))
+        throw Error(label_ + ": a program needs a vertex and a fragment stage, or a compute stage");
+    std::vector<GLuint> shaders;
+    try {
+        if (!compute_.empty()) {
+            shaders.push_back(compileStage(GL_COMPUTE_SHADER, compute_));
+        } else {
+            shaders.push_back(compileStage(GL_VERTEX_SHADER, vertex_));
+            shaders.push_back(compileStage(GL_FRAGMENT_SHADER, fragment_));
+        }
+    } catch (...) {
+        for (GLuint s : shaders) glDeleteShader(s);
+        throw;
+    }
+    GLuint p = glCreateProgram();
+    for (GLuint s : shaders) glAttachShader(p, s);
+    glLinkProgram(p);
+    for (GLuint s : shaders) {
+        glDetachShader(p, s);
+        glDeleteShader(s);
+    }
+    GLint ok = 0;
+    glGetProgramiv(p, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        GLint len = 0;
+        glGetProgramiv(p, GL_INFO_LOG_LENGTH, &len);
+        std::string log(size_t(std::max(len, 1)), '\0');
+        glGetProgramInfoLog(p, len, nullptr, log.data());
+        glDeleteProgram(p);
+        throw Error(label_ + ": program failed to link: " + mapLog(log.c_str(), compute_.empty() ? fragment_ : compute_));
+    }
+    glObjectLabel(GL_PROGRAM, p, GLsizei(label_.size()), label_.c_str());
+    return Program(p, label_);
+}
+
+}  // namespace welkin::gl

@@ -1,0 +1,92 @@
+#include <welkin/error.hpp>
+#include <welkin/image.hpp>
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <random>
+#include <unistd.h>
+
+namespace welkin {
+
+namespace fs = std::filesystem;
+
+namespace {
+std::string lowerExt(const std::string& path) {
+    std::string e = fs::path(path).extension().string();
+    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return e;
+}
+}  // namespace
+
+void checkWritable(const std::string& path) {
+    if (path.empty()) throw Error("output path is empty");
+    std::string ext = lowerExt(path);
+    if (ext != ".exr" && ext != ".png" && ext != ".jpg" && ext != ".jpeg" && ext != ".tif" && ext != ".tiff")
+        throw Error("output '" + path + "': unsupported extension (accepted: .exr, .png, .jpg, .tif)");
+    fs::path dir = fs::path(path).parent_path();
+    if (dir.empty()) dir = ".";
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) throw Error("output '" + path + "': directory '" + dir.string() + "' does not exist");
+    if (::access(dir.c_str(), W_OK) != 0) throw Error("output '" + path + "': directory '" + dir.string() + "' is not writable");
+    if (fs::is_directory(path, ec)) throw Error("output '" + path + "' is a directory");
+}
+
+void writeImage(const Image& img, const std::string& path) {
+    checkWritable(path);
+    if (img.width <= 0 || img.height <= 0 || img.pixels.size() != size_t(img.width) * img.height * img.channels)
+        throw Error("writeImage('" + path + "'): image is empty or inconsistent");
+    std::string ext = lowerExt(path);
+    bool isFloat = ext == ".exr";
+    // Temporary file beside the target, then rename: never a half-written output.
+    fs::path target(path);
+    std::string tmp = (target.parent_path() / ("." + target.filename().string() + ".tmp" + std::to_string(::getpid()))).string();
+    tmp += ext;
+    auto out = OIIO::ImageOutput::create(tmp);
+    if (!out) throw Error("writeImage('" + path + "'): no writer for '" + ext + "'");
+    OIIO::ImageSpec spec(img.width, img.height, img.channels, isFloat ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+    if (isFloat) spec.attribute("compression", "zip");
+    else spec.attribute("oiio:ColorSpace", "sRGB");
+    bool ok = out->open(tmp, spec);
+    if (ok) {
+        if (isFloat) {
+            ok = out->write_image(OIIO::TypeDesc::FLOAT, img.pixels.data());
+        } else {
+            std::vector<unsigned char> bytes(img.pixels.size());
+            for (size_t i = 0; i < bytes.size(); ++i)
+                bytes[i] = (unsigned char)std::lround(std::clamp(img.pixels[i], 0.0f, 1.0f) * 255.0f);
+            ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
+        }
+        ok = out->close() && ok;
+    }
+    std::string err = out->geterror();
+    out.reset();
+    std::error_code ec;
+    if (!ok) {
+        fs::remove(tmp, ec);
+        throw Error("writeImage('" + path + "'): " + (err.empty() ? "write failed" : err));
+    }
+    fs::rename(tmp, target, ec);
+    if (ec) {
+        fs::remove(tmp, ec);
+        throw Error("writeImage('" + path + "'): cannot rename the temporary file (" + ec.message() + ")");
+    }
+}
+
+Image readImage(const std::string& path) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) throw Error("readImage('" + path + "'): " + OIIO::geterror());
+    const OIIO::ImageSpec& spec = in->spec();
+    Image img;
+    img.width = spec.width;
+    img.height = spec.height;
+    img.channels = spec.nchannels;
+    img.pixels.resize(size_t(img.width) * img.height * img.channels);
+    if (!in->read_image(0, 0, 0, img.channels, OIIO::TypeDesc::FLOAT, img.pixels.data()))
+        throw Error("readImage('" + path + "'): " + in->geterror());
+    return img;
+}
+
+}  // namespace welkin

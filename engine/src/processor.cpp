@@ -1,0 +1,341 @@
+#include <welkin/error.hpp>
+#include <welkin/gl/shader.hpp>
+#include <welkin/keys.hpp>
+#include <welkin/processor.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+namespace welkin {
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+constexpr int kLogLumSize = 128;  // log-luminance reduction resolution (power of two)
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+void Observer::validate() const {
+    char buf[128];
+    if (!(latitudeRad >= -kPi / 2 && latitudeRad <= kPi / 2)) {
+        std::snprintf(buf, sizeof buf, "Observer: latitude %g deg not in [-90, 90]", latitudeRad * 180 / kPi);
+        throw Error(buf);
+    }
+    if (!(longitudeRad >= -kPi && longitudeRad <= kPi)) {
+        std::snprintf(buf, sizeof buf, "Observer: longitude %g deg not in [-180, 180]", longitudeRad * 180 / kPi);
+        throw Error(buf);
+    }
+    if (!(heightMeters >= -1e4 && heightMeters <= 1e9)) {
+        std::snprintf(buf, sizeof buf, "Observer: height %g m not in [-1e4, 1e9]", heightMeters);
+        throw Error(buf);
+    }
+}
+
+SkyProcessor::SkyProcessor(SkyVars vars, Logger log, ProcessorOptions options)
+    : vars_(std::move(vars)), log_(std::move(log)), options_(options) {
+    deriveVariables();
+}
+
+SkyProcessor::~SkyProcessor() { release(); }
+
+void SkyProcessor::release() {
+    for (auto& e : elements_) e->release();
+    hdr_ = {};
+    ldr_ = {};
+    logLum_ = {};
+    hdrFbo_ = {};
+    ldrFbo_ = {};
+    logLumFbo_ = {};
+    toneMap_ = {};
+    logLumProgram_ = {};
+    emptyVao_ = {};
+    cameraUbo_ = {};
+    glReady_ = false;
+}
+
+SkyElement& SkyProcessor::add(std::unique_ptr<SkyElement> element) {
+    if (!element) throw Error("SkyProcessor::add(): null element");
+    if (find(element->name())) throw Error("SkyProcessor::add(): an element named '" + element->name() + "' is already registered");
+    element->setTimingEnabled(options_.timing);
+    elements_.push_back(std::move(element));
+    return *elements_.back();
+}
+
+SkyElement* SkyProcessor::find(std::string_view name) const {
+    for (auto& e : elements_)
+        if (e->name() == name) return e.get();
+    return nullptr;
+}
+
+void SkyProcessor::setTime(const UtcInstant& t) { time_ = t; }
+void SkyProcessor::setObserver(const Observer& o) {
+    o.validate();
+    observer_ = o;
+}
+void SkyProcessor::setCamera(const Camera& c) {
+    c.validate();
+    bool resized = c.width != camera_.width || c.height != camera_.height;
+    camera_ = c;
+    if (resized && glReady_) {
+        hdr_ = {};  // recreated at the new size by ensureTargets()
+        for (auto& e : elements_) e->resize(c.width, c.height);
+    }
+}
+void SkyProcessor::setExposure(const Exposure& e) {
+    char buf[128];
+    if (!(e.ev100 >= -20 && e.ev100 <= 30)) {
+        std::snprintf(buf, sizeof buf, "SkyProcessor::setExposure(): ev100 %g not in [-20, 30]", e.ev100);
+        throw Error(buf);
+    }
+    if (!(e.compensationEv >= -10 && e.compensationEv <= 10)) {
+        std::snprintf(buf, sizeof buf, "SkyProcessor::setExposure(): compensationEv %g not in [-10, 10]", e.compensationEv);
+        throw Error(buf);
+    }
+    exposure_ = e;
+    vars_.set(keys::exposureEv100, e.ev100);
+    vars_.set(keys::exposureAuto, e.automatic);
+}
+
+double SkyProcessor::seconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+}
+
+void SkyProcessor::deriveVariables() {
+    const JulianDate jd = time_.julianDate();
+    vars_.set(keys::timeJdUtc, glm::dvec2(jd.day, jd.fraction));
+    vars_.set(keys::timeIso, time_.toIso());
+    vars_.set(keys::observerLatitude, observer_.latitudeRad);
+    vars_.set(keys::observerLongitude, observer_.longitudeRad);
+    vars_.set(keys::observerHeight, observer_.heightMeters);
+}
+
+void SkyProcessor::init() {
+    if (!glReady_) {
+        emptyVao_ = gl::VertexArray::create();
+        cameraUbo_ = gl::Buffer(sizeof(CameraBlock));
+        toneMap_ = gl::ProgramBuilder("SkyProcessor tone map")
+                       .fullscreenVertex()
+                       .fragment("engine/tonemap.frag.glsl", gl::engineShader("tonemap.frag.glsl"))
+                       .build();
+        logLumProgram_ = gl::ProgramBuilder("SkyProcessor log luminance")
+                             .fullscreenVertex()
+                             .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
+                             .fragment("engine/loglum.frag.glsl", gl::engineShader("loglum.frag.glsl"))
+                             .build();
+        int levels = int(std::log2(kLogLumSize)) + 1;
+        logLum_ = gl::Texture2D(kLogLumSize, kLogLumSize, GL_RG32F, levels);
+        logLumFbo_ = gl::Framebuffer::create();
+        logLumFbo_.attach(GL_COLOR_ATTACHMENT0, logLum_);
+        logLumFbo_.checkComplete("SkyProcessor log luminance");
+        glReady_ = true;
+    }
+    InitContext ctx{vars_, log_};
+    for (auto& e : elements_) {
+        if (!e->initialized()) {
+            e->init(ctx);
+            e->resize(camera_.width, camera_.height);
+        }
+    }
+    gl::checkError("SkyProcessor::init()");
+}
+
+void SkyProcessor::ensureTargets() {
+    if (hdr_ && hdr_.width() == camera_.width && hdr_.height() == camera_.height) return;
+    hdr_ = gl::Texture2D(camera_.width, camera_.height, GL_RGBA32F);
+    hdr_.setFilter(GL_NEAREST);
+    hdrFbo_ = gl::Framebuffer::create();
+    hdrFbo_.attach(GL_COLOR_ATTACHMENT0, hdr_);
+    hdrFbo_.checkComplete("SkyProcessor HDR target");
+    ldr_ = gl::Texture2D(camera_.width, camera_.height, GL_RGBA8);
+    ldrFbo_ = gl::Framebuffer::create();
+    ldrFbo_.attach(GL_COLOR_ATTACHMENT0, ldr_);
+    ldrFbo_.checkComplete("SkyProcessor LDR target");
+}
+
+FrameContext SkyProcessor::frameContext() { return FrameContext{vars_, log_, camera_, seconds(), &emptyVao_}; }
+
+void SkyProcessor::runGenerators() {
+    // Each generator once per frame, in element order (shared instances deduplicated).
+    std::vector<Generator*> seen;
+    auto t0 = std::chrono::steady_clock::now();
+    for (auto& e : elements_) {
+        for (auto& g : e->generators()) {
+            if (std::find(seen.begin(), seen.end(), g.get()) != seen.end()) continue;
+            seen.push_back(g.get());
+            g->runIfDue(vars_, log_, options_.timing);
+            gl::checkError(g->name() + "::run()");
+        }
+    }
+    generatorsMs_ = msSince(t0);
+}
+
+void SkyProcessor::update() {
+    init();
+    deriveVariables();
+    CameraBlock block = makeCameraBlock(camera_, seconds());
+    cameraUbo_.update(&block, sizeof block);
+    runGenerators();
+    FrameContext ctx = frameContext();
+    for (auto& e : elements_) e->update(ctx);
+}
+
+void SkyProcessor::composite(unsigned framebuffer, bool depthTest) {
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+    glViewport(0, 0, camera_.width, camera_.height);
+    cameraUbo_.bindBase(GL_UNIFORM_BUFFER, 0);
+    emptyVao_.bind();
+    glEnable(GL_BLEND);
+    // dst.rgb = src0.rgb + dst.rgb * src1.rgb (radiance plus attenuated background); alpha kept.
+    glBlendFuncSeparate(GL_ONE, GL_SRC1_COLOR, GL_ZERO, GL_ONE);
+    glBlendEquation(GL_FUNC_ADD);
+    if (depthTest) {
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LEQUAL);
+        glDepthMask(GL_FALSE);
+    } else {
+        glDisable(GL_DEPTH_TEST);
+    }
+    glDisable(GL_CULL_FACE);
+    FrameContext ctx = frameContext();
+    for (auto& e : elements_) e->render(ctx);
+    glDisable(GL_BLEND);
+    glDisable(GL_DEPTH_TEST);
+    glDepthMask(GL_TRUE);
+}
+
+void SkyProcessor::renderFrame() {
+    auto t0 = std::chrono::steady_clock::now();
+    if (options_.timing) glFinish();
+    update();
+    ensureTargets();
+    hdrFbo_.bind();
+    const float black[4] = {0, 0, 0, 1};
+    glClearBufferfv(GL_COLOR, 0, black);
+    composite(hdrFbo_.id(), false);
+    toneMapInto(ldrFbo_.id());
+    if (options_.timing) glFinish();
+    frameMs_ = msSince(t0);
+    ++frames_;
+    gl::checkError("SkyProcessor::renderFrame()");
+}
+
+void SkyProcessor::renderInto(const RenderTarget& target) {
+    if (target.width != camera_.width || target.height != camera_.height)
+        throw Error("SkyProcessor::renderInto(): target " + std::to_string(target.width) + "x" +
+                    std::to_string(target.height) + " differs from the camera's " + std::to_string(camera_.width) + "x" +
+                    std::to_string(camera_.height));
+    auto t0 = std::chrono::steady_clock::now();
+    update();
+    composite(target.framebuffer, target.depthTest);
+    frameMs_ = msSince(t0);
+    ++frames_;
+    gl::checkError("SkyProcessor::renderInto()");
+}
+
+void SkyProcessor::toneMapInto(unsigned framebuffer) {
+    if (!hdr_) throw Error("SkyProcessor::toneMapInto(): no HDR frame yet (call renderFrame() first)");
+    auto t0 = std::chrono::steady_clock::now();
+    if (options_.timing) glFinish();
+    cameraUbo_.bindBase(GL_UNIFORM_BUFFER, 0);
+    emptyVao_.bind();
+    glDisable(GL_BLEND);
+    glDisable(GL_DEPTH_TEST);
+    if (exposure_.automatic) {
+        logLumFbo_.bind();
+        glViewport(0, 0, kLogLumSize, kLogLumSize);
+        hdr_.bind(0);
+        hdr_.setFilter(GL_LINEAR);
+        logLumProgram_.use();
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+        hdr_.setFilter(GL_NEAREST);
+        logLum_.generateMipmaps();
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+    glViewport(0, 0, camera_.width, camera_.height);
+    hdr_.bind(0);
+    logLum_.bind(1);
+    toneMap_.use();
+    toneMap_.set("u_ev100", float(exposure_.ev100));
+    toneMap_.set("u_auto", exposure_.automatic ? 1 : 0);
+    toneMap_.set("u_compensation", float(exposure_.compensationEv));
+    toneMap_.set("u_logLumLevel", logLum_.levels() - 1);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    if (options_.timing) glFinish();
+    toneMapMs_ = msSince(t0);
+    gl::checkError("SkyProcessor::toneMapInto()");
+}
+
+double SkyProcessor::lastEv100() const {
+    if (!exposure_.automatic || !logLum_) return exposure_.ev100;
+    std::vector<float> top = logLum_.readRgbaFloat(logLum_.levels() - 1);
+    double logAvg = top[1] > 0 ? top[0] / top[1] : std::log(1e-7);
+    return std::log2(std::exp(logAvg) * 100.0 / 12.5) - exposure_.compensationEv;
+}
+
+namespace {
+Image readTexture(const gl::Texture2D& t) {
+    std::vector<float> rgba = t.readRgbaFloat();
+    Image img;
+    img.width = t.width();
+    img.height = t.height();
+    img.channels = 3;
+    img.pixels.resize(size_t(img.width) * img.height * 3);
+    for (int y = 0; y < img.height; ++y) {
+        const float* src = &rgba[size_t(img.height - 1 - y) * img.width * 4];  // GL rows are bottom-up
+        for (int x = 0; x < img.width; ++x)
+            for (int c = 0; c < 3; ++c) img.at(x, y, c) = src[x * 4 + c];
+    }
+    return img;
+}
+}  // namespace
+
+Image SkyProcessor::readHdr() const {
+    if (!hdr_) throw Error("SkyProcessor::readHdr(): no frame rendered yet");
+    return readTexture(hdr_);
+}
+
+Image SkyProcessor::readToneMapped() const {
+    if (!ldr_) throw Error("SkyProcessor::readToneMapped(): no frame rendered yet");
+    return readTexture(ldr_);
+}
+
+nlohmann::json SkyProcessor::stats() const {
+    using nlohmann::json;
+    json j;
+    j["time"] = time_.toIso();
+    j["observer"] = {{"lat_deg", observer_.latitudeRad * 180 / kPi},
+                     {"lon_deg", observer_.longitudeRad * 180 / kPi},
+                     {"height_m", observer_.heightMeters}};
+    j["camera"] = {{"projection", std::string(toString(camera_.projection))},
+                   {"width", camera_.width},
+                   {"height", camera_.height},
+                   {"az_deg", camera_.azimuthRad * 180 / kPi},
+                   {"alt_deg", camera_.altitudeRad * 180 / kPi},
+                   {"fov_deg", camera_.verticalFovRad * 180 / kPi}};
+    j["exposure"] = {{"automatic", exposure_.automatic}, {"ev100", lastEv100()}};
+    j["timing_includes_gpu"] = options_.timing;
+    json el = json::array();
+    for (auto& e : elements_) {
+        json gens = json::array();
+        for (auto& g : e->generators())
+            gens.push_back({{"name", g->name()}, {"runs", g->runCount()}, {"last_ms", g->timing().lastMs}, {"total_ms", g->timing().totalMs}});
+        el.push_back({{"name", e->name()},
+                      {"init_ms", e->initTiming().lastMs},
+                      {"update_ms", e->updateTiming().lastMs},
+                      {"render_ms", e->renderTiming().lastMs},
+                      {"generators", gens}});
+    }
+    j["elements"] = el;
+    j["frame_ms"] = frameMs_;
+    j["generators_ms"] = generatorsMs_;
+    j["tonemap_ms"] = toneMapMs_;
+    j["frames"] = frames_;
+    return j;
+}
+
+}  // namespace welkin

@@ -1,0 +1,66 @@
+// Grid element: altitude circles and azimuth lines (angular spacing), the horizon emphasised,
+// and N/E/S/W glyphs. Needs engine/camera.glsl and engine/composite.glsl before it.
+uniform float u_altStep;         // radians
+uniform float u_azStep;          // radians
+uniform float u_lineWidthPx;     // pixels
+uniform float u_horizonWidthPx;  // pixels
+uniform float u_luminance;       // cd/m^2 of a fully covered pixel
+uniform vec4 u_markers[4];       // N, E, S, W: pixel position (x, y), visible flag
+uniform float u_glyphScale;      // pixels per glyph cell
+
+// 5x7 bitmaps, one row per 5 bits (top row first): N, E, S, W.
+const int GLYPHS[28] = int[28](
+    0x11, 0x19, 0x15, 0x13, 0x11, 0x11, 0x11,   // N
+    0x1F, 0x10, 0x10, 0x1E, 0x10, 0x10, 0x1F,   // E
+    0x0F, 0x10, 0x10, 0x0E, 0x01, 0x01, 0x1E,   // S
+    0x11, 0x11, 0x11, 0x15, 0x15, 0x15, 0x0A);  // W
+
+float glyphCoverage(int g, vec2 pixel, vec2 centre) {
+    // Cell grid 5x7 with a one-cell margin; centre of the glyph at `centre`.
+    vec2 q = (pixel - centre) / u_glyphScale + vec2(2.5, 3.5);
+    if (q.x < 0.0 || q.y < 0.0 || q.x >= 5.0 || q.y >= 7.0) return 0.0;
+    int col = int(q.x), row = int(q.y);
+    int bits = GLYPHS[g * 7 + row];
+    return float((bits >> (4 - col)) & 1);
+}
+
+// Antialiased coverage of a line at angular distance `d` (radians) with width `w` (radians).
+float lineCoverage(float d, float w) {
+    float aa = 0.5 * welkin_pixelAngle();
+    return 1.0 - smoothstep(0.5 * w - aa, 0.5 * w + aa, d);
+}
+
+void main() {
+    vec2 pixel = welkin_pixel();
+    vec3 dir;
+    if (!welkin_viewDirection(pixel, dir)) discard;
+    float px = welkin_pixelAngle();
+    float alt = asin(clamp(dir.z, -1.0, 1.0));
+    float az = atan(dir.x, dir.y);
+
+    // Altitude circles.
+    float dAlt = abs(alt - u_altStep * round(alt / u_altStep));
+    float cAlt = lineCoverage(dAlt, u_lineWidthPx * px);
+    // Azimuth lines: distance on the sphere ~ |daz| cos(alt); stop them at the last altitude
+    // circle below the poles (except the four cardinal ones) so they do not crowd the zenith.
+    float cosAlt = cos(alt);
+    float dAz = abs(az - u_azStep * round(az / u_azStep)) * cosAlt;
+    float nearPole = step(0.5 * WELKIN_PI - u_altStep + 1e-4, abs(alt));
+    float onCardinal = step(abs(az - 0.5 * WELKIN_PI * round(az / (0.5 * WELKIN_PI))) * cosAlt, 0.5 * u_lineWidthPx * px);
+    float cAz = lineCoverage(dAz, u_lineWidthPx * px) * max(1.0 - nearPole, onCardinal);
+    // The horizon, wider and warmer.
+    float cHor = lineCoverage(abs(alt), u_horizonWidthPx * px);
+
+    float cover = max(max(cAlt, cAz), cHor);
+    vec3 colour = mix(vec3(0.55, 0.7, 1.0), vec3(1.0, 0.8, 0.45), cHor / max(cover, 1e-6));
+
+    for (int i = 0; i < 4; ++i) {
+        if (u_markers[i].z < 0.5) continue;
+        float g = glyphCoverage(i, pixel, u_markers[i].xy);
+        if (g > 0.0) {
+            cover = 1.0;
+            colour = i == 0 ? vec3(1.0, 0.3, 0.25) : vec3(1.0);
+        }
+    }
+    welkin_output(colour * u_luminance * cover, vec3(1.0 - cover));
+}
