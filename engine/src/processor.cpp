@@ -331,6 +331,7 @@ nlohmann::json SkyProcessor::stats() const {
                       {"generators", gens}});
     }
     j["elements"] = el;
+    for (auto& e : elements_) e->stats(j);
     j["frame_ms"] = frameMs_;
     j["generators_ms"] = generatorsMs_;
     j["tonemap_ms"] = toneMapMs_;

@@ -21,6 +21,8 @@
 #include <welkin/log.hpp>
 #include <welkin/vars.hpp>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include <memory>
 #include <string>
 #include <vector>
@@ -119,6 +121,9 @@ public:
     const std::vector<KeyInfo>& writeKeys() const { return writes_; }
     const std::vector<std::shared_ptr<Generator>>& generators() const { return generators_; }
 
+    /// Adds the element's physical quantities to the --stats JSON (e.g. root["sky"][...]).
+    void stats(nlohmann::json& root) const { doStats(root); }
+
     /// When enabled, each call is bracketed by glFinish so timings include GPU work.
     void setTimingEnabled(bool enabled) { timingEnabled_ = enabled; }
     const Timing& initTiming() const { return initTiming_; }
@@ -140,6 +145,7 @@ private:
     virtual void doRender(const FrameContext& ctx) = 0;
     virtual void doResize(int, int) {}
     virtual void doRelease() = 0;
+    virtual void doStats(nlohmann::json&) const {}
 
     void requireInitialized(const char* what) const;
 
