@@ -90,7 +90,7 @@ DateTime fromJulianDate(const JulianDate& jdIn, Calendar calendar) {
 
 namespace {
 [[noreturn]] void fail(std::string_view iso, const std::string& what) {
-    throw Error("time: '" + std::string(iso) + "' " + what);
+    throw Error("'" + std::string(iso) + "': " + what);
 }
 void checkRange(std::string_view iso, const char* field, double v, double lo, double hi, const std::string& extra = {}) {
     if (!(v >= lo && v <= hi)) {

@@ -24,6 +24,14 @@ std::vector<std::string> knownElements() {
     return n;
 }
 
+std::vector<std::string> defaultElements() {
+    std::vector<std::string> n;
+    for (auto& [name, f] : factories())
+        if (name != "grid") n.push_back(name);
+    if (n.empty()) n.push_back("grid");
+    return n;
+}
+
 std::unique_ptr<SkyElement> makeElement(std::string_view name) {
     for (auto& [n, f] : factories())
         if (n == name) return f();

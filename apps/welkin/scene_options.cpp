@@ -1,0 +1,146 @@
+#include "scene_options.hpp"
+
+#include <welkin/elements/registry.hpp>
+#include <welkin/error.hpp>
+#include <welkin/keys.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+namespace welkin::cli {
+
+namespace {
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+void checkRange(const char* option, double v, double lo, double hi) {
+    if (!(v >= lo && v <= hi)) {
+        char buf[128];
+        std::snprintf(buf, sizeof buf, "%s %g not in [%g, %g]", option, v, lo, hi);
+        throw Error(buf);
+    }
+}
+}  // namespace
+
+void parseSize(const std::string& text, const char* option, int& width, int& height) {
+    int w = 0, h = 0;
+    char extra = 0;
+    if (std::sscanf(text.c_str(), "%dx%d%c", &w, &h, &extra) != 2)
+        throw Error(std::string(option) + " '" + text + "' is not WIDTHxHEIGHT (e.g. 1280x720)");
+    if (w < 1 || w > 16384 || h < 1 || h > 16384)
+        throw Error(std::string(option) + " " + text + ": width and height must be in [1, 16384]");
+    width = w;
+    height = h;
+}
+
+void SceneOptions::addTo(CLI::App& app, bool required) {
+    auto* t = app.add_option("--time", time, "instant, ISO 8601 (e.g. 2026-06-21T12:00:00Z or +02:00 offset)");
+    auto* la = app.add_option("--lat", latDeg, "geodetic latitude, degrees [-90, 90], north positive");
+    auto* lo = app.add_option("--lon", lonDeg, "longitude, degrees [-180, 180], east positive");
+    if (required) {
+        t->required();
+        la->required();
+        lo->required();
+    } else {
+        time = "2026-06-21T12:00:00Z";
+    }
+    app.add_option("--height", heightM, "observer height above the ellipsoid, metres [-10000, 1e9]")->capture_default_str();
+    std::string known;
+    for (auto& k : elements::knownElements()) known += (known.empty() ? "" : ",") + k;
+    app.add_option("--elements", elements, "comma list of elements, composited in this order (known: " + known + ")");
+    app.add_option("--projection", projection, "perspective | fisheye | equirect | cube")->capture_default_str();
+    app.add_option("--az", azDeg, "view azimuth, degrees from north through east (perspective)")->capture_default_str();
+    app.add_option("--alt", altDeg, "view altitude, degrees [-90, 90] (perspective)")->capture_default_str();
+    app.add_option("--fov", fovDeg, "vertical field of view, degrees (0, 180) (perspective)")->capture_default_str();
+    app.add_option("--face", cubeFace, "cube face 0..5 (+X,-X,+Y,-Y,+Z,-Z; x east, y up, z south) for --projection cube")
+        ->capture_default_str();
+    app.add_option("--size", size, "image size WIDTHxHEIGHT, each in [1, 16384]")->capture_default_str();
+    app.add_option("--exposure", exposure, "EV100 in [-20, 30], or auto")->capture_default_str();
+    app.add_option("--quality", quality, "low | medium | high | reference")->capture_default_str();
+}
+
+UtcInstant SceneOptions::instant() const {
+    try {
+        return UtcInstant::parse(time);
+    } catch (const Error& e) {
+        throw Error(std::string("--time ") + e.what());
+    }
+}
+
+Observer SceneOptions::observer() const {
+    checkRange("--lat", latDeg, -90, 90);
+    checkRange("--lon", lonDeg, -180, 180);
+    checkRange("--height", heightM, -1e4, 1e9);
+    return Observer{latDeg * kDeg, lonDeg * kDeg, heightM};
+}
+
+Camera SceneOptions::camera() const {
+    Camera c;
+    try {
+        c.projection = parseProjection(projection);
+    } catch (const Error& e) {
+        throw Error(std::string("--projection: ") + e.what());
+    }
+    checkRange("--az", azDeg, -360, 360);
+    checkRange("--alt", altDeg, -90, 90);
+    if (!(fovDeg > 0 && fovDeg < 180)) {
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "--fov %g not in (0, 180)", fovDeg);
+        throw Error(buf);
+    }
+    checkRange("--face", cubeFace, 0, 5);
+    c.azimuthRad = azDeg * kDeg;
+    c.altitudeRad = altDeg * kDeg;
+    c.verticalFovRad = fovDeg * kDeg;
+    c.cubeFace = cubeFace;
+    parseSize(size, "--size", c.width, c.height);
+    return c;
+}
+
+Exposure SceneOptions::exposureSetting() const {
+    Exposure e;
+    if (exposure == "auto") {
+        e.automatic = true;
+        return e;
+    }
+    char* end = nullptr;
+    double v = std::strtod(exposure.c_str(), &end);
+    if (end == exposure.c_str() || *end != '\0') throw Error("--exposure '" + exposure + "' is neither an EV100 number nor auto");
+    checkRange("--exposure", v, -20, 30);
+    e.ev100 = v;
+    return e;
+}
+
+int SceneOptions::qualityLevel() const {
+    if (quality == "low") return 0;
+    if (quality == "medium") return 1;
+    if (quality == "high") return 2;
+    if (quality == "reference") return 3;
+    throw Error("--quality '" + quality + "' unknown (accepted: low, medium, high, reference)");
+}
+
+std::vector<std::string> SceneOptions::elementNames() const {
+    std::vector<std::string> names = elements.empty() ? elements::defaultElements() : elements::parseElementList(elements);
+    for (auto& n : names) elements::makeElement(n);  // throws for an unknown name, listing the known ones
+    return names;
+}
+
+void SceneOptions::validate() const {
+    instant();
+    observer();
+    camera();
+    exposureSetting();
+    qualityLevel();
+    elementNames();
+}
+
+void SceneOptions::apply(SkyProcessor& p) const {
+    p.vars().set(keys::quality, qualityLevel());
+    p.setTime(instant());
+    p.setObserver(observer());
+    p.setCamera(camera());
+    p.setExposure(exposureSetting());
+    for (auto& n : elementNames()) p.add(elements::makeElement(n));
+}
+
+}  // namespace welkin::cli

@@ -1,0 +1,40 @@
+// Options shared by `welkin render` and `welkin view`: time, place, elements, camera, exposure.
+#pragma once
+#include <CLI/CLI.hpp>
+
+#include <welkin/processor.hpp>
+
+#include <string>
+#include <vector>
+
+namespace welkin::cli {
+
+struct SceneOptions {
+    std::string time;
+    double latDeg = 0, lonDeg = 0, heightM = 0;
+    std::string elements;  // empty: the default list
+    std::string projection = "perspective";
+    double azDeg = 180, altDeg = 20, fovDeg = 60;
+    int cubeFace = 0;
+    std::string size = "1280x720";
+    std::string exposure = "auto";
+    std::string quality = "medium";
+
+    /// Adds the options to a subcommand.
+    void addTo(CLI::App& app, bool requireTimeAndPlace);
+    /// Validates everything (throws welkin::Error naming the option and range).
+    void validate() const;
+    UtcInstant instant() const;
+    Observer observer() const;
+    Camera camera() const;
+    Exposure exposureSetting() const;
+    int qualityLevel() const;
+    std::vector<std::string> elementNames() const;
+    /// Adds the elements and the scene state to a processor.
+    void apply(SkyProcessor& processor) const;
+};
+
+/// Parses "WxH" (each in [1, 16384]); throws naming `option`.
+void parseSize(const std::string& text, const char* option, int& width, int& height);
+
+}  // namespace welkin::cli

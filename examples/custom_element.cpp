@@ -1,0 +1,111 @@
+// Writing your own element: a "Halo" that draws a faint ring 22 degrees around the Sun (an ice
+// halo). It shows the whole contract: the keys it reads, GLSL assembled from the engine's chunks,
+// radiance plus transmittance output, options checked at the API boundary.
+// Usage: example_custom_element OUT.png      (walkthrough: docs/writing-an-element.md)
+#include <welkin/element.hpp>
+#include <welkin/elements/grid.hpp>
+#include <welkin/error.hpp>
+#include <welkin/gl/context.hpp>
+#include <welkin/gl/shader.hpp>
+#include <welkin/image.hpp>
+#include <welkin/keys.hpp>
+#include <welkin/processor.hpp>
+
+#include <cstdio>
+#include <numbers>
+#include <string>
+
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180;
+
+// [element]
+struct HaloOptions {
+    double radiusRad = 22 * kDeg;      ///< ring radius, radians, (0, pi/2]
+    double widthRad = 1.5 * kDeg;      ///< ring width (Gaussian sigma), radians, (0, 0.2]
+    double luminanceCdM2 = 2000.0;     ///< peak luminance, cd/m^2, [0, 1e6]
+};
+
+class Halo final : public welkin::SkyElement {
+public:
+    explicit Halo(const HaloOptions& o = {}) : SkyElement("halo"), options_(o) {
+        if (!(o.radiusRad > 0 && o.radiusRad <= std::numbers::pi / 2))
+            throw welkin::Error("Halo: radiusRad " + std::to_string(o.radiusRad) + " not in (0, pi/2]");
+        reads(welkin::keys::sunDirection);  // declared for tools and documentation
+    }
+
+private:
+    // The element's own GLSL. In a library element this is a .glsl file beside the class,
+    // embedded at build time; the engine's chunks come first.
+    static constexpr const char* kFragment = R"(
+uniform vec3 u_sun;        // unit vector to the Sun, ENU
+uniform float u_radius;    // radians
+uniform float u_width;     // radians
+uniform float u_luminance; // cd/m^2
+void main() {
+    vec3 dir;
+    if (!welkin_viewDirection(welkin_pixel(), dir)) discard;
+    float angle = acos(clamp(dot(dir, u_sun), -1.0, 1.0));
+    float ring = exp(-0.5 * pow((angle - u_radius) / u_width, 2.0));
+    // Emits light and hides nothing: transmittance 1.
+    welkin_output(vec3(1.0, 0.97, 0.93) * u_luminance * ring, vec3(1.0));
+}
+)";
+
+    void doInit(welkin::InitContext& ctx) override {
+        // Declaring a key shares it with every other element that declares it.
+        ctx.vars.declare(welkin::keys::sunDirection, glm::dvec3(0, 0, 1));
+        program_ = welkin::gl::ProgramBuilder("Halo")
+                       .fullscreenVertex()
+                       .fragment("engine/camera.glsl", welkin::gl::engineShader("camera.glsl"))
+                       .fragment("engine/composite.glsl", welkin::gl::engineShader("composite.glsl"))
+                       .fragment("halo.frag.glsl", kFragment)
+                       .build();
+    }
+    void doRender(const welkin::FrameContext& ctx) override {
+        program_.set("u_sun", glm::vec3(ctx.vars.get(welkin::keys::sunDirection)));
+        program_.set("u_radius", float(options_.radiusRad));
+        program_.set("u_width", float(options_.widthRad));
+        program_.set("u_luminance", float(options_.luminanceCdM2));
+        program_.use();
+        ctx.drawFullscreen();
+    }
+    void doRelease() override { program_ = {}; }
+
+    HaloOptions options_;
+    welkin::gl::Program program_;
+};
+// [element]
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc != 2) {
+        std::fprintf(stderr, "usage: %s OUT.png\n", argv[0]);
+        return 2;
+    }
+    try {
+        welkin::Logger log;
+        auto context = welkin::gl::HeadlessContext::create({}, log);
+        welkin::SkyProcessor sky(welkin::SkyVars::earth(), log);
+        sky.add(std::make_unique<Halo>());
+        sky.add(std::make_unique<welkin::elements::Grid>());
+        welkin::Camera camera;
+        camera.projection = welkin::Projection::Fisheye;
+        camera.width = camera.height = 256;
+        sky.setCamera(camera);
+        sky.setTime(welkin::UtcInstant::parse("2026-03-20T12:00:00Z"));
+        sky.setExposure({.ev100 = 10});
+        sky.renderFrame();
+        // This example pins the Sun itself, after the processor's astronomy step ran, so the
+        // picture is the same whatever the date: 40 deg up in the south.
+        sky.vars().set(welkin::keys::sunDirection, welkin::directionFromAzAlt(180 * kDeg, 40 * kDeg));
+        sky.renderFrame();
+        welkin::writeImage(sky.readToneMapped(), argv[1]);
+        std::printf("%s\n", argv[1]);
+    } catch (const welkin::Error& e) {
+        std::fprintf(stderr, "example_custom_element: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}

@@ -1,0 +1,281 @@
+// GL tier: headless context, RAII wrappers, shader errors, compositing math, projections on the
+// GPU, depth-tested embedding, automatic exposure, independent processors.
+#include <catch2/catch.hpp>
+
+#include "gl_test_context.hpp"
+
+#include <welkin/embedded/engine_shaders.hpp>
+#include <welkin/error.hpp>
+#include <welkin/gl/objects.hpp>
+#include <welkin/gl/shader.hpp>
+#include <welkin/processor.hpp>
+
+#include <cmath>
+
+using namespace welkin;
+
+static_assert(!std::is_copy_constructible_v<gl::Texture2D>);
+static_assert(!std::is_copy_assignable_v<gl::Texture2D>);
+static_assert(!std::is_copy_constructible_v<gl::Texture3D>);
+static_assert(!std::is_copy_constructible_v<gl::TextureCube>);
+static_assert(!std::is_copy_constructible_v<gl::Texture2DArray>);
+static_assert(!std::is_copy_constructible_v<gl::Framebuffer>);
+static_assert(!std::is_copy_constructible_v<gl::Buffer>);
+static_assert(!std::is_copy_constructible_v<gl::Program>);
+static_assert(!std::is_copy_constructible_v<gl::VertexArray>);
+static_assert(std::is_nothrow_move_assignable_v<gl::Texture2D>);
+
+TEST_CASE("Headless EGL context gives OpenGL 4.5 core", "[gl]") {
+    auto& ctx = test::glContext();
+    CHECK_THAT(ctx.description(), Catch::StartsWith("4.5"));
+    GLint n = 0;
+    glGetIntegerv(GL_MAX_DUAL_SOURCE_DRAW_BUFFERS, &n);
+    CHECK(n >= 1);  // the compositing contract needs dual-source blending
+}
+
+TEST_CASE("RAII wrappers own, move and release GL names", "[gl]") {
+    test::glContext();
+    GLuint id = 0;
+    {
+        gl::Texture2D a(8, 4, GL_RGBA32F);
+        id = a.id();
+        CHECK(glIsTexture(id));
+        gl::Texture2D b(std::move(a));
+        CHECK(a.id() == 0);  // moved-from: empty
+        CHECK(!a);
+        CHECK(b.id() == id);
+        CHECK(b.width() == 8);
+        gl::Texture2D c;
+        c = std::move(b);
+        CHECK(c.id() == id);
+    }
+    CHECK_FALSE(glIsTexture(id));  // destroyed with its last owner
+    gl::Texture3D t3(4, 4, 4, GL_RGBA16F);
+    gl::TextureCube cube(8, GL_RGBA16F);
+    gl::Texture2DArray arr(4, 4, 3, GL_R32F);
+    CHECK(t3.ref().depth == 4);
+    CHECK(cube.depth() == 6);
+    CHECK(arr.depth() == 3);
+    gl::Buffer buf(64);
+    CHECK_THROWS_WITH(buf.update(nullptr, 128), Catch::Contains("exceed"));
+    gl::Texture2D r(2, 2, GL_RGBA8);
+    GLuint rid = r.release();
+    CHECK(r.id() == 0);
+    CHECK(glIsTexture(rid));  // release() does not delete
+    glDeleteTextures(1, &rid);
+    CHECK_THROWS_WITH(gl::Texture2D(0, 4, GL_RGBA8), Catch::Contains("must be positive"));
+    gl::checkError("RAII test");
+}
+
+TEST_CASE("Shader errors name the file and the line", "[gl]") {
+    test::glContext();
+    auto builder = gl::ProgramBuilder("Broken")
+                       .fullscreenVertex()
+                       .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
+                       .fragment("tests/broken.frag.glsl", "void main() {\n  welkin_output(vec3(1.0), vec3(0.0));\n  undefined_fn();\n}\n");
+    CHECK_THROWS_WITH(builder.build(), Catch::Contains("Broken") && Catch::Contains("tests/broken.frag.glsl:3"));
+    CHECK_THAT(builder.assembled(GL_FRAGMENT_SHADER), Catch::StartsWith("#version 450 core"));
+}
+
+namespace {
+// A layer of uniform radiance and transmittance.
+class Layer final : public SkyElement {
+public:
+    Layer(std::string name, glm::vec3 radiance, glm::vec3 transmittance)
+        : SkyElement(std::move(name)), radiance_(radiance), transmittance_(transmittance) {}
+
+private:
+    void doInit(InitContext&) override {
+        program_ = gl::ProgramBuilder("Layer")
+                       .fullscreenVertex()
+                       .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
+                       .fragment("layer.frag", "uniform vec3 u_L; uniform vec3 u_T;\nvoid main() { welkin_output(u_L, u_T); }\n")
+                       .build();
+    }
+    void doRender(const FrameContext& ctx) override {
+        program_.set("u_L", radiance_);
+        program_.set("u_T", transmittance_);
+        program_.use();
+        ctx.drawFullscreen();
+    }
+    void doRelease() override { program_ = {}; }
+    glm::vec3 radiance_, transmittance_;
+    gl::Program program_;
+};
+
+// Writes the view direction + 2 as radiance (positive), opaque.
+class Probe final : public SkyElement {
+public:
+    Probe() : SkyElement("probe") {}
+
+private:
+    void doInit(InitContext&) override {
+        program_ = gl::ProgramBuilder("Probe")
+                       .fullscreenVertex()
+                       .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
+                       .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
+                       .fragment("probe.frag",
+                                 "void main() { vec3 d; if (!welkin_viewDirection(welkin_pixel(), d)) discard;\n"
+                                 "  welkin_output(d + 2.0, vec3(0.0)); }\n")
+                       .build();
+    }
+    void doRender(const FrameContext& ctx) override {
+        program_.use();
+        ctx.drawFullscreen();
+    }
+    void doRelease() override { program_ = {}; }
+    gl::Program program_;
+};
+}  // namespace
+
+TEST_CASE("Compositing: dst = src + dst * T in registration order", "[gl][composite]") {
+    test::glContext();
+    SkyProcessor p;
+    Camera cam;
+    cam.width = 16;
+    cam.height = 8;
+    p.setCamera(cam);
+    p.setExposure({.ev100 = 0});
+    // Back to front: stars-like emitter, an attenuating sky, an opaque-in-red foreground.
+    p.add(std::make_unique<Layer>("back", glm::vec3(1e-5f, 2e-5f, 4e-5f), glm::vec3(0.0f)));
+    p.add(std::make_unique<Layer>("middle", glm::vec3(100.0f, 200.0f, 300.0f), glm::vec3(0.5f, 0.25f, 1.0f)));
+    p.add(std::make_unique<Layer>("front", glm::vec3(1.6e9f, 0.0f, 1.0f), glm::vec3(0.0f, 1.0f, 0.5f)));
+    p.renderFrame();
+    Image img = p.readHdr();
+    // Analytic: ((0*T0 + L0) * T1 + L1) * T2 + L2.
+    const double expected[3] = {(1e-5 * 0.5 + 100.0) * 0.0 + 1.6e9, (2e-5 * 0.25 + 200.0) * 1.0 + 0.0,
+                                (4e-5 * 1.0 + 300.0) * 0.5 + 1.0};
+    for (int c = 0; c < 3; ++c) {
+        // float32 target: relative precision ~6e-8 per operation.
+        CHECK(img.at(7, 3, c) == Approx(expected[c]).epsilon(1e-6));
+        CHECK(img.at(0, 7, c) == Approx(expected[c]).epsilon(1e-6));
+    }
+    // The faint end survives beside the bright end: starlight alone through a transparent layer.
+    SkyProcessor q;
+    q.setCamera(cam);
+    q.add(std::make_unique<Layer>("star", glm::vec3(1e-5f), glm::vec3(0.0f)));
+    q.add(std::make_unique<Layer>("glass", glm::vec3(0.0f), glm::vec3(1.0f)));
+    q.renderFrame();
+    CHECK(q.readHdr().at(3, 3, 1) == Approx(1e-5).epsilon(1e-6));
+}
+
+TEST_CASE("Each projection puts a known direction on the expected pixel (GPU)", "[gl][camera]") {
+    test::glContext();
+    struct Case {
+        Projection projection;
+        int w, h;
+        double azDeg, altDeg;  // direction
+        double px, py;         // expected pixel position from the documented formulas
+    };
+    const double W = 64;
+    auto fish = [&](double az, double alt) {
+        double r = (90 - alt) / 90 * W / 2;
+        return glm::dvec2(W / 2 - r * std::sin(az * M_PI / 180), W / 2 - r * std::cos(az * M_PI / 180));
+    };
+    std::vector<Case> cases = {
+        {Projection::Fisheye, 64, 64, 90, 30, fish(90, 30).x, fish(90, 30).y},     // east: left half
+        {Projection::Fisheye, 64, 64, 0, 60, fish(0, 60).x, fish(0, 60).y},       // north: upper half
+        {Projection::Fisheye, 64, 64, 225, 10, fish(225, 10).x, fish(225, 10).y},  // south-west
+        {Projection::Equirect, 64, 32, 90, 45, 16, 8},                              // u = 90/360, v = 45/180
+        {Projection::Equirect, 64, 32, 300, -30, 64 * 300.0 / 360, 32 * 120.0 / 180},
+        {Projection::Perspective, 48, 32, 180, 20, 24, 16},                         // view centre
+        {Projection::CubeFace, 32, 32, 0, 90, 16, 16},                              // face +Y = zenith
+    };
+    for (const auto& k : cases) {
+        SkyProcessor p;
+        Camera cam;
+        cam.projection = k.projection;
+        cam.width = k.w;
+        cam.height = k.h;
+        cam.azimuthRad = M_PI;
+        cam.altitudeRad = 20 * M_PI / 180;
+        cam.cubeFace = 2;
+        p.setCamera(cam);
+        p.add(std::make_unique<Probe>());
+        p.renderFrame();
+        Image img = p.readHdr();
+        int x = std::clamp(int(std::floor(k.px)), 0, k.w - 1), y = std::clamp(int(std::floor(k.py)), 0, k.h - 1);
+        glm::dvec3 got(img.at(x, y, 0) - 2, img.at(x, y, 1) - 2, img.at(x, y, 2) - 2);
+        glm::dvec3 want = directionFromAzAlt(k.azDeg * M_PI / 180, k.altDeg * M_PI / 180);
+        // The pixel's centre is within ~1 pixel of the exact position: <= 3 deg at 64 px.
+        INFO("projection " << toString(k.projection) << " az " << k.azDeg << " alt " << k.altDeg);
+        CHECK(std::acos(std::clamp(glm::dot(glm::normalize(got), want), -1.0, 1.0)) < 3.0 * M_PI / 180);
+    }
+}
+
+TEST_CASE("renderInto a host framebuffer respects the host's depth", "[gl][composite]") {
+    test::glContext();
+    const int w = 8, h = 8;
+    gl::Texture2D colour(w, h, GL_RGBA32F);
+    gl::Renderbuffer depth(w, h, GL_DEPTH_COMPONENT24);
+    auto fbo = gl::Framebuffer::create();
+    fbo.attach(GL_COLOR_ATTACHMENT0, colour);
+    fbo.attach(GL_DEPTH_ATTACHMENT, depth);
+    fbo.checkComplete("host");
+    fbo.bind();
+    const float grey[4] = {5, 5, 5, 1};
+    glClearBufferfv(GL_COLOR, 0, grey);
+    glClearBufferfi(GL_DEPTH_STENCIL, 0, 1.0f, 0);
+    // The host's "geometry": the left half at depth 0.5.
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(0, 0, w / 2, h);
+    glClearBufferfi(GL_DEPTH_STENCIL, 0, 0.5f, 0);
+    glDisable(GL_SCISSOR_TEST);
+
+    SkyProcessor p;
+    Camera cam;
+    cam.width = w;
+    cam.height = h;
+    p.setCamera(cam);
+    p.add(std::make_unique<Layer>("sky", glm::vec3(10.0f), glm::vec3(0.5f)));
+    p.renderInto({.framebuffer = fbo.id(), .width = w, .height = h, .depthTest = true});
+    auto px = colour.readRgbaFloat();  // bottom-up rows
+    CHECK(px[(3 * w + 1) * 4] == Approx(5.0));               // covered by host geometry: untouched
+    CHECK(px[(3 * w + 6) * 4] == Approx(5.0 * 0.5 + 10.0));  // open sky: composited
+    CHECK_THROWS_WITH(p.renderInto({.framebuffer = fbo.id(), .width = 4, .height = 4}), Catch::Contains("differs"));
+}
+
+TEST_CASE("Automatic exposure follows the log-average luminance", "[gl][tonemap]") {
+    test::glContext();
+    for (float L : {1e-4f, 1.0f, 3e4f}) {
+        SkyProcessor p;
+        Camera cam;
+        cam.width = 32;
+        cam.height = 16;
+        p.setCamera(cam);
+        p.setExposure({.automatic = true});
+        p.add(std::make_unique<Layer>("uniform", glm::vec3(L), glm::vec3(0.0f)));
+        p.renderFrame();
+        // EV100 = log2(L * 100 / 12.5); the mip reduction of a uniform image is exact to float
+        // rounding, so 0.01 EV is generous.
+        CHECK(p.lastEv100() == Approx(std::log2(L * 8.0)).margin(0.01));
+        Image ldr = p.readToneMapped();
+        // A uniform field at the metered level tone-maps to the same mid-grey at every level.
+        CHECK(ldr.at(5, 5, 1) == Approx(p.readToneMapped().at(20, 10, 1)));
+        CHECK(ldr.at(5, 5, 1) > 0.2f);
+        CHECK(ldr.at(5, 5, 1) < 0.6f);
+    }
+}
+
+TEST_CASE("Two processors in one process are independent", "[gl][processor]") {
+    test::glContext();
+    SkyProcessor a, b;
+    Camera ca, cb;
+    ca.width = 8;
+    ca.height = 8;
+    cb.width = 12;
+    cb.height = 6;
+    a.setCamera(ca);
+    b.setCamera(cb);
+    a.add(std::make_unique<Layer>("x", glm::vec3(1.0f), glm::vec3(0.0f)));
+    b.add(std::make_unique<Layer>("x", glm::vec3(2.0f), glm::vec3(0.0f)));
+    a.renderFrame();
+    b.renderFrame();
+    a.renderFrame();
+    CHECK(a.readHdr().width == 8);
+    CHECK(b.readHdr().width == 12);
+    CHECK(a.readHdr().at(1, 1, 0) == 1.0f);
+    CHECK(b.readHdr().at(1, 1, 0) == 2.0f);
+    a.vars().set(keys::quality, 3);
+    CHECK(b.vars().get(keys::quality) == 1);
+}

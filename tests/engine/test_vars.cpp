@@ -1,0 +1,141 @@
+// SkyVars: sharing, versions, type and range errors. Generators: run once, re-run on change.
+#include <catch2/catch.hpp>
+
+#include <welkin/element.hpp>
+#include <welkin/keys.hpp>
+#include <welkin/processor.hpp>
+#include <welkin/vars.hpp>
+
+using namespace welkin;
+
+namespace {
+const Key<double> kTurbidity{"test.turbidity", Range{1.0, 10.0}, "test key"};
+const Key<int> kTurbidityAsInt{"test.turbidity"};
+const Key<glm::dvec3> kColour{"test.colour", Range{0.0, 1.0}};
+const Key<std::string> kLabel{"test.label"};
+
+struct Shared {
+    int value = 0;
+};
+const Key<std::shared_ptr<Shared>> kShared{"test.shared"};
+}  // namespace
+
+TEST_CASE("SkyVars: two declarations of a key share one value", "[cpu][vars]") {
+    SkyVars v;
+    v.declare(kTurbidity, 2.0);
+    v.declare(kTurbidity, 5.0);  // second declarer: the existing value is kept
+    CHECK(v.get(kTurbidity) == 2.0);
+    v.set(kTurbidity, 3.0);
+    CHECK(v.get(kTurbidity) == 3.0);
+    // Shared objects: the second obtain() returns the first instance.
+    int made = 0;
+    auto a = v.obtain<Shared>(kShared, [&] { ++made; return std::make_shared<Shared>(); });
+    auto b = v.obtain<Shared>(kShared, [&] { ++made; return std::make_shared<Shared>(); });
+    CHECK(a == b);
+    CHECK(made == 1);
+}
+
+TEST_CASE("SkyVars: versions bump on change only", "[cpu][vars]") {
+    SkyVars v;
+    CHECK(v.version(kTurbidity) == 0);
+    v.set(kTurbidity, 2.0);
+    uint64_t v1 = v.version(kTurbidity);
+    CHECK(v1 > 0);
+    v.set(kTurbidity, 2.0);  // same value: no change
+    CHECK(v.version(kTurbidity) == v1);
+    v.set(kTurbidity, 2.5);
+    CHECK(v.version(kTurbidity) == v1 + 1);
+    v.set(kColour, glm::dvec3(0.1, 0.2, 0.3));
+    uint64_t c1 = v.version(kColour);
+    v.set(kColour, glm::dvec3(0.1, 0.2, 0.3));
+    CHECK(v.version(kColour) == c1);
+    v.set(kColour, glm::dvec3(0.1, 0.2, 0.4));
+    CHECK(v.version(kColour) == c1 + 1);
+}
+
+TEST_CASE("SkyVars: unset, wrong type and out-of-range are errors naming the key", "[cpu][vars]") {
+    SkyVars v;
+    CHECK_THROWS_WITH(v.get(kLabel), Catch::Contains("test.label") && Catch::Contains("not set"));
+    v.declareUnset(kLabel);
+    CHECK_THROWS_WITH(v.get(kLabel), Catch::Contains("not set"));
+    v.set(kTurbidity, 2.0);
+    CHECK_THROWS_WITH(v.get(kTurbidityAsInt), Catch::Contains("test.turbidity") && Catch::Contains("holds double"));
+    CHECK_THROWS_WITH(v.declare(kTurbidityAsInt, 3), Catch::Contains("requested int"));
+    CHECK_THROWS_WITH(v.set(kTurbidity, 11.0), Catch::Contains("test.turbidity") && Catch::Contains("11 not in [1, 10]"));
+    CHECK(v.get(kTurbidity) == 2.0);  // a rejected set leaves the value alone
+    CHECK_THROWS_WITH(v.set(kColour, glm::dvec3(0.5, 1.5, 0.0)), Catch::Contains("1.5 not in [0, 1]"));
+    CHECK_THROWS_WITH(v.set(kTurbidity, std::nan("")), Catch::Contains("not finite"));
+    CHECK_THROWS_WITH(v.set(keys::observerLatitude, 2.0), Catch::Contains("observer.latitude_rad"));
+}
+
+TEST_CASE("SkyVars::earth() declares the engine keys", "[cpu][vars]") {
+    SkyVars v = SkyVars::earth();
+    CHECK(v.get(keys::planetRadius) == Approx(6360e3));
+    CHECK(v.get(keys::quality) == 1);
+    CHECK(v.has(keys::observerHeight));
+    CHECK(v.typeName("observer.height_m") == "double");
+}
+
+namespace {
+class CountingGenerator final : public Generator {
+public:
+    CountingGenerator() : Generator("Counting") {
+        input(kTurbidity);
+        input(kColour);
+    }
+    int ran = 0;
+
+private:
+    void doRun(SkyVars&, const Logger&) override { ++ran; }
+};
+}  // namespace
+
+TEST_CASE("Generator: runs once and again only when an input changes", "[cpu][generator]") {
+    SkyVars v;
+    v.set(kTurbidity, 2.0);
+    v.set(kColour, glm::dvec3(0.5));
+    v.set(kLabel, std::string("a"));
+    Logger log;
+    CountingGenerator g;
+    CHECK(g.isDue(v));
+    CHECK(g.runIfDue(v, log));
+    CHECK_FALSE(g.runIfDue(v, log));
+    CHECK(g.ran == 1);
+    v.set(kTurbidity, 2.0);  // same value: not due
+    CHECK_FALSE(g.runIfDue(v, log));
+    v.set(kLabel, std::string("b"));  // not an input
+    CHECK_FALSE(g.runIfDue(v, log));
+    v.set(kColour, glm::dvec3(0.25));
+    CHECK(g.runIfDue(v, log));
+    CHECK(g.ran == 2);
+    CHECK(g.runCount() == 2);
+}
+
+namespace {
+class NamedElement final : public SkyElement {
+public:
+    explicit NamedElement(std::string n) : SkyElement(std::move(n)) {}
+
+private:
+    void doInit(InitContext&) override {}
+    void doRender(const FrameContext&) override {}
+    void doRelease() override {}
+};
+}  // namespace
+
+TEST_CASE("SkyProcessor keeps elements in registration order and rejects duplicates", "[cpu][processor]") {
+    SkyProcessor p;
+    p.add(std::make_unique<NamedElement>("stars"));
+    p.add(std::make_unique<NamedElement>("sky"));
+    p.add(std::make_unique<NamedElement>("clouds"));
+    REQUIRE(p.elements().size() == 3);
+    CHECK(p.elements()[0]->name() == "stars");
+    CHECK(p.elements()[1]->name() == "sky");
+    CHECK(p.elements()[2]->name() == "clouds");
+    CHECK(p.find("sky") == p.elements()[1].get());
+    CHECK_THROWS_WITH(p.add(std::make_unique<NamedElement>("sky")), Catch::Contains("already registered"));
+    // Using an element before init() is an error naming it.
+    CHECK_THROWS_WITH(p.elements()[0]->resize(0, 10), Catch::Contains("stars::resize()"));
+    CHECK_THROWS_WITH(p.setObserver({.latitudeRad = 2.0}), Catch::Contains("latitude") && Catch::Contains("[-90, 90]"));
+    CHECK_THROWS_WITH(p.setExposure({.ev100 = 40}), Catch::Contains("ev100 40 not in [-20, 30]"));
+}
