@@ -8,6 +8,7 @@
 #include <welkin/error.hpp>
 #include <welkin/gl/objects.hpp>
 #include <welkin/gl/shader.hpp>
+#include <welkin/keys.hpp>
 #include <welkin/processor.hpp>
 
 #include <cmath>

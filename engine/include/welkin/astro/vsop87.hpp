@@ -1,0 +1,68 @@
+// VSOP87 planetary theory (version B: heliocentric spherical coordinates referred to the
+// ecliptic and equinox J2000), in two forms with one evaluator:
+//
+//   const auto& fast = welkin::astro::vsop87Truncated(welkin::astro::VsopPlanet::Mars);  // compiled in
+//   const auto& full = welkin::astro::vsop87Full(welkin::astro::VsopPlanet::Mars);       // kstars-data files
+//   double t = welkin::astro::julianMillenniaTT(jdTT);                                  // from J2000
+//   welkin::astro::VsopState s = welkin::astro::evaluate(full, t);
+//   // s.lbr = (L rad, B rad, R au), s.rate = d/dt in rad/day and au/day
+//
+// The truncated series (engine/src/astro/vsop87_fast_tables.cpp) keep the terms that matter in
+// 1900-2100 (see tools/gen_fast_tables.py); the full series are read once from
+// /usr/share/kstars/<planet>.{L,B,R}{0..5}.vsop (Debian package kstars-data; override with the
+// environment variable WELKIN_VSOP87_DIR) and cached for the life of the process. Each file line
+// is "A B C": the term A cos(B + C t), t in Julian millennia of TT from J2000.0.
+#pragma once
+#include <glm/glm.hpp>
+
+#include <string>
+
+namespace welkin::astro {
+
+/// One periodic term A cos(B + C t): A in rad (L, B) or au (R), B in rad, C in rad/millennium.
+struct VsopTerm {
+    double a, b, c;
+};
+/// Terms of one power of t, sorted by decreasing |A|.
+struct VsopSeries {
+    const VsopTerm* terms = nullptr;
+    int count = 0;
+};
+/// The 18 series of one body: coordinate = sum_k t^k * series_k, for L, B and R.
+struct VsopBody {
+    VsopSeries L[6], B[6], R[6];
+};
+
+enum class VsopPlanet { Mercury, Venus, Earth, Mars, Jupiter, Saturn, Uranus, Neptune };
+/// Lower-case English name ("earth"), as in the kstars-data file names.
+const char* vsopName(VsopPlanet p);
+
+/// Compiled-in truncated series (no I/O, no allocation).
+const VsopBody& vsop87Truncated(VsopPlanet p);
+/// Full series loaded from kstars-data on first use (thread-safe), then cached. Throws
+/// welkin::Error naming the missing or malformed file.
+const VsopBody& vsop87Full(VsopPlanet p);
+/// Directory the full series are read from: $WELKIN_VSOP87_DIR or /usr/share/kstars.
+std::string vsop87Directory();
+
+/// Heliocentric position and its rate.
+struct VsopState {
+    glm::dvec3 lbr{0.0};   ///< L (rad, not reduced), B (rad), R (au)
+    glm::dvec3 rate{0.0};  ///< dL/dt, dB/dt (rad/day), dR/dt (au/day); zero unless requested
+};
+
+/// Julian millennia of TT from J2000.0 (JD 2451545.0 TT), given the TT Julian date as two parts.
+inline double julianMillenniaTT(double jd1, double jd2) { return ((jd1 - 2451545.0) + jd2) / 365250.0; }
+
+/// Evaluates all terms of `body` at `t` (Julian millennia TT from J2000). With `rates`, also
+/// the time derivatives, from the terms whose rate amplitude |A C| exceeds 1e-7 of the largest
+/// (enough for light time and aberration: relative rate error below 1e-5).
+VsopState evaluate(const VsopBody& body, double t, bool rates = false);
+
+/// Heliocentric rectangular coordinates in the equatorial frame of J2000 (FK5 axes as realised
+/// by VSOP87, within 0.02" of ICRS), au, from spherical ecliptic VSOP87B values.
+glm::dvec3 vsopToEquatorialJ2000(const glm::dvec3& lbr);
+/// Same for a rate (derivative of the position), au/day.
+glm::dvec3 vsopRateToEquatorialJ2000(const glm::dvec3& lbr, const glm::dvec3& rate);
+
+}  // namespace welkin::astro
