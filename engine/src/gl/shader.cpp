@@ -8,6 +8,10 @@
 
 namespace welkin::gl {
 
+namespace {
+constexpr size_t kChunkLines = 100000;  // no chunk is that long
+}
+
 std::string_view engineShader(std::string_view path) { return embedded::engine_shaders(path); }
 
 ProgramBuilder& ProgramBuilder::define(const std::string& name, const std::string& value) {
@@ -47,8 +51,10 @@ std::string ProgramBuilder::header() const {
 std::vector<std::string> ProgramBuilder::sources(const std::vector<Chunk>& chunks) const {
     std::vector<std::string> out{header()};
     for (size_t i = 0; i < chunks.size(); ++i) {
-        // Source-string number i+1 identifies the chunk in driver messages.
-        out.push_back("#line 1 " + std::to_string(i + 1) + "\n" + chunks[i].text + "\n");
+        // The chunk index is encoded in the line number itself (chunk k starts at line
+        // k * kChunkLines + 1): drivers differ in whether they report the source-string number
+        // of `#line L S`, but all report line numbers.
+        out.push_back("#line " + std::to_string((i + 1) * kChunkLines + 1) + "\n" + chunks[i].text + "\n");
     }
     return out;
 }
@@ -61,8 +67,8 @@ std::string ProgramBuilder::assembled(GLenum stage) const {
 }
 
 std::string ProgramBuilder::mapLog(const std::string& log, const std::vector<Chunk>& chunks) const {
-    // Mesa writes "3:12(5): error: ..."; others "ERROR: 3:12: ...". Rewrite the source-string
-    // number into the chunk's file name.
+    // Mesa writes "0:300012(5): error: ..."; others "ERROR: 0:300012: ...". Decode the line
+    // number into the chunk's file name and its own line.
     static const std::regex re(R"((\d+):(\d+)(\(\d+\))?)");
     std::string out;
     std::istringstream in(log);
@@ -71,9 +77,10 @@ std::string ProgramBuilder::mapLog(const std::string& log, const std::vector<Chu
         if (line.empty()) continue;
         std::smatch m;
         if (std::regex_search(line, m, re)) {
-            size_t idx = std::stoul(m[1]);
+            size_t encoded = std::stoul(m[2]);
+            size_t idx = encoded / kChunkLines, local = encoded % kChunkLines;
             std::string file = idx == 0 ? "<generated header>" : idx <= chunks.size() ? chunks[idx - 1].name : "?";
-            line = m.prefix().str() + file + ":" + m[2].str() + m.suffix().str();
+            line = m.prefix().str() + file + ":" + std::to_string(local) + m.suffix().str();
         }
         if (!out.empty()) out += " | ";
         out += line;

@@ -8,8 +8,8 @@
 //       .build();                                                      // throws welkin::Error
 //
 // Each stage is assembled as: a generated header (`#version 450 core`, then every define in the
-// order given), then each chunk in the order added, each preceded by `#line 1 <n>` so that the
-// driver's messages can be mapped back: "grid/grid.frag.glsl:12: error: ...".
+// order given), then each chunk in the order added, each preceded by `#line <n*100000+1>` so
+// that the driver's messages can be mapped back whatever the driver: "grid/grid.frag.glsl:12: error: ...".
 #pragma once
 #include <welkin/gl/objects.hpp>
 
