@@ -1,0 +1,223 @@
+// The sky's LUT generators (Hillaire 2020 style, horizon-dense): each a GPU pass with a CPU
+// double-precision twin in sky_model.hpp, each a welkin::Generator that runs only when its
+// declared inputs changed, each shared between elements through SkyVars.
+//
+//   auto luts = welkin::generators::SkyLuts::obtain(vars);   // shared: one set per SkyVars
+//   element.addGenerator(luts.transmittance); ...             // the processor runs them when due
+//   // or by hand, with a context current:
+//   luts.transmittance->runIfDue(vars, log);
+//   welkin::TextureRef t = vars.get(welkin::generators::skykeys::transmittanceLut);
+//
+// Chain and inputs (a generator re-runs when any input's version changed):
+//   TransmittanceLut      <- sky.atmosphere, sky.quality                       (256x64 medium)
+//   MultiScatteringLut    <- sky.atmosphere, sky.quality, sky.transmittance_rev (32x32)
+//   SkyViewLut (Sun)      <- ..., sky.multiscattering_rev, sun.direction, observer.height_m
+//   SkyViewLut (Moon)     <- ..., moon.direction, observer.height_m
+//   AerialPerspectiveLut  <- ..., sun.direction, observer.height_m               (32^3)
+//   SkyIrradiance         <- sky-view revisions, light illuminances, directions
+// The sky-view and aerial-perspective values are radiance per lux of the light's illuminance
+// (times kLutScale), so one LUT serves any light intensity and colour: multiply by the light's
+// per-channel illuminance (sky.sun_illuminance / sky.moon_illuminance, lux) to get cd/m^2.
+#pragma once
+#include <welkin/element.hpp>
+#include <welkin/generators/sky_model.hpp>
+#include <welkin/gl/objects.hpp>
+
+#include <memory>
+#include <optional>
+
+namespace welkin::generators {
+
+/// Stored LUT values are radiance per lux times this factor (keeps fp16 LUTs out of subnormals
+/// for daylight and civil twilight).
+inline constexpr double kLutScale = 1e4;
+
+namespace skykeys {
+/// Effective quality preset of the sky passes, 0..3 (set by the Sky element from its options or
+/// render.quality).
+inline const Key<int> quality{"sky.quality", Range{0, 3}, "effective sky quality preset"};
+inline const Key<TextureRef> transmittanceLut{"sky.transmittance_lut", "transmittance LUT (RGB, to the top of the atmosphere)"};
+inline const Key<int> transmittanceRev{"sky.transmittance_rev", "transmittance LUT revision"};
+inline const Key<TextureRef> multiScatteringLut{"sky.multiscattering_lut", "multiple-scattering LUT (Hillaire Psi_ms)"};
+inline const Key<int> multiScatteringRev{"sky.multiscattering_rev", "multiple-scattering LUT revision"};
+inline const Key<TextureRef> sunViewLut{"sky.sun_view_lut", "sky-view LUT for the Sun: Rayleigh + multiple scattering + ground"};
+inline const Key<TextureRef> sunViewMieLut{"sky.sun_view_mie_lut", "sky-view LUT for the Sun: Mie single scattering without phase"};
+inline const Key<int> sunViewRev{"sky.sun_view_rev", "Sun sky-view LUT revision"};
+inline const Key<TextureRef> moonViewLut{"sky.moon_view_lut", "sky-view LUT for the Moon (smooth part)"};
+inline const Key<TextureRef> moonViewMieLut{"sky.moon_view_mie_lut", "sky-view LUT for the Moon (Mie without phase)"};
+inline const Key<int> moonViewRev{"sky.moon_view_rev", "Moon sky-view LUT revision"};
+inline const Key<TextureRef> aerialInscatter{"sky.aerial_inscatter", "aerial perspective volume: in-scattered radiance per lux x kLutScale"};
+inline const Key<TextureRef> aerialTransmittance{"sky.aerial_transmittance", "aerial perspective volume: transmittance"};
+inline const Key<int> aerialRev{"sky.aerial_rev", "aerial perspective revision"};
+/// Light sources at the top of the atmosphere, lux per linear-sRGB channel (Y = illuminance).
+inline const Key<glm::dvec3> sunIlluminance{"sky.sun_illuminance", Range{0, 1e7}, "Sun's illuminance above the atmosphere, lux per channel"};
+inline const Key<glm::dvec3> moonIlluminance{"sky.moon_illuminance", Range{0, 1e3}, "Moon's illuminance above the atmosphere, lux per channel"};
+/// The Sun's disk as seen by the observer: mean radiance (cd/m^2 per channel), reddened by the
+/// atmosphere (0 below the horizon), and the transmittance to it.
+inline const Key<glm::dvec3> sunDiskRadiance{"sky.sun_disk_radiance", Range{0, 1e12}, "Sun's disk radiance at the observer, cd/m^2"};
+inline const Key<glm::dvec3> sunTransmittance{"sky.sun_transmittance", Range{0, 1}, "transmittance observer -> Sun"};
+inline const Key<glm::dvec3> moonTransmittance{"sky.moon_transmittance", Range{0, 1}, "transmittance observer -> Moon"};
+/// Horizontal illuminance at the observer, lux: (global, direct, diffuse); Sun and Moon.
+inline const Key<glm::dvec3> horizontalIlluminance{"sky.horizontal_illuminance", Range{0, 1e7}, "global, direct, diffuse horizontal illuminance, lux"};
+/// Diffuse sky irradiance on a horizontal surface per channel (lux; an ambient term for hosts).
+inline const Key<glm::dvec3> diffuseIrradiance{"sky.diffuse_irradiance", Range{0, 1e7}, "diffuse horizontal illuminance per channel, lux"};
+/// Zenith luminance, cd/m^2.
+inline const Key<double> zenithLuminance{"sky.zenith_luminance", Range{0, 1e9}, "zenith luminance, cd/m^2"};
+}  // namespace skykeys
+
+/// std140 mirror of the WelkinAtmosphere block in atmosphere.glsl (binding 1).
+struct AtmosphereBlock {
+    glm::vec4 radii;
+    glm::vec4 rayleigh;
+    glm::vec4 mieScattering;
+    glm::vec4 mieExtinction;
+    glm::vec4 absorption;
+    glm::vec4 groundAlbedo;
+    glm::vec4 solarIlluminance;
+    glm::vec4 profiles[9];
+    static AtmosphereBlock from(const SkyModel& m);
+};
+
+/// Quality and model resolution shared by the sky generators.
+class SkyGenerator : public Generator {
+public:
+    /// With `fixed`, the generator always uses that preset (tests); else sky.quality.
+    void setFixedQuality(std::optional<SkyQuality> q) { fixed_ = q; }
+    /// The preset used by the last run.
+    const SkyQuality& quality() const { return q_; }
+    const SkyModel& model() const { return model_; }
+    /// Frees GL resources (call with the context current before the context goes away).
+    virtual void releaseGl() = 0;
+
+protected:
+    explicit SkyGenerator(std::string name);
+    /// Resolves the model and quality from vars; uploads the atmosphere block (binding 1).
+    void prepare(SkyVars& vars);
+    void fullscreen() const;
+    SkyModel model_;
+    SkyQuality q_;
+    std::optional<SkyQuality> fixed_;
+    gl::Buffer ubo_;
+    gl::VertexArray vao_;
+    void releaseCommon() {
+        ubo_ = {};
+        vao_ = {};
+    }
+};
+
+class TransmittanceLut final : public SkyGenerator {
+public:
+    TransmittanceLut();
+    const gl::Texture2D& texture() const { return tex_; }
+    void releaseGl() override;
+
+private:
+    void doRun(SkyVars& vars, const Logger& log) override;
+    gl::Texture2D tex_;
+    gl::Framebuffer fbo_;
+    gl::Program prog_;
+    int rev_ = 0;
+};
+
+class MultiScatteringLut final : public SkyGenerator {
+public:
+    MultiScatteringLut();
+    const gl::Texture2D& texture() const { return tex_; }
+    void releaseGl() override;
+
+private:
+    void doRun(SkyVars& vars, const Logger& log) override;
+    gl::Texture2D tex_;
+    gl::Framebuffer fbo_;
+    gl::Program prog_;
+    int rev_ = 0;
+};
+
+enum class Light { Sun, Moon };
+
+/// Sky-view LUT seen from the observer for one light: two textures (smooth part with phase,
+/// Mie single scattering without phase), azimuth measured from the light, [0, pi].
+class SkyViewLut final : public SkyGenerator {
+public:
+    explicit SkyViewLut(Light light);
+    const gl::Texture2D& smoothTexture() const { return smooth_; }
+    const gl::Texture2D& mieTexture() const { return mie_; }
+    /// Height and light cos-zenith of the last run (h clamped into the atmosphere).
+    double height() const { return h_; }
+    double lightMuS() const { return muS_; }
+    void releaseGl() override;
+
+private:
+    void doRun(SkyVars& vars, const Logger& log) override;
+    Light light_;
+    gl::Texture2D smooth_, mie_;
+    gl::Framebuffer fbo_;
+    gl::Program prog_;
+    int rev_ = 0;
+    double h_ = 0.0, muS_ = 1.0;
+};
+
+/// Aerial perspective volume, camera-independent: (azimuth from the Sun, horizon-dense
+/// latitude, distance with quadratic slices up to SkyQuality::aerialMaxDistance). In-scattered
+/// radiance per lux x kLutScale, and transmittance; Sun only.
+class AerialPerspectiveLut final : public SkyGenerator {
+public:
+    AerialPerspectiveLut();
+    const gl::Texture3D& inscatter() const { return inscatter_; }
+    const gl::Texture3D& transmittance() const { return transmittance_; }
+    void releaseGl() override;
+
+private:
+    void doRun(SkyVars& vars, const Logger& log) override;
+    gl::Texture3D inscatter_, transmittance_;
+    gl::Program prog_;
+    int rev_ = 0;
+};
+
+/// Horizontal illuminance at the observer (global/direct/diffuse, Sun and Moon) and the zenith
+/// luminance, integrated on the GPU from the sky-view LUTs; read back (16 floats) only when an
+/// input changed. Publishes skykeys::horizontalIlluminance, diffuseIrradiance, zenithLuminance.
+class SkyIrradiance final : public SkyGenerator {
+public:
+    SkyIrradiance();
+    void releaseGl() override;
+    /// Per-channel diffuse illuminance from each light's LUT (lux), as last computed.
+    glm::dvec3 sunDiffuse() const { return sunDiffuse_; }
+    glm::dvec3 moonDiffuse() const { return moonDiffuse_; }
+
+private:
+    void doRun(SkyVars& vars, const Logger& log) override;
+    gl::Program prog_;
+    gl::Buffer out_;
+    glm::dvec3 sunDiffuse_{0.0}, moonDiffuse_{0.0};
+};
+
+namespace cpu {
+/// CPU twin of one aerial-perspective texel (direction texel i, j; slice k): in-scattered
+/// radiance per lux (without kLutScale) and transmittance from the observer to slice k's end.
+struct AerialTexel {
+    glm::dvec3 inscatter{0.0};
+    glm::dvec3 transmittance{1.0};
+};
+AerialTexel aerialTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const Lut2D& MS, double h, double muS, int i,
+                        int j, int k);
+}  // namespace cpu
+
+/// The shared set of sky generators of one SkyVars.
+struct SkyLuts {
+    std::shared_ptr<TransmittanceLut> transmittance;
+    std::shared_ptr<MultiScatteringLut> multiScattering;
+    std::shared_ptr<SkyViewLut> sunView, moonView;
+    std::shared_ptr<AerialPerspectiveLut> aerial;
+    std::shared_ptr<SkyIrradiance> irradiance;
+    /// The instances stored in `vars` (created on first request).
+    static SkyLuts obtain(SkyVars& vars);
+    void releaseGl();
+};
+
+/// Hemisphere quadrature of a sky-view LUT on the CPU (twin of sky_irradiance.glsl): diffuse
+/// horizontal illuminance per lux of the light (the LUT given as a function of (mu, azimuth)).
+glm::dvec3 cpuDiffuseIrradiance(const SkyModel& m, const SkyQuality& q, double h, double muS,
+                                const std::function<glm::dvec3(double mu, double az, double nu)>& radiancePerLux);
+
+}  // namespace welkin::generators

@@ -1,0 +1,194 @@
+// The real-time sky model: the atmosphere as the GPU passes see it (SkyModel), the quality
+// presets (SkyQuality), the LUT parameterisations and the double-precision CPU twins of every
+// GPU pass (namespace welkin::generators::cpu). The GLSL twin of this file is
+// generators/shaders/atmosphere.glsl: every function here has a GLSL function of the same name
+// and the same math (float), so a GPU texel can be checked against its CPU twin.
+//
+//   auto model = welkin::generators::SkyModel::fromVars(vars);        // or SkyModel::earthClear()
+//   auto q = welkin::generators::SkyQuality::preset(1);              // medium
+//   auto T = welkin::generators::cpu::transmittanceLut(model, q);    // 256x64, double
+//   glm::dvec3 t = T.sample(welkin::generators::transmittanceUv(model, r, mu, q.transmittance));
+//
+// Geometry convention (Bruneton 2017): a point is described by its distance r to the planet's
+// centre (metres) and a ray by mu = cos(view zenith angle); the Sun by mu_s = cos(solar zenith
+// angle at the point) and nu = cos(angle between view ray and Sun). Heights h = r - bottomRadius
+// are carried separately where precision matters (r^2 - R^2 is computed as h (2R + h)).
+//
+// Colour: "RGB" mode treats each linear-sRGB channel as one wavelength band. Scattering and
+// absorption coefficients are per channel (1/m) and the light source's top-of-atmosphere
+// illuminance is given per channel in lux with Y = 0.2126 R + 0.7152 G + 0.0722 B equal to its
+// total illuminance, so every radiance comes out directly in cd/m^2 (linear sRGB).
+#pragma once
+#include <welkin/vars.hpp>
+
+#include <glm/glm.hpp>
+
+#include <array>
+#include <functional>
+#include <vector>
+
+namespace welkin::generators {
+
+/// One layer of a density profile (Bruneton 2017): d(h) = expTerm exp(expScale h) +
+/// linearTerm h + constantTerm, clamped to [0, 1]; h in metres above the ground.
+struct DensityLayer {
+    double width = 0.0;         ///< thickness of the layer, m (the top layer ignores it)
+    double expTerm = 0.0;       ///< 1
+    double expScale = 0.0;      ///< 1/m (e.g. -1/8000 for Rayleigh)
+    double linearTerm = 0.0;    ///< 1/m
+    double constantTerm = 0.0;  ///< 1
+};
+
+/// Two layers: layers[0] below layers[0].width, layers[1] above.
+struct DensityProfile {
+    std::array<DensityLayer, 2> layers{};
+    double density(double h) const;
+    /// exp(-h / scaleHeight) everywhere.
+    static DensityProfile exponential(double scaleHeightM);
+    /// A tent: 0 at centre -/+ halfWidth, 1 at centre (ozone).
+    static DensityProfile tent(double centreM, double halfWidthM);
+};
+
+/// The atmosphere as the real-time passes see it. SI units.
+struct SkyModel {
+    double bottomRadius = 6360e3;  ///< ground sphere radius, m
+    double topRadius = 6460e3;     ///< top of the atmosphere, m (> bottomRadius)
+    glm::dvec3 rayleighScattering{5.802e-6, 13.558e-6, 33.1e-6};  ///< 1/m at density 1
+    DensityProfile rayleighDensity = DensityProfile::exponential(8000.0);
+    glm::dvec3 mieScattering{3.996e-6};  ///< 1/m at density 1
+    glm::dvec3 mieExtinction{4.440e-6};  ///< 1/m at density 1
+    DensityProfile mieDensity = DensityProfile::exponential(1200.0);
+    double mieG = 0.8;   ///< Mie asymmetry, (-1, 1)
+    int miePhase = 1;    ///< 0 Henyey-Greenstein, 1 Cornette-Shanks
+    glm::dvec3 absorptionExtinction{0.650e-6, 1.881e-6, 0.085e-6};  ///< ozone, 1/m at density 1
+    DensityProfile absorptionDensity = DensityProfile::tent(25e3, 15e3);
+    glm::dvec3 groundAlbedo{0.3};  ///< Lambertian, [0, 1]
+    /// Sun's illuminance at the top of the atmosphere per linear-sRGB channel, lux (Y = total).
+    glm::dvec3 solarIlluminance{1.32e5, 1.27e5, 1.24e5};
+    double sunAngularRadius = 0.004675;  ///< rad
+
+    /// Hillaire 2020 / Bruneton 2017 Earth parameters (used until an atmosphere is in SkyVars).
+    static SkyModel earthClear() { return {}; }
+    /// From the atmosphere description in SkyVars (generators/atmosphere.hpp) if present, else
+    /// earthClear().
+    static SkyModel fromVars(const SkyVars& vars);
+    /// Throws welkin::Error naming the member and range.
+    void validate() const;
+
+    glm::dvec3 scatteringRayleigh(double h) const { return rayleighScattering * rayleighDensity.density(h); }
+    glm::dvec3 scatteringMie(double h) const { return mieScattering * mieDensity.density(h); }
+    glm::dvec3 extinction(double h) const;
+};
+
+/// Per-pass sizes and sample counts of one quality preset.
+struct SkyQuality {
+    int transmittanceW = 256, transmittanceH = 64;  ///< texels
+    int transmittanceSteps = 64;                    ///< trapezoid samples along each ray
+    int multiScatteringSize = 32;                   ///< texels per side
+    int multiScatteringDirections = 64;             ///< sphere directions per texel
+    int multiScatteringSteps = 20;                  ///< samples per direction
+    int skyViewW = 192, skyViewH = 108;             ///< texels (azimuth x latitude)
+    int skyViewSteps = 32;                          ///< samples per ray
+    int aerialSize = 32;                            ///< texels per side of the volume
+    int aerialSteps = 2;                            ///< samples per distance slice
+    double aerialMaxDistance = 100e3;               ///< m, last slice
+    int raymarchSteps = 48;                         ///< per-pixel ray march (space, reference)
+    bool halfFloat = false;                         ///< fp16 LUTs (else fp32)
+    bool perPixel = false;                          ///< ray-march every pixel (reference)
+    int irradianceAzimuth = 32, irradianceZenith = 16;  ///< hemisphere quadrature
+    /// 0 low, 1 medium, 2 high, 3 reference. Throws welkin::Error outside [0, 3].
+    static SkyQuality preset(int quality);
+    /// A tiny preset for [gl] tests on llvmpipe.
+    static SkyQuality tiny();
+};
+
+/// A 2-D table of RGB doubles sampled like a GL texture with GL_LINEAR and GL_CLAMP_TO_EDGE
+/// (texel centres at (i + 0.5) / size). Rows bottom-up as GL stores them.
+struct Lut2D {
+    int width = 0, height = 0;
+    std::vector<glm::dvec3> texels;
+    glm::dvec3& at(int x, int y) { return texels[size_t(y) * width + x]; }
+    const glm::dvec3& at(int x, int y) const { return texels[size_t(y) * width + x]; }
+    glm::dvec3 sample(glm::dvec2 uv) const;
+};
+
+// --- Parameterisations (identical in atmosphere.glsl) ------------------------------------------
+/// Texture coordinate of x in [0, 1] so that 0 and 1 fall on the first and last texel centres.
+double texCoordFromUnit(double x, int size);
+double unitFromTexCoord(double u, int size);
+
+/// Transmittance LUT: (r, mu) <-> uv (Bruneton 2017, dense near the horizon).
+glm::dvec2 transmittanceUv(const SkyModel& m, double h, double mu, int w, int hgt);
+/// Inverse: returns (h, mu).
+glm::dvec2 transmittanceHMu(const SkyModel& m, glm::dvec2 uv, int w, int hgt);
+/// Multiple-scattering LUT: (h, mu_s) <-> uv.
+glm::dvec2 multiScatteringUv(const SkyModel& m, double h, double muS, int size);
+glm::dvec2 multiScatteringHMuS(const SkyModel& m, glm::dvec2 uv, int size);
+/// Sky-view LUT at height h: (cos view zenith mu, azimuth from the light in [0, pi]) <-> uv.
+/// Latitude is dense at the horizon (square-root law on each side of the horizon, whose texel
+/// rows never mix: the upper half is sampled with v clamped to its own rows).
+glm::dvec2 skyViewUv(const SkyModel& m, double h, double mu, double azimuth, int w, int hgt);
+/// Inverse: returns (mu, azimuth).
+glm::dvec2 skyViewMuAz(const SkyModel& m, double h, glm::dvec2 uv, int w, int hgt);
+
+// --- Phase functions ----------------------------------------------------------------------------
+double rayleighPhase(double nu);
+/// Henyey-Greenstein (kind 0) or Cornette-Shanks (kind 1), normalised over the sphere.
+double miePhase(double nu, double g, int kind);
+
+namespace cpu {
+// --- Geometry (stable for rays grazing the ground) -----------------------------------------------
+double distanceToTop(const SkyModel& m, double h, double mu);
+double distanceToBottom(const SkyModel& m, double h, double mu);
+bool rayIntersectsGround(const SkyModel& m, double h, double mu);
+/// Height after travelling t along (h, mu).
+double heightAt(const SkyModel& m, double h, double mu, double t);
+
+/// Transmittance LUT texel values computed directly (the CPU twin of transmittance_lut.glsl).
+glm::dvec3 transmittanceToTop(const SkyModel& m, double h, double mu, int steps);
+Lut2D transmittanceLut(const SkyModel& m, const SkyQuality& q);
+/// Transmittance to the top of the atmosphere from the LUT, and to the light with the planet's
+/// soft shadow (disk of the given angular radius).
+glm::dvec3 transmittanceFromLut(const SkyModel& m, const Lut2D& T, double h, double mu);
+glm::dvec3 transmittanceToLight(const SkyModel& m, const Lut2D& T, double h, double muS, double angularRadius);
+
+/// Multiple-scattering LUT (Hillaire 2020): per unit illuminance, isotropic multiple
+/// scattering transfer Psi_ms(h, mu_s).
+glm::dvec3 multiScatteringTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, double h, double muS);
+Lut2D multiScatteringLut(const SkyModel& m, const SkyQuality& q, const Lut2D& T);
+
+/// Result of a ray march: radiance per unit light illuminance, split into the phase-applied
+/// part (Rayleigh single, multiple scattering, ground) and Mie single scattering without its
+/// phase function; plus the transmittance along the marched segment.
+struct Scattering {
+    glm::dvec3 smooth{0.0};
+    glm::dvec3 mieNoPhase{0.0};
+    glm::dvec3 transmittance{1.0};
+    bool hitGround = false;
+};
+/// March from height h along mu (light at mu_s, nu) for at most maxDistance metres, with
+/// `steps` samples spaced quadratically from the origin when `quadratic`, else densest at the
+/// ray's lowest point. groundMode: -1 from the geometry, 0 never hits, 1 hits the ground.
+Scattering integrate(const SkyModel& m, const Lut2D& T, const Lut2D& MS, double h, double mu, double muS, double nu,
+                     double maxDistance, int steps, bool quadratic, double lightAngularRadius, int groundMode = -1);
+/// Total radiance per unit illuminance along a ray (smooth + mie * phase).
+glm::dvec3 radiance(const SkyModel& m, const Scattering& s, double nu);
+
+/// One sky-view texel: RGB = smooth part, and the Mie part (two textures on the GPU).
+struct SkyViewTexel {
+    glm::dvec3 smooth{0.0};
+    glm::dvec3 mie{0.0};
+};
+SkyViewTexel skyViewTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const Lut2D& MS, double h, double muS,
+                          glm::dvec2 uv, double lightAngularRadius);
+/// Radiance per lux from sky-view LUTs (values without kLutScale) for a view (mu, azimuth from
+/// the light, nu): the twin of skyViewSample() in atmosphere.glsl (halves never blended).
+glm::dvec3 skyViewSample(const SkyModel& m, const Lut2D& smooth, const Lut2D& mie, double h, double mu, double az, double nu);
+/// Sky radiance (cd/m^2) seen from height h (clamped into the atmosphere) in direction
+/// `viewDir` with the light at `lightDir` (both unit ENU vectors), for a light of illuminance
+/// `E` (lux per channel), marching every ray (CPU reference for tests).
+glm::dvec3 skyRadiance(const SkyModel& m, const Lut2D& T, const Lut2D& MS, double h, const glm::dvec3& viewDir,
+                       const glm::dvec3& lightDir, const glm::dvec3& E, int steps, double lightAngularRadius);
+}  // namespace cpu
+
+}  // namespace welkin::generators

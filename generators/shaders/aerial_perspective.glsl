@@ -1,0 +1,53 @@
+// Aerial perspective volume pass (compute): for each direction of the sky-view parameterisation
+// (azimuth from the Sun, horizon-dense latitude) one ray is marched from the observer and, at
+// the end of each distance slice k (d_k = D ((k + 1) / N)^2), the in-scattered radiance per lux
+// (times kLutScale) and the transmittance so far are stored. Twin of cpu::aerialTexel(). Needs
+// atmosphere.glsl (ATM_USE_TRANSMITTANCE, ATM_USE_MULTISCATTERING) before it.
+layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+layout(rgba32f, binding = 0) uniform writeonly image3D u_inscatter;
+layout(rgba32f, binding = 1) uniform writeonly image3D u_transmittance;
+uniform float u_h;
+uniform float u_muS;
+uniform int u_size;        // N
+uniform int u_substeps;    // samples per slice
+uniform float u_maxDistance;
+uniform float u_scale;
+uniform float u_angular;
+
+void main() {
+    ivec2 ij = ivec2(gl_GlobalInvocationID.xy);
+    if (ij.x >= u_size || ij.y >= u_size) return;
+    float n = float(u_size);
+    vec2 ma = skyViewMuAz(u_h, (vec2(ij) + 0.5) / n, vec2(n));
+    float mu = ma.x, az = ma.y;
+    float sinV = sqrt(max(1.0 - mu * mu, 0.0)), sinS = sqrt(max(1.0 - u_muS * u_muS, 0.0));
+    float nu = clamp(sinV * sinS * cos(az) + mu * u_muS, -1.0, 1.0);
+    bool ground = ij.y < u_size / 2;
+    float dEnd = ground ? distanceToBottom(u_h, mu) : distanceToTop(u_h, mu);
+    float r = atm_bottom() + u_h;
+    float phaseR = rayleighPhase(nu), phaseM = miePhase(nu);
+    float msSize = float(textureSize(ATM_MULTISCATTERING_LUT, 0).x);
+    vec3 L = vec3(0.0), thr = vec3(1.0);
+    float t0 = 0.0;
+    for (int k = 0; k < u_size; ++k) {
+        float f = float(k + 1) / n;
+        float t1 = min(u_maxDistance * f * f, dEnd);
+        float dt = (t1 - t0) / float(u_substeps);
+        for (int s = 0; s < u_substeps && dt > 0.0; ++s) {
+            float t = t0 + (float(s) + 0.5) * dt;
+            float hp = heightAt(u_h, mu, t);
+            float rp = atm_bottom() + hp;
+            float muSp = clamp((r * u_muS + t * nu) / rp, -1.0, 1.0);
+            vec3 sR = atm_scatteringRayleigh(hp), sM = atm_scatteringMie(hp);
+            vec3 sigmaT = atm_extinction(hp);
+            vec3 seg = atm_segmentFactor(sigmaT, dt);
+            vec3 Tl = transmittanceToLight(hp, muSp, u_angular);
+            vec3 ms = texture(ATM_MULTISCATTERING_LUT, multiScatteringUv(hp, muSp, msSize)).rgb;
+            L += thr * ((sR * phaseR + sM * phaseM) * Tl + (sR + sM) * ms) * seg;
+            thr *= exp(-sigmaT * dt);
+        }
+        t0 = max(t0, t1);
+        imageStore(u_inscatter, ivec3(ij, k), vec4(L * u_scale, 1.0));
+        imageStore(u_transmittance, ivec3(ij, k), vec4(thr, 1.0));
+    }
+}

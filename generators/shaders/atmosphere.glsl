@@ -1,0 +1,234 @@
+// The real-time sky model in GLSL: the float twin of generators/src/sky_model.cpp (same function
+// names, same math). Include it before any pass of the sky. The atmosphere arrives in a std140
+// uniform block at binding 1 (welkin::generators::AtmosphereBlock); the LUTs as samplers that
+// each pass declares itself.
+//
+// Geometry: h = height above the ground (m), mu = cos(view zenith), muS = cos(light zenith),
+// nu = cos(view-light angle); r^2 - R^2 is always computed as h (2R + h) so rays grazing the
+// ground keep their precision in float.
+layout(std140, binding = 1) uniform WelkinAtmosphere {
+    vec4 atm_radii;              // bottom radius, top radius, top - bottom (m), Mie phase kind
+    vec4 atm_rayleigh;           // scattering rgb (1/m), Mie g
+    vec4 atm_mieScattering;      // rgb (1/m), unused
+    vec4 atm_mieExtinction;      // rgb (1/m), unused
+    vec4 atm_absorption;         // ozone extinction rgb (1/m), unused
+    vec4 atm_groundAlbedo;       // rgb, unused
+    vec4 atm_solarIlluminance;   // rgb (lux), Sun's angular radius (rad)
+    vec4 atm_profiles[9];        // 3 profiles x (w0 e0 s0 l0)(c0 e1 s1 l1)(c1 0 0 0)
+};
+
+const float ATM_PI = 3.14159265358979;
+
+float atm_bottom() { return atm_radii.x; }
+float atm_top() { return atm_radii.y; }
+float atm_thickness() { return atm_radii.z; }
+
+float atm_density(int p, float h) {
+    vec4 a = atm_profiles[3 * p], b = atm_profiles[3 * p + 1], c = atm_profiles[3 * p + 2];
+    float d = h < a.x ? a.y * exp(a.z * h) + a.w * h + b.x : b.y * exp(b.z * h) + b.w * h + c.x;
+    return clamp(d, 0.0, 1.0);
+}
+vec3 atm_scatteringRayleigh(float h) { return atm_rayleigh.rgb * atm_density(0, h); }
+vec3 atm_scatteringMie(float h) { return atm_mieScattering.rgb * atm_density(1, h); }
+vec3 atm_extinction(float h) {
+    return atm_rayleigh.rgb * atm_density(0, h) + atm_mieExtinction.rgb * atm_density(1, h) +
+           atm_absorption.rgb * atm_density(2, h);
+}
+
+float atm_rho2(float h) { return h * (2.0 * atm_bottom() + h); }
+
+float distanceToTop(float h, float mu) {
+    float R = atm_bottom(), r = R + h, Ht = atm_thickness();
+    float disc = r * r * mu * mu - (h - Ht) * (2.0 * R + h + Ht);
+    return max(-r * mu + sqrt(max(disc, 0.0)), 0.0);
+}
+float distanceToBottom(float h, float mu) {
+    float r = atm_bottom() + h;
+    float disc = r * r * mu * mu - atm_rho2(h);
+    return max(-r * mu - sqrt(max(disc, 0.0)), 0.0);
+}
+bool rayIntersectsGround(float h, float mu) {
+    float r = atm_bottom() + h;
+    return mu < 0.0 && r * r * mu * mu - atm_rho2(h) >= 0.0;
+}
+float heightAt(float h, float mu, float t) {
+    float R = atm_bottom(), r = R + h;
+    float q = t * t + 2.0 * r * mu * t + atm_rho2(h);
+    float rt = sqrt(max(q + R * R, 0.0));
+    return q / (rt + R);
+}
+
+float texCoordFromUnit(float x, float size) { return 0.5 / size + x * (1.0 - 1.0 / size); }
+float unitFromTexCoord(float u, float size) { return (u - 0.5 / size) / (1.0 - 1.0 / size); }
+
+vec2 transmittanceUv(float h, float mu, vec2 size) {
+    float R = atm_bottom(), Ht = atm_thickness();
+    float H = sqrt(max(Ht * (2.0 * R + Ht), 0.0));
+    h = clamp(h, 0.0, Ht);
+    float rho = sqrt(max(atm_rho2(h), 0.0));
+    float d = distanceToTop(h, mu);
+    float dMin = Ht - h, dMax = rho + H;
+    float xMu = dMax > dMin ? (d - dMin) / (dMax - dMin) : 0.0;
+    return vec2(texCoordFromUnit(clamp(xMu, 0.0, 1.0), size.x), texCoordFromUnit(rho / H, size.y));
+}
+vec2 transmittanceHMu(vec2 uv, vec2 size) {
+    float R = atm_bottom(), Ht = atm_thickness();
+    float H = sqrt(max(Ht * (2.0 * R + Ht), 0.0));
+    float xMu = clamp(unitFromTexCoord(uv.x, size.x), 0.0, 1.0), xR = clamp(unitFromTexCoord(uv.y, size.y), 0.0, 1.0);
+    float rho = H * xR;
+    float r = sqrt(rho * rho + R * R);
+    float h = rho * rho / (r + R);
+    float dMin = Ht - h, dMax = rho + H;
+    float d = dMin + xMu * (dMax - dMin);
+    float mu = d == 0.0 ? 1.0 : clamp((H * H - rho * rho - d * d) / (2.0 * r * d), -1.0, 1.0);
+    return vec2(h, mu);
+}
+vec2 multiScatteringUv(float h, float muS, float size) {
+    return vec2(texCoordFromUnit(clamp(0.5 + 0.5 * muS, 0.0, 1.0), size),
+                texCoordFromUnit(clamp(h / atm_thickness(), 0.0, 1.0), size));
+}
+vec2 multiScatteringHMuS(vec2 uv, float size) {
+    return vec2(clamp(unitFromTexCoord(uv.y, size), 0.0, 1.0) * atm_thickness(),
+                clamp(unitFromTexCoord(uv.x, size), 0.0, 1.0) * 2.0 - 1.0);
+}
+float atm_horizonZenith(float h) {
+    float r = atm_bottom() + h;
+    return acos(clamp(-sqrt(max(atm_rho2(max(h, 0.0)), 0.0)) / r, -1.0, 1.0));
+}
+// Sky-view latitude: rows [H/2, H) from the horizon (exactly on the first row's centre) up to
+// the zenith, rows [0, H/2) from the horizon down to the nadir; square-root law on each side.
+vec2 skyViewUv(float h, float mu, float azimuth, vec2 size) {
+    float thetaH = atm_horizonZenith(h);
+    float theta = acos(clamp(mu, -1.0, 1.0));
+    float half_ = floor(size.y / 2.0);
+    float v;
+    if (theta <= thetaH) {
+        float x = sqrt(clamp((thetaH - theta) / thetaH, 0.0, 1.0));
+        v = 0.5 + (x * (half_ - 1.0) + 0.5) / size.y;
+    } else {
+        float x = sqrt(clamp((theta - thetaH) / (ATM_PI - thetaH), 0.0, 1.0));
+        v = 0.5 - (x * (half_ - 1.0) + 0.5) / size.y;
+    }
+    return vec2(texCoordFromUnit(clamp(azimuth / ATM_PI, 0.0, 1.0), size.x), v);
+}
+vec2 skyViewMuAz(float h, vec2 uv, vec2 size) {
+    float thetaH = atm_horizonZenith(h);
+    float half_ = floor(size.y / 2.0);
+    float theta;
+    if (uv.y >= 0.5) {
+        float x = clamp(((uv.y - 0.5) * size.y - 0.5) / (half_ - 1.0), 0.0, 1.0);
+        theta = thetaH - x * x * thetaH;
+    } else {
+        float x = clamp(((0.5 - uv.y) * size.y - 0.5) / (half_ - 1.0), 0.0, 1.0);
+        theta = thetaH + x * x * (ATM_PI - thetaH);
+    }
+    return vec2(cos(theta), clamp(unitFromTexCoord(uv.x, size.x), 0.0, 1.0) * ATM_PI);
+}
+
+float rayleighPhase(float nu) { return 3.0 / (16.0 * ATM_PI) * (1.0 + nu * nu); }
+float miePhase(float nu) {
+    float g = atm_rayleigh.w, g2 = g * g;
+    float denom = pow(max(1.0 + g2 - 2.0 * g * nu, 1e-12), 1.5);
+    if (atm_radii.w < 0.5) return (1.0 - g2) / (4.0 * ATM_PI * denom);
+    return 3.0 / (8.0 * ATM_PI) * (1.0 - g2) * (1.0 + nu * nu) / ((2.0 + g2) * denom);
+}
+
+// Sample spacing: s in [0, 1] -> fraction of the ray, dense at the perigee fraction p.
+float atm_warp(float s, float p) {
+    if (s < p) {
+        float a = (p - s) / p;
+        return p - p * a * a;
+    }
+    float a = p < 1.0 ? (s - p) / (1.0 - p) : 0.0;
+    return p + (1.0 - p) * a * a;
+}
+float atm_perigeeFraction(float h, float mu, float d) {
+    return d <= 0.0 ? 0.0 : clamp(-(atm_bottom() + h) * mu / d, 0.0, 1.0);
+}
+vec3 atm_segmentFactor(vec3 sigmaT, float dt) {
+    vec3 x = sigmaT * dt;
+    return mix(vec3(dt), (1.0 - exp(-x)) / max(sigmaT, vec3(1e-30)), greaterThan(x, vec3(1e-4)));
+}
+
+#ifdef ATM_USE_TRANSMITTANCE
+// The transmittance LUT on texture unit 4 (define ATM_USE_TRANSMITTANCE before this file).
+layout(binding = 4) uniform sampler2D u_atmTransmittance;
+#define ATM_TRANSMITTANCE_LUT u_atmTransmittance
+vec3 transmittanceFromLut(float h, float mu) {
+    return texture(ATM_TRANSMITTANCE_LUT, transmittanceUv(h, mu, vec2(textureSize(ATM_TRANSMITTANCE_LUT, 0)))).rgb;
+}
+vec3 transmittanceToLight(float h, float muS, float angularRadius) {
+    float R = atm_bottom();
+    h = max(h, 0.0);
+    float r = R + h;
+    float sinH = R / r;
+    float cosH = -sqrt(max(atm_rho2(h), 0.0)) / r;
+    float a = sinH * angularRadius;
+    float f = clamp((muS - cosH + a) / (2.0 * a), 0.0, 1.0);
+    f = f * f * (3.0 - 2.0 * f);
+    return transmittanceFromLut(h, muS) * f;
+}
+#endif
+
+#if defined(ATM_USE_TRANSMITTANCE) && defined(ATM_USE_MULTISCATTERING)
+// The multiple-scattering LUT on texture unit 5 (define ATM_USE_MULTISCATTERING).
+layout(binding = 5) uniform sampler2D u_atmMultiScattering;
+#define ATM_MULTISCATTERING_LUT u_atmMultiScattering
+struct Scattering {
+    vec3 smooth_;     // Rayleigh single (phase applied), multiple scattering and ground
+    vec3 mieNoPhase;  // Mie single scattering without its phase function
+    vec3 transmittance;
+    bool hitGround;
+};
+// groundMode: -1 decide from the geometry, 0 never hits, 1 hits (sky-view rows at the horizon).
+Scattering integrateScattering(float h, float mu, float muS, float nu, float maxDistance, int steps, bool quadratic,
+                               float lightAngularRadius, int groundMode) {
+    Scattering o;
+    o.smooth_ = vec3(0.0);
+    o.mieNoPhase = vec3(0.0);
+    h = clamp(h, 0.0, atm_thickness());
+    o.hitGround = groundMode < 0 ? rayIntersectsGround(h, mu) : groundMode == 1;
+    float d = o.hitGround ? distanceToBottom(h, mu) : distanceToTop(h, mu);
+    if (d > maxDistance) o.hitGround = false;
+    d = min(d, maxDistance);
+    float p = quadratic ? 0.0 : atm_perigeeFraction(h, mu, d);
+    float r = atm_bottom() + h;
+    float msSize = float(textureSize(ATM_MULTISCATTERING_LUT, 0).x);
+    float phaseR = rayleighPhase(nu);
+    vec3 thr = vec3(1.0);
+    for (int k = 0; k < steps && d > 0.0; ++k) {
+        float s0 = float(k) / float(steps), s1 = float(k + 1) / float(steps), sm = (float(k) + 0.5) / float(steps);
+        float dt = d * (atm_warp(s1, p) - atm_warp(s0, p)), t = d * atm_warp(sm, p);
+        float hp = heightAt(h, mu, t);
+        float rp = atm_bottom() + hp;
+        float muSp = clamp((r * muS + t * nu) / rp, -1.0, 1.0);
+        vec3 sR = atm_scatteringRayleigh(hp), sM = atm_scatteringMie(hp);
+        vec3 sigmaT = atm_extinction(hp);
+        vec3 seg = atm_segmentFactor(sigmaT, dt);
+        vec3 Tl = transmittanceToLight(hp, muSp, lightAngularRadius);
+        vec3 ms = texture(ATM_MULTISCATTERING_LUT, multiScatteringUv(hp, muSp, msSize)).rgb;
+        o.smooth_ += thr * (sR * Tl * phaseR + (sR + sM) * ms) * seg;
+        o.mieNoPhase += thr * sM * Tl * seg;
+        thr *= exp(-sigmaT * dt);
+    }
+    if (o.hitGround) {
+        float muSg = clamp((r * muS + d * nu) / atm_bottom(), -1.0, 1.0);
+        vec3 Tg = transmittanceToLight(0.0, muSg, lightAngularRadius);
+        o.smooth_ += thr * Tg * max(muSg, 0.0) * atm_groundAlbedo.rgb / ATM_PI;
+    }
+    o.transmittance = thr;
+    return o;
+}
+#endif
+
+// Radiance per lux (without kLutScale) from a sky-view LUT pair for a view direction (mu, azimuth
+// from the light in [0, pi], nu): the two halves of the latitude axis are never blended, so there
+// is no band at the horizon. Twin of cpu::skyViewSample().
+vec3 skyViewSample(sampler2D smoothLut, sampler2D mieLut, float h, float mu, float az, float nu, float invScale) {
+    vec2 size = vec2(textureSize(smoothLut, 0));
+    vec2 uv = skyViewUv(h, mu, az, size);
+    float half_ = floor(size.y / 2.0);
+    if (uv.y >= 0.5) uv.y = clamp(uv.y, (half_ + 0.5) / size.y, 1.0 - 0.5 / size.y);
+    else uv.y = clamp(uv.y, 0.5 / size.y, (half_ - 0.5) / size.y);
+    return (texture(smoothLut, uv).rgb + texture(mieLut, uv).rgb * miePhase(nu)) * invScale;
+}

@@ -1,0 +1,53 @@
+// Sky irradiance pass (compute, one workgroup): diffuse horizontal illuminance at the observer
+// from the Sun's and the Moon's sky-view LUTs (midpoint rule in cos^2 zenith and azimuth, as
+// cpuDiffuseIrradiance()), the direct horizontal illuminance of each light through the
+// transmittance LUT, and the zenith radiance. Needs atmosphere.glsl (ATM_USE_TRANSMITTANCE).
+layout(local_size_x = 64) in;
+layout(binding = 0) uniform sampler2D u_sunSmooth;
+layout(binding = 1) uniform sampler2D u_sunMie;
+layout(binding = 2) uniform sampler2D u_moonSmooth;
+layout(binding = 3) uniform sampler2D u_moonMie;
+layout(std430, binding = 0) buffer Result { vec4 o_result[5]; };  // sun diffuse, moon diffuse, sun direct, moon direct, zenith
+uniform float u_h;
+uniform vec3 u_sunDir, u_moonDir;  // unit ENU
+uniform vec3 u_sunE, u_moonE;      // lux per channel
+uniform int u_nz, u_na;
+uniform float u_invScale;
+shared vec3 s_sun[64];
+shared vec3 s_moon[64];
+
+void main() {
+    uint id = gl_LocalInvocationID.x;
+    vec3 sumSun = vec3(0.0), sumMoon = vec3(0.0);
+    float sinS = sqrt(max(1.0 - u_sunDir.z * u_sunDir.z, 0.0));
+    float sinM = sqrt(max(1.0 - u_moonDir.z * u_moonDir.z, 0.0));
+    int total = u_nz * u_na;
+    for (int k = int(id); k < total; k += 64) {
+        int i = k / u_na, j = k % u_na;
+        float x = (float(i) + 0.5) / float(u_nz);
+        float mu = sqrt(x), sinV = sqrt(max(1.0 - x, 0.0));
+        float az = (float(j) + 0.5) / float(u_na) * ATM_PI;
+        float nuS = clamp(sinV * sinS * cos(az) + mu * u_sunDir.z, -1.0, 1.0);
+        float nuM = clamp(sinV * sinM * cos(az) + mu * u_moonDir.z, -1.0, 1.0);
+        sumSun += skyViewSample(u_sunSmooth, u_sunMie, u_h, mu, az, nuS, u_invScale);
+        sumMoon += skyViewSample(u_moonSmooth, u_moonMie, u_h, mu, az, nuM, u_invScale);
+    }
+    s_sun[id] = sumSun;
+    s_moon[id] = sumMoon;
+    barrier();
+    if (id == 0u) {
+        vec3 a = vec3(0.0), b = vec3(0.0);
+        for (int i = 0; i < 64; ++i) {
+            a += s_sun[i];
+            b += s_moon[i];
+        }
+        float w = ATM_PI / float(u_nz * u_na);
+        o_result[0] = vec4(a * w * u_sunE, 0.0);
+        o_result[1] = vec4(b * w * u_moonE, 0.0);
+        o_result[2] = vec4(transmittanceToLight(u_h, u_sunDir.z, atm_solarIlluminance.w) * max(u_sunDir.z, 0.0) * u_sunE, 0.0);
+        o_result[3] = vec4(transmittanceToLight(u_h, u_moonDir.z, 0.0045) * max(u_moonDir.z, 0.0) * u_moonE, 0.0);
+        vec3 zs = skyViewSample(u_sunSmooth, u_sunMie, u_h, 1.0, 0.0, u_sunDir.z, u_invScale) * u_sunE;
+        vec3 zm = skyViewSample(u_moonSmooth, u_moonMie, u_h, 1.0, 0.0, u_moonDir.z, u_invScale) * u_moonE;
+        o_result[4] = vec4(zs + zm, 0.0);
+    }
+}

@@ -1,0 +1,27 @@
+// Sky-view LUT pass (fragment, two outputs): for the observer at height u_h and a light at cos
+// zenith u_muS, the radiance per lux of the light (times kLutScale) in every direction
+// (horizon-dense latitude, azimuth from the light in [0, pi]). Output 0: Rayleigh single
+// scattering with its phase, multiple scattering and the lit ground; output 1: Mie single
+// scattering without its phase (applied per pixel, so the glow around the light stays sharp).
+// Twin of cpu::skyViewTexel(). Needs atmosphere.glsl (ATM_USE_TRANSMITTANCE,
+// ATM_USE_MULTISCATTERING) before it.
+uniform float u_h;        // observer height above the ground, m, clamped into the atmosphere
+uniform float u_muS;      // cos zenith of the light
+uniform int u_steps;
+uniform ivec2 u_size;
+uniform float u_scale;    // kLutScale
+uniform float u_angular;  // light's angular radius, rad
+layout(location = 0) out vec4 o_smooth;
+layout(location = 1) out vec4 o_mie;
+
+void main() {
+    vec2 size = vec2(u_size);
+    vec2 uv = gl_FragCoord.xy / size;
+    vec2 ma = skyViewMuAz(u_h, uv, size);
+    float mu = ma.x, az = ma.y;
+    float sinV = sqrt(max(1.0 - mu * mu, 0.0)), sinS = sqrt(max(1.0 - u_muS * u_muS, 0.0));
+    float nu = clamp(sinV * sinS * cos(az) + mu * u_muS, -1.0, 1.0);
+    Scattering s = integrateScattering(u_h, mu, u_muS, nu, 1e30, u_steps, false, u_angular, uv.y >= 0.5 ? 0 : 1);
+    o_smooth = vec4(s.smooth_ * u_scale, 1.0);
+    o_mie = vec4(s.mieNoPhase * u_scale, 1.0);
+}

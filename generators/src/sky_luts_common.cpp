@@ -1,0 +1,105 @@
+// Shared parts of the sky generators: the atmosphere block, quality resolution, the shared
+// instances in SkyVars, and the CPU twin of the irradiance quadrature.
+#include <welkin/generators/atmosphere.hpp>
+#include <welkin/generators/sky_luts.hpp>
+#include <welkin/keys.hpp>
+
+#include <cmath>
+#include <numbers>
+
+namespace welkin::generators {
+
+AtmosphereBlock AtmosphereBlock::from(const SkyModel& m) {
+    AtmosphereBlock b{};
+    b.radii = glm::vec4(float(m.bottomRadius), float(m.topRadius), float(m.topRadius - m.bottomRadius), float(m.miePhase));
+    b.rayleigh = glm::vec4(glm::vec3(m.rayleighScattering), float(m.mieG));
+    b.mieScattering = glm::vec4(glm::vec3(m.mieScattering), 0.0f);
+    b.mieExtinction = glm::vec4(glm::vec3(m.mieExtinction), 0.0f);
+    b.absorption = glm::vec4(glm::vec3(m.absorptionExtinction), 0.0f);
+    b.groundAlbedo = glm::vec4(glm::vec3(m.groundAlbedo), 0.0f);
+    b.solarIlluminance = glm::vec4(glm::vec3(m.solarIlluminance), float(m.sunAngularRadius));
+    const DensityProfile* p[3] = {&m.rayleighDensity, &m.mieDensity, &m.absorptionDensity};
+    for (int i = 0; i < 3; ++i) {
+        const DensityLayer &a = p[i]->layers[0], &c = p[i]->layers[1];
+        b.profiles[3 * i] = glm::vec4(float(a.width), float(a.expTerm), float(a.expScale), float(a.linearTerm));
+        b.profiles[3 * i + 1] = glm::vec4(float(a.constantTerm), float(c.expTerm), float(c.expScale), float(c.linearTerm));
+        b.profiles[3 * i + 2] = glm::vec4(float(c.constantTerm), 0.0f, 0.0f, 0.0f);
+    }
+    return b;
+}
+
+SkyGenerator::SkyGenerator(std::string name) : Generator(std::move(name)) {
+    input(atmosphere::kAtmosphere);
+    input(skykeys::quality);
+}
+
+void SkyGenerator::prepare(SkyVars& vars) {
+    model_ = SkyModel::fromVars(vars);
+    model_.validate();
+    int preset = vars.getOr(skykeys::quality, vars.getOr(keys::quality, 1));
+    q_ = fixed_ ? *fixed_ : SkyQuality::preset(preset);
+    AtmosphereBlock block = AtmosphereBlock::from(model_);
+    if (!ubo_) ubo_ = gl::Buffer(sizeof(AtmosphereBlock));
+    ubo_.update(&block, sizeof block);
+    ubo_.bindBase(GL_UNIFORM_BUFFER, 1);
+    if (!vao_) vao_ = gl::VertexArray::create();
+}
+
+void SkyGenerator::fullscreen() const {
+    vao_.bind();
+    glDisable(GL_BLEND);
+    glDisable(GL_DEPTH_TEST);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+}
+
+namespace {
+const Key<std::shared_ptr<TransmittanceLut>> kGenTransmittance{"sky.gen.transmittance"};
+const Key<std::shared_ptr<MultiScatteringLut>> kGenMultiScattering{"sky.gen.multiscattering"};
+const Key<std::shared_ptr<SkyViewLut>> kGenSunView{"sky.gen.sun_view"};
+const Key<std::shared_ptr<SkyViewLut>> kGenMoonView{"sky.gen.moon_view"};
+const Key<std::shared_ptr<AerialPerspectiveLut>> kGenAerial{"sky.gen.aerial"};
+const Key<std::shared_ptr<SkyIrradiance>> kGenIrradiance{"sky.gen.irradiance"};
+}  // namespace
+
+SkyLuts SkyLuts::obtain(SkyVars& vars) {
+    SkyLuts l;
+    l.transmittance = vars.obtain<TransmittanceLut>(kGenTransmittance, [] { return std::make_shared<TransmittanceLut>(); });
+    l.multiScattering = vars.obtain<MultiScatteringLut>(kGenMultiScattering, [] { return std::make_shared<MultiScatteringLut>(); });
+    l.sunView = vars.obtain<SkyViewLut>(kGenSunView, [] { return std::make_shared<SkyViewLut>(Light::Sun); });
+    l.moonView = vars.obtain<SkyViewLut>(kGenMoonView, [] { return std::make_shared<SkyViewLut>(Light::Moon); });
+    l.aerial = vars.obtain<AerialPerspectiveLut>(kGenAerial, [] { return std::make_shared<AerialPerspectiveLut>(); });
+    l.irradiance = vars.obtain<SkyIrradiance>(kGenIrradiance, [] { return std::make_shared<SkyIrradiance>(); });
+    return l;
+}
+
+void SkyLuts::releaseGl() {
+    for (SkyGenerator* g : std::initializer_list<SkyGenerator*>{transmittance.get(), multiScattering.get(), sunView.get(),
+                                                                moonView.get(), aerial.get(), irradiance.get()})
+        if (g) g->releaseGl();
+}
+
+glm::dvec3 cpuDiffuseIrradiance(const SkyModel& m, const SkyQuality& q, double h, double muS,
+                                const std::function<glm::dvec3(double mu, double az, double nu)>& radiancePerLux) {
+    // Midpoint rule in (cos^2 zenith, azimuth): E = int L cos(theta) dOmega over the upper
+    // hemisphere; with x = cos^2(theta), cos(theta) dOmega = 0.5 dx dphi. Azimuth symmetric about
+    // the light: integrate [0, pi] and double. Rays just below the geometric horizon of an
+    // elevated observer are not counted (a horizontal surface does not see them).
+    (void)m;
+    (void)h;
+    const int nz = q.irradianceZenith, na = q.irradianceAzimuth;
+    const double sinS = std::sqrt(std::max(0.0, 1.0 - muS * muS));
+    glm::dvec3 E(0.0);
+    for (int i = 0; i < nz; ++i) {
+        double x = (i + 0.5) / nz;
+        double mu = std::sqrt(x), sinV = std::sqrt(std::max(0.0, 1.0 - x));
+        for (int j = 0; j < na; ++j) {
+            double az = (j + 0.5) / na * std::numbers::pi;
+            double nu = std::clamp(sinV * sinS * std::cos(az) + mu * muS, -1.0, 1.0);
+            E += radiancePerLux(mu, az, nu);
+        }
+    }
+    // weights: 0.5 * (1/nz) * (pi/na) * 2 (both sides of the light's vertical plane)
+    return E * (std::numbers::pi / (double(nz) * na));
+}
+
+}  // namespace welkin::generators

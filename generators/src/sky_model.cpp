@@ -1,0 +1,463 @@
+// CPU double-precision twins of the real-time sky passes (see sky_model.hpp and
+// generators/shaders/atmosphere.glsl, which mirrors every function here).
+#include <welkin/error.hpp>
+#include <welkin/generators/sky_model.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+namespace welkin::generators {
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+double clamp01(double x) { return std::clamp(x, 0.0, 1.0); }
+double safeSqrt(double x) { return std::sqrt(std::max(x, 0.0)); }
+}  // namespace
+
+// --- Density ----------------------------------------------------------------------------------
+
+double DensityProfile::density(double h) const {
+    const DensityLayer& l = h < layers[0].width ? layers[0] : layers[1];
+    return clamp01(l.expTerm * std::exp(l.expScale * h) + l.linearTerm * h + l.constantTerm);
+}
+
+DensityProfile DensityProfile::exponential(double scaleHeightM) {
+    DensityProfile p;
+    p.layers[1] = {0.0, 1.0, -1.0 / scaleHeightM, 0.0, 0.0};
+    return p;
+}
+
+DensityProfile DensityProfile::tent(double centreM, double halfWidthM) {
+    DensityProfile p;
+    // Rising from 0 at centre - halfWidth to 1 at centre, then falling to 0 at centre + halfWidth.
+    p.layers[0] = {centreM, 0.0, 0.0, 1.0 / halfWidthM, 1.0 - centreM / halfWidthM};
+    p.layers[1] = {0.0, 0.0, 0.0, -1.0 / halfWidthM, 1.0 + centreM / halfWidthM};
+    return p;
+}
+
+glm::dvec3 SkyModel::extinction(double h) const {
+    return rayleighScattering * rayleighDensity.density(h) + mieExtinction * mieDensity.density(h) +
+           absorptionExtinction * absorptionDensity.density(h);
+}
+
+void SkyModel::validate() const {
+    auto fail = [](const char* what, double v, const char* range) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "SkyModel: %s %g not in %s", what, v, range);
+        throw Error(buf);
+    };
+    if (!(bottomRadius >= 1e3 && bottomRadius <= 1e9)) fail("bottomRadius", bottomRadius, "[1e3, 1e9] m");
+    if (!(topRadius > bottomRadius && topRadius <= bottomRadius + 1e7)) fail("topRadius", topRadius, "(bottomRadius, bottomRadius + 1e7] m");
+    if (!(mieG > -1 && mieG < 1)) fail("mieG", mieG, "(-1, 1)");
+    if (miePhase != 0 && miePhase != 1) fail("miePhase", miePhase, "{0, 1}");
+    for (int c = 0; c < 3; ++c) {
+        if (!(rayleighScattering[c] >= 0 && rayleighScattering[c] < 1)) fail("rayleighScattering", rayleighScattering[c], "[0, 1) 1/m");
+        if (!(mieScattering[c] >= 0 && mieScattering[c] < 1)) fail("mieScattering", mieScattering[c], "[0, 1) 1/m");
+        if (!(mieExtinction[c] >= mieScattering[c] && mieExtinction[c] < 1)) fail("mieExtinction", mieExtinction[c], "[mieScattering, 1) 1/m");
+        if (!(absorptionExtinction[c] >= 0 && absorptionExtinction[c] < 1)) fail("absorptionExtinction", absorptionExtinction[c], "[0, 1) 1/m");
+        if (!(groundAlbedo[c] >= 0 && groundAlbedo[c] <= 1)) fail("groundAlbedo", groundAlbedo[c], "[0, 1]");
+        if (!(solarIlluminance[c] >= 0 && solarIlluminance[c] < 1e7)) fail("solarIlluminance", solarIlluminance[c], "[0, 1e7) lx");
+    }
+    if (!(sunAngularRadius > 0 && sunAngularRadius < 0.1)) fail("sunAngularRadius", sunAngularRadius, "(0, 0.1) rad");
+}
+
+// --- Quality presets --------------------------------------------------------------------------
+
+SkyQuality SkyQuality::preset(int quality) {
+    SkyQuality q;
+    switch (quality) {
+    case 0:  // low: small LUTs, few samples, fp16
+        q.transmittanceW = 128, q.transmittanceH = 32, q.transmittanceSteps = 24;
+        q.multiScatteringSize = 16, q.multiScatteringDirections = 32, q.multiScatteringSteps = 12;
+        q.skyViewW = 96, q.skyViewH = 54, q.skyViewSteps = 16;
+        q.aerialSize = 16, q.aerialSteps = 1;
+        q.raymarchSteps = 24, q.halfFloat = true;
+        q.irradianceAzimuth = 16, q.irradianceZenith = 8;
+        break;
+    case 1:  // medium (default): Hillaire 2020 sizes
+        break;
+    case 2:  // high: larger LUTs and more samples, fp32
+        q.transmittanceW = 256, q.transmittanceH = 128, q.transmittanceSteps = 128;
+        q.multiScatteringSize = 32, q.multiScatteringDirections = 128, q.multiScatteringSteps = 32;
+        q.skyViewW = 256, q.skyViewH = 192, q.skyViewSteps = 64;
+        q.aerialSize = 32, q.aerialSteps = 4;
+        q.raymarchSteps = 96;
+        q.irradianceAzimuth = 64, q.irradianceZenith = 32;
+        break;
+    case 3:  // reference: every pixel ray-marched with many steps
+        q.transmittanceW = 512, q.transmittanceH = 128, q.transmittanceSteps = 256;
+        q.multiScatteringSize = 64, q.multiScatteringDirections = 256, q.multiScatteringSteps = 64;
+        q.skyViewW = 256, q.skyViewH = 192, q.skyViewSteps = 64;
+        q.aerialSize = 32, q.aerialSteps = 8;
+        q.raymarchSteps = 256, q.perPixel = true;
+        q.irradianceAzimuth = 64, q.irradianceZenith = 32;
+        break;
+    default: {
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "SkyQuality::preset(): %d not in [0, 3] (low, medium, high, reference)", quality);
+        throw Error(buf);
+    }
+    }
+    return q;
+}
+
+SkyQuality SkyQuality::tiny() {
+    SkyQuality q;
+    q.transmittanceW = 64, q.transmittanceH = 16, q.transmittanceSteps = 24;
+    q.multiScatteringSize = 8, q.multiScatteringDirections = 16, q.multiScatteringSteps = 8;
+    q.skyViewW = 32, q.skyViewH = 24, q.skyViewSteps = 12;
+    q.aerialSize = 8, q.aerialSteps = 1;
+    q.raymarchSteps = 16;
+    q.irradianceAzimuth = 8, q.irradianceZenith = 4;
+    return q;
+}
+
+// --- Lut2D ------------------------------------------------------------------------------------
+
+glm::dvec3 Lut2D::sample(glm::dvec2 uv) const {
+    double x = std::clamp(uv.x * width - 0.5, 0.0, double(width - 1));
+    double y = std::clamp(uv.y * height - 0.5, 0.0, double(height - 1));
+    int x0 = std::min(int(x), width - 1), y0 = std::min(int(y), height - 1);
+    int x1 = std::min(x0 + 1, width - 1), y1 = std::min(y0 + 1, height - 1);
+    double fx = x - x0, fy = y - y0;
+    return glm::mix(glm::mix(at(x0, y0), at(x1, y0), fx), glm::mix(at(x0, y1), at(x1, y1), fx), fy);
+}
+
+// --- Parameterisations ------------------------------------------------------------------------
+
+double texCoordFromUnit(double x, int size) { return 0.5 / size + x * (1.0 - 1.0 / size); }
+double unitFromTexCoord(double u, int size) { return (u - 0.5 / size) / (1.0 - 1.0 / size); }
+
+namespace {
+// r^2 - R^2 for a height h above the sphere of radius R, without cancellation.
+double rho2(double R, double h) { return h * (2.0 * R + h); }
+}  // namespace
+
+glm::dvec2 transmittanceUv(const SkyModel& m, double h, double mu, int w, int hgt) {
+    const double R = m.bottomRadius, Ht = m.topRadius - R;
+    const double H = safeSqrt(rho2(R, Ht));
+    h = std::clamp(h, 0.0, Ht);
+    const double rho = safeSqrt(rho2(R, h));
+    const double d = cpu::distanceToTop(m, h, mu);
+    const double dMin = Ht - h, dMax = rho + H;
+    const double xMu = dMax > dMin ? (d - dMin) / (dMax - dMin) : 0.0;
+    const double xR = rho / H;
+    return {texCoordFromUnit(clamp01(xMu), w), texCoordFromUnit(xR, hgt)};
+}
+
+glm::dvec2 transmittanceHMu(const SkyModel& m, glm::dvec2 uv, int w, int hgt) {
+    const double R = m.bottomRadius, Ht = m.topRadius - R;
+    const double H = safeSqrt(rho2(R, Ht));
+    const double xMu = clamp01(unitFromTexCoord(uv.x, w)), xR = clamp01(unitFromTexCoord(uv.y, hgt));
+    const double rho = H * xR;
+    const double r = std::sqrt(rho * rho + R * R);
+    const double h = rho * rho / (r + R);  // r - R without cancellation
+    const double dMin = Ht - h, dMax = rho + H;
+    const double d = dMin + xMu * (dMax - dMin);
+    const double mu = d == 0.0 ? 1.0 : std::clamp((H * H - rho * rho - d * d) / (2.0 * r * d), -1.0, 1.0);
+    return {h, mu};
+}
+
+glm::dvec2 multiScatteringUv(const SkyModel& m, double h, double muS, int size) {
+    const double Ht = m.topRadius - m.bottomRadius;
+    return {texCoordFromUnit(clamp01(0.5 + 0.5 * muS), size), texCoordFromUnit(clamp01(h / Ht), size)};
+}
+
+glm::dvec2 multiScatteringHMuS(const SkyModel& m, glm::dvec2 uv, int size) {
+    const double Ht = m.topRadius - m.bottomRadius;
+    return {clamp01(unitFromTexCoord(uv.y, size)) * Ht, clamp01(unitFromTexCoord(uv.x, size)) * 2.0 - 1.0};
+}
+
+// Latitude: the upper half (rows H/2 .. H-1) covers [horizon, zenith], the lower half (rows
+// H/2-1 .. 0) covers [horizon, nadir]; within each half x = sqrt(angle from horizon / span)
+// is spread over the half's texel centres, so both halves have a row exactly at the horizon.
+glm::dvec2 skyViewUv(const SkyModel& m, double h, double mu, double azimuth, int w, int hgt) {
+    const double R = m.bottomRadius;
+    const double r = R + h;
+    const double muH = -safeSqrt(rho2(R, std::max(h, 0.0))) / r;  // cos of the horizon's zenith angle
+    const double thetaH = std::acos(std::clamp(muH, -1.0, 1.0));
+    const double theta = std::acos(std::clamp(mu, -1.0, 1.0));
+    const int half = hgt / 2;
+    double v;
+    if (theta <= thetaH) {
+        double x = std::sqrt(clamp01((thetaH - theta) / thetaH));
+        v = 0.5 + (x * (half - 1) + 0.5) / hgt;
+    } else {
+        double x = std::sqrt(clamp01((theta - thetaH) / (kPi - thetaH)));
+        v = 0.5 - (x * (half - 1) + 0.5) / hgt;
+    }
+    const double u = texCoordFromUnit(clamp01(azimuth / kPi), w);
+    return {u, v};
+}
+
+glm::dvec2 skyViewMuAz(const SkyModel& m, double h, glm::dvec2 uv, int w, int hgt) {
+    const double R = m.bottomRadius;
+    const double r = R + h;
+    const double muH = -safeSqrt(rho2(R, std::max(h, 0.0))) / r;
+    const double thetaH = std::acos(std::clamp(muH, -1.0, 1.0));
+    const int half = hgt / 2;
+    double theta;
+    if (uv.y >= 0.5) {
+        double x = clamp01(((uv.y - 0.5) * hgt - 0.5) / (half - 1));
+        theta = thetaH - x * x * thetaH;
+    } else {
+        double x = clamp01(((0.5 - uv.y) * hgt - 0.5) / (half - 1));
+        theta = thetaH + x * x * (kPi - thetaH);
+    }
+    const double az = clamp01(unitFromTexCoord(uv.x, w)) * kPi;
+    return {std::cos(theta), az};
+}
+
+// --- Phase functions --------------------------------------------------------------------------
+
+double rayleighPhase(double nu) { return 3.0 / (16.0 * kPi) * (1.0 + nu * nu); }
+
+double miePhase(double nu, double g, int kind) {
+    const double g2 = g * g;
+    const double denom = std::pow(std::max(1.0 + g2 - 2.0 * g * nu, 1e-12), 1.5);
+    if (kind == 0) return (1.0 - g2) / (4.0 * kPi * denom);
+    return 3.0 / (8.0 * kPi) * (1.0 - g2) * (1.0 + nu * nu) / ((2.0 + g2) * denom);
+}
+
+namespace cpu {
+
+// --- Geometry ---------------------------------------------------------------------------------
+
+double distanceToTop(const SkyModel& m, double h, double mu) {
+    const double R = m.bottomRadius, r = R + h, Ht = m.topRadius - R;
+    // r^2 mu^2 - (r^2 - Rt^2) with r^2 - Rt^2 = (h - Ht)(2R + h + Ht).
+    const double disc = r * r * mu * mu - (h - Ht) * (2.0 * R + h + Ht);
+    return std::max(-r * mu + safeSqrt(disc), 0.0);
+}
+
+double distanceToBottom(const SkyModel& m, double h, double mu) {
+    const double R = m.bottomRadius, r = R + h;
+    const double disc = r * r * mu * mu - rho2(R, h);
+    return std::max(-r * mu - safeSqrt(disc), 0.0);
+}
+
+bool rayIntersectsGround(const SkyModel& m, double h, double mu) {
+    const double R = m.bottomRadius, r = R + h;
+    return mu < 0.0 && r * r * mu * mu - rho2(R, h) >= 0.0;
+}
+
+double heightAt(const SkyModel& m, double h, double mu, double t) {
+    const double R = m.bottomRadius, r = R + h;
+    const double q = t * t + 2.0 * r * mu * t + rho2(R, h);  // r_t^2 - R^2
+    const double rt = std::sqrt(std::max(q + R * R, 0.0));
+    return q / (rt + R);
+}
+
+namespace {
+// Sample spacing along a ray of length d: s in [0, 1] -> fraction of d, dense at the perigee
+// fraction p (p = 0: dense at the origin, p = 1: dense at the end).
+double warp(double s, double p) {
+    if (s < p) {
+        double a = (p - s) / p;
+        return p - p * a * a;
+    }
+    double a = p < 1.0 ? (s - p) / (1.0 - p) : 0.0;
+    return p + (1.0 - p) * a * a;
+}
+double perigeeFraction(const SkyModel& m, double h, double mu, double d) {
+    if (d <= 0.0) return 0.0;
+    return clamp01(-(m.bottomRadius + h) * mu / d);
+}
+}  // namespace
+
+glm::dvec3 transmittanceToTop(const SkyModel& m, double h, double mu, int steps) {
+    const double d = distanceToTop(m, h, mu);
+    const double p = perigeeFraction(m, h, mu, d);
+    glm::dvec3 depth(0.0);
+    for (int i = 0; i < steps; ++i) {
+        double s0 = double(i) / steps, s1 = double(i + 1) / steps, sm = (i + 0.5) / steps;
+        double dt = d * (warp(s1, p) - warp(s0, p));
+        depth += m.extinction(heightAt(m, h, mu, d * warp(sm, p))) * dt;
+    }
+    return glm::exp(-depth);
+}
+
+Lut2D transmittanceLut(const SkyModel& m, const SkyQuality& q) {
+    Lut2D lut{q.transmittanceW, q.transmittanceH, {}};
+    lut.texels.resize(size_t(lut.width) * lut.height);
+    for (int y = 0; y < lut.height; ++y)
+        for (int x = 0; x < lut.width; ++x) {
+            glm::dvec2 hm = transmittanceHMu(m, {(x + 0.5) / lut.width, (y + 0.5) / lut.height}, lut.width, lut.height);
+            lut.at(x, y) = transmittanceToTop(m, hm.x, hm.y, q.transmittanceSteps);
+        }
+    return lut;
+}
+
+glm::dvec3 transmittanceFromLut(const SkyModel& m, const Lut2D& T, double h, double mu) {
+    return T.sample(transmittanceUv(m, h, mu, T.width, T.height));
+}
+
+glm::dvec3 transmittanceToLight(const SkyModel& m, const Lut2D& T, double h, double muS, double angularRadius) {
+    const double R = m.bottomRadius, r = R + std::max(h, 0.0);
+    const double sinH = R / r;
+    const double cosH = -safeSqrt(rho2(R, std::max(h, 0.0))) / r;
+    const double a = sinH * angularRadius;
+    const double x = muS - cosH;
+    // smoothstep(-a, a, x): the fraction of the light's disk above the planet's horizon.
+    double f = clamp01((x + a) / (2.0 * a));
+    f = f * f * (3.0 - 2.0 * f);
+    return transmittanceFromLut(m, T, h, muS) * f;
+}
+
+// --- Multiple scattering ------------------------------------------------------------------------
+
+namespace {
+// Spherical Fibonacci direction i of n (z up): equal-area, deterministic.
+glm::dvec3 fibonacciDirection(int i, int n) {
+    const double golden = kPi * (3.0 - std::sqrt(5.0));
+    double z = 1.0 - (2.0 * i + 1.0) / n;
+    double rr = safeSqrt(1.0 - z * z);
+    double phi = golden * i;
+    return {rr * std::cos(phi), rr * std::sin(phi), z};
+}
+glm::dvec3 segmentFactor(const glm::dvec3& sigmaT, double dt) {
+    // (1 - exp(-sigma dt)) / sigma, with the limit dt as sigma -> 0.
+    glm::dvec3 f;
+    for (int c = 0; c < 3; ++c) f[c] = sigmaT[c] * dt > 1e-7 ? (1.0 - std::exp(-sigmaT[c] * dt)) / sigmaT[c] : dt;
+    return f;
+}
+}  // namespace
+
+glm::dvec3 multiScatteringTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, double h, double muS) {
+    const int n = q.multiScatteringDirections, steps = q.multiScatteringSteps;
+    const glm::dvec3 sun(safeSqrt(1.0 - muS * muS), 0.0, muS);
+    glm::dvec3 L2(0.0), fms(0.0);
+    for (int i = 0; i < n; ++i) {
+        glm::dvec3 v = fibonacciDirection(i, n);
+        double mu = v.z, nu = glm::dot(v, sun);
+        bool ground = rayIntersectsGround(m, h, mu);
+        double d = ground ? distanceToBottom(m, h, mu) : distanceToTop(m, h, mu);
+        double p = perigeeFraction(m, h, mu, d);
+        glm::dvec3 thr(1.0), L(0.0), f(0.0);
+        const double r = m.bottomRadius + h;
+        for (int k = 0; k < steps; ++k) {
+            double s0 = double(k) / steps, s1 = double(k + 1) / steps, sm = (k + 0.5) / steps;
+            double dt = d * (warp(s1, p) - warp(s0, p)), t = d * warp(sm, p);
+            double hp = heightAt(m, h, mu, t);
+            double rp = m.bottomRadius + hp;
+            double muSp = std::clamp((r * muS + t * nu) / rp, -1.0, 1.0);
+            glm::dvec3 sigmaS = m.scatteringRayleigh(hp) + m.scatteringMie(hp);
+            glm::dvec3 sigmaT = m.extinction(hp);
+            glm::dvec3 seg = segmentFactor(sigmaT, dt);
+            glm::dvec3 Tl = transmittanceToLight(m, T, hp, muSp, m.sunAngularRadius);
+            L += thr * sigmaS * Tl * seg / (4.0 * kPi);
+            f += thr * sigmaS * seg;
+            thr *= glm::exp(-sigmaT * dt);
+        }
+        if (ground) {
+            double muSg = std::clamp((r * muS + d * nu) / m.bottomRadius, -1.0, 1.0);
+            glm::dvec3 Tg = transmittanceToLight(m, T, 0.0, muSg, m.sunAngularRadius);
+            L += thr * Tg * std::max(muSg, 0.0) * m.groundAlbedo / kPi;
+        }
+        L2 += L;
+        fms += f;
+    }
+    // Isotropic phase 1/(4 pi) times the solid angle 4 pi / n of each direction.
+    L2 /= double(n);
+    fms /= double(n);
+    return L2 / (1.0 - glm::min(fms, glm::dvec3(0.999)));
+}
+
+Lut2D multiScatteringLut(const SkyModel& m, const SkyQuality& q, const Lut2D& T) {
+    const int n = q.multiScatteringSize;
+    Lut2D lut{n, n, {}};
+    lut.texels.resize(size_t(n) * n);
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+            glm::dvec2 hm = multiScatteringHMuS(m, {(x + 0.5) / n, (y + 0.5) / n}, n);
+            lut.at(x, y) = multiScatteringTexel(m, q, T, hm.x, hm.y);
+        }
+    return lut;
+}
+
+// --- Single + multiple scattering along a ray ----------------------------------------------------
+
+Scattering integrate(const SkyModel& m, const Lut2D& T, const Lut2D& MS, double h, double mu, double muS, double nu,
+                     double maxDistance, int steps, bool quadratic, double lightAngularRadius, int groundMode) {
+    Scattering out;
+    const double Ht = m.topRadius - m.bottomRadius;
+    h = std::clamp(h, 0.0, Ht);
+    out.hitGround = groundMode < 0 ? rayIntersectsGround(m, h, mu) : groundMode == 1;
+    double d = out.hitGround ? distanceToBottom(m, h, mu) : distanceToTop(m, h, mu);
+    bool reachesEnd = d <= maxDistance;
+    d = std::min(d, maxDistance);
+    if (!reachesEnd) out.hitGround = false;
+    const double p = quadratic ? 0.0 : perigeeFraction(m, h, mu, d);
+    const double r = m.bottomRadius + h;
+    glm::dvec3 thr(1.0);
+    for (int k = 0; k < steps && d > 0.0; ++k) {
+        double s0 = double(k) / steps, s1 = double(k + 1) / steps, sm = (k + 0.5) / steps;
+        double dt = d * (warp(s1, p) - warp(s0, p)), t = d * warp(sm, p);
+        double hp = heightAt(m, h, mu, t);
+        double rp = m.bottomRadius + hp;
+        double muSp = std::clamp((r * muS + t * nu) / rp, -1.0, 1.0);
+        glm::dvec3 sR = m.scatteringRayleigh(hp), sM = m.scatteringMie(hp);
+        glm::dvec3 sigmaT = m.extinction(hp);
+        glm::dvec3 seg = segmentFactor(sigmaT, dt);
+        glm::dvec3 Tl = transmittanceToLight(m, T, hp, muSp, lightAngularRadius);
+        glm::dvec3 ms = MS.sample(multiScatteringUv(m, hp, muSp, MS.width));
+        out.smooth += thr * (sR * Tl * rayleighPhase(nu) + (sR + sM) * ms) * seg;
+        out.mieNoPhase += thr * sM * Tl * seg;
+        thr *= glm::exp(-sigmaT * dt);
+    }
+    if (out.hitGround) {
+        double muSg = std::clamp((r * muS + d * nu) / m.bottomRadius, -1.0, 1.0);
+        glm::dvec3 Tg = transmittanceToLight(m, T, 0.0, muSg, lightAngularRadius);
+        out.smooth += thr * Tg * std::max(muSg, 0.0) * m.groundAlbedo / kPi;
+    }
+    out.transmittance = thr;
+    return out;
+}
+
+glm::dvec3 radiance(const SkyModel& m, const Scattering& s, double nu) {
+    return s.smooth + s.mieNoPhase * miePhase(nu, m.mieG, m.miePhase);
+}
+
+SkyViewTexel skyViewTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const Lut2D& MS, double h, double muS,
+                          glm::dvec2 uv, double lightAngularRadius) {
+    glm::dvec2 ma = skyViewMuAz(m, h, uv, q.skyViewW, q.skyViewH);
+    double mu = ma.x, az = ma.y;
+    double sinV = safeSqrt(1.0 - mu * mu), sinS = safeSqrt(1.0 - muS * muS);
+    double nu = std::clamp(sinV * sinS * std::cos(az) + mu * muS, -1.0, 1.0);
+    Scattering s = integrate(m, T, MS, h, mu, muS, nu, 1e30, q.skyViewSteps, false, lightAngularRadius, uv.y >= 0.5 ? 0 : 1);
+    return {s.smooth, s.mieNoPhase};
+}
+
+glm::dvec3 skyViewSample(const SkyModel& m, const Lut2D& smooth, const Lut2D& mie, double h, double mu, double az, double nu) {
+    glm::dvec2 uv = skyViewUv(m, h, mu, az, smooth.width, smooth.height);
+    const double H = smooth.height, half = std::floor(H / 2.0);
+    if (uv.y >= 0.5) uv.y = std::clamp(uv.y, (half + 0.5) / H, 1.0 - 0.5 / H);
+    else uv.y = std::clamp(uv.y, 0.5 / H, (half - 0.5) / H);
+    return smooth.sample(uv) + mie.sample(uv) * miePhase(nu, m.mieG, m.miePhase);
+}
+
+glm::dvec3 skyRadiance(const SkyModel& m, const Lut2D& T, const Lut2D& MS, double h, const glm::dvec3& viewDir,
+                       const glm::dvec3& lightDir, const glm::dvec3& E, int steps, double lightAngularRadius) {
+    const double R = m.bottomRadius, Ht = m.topRadius - R;
+    double mu = viewDir.z, muS = lightDir.z, nu = glm::dot(viewDir, lightDir);
+    h = std::max(h, 0.0);
+    if (h > Ht) {
+        // Observer above the atmosphere: move to where the ray enters it, if it does.
+        double r = R + h;
+        double disc = r * r * mu * mu - (h - Ht) * (2.0 * R + h + Ht);
+        if (mu >= 0.0 || disc < 0.0) return glm::dvec3(0.0);
+        double t = -r * mu - std::sqrt(disc);
+        double rt = m.topRadius;
+        mu = (r * mu + t) / rt;
+        muS = (r * muS + t * nu) / rt;
+        h = Ht;
+    }
+    Scattering s = integrate(m, T, MS, h, mu, muS, nu, 1e30, steps, false, lightAngularRadius);
+    return radiance(m, s, nu) * E;
+}
+
+}  // namespace cpu
+
+}  // namespace welkin::generators

@@ -1,0 +1,102 @@
+// Sky-view LUT generator, one instance per light (GPU pass skyview_lut.glsl; CPU twin
+// cpu::skyViewTexel).
+#include <welkin/embedded/generator_shaders.hpp>
+#include <welkin/generators/sky_luts.hpp>
+#include <welkin/gl/shader.hpp>
+#include <welkin/keys.hpp>
+
+#include <algorithm>
+
+namespace welkin::generators {
+
+SkyViewLut::SkyViewLut(Light light) : SkyGenerator(light == Light::Sun ? "sky.sun_view" : "sky.moon_view"), light_(light) {
+    input(skykeys::transmittanceRev);
+    input(skykeys::multiScatteringRev);
+    input(keys::observerHeight);
+    if (light == Light::Sun) {
+        input(keys::sunDirection);
+        output(skykeys::sunViewLut);
+        output(skykeys::sunViewMieLut);
+        output(skykeys::sunViewRev);
+    } else {
+        input(keys::moonDirection);
+        input(skykeys::moonIlluminance);
+        output(skykeys::moonViewLut);
+        output(skykeys::moonViewMieLut);
+        output(skykeys::moonViewRev);
+    }
+}
+
+void SkyViewLut::releaseGl() {
+    smooth_ = {};
+    mie_ = {};
+    fbo_ = {};
+    prog_ = {};
+    releaseCommon();
+}
+
+void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
+    prepare(vars);
+    const GLenum fmt = q_.halfFloat ? GL_RGBA16F : GL_RGBA32F;
+    if (!smooth_ || smooth_.width() != q_.skyViewW || smooth_.height() != q_.skyViewH || smooth_.internalFormat() != fmt) {
+        smooth_ = gl::Texture2D(q_.skyViewW, q_.skyViewH, fmt);
+        mie_ = gl::Texture2D(q_.skyViewW, q_.skyViewH, fmt);
+        for (gl::Texture2D* t : {&smooth_, &mie_}) {
+            t->setFilter(GL_LINEAR);
+            t->setWrap(GL_CLAMP_TO_EDGE);
+        }
+        fbo_ = gl::Framebuffer::create();
+        fbo_.attach(GL_COLOR_ATTACHMENT0, smooth_);
+        fbo_.attach(GL_COLOR_ATTACHMENT1, mie_);
+        fbo_.checkComplete("SkyViewLut");
+    }
+    if (!prog_)
+        prog_ = gl::ProgramBuilder(name())
+                    .define("ATM_USE_TRANSMITTANCE")
+                    .define("ATM_USE_MULTISCATTERING")
+                    .fullscreenVertex()
+                    .fragment("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
+                    .fragment("generators/skyview_lut.glsl", embedded::generator_shaders("skyview_lut.glsl"))
+                    .build();
+    const double Ht = model_.topRadius - model_.bottomRadius;
+    h_ = std::clamp(vars.getOr(keys::observerHeight, 0.0), 0.0, Ht);
+    const Key<glm::dvec3>& dirKey = light_ == Light::Sun ? keys::sunDirection : keys::moonDirection;
+    glm::dvec3 dir = vars.getOr(dirKey, glm::dvec3(0, 0, 1));
+    muS_ = std::clamp(dir.z / std::max(glm::length(dir), 1e-12), -1.0, 1.0);
+    fbo_.bind();
+    glViewport(0, 0, q_.skyViewW, q_.skyViewH);
+    const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glNamedFramebufferDrawBuffers(fbo_.id(), 2, bufs);
+    // The Moon's LUT is skipped (left black) while the Moon gives no light or is far below the
+    // horizon (< -20 deg: its scattered light is then below the night sky's airglow by orders of
+    // magnitude).
+    bool dark = light_ == Light::Moon &&
+                (glm::length(vars.getOr(skykeys::moonIlluminance, glm::dvec3(0.0))) <= 0.0 || muS_ < -0.342);
+    if (dark) {
+        const float zero[4] = {0, 0, 0, 1};
+        glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, zero);
+        glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 1, zero);
+    } else {
+        glBindTextureUnit(4, vars.get(skykeys::transmittanceLut).id);
+        glBindTextureUnit(5, vars.get(skykeys::multiScatteringLut).id);
+        prog_.use();
+        prog_.set("u_h", float(h_));
+        prog_.set("u_muS", float(muS_));
+        prog_.set("u_steps", q_.skyViewSteps);
+        prog_.set("u_size", glm::ivec2(q_.skyViewW, q_.skyViewH));
+        prog_.set("u_scale", float(kLutScale));
+        prog_.set("u_angular", float(light_ == Light::Sun ? model_.sunAngularRadius : 0.0045));
+        fullscreen();
+    }
+    if (light_ == Light::Sun) {
+        vars.set(skykeys::sunViewLut, smooth_.ref());
+        vars.set(skykeys::sunViewMieLut, mie_.ref());
+        vars.set(skykeys::sunViewRev, ++rev_);
+    } else {
+        vars.set(skykeys::moonViewLut, smooth_.ref());
+        vars.set(skykeys::moonViewMieLut, mie_.ref());
+        vars.set(skykeys::moonViewRev, ++rev_);
+    }
+}
+
+}  // namespace welkin::generators
