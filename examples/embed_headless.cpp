@@ -18,7 +18,7 @@ int main(int argc, char** argv) {
         auto context = welkin::gl::HeadlessContext::create({}, log);
         welkin::SkyProcessor sky(welkin::SkyVars::earth(), log);
         for (const auto& name : welkin::elements::defaultElements()) sky.add(welkin::elements::makeElement(name));
-        sky.add(welkin::elements::makeElement("grid"));
+        if (!sky.find("grid")) sky.add(welkin::elements::makeElement("grid"));  // overlay last
 
         constexpr double deg = std::numbers::pi / 180;
         sky.setObserver({.latitudeRad = 35.9 * deg, .longitudeRad = 14.5 * deg, .heightMeters = 50});

@@ -1,0 +1,190 @@
+// `welkin astro`: positions, sizes, brightness and phases of the Sun, Moon and planets for a
+// place and time, optionally with the day's rise/set/twilight events.
+//
+//   welkin astro --time 2026-06-21T21:00:00Z --lat 52.5 --lon 13.4 --events --json
+#include "command.hpp"
+
+#include <welkin/astro/bodies.hpp>
+#include <welkin/astro/events.hpp>
+#include <welkin/error.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace welkin;
+using namespace welkin::astro;
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+struct AstroOptions {
+    std::string time;
+    double lat = NAN, lon = NAN, height = 0.0;
+    std::string bodies = "sun,moon,mercury,venus,mars,jupiter,saturn,uranus,neptune";
+    bool precise = false;
+    std::string refraction = "on";
+    bool events = false;
+    bool json = false;
+    double pressure = 1013.25, temperature = 10.0;
+};
+
+std::vector<Body> parseBodies(const std::string& list) {
+    std::vector<Body> out;
+    std::stringstream ss(list);
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+        if (item.empty()) continue;
+        Body b = parseBody(item);
+        bool seen = false;
+        for (Body x : out) seen = seen || x == b;
+        if (!seen) out.push_back(b);
+    }
+    if (out.empty()) throw Error("--bodies: empty list");
+    return out;
+}
+
+double round6(double x) { return std::round(x * 1e6) / 1e6; }
+double deg(double rad) { return round6(rad / kDeg); }
+
+nlohmann::json bodyJson(const BodyState& s) {
+    nlohmann::json j;
+    j["ra_deg"] = deg(s.raRad);
+    j["dec_deg"] = deg(s.decRad);
+    j["az_deg"] = deg(s.topo.azimuthRad);
+    j["alt_deg"] = deg(s.topo.altitudeRad);
+    j["alt_geometric_deg"] = deg(s.topo.altitudeGeometricRad);
+    j["distance_km"] = std::round(s.distanceMeters / 1e3 * 1e3) / 1e3;
+    j["angular_diameter_deg"] = std::round(s.angularDiameterRad / kDeg * 1e8) / 1e8;
+    j["magnitude"] = std::round(s.magnitude * 1e3) / 1e3;
+    j["phase_angle_deg"] = deg(s.phaseAngleRad);
+    j["illuminated_fraction"] = round6(s.illuminatedFraction);
+    j["bright_limb_angle_deg"] = deg(s.brightLimbAngleRad);
+    if (s.body == Body::Moon) {
+        j["libration_lon_deg"] = deg(s.librationLonRad);
+        j["libration_lat_deg"] = deg(s.librationLatRad);
+        j["axis_angle_deg"] = deg(s.axisAngleRad);
+    }
+    return j;
+}
+
+nlohmann::json optIso(const std::optional<UtcInstant>& t) { return t ? nlohmann::json(t->toIso()) : nlohmann::json(nullptr); }
+
+int run(const AstroOptions& o) {
+    if (o.time.empty()) throw Error("--time is required (ISO 8601, e.g. 2026-06-21T21:00:00Z)");
+    if (!(o.lat >= -90.0 && o.lat <= 90.0)) throw Error("--lat " + std::to_string(o.lat) + " not in [-90, 90]");
+    if (!(o.lon >= -180.0 && o.lon <= 180.0)) throw Error("--lon " + std::to_string(o.lon) + " not in [-180, 180]");
+    if (!(o.height >= -1e4 && o.height <= 1e8)) throw Error("--height " + std::to_string(o.height) + " not in [-10000, 1e8] m");
+    if (o.refraction != "on" && o.refraction != "off") throw Error("--refraction '" + o.refraction + "': expected on or off");
+    const UtcInstant t = UtcInstant::parse(o.time);
+    const std::vector<Body> bodies = parseBodies(o.bodies);
+    Site site{o.lat * kDeg, o.lon * kDeg, o.height, o.refraction == "on" ? o.pressure : 0.0, o.temperature};
+    validate(site);
+    const Path path = o.precise ? Path::Precise : Path::Fast;
+    const TimeScales ts = timeScales(t);
+    const ObserverFrame frame = observerFrame(site, ts, path);
+    Ephemeris eph;
+    eph.update(frame);
+    std::optional<DayEvents> ev;
+    if (o.events) {
+        Site eventSite = site;
+        eventSite.pressureHpa = 1013.25;  // events use the standard refraction in their definitions
+        ev = findDayEvents(eventSite, t, path);
+    }
+
+    if (o.json) {
+        nlohmann::json j;
+        j["time"] = t.toIso();
+        j["path"] = o.precise ? "precise" : "fast";
+        j["jd_ut"] = ts.ut1.day + ts.ut1.fraction;
+        j["jd_tt"] = ts.tt.day + ts.tt.fraction;
+        j["delta_t_s"] = std::round(ts.deltaTSeconds * 1e3) / 1e3;
+        j["gmst_deg"] = deg(frame.earth.gmst);
+        j["last_deg"] = deg(frame.lastRad);
+        nlohmann::json jb = nlohmann::json::object();
+        for (Body b : bodies) jb[bodyName(b)] = bodyJson(eph[b]);
+        j["bodies"] = jb;
+        if (ev) {
+            nlohmann::json je;
+            je["sunrise"] = optIso(ev->sunrise);
+            je["sunset"] = optIso(ev->sunset);
+            je["civil_dawn"] = optIso(ev->civilDawn);
+            je["civil_dusk"] = optIso(ev->civilDusk);
+            je["nautical_dawn"] = optIso(ev->nauticalDawn);
+            je["nautical_dusk"] = optIso(ev->nauticalDusk);
+            je["astronomical_dawn"] = optIso(ev->astronomicalDawn);
+            je["astronomical_dusk"] = optIso(ev->astronomicalDusk);
+            je["moonrise"] = optIso(ev->moonrise);
+            je["moonset"] = optIso(ev->moonset);
+            je["polar"] = ev->polar == PolarState::None ? nlohmann::json(nullptr) : nlohmann::json(toString(ev->polar));
+            for (MoonQuarter q : {MoonQuarter::New, MoonQuarter::FirstQuarter, MoonQuarter::Full, MoonQuarter::LastQuarter})
+                je[std::string("next_") + toString(q)] = nextMoonQuarter(t, q, path).toIso();
+            j["events"] = je;
+        }
+        std::cout << j.dump(2) << '\n';
+        return 0;
+    }
+
+    std::printf("time %s  (%s path)  JD(UT1) %.6f  JD(TT) %.6f  Delta T %.3f s\n", t.toIso().c_str(),
+                o.precise ? "precise" : "fast", ts.ut1.day + ts.ut1.fraction, ts.tt.day + ts.tt.fraction, ts.deltaTSeconds);
+    std::printf("site lat %.6f  lon %.6f  height %.1f m   GMST %.6f deg  LAST %.6f deg   refraction %s\n", o.lat, o.lon, o.height,
+                frame.earth.gmst / kDeg, frame.lastRad / kDeg, o.refraction.c_str());
+    std::printf("\n%-8s %11s %11s %11s %10s %10s %15s %10s %6s %7s %6s %7s\n", "body", "RA deg", "Dec deg", "az deg", "alt deg",
+                "geom alt", "distance km", "diam deg", "mag", "phase", "illum", "limb");
+    for (Body b : bodies) {
+        const BodyState& s = eph[b];
+        std::printf("%-8s %11.5f %11.5f %11.5f %10.5f %10.5f %15.1f %10.6f %6.2f %7.2f %6.3f %7.2f\n", bodyName(b), s.raRad / kDeg,
+                    s.decRad / kDeg, s.topo.azimuthRad / kDeg, s.topo.altitudeRad / kDeg, s.topo.altitudeGeometricRad / kDeg,
+                    s.distanceMeters / 1e3, s.angularDiameterRad / kDeg, s.magnitude, s.phaseAngleRad / kDeg, s.illuminatedFraction,
+                    s.brightLimbAngleRad / kDeg);
+        if (b == Body::Moon)
+            std::printf("%-8s libration lon %.3f deg, lat %.3f deg; axis position angle %.3f deg\n", "", s.librationLonRad / kDeg,
+                        s.librationLatRad / kDeg, s.axisAngleRad / kDeg);
+    }
+    if (ev) {
+        auto show = [](const char* name, const std::optional<UtcInstant>& x) {
+            std::printf("  %-18s %s\n", name, x ? x->toIso().c_str() : "-");
+        };
+        std::printf("\nevents in the 24 h from %s:\n", t.toIso().c_str());
+        show("astronomical dawn", ev->astronomicalDawn);
+        show("nautical dawn", ev->nauticalDawn);
+        show("civil dawn", ev->civilDawn);
+        show("sunrise", ev->sunrise);
+        show("sunset", ev->sunset);
+        show("civil dusk", ev->civilDusk);
+        show("nautical dusk", ev->nauticalDusk);
+        show("astronomical dusk", ev->astronomicalDusk);
+        show("moonrise", ev->moonrise);
+        show("moonset", ev->moonset);
+        if (ev->polar != PolarState::None) std::printf("  %-18s %s\n", "polar", toString(ev->polar));
+        for (MoonQuarter q : {MoonQuarter::New, MoonQuarter::FirstQuarter, MoonQuarter::Full, MoonQuarter::LastQuarter})
+            std::printf("  next %-13s %s\n", toString(q), nextMoonQuarter(t, q, path).toIso().c_str());
+    }
+    return 0;
+}
+
+welkin::cli::Registrar reg("astro", "positions, sizes, magnitudes and phases of the Sun, Moon and planets; rise/set events",
+                           [](CLI::App& sub) -> welkin::cli::Action {
+                               static AstroOptions o;
+                               sub.add_option("--time", o.time, "instant, ISO 8601 (e.g. 2026-06-21T21:00:00Z)");
+                               sub.add_option("--lat", o.lat, "geodetic latitude, degrees [-90, 90], north positive");
+                               sub.add_option("--lon", o.lon, "longitude, degrees [-180, 180], east positive");
+                               sub.add_option("--height", o.height, "height above the WGS84 ellipsoid, m");
+                               sub.add_option("--bodies", o.bodies, "comma-separated: sun,moon,mercury,venus,mars,jupiter,saturn,uranus,neptune");
+                               sub.add_flag("--precise", o.precise, "precise path (ERFA, full VSOP87) instead of the fast series");
+                               sub.add_option("--refraction", o.refraction, "on|off: refract the altitudes (alt_deg)");
+                               sub.add_option("--pressure", o.pressure, "pressure for refraction, hPa (default 1013.25)");
+                               sub.add_option("--temperature", o.temperature, "temperature for refraction, deg C (default 10)");
+                               sub.add_flag("--events", o.events, "add sunrise/sunset, twilights, moonrise/moonset, polar day/night, Moon quarters");
+                               sub.add_flag("--json", o.json, "print one JSON object");
+                               return [] { return run(o); };
+                           });
+
+}  // namespace
