@@ -1,3 +1,4 @@
+#include <welkin/astro/astro_keys.hpp>
 #include <welkin/error.hpp>
 #include <welkin/gl/shader.hpp>
 #include <welkin/keys.hpp>
@@ -8,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <tuple>
 
 namespace welkin {
 
@@ -112,6 +114,7 @@ void SkyProcessor::deriveVariables() {
     vars_.set(keys::observerLatitude, observer_.latitudeRad);
     vars_.set(keys::observerLongitude, observer_.longitudeRad);
     vars_.set(keys::observerHeight, observer_.heightMeters);
+    astro::updateSkyVars(vars_);  // Sun, Moon, planets: directions and the astro keys (astro_keys.hpp)
 }
 
 void SkyProcessor::init() {
@@ -318,6 +321,10 @@ nlohmann::json SkyProcessor::stats() const {
                    {"alt_deg", camera_.altitudeRad * 180 / kPi},
                    {"fov_deg", camera_.verticalFovRad * 180 / kPi}};
     j["exposure"] = {{"automatic", exposure_.automatic}, {"ev100", lastEv100()}};
+    if (vars_.has(astro::keys::sunAzimuth))
+        for (auto [name, az, alt] : {std::tuple{"sun", &astro::keys::sunAzimuth, &astro::keys::sunAltitude},
+                                     std::tuple{"moon", &astro::keys::moonAzimuth, &astro::keys::moonAltitude}})
+            j[name] = {{"az_deg", vars_.get(*az) * 180 / kPi}, {"alt_deg", vars_.get(*alt) * 180 / kPi}};
     j["timing_includes_gpu"] = options_.timing;
     json el = json::array();
     for (auto& e : elements_) {
