@@ -61,7 +61,7 @@ void Grid::doRender(const FrameContext& ctx) {
         pos[i] = (p && options_.markers) ? glm::vec4(float(p->x), float(p->y), 1, 0) : glm::vec4(0);
     }
     glProgramUniform4fv(program_.id(), program_.location("u_markers"), 4, &pos[0].x);
-    float scale = std::max(1.0f, std::round(float(std::min(ctx.camera.width, ctx.camera.height)) / 256.0f));
+    float scale = std::max(1.0f, std::round(float(std::min(ctx.camera.width, ctx.camera.height)) / 128.0f));
     program_.set("u_glyphScale", scale);
     ctx.drawFullscreen();
 }

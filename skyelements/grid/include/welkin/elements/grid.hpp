@@ -33,7 +33,7 @@ public:
     void setOptions(const GridOptions& options);
 
     /// Altitude of the centres of the cardinal markers, radians (they sit just above the horizon).
-    static constexpr double kMarkerAltitudeRad = 0.0872664626;  // 5 deg
+    static constexpr double kMarkerAltitudeRad = 0.1396263402;  // 8 deg
 
 private:
     void doInit(InitContext& ctx) override;
