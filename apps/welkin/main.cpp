@@ -28,17 +28,22 @@ int main(int argc, char** argv) {
     std::sort(commands().begin(), commands().end(), byName);
     std::sort(benchmarks().begin(), benchmarks().end(), byName);
 
-    std::vector<std::pair<CLI::App*, Action>> actions;
+    struct Entry {
+        CLI::App* sub;
+        std::string fullName;  // "render", "bench sky"
+        Action action;
+    };
+    std::vector<Entry> actions;
     for (auto& c : commands()) {
         CLI::App* sub = app.add_subcommand(c.name, c.description);
-        actions.emplace_back(sub, c.setup(*sub));
+        actions.push_back({sub, c.name, c.setup(*sub)});
     }
     if (!benchmarks().empty()) {
         CLI::App* bench = app.add_subcommand("bench", "measure speed and accuracy");
         bench->require_subcommand(1);
         for (auto& b : benchmarks()) {
             CLI::App* sub = bench->add_subcommand(b.name, b.description);
-            actions.emplace_back(sub, b.setup(*sub));
+            actions.push_back({sub, "bench " + b.name, b.setup(*sub)});
         }
     }
     try {
@@ -47,15 +52,12 @@ int main(int argc, char** argv) {
         // CLI11's own messages name the option; keep them on one line.
         return app.exit(e);
     }
-    for (auto& [sub, action] : actions) {
+    for (auto& [sub, name, action] : actions) {
         if (!sub->parsed()) continue;
         try {
             return action();
-        } catch (const welkin::Error& e) {
-            std::fprintf(stderr, "welkin %s: %s\n", sub->get_name().c_str(), e.what());
-            return 1;
-        } catch (const std::exception& e) {
-            std::fprintf(stderr, "welkin %s: %s\n", sub->get_name().c_str(), e.what());
+        } catch (const std::exception& e) {  // welkin::Error and anything else: one line, status 1
+            std::fprintf(stderr, "welkin %s: %s\n", name.c_str(), e.what());
             return 1;
         }
     }

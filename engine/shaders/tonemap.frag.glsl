@@ -27,8 +27,7 @@ vec3 welkin_srgbEncode(vec3 c) {
 }
 
 void main() {
-    vec2 uv = 0.5 * v_ndc + 0.5;
-    vec3 L = texture(u_hdr, uv).rgb;
+    vec3 L = texelFetch(u_hdr, ivec2(gl_FragCoord.xy), 0).rgb;  // same size as the target
     float ev = u_auto != 0 ? welkin_autoEv100() - u_compensation : u_ev100;
     // Saturation-based exposure: luminance 1.2 * 2^EV100 maps to 1.
     float exposure = 1.0 / (1.2 * exp2(ev));

@@ -1,0 +1,113 @@
+// welkin bench frame: cost of the compositing pipeline itself on this machine: a trivial
+// fullscreen pass into RGBA32F and RGBA16F targets, the tone map (manual and automatic
+// exposure) and the Grid element. CPU-timed with glFinish (GL timer queries mean nothing on
+// llvmpipe). Prints a Markdown table; --csv writes the same rows.
+#include "command.hpp"
+
+#include <welkin/elements/grid.hpp>
+#include <welkin/error.hpp>
+#include <welkin/gl/context.hpp>
+#include <welkin/gl/shader.hpp>
+#include <welkin/processor.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <vector>
+
+namespace welkin::cli {
+namespace {
+
+struct FrameBenchOptions {
+    std::string size = "1280x720";
+    int repeats = 10;
+    std::string csv;
+};
+
+// Median of `repeats` timings of `fn`, milliseconds, each bracketed by glFinish.
+double medianMs(int repeats, const std::function<void()>& fn) {
+    fn();  // warm-up (shader compilation, first-touch allocation)
+    std::vector<double> t;
+    for (int i = 0; i < repeats; ++i) {
+        glFinish();
+        auto t0 = std::chrono::steady_clock::now();
+        fn();
+        glFinish();
+        t.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    }
+    std::sort(t.begin(), t.end());
+    return t[t.size() / 2];
+}
+
+int run(const FrameBenchOptions& o) {
+    int w = 0, h = 0;
+    std::sscanf(o.size.c_str(), "%dx%d", &w, &h);
+    if (w < 1 || h < 1 || w > 8192 || h > 8192) throw Error("--size '" + o.size + "' not WIDTHxHEIGHT in [1, 8192]");
+    if (o.repeats < 1 || o.repeats > 1000) throw Error("--repeats " + std::to_string(o.repeats) + " not in [1, 1000]");
+    Logger log;
+    auto ctx = gl::HeadlessContext::create({}, log);
+    auto vao = gl::VertexArray::create();
+    auto trivial = gl::ProgramBuilder("trivial")
+                       .fullscreenVertex()
+                       .fragment("trivial.frag", "out vec4 o; void main() { o = vec4(gl_FragCoord.xy * 1e-3, 1.0, 1.0); }")
+                       .build();
+    struct Row {
+        std::string what;
+        double ms;
+    };
+    std::vector<Row> rows;
+    for (GLenum fmt : {GL_RGBA32F, GL_RGBA16F, GL_RGBA8}) {
+        gl::Texture2D target(w, h, fmt);
+        auto fbo = gl::Framebuffer::create();
+        fbo.attach(GL_COLOR_ATTACHMENT0, target);
+        fbo.checkComplete("bench");
+        const char* name = fmt == GL_RGBA32F ? "trivial pass, RGBA32F" : fmt == GL_RGBA16F ? "trivial pass, RGBA16F" : "trivial pass, RGBA8";
+        rows.push_back({name, medianMs(o.repeats, [&] {
+                            fbo.bind();
+                            glViewport(0, 0, w, h);
+                            vao.bind();
+                            trivial.use();
+                            glDrawArrays(GL_TRIANGLES, 0, 3);
+                        })});
+    }
+    {
+        SkyProcessor sky(SkyVars::earth(), log);
+        Camera cam;
+        cam.width = w;
+        cam.height = h;
+        sky.setCamera(cam);
+        sky.add(std::make_unique<elements::Grid>());
+        sky.renderFrame();
+        rows.push_back({"grid element + tone map (renderFrame)", medianMs(o.repeats, [&] { sky.renderFrame(); })});
+        gl::Texture2D ldr(w, h, GL_RGBA8);
+        auto ldrFbo = gl::Framebuffer::create();
+        ldrFbo.attach(GL_COLOR_ATTACHMENT0, ldr);
+        rows.push_back({"tone map, manual exposure", medianMs(o.repeats, [&] { sky.toneMapInto(ldrFbo.id()); })});
+        sky.setExposure({.automatic = true});
+        rows.push_back({"tone map, automatic exposure", medianMs(o.repeats, [&] { sky.toneMapInto(ldrFbo.id()); })});
+        rows.push_back({"read back HDR (RGBA32F -> RGB)", medianMs(std::min(o.repeats, 3), [&] { (void)sky.readHdr(); })});
+    }
+    std::printf("welkin bench frame, %dx%d, median of %d, %s\n\n| pass | ms | x trivial RGBA32F |\n|---|---|---|\n", w, h,
+                o.repeats, ctx->description().c_str());
+    for (auto& r : rows) std::printf("| %s | %.2f | %.2f |\n", r.what.c_str(), r.ms, r.ms / rows[0].ms);
+    if (!o.csv.empty()) {
+        std::ofstream f(o.csv);
+        if (!f) throw Error("--csv '" + o.csv + "' cannot be written");
+        f << "pass,ms\n";
+        for (auto& r : rows) f << '"' << r.what << "\"," << r.ms << "\n";
+    }
+    return 0;
+}
+
+BenchRegistrar reg("frame", "cost of the HDR target formats, the tone map and the grid", [](CLI::App& sub) {
+    auto* o = new FrameBenchOptions();
+    sub.add_option("--size", o->size, "frame size WIDTHxHEIGHT")->capture_default_str();
+    sub.add_option("--repeats", o->repeats, "timed repetitions (median reported)")->capture_default_str();
+    sub.add_option("--csv", o->csv, "also write the rows as CSV");
+    return [o]() { return run(*o); };
+});
+
+}  // namespace
+}  // namespace welkin::cli
