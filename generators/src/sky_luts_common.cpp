@@ -31,6 +31,7 @@ AtmosphereBlock AtmosphereBlock::from(const SkyModel& m) {
 SkyGenerator::SkyGenerator(std::string name) : Generator(std::move(name)) {
     input(atmosphere::kAtmosphere);
     input(skykeys::quality);
+    input(keys::quality);
 }
 
 void SkyGenerator::prepare(SkyVars& vars) {

@@ -1,4 +1,5 @@
 #include <welkin/elements/grid.hpp>
+#include <welkin/elements/sky.hpp>
 #include <welkin/elements/registry.hpp>
 #include <welkin/error.hpp>
 
@@ -12,6 +13,7 @@ using Factory = std::function<std::unique_ptr<SkyElement>()>;
 // Recommended compositing order: farthest first.
 const std::vector<std::pair<std::string, Factory>>& factories() {
     static const std::vector<std::pair<std::string, Factory>> f = {
+        {"sky", [] { return std::make_unique<Sky>(); }},
         {"grid", [] { return std::make_unique<Grid>(); }},
     };
     return f;

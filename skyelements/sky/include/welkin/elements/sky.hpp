@@ -1,0 +1,74 @@
+// Sky: the atmosphere's radiance (cd/m^2) for every camera projection, lit by the Sun and the
+// Moon, from the noon sky to the end of astronomical twilight, seen from the ground, from an
+// aircraft or from space; and the physical quantities of the sky for --stats and hosts.
+//
+//   welkin::elements::SkyOptions opt;
+//   opt.quality = 2;                                     // high; -1 follows render.quality
+//   processor.add(std::make_unique<welkin::elements::Sky>(opt));   // before stars? no: stars first,
+//                                                        // the sky attenuates them (farthest first)
+//   processor.renderFrame();
+//   double lux = processor.vars().get(welkin::generators::skykeys::horizontalIlluminance).x;
+//
+// Rendering: from the sky-view LUTs (one per light, horizon-dense; generators/sky_luts.hpp)
+// while the observer is inside the atmosphere; every pixel is ray-marched on the GPU (with the
+// transmittance and multiple-scattering LUTs) when the observer is above the atmosphere (space:
+// limb and the Earth seen from orbit) or at quality `reference`. Each pixel also outputs the
+// transmittance of the atmosphere along its ray, so stars composited before the sky are
+// attenuated; the ground (a Lambertian sphere lit by the Sun/Moon through the atmosphere) is
+// opaque.
+//
+// Lights: the Sun's top-of-atmosphere illuminance follows the atmosphere's solar spectrum and the
+// Sun's distance (sun.distance_m if present); the Moon's follows its phase angle and distance
+// (moon.phase_angle_rad, moon.distance_m if present, else the Sun-Moon elongation) through the
+// lunar magnitude law of Allen (m = -12.73 + 0.026 |i| + 4e-9 i^4, i in degrees, at the mean
+// distance 384 400 km) and E = 10^(-0.4 (m + 13.99)) lux, with the Sun's colour (the Moon's
+// albedo is nearly grey). Published in SkyVars: sky.sun_illuminance, sky.moon_illuminance,
+// sky.sun_disk_radiance (the disk's mean radiance at the observer, reddened),
+// sky.sun_transmittance, sky.moon_transmittance, sky.horizontal_illuminance (global, direct,
+// diffuse lux), sky.diffuse_irradiance, sky.zenith_luminance.
+//
+// Observer heights below the ground are clamped to 0 m with a warning through the logger.
+#pragma once
+#include <welkin/element.hpp>
+#include <welkin/generators/sky_luts.hpp>
+#include <welkin/gl/objects.hpp>
+
+namespace welkin::elements {
+
+struct SkyOptions {
+    int quality = -1;   ///< -1: render.quality; else 0 low, 1 medium, 2 high, 3 reference
+    bool moon = true;   ///< the Moon as a second light
+    /// Throws welkin::Error naming the member and its range.
+    void validate() const;
+};
+
+/// Moon's illuminance at the top of the atmosphere, lux, for a phase angle (rad, 0 = full) and
+/// an observer-Moon distance (m): Allen's magnitude law, see the header comment.
+double moonIlluminanceLux(double phaseAngleRad, double distanceM);
+
+class Sky final : public SkyElement {
+public:
+    explicit Sky(const SkyOptions& options = {});
+    const SkyOptions& options() const { return options_; }
+    void setOptions(const SkyOptions& options);
+    /// The shared generators (valid after init()).
+    const generators::SkyLuts& luts() const { return luts_; }
+    /// True if the last frame was ray-marched per pixel (space or reference quality).
+    bool perPixel() const { return perPixel_; }
+
+private:
+    void doInit(InitContext& ctx) override;
+    void doUpdate(const FrameContext& ctx) override;
+    void doRender(const FrameContext& ctx) override;
+    void doRelease() override;
+    void doStats(nlohmann::json& root) const override;
+
+    SkyOptions options_;
+    generators::SkyLuts luts_;
+    gl::Program lutProgram_, marchProgram_;
+    gl::Buffer ubo_;
+    bool perPixel_ = false;
+    double zenith_ = 0, global_ = 0, direct_ = 0, diffuse_ = 0;
+};
+
+}  // namespace welkin::elements

@@ -1,0 +1,75 @@
+// Sky element: radiance (cd/m^2) and transmittance of the atmosphere along each pixel's ray.
+// Needs engine/camera.glsl, engine/composite.glsl and generators/atmosphere.glsl
+// (ATM_USE_TRANSMITTANCE, and ATM_USE_MULTISCATTERING when SKY_PER_PIXEL) before it.
+layout(binding = 0) uniform sampler2D u_sunSmooth;
+layout(binding = 1) uniform sampler2D u_sunMie;
+layout(binding = 2) uniform sampler2D u_moonSmooth;
+layout(binding = 3) uniform sampler2D u_moonMie;
+uniform float u_h;          // observer height above the ground, m (>= 0; may exceed the top)
+uniform vec3 u_sunDir;      // unit ENU
+uniform vec3 u_moonDir;
+uniform vec3 u_sunE;        // lux per channel at the top of the atmosphere
+uniform vec3 u_moonE;
+uniform float u_invScale;   // 1 / kLutScale
+uniform int u_steps;        // per-pixel ray march
+uniform float u_moonAngular;
+
+// Azimuth of `dir` measured from the light's vertical plane, [0, pi].
+float azimuthFrom(vec3 dir, vec3 light) {
+    vec2 a = dir.xy, b = light.xy;
+    float la = length(a), lb = length(b);
+    if (la < 1e-7 || lb < 1e-7) return 0.0;
+    a /= la;
+    b /= lb;
+    return atan(abs(a.x * b.y - a.y * b.x), dot(a, b));
+}
+
+#ifdef SKY_PER_PIXEL
+// Radiance per lux along a ray from height h (possibly above the atmosphere) for one light.
+vec3 marchLight(float h, float mu, vec3 dir, vec3 light, float angular, out vec3 transmittance, out bool ground) {
+    float R = atm_bottom(), Ht = atm_thickness();
+    float muS = light.z, nu = clamp(dot(dir, light), -1.0, 1.0);
+    transmittance = vec3(1.0);
+    ground = false;
+    if (h > Ht) {
+        float r = R + h;
+        float disc = r * r * mu * mu - (h - Ht) * (2.0 * R + h + Ht);
+        if (mu >= 0.0 || disc < 0.0) return vec3(0.0);
+        float t = -r * mu - sqrt(disc);
+        float rt = atm_top();
+        mu = clamp((r * mu + t) / rt, -1.0, 1.0);
+        muS = clamp((r * muS + t * nu) / rt, -1.0, 1.0);
+        h = Ht;
+    }
+    Scattering s = integrateScattering(h, mu, muS, nu, 1e30, u_steps, false, angular, -1);
+    transmittance = s.transmittance;
+    ground = s.hitGround;
+    return s.smooth_ + s.mieNoPhase * miePhase(nu);
+}
+#endif
+
+void main() {
+    vec3 dir;
+    if (!welkin_viewDirection(welkin_pixel(), dir)) discard;
+    float mu = clamp(dir.z, -1.0, 1.0);
+    vec3 L;
+    vec3 T;
+#ifdef SKY_PER_PIXEL
+    bool ground;
+    L = marchLight(u_h, mu, dir, u_sunDir, atm_solarIlluminance.w, T, ground) * u_sunE;
+    if (dot(u_moonE, vec3(1.0)) > 0.0 && u_moonDir.z > -0.342) {
+        vec3 Tm;
+        bool gm;
+        L += marchLight(u_h, mu, dir, u_moonDir, u_moonAngular, Tm, gm) * u_moonE;
+    }
+    if (ground) T = vec3(0.0);
+#else
+    float h = min(u_h, atm_thickness());
+    float azS = azimuthFrom(dir, u_sunDir), azM = azimuthFrom(dir, u_moonDir);
+    L = skyViewSample(u_sunSmooth, u_sunMie, h, mu, azS, clamp(dot(dir, u_sunDir), -1.0, 1.0), u_invScale) * u_sunE;
+    if (dot(u_moonE, vec3(1.0)) > 0.0)
+        L += skyViewSample(u_moonSmooth, u_moonMie, h, mu, azM, clamp(dot(dir, u_moonDir), -1.0, 1.0), u_invScale) * u_moonE;
+    T = rayIntersectsGround(h, mu) ? vec3(0.0) : transmittanceFromLut(h, mu);
+#endif
+    welkin_output(L, T);
+}

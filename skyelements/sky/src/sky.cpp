@@ -1,0 +1,235 @@
+#include <welkin/elements/sky.hpp>
+#include <welkin/embedded/generator_shaders.hpp>
+#include <welkin/embedded/sky_shaders.hpp>
+#include <welkin/error.hpp>
+#include <welkin/generators/atmosphere.hpp>
+#include <welkin/gl/shader.hpp>
+#include <welkin/keys.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+namespace welkin::elements {
+
+using namespace welkin::generators;
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+constexpr double kAu = 1.495978707e11;         // m
+constexpr double kMoonMeanDistance = 384400e3;  // m, Allen's law reference distance
+constexpr double kMoonAngularRadius = 0.0045;   // rad, mean
+// Astronomy keys (engine/include/welkin/astro/astro_keys.hpp writes them; same names and types).
+const Key<double> kSunDistance{"sun.distance_m", Range{1.4e11, 1.6e11}};
+const Key<double> kSunAngularRadius{"sun.angular_radius_rad", Range{0, 0.01}};
+const Key<double> kMoonDistance{"moon.distance_m", Range{3.4e8, 4.1e8}};
+const Key<double> kMoonPhaseAngle{"moon.phase_angle_rad", Range{0, kPi}};
+
+double luminance(const glm::dvec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
+
+// Transmittance from the observer (any height) towards a direction, CPU double precision; 0 if the
+// planet is in the way.
+glm::dvec3 transmittanceTowards(const SkyModel& m, double h, const glm::dvec3& dir) {
+    const double R = m.bottomRadius, Ht = m.topRadius - R;
+    double mu = std::clamp(dir.z, -1.0, 1.0);
+    h = std::max(h, 0.0);
+    if (h > Ht) {
+        double r = R + h;
+        double disc = r * r * mu * mu - (h - Ht) * (2.0 * R + h + Ht);
+        if (mu >= 0.0 || disc < 0.0) return glm::dvec3(1.0);
+        double t = -r * mu - std::sqrt(disc);
+        mu = std::clamp((r * mu + t) / m.topRadius, -1.0, 1.0);
+        h = Ht;
+    }
+    if (cpu::rayIntersectsGround(m, h, mu)) return glm::dvec3(0.0);
+    return cpu::transmittanceToTop(m, h, mu, 256);
+}
+
+/// The lights: top-of-atmosphere illuminance of the Sun and Moon, the Sun's disk radiance and
+/// the transmittances, computed on the CPU (double) before the LUT passes that use them.
+class SkyLights final : public Generator {
+public:
+    SkyLights() : Generator("sky.lights") {
+        input(atmosphere::kAtmosphere);
+        input(keys::sunDirection);
+        input(keys::moonDirection);
+        input(keys::observerHeight);
+        input(kSunDistance);
+        input(kSunAngularRadius);
+        input(kMoonDistance);
+        input(kMoonPhaseAngle);
+        output(skykeys::sunIlluminance);
+        output(skykeys::moonIlluminance);
+        output(skykeys::sunDiskRadiance);
+        output(skykeys::sunTransmittance);
+        output(skykeys::moonTransmittance);
+    }
+    bool moon = true;
+
+private:
+    void doRun(SkyVars& vars, const Logger& log) override {
+        SkyModel m = SkyModel::fromVars(vars);
+        double h = vars.getOr(keys::observerHeight, 0.0);
+        if (h < 0.0) {
+            char buf[160];
+            std::snprintf(buf, sizeof buf, "Sky: observer height %g m is below the ground; clamped to 0 m", h);
+            log.warn(buf);
+            h = 0.0;
+        }
+        auto unit = [](glm::dvec3 d) { return glm::length(d) > 0 ? glm::normalize(d) : glm::dvec3(0, 0, -1); };
+        glm::dvec3 sun = unit(vars.getOr(keys::sunDirection, glm::dvec3(0, 0, 1)));
+        glm::dvec3 moonDir = unit(vars.getOr(keys::moonDirection, glm::dvec3(0, 0, -1)));
+        double sunDist = vars.getOr(kSunDistance, kAu);
+        glm::dvec3 Esun = m.solarIlluminance * (kAu / sunDist) * (kAu / sunDist);
+        double alpha = vars.getOr(kSunAngularRadius, m.sunAngularRadius);
+        if (alpha <= 0) alpha = m.sunAngularRadius;
+        glm::dvec3 Tsun = transmittanceTowards(m, h, sun);
+        // Mean radiance of a uniform disk of angular radius alpha: E / (pi alpha^2).
+        glm::dvec3 disk = Esun * Tsun / (kPi * alpha * alpha);
+        glm::dvec3 Emoon(0.0);
+        if (moon) {
+            double phase;
+            if (vars.has(kMoonPhaseAngle)) {
+                phase = vars.get(kMoonPhaseAngle);
+            } else {
+                // Phase angle ~ pi - elongation (the Sun is ~390x farther than the Moon).
+                phase = kPi - std::acos(std::clamp(glm::dot(sun, moonDir), -1.0, 1.0));
+            }
+            double E = moonIlluminanceLux(phase, vars.getOr(kMoonDistance, kMoonMeanDistance));
+            Emoon = m.solarIlluminance * (E / luminance(m.solarIlluminance));
+        }
+        vars.set(skykeys::sunIlluminance, Esun);
+        vars.set(skykeys::moonIlluminance, Emoon);
+        vars.set(skykeys::sunDiskRadiance, disk);
+        vars.set(skykeys::sunTransmittance, glm::clamp(Tsun, 0.0, 1.0));
+        vars.set(skykeys::moonTransmittance, glm::clamp(transmittanceTowards(m, h, moonDir), 0.0, 1.0));
+    }
+};
+
+const Key<std::shared_ptr<SkyLights>> kGenLights{"sky.gen.lights"};
+}  // namespace
+
+double moonIlluminanceLux(double phaseAngleRad, double distanceM) {
+    double i = std::clamp(std::abs(phaseAngleRad), 0.0, kPi) * 180.0 / kPi;
+    double mag = -12.73 + 0.026 * i + 4e-9 * i * i * i * i + 5.0 * std::log10(distanceM / kMoonMeanDistance);
+    return std::pow(10.0, -0.4 * (mag + 13.99));
+}
+
+void SkyOptions::validate() const {
+    if (quality < -1 || quality > 3) {
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "Sky: quality %d not in [-1, 3] (-1 follows render.quality)", quality);
+        throw Error(buf);
+    }
+}
+
+Sky::Sky(const SkyOptions& options) : SkyElement("sky"), options_(options) {
+    options_.validate();
+    reads(keys::sunDirection);
+    reads(keys::moonDirection);
+    reads(keys::observerHeight);
+    reads(keys::quality);
+    reads(atmosphere::kAtmosphere);
+    writes(skykeys::sunDiskRadiance);
+    writes(skykeys::horizontalIlluminance);
+}
+
+void Sky::setOptions(const SkyOptions& options) {
+    options.validate();
+    options_ = options;
+}
+
+void Sky::doInit(InitContext& ctx) {
+    SkyVars& v = ctx.vars;
+    if (!v.has(atmosphere::kAtmosphere))
+        v.set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(atmosphere::Atmosphere::earthClear()));
+    v.declare(keys::sunDirection, directionFromAzAlt(kPi, kPi / 4));  // until the astronomy step sets it
+    v.declare(keys::moonDirection, glm::dvec3(0, 0, -1));
+    v.declare(keys::observerHeight, 0.0);
+    v.declare(keys::quality, 1);
+    if (options_.quality >= 0) v.set(skykeys::quality, options_.quality);
+    auto lights = v.obtain<SkyLights>(kGenLights, [] { return std::make_shared<SkyLights>(); });
+    lights->moon = options_.moon;
+    luts_ = SkyLuts::obtain(v);
+    addGenerator(lights);
+    addGenerator(luts_.transmittance);
+    addGenerator(luts_.multiScattering);
+    addGenerator(luts_.sunView);
+    addGenerator(luts_.moonView);
+    addGenerator(luts_.irradiance);
+    addGenerator(luts_.aerial);
+    auto build = [&](bool perPixel) {
+        gl::ProgramBuilder b(perPixel ? "Sky (per pixel)" : "Sky");
+        b.define("ATM_USE_TRANSMITTANCE");
+        if (perPixel) b.define("ATM_USE_MULTISCATTERING").define("SKY_PER_PIXEL");
+        return b.fullscreenVertex()
+            .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
+            .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
+            .fragment("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
+            .fragment("sky/sky.frag.glsl", embedded::sky_shaders("sky.frag.glsl"))
+            .build();
+    };
+    lutProgram_ = build(false);
+    marchProgram_ = build(true);
+    ubo_ = gl::Buffer(sizeof(AtmosphereBlock));
+}
+
+void Sky::doUpdate(const FrameContext& ctx) {
+    SkyVars& v = ctx.vars;
+    if (options_.quality >= 0) v.set(skykeys::quality, options_.quality);
+    glm::dvec3 hv = v.getOr(skykeys::horizontalIlluminance, glm::dvec3(0.0));
+    global_ = hv.x;
+    direct_ = hv.y;
+    diffuse_ = hv.z;
+    zenith_ = v.getOr(skykeys::zenithLuminance, 0.0);
+}
+
+void Sky::doRender(const FrameContext& ctx) {
+    SkyVars& v = ctx.vars;
+    const SkyModel& m = luts_.sunView->model();
+    const SkyQuality& q = luts_.sunView->quality();
+    const double h = std::max(v.getOr(keys::observerHeight, 0.0), 0.0);
+    // Above the top of the atmosphere (less 1 m) the sky-view parameterisation does not apply.
+    perPixel_ = q.perPixel || h > m.topRadius - m.bottomRadius - 1.0;
+    AtmosphereBlock block = AtmosphereBlock::from(m);
+    ubo_.update(&block, sizeof block);
+    ubo_.bindBase(GL_UNIFORM_BUFFER, 1);
+    glBindTextureUnit(0, v.get(skykeys::sunViewLut).id);
+    glBindTextureUnit(1, v.get(skykeys::sunViewMieLut).id);
+    glBindTextureUnit(2, v.get(skykeys::moonViewLut).id);
+    glBindTextureUnit(3, v.get(skykeys::moonViewMieLut).id);
+    glBindTextureUnit(4, v.get(skykeys::transmittanceLut).id);
+    glBindTextureUnit(5, v.get(skykeys::multiScatteringLut).id);
+    const gl::Program& p = perPixel_ ? marchProgram_ : lutProgram_;
+    p.use();
+    auto unit = [](glm::dvec3 d) { return glm::length(d) > 0 ? glm::normalize(d) : glm::dvec3(0, 0, -1); };
+    p.set("u_h", float(h));
+    p.set("u_sunDir", glm::vec3(unit(v.get(keys::sunDirection))));
+    p.set("u_moonDir", glm::vec3(unit(v.get(keys::moonDirection))));
+    p.set("u_sunE", glm::vec3(v.getOr(skykeys::sunIlluminance, m.solarIlluminance)));
+    p.set("u_moonE", glm::vec3(options_.moon ? v.getOr(skykeys::moonIlluminance, glm::dvec3(0.0)) : glm::dvec3(0.0)));
+    p.set("u_invScale", float(1.0 / kLutScale));
+    p.set("u_steps", q.raymarchSteps);
+    p.set("u_moonAngular", float(kMoonAngularRadius));
+    ctx.drawFullscreen();
+}
+
+void Sky::doRelease() {
+    lutProgram_ = {};
+    marchProgram_ = {};
+    ubo_ = {};
+    luts_.releaseGl();
+}
+
+void Sky::doStats(nlohmann::json& root) const {
+    root["sky"]["zenith_luminance_cd_m2"] = zenith_;
+    root["sky"]["horizontal_illuminance_lux"] = global_;
+    root["sky"]["sun_illuminance_lux"] = direct_;
+    root["sky"]["diffuse_illuminance_lux"] = diffuse_;
+    root["sky"]["per_pixel"] = perPixel_;
+}
+
+}  // namespace welkin::elements

@@ -1,0 +1,172 @@
+// The sky's LUT generators: each GPU pass against its CPU double-precision twin (same math, same
+// parameterisation, same bilinear lookups), on tiny LUTs (llvmpipe). The twins are themselves
+// checked against physics in test_sky_element.cpp and test_stability.cpp.
+#include <catch2/catch.hpp>
+
+#include "gl_test_context.hpp"
+
+#include <welkin/generators/atmosphere.hpp>
+#include <welkin/generators/sky_luts.hpp>
+#include <welkin/keys.hpp>
+
+#include <cmath>
+
+using namespace welkin;
+using namespace welkin::generators;
+
+namespace {
+constexpr double kDeg = M_PI / 180;
+
+Lut2D readLut(const gl::Texture& t, double scale = 1.0) {
+    Lut2D l{t.width(), t.height(), {}};
+    std::vector<float> px = t.readRgbaFloat();
+    l.texels.resize(size_t(l.width) * l.height);
+    for (size_t i = 0; i < l.texels.size(); ++i) l.texels[i] = glm::dvec3(px[4 * i], px[4 * i + 1], px[4 * i + 2]) * scale;
+    return l;
+}
+
+double relErr(const glm::dvec3& gpu, const glm::dvec3& cpu, double floor) {
+    double e = 0;
+    for (int c = 0; c < 3; ++c) e = std::max(e, std::abs(gpu[c] - cpu[c]) / (std::abs(cpu[c]) + floor));
+    return e;
+}
+
+struct Rig {
+    SkyVars vars = SkyVars::earth();
+    SkyLuts luts;
+    SkyQuality q = SkyQuality::tiny();
+    SkyModel m;
+    explicit Rig(double sunAltDeg, double h = 0.0) {
+        test::glContext();
+        vars.set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(atmosphere::Atmosphere::earthClear()));
+        vars.set(keys::sunDirection, directionFromAzAlt(1.0, sunAltDeg * kDeg));
+        vars.set(keys::moonDirection, directionFromAzAlt(4.0, 30 * kDeg));
+        vars.set(keys::observerHeight, h);
+        m = SkyModel::fromVars(vars);
+        vars.set(skykeys::sunIlluminance, m.solarIlluminance);
+        vars.set(skykeys::moonIlluminance, m.solarIlluminance * 2e-6);
+        luts = SkyLuts::obtain(vars);
+        for (SkyGenerator* g : {(SkyGenerator*)luts.transmittance.get(), (SkyGenerator*)luts.multiScattering.get(),
+                                (SkyGenerator*)luts.sunView.get(), (SkyGenerator*)luts.moonView.get(),
+                                (SkyGenerator*)luts.aerial.get(), (SkyGenerator*)luts.irradiance.get()})
+            g->setFixedQuality(q);
+    }
+    void runAll() {
+        const Logger& log = test::testLogger();
+        luts.transmittance->runIfDue(vars, log);
+        luts.multiScattering->runIfDue(vars, log);
+        luts.sunView->runIfDue(vars, log);
+        luts.moonView->runIfDue(vars, log);
+        luts.aerial->runIfDue(vars, log);
+        luts.irradiance->runIfDue(vars, log);
+        gl::checkError("sky LUT test");
+    }
+    ~Rig() { luts.releaseGl(); }
+};
+}  // namespace
+
+TEST_CASE("Sky LUTs: GPU passes match their CPU double twins", "[gl][sky]") {
+    const double h = 500.0;  // above the ground, so that rays below the horizon have a path too
+    Rig rig(20.0, h);
+    rig.runAll();
+    const SkyModel& m = rig.m;
+    const SkyQuality& q = rig.q;
+
+    // Transmittance: float optical depth of up to ~40 accumulated in 24 steps; 1e-3 relative on
+    // the transmittance (optical depths agree to ~1e-4 absolute in float) plus 1e-6 absolute
+    // where it underflows towards 0 along rays grazing the ground.
+    Lut2D Tcpu = cpu::transmittanceLut(m, q);
+    Lut2D Tgpu = readLut(rig.luts.transmittance->texture());
+    REQUIRE(Tgpu.width == q.transmittanceW);
+    double worstT = 0;
+    for (size_t i = 0; i < Tcpu.texels.size(); ++i) worstT = std::max(worstT, relErr(Tgpu.texels[i], Tcpu.texels[i], 1e-6 / 1e-3));
+    INFO("worst transmittance relative error " << worstT);
+    CHECK(worstT < 1e-3);
+
+    // Multiple scattering: sums of ~16 x 8 float terms through the same LUT lookups; 2e-3.
+    Lut2D MScpu = cpu::multiScatteringLut(m, q, Tcpu);
+    Lut2D MSgpu = readLut(rig.luts.multiScattering->texture());
+    double worstMS = 0;
+    for (size_t i = 0; i < MScpu.texels.size(); ++i) worstMS = std::max(worstMS, relErr(MSgpu.texels[i], MScpu.texels[i], 1e-9));
+    INFO("worst multiple-scattering relative error " << worstMS);
+    CHECK(worstMS < 2e-3);
+
+    // Sky view (Sun at 20 deg, observer at 500 m): every texel, both textures; 3e-3 relative
+    // (float march of 12 steps, LUT lookups at float texture coordinates) over a floor of 1e-3 of
+    // the LUT's largest value (the nearly-black ground rows seen against the Sun).
+    Lut2D Scpu{q.skyViewW, q.skyViewH, {}}, Mcpu{q.skyViewW, q.skyViewH, {}};
+    Scpu.texels.resize(size_t(q.skyViewW) * q.skyViewH);
+    Mcpu.texels = Scpu.texels;
+    double muS = std::sin(20 * kDeg);
+    for (int y = 0; y < q.skyViewH; ++y)
+        for (int x = 0; x < q.skyViewW; ++x) {
+            auto t = cpu::skyViewTexel(m, q, Tcpu, MScpu, h, muS, {(x + 0.5) / q.skyViewW, (y + 0.5) / q.skyViewH},
+                                       m.sunAngularRadius);
+            Scpu.at(x, y) = t.smooth;
+            Mcpu.at(x, y) = t.mie;
+        }
+    Lut2D Sgpu = readLut(rig.luts.sunView->smoothTexture(), 1.0 / kLutScale);
+    Lut2D Mgpu = readLut(rig.luts.sunView->mieTexture(), 1.0 / kLutScale);
+    double maxS = 0, maxM = 0;
+    for (auto& t : Scpu.texels) maxS = std::max(maxS, t.g);
+    for (auto& t : Mcpu.texels) maxM = std::max(maxM, t.g);
+    double worstS = 0, worstM = 0;
+    for (size_t i = 0; i < Scpu.texels.size(); ++i) {
+        worstS = std::max(worstS, relErr(Sgpu.texels[i], Scpu.texels[i], 1e-3 * maxS));
+        worstM = std::max(worstM, relErr(Mgpu.texels[i], Mcpu.texels[i], 1e-3 * maxM));
+    }
+    INFO("worst sky-view relative errors " << worstS << " (smooth), " << worstM << " (Mie)");
+    CHECK(worstS < 3e-3);
+    CHECK(worstM < 3e-3);
+
+    // Aerial perspective: sample texels (directions above and below the horizon, near and far
+    // slices); same tolerance reasoning as the sky view.
+    std::vector<float> inAll = rig.luts.aerial->inscatter().readRgbaFloat();
+    std::vector<float> trAll = rig.luts.aerial->transmittance().readRgbaFloat();
+    const int n = q.aerialSize;
+    for (auto [i, j, k] : {std::tuple{1, 1, 0}, {3, 6, 3}, {6, 2, 7}, {0, 7, 5}, {7, 4, 1}}) {
+        auto c = cpu::aerialTexel(m, q, Tcpu, MScpu, h, muS, i, j, k);
+        size_t idx = (size_t(k) * n * n + size_t(j) * n + i) * 4;
+        glm::dvec3 gin(inAll[idx], inAll[idx + 1], inAll[idx + 2]), gtr(trAll[idx], trAll[idx + 1], trAll[idx + 2]);
+        INFO("aerial texel " << i << "," << j << "," << k << ": gpu " << gin.g / kLutScale << " cpu " << c.inscatter.g);
+        CHECK(c.inscatter.g > 0.0);  // in-scattering along any non-empty segment
+        CHECK(c.transmittance.g < 1.0);
+        CHECK(relErr(gin / kLutScale, c.inscatter, 1e-12) < 3e-3);
+        CHECK(relErr(gtr, c.transmittance, 1e-6) < 1e-3);
+    }
+
+    // Irradiance: the GPU hemisphere quadrature over the GPU sky-view LUT against the same
+    // quadrature over the CPU LUT; 3e-3 (the LUTs agree to that).
+    glm::dvec3 E = m.solarIlluminance;
+    glm::dvec3 sunDir = directionFromAzAlt(1.0, 20 * kDeg);
+    glm::dvec3 cpuDiffuse = cpuDiffuseIrradiance(m, q, h, muS, [&](double mu, double az, double nu) {
+        return cpu::skyViewSample(m, Scpu, Mcpu, h, mu, az, nu);
+    }) * E;
+    glm::dvec3 gpuDiffuse = rig.luts.irradiance->sunDiffuse();
+    INFO("diffuse " << gpuDiffuse.g << " vs " << cpuDiffuse.g);
+    CHECK(relErr(gpuDiffuse, cpuDiffuse, 1e-9) < 3e-3);
+    // Direct: E T mu_s with T from the LUT.
+    glm::dvec3 hv = rig.vars.get(skykeys::horizontalIlluminance);
+    glm::dvec3 direct = cpu::transmittanceToLight(m, Tcpu, h, sunDir.z, m.sunAngularRadius) * sunDir.z * E;
+    double Yd = 0.2126 * direct.r + 0.7152 * direct.g + 0.0722 * direct.b;
+    CHECK(hv.y == Approx(Yd + 0.0).epsilon(2e-3).margin(0.1));  // + the Moon's direct (Moon at 30 deg, 2e-6 of the Sun)
+}
+
+TEST_CASE("Sky LUTs: generators run only when their inputs change", "[gl][sky]") {
+    Rig rig(30.0);
+    rig.runAll();
+    int t = rig.luts.transmittance->runCount(), v = rig.luts.sunView->runCount();
+    rig.runAll();
+    CHECK(rig.luts.transmittance->runCount() == t);
+    CHECK(rig.luts.sunView->runCount() == v);
+    rig.vars.set(keys::sunDirection, directionFromAzAlt(1.0, 31 * kDeg));  // the Sun moved
+    rig.runAll();
+    CHECK(rig.luts.transmittance->runCount() == t);      // atmosphere unchanged
+    CHECK(rig.luts.multiScattering->runCount() == 1);
+    CHECK(rig.luts.sunView->runCount() == v + 1);
+    rig.vars.set(atmosphere::kAtmosphere,
+                 std::make_shared<const atmosphere::Atmosphere>(atmosphere::Atmosphere::earthHazy()));
+    rig.runAll();
+    CHECK(rig.luts.transmittance->runCount() == t + 1);
+    CHECK(rig.luts.multiScattering->runCount() == 2);
+}
