@@ -53,12 +53,13 @@ glm::dmat3 fwMatrix(double gamb, double phib, double psi, double eps) {
 // IAU 2000B nutation with the IAU 2006 J2-rate and precession-rate adjustments (as eraNut06a
 // applies to 2000A), radians.
 Nutation nutation2000B(double t) {
-    // Delaunay arguments (Simon et al. 1994, linear parts as used by the 2000B model), radians.
-    const double l = std::fmod(485868.249036 + 1717915923.2178 * t, kTurnArcsec) * kArcsec;
-    const double lp = std::fmod(1287104.79305 + 129596581.0481 * t, kTurnArcsec) * kArcsec;
-    const double f = std::fmod(335779.526232 + 1739527262.8478 * t, kTurnArcsec) * kArcsec;
-    const double d = std::fmod(1072260.70369 + 1602961601.2090 * t, kTurnArcsec) * kArcsec;
-    const double om = std::fmod(450160.398036 - 6962890.5431 * t, kTurnArcsec) * kArcsec;
+    // Delaunay arguments (IERS Conventions 2003, Simon et al. 1994; the polynomial forms of ERFA
+    // fal03..faom03 so that the Fast path follows the Precise one far from J2000), radians.
+    const double l = std::fmod(485868.249036 + t * (1717915923.2178 + t * (31.8792 + t * (0.051635 + t * -0.00024470))), kTurnArcsec) * kArcsec;
+    const double lp = std::fmod(1287104.793048 + t * (129596581.0481 + t * (-0.5532 + t * (0.000136 + t * -0.00001149))), kTurnArcsec) * kArcsec;
+    const double f = std::fmod(335779.526232 + t * (1739527262.8478 + t * (-12.7512 + t * (-0.001037 + t * 0.00000417))), kTurnArcsec) * kArcsec;
+    const double d = std::fmod(1072260.703692 + t * (1602961601.2090 + t * (-6.3706 + t * (0.006593 + t * -0.00003169))), kTurnArcsec) * kArcsec;
+    const double om = std::fmod(450160.398036 + t * (-6962890.5431 + t * (7.4722 + t * (0.007702 + t * -0.00005939))), kTurnArcsec) * kArcsec;
     double dp = 0, de = 0;
     // Smallest terms first for a slightly better rounding.
     for (int i = int(std::size(detail::kNutation2000B)) - 1; i >= 0; --i) {
@@ -81,9 +82,9 @@ Nutation nutation2000B(double t) {
 
 // Equation of the equinoxes, complementary terms (largest of IERS 2003 Table 5.2e, > 0.5 uas), rad.
 double eqeqComplementary(double t) {
-    const double om = std::fmod(450160.398036 - 6962890.5431 * t, kTurnArcsec) * kArcsec;
-    const double f = std::fmod(335779.526232 + 1739527262.8478 * t, kTurnArcsec) * kArcsec;
-    const double d = std::fmod(1072260.70369 + 1602961601.2090 * t, kTurnArcsec) * kArcsec;
+    const double om = std::fmod(450160.398036 + t * (-6962890.5431 + t * (7.4722 + t * (0.007702 + t * -0.00005939))), kTurnArcsec) * kArcsec;
+    const double f = std::fmod(335779.526232 + t * (1739527262.8478 + t * (-12.7512 + t * (-0.001037 + t * 0.00000417))), kTurnArcsec) * kArcsec;
+    const double d = std::fmod(1072260.703692 + t * (1602961601.2090 + t * (-6.3706 + t * (0.006593 + t * -0.00003169))), kTurnArcsec) * kArcsec;
     const double fd = 2.0 * (f - d);
     const double s = 2640.96e-6 * std::sin(om) - 0.39e-6 * std::cos(om) + 63.52e-6 * std::sin(2.0 * om) +
                      11.75e-6 * std::sin(fd + 3.0 * om) + 11.21e-6 * std::sin(fd + om) - 4.55e-6 * std::sin(fd + 2.0 * om) -
