@@ -137,7 +137,7 @@ void computeSun(Shared& sh) {
     sh.haveSun = true;
 }
 
-void moonLibration(BodyState& s, const Shared& sh, const glm::dvec3& tod, double T) {
+void moonLibration(BodyState& s, const Shared& sh, const glm::dvec3& tod, double T, const MoonEcliptic& a) {
     // Meeus ch. 53. lambda, beta: apparent ecliptic coordinates of date (with nutation).
     const ObserverFrame& f = *sh.frame;
     const double eps = f.earth.trueObliquity, dpsi = f.earth.nutation.dpsi;
@@ -145,7 +145,6 @@ void moonLibration(BodyState& s, const Shared& sh, const glm::dvec3& tod, double
     const glm::dvec3 ecl(tod.x, tod.y * ce + tod.z * se, -tod.y * se + tod.z * ce);
     const double lambda = std::atan2(ecl.y, ecl.x);
     const double beta = std::asin(std::clamp(ecl.z / glm::length(ecl), -1.0, 1.0));
-    const MoonEcliptic a = moonMeeus(T);
     const double I = 1.54242 * kDeg;
     const double W = lambda - dpsi - a.ascendingNode;
     const double A = std::atan2(std::sin(W) * std::cos(beta) * std::cos(I) - std::sin(beta) * std::sin(I),
@@ -192,6 +191,7 @@ BodyState computeMoon(Shared& sh) {
     const double T = f.time.centuriesTT();
     glm::dvec3 tod;
     double dist = 0;
+    const MoonEcliptic m = moonMeeus(T);  // position (Fast) and the arguments of the libration
     if (sh.precise) {
         double pv[2][3];
         eraMoon98(f.time.tt.day, f.time.tt.fraction, pv);  // GCRS, au, au/day, geometric
@@ -201,7 +201,6 @@ BodyState computeMoon(Shared& sh) {
         s.directionIcrs = g / dist;
         tod = f.earth.celestialToTrueOfDate * s.directionIcrs;
     } else {
-        const MoonEcliptic m = moonMeeus(T);
         const double lam = m.longitude + f.earth.nutation.dpsi, beta = m.latitude, eps = f.earth.trueObliquity;
         const glm::dvec3 e(std::cos(beta) * std::cos(lam), std::cos(beta) * std::sin(lam), std::sin(beta));
         tod = glm::dvec3(e.x, e.y * std::cos(eps) - e.z * std::sin(eps), e.y * std::sin(eps) + e.z * std::cos(eps));
@@ -216,7 +215,7 @@ BodyState computeMoon(Shared& sh) {
     finish(s, sh, tod, dist);
     // Apparent size and magnitude from the topocentric distance (the Moon is 1.7% nearer at the zenith).
     s.magnitude = magnitude::moon(s.heliocentricDistanceAu, s.topo.distanceMeters / kAstronomicalUnit, s.phaseAngleRad / kDeg);
-    moonLibration(s, sh, tod, T);
+    moonLibration(s, sh, tod, T, m);
     return s;
 }
 

@@ -5,6 +5,8 @@
 //   lambda = L' + sum_l, beta = sum_b, Delta = 385000.56 km + sum_r.
 #include <welkin/astro/elp.hpp>
 
+#include "fast_trig.hpp"
+
 #include <cmath>
 #include <numbers>
 
@@ -36,13 +38,13 @@ MoonEcliptic moonMeeus(double T) {
     for (const auto& t : detail::kMoonLR) {
         const double arg = t.d * d + t.m * m + t.mp * mp + t.f * f;
         const double e = t.m == 0 ? 1.0 : (t.m == 1 || t.m == -1) ? E : E2;
-        sl += e * t.l * std::sin(arg);
-        if (t.r != 0) sr += e * t.r * std::cos(arg);
+        sl += e * t.l * detail::fastSin(arg);
+        if (t.r != 0) sr += e * t.r * detail::fastCos(arg);
     }
     for (const auto& t : detail::kMoonB) {
         const double arg = t.d * d + t.m * m + t.mp * mp + t.f * f;
         const double e = t.m == 0 ? 1.0 : (t.m == 1 || t.m == -1) ? E : E2;
-        sb += e * t.b * std::sin(arg);
+        sb += e * t.b * detail::fastSin(arg);
     }
     // Additive terms: Venus (A1), Jupiter (A2), flattening of the Earth (L' - F).
     sl += 3958.0 * std::sin(A1 * kDeg) + 1962.0 * std::sin((Lp - F) * kDeg) + 318.0 * std::sin(A2 * kDeg);

@@ -2,6 +2,8 @@
 #include <welkin/astro/vsop87.hpp>
 #include <welkin/error.hpp>
 
+#include "fast_trig.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -108,14 +110,14 @@ inline void evalCoordinate(const VsopSeries* series, double t, double rateMinAmp
         double sum = 0.0;
         for (int i = 0; i < s.count; ++i) {
             const VsopTerm& term = s.terms[i];
-            sum += term.a * std::cos(term.b + term.c * t);
+            sum += term.a * detail::fastCos(term.b + term.c * t);
         }
         value += sum * tk;
         if (rateMinAmplitude >= 0.0) {
             double dsum = 0.0;
             for (int i = 0; i < s.count && std::fabs(s.terms[i].a) >= rateMinAmplitude; ++i) {
                 const VsopTerm& term = s.terms[i];
-                dsum -= term.a * term.c * std::sin(term.b + term.c * t);
+                dsum -= term.a * term.c * detail::fastSin(term.b + term.c * t);
             }
             rate += dsum * tk + sum * tkm1;
         }
@@ -128,8 +130,9 @@ inline void evalCoordinate(const VsopSeries* series, double t, double rateMinAmp
 
 VsopState evaluate(const VsopBody& body, double t, bool rates) {
     VsopState s;
-    // Rate amplitude floor: terms below 1e-6 (rad or au) change a rate by < 1e-4 relative.
-    const double floor = rates ? 1e-6 : -1.0;
+    // Rate amplitude floor: the rates serve light time (tau <= 0.2 day) and aberration; terms
+    // below 1e-4 (rad or au) change a rate by < 1e-3 relative, i.e. the position by < 0.01".
+    const double floor = rates ? 1e-4 : -1.0;
     double dl = 0, db = 0, dr = 0;
     evalCoordinate(body.L, t, floor, s.lbr.x, dl);
     evalCoordinate(body.B, t, floor, s.lbr.y, db);

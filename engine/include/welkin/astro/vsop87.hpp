@@ -55,8 +55,8 @@ struct VsopState {
 inline double julianMillenniaTT(double jd1, double jd2) { return ((jd1 - 2451545.0) + jd2) / 365250.0; }
 
 /// Evaluates all terms of `body` at `t` (Julian millennia TT from J2000). With `rates`, also
-/// the time derivatives, from the terms whose rate amplitude |A C| exceeds 1e-7 of the largest
-/// (enough for light time and aberration: relative rate error below 1e-5).
+/// the time derivatives from the terms with |A| >= 1e-4 (enough for light time and aberration:
+/// the neglected terms move a light-time corrected position by < 0.01").
 VsopState evaluate(const VsopBody& body, double t, bool rates = false);
 
 /// Heliocentric rectangular coordinates in the equatorial frame of J2000 (FK5 axes as realised
