@@ -21,7 +21,7 @@ void main() {
     float mu = ma.x, az = ma.y;
     float sinV = sqrt(max(1.0 - mu * mu, 0.0)), sinS = sqrt(max(1.0 - u_muS * u_muS, 0.0));
     float nu = clamp(sinV * sinS * cos(az) + mu * u_muS, -1.0, 1.0);
-    Scattering s = integrateScattering(u_h, mu, u_muS, nu, 1e30, u_steps, false, u_angular, uv.y >= 0.5 ? 0 : 1);
+    Scattering s = integrateScattering(u_h, mu, u_muS, nu, 1e30, u_steps, true, u_angular, uv.y >= 0.5 ? 0 : 1);
     o_smooth = vec4(s.smooth_ * u_scale, 1.0);
     o_mie = vec4(s.mieNoPhase * u_scale, 1.0);
 }

@@ -48,6 +48,9 @@ void SkyGenerator::prepare(SkyVars& vars) {
 
 void SkyGenerator::fullscreen() const {
     vao_.bind();
+    // A dual-source blend function left by the compositor makes multi-target draws invalid
+    // even with blending disabled (Mesa): reset it.
+    glBlendFunc(GL_ONE, GL_ZERO);
     glDisable(GL_BLEND);
     glDisable(GL_DEPTH_TEST);
     glDrawArrays(GL_TRIANGLES, 0, 3);

@@ -426,7 +426,7 @@ SkyViewTexel skyViewTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T
     double mu = ma.x, az = ma.y;
     double sinV = safeSqrt(1.0 - mu * mu), sinS = safeSqrt(1.0 - muS * muS);
     double nu = std::clamp(sinV * sinS * std::cos(az) + mu * muS, -1.0, 1.0);
-    Scattering s = integrate(m, T, MS, h, mu, muS, nu, 1e30, q.skyViewSteps, false, lightAngularRadius, uv.y >= 0.5 ? 0 : 1);
+    Scattering s = integrate(m, T, MS, h, mu, muS, nu, 1e30, q.skyViewSteps, true, lightAngularRadius, uv.y >= 0.5 ? 0 : 1);
     return {s.smooth, s.mieNoPhase};
 }
 
