@@ -1,20 +1,261 @@
-// Star catalogue loaders: kstars stars.dat, Yale BSC5, HYG CSV.
+// Star catalogue loaders: kstars-data stars.dat, Yale Bright Star Catalogue (BSC5), HYG CSV.
+// Every parse error names the source and the 1-based line: "file:line: message".
 #include <welkin/astro/stars.hpp>
 #include <welkin/error.hpp>
 
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+#include <string_view>
+#include <unordered_map>
+
 namespace welkin::astro {
 
-std::vector<Star> parseKStarsCatalogue(const std::string&, const std::string& source, double) {
-    throw Error("astro::parseKStarsCatalogue(" + source + "): not implemented yet");
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+struct LineError {
+    const std::string& source;
+    size_t line;
+    [[noreturn]] void operator()(const std::string& what) const {
+        throw Error(source + ":" + std::to_string(line) + ": " + what);
+    }
+};
+
+std::string_view trim(std::string_view s) {
+    while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r')) s.remove_prefix(1);
+    while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+    return s;
 }
-std::vector<Star> parseYaleBrightStarCatalogue(const std::string&, const std::string& source, double) {
-    throw Error("astro::parseYaleBrightStarCatalogue(" + source + "): not implemented yet");
+
+// Parses a whole (trimmed) field as a double; a leading '+' is allowed.
+bool parseDouble(std::string_view s, double& out) {
+    s = trim(s);
+    if (!s.empty() && s.front() == '+') s.remove_prefix(1);
+    if (s.empty()) return false;
+    auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
+    return ec == std::errc() && p == s.data() + s.size() && std::isfinite(out);
 }
-std::vector<Star> parseHygCsv(const std::string&, const std::string& source, double) {
-    throw Error("astro::parseHygCsv(" + source + "): not implemented yet");
+
+double field(std::string_view line, size_t begin, size_t length, const char* name, const LineError& fail) {
+    if (line.size() < begin + length) fail(std::string("line too short for ") + name);
+    double v;
+    if (!parseDouble(line.substr(begin, length), v))
+        fail(std::string("bad ") + name + " '" + std::string(line.substr(begin, length)) + "'");
+    return v;
 }
-std::vector<Star> loadKStarsCatalogue(const std::string& path, double m) { return parseKStarsCatalogue({}, path, m); }
-std::vector<Star> loadYaleBrightStarCatalogue(const std::string& path, double m) { return parseYaleBrightStarCatalogue({}, path, m); }
-std::vector<Star> loadHygCsv(const std::string& path, double m) { return parseHygCsv({}, path, m); }
+
+// Optional numeric field: blank -> fallback.
+double optionalField(std::string_view line, size_t begin, size_t length, double fallback, const char* name, const LineError& fail) {
+    if (line.size() <= begin) return fallback;
+    std::string_view s = trim(line.substr(begin, std::min(length, line.size() - begin)));
+    if (s.empty()) return fallback;
+    double v;
+    if (!parseDouble(s, v)) fail(std::string("bad ") + name + " '" + std::string(s) + "'");
+    return v;
+}
+
+std::string readFile(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error("astro: cannot read star catalogue '" + path + "'");
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+template <class F>
+void forEachLine(const std::string& text, F&& f) {
+    size_t pos = 0, line = 0;
+    while (pos < text.size()) {
+        size_t end = text.find('\n', pos);
+        if (end == std::string::npos) end = text.size();
+        std::string_view l(text.data() + pos, end - pos);
+        if (!l.empty() && l.back() == '\r') l.remove_suffix(1);
+        f(l, ++line);
+        pos = end + 1;
+    }
+}
+
+void checkRaDec(double ra, double dec, const LineError& fail) {
+    if (!(ra >= 0 && ra < 2 * std::numbers::pi + 1e-9)) fail("right ascension out of [0, 24h)");
+    if (!(dec >= -std::numbers::pi / 2 - 1e-9 && dec <= std::numbers::pi / 2 + 1e-9)) fail("declination out of [-90, 90] deg");
+}
+
+}  // namespace
+
+// kstars stars.dat columns (0-based): RA hhmmss.ss [0,9), Dec sddmmss.s [10,19), pmRA* [20,29) and
+// pmDec [29,38) in mas/yr, parallax mas [38,45), magnitude [45,51), B-V [51,56), spectral type
+// [56,58), ...; optional ", genetive name, long name" from the first comma.
+std::vector<Star> parseKStarsCatalogue(const std::string& text, const std::string& source, double maxMagnitude) {
+    std::vector<Star> stars;
+    forEachLine(text, [&](std::string_view l, size_t lineNo) {
+        if (trim(l).empty() || l.front() == '#') return;
+        LineError fail{source, lineNo};
+        if (l.size() < 56) fail("line too short (" + std::to_string(l.size()) + " characters, expected at least 56)");
+        Star s;
+        const double ra = field(l, 0, 9, "RA hhmmss.ss", fail);
+        const double dec = field(l, 10, 9, "Dec sddmmss.s", fail);
+        const double raH = std::floor(ra / 10000.0), raM = std::floor((ra - raH * 10000.0) / 100.0), raS = ra - raH * 10000.0 - raM * 100.0;
+        const double ad = std::abs(dec);
+        const double dD = std::floor(ad / 10000.0), dM = std::floor((ad - dD * 10000.0) / 100.0), dS = ad - dD * 10000.0 - dM * 100.0;
+        // stars.dat has a dozen rounded "60.00" seconds: accepted (they carry), more is an error.
+        if (raM >= 60 || raS > 60 || dM >= 60 || dS > 60) fail("minutes >= 60 or seconds > 60 in RA/Dec");
+        s.raJ2000Rad = (raH + raM / 60.0 + raS / 3600.0) * 15.0 * kDeg;
+        s.decJ2000Rad = (dD + dM / 60.0 + dS / 3600.0) * kDeg * (l[10] == '-' ? -1.0 : 1.0);
+        checkRaDec(s.raJ2000Rad, s.decJ2000Rad, fail);
+        s.pmRaMasPerYear = float(field(l, 20, 9, "pmRA", fail));
+        s.pmDecMasPerYear = float(field(l, 29, 9, "pmDec", fail));
+        s.magnitudeV = float(field(l, 45, 6, "magnitude", fail));
+        s.colorBV = float(field(l, 51, 5, "B-V", fail));
+        if (s.magnitudeV > maxMagnitude) return;
+        const size_t comma = l.find(',');
+        if (comma != std::string_view::npos) {
+            std::string_view rest = l.substr(comma + 1);
+            const size_t c2 = rest.find(',');
+            std::string_view genetive = trim(rest.substr(0, c2));
+            std::string_view longName = c2 == std::string_view::npos ? std::string_view{} : trim(rest.substr(c2 + 1));
+            s.name = std::string(longName.empty() ? genetive : longName);
+        }
+        stars.push_back(std::move(s));
+    });
+    return stars;
+}
+
+// BSC5 (CDS V/50, file "catalog"): 1-based byte ranges from its ReadMe.
+std::vector<Star> parseYaleBrightStarCatalogue(const std::string& text, const std::string& source, double maxMagnitude) {
+    std::vector<Star> stars;
+    forEachLine(text, [&](std::string_view l, size_t lineNo) {
+        if (trim(l).empty()) return;
+        LineError fail{source, lineNo};
+        auto cols = [&](size_t from1, size_t to1) {  // 1-based inclusive byte range, blank-padded
+            if (l.size() < from1) return std::string_view{};
+            return l.substr(from1 - 1, std::min(to1 - from1 + 1, l.size() - (from1 - 1)));
+        };
+        double hr;
+        if (!parseDouble(cols(1, 4), hr)) fail("bad HR number '" + std::string(cols(1, 4)) + "'");
+        // Records without a J2000 position (non-stellar entries) are skipped.
+        if (trim(cols(76, 90)).empty()) return;
+        if (l.size() < 107) fail("line too short (" + std::to_string(l.size()) + " characters, expected at least 107)");
+        const double raH = field(l, 75, 2, "RAh", fail), raM = field(l, 77, 2, "RAm", fail), raS = field(l, 79, 4, "RAs", fail);
+        const char sign = l[83];
+        if (sign != '+' && sign != '-') fail(std::string("bad Dec sign '") + sign + "'");
+        const double dD = field(l, 84, 2, "DEd", fail), dM = field(l, 86, 2, "DEm", fail), dS = field(l, 88, 2, "DEs", fail);
+        if (raH >= 24 || raM >= 60 || raS >= 60 || dD > 90 || dM >= 60 || dS >= 60) fail("RA/Dec field out of range");
+        Star s;
+        s.raJ2000Rad = (raH + raM / 60.0 + raS / 3600.0) * 15.0 * kDeg;
+        s.decJ2000Rad = (dD + dM / 60.0 + dS / 3600.0) * kDeg * (sign == '-' ? -1.0 : 1.0);
+        checkRaDec(s.raJ2000Rad, s.decJ2000Rad, fail);
+        s.magnitudeV = float(field(l, 102, 5, "Vmag", fail));
+        s.colorBV = float(optionalField(l, 109, 5, 0.0, "B-V", fail));
+        s.pmRaMasPerYear = float(optionalField(l, 148, 6, 0.0, "pmRA", fail) * 1000.0);  // arcsec/yr -> mas/yr
+        s.pmDecMasPerYear = float(optionalField(l, 154, 6, 0.0, "pmDE", fail) * 1000.0);
+        s.hd = int(optionalField(l, 25, 6, 0.0, "HD", fail));
+        s.name = std::string(trim(cols(5, 14)));
+        if (s.magnitudeV > maxMagnitude) return;
+        stars.push_back(std::move(s));
+    });
+    return stars;
+}
+
+namespace {
+// Splits one CSV record (RFC 4180 quotes, no embedded newlines).
+std::vector<std::string> splitCsv(std::string_view l, const LineError& fail) {
+    std::vector<std::string> out;
+    std::string cur;
+    bool quoted = false;
+    for (size_t i = 0; i < l.size(); ++i) {
+        char c = l[i];
+        if (quoted) {
+            if (c == '"') {
+                if (i + 1 < l.size() && l[i + 1] == '"') {
+                    cur += '"';
+                    ++i;
+                } else {
+                    quoted = false;
+                }
+            } else {
+                cur += c;
+            }
+        } else if (c == '"') {
+            quoted = true;
+        } else if (c == ',') {
+            out.push_back(std::move(cur));
+            cur.clear();
+        } else {
+            cur += c;
+        }
+    }
+    if (quoted) fail("unterminated quote");
+    out.push_back(std::move(cur));
+    return out;
+}
+}  // namespace
+
+std::vector<Star> parseHygCsv(const std::string& text, const std::string& source, double maxMagnitude) {
+    std::vector<Star> stars;
+    std::unordered_map<std::string, size_t> col;
+    size_t nCols = 0;
+    forEachLine(text, [&](std::string_view l, size_t lineNo) {
+        LineError fail{source, lineNo};
+        if (trim(l).empty()) return;
+        if (col.empty()) {
+            std::vector<std::string> header = splitCsv(l, fail);
+            for (size_t i = 0; i < header.size(); ++i) {
+                std::string h(trim(header[i]));
+                std::transform(h.begin(), h.end(), h.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+                col[h] = i;
+            }
+            nCols = header.size();
+            if (!col.count("ra") || !col.count("dec")) fail("header has no 'ra' and 'dec' columns");
+            return;
+        }
+        std::vector<std::string> f = splitCsv(l, fail);
+        if (f.size() != nCols) fail("expected " + std::to_string(nCols) + " fields, found " + std::to_string(f.size()));
+        auto text = [&](const char* name) -> std::string_view {
+            auto it = col.find(name);
+            return it == col.end() ? std::string_view{} : trim(f[it->second]);
+        };
+        auto number = [&](const char* name, double fallback, bool required) {
+            std::string_view s = text(name);
+            if (s.empty()) {
+                if (required) fail(std::string("missing ") + name);
+                return fallback;
+            }
+            double v;
+            if (!parseDouble(s, v)) fail(std::string("bad ") + name + " '" + std::string(s) + "'");
+            return v;
+        };
+        const std::string_view proper = text("proper");
+        const double dist = number("dist", 1.0, false);
+        if (proper == "Sol" || dist == 0.0) return;  // the Sun
+        Star s;
+        const double raHours = number("ra", 0, true);
+        if (!(raHours >= 0.0 && raHours <= 24.0)) fail("ra " + std::to_string(raHours) + " h not in [0, 24]");
+        s.raJ2000Rad = std::fmod(raHours * 15.0 * kDeg, 2 * std::numbers::pi);
+        s.decJ2000Rad = number("dec", 0, true) * kDeg;
+        checkRaDec(s.raJ2000Rad, s.decJ2000Rad, fail);
+        s.pmRaMasPerYear = float(number("pmra", 0, false));
+        s.pmDecMasPerYear = float(number("pmdec", 0, false));
+        s.magnitudeV = float(number("mag", 99, false));
+        s.colorBV = float(number("ci", 0, false));
+        s.hip = int(number("hip", 0, false));
+        s.hd = int(number("hd", 0, false));
+        s.name = std::string(!proper.empty() ? proper : text("bf"));
+        if (s.magnitudeV > maxMagnitude) return;
+        stars.push_back(std::move(s));
+    });
+    if (col.empty()) throw Error(source + ": empty HYG file (no header)");
+    return stars;
+}
+
+std::vector<Star> loadKStarsCatalogue(const std::string& path, double m) { return parseKStarsCatalogue(readFile(path), path, m); }
+std::vector<Star> loadYaleBrightStarCatalogue(const std::string& path, double m) {
+    return parseYaleBrightStarCatalogue(readFile(path), path, m);
+}
+std::vector<Star> loadHygCsv(const std::string& path, double m) { return parseHygCsv(readFile(path), path, m); }
 
 }  // namespace welkin::astro
