@@ -94,12 +94,11 @@ int main(int argc, char** argv) {
         camera.projection = welkin::Projection::Fisheye;
         camera.width = camera.height = 256;
         sky.setCamera(camera);
-        sky.setTime(welkin::UtcInstant::parse("2026-03-20T12:00:00Z"));
+        // Equinox, local noon at 50 deg N: the Sun stands ~40 deg up in the south (the processor's
+        // astronomy step writes keys::sunDirection each frame).
+        sky.setObserver({.latitudeRad = 50 * kDeg, .longitudeRad = 0.0, .heightMeters = 0.0});
+        sky.setTime(welkin::UtcInstant::parse("2026-03-20T12:07:00Z"));
         sky.setExposure({.ev100 = 10});
-        sky.renderFrame();
-        // This example pins the Sun itself, after the processor's astronomy step ran, so the
-        // picture is the same whatever the date: 40 deg up in the south.
-        sky.vars().set(welkin::keys::sunDirection, welkin::directionFromAzAlt(180 * kDeg, 40 * kDeg));
         sky.renderFrame();
         welkin::writeImage(sky.readToneMapped(), argv[1]);
         std::printf("%s\n", argv[1]);

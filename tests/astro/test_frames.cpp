@@ -152,7 +152,9 @@ TEST_CASE("Glue: fixed ICRS sources against ERFA eraAtco13 (1900-2100, random si
         double lat = i % 10 == 0 ? 90.0 : i % 10 == 1 ? -90.0 : std::asin(2 * u01(rng) - 1) / kDeg;
         double lon = i % 10 == 2 ? 180.0 : i % 10 == 3 ? -180.0 : 360.0 * u01(rng) - 180.0;
         Site site{lat * kDeg, lon * kDeg, 3000.0 * u01(rng), 0.0, 30.0 * u01(rng) - 10.0};
-        TimeScales ts = timeScales(utc);
+        // DUT1 as IERS keeps it (|UT1-UTC| < 0.9 s), passed to both sides.
+        const double dut1 = 1.8 * u01(rng) - 0.9;
+        TimeScales ts = timeScales(utc, dut1);
         double ra = 2 * std::numbers::pi * u01(rng), dec = std::asin(2 * u01(rng) - 1);
         glm::dvec3 icrs = directionFromRaDec(ra, dec);
         for (int p = 0; p < 2; ++p) {
@@ -161,7 +163,7 @@ TEST_CASE("Glue: fixed ICRS sources against ERFA eraAtco13 (1900-2100, random si
             Site dry = site;
             ObserverFrame f = observerFrame(dry, ts, path);
             Topocentric t = topocentricFromIcrs(f, icrs);
-            glm::dvec3 ref = atco13Enu(ra, dec, 0, 0, utc, site, 0.0);
+            glm::dvec3 ref = atco13Enu(ra, dec, 0, 0, utc, site, 0.0, dut1);
             maxOff[p] = std::max(maxOff[p], angleBetween(t.enu, ref));
             if (p == 1 && (v < drift0 || v > drift1)) maxOutsideDrift = std::max(maxOutsideDrift, angleBetween(t.enu, ref));
             // Refraction on (the Green model ERFA uses, above 25 deg where welkin uses it alone).
@@ -170,7 +172,7 @@ TEST_CASE("Glue: fixed ICRS sources against ERFA eraAtco13 (1900-2100, random si
             ObserverFrame fw = observerFrame(wet, ts, path);
             Topocentric tw = topocentricFromIcrs(fw, icrs);
             if (tw.altitudeGeometricRad > 25.5 * kDeg) {
-                glm::dvec3 refw = atco13Enu(ra, dec, 0, 0, utc, wet, wet.pressureHpa);
+                glm::dvec3 refw = atco13Enu(ra, dec, 0, 0, utc, wet, wet.pressureHpa, dut1);
                 maxOn[p] = std::max(maxOn[p], angleBetween(tw.enu, refw));
                 nOn += p;
             }

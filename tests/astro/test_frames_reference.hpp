@@ -26,9 +26,9 @@ inline double rotationDifference(const glm::dmat3& m1, const glm::dmat3& m2) {
 }
 
 /// ERFA's complete ICRS -> observed pipeline (eraAtco13) for a catalogue source, as an ENU unit
-/// vector. UT1 - UTC = 0 and no polar motion, as welkin assumes; dry air at 0.55 um.
+/// vector. UT1 - UTC = dut1 (s), no polar motion, as welkin assumes; dry air at 0.55 um.
 inline glm::dvec3 atco13Enu(double ra, double dec, double pmRa /* dRA/dt, rad/yr */, double pmDec, const JulianDate& utc,
-                            const Site& site, double pressureHpa, int* status = nullptr) {
+                            const Site& site, double pressureHpa, double dut1 = 0.0, int* status = nullptr) {
     // ERFA's "quasi-JD" UTC stretches the day of a leap second to 86401 s: convert from the
     // calendar fields so that both sides mean the same instant.
     DateTime dt = fromJulianDate(utc);
@@ -36,7 +36,7 @@ inline glm::dvec3 atco13Enu(double ra, double dec, double pmRa /* dRA/dt, rad/yr
     double u1 = 0, u2 = 0;
     eraDtf2d("UTC", dt.year, dt.month, dt.day, dt.hour, dt.minute, sec + (dt.second - sec), &u1, &u2);
     double aob, zob, hob, dob, rob, eo;
-    int s = eraAtco13(ra, dec, pmRa, pmDec, 0.0, 0.0, u1, u2, 0.0, site.longitudeRad, site.latitudeRad,
+    int s = eraAtco13(ra, dec, pmRa, pmDec, 0.0, 0.0, u1, u2, dut1, site.longitudeRad, site.latitudeRad,
                       site.heightMeters, 0.0, 0.0, pressureHpa, site.temperatureC, 0.0, 0.55, &aob, &zob, &hob, &dob, &rob, &eo);
     if (status) *status = s;
     return {std::sin(aob) * std::sin(zob), std::cos(aob) * std::sin(zob), std::cos(zob)};

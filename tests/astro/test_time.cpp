@@ -56,6 +56,13 @@ TEST_CASE("Time scales: today, a leap second, round trip from TT", "[cpu][astro]
     TimeScales after = timeScales(UtcInstant::parse("2017-01-01T00:00:00.5Z"));
     CHECK(daysBetween(leap.tai, after.tai) * 86400.0 == Approx(1.0).margin(1e-5));
 
+    // DUT1 moves UT1 only: Delta T = TT - UT1 drops by it.
+    TimeScales d = timeScales(UtcInstant::parse("2026-06-21T12:00:00Z"), 0.25);
+    CHECK(daysBetween(d.utc, d.ut1) * 86400.0 == Approx(0.25).margin(1e-6));
+    CHECK(d.deltaTSeconds == Approx(69.184 - 0.25).margin(1e-9));
+    CHECK(daysBetween(d.tt, ts.tt) == 0.0);
+    CHECK_THROWS_AS(timeScales(UtcInstant::parse("2026-06-21T12:00:00Z"), 1.5), Error);
+
     std::mt19937_64 rng(11);
     std::uniform_real_distribution<double> jd(toJulianDate(DateTime{-2000, 1, 1}).value(), toJulianDate(DateTime{6000, 1, 1}).value());
     for (int i = 0; i < 300; ++i) {

@@ -3,6 +3,7 @@
 #include <welkin/error.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <iterator>
 
 namespace welkin::astro {
@@ -141,7 +142,21 @@ double taiMinusUtc(const JulianDate& jdUtc) {
     return s;
 }
 
-TimeScales timeScales(const JulianDate& jdUtcIn) {
+namespace {
+TimeScales withDut1(TimeScales ts, double dut1) {
+    if (!(dut1 >= -1.0 && dut1 <= 1.0)) {
+        char buf[120];
+        std::snprintf(buf, sizeof buf, "astro::timeScales(): UT1-UTC %g s not in [-1, 1]", dut1);
+        throw Error(buf);
+    }
+    if (dut1 != 0.0) {
+        ts.ut1 = ts.ut1.plusDays(dut1 / 86400.0);
+        ts.deltaTSeconds -= dut1;
+    }
+    return ts;
+}
+
+TimeScales timeScalesNoDut1(const JulianDate& jdUtcIn) {
     JulianDate utc = jdUtcIn.normalized();
     double mjd = mjdOf(utc);
     if (mjd >= kMjd1960 && mjd < kMjd2035) return fromUtcWithOffset(utc, taiMinusUtc(utc));
@@ -150,8 +165,11 @@ TimeScales timeScales(const JulianDate& jdUtcIn) {
     double dT = mjd < kMjd1960 ? deltaT(year) : futureDeltaT(year);
     return fromUtcWithOffset(utc, dT - kTTMinusTAI);
 }
+}  // namespace
 
-TimeScales timeScales(const UtcInstant& instant) {
+TimeScales timeScales(const JulianDate& jdUtc, double dut1) { return withDut1(timeScalesNoDut1(jdUtc), dut1); }
+
+TimeScales timeScales(const UtcInstant& instant, double dut1) {
     const DateTime& dt = instant.utc();
     if (dt.second >= 60.0) {
         // Inside a leap second: the Julian date of 23:59:60.x already reads as the next day;
@@ -159,24 +177,24 @@ TimeScales timeScales(const UtcInstant& instant) {
         DateTime base = dt;
         base.second = 59.0;
         JulianDate jd59 = toJulianDate(base, instant.calendar());
-        TimeScales ts = timeScales(jd59);
+        TimeScales ts = timeScalesNoDut1(jd59);
         double extra = (dt.second - 59.0) / 86400.0;
         ts.utc = instant.julianDate();
         ts.ut1 = jd59.plusDays(extra);  // UT1 does not stop for the leap second
         ts.tai = ts.tai.plusDays(extra);
         ts.tt = ts.tt.plusDays(extra);
-        return ts;
+        return withDut1(ts, dut1);
     }
-    return timeScales(instant.julianDate());
+    return timeScales(instant.julianDate(), dut1);
 }
 
-TimeScales timeScalesFromTT(const JulianDate& jdTTIn) {
+TimeScales timeScalesFromTT(const JulianDate& jdTTIn, double dut1) {
     JulianDate tt = jdTTIn.normalized();
     // Fixed point on UTC: TT(UTC) is monotonic with slope ~1.
     JulianDate utc = tt.plusDays(-69.184 / 86400.0);
     TimeScales ts{};
     for (int i = 0; i < 6; ++i) {
-        ts = timeScales(utc);
+        ts = timeScales(utc, dut1);
         double err = daysBetween(ts.tt, tt);
         if (std::abs(err) < 1e-12) break;
         utc = utc.plusDays(err);

@@ -17,8 +17,8 @@
 // - From 2035-01-01 (no leap-second table; leap seconds are to be abandoned by 2035): UT1 = UTC
 //   is kept and Delta T = 69.184 s + [model(year) - model(2035.0)], i.e. the model's growth is
 //   continued from today's value without a jump.
-// In every era UT1 = UTC ("civil time tracks the Earth's rotation"); `deltaTSeconds` and
-// `taiMinusUtcSeconds` report what the model implies.
+// In every era UT1 = UTC + DUT1 with DUT1 = 0 unless given ("civil time tracks the Earth's
+// rotation"); `deltaTSeconds` and `taiMinusUtcSeconds` report what the model implies.
 #pragma once
 #include <welkin/time.hpp>
 
@@ -53,13 +53,15 @@ struct TimeScales {
     double yearsTT() const { return centuriesTT() * 100.0; }
 };
 
-/// The time scales at a UTC instant (model above). Never throws for instants UtcInstant accepts
-/// (years -4000 .. 10000).
-TimeScales timeScales(const UtcInstant& utc);
+/// The time scales at a UTC instant (model above). `ut1MinusUtcSeconds` (DUT1, IERS Bulletin A,
+/// [-1, 1] s) is 0 by default, which is the documented approximation UT1 = UTC (error < 0.9 s,
+/// i.e. up to 13.5" of Earth rotation); give it when arc-second sidereal time matters. Throws
+/// welkin::Error only for DUT1 outside [-1, 1] s or not finite.
+TimeScales timeScales(const UtcInstant& utc, double ut1MinusUtcSeconds = 0.0);
 /// The same from a Julian date on the UTC scale.
-TimeScales timeScales(const JulianDate& jdUtc);
+TimeScales timeScales(const JulianDate& jdUtc, double ut1MinusUtcSeconds = 0.0);
 /// The time scales at a TT Julian date (inverse of the model above; exact to < 1 microsecond).
-TimeScales timeScalesFromTT(const JulianDate& jdTT);
+TimeScales timeScalesFromTT(const JulianDate& jdTT, double ut1MinusUtcSeconds = 0.0);
 
 /// Delta T = TT - UT1 in seconds from the Espenak-Meeus polynomials (NASA Five Millennium Canon)
 /// for years -1999 .. +3000 and -20 + 32 u^2, u = (year - 1820) / 100, outside them. Pure model:
