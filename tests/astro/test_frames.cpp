@@ -121,7 +121,38 @@ TEST_CASE("Earth orientation far from J2000: years -2000 and +6000", "[cpu][astr
         // their polynomials part by ~150" four millennia away. Documented bound 200": far below
         // the Delta T uncertainty then (hundreds of seconds of time = degrees of rotation).
         CHECK(dGast < 200.0 * kArcsec);
+        // The whole chain stays finite at the extremes, with the same bound between the paths.
+        Site site{51.5 * kDeg, -0.1 * kDeg, 10.0};
+        glm::dvec3 sirius = directionFromRaDec(hms(6, 45, 8.92), dms(-16, 42, 58.0));
+        Topocentric tf = topocentricFromIcrs(observerFrame(site, ts, Path::Fast), sirius);
+        Topocentric tp = topocentricFromIcrs(observerFrame(site, ts, Path::Precise), sirius);
+        CHECK(std::isfinite(tf.altitudeRad));
+        CHECK(std::isfinite(tf.azimuthRad));
+        CHECK(angleBetween(tf.enu, tp.enu) < 200.0 * kArcsec);
         CHECK(std::isfinite(fast.gast));
+    }
+}
+
+TEST_CASE("Apparent place of a star: Meeus example 23.a (theta Persei)", "[cpu][astro]") {
+    // theta Per, J2000 (FK5): RA 2h44m11.986s, Dec +49 13 42.48, pm +0.03425 s/yr in RA and
+    // -0.0895"/yr in Dec; 2028 November 13.19 TD. Meeus: apparent RA 2h46m14.390s,
+    // Dec +49 21 07.45 (IAU 1976 precession, 1980 nutation, Ron-Vondrak aberration).
+    TimeScales ts = timeScalesFromTT(JulianDate{2462088.5, 0.19});
+    const double ra0 = hms(2, 44, 11.986), dec0 = dms(49, 13, 42.48);
+    const double years = ts.yearsTT();
+    // Proper motion along RA and Dec (as Meeus, linear in the angles over 28.9 years).
+    glm::dvec3 p = directionFromRaDec(ra0 + 0.03425 * 15 * kArcsec * years, dec0 - 0.0895 * kArcsec * years);
+    for (Path path : kPaths) {
+        // Geocentric observer: Earth's velocity only.
+        glm::dvec3 app = aberrate(p, earthVelocity(ts, path), path);
+        glm::dvec3 tod = celestialToTrueOfDate(ts, path) * app;
+        double ra, dec;
+        raDecFromDirection(tod, ra, dec);
+        // Differences of models: IAU 1976 vs 2006 precession over 29 years (~0.01"), the frame
+        // bias (FK5 vs ICRS, ~0.02"), IAU 1980 vs 2000 nutation (~0.02"), Meeus's rounding:
+        // 0.1" in Dec and 0.01 s (0.1") in RA.
+        CHECK(std::abs(wrapPi(ra - hms(2, 46, 14.390))) < 0.01 * 15 * kArcsec);
+        CHECK(std::abs(dec - dms(49, 21, 7.45)) < 0.1 * kArcsec);
     }
 }
 
