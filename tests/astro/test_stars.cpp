@@ -63,6 +63,18 @@ TEST_CASE("kstars stars.dat loader", "[cpu][astro]") {
     CHECK(sirius->magnitudeV < -1.0f);
     int named = int(std::count_if(all.begin(), all.end(), [](const Star& s) { return !s.name.empty(); }));
     CHECK(named > 1000);
+    // HD numbers of the named stars come from kstars' binary namedstars.dat: Sirius is HD 48915,
+    // Vega HD 172167 (Henry Draper catalogue).
+    CHECK(sirius->hd == 48915);
+    auto vega = std::find_if(all.begin(), all.end(), [](const Star& s) { return s.name == "Vega"; });
+    REQUIRE(vega != all.end());
+    CHECK(vega->hd == 172167);
+    int withHd = int(std::count_if(all.begin(), all.end(), [](const Star& s) { return s.hd > 0; }));
+    CHECK(withHd > 1550);  // of the 1615 records of namedstars.dat
+    // namedstars.dat holds only named stars: a match that lands on an unnamed star is wrong.
+    CHECK(std::count_if(all.begin(), all.end(), [](const Star& s) { return s.hd > 0 && s.name.empty(); }) == 0);
+    CHECK(errorOf([&] { std::vector<Star> v; attachKStarsHdNumbers(v, kKStarsCatalogue); }).find("not a little-endian kstars") !=
+          std::string::npos);
     std::vector<Star> bright = loadKStarsCatalogue(kKStarsCatalogue, 3.0);
     CHECK(bright.size() > 100);
     CHECK(bright.size() < 250);  // ~170 stars brighter than V = 3

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -252,7 +254,90 @@ std::vector<Star> parseHygCsv(const std::string& text, const std::string& source
     return stars;
 }
 
-std::vector<Star> loadKStarsCatalogue(const std::string& path, double m) { return parseKStarsCatalogue(readFile(path), path, m); }
+int attachKStarsHdNumbers(std::vector<Star>& stars, const std::string& path) {
+    const std::string bin = readFile(path);
+    auto fail = [&](const std::string& what) -> void { throw Error(path + ": " + what); };
+    auto u8 = [&](size_t off) -> unsigned {
+        if (off >= bin.size()) fail("truncated at byte " + std::to_string(off));
+        return (unsigned char)bin[off];
+    };
+    auto u16 = [&](size_t off) { return u8(off) | (u8(off + 1) << 8); };
+    auto u32 = [&](size_t off) { return std::uint32_t(u16(off)) | (std::uint32_t(u16(off + 2)) << 16); };
+    auto i32 = [&](size_t off) { return std::int32_t(u32(off)); };
+    auto i16 = [&](size_t off) { return std::int16_t(u16(off)); };
+    // 124-byte description, "SK" (little-endian writer), version 1, field count, 16-byte field
+    // descriptors, trixel count, 12-byte index entries (id, offset, count).
+    if (bin.size() < 129 || bin.compare(124, 2, "SK") != 0) fail("not a little-endian kstars binary star file");
+    if (u8(126) != 1) fail("unsupported version " + std::to_string(u8(126)));
+    const size_t nFields = u16(127);
+    size_t recordSize = 0, hdOffset = size_t(-1);
+    for (size_t i = 0; i < nFields; ++i) {
+        const size_t o = 129 + 16 * i;
+        std::string name(bin.data() + o, bin.data() + std::min(o + 10, bin.size()));
+        name = name.substr(0, name.find('\0'));
+        if (name == "HD") hdOffset = recordSize;
+        recordSize += u8(o + 10);
+    }
+    if (recordSize != 32 || hdOffset != 20) fail("unexpected record layout (expected the 32-byte starData)");
+    size_t o = 129 + 16 * nFields;
+    const size_t nTrixels = u32(o);
+    o += 4;
+
+    // Candidates sorted by declination for a window search.
+    std::vector<size_t> order(stars.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return stars[a].decJ2000Rad < stars[b].decJ2000Rad; });
+    const double tol = 6.0 / 3600.0 * kDeg;  // the two reductions differ by up to ~5"
+    int attached = 0;
+    for (size_t t = 0; t < nTrixels; ++t) {
+        const size_t e = o + 12 * t;
+        const size_t offset = u32(e + 4), count = u32(e + 8);
+        for (size_t r = 0; r < count; ++r) {
+            const size_t rec = offset + 32 * r;
+            // Positions are at the Hipparcos epoch J1991.25: carry them to J2000.0 with their own
+            // proper motion (mu_alpha*, mu_delta in 0.1 mas/yr) before matching.
+            Star h;
+            h.raJ2000Rad = i32(rec) / 1e6 * 15.0 * kDeg;
+            h.decJ2000Rad = i32(rec + 4) / 1e5 * kDeg;
+            h.pmRaMasPerYear = float(i32(rec + 8) / 10.0);
+            h.pmDecMasPerYear = float(i32(rec + 12) / 10.0);
+            const int hd = i32(rec + 20);
+            const double mag = i16(rec + 24) / 100.0;
+            if (hd <= 0) continue;
+            const glm::dvec3 p = glm::normalize(starDirectionJ2000(h) + 8.75 * starProperMotion(h));
+            double ra, dec;
+            raDecFromDirection(p, ra, dec);
+            auto lo = std::lower_bound(order.begin(), order.end(), dec - tol,
+                                       [&](size_t i, double d) { return stars[i].decJ2000Rad < d; });
+            // The nearest star within the radius whose magnitude agrees (variables such as Mira
+            // and the two reductions differ by up to ~0.7 mag).
+            Star* best = nullptr;
+            double bestSep = tol;
+            for (auto it = lo; it != order.end() && stars[*it].decJ2000Rad <= dec + tol; ++it) {
+                Star& s = stars[*it];
+                if (std::abs(s.magnitudeV - mag) > 1.0) continue;
+                const glm::dvec3 q = starDirectionJ2000(s);
+                const double sep = std::atan2(glm::length(glm::cross(p, q)), glm::dot(p, q));
+                if (sep <= bestSep) {
+                    bestSep = sep;
+                    best = &s;
+                }
+            }
+            if (best) {
+                if (best->hd == 0) ++attached;
+                best->hd = hd;
+            }
+        }
+    }
+    return attached;
+}
+
+std::vector<Star> loadKStarsCatalogue(const std::string& path, double m) {
+    std::vector<Star> stars = parseKStarsCatalogue(readFile(path), path, m);
+    const std::filesystem::path named = std::filesystem::path(path).parent_path() / "namedstars.dat";
+    if (std::filesystem::exists(named)) attachKStarsHdNumbers(stars, named.string());
+    return stars;
+}
 std::vector<Star> loadYaleBrightStarCatalogue(const std::string& path, double m) {
     return parseYaleBrightStarCatalogue(readFile(path), path, m);
 }
