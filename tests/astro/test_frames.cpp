@@ -314,3 +314,19 @@ TEST_CASE("Refraction: models, bounds, monotonicity and inverse", "[cpu][astro]"
             }
     CHECK_THROWS_AS(refraction(std::nan(""), P, T), Error);
 }
+
+TEST_CASE("Refraction against the Pulkovo refraction tables", "[cpu][astro]") {
+    // Pulkovo tables (5th ed., 1985) for 1013.25 hPa, +15 deg C, 0.59 um, dry air, as quoted by
+    // the hp41programs refraction page: R = 111.7" at apparent 27 deg, 1217.4" (20'17.4") at
+    // 1 deg 30', 1977.97" (32'58") on the horizon.
+    auto r = [](double apparentDeg) {
+        double a = apparentDeg * kDeg;
+        return (a - geometricFromApparentAltitude(a, 1013.25, 15.0)) / kArcsec;
+    };
+    // Above 25 deg Green's model: 0.5" covers the wavelength (0.55 vs 0.59 um, 0.2%).
+    CHECK(r(27.0) == Approx(111.7).margin(0.5));
+    // Low altitudes: Saemundsson/Bennett's fit differs from the tables by 1-3% near the horizon,
+    // less than the night-to-night variation of the real lapse rate there: 30" and 2'.
+    CHECK(r(1.5) == Approx(1217.4).margin(30.0));
+    CHECK(r(0.0) == Approx(1977.97).margin(120.0));
+}
