@@ -97,8 +97,7 @@ float atm_horizonZenith(float h) {
 }
 // Sky-view latitude: rows [H/2, H) from the horizon (exactly on the first row's centre) up to
 // the zenith, rows [0, H/2) from the horizon down to the nadir; square-root law on each side.
-vec2 skyViewUv(float h, float mu, float azimuth, vec2 size) {
-    float thetaH = atm_horizonZenith(h);
+vec2 skyViewUvH(float thetaH, float mu, float azimuth, vec2 size) {
     float theta = acos(clamp(mu, -1.0, 1.0));
     float half_ = floor(size.y / 2.0);
     float v;
@@ -111,6 +110,7 @@ vec2 skyViewUv(float h, float mu, float azimuth, vec2 size) {
     }
     return vec2(texCoordFromUnit(clamp(azimuth / ATM_PI, 0.0, 1.0), size.x), v);
 }
+vec2 skyViewUv(float h, float mu, float azimuth, vec2 size) { return skyViewUvH(atm_horizonZenith(h), mu, azimuth, size); }
 vec2 skyViewMuAz(float h, vec2 uv, vec2 size) {
     float thetaH = atm_horizonZenith(h);
     float half_ = floor(size.y / 2.0);
@@ -128,7 +128,8 @@ vec2 skyViewMuAz(float h, vec2 uv, vec2 size) {
 float rayleighPhase(float nu) { return 3.0 / (16.0 * ATM_PI) * (1.0 + nu * nu); }
 float miePhase(float nu) {
     float g = atm_rayleigh.w, g2 = g * g;
-    float denom = pow(max(1.0 + g2 - 2.0 * g * nu, 1e-12), 1.5);
+    float d = max(1.0 + g2 - 2.0 * g * nu, 1e-12);
+    float denom = d * sqrt(d);
     if (atm_radii.w < 0.5) return (1.0 - g2) / (4.0 * ATM_PI * denom);
     return 3.0 / (8.0 * ATM_PI) * (1.0 - g2) * (1.0 + nu * nu) / ((2.0 + g2) * denom);
 }
@@ -224,11 +225,14 @@ Scattering integrateScattering(float h, float mu, float muS, float nu, float max
 // Radiance per lux (without kLutScale) from a sky-view LUT pair for a view direction (mu, azimuth
 // from the light in [0, pi], nu): the two halves of the latitude axis are never blended, so there
 // is no band at the horizon. Twin of cpu::skyViewSample().
-vec3 skyViewSample(sampler2D smoothLut, sampler2D mieLut, float h, float mu, float az, float nu, float invScale) {
+vec3 skyViewSampleH(sampler2D smoothLut, sampler2D mieLut, float thetaH, float mu, float az, float nu, float invScale) {
     vec2 size = vec2(textureSize(smoothLut, 0));
-    vec2 uv = skyViewUv(h, mu, az, size);
+    vec2 uv = skyViewUvH(thetaH, mu, az, size);
     float half_ = floor(size.y / 2.0);
     if (uv.y >= 0.5) uv.y = clamp(uv.y, (half_ + 0.5) / size.y, 1.0 - 0.5 / size.y);
     else uv.y = clamp(uv.y, 0.5 / size.y, (half_ - 0.5) / size.y);
     return (texture(smoothLut, uv).rgb + texture(mieLut, uv).rgb * miePhase(nu)) * invScale;
+}
+vec3 skyViewSample(sampler2D smoothLut, sampler2D mieLut, float h, float mu, float az, float nu, float invScale) {
+    return skyViewSampleH(smoothLut, mieLut, atm_horizonZenith(h), mu, az, nu, invScale);
 }

@@ -13,6 +13,7 @@ uniform vec3 u_moonE;
 uniform float u_invScale;   // 1 / kLutScale
 uniform int u_steps;        // per-pixel ray march
 uniform float u_moonAngular;
+uniform float u_thetaH;     // zenith angle of the observer's horizon, rad (LUT path)
 
 // Azimuth of `dir` measured from the light's vertical plane, [0, pi].
 float azimuthFrom(vec3 dir, vec3 light) {
@@ -65,10 +66,11 @@ void main() {
     if (ground) T = vec3(0.0);
 #else
     float h = min(u_h, atm_thickness());
+    float thetaH = u_thetaH;
     float azS = azimuthFrom(dir, u_sunDir), azM = azimuthFrom(dir, u_moonDir);
-    L = skyViewSample(u_sunSmooth, u_sunMie, h, mu, azS, clamp(dot(dir, u_sunDir), -1.0, 1.0), u_invScale) * u_sunE;
+    L = skyViewSampleH(u_sunSmooth, u_sunMie, thetaH, mu, azS, clamp(dot(dir, u_sunDir), -1.0, 1.0), u_invScale) * u_sunE;
     if (dot(u_moonE, vec3(1.0)) > 0.0)
-        L += skyViewSample(u_moonSmooth, u_moonMie, h, mu, azM, clamp(dot(dir, u_moonDir), -1.0, 1.0), u_invScale) * u_moonE;
+        L += skyViewSampleH(u_moonSmooth, u_moonMie, thetaH, mu, azM, clamp(dot(dir, u_moonDir), -1.0, 1.0), u_invScale) * u_moonE;
     T = rayIntersectsGround(h, mu) ? vec3(0.0) : transmittanceFromLut(h, mu);
 #endif
     welkin_output(L, T);

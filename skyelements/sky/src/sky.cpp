@@ -214,6 +214,10 @@ void Sky::doRender(const FrameContext& ctx) {
     p.set("u_invScale", float(1.0 / kLutScale));
     p.set("u_steps", q.raymarchSteps);
     p.set("u_moonAngular", float(kMoonAngularRadius));
+    {
+        const double hc = std::min(h, m.topRadius - m.bottomRadius), R = m.bottomRadius;
+        p.set("u_thetaH", float(std::acos(std::clamp(-std::sqrt(hc * (2 * R + hc)) / (R + hc), -1.0, 1.0))));
+    }
     ctx.drawFullscreen();
 }
 

@@ -1,0 +1,258 @@
+// welkin bench sky: the measured speed/accuracy trade of the real-time sky (issue 4 item 8).
+// For each quality preset and Sun altitude: LUT build time, per-frame time at two sizes
+// (CPU-timed with glFinish) beside a trivial fullscreen pass of the same size in the same run,
+// and the error against the brute-force reference integrator (RGB mode: the same model and
+// channels as the real-time path, all scattering orders) over the upper hemisphere outside the
+// solar disk. Writes a CSV and a PNG plot of error against frame time.
+#include "command.hpp"
+
+#include <welkin/color.hpp>
+#include <welkin/elements/sky.hpp>
+#include <welkin/elements/sky_offline.hpp>
+#include <welkin/error.hpp>
+#include <welkin/generators/atmosphere.hpp>
+#include <welkin/generators/sky_luts.hpp>
+#include <welkin/gl/context.hpp>
+#include <welkin/gl/shader.hpp>
+#include <welkin/image.hpp>
+#include <welkin/keys.hpp>
+
+#if __has_include(<welkin/generators/reference_sky.hpp>)
+#include <welkin/generators/reference_sky.hpp>
+#define WELKIN_HAVE_REFERENCE 1
+#endif
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <memory>
+#include <vector>
+
+namespace welkin::cli {
+namespace {
+
+constexpr double kDeg = M_PI / 180;
+
+struct SkyBenchOptions {
+    std::string csv = "bench_sky.csv";
+    std::string plot = "bench_sky.png";
+    std::string presets = "0,1,2,3";
+    int repeats = 3;
+    bool full = false;  // also time `reference` at 1280x720 (minutes on llvmpipe)
+};
+
+double Y(const glm::dvec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
+
+double medianMs(int repeats, const std::function<void()>& fn) {
+    std::vector<double> t;
+    for (int i = 0; i < repeats; ++i) {
+        glFinish();
+        auto t0 = std::chrono::steady_clock::now();
+        fn();
+        glFinish();
+        t.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    }
+    std::sort(t.begin(), t.end());
+    return t[t.size() / 2];
+}
+
+// A trivial element: constant radiance, the cost floor of a fullscreen pass.
+class Trivial final : public SkyElement {
+public:
+    Trivial() : SkyElement("trivial") {}
+
+private:
+    void doInit(InitContext&) override {
+        prog_ = gl::ProgramBuilder("trivial")
+                    .fullscreenVertex()
+                    .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
+                    .fragment("trivial.frag", "void main() { welkin_output(vec3(gl_FragCoord.xy * 1e-3, 1.0), vec3(0.0)); }")
+                    .build();
+    }
+    void doRender(const FrameContext& ctx) override {
+        prog_.use();
+        ctx.drawFullscreen();
+    }
+    void doRelease() override { prog_ = {}; }
+    gl::Program prog_;
+};
+
+struct Row {
+    int preset;
+    double sunAlt;
+    double allLutsMs, sunLutsMs, frameBig, frameSmall, trivialBig, trivialSmall;
+    double rms = NAN, maxErr = NAN, dxy = NAN;
+};
+
+// Tiny 5x7 digits for the plot's labels.
+void drawDigit(Image& img, int d, int x0, int y0, glm::vec3 c) {
+    static const int G[10][7] = {{14, 17, 19, 21, 25, 17, 14}, {4, 12, 4, 4, 4, 4, 14},   {14, 17, 1, 2, 4, 8, 31},
+                                 {31, 2, 4, 2, 1, 17, 14},     {2, 6, 10, 18, 31, 2, 2},  {31, 16, 30, 1, 1, 17, 14},
+                                 {6, 8, 16, 30, 17, 17, 14},   {31, 1, 2, 4, 8, 8, 8},    {14, 17, 17, 14, 17, 17, 14},
+                                 {14, 17, 17, 15, 1, 2, 12}};
+    for (int r = 0; r < 7; ++r)
+        for (int col = 0; col < 5; ++col)
+            if ((G[d][r] >> (4 - col)) & 1) {
+                int x = x0 + col, y = y0 + r;
+                if (x >= 0 && y >= 0 && x < img.width && y < img.height)
+                    for (int k = 0; k < 3; ++k) img.at(x, y, k) = c[k];
+            }
+}
+
+void drawNumber(Image& img, int v, int x, int y, glm::vec3 c) {
+    std::string s = std::to_string(v);
+    for (size_t i = 0; i < s.size(); ++i) drawDigit(img, s[i] - '0', x + int(i) * 6, y, c);
+}
+
+// Error (RMS %, y) against frame time at 1280x720 relative to the trivial pass (x, log2 scale).
+void writePlot(const std::vector<Row>& rows, const std::string& path) {
+    Image img;
+    img.width = 480;
+    img.height = 320;
+    img.pixels.assign(size_t(img.width) * img.height * 3, 1.0f);
+    const int x0 = 50, x1 = 460, y0 = 20, y1 = 290;
+    double maxRatio = 2, maxErr = 1;
+    for (auto& r : rows) {
+        if (std::isfinite(r.frameBig)) maxRatio = std::max(maxRatio, r.frameBig / r.trivialBig);
+        if (std::isfinite(r.rms)) maxErr = std::max(maxErr, 100 * r.rms);
+    }
+    maxErr = std::ceil(maxErr);
+    double lx = std::ceil(std::log2(maxRatio));
+    auto px = [&](double ratio) { return x0 + int((x1 - x0) * std::log2(std::max(ratio, 1.0)) / lx); };
+    auto py = [&](double errPct) { return y1 - int((y1 - y0) * std::min(errPct, maxErr) / maxErr); };
+    glm::vec3 axis(0.2f);
+    for (int x = x0; x <= x1; ++x)
+        for (int k = 0; k < 3; ++k) img.at(x, y1, k) = axis[k];
+    for (int y = y0; y <= y1; ++y)
+        for (int k = 0; k < 3; ++k) img.at(x0, y, k) = axis[k];
+    for (int i = 0; i <= int(lx); ++i) drawNumber(img, 1 << i, px(std::exp2(i)) - 3, y1 + 6, axis);  // frame / trivial
+    for (int e = 0; e <= int(maxErr); e += std::max(1, int(maxErr) / 5)) drawNumber(img, e, 20, py(e) - 3, axis);  // RMS %
+    const glm::vec3 colours[4] = {{0.1f, 0.6f, 0.1f}, {0.1f, 0.3f, 0.9f}, {0.9f, 0.5f, 0.0f}, {0.8f, 0.1f, 0.1f}};
+    for (auto& r : rows) {
+        if (!std::isfinite(r.rms) || !std::isfinite(r.frameBig)) continue;
+        int cx = px(r.frameBig / r.trivialBig), cy = py(100 * r.rms);
+        for (int dy = -3; dy <= 3; ++dy)
+            for (int dx = -3; dx <= 3; ++dx)
+                if (dx * dx + dy * dy <= 9 && cx + dx >= 0 && cx + dx < img.width && cy + dy >= 0 && cy + dy < img.height)
+                    for (int k = 0; k < 3; ++k) img.at(cx + dx, cy + dy, k) = colours[r.preset][k];
+    }
+    // Legend: preset number in its colour.
+    for (int p = 0; p < 4; ++p) drawNumber(img, p, x1 - 40 + 10 * p, y0, colours[p]);
+    writeImage(img, path);
+}
+
+int run(const SkyBenchOptions& o) {
+    std::vector<int> presets;
+    for (char c : o.presets)
+        if (c >= '0' && c <= '3') presets.push_back(c - '0');
+        else if (c != ',') throw Error("--presets '" + o.presets + "': a comma list of 0..3");
+    if (o.repeats < 1 || o.repeats > 100) throw Error("--repeats " + std::to_string(o.repeats) + " not in [1, 100]");
+    Logger log;
+    auto ctx = gl::HeadlessContext::create({}, log);
+    const atmosphere::Atmosphere atm = atmosphere::Atmosphere::earthClear();
+#ifdef WELKIN_HAVE_REFERENCE
+    atmosphere::ReferenceOptions ro;
+    ro.mode = atmosphere::SpectralMode::Rgb;
+    ro.threads = 2;
+    auto t0 = std::chrono::steady_clock::now();
+    atmosphere::ReferenceSky ref(atm, ro);
+    std::printf("reference integrator (RGB, all orders) precomputed in %.1f s\n",
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+#endif
+    const double sunAlts[] = {60, 20, 5, 0, -4, -10, -18};
+    const double sunAz = 3.0;
+    Camera big, small, probe;
+    big.width = 1280, big.height = 720, big.projection = Projection::Fisheye;
+    small.width = 512, small.height = 256, small.projection = Projection::Equirect;
+    probe.width = 64, probe.height = 32, probe.projection = Projection::Equirect;
+    std::vector<Row> rows;
+    for (int preset : presets) {
+        SkyVars vars = SkyVars::earth();
+        vars.set(keys::observerHeight, 0.0);
+        vars.set(keys::moonDirection, glm::dvec3(0, 0, -1));
+        elements::OfflineRenderer r(vars, log);
+        elements::Sky sky(elements::SkyOptions{.quality = preset, .moon = false});
+        Trivial trivial;
+        for (double alt : sunAlts) {
+            Row row{};
+            row.preset = preset;
+            row.sunAlt = alt;
+            glm::dvec3 sun = directionFromAzAlt(sunAz, alt * kDeg);
+            vars.set(keys::sunDirection, sun);
+            // All LUTs: a new atmosphere pointer makes every generator due.
+            vars.set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(atm));
+            r.draw(sky, small, true);
+            row.allLutsMs = r.generatorsMs();
+            // Sun-dependent LUTs only (sky view, aerial perspective, irradiance).
+            vars.set(keys::sunDirection, directionFromAzAlt(sunAz, alt * kDeg + 1e-6));
+            r.draw(sky, small, true);
+            row.sunLutsMs = r.generatorsMs();
+            vars.set(keys::sunDirection, sun);
+            r.draw(sky, small, true);
+            row.frameSmall = medianMs(o.repeats, [&] { r.draw(sky, small); });
+            row.trivialSmall = medianMs(o.repeats, [&] { r.draw(trivial, small); });
+            row.trivialBig = medianMs(o.repeats, [&] { r.draw(trivial, big); });
+            row.frameBig = (preset == 3 && !o.full) ? NAN : medianMs(o.repeats, [&] { r.draw(sky, big); });
+#ifdef WELKIN_HAVE_REFERENCE
+            // Error over the upper hemisphere (probe pixels above 2 deg altitude), outside 2 deg
+            // from the Sun's centre (the disk and the aureole's steepest part).
+            Image img = r.render(sky, probe);
+            double s2 = 0, mx = 0, sxy = 0;
+            int n = 0;
+            for (int y = 0; y < probe.height / 2; ++y)
+                for (int x = 0; x < probe.width; x += 2) {
+                    auto d = probe.directionAt({x + 0.5, y + 0.5});
+                    if (!d || d->z < std::sin(2 * kDeg) || glm::dot(*d, sun) > std::cos(2 * kDeg)) continue;
+                    glm::dvec3 g(img.at(x, y, 0), img.at(x, y, 1), img.at(x, y, 2));
+                    glm::dvec3 rf = ref.radiance(0.0, *d, sun);
+                    double e = (Y(g) - Y(rf)) / std::max(Y(rf), 1e-30);
+                    s2 += e * e;
+                    mx = std::max(mx, std::abs(e));
+                    sxy += glm::length(color::chromaticity(color::linearSrgbToXyz(g)) -
+                                       color::chromaticity(color::linearSrgbToXyz(rf)));
+                    ++n;
+                }
+            row.rms = std::sqrt(s2 / std::max(n, 1));
+            row.maxErr = mx;
+            row.dxy = sxy / std::max(n, 1);
+#endif
+            std::printf("preset %d sun %5.1f: LUTs %8.1f ms (sun-dependent %7.1f), frame 1280x720 %8.1f ms (trivial %6.1f, x%.1f), "
+                        "512x256 %7.1f ms (trivial %5.1f), error RMS %.2f%% max %.2f%% dxy %.4f\n",
+                        preset, alt, row.allLutsMs, row.sunLutsMs, row.frameBig, row.trivialBig, row.frameBig / row.trivialBig,
+                        row.frameSmall, row.trivialSmall, 100 * row.rms, 100 * row.maxErr, row.dxy);
+            std::fflush(stdout);
+            rows.push_back(row);
+        }
+        sky.release();
+        trivial.release();
+        r.release();
+    }
+    std::ofstream csv(o.csv);
+    if (!csv) throw Error("--csv: cannot write '" + o.csv + "'");
+    csv << "preset,sun_alt_deg,all_luts_ms,sun_luts_ms,frame_1280x720_ms,trivial_1280x720_ms,frame_512x256_ms,"
+           "trivial_512x256_ms,rms_rel,max_rel,mean_dxy\n";
+    for (auto& r : rows)
+        csv << r.preset << ',' << r.sunAlt << ',' << r.allLutsMs << ',' << r.sunLutsMs << ',' << r.frameBig << ','
+            << r.trivialBig << ',' << r.frameSmall << ',' << r.trivialSmall << ',' << r.rms << ',' << r.maxErr << ','
+            << r.dxy << '\n';
+    writePlot(rows, o.plot);
+    std::printf("wrote %s and %s\n", o.csv.c_str(), o.plot.c_str());
+    return 0;
+}
+
+static BenchRegistrar reg("sky", "real-time sky: LUT build and frame cost per quality preset, error against the reference integrator",
+                          [](CLI::App& sub) -> Action {
+                              static SkyBenchOptions o;
+                              sub.add_option("--csv", o.csv, "CSV output path");
+                              sub.add_option("--plot", o.plot, "PNG plot of error against frame time");
+                              sub.add_option("--presets", o.presets, "comma list of presets 0..3");
+                              sub.add_option("--repeats", o.repeats, "timed repetitions per measurement (median)");
+                              sub.add_flag("--full", o.full, "also time `reference` at 1280x720 (slow on llvmpipe)");
+                              return [] { return run(o); };
+                          });
+
+}  // namespace
+}  // namespace welkin::cli
