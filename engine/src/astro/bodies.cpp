@@ -64,7 +64,7 @@ void checkValidity(const ObserverFrame& f) {
                     " outside the ephemerides' validity range [-2000, 6000]");
 }
 
-const VsopBody& series(VsopPlanet p, bool precise) { return precise ? vsop87Full(p) : vsop87Truncated(p); }
+const VsopBody& series(VsopPlanet p, bool precise, double t) { return precise ? vsop87Full(p) : vsop87Truncated(p, t); }
 
 /// State shared by the bodies of one evaluation.
 struct Shared {
@@ -80,7 +80,7 @@ struct Shared {
 
     const glm::dvec3& earthHelio() {
         if (!haveEarth) {
-            earth = vsopToEquatorialJ2000(evaluate(series(VsopPlanet::Earth, precise), tMillennia).lbr);
+            earth = vsopToEquatorialJ2000(evaluate(series(VsopPlanet::Earth, precise, tMillennia), tMillennia).lbr);
             haveEarth = true;
         }
         return earth;
@@ -110,7 +110,10 @@ void computeSun(Shared& sh) {
     BodyState s;
     s.body = Body::Sun;
     glm::dvec3 g;
-    if (sh.precise) {
+    // eraEpv00 is a fit to the ephemerides over 1900-2100 and degrades away from it (~45" at
+    // year -2000); outside that span the Precise path uses the full VSOP87 Earth instead.
+    const double year = 2000.0 + f.time.centuriesTT() * 100.0;
+    if (sh.precise && year >= 1900.0 && year <= 2100.0) {
         // eraEpv00: heliocentric and barycentric Earth, BCRS (ICRS axes), au and au/day (TDB ~ TT).
         double pvh[2][3], pvb[2][3];
         eraEpv00(f.time.tt.day, f.time.tt.fraction, pvh, pvb);
@@ -224,7 +227,7 @@ BodyState computePlanet(Shared& sh, Body body) {
     BodyState s;
     s.body = body;
     const glm::dvec3 E = sh.earthHelio();
-    const VsopBody& ser = series(vsopOf(body), sh.precise);
+    const VsopBody& ser = series(vsopOf(body), sh.precise, sh.tMillennia);
     glm::dvec3 P, g;
     if (sh.precise) {
         // Light time iterated with the full series until it changes by < 1 ms.

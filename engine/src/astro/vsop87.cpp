@@ -17,8 +17,8 @@
 namespace welkin::astro {
 
 namespace detail {
-extern const VsopBody kTruncatedMercury, kTruncatedVenus, kTruncatedEarth, kTruncatedMars, kTruncatedJupiter,
-    kTruncatedSaturn, kTruncatedUranus, kTruncatedNeptune;
+extern const VsopBody kNearMercury, kNearVenus, kNearEarth, kNearMars, kNearJupiter, kNearSaturn, kNearUranus, kNearNeptune;
+extern const VsopBody kWideMercury, kWideVenus, kWideEarth, kWideMars, kWideJupiter, kWideSaturn, kWideUranus, kWideNeptune;
 }
 
 const char* vsopName(VsopPlanet p) {
@@ -26,11 +26,12 @@ const char* vsopName(VsopPlanet p) {
     return names[static_cast<int>(p)];
 }
 
-const VsopBody& vsop87Truncated(VsopPlanet p) {
-    static const VsopBody* bodies[] = {&detail::kTruncatedMercury, &detail::kTruncatedVenus, &detail::kTruncatedEarth,
-                                       &detail::kTruncatedMars,    &detail::kTruncatedJupiter, &detail::kTruncatedSaturn,
-                                       &detail::kTruncatedUranus,  &detail::kTruncatedNeptune};
-    return *bodies[static_cast<int>(p)];
+const VsopBody& vsop87Truncated(VsopPlanet p, double t) {
+    static const VsopBody* near[] = {&detail::kNearMercury, &detail::kNearVenus,   &detail::kNearEarth,  &detail::kNearMars,
+                                     &detail::kNearJupiter, &detail::kNearSaturn, &detail::kNearUranus, &detail::kNearNeptune};
+    static const VsopBody* wide[] = {&detail::kWideMercury, &detail::kWideVenus,   &detail::kWideEarth,  &detail::kWideMars,
+                                     &detail::kWideJupiter, &detail::kWideSaturn, &detail::kWideUranus, &detail::kWideNeptune};
+    return *(std::fabs(t) <= kVsopNearSpan ? near : wide)[static_cast<int>(p)];
 }
 
 std::string vsop87Directory() {
@@ -68,9 +69,8 @@ std::vector<VsopTerm> readSeriesFile(const std::string& path, bool required) {
     return terms;
 }
 
-std::unique_ptr<LoadedBody> loadBody(VsopPlanet p) {
+std::unique_ptr<LoadedBody> loadBody(VsopPlanet p, const std::string& dir) {
     auto lb = std::make_unique<LoadedBody>();
-    const std::string dir = vsop87Directory();
     const char coords[3] = {'L', 'B', 'R'};
     for (int c = 0; c < 3; ++c) {
         for (int k = 0; k < 6; ++k) {
@@ -87,12 +87,16 @@ std::unique_ptr<LoadedBody> loadBody(VsopPlanet p) {
 
 }  // namespace
 
+void checkVsop87Files(const std::string& directory) {
+    for (int p = 0; p < 8; ++p) loadBody(static_cast<VsopPlanet>(p), directory);
+}
+
 const VsopBody& vsop87Full(VsopPlanet p) {
     static std::mutex mutex;
     static std::array<std::unique_ptr<LoadedBody>, 8> cache;
     std::lock_guard<std::mutex> lock(mutex);
     auto& slot = cache[static_cast<int>(p)];
-    if (!slot) slot = loadBody(p);
+    if (!slot) slot = loadBody(p, vsop87Directory());
     return slot->body;
 }
 

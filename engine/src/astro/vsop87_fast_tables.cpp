@@ -7,7 +7,7 @@
 
 namespace welkin::astro::detail {
 
-static const VsopTerm kMercuryL0[] = {
+static const VsopTerm kNearMercuryL0[] = {
     {4.40250710144, 0.0, 0.0},
     {0.40989414977, 1.48302034195, 26087.9031415742},
     {0.050462942, 4.47785489551, 52175.8062831484},
@@ -26,15 +26,21 @@ static const VsopTerm kMercuryL0[] = {
     {4.51137e-06, 6.04989282259, 51116.4243529592},
     {4.042e-06, 3.28228953196, 208703.2251325936},
 };
-static const VsopTerm kMercuryL1[] = {
+static const VsopTerm kNearMercuryL1[] = {
     {26087.90313685529, 0.0, 0.0},
     {0.01131199811, 6.21874197797, 26087.9031415742},
     {0.00292242298, 3.04449355541, 52175.8062831484},
     {0.00075775081, 6.08568821653, 78263.70942472259},
     {0.00019676525, 2.80965111777, 104351.61256629678},
     {5.119883e-05, 5.79432353574, 130439.51570787099},
+    {1.336324e-05, 2.47909947012, 156527.41884944518},
 };
-static const VsopTerm kMercuryB0[] = {
+static const VsopTerm kNearMercuryL2[] = {
+    {0.00016395129, 4.67759555504, 26087.9031415742},
+    {8.123865e-05, 1.40305644134, 52175.8062831484},
+    {3.20817e-05, 4.49577853102, 78263.70942472259},
+};
+static const VsopTerm kNearMercuryB0[] = {
     {0.11737528961, 1.98357498767, 26087.9031415742},
     {0.02388076996, 5.03738959686, 52175.8062831484},
     {0.01222839532, 3.14159265359, 0.0},
@@ -45,14 +51,20 @@ static const VsopTerm kMercuryB0[] = {
     {2.014189e-05, 1.35324164377, 182615.3219910194},
     {5.13953e-06, 4.37835406663, 208703.2251325936},
 };
-static const VsopTerm kMercuryB1[] = {
+static const VsopTerm kNearMercuryB1[] = {
     {0.00274646065, 3.95008450011, 26087.9031415742},
     {0.00099737713, 3.14159265359, 0.0},
     {0.00023970726, 2.53272082947, 52175.8062831484},
     {0.00018772047, 0.05141288887, 78263.70942472259},
     {8.097508e-05, 3.20946389315, 104351.61256629678},
+    {2.890729e-05, 0.00943621371, 130439.51570787099},
+    {9.49669e-06, 3.06780459575, 156527.41884944518},
 };
-static const VsopTerm kMercuryR0[] = {
+static const VsopTerm kNearMercuryB2[] = {
+    {2.747165e-05, 5.24567337999, 26087.9031415742},
+    {2.047257e-05, 0.0, 0.0},
+};
+static const VsopTerm kNearMercuryR0[] = {
     {0.39528271651, 0.0, 0.0},
     {0.07834131818, 6.19233722598, 26087.9031415742},
     {0.00795525558, 2.95989690104, 52175.8062831484},
@@ -65,17 +77,22 @@ static const VsopTerm kMercuryR0[] = {
     {2.01855e-06, 5.64725040577, 182615.3219910194},
     {2.01498e-06, 5.59227727403, 31749.2351907264},
 };
-static const VsopTerm kMercuryR1[] = {
+static const VsopTerm kNearMercuryR1[] = {
     {0.0021734774, 4.65617158665, 26087.9031415742},
     {0.00044141826, 1.42385544001, 52175.8062831484},
     {0.00010094479, 4.47466326327, 78263.70942472259},
     {2.432805e-05, 1.24226083323, 104351.61256629678},
     {1.624367e-05, 0.0, 0.0},
+    {6.03996e-06, 4.29303116468, 130439.51570787099},
 };
-extern const VsopBody kTruncatedMercury;
-const VsopBody kTruncatedMercury = {{{kMercuryL0, static_cast<int>(std::size(kMercuryL0))}, {kMercuryL1, static_cast<int>(std::size(kMercuryL1))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}, {{kMercuryB0, static_cast<int>(std::size(kMercuryB0))}, {kMercuryB1, static_cast<int>(std::size(kMercuryB1))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}, {{kMercuryR0, static_cast<int>(std::size(kMercuryR0))}, {kMercuryR1, static_cast<int>(std::size(kMercuryR1))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}};
+static const VsopTerm kNearMercuryR2[] = {
+    {3.117867e-05, 3.08231840294, 26087.9031415742},
+    {1.245397e-05, 6.1518331681, 52175.8062831484},
+};
+extern const VsopBody kNearMercury;
+const VsopBody kNearMercury = {{{kNearMercuryL0, static_cast<int>(std::size(kNearMercuryL0))}, {kNearMercuryL1, static_cast<int>(std::size(kNearMercuryL1))}, {kNearMercuryL2, static_cast<int>(std::size(kNearMercuryL2))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}, {{kNearMercuryB0, static_cast<int>(std::size(kNearMercuryB0))}, {kNearMercuryB1, static_cast<int>(std::size(kNearMercuryB1))}, {kNearMercuryB2, static_cast<int>(std::size(kNearMercuryB2))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}, {{kNearMercuryR0, static_cast<int>(std::size(kNearMercuryR0))}, {kNearMercuryR1, static_cast<int>(std::size(kNearMercuryR1))}, {kNearMercuryR2, static_cast<int>(std::size(kNearMercuryR2))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}};
 
-static const VsopTerm kVenusL0[] = {
+static const VsopTerm kNearVenusL0[] = {
     {3.17614666774, 0.0, 0.0},
     {0.01353968419, 5.59313319619, 10213.285546211},
     {0.00089891645, 5.30650047764, 20426.571092422},
@@ -95,22 +112,29 @@ static const VsopTerm kVenusL0[] = {
     {3.26967e-06, 5.67736584311, 5507.5532386674},
     {3.26221e-06, 4.59056477038, 10404.7338123226},
 };
-static const VsopTerm kVenusL1[] = {
+static const VsopTerm kNearVenusL1[] = {
     {10213.28554621638, 0.0, 0.0},
     {0.00095617813, 2.4640651111, 10213.285546211},
     {7.787201e-05, 0.6247848222, 20426.571092422},
 };
-static const VsopTerm kVenusB0[] = {
+static const VsopTerm kNearVenusL2[] = {
+    {3.894209e-05, 0.34823650721, 10213.285546211},
+};
+static const VsopTerm kNearVenusB0[] = {
     {0.05923638472, 0.26702775812, 10213.285546211},
     {0.00040107978, 1.14737178112, 20426.571092422},
     {0.00032814918, 3.14159265359, 0.0},
     {1.011392e-05, 1.0894611973, 30639.856638633},
 };
-static const VsopTerm kVenusB1[] = {
+static const VsopTerm kNearVenusB1[] = {
     {0.00287821243, 1.88964962838, 10213.285546211},
     {3.499578e-05, 3.71117560516, 20426.571092422},
+    {1.257844e-05, 0.0, 0.0},
 };
-static const VsopTerm kVenusR0[] = {
+static const VsopTerm kNearVenusB2[] = {
+    {0.00012657745, 3.34796457029, 10213.285546211},
+};
+static const VsopTerm kNearVenusR0[] = {
     {0.72334820891, 0.0, 0.0},
     {0.00489824182, 4.02151831717, 10213.285546211},
     {1.658058e-05, 4.90206728031, 20426.571092422},
@@ -122,13 +146,16 @@ static const VsopTerm kVenusR0[] = {
     {2.37454e-06, 2.55136053886, 15720.8387848784},
     {2.21985e-06, 2.01346696541, 19367.1891622328},
 };
-static const VsopTerm kVenusR1[] = {
+static const VsopTerm kNearVenusR1[] = {
     {0.00034551041, 0.89198706276, 10213.285546211},
 };
-extern const VsopBody kTruncatedVenus;
-const VsopBody kTruncatedVenus = {{{kVenusL0, static_cast<int>(std::size(kVenusL0))}, {kVenusL1, static_cast<int>(std::size(kVenusL1))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}, {{kVenusB0, static_cast<int>(std::size(kVenusB0))}, {kVenusB1, static_cast<int>(std::size(kVenusB1))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}, {{kVenusR0, static_cast<int>(std::size(kVenusR0))}, {kVenusR1, static_cast<int>(std::size(kVenusR1))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}};
+static const VsopTerm kNearVenusR2[] = {
+    {1.406587e-05, 5.06366395112, 10213.285546211},
+};
+extern const VsopBody kNearVenus;
+const VsopBody kNearVenus = {{{kNearVenusL0, static_cast<int>(std::size(kNearVenusL0))}, {kNearVenusL1, static_cast<int>(std::size(kNearVenusL1))}, {kNearVenusL2, static_cast<int>(std::size(kNearVenusL2))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}, {{kNearVenusB0, static_cast<int>(std::size(kNearVenusB0))}, {kNearVenusB1, static_cast<int>(std::size(kNearVenusB1))}, {kNearVenusB2, static_cast<int>(std::size(kNearVenusB2))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}, {{kNearVenusR0, static_cast<int>(std::size(kNearVenusR0))}, {kNearVenusR1, static_cast<int>(std::size(kNearVenusR1))}, {kNearVenusR2, static_cast<int>(std::size(kNearVenusR2))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}};
 
-static const VsopTerm kEarthL0[] = {
+static const VsopTerm kNearEarthL0[] = {
     {1.75347045673, 0.0, 0.0},
     {0.03341656453, 4.66925680415, 6283.0758499914},
     {0.00034894275, 4.62610242189, 12566.1516999828},
@@ -163,21 +190,29 @@ static const VsopTerm kEarthL0[] = {
     {1.01895e-06, 0.97569280312, 15720.8387848784},
     {1.01724e-06, 4.2667980198, 7.1135470008},
 };
-static const VsopTerm kEarthL1[] = {
+static const VsopTerm kNearEarthL1[] = {
     {6283.0758499914, 0.0, 0.0},
     {0.00206058863, 2.67823455808, 6283.0758499914},
     {4.303419e-05, 2.63512233481, 12566.1516999828},
+    {4.25264e-06, 1.59046982018, 3.523118349},
 };
-static const VsopTerm kEarthB0[] = {
+static const VsopTerm kNearEarthL2[] = {
+    {8.721859e-05, 1.07253635559, 6283.0758499914},
+    {9.9099e-06, 3.14159265359, 0.0},
+};
+static const VsopTerm kNearEarthB0[] = {
     {2.7962e-06, 3.19870156017, 84334.66158130829},
     {1.01643e-06, 5.42248619256, 5507.5532386674},
 };
-static const VsopTerm kEarthB1[] = {
+static const VsopTerm kNearEarthB1[] = {
     {0.00227777722, 3.4137662053, 6283.0758499914},
     {3.805678e-05, 3.37063423795, 12566.1516999828},
     {3.619589e-05, 0.0, 0.0},
 };
-static const VsopTerm kEarthR0[] = {
+static const VsopTerm kNearEarthB2[] = {
+    {9.721424e-05, 5.1519280992, 6283.0758499914},
+};
+static const VsopTerm kNearEarthR0[] = {
     {1.00013988784, 0.0, 0.0},
     {0.01670699632, 3.09846350258, 6283.0758499914},
     {0.00013956024, 3.05524609456, 12566.1516999828},
@@ -196,14 +231,18 @@ static const VsopTerm kEarthR0[] = {
     {1.74844e-06, 3.01193636733, 18849.2275499742},
     {1.09835e-06, 5.0551063586, 5486.777843175},
 };
-static const VsopTerm kEarthR1[] = {
+static const VsopTerm kNearEarthR1[] = {
     {0.00103018607, 1.10748968172, 6283.0758499914},
     {1.721238e-05, 1.06442300386, 12566.1516999828},
+    {7.02217e-06, 3.14159265359, 0.0},
 };
-extern const VsopBody kTruncatedEarth;
-const VsopBody kTruncatedEarth = {{{kEarthL0, static_cast<int>(std::size(kEarthL0))}, {kEarthL1, static_cast<int>(std::size(kEarthL1))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}, {{kEarthB0, static_cast<int>(std::size(kEarthB0))}, {kEarthB1, static_cast<int>(std::size(kEarthB1))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}, {{kEarthR0, static_cast<int>(std::size(kEarthR0))}, {kEarthR1, static_cast<int>(std::size(kEarthR1))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}};
+static const VsopTerm kNearEarthR2[] = {
+    {4.359385e-05, 5.78455133808, 6283.0758499914},
+};
+extern const VsopBody kNearEarth;
+const VsopBody kNearEarth = {{{kNearEarthL0, static_cast<int>(std::size(kNearEarthL0))}, {kNearEarthL1, static_cast<int>(std::size(kNearEarthL1))}, {kNearEarthL2, static_cast<int>(std::size(kNearEarthL2))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}, {{kNearEarthB0, static_cast<int>(std::size(kNearEarthB0))}, {kNearEarthB1, static_cast<int>(std::size(kNearEarthB1))}, {kNearEarthB2, static_cast<int>(std::size(kNearEarthB2))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}, {{kNearEarthR0, static_cast<int>(std::size(kNearEarthR0))}, {kNearEarthR1, static_cast<int>(std::size(kNearEarthR1))}, {kNearEarthR2, static_cast<int>(std::size(kNearEarthR2))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}};
 
-static const VsopTerm kMarsL0[] = {
+static const VsopTerm kNearMarsL0[] = {
     {6.20347711581, 0.0, 0.0},
     {0.18656368093, 5.0503710027, 3340.6124266998},
     {0.01108216816, 5.40099836344, 6681.2248533996},
@@ -252,18 +291,23 @@ static const VsopTerm kMarsL0[] = {
     {2.74033e-06, 0.13372524985, 3340.6797370026},
     {2.74027e-06, 0.54222167059, 3340.545116397},
 };
-static const VsopTerm kMarsL1[] = {
+static const VsopTerm kNearMarsL1[] = {
     {3340.61242700512, 0.0, 0.0},
     {0.01457554523, 3.60433733236, 3340.6124266998},
     {0.00168414711, 3.92318567804, 6681.2248533996},
     {0.00020622975, 4.26108844583, 10021.8372800994},
     {3.452392e-05, 4.7321039319, 3.523118349},
     {2.586332e-05, 4.60670058555, 13362.4497067992},
+    {8.41535e-06, 4.45864030426, 2281.2304965106},
+    {5.37567e-06, 5.01581256923, 398.1490034082},
+    {5.20948e-06, 4.99428054039, 3344.1355450488},
 };
-static const VsopTerm kMarsL2[] = {
+static const VsopTerm kNearMarsL2[] = {
     {0.00058152577, 2.04961712429, 3340.6124266998},
+    {0.00013459579, 2.45738706163, 6681.2248533996},
+    {2.432575e-05, 2.79737979284, 10021.8372800994},
 };
-static const VsopTerm kMarsB0[] = {
+static const VsopTerm kNearMarsB0[] = {
     {0.03197134986, 3.76832042431, 3340.6124266998},
     {0.00298033234, 4.10616996305, 6681.2248533996},
     {0.00289104742, 0.0, 0.0},
@@ -274,13 +318,18 @@ static const VsopTerm kMarsB0[] = {
     {3.99109e-06, 5.13056816928, 16703.062133499},
     {2.92506e-06, 3.79290674178, 2281.2304965106},
 };
-static const VsopTerm kMarsB1[] = {
+static const VsopTerm kNearMarsB1[] = {
     {0.00217310991, 6.04472194776, 3340.6124266998},
     {0.00020976948, 3.14159265359, 0.0},
     {0.00012834709, 1.60810667915, 6681.2248533996},
     {3.320981e-05, 2.62947004077, 10021.8372800994},
+    {6.272e-06, 3.11898601248, 13362.4497067992},
 };
-static const VsopTerm kMarsR0[] = {
+static const VsopTerm kNearMarsB2[] = {
+    {8.888446e-05, 1.06196052751, 3340.6124266998},
+    {2.595393e-05, 3.14159265359, 0.0},
+};
+static const VsopTerm kNearMarsR0[] = {
     {1.53033488271, 0.0, 0.0},
     {0.1418495316, 3.47971283528, 3340.6124266998},
     {0.00660776362, 3.81783443019, 6681.2248533996},
@@ -309,19 +358,21 @@ static const VsopTerm kMarsR0[] = {
     {5.26166e-06, 5.38292991236, 3738.761430108},
     {4.72775e-06, 5.19850522346, 3127.3133312618},
 };
-static const VsopTerm kMarsR1[] = {
+static const VsopTerm kNearMarsR1[] = {
     {0.01107433345, 2.03250524857, 3340.6124266998},
     {0.00103175887, 2.37071847807, 6681.2248533996},
     {0.000128772, 0.0, 0.0},
     {0.0001081588, 2.70888095665, 10021.8372800994},
+    {1.19455e-05, 3.04702256206, 13362.4497067992},
 };
-static const VsopTerm kMarsR2[] = {
+static const VsopTerm kNearMarsR2[] = {
     {0.00044242249, 0.47930604954, 3340.6124266998},
+    {8.138042e-05, 0.86998389204, 6681.2248533996},
 };
-extern const VsopBody kTruncatedMars;
-const VsopBody kTruncatedMars = {{{kMarsL0, static_cast<int>(std::size(kMarsL0))}, {kMarsL1, static_cast<int>(std::size(kMarsL1))}, {kMarsL2, static_cast<int>(std::size(kMarsL2))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}, {{kMarsB0, static_cast<int>(std::size(kMarsB0))}, {kMarsB1, static_cast<int>(std::size(kMarsB1))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}, {{kMarsR0, static_cast<int>(std::size(kMarsR0))}, {kMarsR1, static_cast<int>(std::size(kMarsR1))}, {kMarsR2, static_cast<int>(std::size(kMarsR2))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}};
+extern const VsopBody kNearMars;
+const VsopBody kNearMars = {{{kNearMarsL0, static_cast<int>(std::size(kNearMarsL0))}, {kNearMarsL1, static_cast<int>(std::size(kNearMarsL1))}, {kNearMarsL2, static_cast<int>(std::size(kNearMarsL2))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}, {{kNearMarsB0, static_cast<int>(std::size(kNearMarsB0))}, {kNearMarsB1, static_cast<int>(std::size(kNearMarsB1))}, {kNearMarsB2, static_cast<int>(std::size(kNearMarsB2))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}, {{kNearMarsR0, static_cast<int>(std::size(kNearMarsR0))}, {kNearMarsR1, static_cast<int>(std::size(kNearMarsR1))}, {kNearMarsR2, static_cast<int>(std::size(kNearMarsR2))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}};
 
-static const VsopTerm kJupiterL0[] = {
+static const VsopTerm kNearJupiterL0[] = {
     {0.59954691494, 0.0, 0.0},
     {0.09695898719, 5.06191793158, 529.6909650946},
     {0.00573610142, 1.44406205629, 7.1135470008},
@@ -353,15 +404,28 @@ static const VsopTerm kJupiterL0[] = {
     {9.73272e-06, 4.09764549134, 95.9792272178},
     {8.84457e-06, 2.43700227469, 412.3710968744},
 };
-static const VsopTerm kJupiterL1[] = {
+static const VsopTerm kNearJupiterL1[] = {
     {529.69096508814, 0.0, 0.0},
     {0.00489503243, 4.2208293947, 529.6909650946},
     {0.00228917222, 6.02646855621, 7.1135470008},
     {0.00030099479, 4.54540782858, 1059.3819301892},
     {0.0002072092, 5.45943156902, 522.5774180938},
     {0.00012103653, 0.16994816098, 536.8045120954},
+    {6.067987e-05, 4.42422292017, 103.0927742186},
+    {5.433968e-05, 3.98480737746, 419.4846438752},
+    {4.237744e-05, 5.89008707199, 14.2270940016},
+    {2.211974e-05, 5.26766687382, 206.1855484372},
+    {1.983502e-05, 4.88600705699, 1589.0728952838},
 };
-static const VsopTerm kJupiterB0[] = {
+static const VsopTerm kNearJupiterL2[] = {
+    {0.00047233601, 4.32148536482, 7.1135470008},
+    {0.00030649436, 2.929777887, 529.6909650946},
+    {0.00014837605, 3.14159265359, 0.0},
+};
+static const VsopTerm kNearJupiterL3[] = {
+    {6.501673e-05, 2.5986292365, 7.1135470008},
+};
+static const VsopTerm kNearJupiterB0[] = {
     {0.02268615702, 3.55852606721, 529.6909650946},
     {0.00110090358, 0.0, 0.0},
     {0.00109971634, 3.90809347197, 1059.3819301892},
@@ -374,10 +438,17 @@ static const VsopTerm kJupiterB0[] = {
     {8.94088e-06, 1.75447402715, 7.1135470008},
     {8.35861e-06, 5.1788197781, 103.0927742186},
 };
-static const VsopTerm kJupiterB1[] = {
+static const VsopTerm kNearJupiterB1[] = {
     {0.00078203446, 1.52377859742, 529.6909650946},
+    {7.789905e-05, 2.59734071843, 1059.3819301892},
+    {2.788602e-05, 4.85622679819, 536.8045120954},
+    {2.429728e-05, 5.45947255041, 522.5774180938},
+    {1.985777e-05, 0.0, 0.0},
 };
-static const VsopTerm kJupiterR0[] = {
+static const VsopTerm kNearJupiterB2[] = {
+    {5.49832e-05, 3.01596270062, 529.6909650946},
+};
+static const VsopTerm kNearJupiterR0[] = {
     {5.20887429326, 0.0, 0.0},
     {0.25209327119, 3.49108639871, 529.6909650946},
     {0.00610599976, 3.84115365948, 1059.3819301892},
@@ -401,15 +472,22 @@ static const VsopTerm kJupiterR0[] = {
     {5.477001e-05, 5.65729989857, 639.897286314},
     {4.169954e-05, 2.01603822251, 515.463871093},
 };
-static const VsopTerm kJupiterR1[] = {
+static const VsopTerm kNearJupiterR1[] = {
     {0.0127180152, 2.64937512894, 529.6909650946},
     {0.00061661816, 3.00076460387, 1059.3819301892},
     {0.00053443713, 3.89717383175, 522.5774180938},
+    {0.00041390269, 0.0, 0.0},
+    {0.00031185171, 4.88276958012, 536.8045120954},
+    {0.00011847263, 2.41328764459, 419.4846438752},
+    {9.166454e-05, 4.75978553741, 7.1135470008},
 };
-extern const VsopBody kTruncatedJupiter;
-const VsopBody kTruncatedJupiter = {{{kJupiterL0, static_cast<int>(std::size(kJupiterL0))}, {kJupiterL1, static_cast<int>(std::size(kJupiterL1))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}, {{kJupiterB0, static_cast<int>(std::size(kJupiterB0))}, {kJupiterB1, static_cast<int>(std::size(kJupiterB1))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}, {{kJupiterR0, static_cast<int>(std::size(kJupiterR0))}, {kJupiterR1, static_cast<int>(std::size(kJupiterR1))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}};
+static const VsopTerm kNearJupiterR2[] = {
+    {0.00079644957, 1.35865949884, 529.6909650946},
+};
+extern const VsopBody kNearJupiter;
+const VsopBody kNearJupiter = {{{kNearJupiterL0, static_cast<int>(std::size(kNearJupiterL0))}, {kNearJupiterL1, static_cast<int>(std::size(kNearJupiterL1))}, {kNearJupiterL2, static_cast<int>(std::size(kNearJupiterL2))}, {kNearJupiterL3, static_cast<int>(std::size(kNearJupiterL3))}, {nullptr, 0}, {nullptr, 0}}, {{kNearJupiterB0, static_cast<int>(std::size(kNearJupiterB0))}, {kNearJupiterB1, static_cast<int>(std::size(kNearJupiterB1))}, {kNearJupiterB2, static_cast<int>(std::size(kNearJupiterB2))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}, {{kNearJupiterR0, static_cast<int>(std::size(kNearJupiterR0))}, {kNearJupiterR1, static_cast<int>(std::size(kNearJupiterR1))}, {kNearJupiterR2, static_cast<int>(std::size(kNearJupiterR2))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}};
 
-static const VsopTerm kSaturnL0[] = {
+static const VsopTerm kNearSaturnL0[] = {
     {0.87401354025, 0.0, 0.0},
     {0.11107659762, 3.96205090159, 213.299095438},
     {0.01414150957, 4.58581516874, 7.1135470008},
@@ -447,7 +525,7 @@ static const VsopTerm kSaturnL0[] = {
     {8.52677e-06, 3.42141279787, 175.1660598002},
     {8.48642e-06, 3.1915017083, 209.3669421749},
 };
-static const VsopTerm kSaturnL1[] = {
+static const VsopTerm kNearSaturnL1[] = {
     {213.2990952169, 0.0, 0.0},
     {0.01297370862, 1.82834923978, 213.299095438},
     {0.00564345393, 2.88499717272, 7.1135470008},
@@ -456,12 +534,28 @@ static const VsopTerm kSaturnL1[] = {
     {0.00040244455, 2.04108104671, 220.4126424388},
     {0.00019941774, 1.2795439047, 103.0927742186},
     {0.00010511678, 2.7488034213, 14.2270940016},
+    {6.416106e-05, 0.38238295041, 639.897286314},
+    {4.848994e-05, 2.43037610229, 419.4846438752},
+    {4.056892e-05, 2.92133209468, 110.2063212194},
+    {3.768635e-05, 3.6496533078, 3.9321532631},
+    {3.384691e-05, 2.41694503459, 3.1813937377},
+    {3.231693e-05, 1.26149969158, 433.7117378768},
+    {3.071405e-05, 2.32739504783, 199.0720014364},
+    {1.953179e-05, 3.56378136497, 11.0457002639},
 };
-static const VsopTerm kSaturnL2[] = {
+static const VsopTerm kNearSaturnL2[] = {
     {0.0011644133, 1.17988132879, 7.1135470008},
     {0.00091841837, 0.0732519584, 213.299095438},
+    {0.00036661728, 0.0, 0.0},
+    {0.00015274496, 4.06493179167, 206.1855484372},
+    {0.00010987259, 5.4447918831, 426.598190876},
+    {0.0001062983, 0.25764306189, 220.4126424388},
+    {4.265404e-05, 1.04596041482, 14.2270940016},
 };
-static const VsopTerm kSaturnB0[] = {
+static const VsopTerm kNearSaturnL3[] = {
+    {0.00016038732, 5.73945573267, 7.1135470008},
+};
+static const VsopTerm kNearSaturnB0[] = {
     {0.04330678039, 3.60284428399, 213.299095438},
     {0.00240348302, 2.85238489373, 426.598190876},
     {0.00084745939, 0.0, 0.0},
@@ -478,14 +572,19 @@ static const VsopTerm kSaturnB0[] = {
     {9.69071e-06, 5.20434966293, 632.7837393132},
     {9.4205e-06, 1.39646688872, 853.196381752},
 };
-static const VsopTerm kSaturnB1[] = {
+static const VsopTerm kNearSaturnB1[] = {
     {0.00198927992, 4.93901017903, 213.299095438},
     {0.00036947916, 3.14159265359, 0.0},
     {0.00017966989, 0.5197943111, 426.598190876},
     {0.00013320265, 2.26481519893, 206.1855484372},
     {0.00010919721, 1.79463271368, 220.4126424388},
+    {3.243428e-05, 1.21094033148, 419.4846438752},
+    {2.900519e-05, 6.17033461979, 639.897286314},
 };
-static const VsopTerm kSaturnR0[] = {
+static const VsopTerm kNearSaturnB2[] = {
+    {0.00013884264, 0.08994998691, 213.299095438},
+};
+static const VsopTerm kNearSaturnR0[] = {
     {9.55758135486, 0.0, 0.0},
     {0.52921382865, 2.39226219573, 213.299095438},
     {0.01873679867, 5.2354960466, 206.1855484372},
@@ -512,18 +611,28 @@ static const VsopTerm kSaturnR0[] = {
     {9.796004e-05, 5.20477537945, 1265.5674786264},
     {7.752664e-05, 5.85190720634, 95.9792272178},
 };
-static const VsopTerm kSaturnR1[] = {
+static const VsopTerm kNearSaturnR1[] = {
     {0.0618298134, 0.2584351148, 213.299095438},
     {0.00506577242, 0.71114625261, 206.1855484372},
     {0.00341394029, 5.79635741658, 426.598190876},
     {0.00188491195, 0.47215589652, 220.4126424388},
     {0.00186261486, 3.14159265359, 0.0},
     {0.00143891146, 1.40744822888, 7.1135470008},
+    {0.00049621208, 6.0174427982, 103.0927742186},
+    {0.00020928426, 5.09244947411, 639.897286314},
+    {0.00019952564, 1.1756060613, 419.4846438752},
+    {0.00018839544, 1.60818334043, 110.2063212194},
 };
-extern const VsopBody kTruncatedSaturn;
-const VsopBody kTruncatedSaturn = {{{kSaturnL0, static_cast<int>(std::size(kSaturnL0))}, {kSaturnL1, static_cast<int>(std::size(kSaturnL1))}, {kSaturnL2, static_cast<int>(std::size(kSaturnL2))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}, {{kSaturnB0, static_cast<int>(std::size(kSaturnB0))}, {kSaturnB1, static_cast<int>(std::size(kSaturnB1))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}, {{kSaturnR0, static_cast<int>(std::size(kSaturnR0))}, {kSaturnR1, static_cast<int>(std::size(kSaturnR1))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}};
+static const VsopTerm kNearSaturnR2[] = {
+    {0.00436902572, 4.78671677509, 213.299095438},
+    {0.00071922498, 2.5007006993, 206.1855484372},
+    {0.00049766872, 4.97167777235, 220.4126424388},
+    {0.00043220783, 3.86941044212, 426.598190876},
+};
+extern const VsopBody kNearSaturn;
+const VsopBody kNearSaturn = {{{kNearSaturnL0, static_cast<int>(std::size(kNearSaturnL0))}, {kNearSaturnL1, static_cast<int>(std::size(kNearSaturnL1))}, {kNearSaturnL2, static_cast<int>(std::size(kNearSaturnL2))}, {kNearSaturnL3, static_cast<int>(std::size(kNearSaturnL3))}, {nullptr, 0}, {nullptr, 0}}, {{kNearSaturnB0, static_cast<int>(std::size(kNearSaturnB0))}, {kNearSaturnB1, static_cast<int>(std::size(kNearSaturnB1))}, {kNearSaturnB2, static_cast<int>(std::size(kNearSaturnB2))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}, {{kNearSaturnR0, static_cast<int>(std::size(kNearSaturnR0))}, {kNearSaturnR1, static_cast<int>(std::size(kNearSaturnR1))}, {kNearSaturnR2, static_cast<int>(std::size(kNearSaturnR2))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}};
 
-static const VsopTerm kUranusL0[] = {
+static const VsopTerm kNearUranusL0[] = {
     {5.48129294297, 0.0, 0.0},
     {0.09260408234, 0.89106421507, 74.7815985673},
     {0.01504247898, 3.6271926092, 1.4844727083},
@@ -567,15 +676,18 @@ static const VsopTerm kUranusL0[] = {
     {1.072013e-05, 0.23566016888, 62.2514255951},
     {9.46181e-06, 1.19253165736, 127.4717966068},
 };
-static const VsopTerm kUranusL1[] = {
+static const VsopTerm kNearUranusL1[] = {
     {74.7815986091, 0.0, 0.0},
     {0.00154332863, 5.24158770553, 74.7815985673},
     {0.00024456474, 1.71260334156, 1.4844727083},
     {9.258442e-05, 0.4282973235, 11.0457002639},
     {9.15016e-05, 1.41213765216, 149.5631971346},
     {8.265977e-05, 1.50218091379, 63.7358983034},
+    {3.899108e-05, 0.4648357916, 3.9321532631},
+    {2.277065e-05, 4.17199181523, 76.2660712756},
+    {1.92747e-05, 0.52976188479, 2.9689454166},
 };
-static const VsopTerm kUranusB0[] = {
+static const VsopTerm kNearUranusB0[] = {
     {0.01346277648, 2.61877810547, 74.7815985673},
     {0.000623414, 5.08111189648, 149.5631971346},
     {0.00061601196, 3.14159265359, 0.0},
@@ -587,10 +699,12 @@ static const VsopTerm kUranusB0[] = {
     {1.522163e-05, 0.27959645002, 63.7358983034},
     {9.24064e-06, 4.03822512696, 151.0476698429},
 };
-static const VsopTerm kUranusB1[] = {
+static const VsopTerm kNearUranusB1[] = {
     {0.00034101978, 0.01321929936, 74.7815985673},
+    {2.480115e-05, 2.73961370453, 149.5631971346},
+    {1.719377e-05, 0.0, 0.0},
 };
-static const VsopTerm kUranusR0[] = {
+static const VsopTerm kNearUranusR0[] = {
     {19.21264847206, 0.0, 0.0},
     {0.88784984413, 5.60377527014, 74.7815985673},
     {0.03440836062, 0.32836099706, 73.297125859},
@@ -620,13 +734,15 @@ static const VsopTerm kUranusR0[] = {
     {0.000179013, 0.55455066863, 2.9689454166},
     {0.00015502375, 5.35405396163, 38.1330356378},
 };
-static const VsopTerm kUranusR1[] = {
+static const VsopTerm kNearUranusR1[] = {
     {0.01479896629, 3.67205697578, 74.7815985673},
+    {0.00071212143, 6.22600975161, 63.7358983034},
+    {0.0006862716, 6.13411179902, 149.5631971346},
 };
-extern const VsopBody kTruncatedUranus;
-const VsopBody kTruncatedUranus = {{{kUranusL0, static_cast<int>(std::size(kUranusL0))}, {kUranusL1, static_cast<int>(std::size(kUranusL1))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}, {{kUranusB0, static_cast<int>(std::size(kUranusB0))}, {kUranusB1, static_cast<int>(std::size(kUranusB1))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}, {{kUranusR0, static_cast<int>(std::size(kUranusR0))}, {kUranusR1, static_cast<int>(std::size(kUranusR1))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}};
+extern const VsopBody kNearUranus;
+const VsopBody kNearUranus = {{{kNearUranusL0, static_cast<int>(std::size(kNearUranusL0))}, {kNearUranusL1, static_cast<int>(std::size(kNearUranusL1))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}, {{kNearUranusB0, static_cast<int>(std::size(kNearUranusB0))}, {kNearUranusB1, static_cast<int>(std::size(kNearUranusB1))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}, {{kNearUranusR0, static_cast<int>(std::size(kNearUranusR0))}, {kNearUranusR1, static_cast<int>(std::size(kNearUranusR1))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}};
 
-static const VsopTerm kNeptuneL0[] = {
+static const VsopTerm kNearNeptuneL0[] = {
     {5.31188633046, 0.0, 0.0},
     {0.0179847553, 2.9010127389, 38.1330356378},
     {0.01019727652, 0.48580922867, 1.4844727083},
@@ -643,12 +759,12 @@ static const VsopTerm kNeptuneL0[] = {
     {1.433516e-05, 2.78339802539, 74.7815985673},
     {9.00236e-06, 2.07607168714, 109.9456887885},
 };
-static const VsopTerm kNeptuneL1[] = {
+static const VsopTerm kNearNeptuneL1[] = {
     {38.13303563957, 0.0, 0.0},
     {0.00016604172, 4.86323329249, 1.4844727083},
     {0.00015744045, 2.27887427527, 38.1330356378},
 };
-static const VsopTerm kNeptuneB0[] = {
+static const VsopTerm kNearNeptuneB0[] = {
     {0.03088622933, 1.44104372644, 38.1330356378},
     {0.00027780087, 5.91271884599, 76.2660712756},
     {0.00027623609, 0.0, 0.0},
@@ -658,7 +774,10 @@ static const VsopTerm kNeptuneB0[] = {
     {1.96754e-05, 4.37778196626, 1.4844727083},
     {1.015137e-05, 3.21560997434, 35.1640902212},
 };
-static const VsopTerm kNeptuneR0[] = {
+static const VsopTerm kNearNeptuneB1[] = {
+    {5.150897e-05, 2.14270496419, 38.1330356378},
+};
+static const VsopTerm kNearNeptuneR0[] = {
     {30.07013205828, 0.0, 0.0},
     {0.27062259632, 1.32999459377, 38.1330356378},
     {0.01691764014, 3.25186135653, 36.6485629295},
@@ -673,8 +792,1511 @@ static const VsopTerm kNeptuneR0[] = {
     {0.00046687836, 5.74938034313, 33.6796175129},
     {0.00024594531, 0.50801745878, 109.9456887885},
 };
-extern const VsopBody kTruncatedNeptune;
-const VsopBody kTruncatedNeptune = {{{kNeptuneL0, static_cast<int>(std::size(kNeptuneL0))}, {kNeptuneL1, static_cast<int>(std::size(kNeptuneL1))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}, {{kNeptuneB0, static_cast<int>(std::size(kNeptuneB0))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}, {{kNeptuneR0, static_cast<int>(std::size(kNeptuneR0))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}};
+static const VsopTerm kNearNeptuneR1[] = {
+    {0.00236338618, 0.70497954792, 38.1330356378},
+};
+extern const VsopBody kNearNeptune;
+const VsopBody kNearNeptune = {{{kNearNeptuneL0, static_cast<int>(std::size(kNearNeptuneL0))}, {kNearNeptuneL1, static_cast<int>(std::size(kNearNeptuneL1))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}, {{kNearNeptuneB0, static_cast<int>(std::size(kNearNeptuneB0))}, {kNearNeptuneB1, static_cast<int>(std::size(kNearNeptuneB1))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}, {{kNearNeptuneR0, static_cast<int>(std::size(kNearNeptuneR0))}, {kNearNeptuneR1, static_cast<int>(std::size(kNearNeptuneR1))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}};
 
-// 547 terms in all.
+// Near: 631 terms in all (weighted for |t| <= 0.5 millennia).
+static const VsopTerm kWideMercuryL0[] = {
+    {4.40250710144, 0.0, 0.0},
+    {0.40989414977, 1.48302034195, 26087.9031415742},
+    {0.050462942, 4.47785489551, 52175.8062831484},
+    {0.00855346844, 1.16520322459, 78263.70942472259},
+    {0.00165590362, 4.11969163423, 104351.61256629678},
+    {0.00034561897, 0.77930768443, 130439.51570787099},
+    {7.583476e-05, 3.71348404924, 156527.41884944518},
+    {3.559745e-05, 1.51202675145, 1109.3785520934},
+    {1.803464e-05, 4.10333184211, 5661.3320491522},
+    {1.726011e-05, 0.35832267096, 182615.3219910194},
+    {1.589923e-05, 2.9951042356, 25028.521211385},
+    {1.364681e-05, 4.59918328256, 27197.2816936676},
+    {1.017332e-05, 0.88031393824, 31749.2351907264},
+    {7.14182e-06, 1.54144862493, 24978.5245894808},
+    {6.43759e-06, 5.30266166599, 21535.9496445154},
+    {4.51137e-06, 6.04989282259, 51116.4243529592},
+    {4.042e-06, 3.28228953196, 208703.2251325936},
+};
+static const VsopTerm kWideMercuryL1[] = {
+    {26087.90313685529, 0.0, 0.0},
+    {0.01131199811, 6.21874197797, 26087.9031415742},
+    {0.00292242298, 3.04449355541, 52175.8062831484},
+    {0.00075775081, 6.08568821653, 78263.70942472259},
+    {0.00019676525, 2.80965111777, 104351.61256629678},
+    {5.119883e-05, 5.79432353574, 130439.51570787099},
+    {1.336324e-05, 2.47909947012, 156527.41884944518},
+    {3.5223e-06, 3.05246348628, 1109.3785520934},
+    {3.50236e-06, 5.43397743985, 182615.3219910194},
+};
+static const VsopTerm kWideMercuryL2[] = {
+    {0.00016395129, 4.67759555504, 26087.9031415742},
+    {8.123865e-05, 1.40305644134, 52175.8062831484},
+    {3.20817e-05, 4.49577853102, 78263.70942472259},
+    {1.128209e-05, 1.27901273779, 104351.61256629678},
+    {8.77186e-06, 3.14159265359, 0.0},
+    {3.71058e-06, 4.31735787338, 130439.51570787099},
+    {1.16931e-06, 1.04943307731, 156527.41884944518},
+    {3.5802e-07, 4.0458725739, 182615.3219910194},
+};
+static const VsopTerm kWideMercuryL3[] = {
+    {1.69496e-06, 3.20221586818, 26087.9031415742},
+    {1.55725e-06, 6.23814315369, 52175.8062831484},
+    {9.0555e-07, 2.96712953186, 78263.70942472259},
+    {4.2769e-07, 6.01870391709, 104351.61256629678},
+    {1.776e-07, 2.78750960026, 130439.51570787099},
+    {6.774e-08, 5.82756176337, 156527.41884944518},
+};
+static const VsopTerm kWideMercuryL4[] = {
+    {2.671e-08, 4.76418299344, 52175.8062831484},
+    {2.079e-08, 2.01782765964, 26087.9031415742},
+    {2.071e-08, 1.47603650163, 78263.70942472259},
+};
+static const VsopTerm kWideMercuryB0[] = {
+    {0.11737528961, 1.98357498767, 26087.9031415742},
+    {0.02388076996, 5.03738959686, 52175.8062831484},
+    {0.01222839532, 3.14159265359, 0.0},
+    {0.0054325181, 1.79644363964, 78263.70942472259},
+    {0.0012977877, 4.83232503958, 104351.61256629678},
+    {0.00031866927, 1.58088495658, 130439.51570787099},
+    {7.963301e-05, 4.60972126127, 156527.41884944518},
+    {2.014189e-05, 1.35324164377, 182615.3219910194},
+    {5.13953e-06, 4.37835406663, 208703.2251325936},
+};
+static const VsopTerm kWideMercuryB1[] = {
+    {0.00274646065, 3.95008450011, 26087.9031415742},
+    {0.00099737713, 3.14159265359, 0.0},
+    {0.00023970726, 2.53272082947, 52175.8062831484},
+    {0.00018772047, 0.05141288887, 78263.70942472259},
+    {8.097508e-05, 3.20946389315, 104351.61256629678},
+    {2.890729e-05, 0.00943621371, 130439.51570787099},
+    {9.49669e-06, 3.06780459575, 156527.41884944518},
+    {2.98013e-06, 6.11414444304, 182615.3219910194},
+};
+static const VsopTerm kWideMercuryB2[] = {
+    {2.747165e-05, 5.24567337999, 26087.9031415742},
+    {2.047257e-05, 0.0, 0.0},
+    {5.1603e-06, 0.49321133154, 52175.8062831484},
+    {4.07309e-06, 4.32215500849, 78263.70942472259},
+    {2.66936e-06, 1.42744634495, 104351.61256629678},
+    {1.33544e-06, 4.61055165903, 130439.51570787099},
+    {5.6956e-07, 1.44017544018, 156527.41884944518},
+};
+static const VsopTerm kWideMercuryB3[] = {
+    {6.468e-07, 2.16518315874, 26087.9031415742},
+    {3.0733e-07, 0.0, 0.0},
+    {1.8929e-07, 5.40870348072, 52175.8062831484},
+    {9.797e-08, 2.41402344018, 78263.70942472259},
+    {6.861e-08, 5.88312096876, 104351.61256629678},
+};
+static const VsopTerm kWideMercuryR0[] = {
+    {0.39528271651, 0.0, 0.0},
+    {0.07834131818, 6.19233722598, 26087.9031415742},
+    {0.00795525558, 2.95989690104, 52175.8062831484},
+    {0.00121281764, 6.01064153797, 78263.70942472259},
+    {0.00021921969, 2.77820093972, 104351.61256629678},
+    {4.354065e-05, 5.82894543774, 130439.51570787099},
+    {9.18228e-06, 2.59650562845, 156527.41884944518},
+    {2.89955e-06, 1.42441937278, 25028.521211385},
+    {2.60033e-06, 3.02817753901, 27197.2816936676},
+    {2.01855e-06, 5.64725040577, 182615.3219910194},
+    {2.01498e-06, 5.59227727403, 31749.2351907264},
+};
+static const VsopTerm kWideMercuryR1[] = {
+    {0.0021734774, 4.65617158665, 26087.9031415742},
+    {0.00044141826, 1.42385544001, 52175.8062831484},
+    {0.00010094479, 4.47466326327, 78263.70942472259},
+    {2.432805e-05, 1.24226083323, 104351.61256629678},
+    {1.624367e-05, 0.0, 0.0},
+    {6.03996e-06, 4.29303116468, 130439.51570787099},
+    {1.52851e-06, 1.06060778072, 156527.41884944518},
+    {3.9202e-07, 4.11136733071, 182615.3219910194},
+};
+static const VsopTerm kWideMercuryR2[] = {
+    {3.117867e-05, 3.08231840294, 26087.9031415742},
+    {1.245397e-05, 6.1518331681, 52175.8062831484},
+    {4.24822e-06, 2.92583350003, 78263.70942472259},
+    {1.3613e-06, 5.97983927257, 104351.61256629678},
+    {4.2176e-07, 2.74936984182, 130439.51570787099},
+    {2.1759e-07, 3.14159265359, 0.0},
+    {1.2794e-07, 5.80143158303, 156527.41884944518},
+};
+static const VsopTerm kWideMercuryR3[] = {
+    {3.2676e-07, 1.67971641967, 26087.9031415742},
+    {2.4166e-07, 4.63403168878, 52175.8062831484},
+    {1.2133e-07, 1.38983777816, 78263.70942472259},
+    {5.141e-08, 4.43915486864, 104351.61256629678},
+};
+extern const VsopBody kWideMercury;
+const VsopBody kWideMercury = {{{kWideMercuryL0, static_cast<int>(std::size(kWideMercuryL0))}, {kWideMercuryL1, static_cast<int>(std::size(kWideMercuryL1))}, {kWideMercuryL2, static_cast<int>(std::size(kWideMercuryL2))}, {kWideMercuryL3, static_cast<int>(std::size(kWideMercuryL3))}, {kWideMercuryL4, static_cast<int>(std::size(kWideMercuryL4))}, {nullptr, 0}}, {{kWideMercuryB0, static_cast<int>(std::size(kWideMercuryB0))}, {kWideMercuryB1, static_cast<int>(std::size(kWideMercuryB1))}, {kWideMercuryB2, static_cast<int>(std::size(kWideMercuryB2))}, {kWideMercuryB3, static_cast<int>(std::size(kWideMercuryB3))}, {nullptr, 0}, {nullptr, 0}}, {{kWideMercuryR0, static_cast<int>(std::size(kWideMercuryR0))}, {kWideMercuryR1, static_cast<int>(std::size(kWideMercuryR1))}, {kWideMercuryR2, static_cast<int>(std::size(kWideMercuryR2))}, {kWideMercuryR3, static_cast<int>(std::size(kWideMercuryR3))}, {nullptr, 0}, {nullptr, 0}}};
+
+static const VsopTerm kWideVenusL0[] = {
+    {3.17614666774, 0.0, 0.0},
+    {0.01353968419, 5.59313319619, 10213.285546211},
+    {0.00089891645, 5.30650047764, 20426.571092422},
+    {5.477194e-05, 4.41630661466, 7860.4193924392},
+    {3.455741e-05, 2.6996444782, 11790.6290886588},
+    {2.372061e-05, 2.99377542079, 3930.2096962196},
+    {1.664146e-05, 4.25018630147, 1577.3435424478},
+    {1.438387e-05, 4.15745084182, 9683.5945811164},
+    {1.317168e-05, 5.18668228402, 26.2983197998},
+    {1.200521e-05, 6.15357116043, 30639.856638633},
+    {7.69314e-06, 0.81629615196, 9437.762934887},
+    {7.6138e-06, 1.95014701047, 529.6909650946},
+    {7.07676e-06, 1.06466702668, 775.522611324},
+    {5.84836e-06, 3.9983988823, 191.4482661116},
+    {4.99915e-06, 4.1234021282, 15720.8387848784},
+    {4.29498e-06, 3.58642858577, 19367.1891622328},
+    {3.26967e-06, 5.67736584311, 5507.5532386674},
+    {3.26221e-06, 4.59056477038, 10404.7338123226},
+};
+static const VsopTerm kWideVenusL1[] = {
+    {10213.28554621638, 0.0, 0.0},
+    {0.00095617813, 2.4640651111, 10213.285546211},
+    {7.787201e-05, 0.6247848222, 20426.571092422},
+    {1.73908e-06, 2.65539499463, 26.2983197998},
+    {1.51666e-06, 6.10638559291, 1577.3435424478},
+    {1.41694e-06, 2.12362986036, 30639.856638633},
+    {8.2235e-07, 5.70231469551, 191.4482661116},
+    {6.9732e-07, 2.68128549229, 9437.762934887},
+};
+static const VsopTerm kWideVenusL2[] = {
+    {3.894209e-05, 0.34823650721, 10213.285546211},
+    {5.95403e-06, 2.01456107998, 20426.571092422},
+    {2.87868e-06, 0.0, 0.0},
+    {2.3838e-07, 2.04588223604, 26.2983197998},
+};
+static const VsopTerm kWideVenusL3[] = {
+    {1.36328e-06, 4.79698723753, 10213.285546211},
+    {3.0661e-07, 3.71663788064, 20426.571092422},
+};
+static const VsopTerm kWideVenusL4[] = {
+    {1.636e-08, 2.50540811485, 10213.285546211},
+    {1.08e-08, 5.10106236574, 20426.571092422},
+};
+static const VsopTerm kWideVenusB0[] = {
+    {0.05923638472, 0.26702775812, 10213.285546211},
+    {0.00040107978, 1.14737178112, 20426.571092422},
+    {0.00032814918, 3.14159265359, 0.0},
+    {1.011392e-05, 1.0894611973, 30639.856638633},
+};
+static const VsopTerm kWideVenusB1[] = {
+    {0.00287821243, 1.88964962838, 10213.285546211},
+    {3.499578e-05, 3.71117560516, 20426.571092422},
+    {1.257844e-05, 0.0, 0.0},
+    {9.6152e-07, 2.74240664188, 30639.856638633},
+};
+static const VsopTerm kWideVenusB2[] = {
+    {0.00012657745, 3.34796457029, 10213.285546211},
+    {1.51225e-06, 0.0, 0.0},
+    {3.7476e-07, 5.34638962141, 20426.571092422},
+};
+static const VsopTerm kWideVenusB3[] = {
+    {3.76505e-06, 4.87650249694, 10213.285546211},
+    {1.2587e-07, 3.14159265359, 0.0},
+    {4.809e-08, 0.43423918018, 20426.571092422},
+};
+static const VsopTerm kWideVenusB4[] = {
+    {8.558e-08, 0.17181972054, 10213.285546211},
+};
+static const VsopTerm kWideVenusR0[] = {
+    {0.72334820891, 0.0, 0.0},
+    {0.00489824182, 4.02151831717, 10213.285546211},
+    {1.658058e-05, 4.90206728031, 20426.571092422},
+    {1.632096e-05, 2.84548795207, 7860.4193924392},
+    {1.378043e-05, 1.12846591367, 11790.6290886588},
+    {4.98395e-06, 2.58682193892, 9683.5945811164},
+    {3.73958e-06, 1.42314832858, 3930.2096962196},
+    {2.63615e-06, 5.52938716941, 9437.762934887},
+    {2.37454e-06, 2.55136053886, 15720.8387848784},
+    {2.21985e-06, 2.01346696541, 19367.1891622328},
+};
+static const VsopTerm kWideVenusR1[] = {
+    {0.00034551041, 0.89198706276, 10213.285546211},
+    {2.34203e-06, 1.77224942363, 20426.571092422},
+    {2.33998e-06, 3.14159265359, 0.0},
+};
+static const VsopTerm kWideVenusR2[] = {
+    {1.406587e-05, 5.06366395112, 10213.285546211},
+    {1.5529e-07, 5.47321056992, 20426.571092422},
+    {1.3059e-07, 0.0, 0.0},
+};
+static const VsopTerm kWideVenusR3[] = {
+    {4.9582e-07, 3.22264415899, 10213.285546211},
+};
+extern const VsopBody kWideVenus;
+const VsopBody kWideVenus = {{{kWideVenusL0, static_cast<int>(std::size(kWideVenusL0))}, {kWideVenusL1, static_cast<int>(std::size(kWideVenusL1))}, {kWideVenusL2, static_cast<int>(std::size(kWideVenusL2))}, {kWideVenusL3, static_cast<int>(std::size(kWideVenusL3))}, {kWideVenusL4, static_cast<int>(std::size(kWideVenusL4))}, {nullptr, 0}}, {{kWideVenusB0, static_cast<int>(std::size(kWideVenusB0))}, {kWideVenusB1, static_cast<int>(std::size(kWideVenusB1))}, {kWideVenusB2, static_cast<int>(std::size(kWideVenusB2))}, {kWideVenusB3, static_cast<int>(std::size(kWideVenusB3))}, {kWideVenusB4, static_cast<int>(std::size(kWideVenusB4))}, {nullptr, 0}}, {{kWideVenusR0, static_cast<int>(std::size(kWideVenusR0))}, {kWideVenusR1, static_cast<int>(std::size(kWideVenusR1))}, {kWideVenusR2, static_cast<int>(std::size(kWideVenusR2))}, {kWideVenusR3, static_cast<int>(std::size(kWideVenusR3))}, {nullptr, 0}, {nullptr, 0}}};
+
+static const VsopTerm kWideEarthL0[] = {
+    {1.75347045673, 0.0, 0.0},
+    {0.03341656453, 4.66925680415, 6283.0758499914},
+    {0.00034894275, 4.62610242189, 12566.1516999828},
+    {3.497056e-05, 2.74411783405, 5753.3848848968},
+    {3.417572e-05, 2.82886579754, 3.523118349},
+    {3.135899e-05, 3.62767041756, 77713.7714681205},
+    {2.676218e-05, 4.41808345438, 7860.4193924392},
+    {2.342691e-05, 6.13516214446, 3930.2096962196},
+    {1.324294e-05, 0.74246341673, 11506.7697697936},
+    {1.273165e-05, 2.03709657878, 529.6909650946},
+    {1.199167e-05, 1.10962946234, 1577.3435424478},
+    {9.9025e-06, 5.23268072088, 5884.9268465832},
+    {9.01854e-06, 2.04505446477, 26.2983197998},
+    {8.57223e-06, 3.50849152283, 398.1490034082},
+    {7.79786e-06, 1.17882681962, 5223.6939198022},
+    {7.53141e-06, 2.53339052847, 5507.5532386674},
+    {5.05267e-06, 4.58292599973, 18849.2275499742},
+    {4.92392e-06, 4.20505711826, 775.522611324},
+    {3.56672e-06, 2.91954114478, 0.0673103028},
+    {3.17087e-06, 5.84901948512, 11790.6290886588},
+    {2.84125e-06, 1.89869240932, 796.2980068164},
+    {2.71112e-06, 0.31486255375, 10977.078804699},
+    {2.42879e-06, 0.34481445893, 5486.777843175},
+    {2.06217e-06, 4.80646631478, 2544.3144198834},
+    {2.05478e-06, 1.86953770281, 5573.1428014331},
+    {2.02318e-06, 2.45767790232, 6069.7767545534},
+    {1.55516e-06, 0.83306084617, 213.299095438},
+    {1.32212e-06, 3.41118292683, 2942.4634232916},
+    {1.26225e-06, 1.08295459501, 20.7753954924},
+    {1.15132e-06, 0.64544911683, 0.9803210682},
+    {1.02851e-06, 0.63599845579, 4694.0029547076},
+    {1.01895e-06, 0.97569280312, 15720.8387848784},
+    {1.01724e-06, 4.2667980198, 7.1135470008},
+};
+static const VsopTerm kWideEarthL1[] = {
+    {6283.0758499914, 0.0, 0.0},
+    {0.00206058863, 2.67823455808, 6283.0758499914},
+    {4.303419e-05, 2.63512233481, 12566.1516999828},
+    {4.25264e-06, 1.59046982018, 3.523118349},
+    {1.19305e-06, 5.79555765566, 26.2983197998},
+    {1.09017e-06, 2.96631010675, 1577.3435424478},
+    {9.3479e-07, 2.59211109542, 18849.2275499742},
+    {7.2121e-07, 1.13840581212, 529.6909650946},
+    {6.7784e-07, 1.87453300345, 398.1490034082},
+    {6.735e-07, 4.40932832004, 5507.5532386674},
+    {5.9045e-07, 2.88815790631, 5223.6939198022},
+    {5.5976e-07, 2.17471740035, 155.4203994342},
+    {4.5411e-07, 0.39799502896, 796.2980068164},
+    {3.6298e-07, 0.46875437227, 775.522611324},
+    {2.8962e-07, 2.64732254645, 7.1135470008},
+};
+static const VsopTerm kWideEarthL2[] = {
+    {8.721859e-05, 1.07253635559, 6283.0758499914},
+    {9.9099e-06, 3.14159265359, 0.0},
+    {2.94833e-06, 0.43717350256, 12566.1516999828},
+    {2.7338e-07, 0.05295636147, 3.523118349},
+    {1.6333e-07, 5.18820215724, 26.2983197998},
+    {1.5745e-07, 3.68504712183, 155.4203994342},
+    {9.425e-08, 0.29667114694, 18849.2275499742},
+    {8.938e-08, 2.05706319592, 77713.7714681205},
+    {6.94e-08, 0.82691541038, 775.522611324},
+};
+static const VsopTerm kWideEarthL3[] = {
+    {2.89058e-06, 5.84173149732, 6283.0758499914},
+    {2.0712e-07, 6.0498393902, 12566.1516999828},
+    {2.962e-08, 5.1956057957, 155.4203994342},
+    {2.527e-08, 3.14159265359, 0.0},
+};
+static const VsopTerm kWideEarthL4[] = {
+    {7.714e-08, 4.14117321449, 6283.0758499914},
+    {1.016e-08, 3.27573644241, 12566.1516999828},
+    {4.2e-09, 0.41892851415, 155.4203994342},
+};
+static const VsopTerm kWideEarthL5[] = {
+    {1.72e-09, 2.74854172392, 6283.0758499914},
+};
+static const VsopTerm kWideEarthB0[] = {
+    {2.7962e-06, 3.19870156017, 84334.66158130829},
+    {1.01643e-06, 5.42248619256, 5507.5532386674},
+};
+static const VsopTerm kWideEarthB1[] = {
+    {0.00227777722, 3.4137662053, 6283.0758499914},
+    {3.805678e-05, 3.37063423795, 12566.1516999828},
+    {3.619589e-05, 0.0, 0.0},
+    {7.1542e-07, 3.32777549735, 18849.2275499742},
+};
+static const VsopTerm kWideEarthB2[] = {
+    {9.721424e-05, 5.1519280992, 6283.0758499914},
+    {2.33002e-06, 3.14159265359, 0.0},
+    {1.34188e-06, 0.64406212977, 12566.1516999828},
+    {6.504e-08, 1.07333397797, 18849.2275499742},
+};
+static const VsopTerm kWideEarthB3[] = {
+    {2.75993e-06, 0.59480097092, 6283.0758499914},
+    {1.7034e-07, 3.14159265359, 0.0},
+    {3.617e-08, 0.11750575325, 12566.1516999828},
+};
+static const VsopTerm kWideEarthB4[] = {
+    {5.745e-08, 2.26734029843, 6283.0758499914},
+    {8.7e-09, 0.0, 0.0},
+};
+static const VsopTerm kWideEarthB5[] = {
+    {1.14e-09, 4.31455980099, 6283.0758499914},
+};
+static const VsopTerm kWideEarthR0[] = {
+    {1.00013988784, 0.0, 0.0},
+    {0.01670699632, 3.09846350258, 6283.0758499914},
+    {0.00013956024, 3.05524609456, 12566.1516999828},
+    {3.08372e-05, 5.19846674381, 77713.7714681205},
+    {1.628463e-05, 1.17387558054, 5753.3848848968},
+    {1.575572e-05, 2.84685214877, 7860.4193924392},
+    {9.24799e-06, 5.45292236722, 11506.7697697936},
+    {5.42439e-06, 4.56409151453, 3930.2096962196},
+    {4.7211e-06, 3.66100022149, 5884.9268465832},
+    {3.45969e-06, 0.96368627272, 5507.5532386674},
+    {3.2878e-06, 5.89983686142, 5223.6939198022},
+    {3.06784e-06, 0.29867139512, 5573.1428014331},
+    {2.43181e-06, 4.2734953079, 11790.6290886588},
+    {2.11836e-06, 5.84714461348, 1577.3435424478},
+    {1.8574e-06, 5.02199710705, 10977.078804699},
+    {1.74844e-06, 3.01193636733, 18849.2275499742},
+    {1.09835e-06, 5.0551063586, 5486.777843175},
+};
+static const VsopTerm kWideEarthR1[] = {
+    {0.00103018607, 1.10748968172, 6283.0758499914},
+    {1.721238e-05, 1.06442300386, 12566.1516999828},
+    {7.02217e-06, 3.14159265359, 0.0},
+    {3.2345e-07, 1.02168583254, 18849.2275499742},
+    {3.0801e-07, 2.84358443952, 5507.5532386674},
+};
+static const VsopTerm kWideEarthR2[] = {
+    {4.359385e-05, 5.78455133808, 6283.0758499914},
+    {1.23633e-06, 5.57935427994, 12566.1516999828},
+    {1.2342e-07, 3.14159265359, 0.0},
+    {8.792e-08, 3.62777893099, 77713.7714681205},
+};
+static const VsopTerm kWideEarthR3[] = {
+    {1.44595e-06, 4.27319433901, 6283.0758499914},
+    {6.729e-08, 3.91706261708, 12566.1516999828},
+};
+static const VsopTerm kWideEarthR4[] = {
+    {3.858e-08, 2.56389016346, 6283.0758499914},
+};
+extern const VsopBody kWideEarth;
+const VsopBody kWideEarth = {{{kWideEarthL0, static_cast<int>(std::size(kWideEarthL0))}, {kWideEarthL1, static_cast<int>(std::size(kWideEarthL1))}, {kWideEarthL2, static_cast<int>(std::size(kWideEarthL2))}, {kWideEarthL3, static_cast<int>(std::size(kWideEarthL3))}, {kWideEarthL4, static_cast<int>(std::size(kWideEarthL4))}, {kWideEarthL5, static_cast<int>(std::size(kWideEarthL5))}}, {{kWideEarthB0, static_cast<int>(std::size(kWideEarthB0))}, {kWideEarthB1, static_cast<int>(std::size(kWideEarthB1))}, {kWideEarthB2, static_cast<int>(std::size(kWideEarthB2))}, {kWideEarthB3, static_cast<int>(std::size(kWideEarthB3))}, {kWideEarthB4, static_cast<int>(std::size(kWideEarthB4))}, {kWideEarthB5, static_cast<int>(std::size(kWideEarthB5))}}, {{kWideEarthR0, static_cast<int>(std::size(kWideEarthR0))}, {kWideEarthR1, static_cast<int>(std::size(kWideEarthR1))}, {kWideEarthR2, static_cast<int>(std::size(kWideEarthR2))}, {kWideEarthR3, static_cast<int>(std::size(kWideEarthR3))}, {kWideEarthR4, static_cast<int>(std::size(kWideEarthR4))}, {nullptr, 0}}};
+
+static const VsopTerm kWideMarsL0[] = {
+    {6.20347711581, 0.0, 0.0},
+    {0.18656368093, 5.0503710027, 3340.6124266998},
+    {0.01108216816, 5.40099836344, 6681.2248533996},
+    {0.00091798406, 5.75478744667, 10021.8372800994},
+    {0.00027744987, 5.97049513147, 3.523118349},
+    {0.00012315897, 0.84956094002, 2810.9214616052},
+    {0.00010610235, 2.93958560338, 2281.2304965106},
+    {8.926784e-05, 4.15697846427, 0.0172536522},
+    {8.715691e-05, 6.11005153139, 13362.4497067992},
+    {7.774872e-05, 3.33968761376, 5621.8429232104},
+    {6.797556e-05, 0.36462229657, 398.1490034082},
+    {4.161108e-05, 0.22814971327, 2942.4634232916},
+    {3.575078e-05, 1.6618650571, 2544.3144198834},
+    {3.075252e-05, 0.85696614132, 191.4482661116},
+    {2.937546e-05, 6.07893711402, 0.0673103028},
+    {2.628117e-05, 0.64806124465, 3337.0893083508},
+    {2.579844e-05, 0.02996736156, 3344.1355450488},
+    {2.389414e-05, 5.03896442664, 796.2980068164},
+    {1.798806e-05, 0.65634057445, 529.6909650946},
+    {1.546404e-05, 2.91579701718, 1751.539531416},
+    {1.528141e-05, 1.14979301996, 6151.533888305},
+    {1.286228e-05, 3.06796065034, 2146.1654164752},
+    {1.264357e-05, 3.62275122593, 5092.1519581158},
+    {1.024902e-05, 3.69334099279, 8962.4553499102},
+    {8.91566e-06, 0.18293837498, 16703.062133499},
+    {8.58759e-06, 2.4009381194, 2914.0142358238},
+    {8.3272e-06, 4.49495782139, 3340.629680352},
+    {8.32715e-06, 2.46418619474, 3340.5951730476},
+    {7.48723e-06, 3.82248614017, 155.4203994342},
+    {7.23861e-06, 0.67497311481, 3738.761430108},
+    {7.12902e-06, 3.66335473479, 1059.3819301892},
+    {6.55162e-06, 0.48864064125, 3127.3133312618},
+    {6.35548e-06, 2.92182225127, 8432.7643848156},
+    {5.5275e-06, 4.47479317037, 1748.016413067},
+    {5.50474e-06, 3.81001042328, 0.9803210682},
+    {4.72167e-06, 3.62547124025, 1194.4470102246},
+    {4.25966e-06, 0.55364317304, 6283.0758499914},
+    {4.15131e-06, 0.49662285038, 213.299095438},
+    {3.12141e-06, 0.99853944405, 6677.7017350506},
+    {3.06551e-06, 0.38052848348, 6684.7479717486},
+    {3.02375e-06, 4.48618007156, 3532.0606928114},
+    {2.99395e-06, 2.78323740866, 6254.6266625236},
+    {2.93198e-06, 4.22131299634, 20.7753954924},
+    {2.83602e-06, 5.7688543494, 3149.1641605882},
+    {2.81079e-06, 5.88163521788, 1349.8674096588},
+    {2.74033e-06, 0.13372524985, 3340.6797370026},
+    {2.74027e-06, 0.54222167059, 3340.545116397},
+};
+static const VsopTerm kWideMarsL1[] = {
+    {3340.61242700512, 0.0, 0.0},
+    {0.01457554523, 3.60433733236, 3340.6124266998},
+    {0.00168414711, 3.92318567804, 6681.2248533996},
+    {0.00020622975, 4.26108844583, 10021.8372800994},
+    {3.452392e-05, 4.7321039319, 3.523118349},
+    {2.586332e-05, 4.60670058555, 13362.4497067992},
+    {8.41535e-06, 4.45864030426, 2281.2304965106},
+    {5.37567e-06, 5.01581256923, 398.1490034082},
+    {5.20948e-06, 4.99428054039, 3344.1355450488},
+    {4.32635e-06, 2.56070853083, 191.4482661116},
+    {4.29655e-06, 5.31645299471, 155.4203994342},
+    {3.81751e-06, 3.53878166043, 796.2980068164},
+    {3.2853e-06, 4.95632685192, 16703.062133499},
+    {2.82795e-06, 3.15966768785, 2544.3144198834},
+    {2.05657e-06, 4.56889279932, 2146.1654164752},
+    {1.68866e-06, 1.3293655906, 3337.0893083508},
+    {1.57593e-06, 4.18519540728, 1751.539531416},
+    {1.33686e-06, 2.23327245555, 0.9803210682},
+    {1.33565e-06, 5.97420357518, 1748.016413067},
+    {1.17503e-06, 6.02411290806, 6151.533888305},
+    {1.16965e-06, 2.21414273762, 1059.3819301892},
+    {1.13886e-06, 2.12863726524, 1194.4470102246},
+    {1.13718e-06, 5.42753341019, 3738.761430108},
+    {9.1099e-07, 1.09626613064, 1349.8674096588},
+    {8.534e-07, 3.90856932983, 553.5694028424},
+    {8.4256e-07, 5.29330740437, 6684.7479717486},
+    {8.0823e-07, 4.42818326716, 529.6909650946},
+    {7.9847e-07, 2.24822372859, 8962.4553499102},
+    {7.2945e-07, 2.50193599662, 951.7184062506},
+    {7.2505e-07, 5.84203374239, 242.728603974},
+    {7.149e-07, 3.85645759558, 2914.0142358238},
+    {6.758e-07, 5.0233489507, 382.8965322232},
+    {6.5061e-07, 3.04888114328, 3340.629680352},
+    {6.506e-07, 1.01810963274, 3340.5951730476},
+};
+static const VsopTerm kWideMarsL2[] = {
+    {0.00058152577, 2.04961712429, 3340.6124266998},
+    {0.00013459579, 2.45738706163, 6681.2248533996},
+    {2.432575e-05, 2.79737979284, 10021.8372800994},
+    {4.51384e-06, 0.0, 0.0},
+    {4.01065e-06, 3.13581149963, 13362.4497067992},
+    {2.22025e-06, 3.19437046607, 3.523118349},
+    {1.20954e-06, 0.54327128607, 155.4203994342},
+    {6.2971e-07, 3.47765178989, 16703.062133499},
+    {5.3644e-07, 3.54171478781, 3344.1355450488},
+    {3.4273e-07, 6.00208464365, 2281.2304965106},
+    {3.1659e-07, 4.14001980084, 191.4482661116},
+    {2.9839e-07, 1.9983873938, 796.2980068164},
+    {2.3172e-07, 4.33401932281, 242.728603974},
+    {2.1663e-07, 3.44500841809, 398.1490034082},
+    {2.0369e-07, 5.42202383442, 553.5694028424},
+    {1.6229e-07, 0.65685105422, 0.9803210682},
+    {1.605e-07, 6.11000263211, 2146.1654164752},
+    {1.5655e-07, 1.22093822826, 1748.016413067},
+};
+static const VsopTerm kWideMarsL3[] = {
+    {1.467867e-05, 0.4442983946, 3340.6124266998},
+    {6.92668e-06, 0.88679887123, 6681.2248533996},
+    {1.89478e-06, 1.28336839921, 10021.8372800994},
+    {4.1615e-07, 1.64210455567, 13362.4497067992},
+    {2.266e-07, 2.05278956965, 155.4203994342},
+    {1.0455e-07, 1.57992093693, 3.523118349},
+    {8.126e-08, 1.99049724299, 16703.062133499},
+    {5.379e-08, 3.14159265359, 0.0},
+    {4.902e-08, 2.8251687501, 242.728603974},
+};
+static const VsopTerm kWideMarsL4[] = {
+    {2.7242e-07, 5.6399774232, 6681.2248533996},
+    {2.5511e-07, 5.13956279086, 3340.6124266998},
+    {1.1147e-07, 6.03556608878, 10021.8372800994},
+    {3.251e-08, 0.1291561646, 13362.4497067992},
+    {3.19e-08, 3.56206901204, 155.4203994342},
+};
+static const VsopTerm kWideMarsL5[] = {
+    {7.62e-09, 4.03556368806, 6681.2248533996},
+    {5.11e-09, 4.4877039364, 10021.8372800994},
+    {3.6e-09, 5.07296615717, 155.4203994342},
+};
+static const VsopTerm kWideMarsB0[] = {
+    {0.03197134986, 3.76832042431, 3340.6124266998},
+    {0.00298033234, 4.10616996305, 6681.2248533996},
+    {0.00289104742, 0.0, 0.0},
+    {0.00031365539, 4.4465105309, 10021.8372800994},
+    {3.4841e-05, 4.7881254926, 13362.4497067992},
+    {4.43401e-06, 5.02642622964, 3344.1355450488},
+    {4.42999e-06, 5.65233014206, 3337.0893083508},
+    {3.99109e-06, 5.13056816928, 16703.062133499},
+    {2.92506e-06, 3.79290674178, 2281.2304965106},
+};
+static const VsopTerm kWideMarsB1[] = {
+    {0.00217310991, 6.04472194776, 3340.6124266998},
+    {0.00020976948, 3.14159265359, 0.0},
+    {0.00012834709, 1.60810667915, 6681.2248533996},
+    {3.320981e-05, 2.62947004077, 10021.8372800994},
+    {6.272e-06, 3.11898601248, 13362.4497067992},
+    {1.0199e-06, 3.52113557592, 16703.062133499},
+    {7.5107e-07, 0.95983758515, 3337.0893083508},
+};
+static const VsopTerm kWideMarsB2[] = {
+    {8.888446e-05, 1.06196052751, 3340.6124266998},
+    {2.595393e-05, 3.14159265359, 0.0},
+    {9.18914e-06, 0.1153843119, 6681.2248533996},
+    {2.67883e-06, 0.78837893063, 10021.8372800994},
+    {6.6911e-07, 1.39435595847, 13362.4497067992},
+};
+static const VsopTerm kWideMarsB3[] = {
+    {3.30418e-06, 2.04215300484, 3340.6124266998},
+    {9.3057e-07, 0.0, 0.0},
+    {1.4546e-07, 5.38525967237, 10021.8372800994},
+    {8.731e-08, 4.90252313032, 6681.2248533996},
+    {5.215e-08, 5.97441462813, 13362.4497067992},
+};
+static const VsopTerm kWideMarsB4[] = {
+    {6.625e-08, 0.0, 0.0},
+    {6.007e-08, 3.37637101191, 3340.6124266998},
+};
+static const VsopTerm kWideMarsB5[] = {
+    {3.68e-09, 4.63460005338, 3340.6124266998},
+};
+static const VsopTerm kWideMarsR0[] = {
+    {1.53033488271, 0.0, 0.0},
+    {0.1418495316, 3.47971283528, 3340.6124266998},
+    {0.00660776362, 3.81783443019, 6681.2248533996},
+    {0.00046179117, 4.15595316782, 10021.8372800994},
+    {8.109733e-05, 5.55958416318, 2810.9214616052},
+    {7.485318e-05, 1.77239078402, 5621.8429232104},
+    {5.523191e-05, 1.3643630377, 2281.2304965106},
+    {3.82516e-05, 4.49407183687, 13362.4497067992},
+    {2.484394e-05, 4.9254563992, 2942.4634232916},
+    {2.306537e-05, 0.09081579001, 2544.3144198834},
+    {1.999396e-05, 5.36059617709, 3337.0893083508},
+    {1.960195e-05, 4.74249437639, 3344.1355450488},
+    {1.167119e-05, 2.11260868341, 5092.1519581158},
+    {1.102816e-05, 5.00908403998, 398.1490034082},
+    {9.92252e-06, 5.83861961952, 6151.533888305},
+    {8.99066e-06, 4.40791133207, 529.6909650946},
+    {8.07354e-06, 2.10217065501, 1059.3819301892},
+    {7.97915e-06, 3.44839203899, 796.2980068164},
+    {7.40975e-06, 1.49906336885, 2146.1654164752},
+    {7.25583e-06, 1.24516810723, 8432.7643848156},
+    {6.92339e-06, 2.13378874689, 8962.4553499102},
+    {6.33144e-06, 0.89353283242, 3340.5951730476},
+    {6.3314e-06, 2.92430446399, 3340.629680352},
+    {6.29978e-06, 1.28737486495, 1751.539531416},
+    {5.74355e-06, 0.82896244455, 2914.0142358238},
+    {5.26166e-06, 5.38292991236, 3738.761430108},
+    {4.72775e-06, 5.19850522346, 3127.3133312618},
+};
+static const VsopTerm kWideMarsR1[] = {
+    {0.01107433345, 2.03250524857, 3340.6124266998},
+    {0.00103175887, 2.37071847807, 6681.2248533996},
+    {0.000128772, 0.0, 0.0},
+    {0.0001081588, 2.70888095665, 10021.8372800994},
+    {1.19455e-05, 3.04702256206, 13362.4497067992},
+    {4.38582e-06, 2.88835054603, 2281.2304965106},
+    {3.957e-06, 3.42323670971, 3344.1355450488},
+    {1.82576e-06, 1.58427562964, 2544.3144198834},
+    {1.35851e-06, 3.38507063082, 16703.062133499},
+    {1.28362e-06, 6.04343227063, 3337.0893083508},
+    {1.28199e-06, 0.62991771813, 1059.3819301892},
+    {1.27059e-06, 1.95391155885, 796.2980068164},
+    {1.18443e-06, 2.99762091382, 2146.1654164752},
+};
+static const VsopTerm kWideMarsR2[] = {
+    {0.00044242249, 0.47930604954, 3340.6124266998},
+    {8.138042e-05, 0.86998389204, 6681.2248533996},
+    {1.274915e-05, 1.22593985222, 10021.8372800994},
+    {1.87388e-06, 1.57298976045, 13362.4497067992},
+    {5.2395e-07, 3.14159265359, 0.0},
+    {4.0745e-07, 1.97082077028, 3344.1355450488},
+    {2.6617e-07, 1.91665337822, 16703.062133499},
+};
+static const VsopTerm kWideMarsR3[] = {
+    {1.113108e-05, 5.14987305093, 3340.6124266998},
+    {4.24447e-06, 5.61343952053, 6681.2248533996},
+    {1.00044e-06, 5.99727457548, 10021.8372800994},
+    {1.9606e-07, 0.07631453783, 13362.4497067992},
+};
+static const VsopTerm kWideMarsR4[] = {
+    {1.9551e-07, 3.58210746512, 3340.6124266998},
+    {1.6322e-07, 4.05115851142, 6681.2248533996},
+    {5.848e-08, 4.4638164658, 10021.8372800994},
+    {1.533e-08, 4.84332951095, 13362.4497067992},
+};
+static const VsopTerm kWideMarsR5[] = {
+    {4.75e-09, 2.47621038205, 6681.2248533996},
+};
+extern const VsopBody kWideMars;
+const VsopBody kWideMars = {{{kWideMarsL0, static_cast<int>(std::size(kWideMarsL0))}, {kWideMarsL1, static_cast<int>(std::size(kWideMarsL1))}, {kWideMarsL2, static_cast<int>(std::size(kWideMarsL2))}, {kWideMarsL3, static_cast<int>(std::size(kWideMarsL3))}, {kWideMarsL4, static_cast<int>(std::size(kWideMarsL4))}, {kWideMarsL5, static_cast<int>(std::size(kWideMarsL5))}}, {{kWideMarsB0, static_cast<int>(std::size(kWideMarsB0))}, {kWideMarsB1, static_cast<int>(std::size(kWideMarsB1))}, {kWideMarsB2, static_cast<int>(std::size(kWideMarsB2))}, {kWideMarsB3, static_cast<int>(std::size(kWideMarsB3))}, {kWideMarsB4, static_cast<int>(std::size(kWideMarsB4))}, {kWideMarsB5, static_cast<int>(std::size(kWideMarsB5))}}, {{kWideMarsR0, static_cast<int>(std::size(kWideMarsR0))}, {kWideMarsR1, static_cast<int>(std::size(kWideMarsR1))}, {kWideMarsR2, static_cast<int>(std::size(kWideMarsR2))}, {kWideMarsR3, static_cast<int>(std::size(kWideMarsR3))}, {kWideMarsR4, static_cast<int>(std::size(kWideMarsR4))}, {kWideMarsR5, static_cast<int>(std::size(kWideMarsR5))}}};
+
+static const VsopTerm kWideJupiterL0[] = {
+    {0.59954691494, 0.0, 0.0},
+    {0.09695898719, 5.06191793158, 529.6909650946},
+    {0.00573610142, 1.44406205629, 7.1135470008},
+    {0.00306389205, 5.41734730184, 1059.3819301892},
+    {0.00097178296, 4.14264726552, 632.7837393132},
+    {0.00072903078, 3.64042916389, 522.5774180938},
+    {0.00064263975, 3.41145165351, 103.0927742186},
+    {0.00039806064, 2.29376740788, 419.4846438752},
+    {0.00038857767, 1.27231755835, 316.3918696566},
+    {0.00027964629, 1.7845459182, 536.8045120954},
+    {0.0001358973, 5.7748104079, 1589.0728952838},
+    {8.768704e-05, 3.63000308199, 949.1756089698},
+    {8.246349e-05, 3.5822792584, 206.1855484372},
+    {7.368042e-05, 5.0810119427, 735.8765135318},
+    {6.26315e-05, 0.02497628807, 213.299095438},
+    {6.114062e-05, 4.51319998626, 1162.4747044078},
+    {5.305441e-05, 4.18625634012, 1052.2683831884},
+    {5.305285e-05, 1.30671216791, 14.2270940016},
+    {4.905396e-05, 1.32084470588, 110.2063212194},
+    {4.647248e-05, 4.69958103684, 3.9321532631},
+    {3.045023e-05, 4.31676431084, 426.598190876},
+    {2.609999e-05, 1.56667394063, 846.0828347512},
+    {2.028191e-05, 1.06376530715, 3.1813937377},
+    {1.920945e-05, 0.97168196472, 639.897286314},
+    {1.764763e-05, 2.14148655117, 1066.49547719},
+    {1.722972e-05, 3.88036268267, 1265.5674786264},
+    {1.633223e-05, 3.58201833555, 515.463871093},
+    {1.431999e-05, 4.29685556046, 625.6701923124},
+    {9.73272e-06, 4.09764549134, 95.9792272178},
+    {8.84457e-06, 2.43700227469, 412.3710968744},
+};
+static const VsopTerm kWideJupiterL1[] = {
+    {529.69096508814, 0.0, 0.0},
+    {0.00489503243, 4.2208293947, 529.6909650946},
+    {0.00228917222, 6.02646855621, 7.1135470008},
+    {0.00030099479, 4.54540782858, 1059.3819301892},
+    {0.0002072092, 5.45943156902, 522.5774180938},
+    {0.00012103653, 0.16994816098, 536.8045120954},
+    {6.067987e-05, 4.42422292017, 103.0927742186},
+    {5.433968e-05, 3.98480737746, 419.4846438752},
+    {4.237744e-05, 5.89008707199, 14.2270940016},
+    {2.211974e-05, 5.26766687382, 206.1855484372},
+    {1.983502e-05, 4.88600705699, 1589.0728952838},
+    {1.295769e-05, 5.55132752171, 3.1813937377},
+    {1.174094e-05, 5.84238857133, 1052.2683831884},
+    {1.163416e-05, 0.51450634873, 3.9321532631},
+    {1.09873e-05, 5.30705242117, 515.463871093},
+    {1.007167e-05, 0.46474690033, 735.8765135318},
+    {1.003864e-05, 3.14841622246, 426.598190876},
+    {8.47762e-06, 5.75765726863, 110.2063212194},
+    {8.29822e-06, 0.59345481695, 1066.49547719},
+    {8.2725e-06, 4.80311857692, 213.299095438},
+    {7.24923e-06, 5.51690038433, 639.897286314},
+    {5.67826e-06, 5.98865760444, 625.6701923124},
+    {4.74197e-06, 4.1324371636, 412.3710968744},
+    {4.12936e-06, 5.73653788228, 95.9792272178},
+    {3.45412e-06, 4.24128387922, 632.7837393132},
+    {3.3682e-06, 3.72892266066, 1162.4747044078},
+    {2.34805e-06, 4.03315571261, 949.1756089698},
+    {2.34071e-06, 6.24295755869, 309.2783226558},
+};
+static const VsopTerm kWideJupiterL2[] = {
+    {0.00047233601, 4.32148536482, 7.1135470008},
+    {0.00030649436, 2.929777887, 529.6909650946},
+    {0.00014837605, 3.14159265359, 0.0},
+    {3.189359e-05, 1.05515491122, 522.5774180938},
+    {2.728901e-05, 4.84555421873, 536.8045120954},
+    {2.54744e-05, 3.42720888976, 1059.3819301892},
+    {1.721046e-05, 4.18734600902, 14.2270940016},
+    {3.83277e-06, 5.76794364868, 419.4846438752},
+    {3.77503e-06, 0.7605083906, 515.463871093},
+    {3.67514e-06, 6.05520169517, 103.0927742186},
+    {3.37386e-06, 3.78644856157, 3.1813937377},
+    {3.08194e-06, 0.6936828379, 206.1855484372},
+    {2.14121e-06, 3.8295818143, 1589.0728952838},
+    {2.03945e-06, 5.34259263233, 1066.49547719},
+    {1.97456e-06, 2.4835107179, 3.9321532631},
+    {1.56209e-06, 1.36162315686, 1052.2683831884},
+    {1.46156e-06, 3.81335105293, 639.897286314},
+    {1.41825e-06, 1.63491733107, 426.598190876},
+    {1.29577e-06, 5.83745710707, 412.3710968744},
+    {1.17324e-06, 1.41441723025, 625.6701923124},
+    {9.6673e-07, 4.03472268105, 110.2063212194},
+    {9.0824e-07, 1.10616181082, 95.9792272178},
+    {8.732e-07, 2.52152838765, 632.7837393132},
+    {7.8757e-07, 4.63773672633, 543.9180590962},
+    {7.2393e-07, 2.21660922294, 735.8765135318},
+    {5.8472e-07, 0.83261136328, 199.0720014364},
+    {5.6885e-07, 3.12193937495, 213.299095438},
+};
+static const VsopTerm kWideJupiterL3[] = {
+    {6.501673e-05, 2.5986292365, 7.1135470008},
+    {1.355012e-05, 1.34692775915, 529.6909650946},
+    {4.70691e-06, 2.47502798748, 14.2270940016},
+    {4.16933e-06, 3.24456258569, 536.8045120954},
+    {3.5287e-06, 2.97380410245, 522.5774180938},
+    {1.65699e-06, 2.09182221854, 1059.3819301892},
+    {8.6769e-07, 2.51454300081, 515.463871093},
+    {3.4458e-07, 3.82181443085, 1066.49547719},
+    {2.8501e-07, 2.44538595164, 206.1855484372},
+    {2.376e-07, 1.27416115958, 412.3710968744},
+    {2.2671e-07, 2.98178645046, 543.9180590962},
+    {1.9722e-07, 2.10936654685, 639.897286314},
+    {1.9709e-07, 1.40149363982, 419.4846438752},
+    {1.8767e-07, 1.58683219668, 103.0927742186},
+    {1.7778e-07, 2.59019838502, 1589.0728952838},
+    {1.7015e-07, 2.29975384867, 21.3406410024},
+    {1.6179e-07, 3.1543828742, 625.6701923124},
+    {1.5902e-07, 3.25713655347, 1052.2683831884},
+    {1.3421e-07, 2.76078519881, 95.9792272178},
+    {1.3233e-07, 2.53761666317, 199.0720014364},
+    {1.2676e-07, 6.26512955217, 426.598190876},
+};
+static const VsopTerm kWideJupiterL4[] = {
+    {6.69505e-06, 0.85280378158, 7.1135470008},
+    {9.9965e-07, 0.74243651986, 14.2270940016},
+    {5.003e-07, 1.65383477095, 536.8045120954},
+    {4.369e-07, 5.81923759985, 529.6909650946},
+    {3.1794e-07, 4.85865051639, 522.5774180938},
+    {1.4735e-07, 4.29065528652, 515.463871093},
+    {8.408e-08, 0.68386181768, 1059.3819301892},
+    {4.926e-08, 1.29899425511, 543.9180590962},
+    {4.563e-08, 2.31453670801, 1066.49547719},
+    {4.254e-08, 0.48193363691, 21.3406410024},
+};
+static const VsopTerm kWideJupiterL5[] = {
+    {4.9639e-07, 5.2576992477, 7.1135470008},
+    {1.5775e-07, 5.24859620238, 14.2270940016},
+    {4.326e-08, 0.02660738929, 536.8045120954},
+    {1.573e-08, 1.18411087933, 522.5774180938},
+    {8.19e-09, 5.86582284529, 543.9180590962},
+};
+static const VsopTerm kWideJupiterB0[] = {
+    {0.02268615702, 3.55852606721, 529.6909650946},
+    {0.00110090358, 0.0, 0.0},
+    {0.00109971634, 3.90809347197, 1059.3819301892},
+    {8.101428e-05, 3.60509572885, 522.5774180938},
+    {6.437782e-05, 0.30627119215, 536.8045120954},
+    {6.043996e-05, 4.25883108339, 1589.0728952838},
+    {1.10688e-05, 2.9853440952, 1162.4747044078},
+    {9.44328e-06, 1.67522315024, 426.598190876},
+    {9.41651e-06, 2.93619073963, 1052.2683831884},
+    {8.94088e-06, 1.75447402715, 7.1135470008},
+    {8.35861e-06, 5.1788197781, 103.0927742186},
+};
+static const VsopTerm kWideJupiterB1[] = {
+    {0.00078203446, 1.52377859742, 529.6909650946},
+    {7.789905e-05, 2.59734071843, 1059.3819301892},
+    {2.788602e-05, 4.85622679819, 536.8045120954},
+    {2.429728e-05, 5.45947255041, 522.5774180938},
+    {1.985777e-05, 0.0, 0.0},
+    {7.11633e-06, 3.13688338277, 1589.0728952838},
+    {2.92916e-06, 5.27960297214, 1066.49547719},
+    {2.71233e-06, 0.10154920958, 7.1135470008},
+    {2.57804e-06, 4.76667796123, 1052.2683831884},
+};
+static const VsopTerm kWideJupiterB2[] = {
+    {5.49832e-05, 3.01596270062, 529.6909650946},
+    {6.02076e-06, 3.13358939436, 536.8045120954},
+    {5.02174e-06, 2.05202111599, 1059.3819301892},
+    {4.53862e-06, 0.95912416388, 522.5774180938},
+    {1.15043e-06, 0.0, 0.0},
+    {6.8911e-07, 3.65515676096, 1066.49547719},
+    {6.7052e-07, 2.23363751256, 1589.0728952838},
+};
+static const VsopTerm kWideJupiterB3[] = {
+    {1.85332e-06, 4.7927676149, 529.6909650946},
+    {8.5668e-07, 1.40023038638, 536.8045120954},
+    {5.6359e-07, 2.81574766965, 522.5774180938},
+    {1.9435e-07, 6.25741008684, 1059.3819301892},
+    {1.4477e-07, 0.0, 0.0},
+};
+static const VsopTerm kWideJupiterB4[] = {
+    {8.963e-08, 5.9388723238, 536.8045120954},
+    {5.28e-08, 4.80778878768, 522.5774180938},
+};
+static const VsopTerm kWideJupiterR0[] = {
+    {5.20887429326, 0.0, 0.0},
+    {0.25209327119, 3.49108639871, 529.6909650946},
+    {0.00610599976, 3.84115365948, 1059.3819301892},
+    {0.00282029458, 2.57419881293, 632.7837393132},
+    {0.00187647346, 2.07590383214, 522.5774180938},
+    {0.00086792905, 0.71001145545, 419.4846438752},
+    {0.00072062974, 0.21465724607, 536.8045120954},
+    {0.00065517248, 5.9799588479, 316.3918696566},
+    {0.00030135335, 2.16132003734, 949.1756089698},
+    {0.00029134542, 1.67759379655, 103.0927742186},
+    {0.00023947298, 0.2745803748, 7.1135470008},
+    {0.00023453271, 3.54023522184, 735.8765135318},
+    {0.00022283743, 4.19362594399, 1589.0728952838},
+    {0.00013032614, 2.96042965363, 1162.4747044078},
+    {0.00012749023, 2.71550286592, 1052.2683831884},
+    {9.70336e-05, 1.90669633585, 206.1855484372},
+    {9.161393e-05, 4.41352953117, 213.299095438},
+    {7.894511e-05, 2.47907592482, 426.598190876},
+    {7.057931e-05, 2.18184839926, 1265.5674786264},
+    {6.137703e-05, 6.26418240033, 846.0828347512},
+    {5.477001e-05, 5.65729989857, 639.897286314},
+    {4.169954e-05, 2.01603822251, 515.463871093},
+};
+static const VsopTerm kWideJupiterR1[] = {
+    {0.0127180152, 2.64937512894, 529.6909650946},
+    {0.00061661816, 3.00076460387, 1059.3819301892},
+    {0.00053443713, 3.89717383175, 522.5774180938},
+    {0.00041390269, 0.0, 0.0},
+    {0.00031185171, 4.88276958012, 536.8045120954},
+    {0.00011847263, 2.41328764459, 419.4846438752},
+    {9.166454e-05, 4.75978553741, 7.1135470008},
+    {3.403577e-05, 3.34689633223, 1589.0728952838},
+    {3.203481e-05, 5.21084121495, 735.8765135318},
+    {3.175595e-05, 2.79298354393, 103.0927742186},
+    {2.80607e-05, 3.74227009702, 515.463871093},
+    {2.676611e-05, 4.33051702874, 1052.2683831884},
+    {2.599925e-05, 3.63439058628, 206.1855484372},
+    {2.412127e-05, 1.46948314626, 426.598190876},
+    {2.100392e-05, 3.92772817188, 639.897286314},
+    {1.64616e-05, 5.30947626153, 1066.49547719},
+    {1.641093e-05, 4.41628521235, 625.6701923124},
+    {1.049766e-05, 3.16115576687, 213.299095438},
+};
+static const VsopTerm kWideJupiterR2[] = {
+    {0.00079644957, 1.35865949884, 529.6909650946},
+    {8.251645e-05, 5.777744604, 522.5774180938},
+    {7.02994e-05, 3.27477392111, 536.8045120954},
+    {5.314031e-05, 1.83835031247, 1059.3819301892},
+    {1.861184e-05, 2.97686957956, 7.1135470008},
+    {9.6442e-06, 5.48029587251, 515.463871093},
+    {8.36256e-06, 4.19892740368, 419.4846438752},
+    {4.97914e-06, 3.14159265359, 0.0},
+    {4.26544e-06, 2.22743958182, 639.897286314},
+    {4.06408e-06, 3.78248932836, 1066.49547719},
+    {3.77334e-06, 2.24232535935, 1589.0728952838},
+    {3.62961e-06, 5.36776401268, 206.1855484372},
+    {3.42139e-06, 6.09909325177, 1052.2683831884},
+    {3.39124e-06, 6.12690872435, 625.6701923124},
+    {3.32558e-06, 0.00332561805, 426.598190876},
+    {2.7994e-06, 4.26158071104, 412.3710968744},
+};
+static const VsopTerm kWideJupiterR3[] = {
+    {3.519277e-05, 6.05800355513, 529.6909650946},
+    {1.073281e-05, 1.67319166156, 536.8045120954},
+    {9.1563e-06, 1.41326157617, 522.5774180938},
+    {3.41654e-06, 0.52294532787, 1059.3819301892},
+    {2.54881e-06, 1.19631092831, 7.1135470008},
+    {2.21477e-06, 0.95234304351, 515.463871093},
+    {8.9777e-07, 3.14159265359, 0.0},
+    {6.902e-07, 2.26889455907, 1066.49547719},
+};
+static const VsopTerm kWideJupiterR4[] = {
+    {1.28623e-06, 0.08347608895, 536.8045120954},
+    {1.13458e-06, 4.2481893818, 529.6909650946},
+    {8.2704e-07, 3.29801136583, 522.5774180938},
+    {3.7897e-07, 2.7340266556, 515.463871093},
+    {2.6713e-07, 5.68996992467, 7.1135470008},
+    {1.7808e-07, 5.40366594364, 1059.3819301892},
+};
+static const VsopTerm kWideJupiterR5[] = {
+    {1.1193e-07, 4.74280611863, 536.8045120954},
+    {4.288e-08, 5.90497787277, 522.5774180938},
+};
+extern const VsopBody kWideJupiter;
+const VsopBody kWideJupiter = {{{kWideJupiterL0, static_cast<int>(std::size(kWideJupiterL0))}, {kWideJupiterL1, static_cast<int>(std::size(kWideJupiterL1))}, {kWideJupiterL2, static_cast<int>(std::size(kWideJupiterL2))}, {kWideJupiterL3, static_cast<int>(std::size(kWideJupiterL3))}, {kWideJupiterL4, static_cast<int>(std::size(kWideJupiterL4))}, {kWideJupiterL5, static_cast<int>(std::size(kWideJupiterL5))}}, {{kWideJupiterB0, static_cast<int>(std::size(kWideJupiterB0))}, {kWideJupiterB1, static_cast<int>(std::size(kWideJupiterB1))}, {kWideJupiterB2, static_cast<int>(std::size(kWideJupiterB2))}, {kWideJupiterB3, static_cast<int>(std::size(kWideJupiterB3))}, {kWideJupiterB4, static_cast<int>(std::size(kWideJupiterB4))}, {nullptr, 0}}, {{kWideJupiterR0, static_cast<int>(std::size(kWideJupiterR0))}, {kWideJupiterR1, static_cast<int>(std::size(kWideJupiterR1))}, {kWideJupiterR2, static_cast<int>(std::size(kWideJupiterR2))}, {kWideJupiterR3, static_cast<int>(std::size(kWideJupiterR3))}, {kWideJupiterR4, static_cast<int>(std::size(kWideJupiterR4))}, {kWideJupiterR5, static_cast<int>(std::size(kWideJupiterR5))}}};
+
+static const VsopTerm kWideSaturnL0[] = {
+    {0.87401354025, 0.0, 0.0},
+    {0.11107659762, 3.96205090159, 213.299095438},
+    {0.01414150957, 4.58581516874, 7.1135470008},
+    {0.00398379389, 0.52112032699, 206.1855484372},
+    {0.00350769243, 3.30329907896, 426.598190876},
+    {0.00206816305, 0.24658372002, 103.0927742186},
+    {0.000792713, 3.84007056878, 220.4126424388},
+    {0.00023990355, 4.66976924553, 110.2063212194},
+    {0.00016573588, 0.43719228296, 419.4846438752},
+    {0.0001582029, 0.93809155235, 632.7837393132},
+    {0.00015053543, 2.71669915667, 639.897286314},
+    {0.00014906995, 5.76903183869, 316.3918696566},
+    {0.00014609559, 1.56518472, 3.9321532631},
+    {0.00013160301, 4.44891291899, 14.2270940016},
+    {0.00013005299, 5.98119023644, 11.0457002639},
+    {0.00010725067, 3.12939523827, 202.2533951741},
+    {6.126317e-05, 1.76328667907, 277.0349937414},
+    {5.863206e-05, 0.23656938524, 529.6909650946},
+    {5.227757e-05, 4.20783365759, 3.1813937377},
+    {5.019687e-05, 3.17787728405, 433.7117378768},
+    {4.59255e-05, 0.61977744975, 199.0720014364},
+    {4.005867e-05, 2.24479718502, 63.7358983034},
+    {3.87367e-05, 3.22283226966, 138.5174968707},
+    {3.269484e-05, 0.77492638211, 949.1756089698},
+    {2.953796e-05, 0.98280366998, 95.9792272178},
+    {2.461186e-05, 2.03163875071, 735.8765135318},
+    {1.758145e-05, 3.2658010994, 522.5774180938},
+    {1.640172e-05, 5.5050445305, 846.0828347512},
+    {1.580648e-05, 4.37265307169, 309.2783226558},
+    {1.391327e-05, 4.02333150505, 323.5054166574},
+    {1.123498e-05, 2.83726798446, 415.5524906121},
+    {1.087229e-05, 4.1834325756, 2.4476805548},
+    {1.017275e-05, 3.71700135395, 227.5261894396},
+    {9.56757e-06, 0.50744342622, 1265.5674786264},
+    {8.52677e-06, 3.42141279787, 175.1660598002},
+    {8.48642e-06, 3.1915017083, 209.3669421749},
+};
+static const VsopTerm kWideSaturnL1[] = {
+    {213.2990952169, 0.0, 0.0},
+    {0.01297370862, 1.82834923978, 213.299095438},
+    {0.00564345393, 2.88499717272, 7.1135470008},
+    {0.00107674962, 2.27769131009, 206.1855484372},
+    {0.00093734369, 1.06311793502, 426.598190876},
+    {0.00040244455, 2.04108104671, 220.4126424388},
+    {0.00019941774, 1.2795439047, 103.0927742186},
+    {0.00010511678, 2.7488034213, 14.2270940016},
+    {6.416106e-05, 0.38238295041, 639.897286314},
+    {4.848994e-05, 2.43037610229, 419.4846438752},
+    {4.056892e-05, 2.92133209468, 110.2063212194},
+    {3.768635e-05, 3.6496533078, 3.9321532631},
+    {3.384691e-05, 2.41694503459, 3.1813937377},
+    {3.231693e-05, 1.26149969158, 433.7117378768},
+    {3.071405e-05, 2.32739504783, 199.0720014364},
+    {1.953179e-05, 3.56378136497, 11.0457002639},
+    {1.249468e-05, 2.62810757084, 95.9792272178},
+    {9.2135e-06, 1.96069472334, 227.5261894396},
+    {7.01524e-06, 4.43097553887, 529.6909650946},
+    {6.49591e-06, 6.17410622073, 202.2533951741},
+    {6.27498e-06, 6.1110981622, 309.2783226558},
+    {4.78347e-06, 4.98809792152, 522.5774180938},
+    {4.68362e-06, 4.61704486774, 63.7358983034},
+    {4.40442e-06, 6.0186116335, 853.196381752},
+    {4.088e-06, 2.10122200324, 323.5054166574},
+    {4.07654e-06, 1.29967965754, 209.3669421749},
+    {3.46963e-06, 2.24152661493, 632.7837393132},
+    {3.4372e-06, 3.95819456535, 412.3710968744},
+    {3.38569e-06, 3.63538109408, 316.3918696566},
+    {3.36129e-06, 3.77170200605, 735.8765135318},
+    {3.31895e-06, 2.86077271205, 210.1177017003},
+    {2.89484e-06, 2.73211009526, 117.3198682202},
+    {2.8091e-06, 5.74399466555, 2.4476805548},
+    {2.541e-06, 0.54280472223, 647.0108333148},
+    {2.30497e-06, 1.64428691304, 216.4804891757},
+};
+static const VsopTerm kWideSaturnL2[] = {
+    {0.0011644133, 1.17988132879, 7.1135470008},
+    {0.00091841837, 0.0732519584, 213.299095438},
+    {0.00036661728, 0.0, 0.0},
+    {0.00015274496, 4.06493179167, 206.1855484372},
+    {0.00010987259, 5.4447918831, 426.598190876},
+    {0.0001062983, 0.25764306189, 220.4126424388},
+    {4.265404e-05, 1.04596041482, 14.2270940016},
+    {1.215447e-05, 2.91866579609, 103.0927742186},
+    {1.142595e-05, 4.63711665368, 639.897286314},
+    {1.061494e-05, 5.68896768215, 433.7117378768},
+    {1.044759e-05, 4.04202827818, 199.0720014364},
+    {1.020102e-05, 0.6336845725, 3.1813937377},
+    {6.48857e-06, 4.33990455509, 419.4846438752},
+    {5.4932e-06, 5.57301151406, 3.9321532631},
+    {4.56767e-06, 1.2689684848, 110.2063212194},
+    {4.24918e-06, 0.20908786519, 227.5261894396},
+    {2.73782e-06, 4.2885706119, 95.9792272178},
+    {1.61533e-06, 1.38145587317, 11.0457002639},
+    {1.29502e-06, 1.56592444783, 309.2783226558},
+    {1.08829e-06, 3.89769392463, 853.196381752},
+    {1.00917e-06, 0.89243113369, 21.3406410024},
+    {1.0071e-06, 4.89713543344, 647.0108333148},
+    {9.55e-07, 2.91469950689, 316.3918696566},
+    {9.5154e-07, 5.62447011514, 412.3710968744},
+    {8.4889e-07, 5.73495539065, 209.3669421749},
+    {8.2667e-07, 6.05014465562, 216.4804891757},
+    {8.1962e-07, 1.02414352999, 117.3198682202},
+    {7.486e-07, 4.76187112999, 210.1177017003},
+    {6.7164e-07, 0.45592762644, 522.5774180938},
+    {6.6442e-07, 0.48307559227, 10.2949407385},
+    {6.4191e-07, 0.35066202401, 323.5054166574},
+    {5.3849e-07, 2.71027004601, 529.6909650946},
+    {5.2073e-07, 4.77422682479, 632.7837393132},
+};
+static const VsopTerm kWideSaturnL3[] = {
+    {0.00016038732, 5.73945573267, 7.1135470008},
+    {4.254737e-05, 4.58877599687, 213.299095438},
+    {1.906379e-05, 4.7607084357, 220.4126424388},
+    {1.464959e-05, 5.91328884284, 206.1855484372},
+    {1.162062e-05, 5.61974313217, 14.2270940016},
+    {1.044765e-05, 3.57813061587, 426.598190876},
+    {2.37009e-06, 5.76820709729, 199.0720014364},
+    {2.36068e-06, 3.85849798708, 433.7117378768},
+    {1.65645e-06, 5.11642167451, 3.1813937377},
+    {1.50882e-06, 2.72695802283, 639.897286314},
+    {1.31328e-06, 4.74306126145, 227.5261894396},
+    {6.3899e-07, 0.08672623762, 419.4846438752},
+    {6.1607e-07, 4.74260728276, 103.0927742186},
+    {4.0405e-07, 5.47280316518, 21.3406410024},
+    {4.0222e-07, 5.96343977224, 95.9792272178},
+    {3.8807e-07, 5.83309187434, 110.2063212194},
+    {3.2692e-07, 3.14159265359, 0.0},
+    {2.6949e-07, 3.00877360899, 647.0108333148},
+    {2.5017e-07, 0.98675576491, 3.9321532631},
+    {1.8497e-07, 1.9253436571, 853.196381752},
+    {1.8212e-07, 4.96397771331, 10.2949407385},
+    {1.8051e-07, 1.021817946, 412.3710968744},
+    {1.7889e-07, 4.20422746039, 216.4804891757},
+    {1.7831e-07, 3.32039911376, 309.2783226558},
+    {1.5894e-07, 3.89729495217, 440.8252848776},
+    {1.5768e-07, 5.61263410328, 117.3198682202},
+    {1.2927e-07, 1.17950837478, 88.865680217},
+};
+static const VsopTerm kWideSaturnL4[] = {
+    {1.661877e-05, 3.99824447634, 7.1135470008},
+    {2.57094e-06, 2.98422287887, 220.4126424388},
+    {2.36328e-06, 3.9024884432, 14.2270940016},
+    {1.4952e-06, 2.73191135434, 213.299095438},
+    {1.09412e-06, 1.51564560686, 206.1855484372},
+    {6.9119e-07, 1.74804093636, 426.598190876},
+    {3.9678e-07, 2.04527339062, 433.7117378768},
+    {3.768e-07, 1.23800346661, 199.0720014364},
+    {3.1172e-07, 3.01055217526, 227.5261894396},
+    {1.5026e-07, 0.83249780616, 639.897286314},
+    {9.424e-08, 3.71267465225, 21.3406410024},
+    {5.391e-08, 1.15849076251, 647.0108333148},
+    {5.131e-08, 2.14278851183, 419.4846438752},
+    {4.379e-08, 1.44314873951, 95.9792272178},
+    {4.315e-08, 2.11844568875, 440.8252848776},
+    {3.215e-08, 4.10085180982, 110.2063212194},
+};
+static const VsopTerm kWideSaturnL5[] = {
+    {1.23607e-06, 2.25923420203, 7.1135470008},
+    {3.4176e-07, 2.16278773143, 14.2270940016},
+    {2.7539e-07, 1.19822164604, 220.4126424388},
+    {5.763e-08, 1.21171444884, 227.5261894396},
+    {5.284e-08, 0.23520891295, 433.7117378768},
+    {3.65e-08, 6.20014021207, 426.598190876},
+    {3.061e-08, 2.96839870592, 199.0720014364},
+    {2.865e-08, 4.29470838129, 206.1855484372},
+    {1.499e-08, 6.21044685389, 213.299095438},
+    {1.262e-08, 5.25209851911, 639.897286314},
+    {9.42e-09, 0.24584020543, 440.8252848776},
+    {8.2e-09, 5.59433772118, 647.0108333148},
+};
+static const VsopTerm kWideSaturnB0[] = {
+    {0.04330678039, 3.60284428399, 213.299095438},
+    {0.00240348302, 2.85238489373, 426.598190876},
+    {0.00084745939, 0.0, 0.0},
+    {0.00034116062, 0.57297307557, 206.1855484372},
+    {0.00030863357, 3.48441504555, 220.4126424388},
+    {0.0001473407, 2.11846596715, 639.897286314},
+    {9.916667e-05, 5.79003188904, 419.4846438752},
+    {6.993564e-05, 4.7360468972, 7.1135470008},
+    {4.807588e-05, 5.43305312061, 316.3918696566},
+    {4.788392e-05, 4.96512926584, 110.2063212194},
+    {3.432125e-05, 2.732557466, 433.7117378768},
+    {1.506129e-05, 6.01304519391, 103.0927742186},
+    {1.060298e-05, 5.6309929646, 529.6909650946},
+    {9.69071e-06, 5.20434966293, 632.7837393132},
+    {9.4205e-06, 1.39646688872, 853.196381752},
+};
+static const VsopTerm kWideSaturnB1[] = {
+    {0.00198927992, 4.93901017903, 213.299095438},
+    {0.00036947916, 3.14159265359, 0.0},
+    {0.00017966989, 0.5197943111, 426.598190876},
+    {0.00013320265, 2.26481519893, 206.1855484372},
+    {0.00010919721, 1.79463271368, 220.4126424388},
+    {3.243428e-05, 1.21094033148, 419.4846438752},
+    {2.900519e-05, 6.17033461979, 639.897286314},
+    {1.584712e-05, 0.9341639713, 433.7117378768},
+    {1.580666e-05, 3.08171717435, 7.1135470008},
+    {7.00659e-06, 0.20545152078, 316.3918696566},
+    {3.10902e-06, 4.38351712708, 110.2063212194},
+    {3.03761e-06, 5.46322830151, 853.196381752},
+    {3.01237e-06, 1.66219956459, 227.5261894396},
+    {2.59878e-06, 3.93026240568, 103.0927742186},
+    {2.52673e-06, 0.9002092521, 632.7837393132},
+};
+static const VsopTerm kWideSaturnB2[] = {
+    {0.00013884264, 0.08994998691, 213.299095438},
+    {3.075713e-05, 3.9161093762, 206.1855484372},
+    {2.081666e-05, 0.09631968077, 220.4126424388},
+    {1.452574e-05, 5.48867576013, 426.598190876},
+    {5.46808e-06, 2.94585826799, 419.4846438752},
+    {3.91398e-06, 5.43939792344, 433.7117378768},
+    {3.1974e-06, 4.34820275048, 639.897286314},
+    {2.20164e-06, 0.0, 0.0},
+    {2.03518e-06, 1.37396136744, 7.1135470008},
+    {1.16719e-06, 6.24505924943, 227.5261894396},
+    {6.7605e-07, 1.75135990376, 316.3918696566},
+    {6.4044e-07, 4.10904350356, 199.0720014364},
+    {5.5518e-07, 4.56815095513, 647.0108333148},
+};
+static const VsopTerm kWideSaturnB3[] = {
+    {4.87242e-06, 5.57827705588, 206.1855484372},
+    {4.63357e-06, 1.69194209337, 213.299095438},
+    {2.77451e-06, 0.0, 0.0},
+    {2.70686e-06, 4.65445792593, 220.4126424388},
+    {6.9846e-07, 3.33236270677, 426.598190876},
+    {6.6718e-07, 3.66337287998, 433.7117378768},
+    {6.5617e-07, 4.71263096227, 419.4846438752},
+    {3.0551e-07, 4.53651131935, 227.5261894396},
+    {2.9704e-07, 2.49374065388, 639.897286314},
+    {1.8157e-07, 5.89401285772, 7.1135470008},
+    {1.7504e-07, 5.79120992263, 199.0720014364},
+};
+static const VsopTerm kWideSaturnB4[] = {
+    {5.8521e-07, 0.96404269672, 206.1855484372},
+    {2.7345e-07, 2.90816987834, 220.4126424388},
+    {2.7023e-07, 2.97511812746, 213.299095438},
+    {8.709e-08, 1.88638219079, 433.7117378768},
+    {6.059e-08, 0.21576562475, 419.4846438752},
+    {6.015e-08, 2.81931276694, 227.5261894396},
+    {3.796e-08, 1.19723799579, 199.0720014364},
+    {3.647e-08, 1.71327650497, 426.598190876},
+};
+static const VsopTerm kWideSaturnB5[] = {
+    {5.442e-08, 2.61186488264, 206.1855484372},
+    {1.966e-08, 1.16969532852, 220.4126424388},
+    {9.07e-09, 0.10771558371, 433.7117378768},
+    {8.29e-09, 1.07640059707, 227.5261894396},
+};
+static const VsopTerm kWideSaturnR0[] = {
+    {9.55758135486, 0.0, 0.0},
+    {0.52921382865, 2.39226219573, 213.299095438},
+    {0.01873679867, 5.2354960466, 206.1855484372},
+    {0.01464663929, 1.64763042902, 426.598190876},
+    {0.00821891141, 5.93520042303, 316.3918696566},
+    {0.00547506923, 5.0153261898, 103.0927742186},
+    {0.0037168465, 2.27114821115, 220.4126424388},
+    {0.00361778765, 3.13904301847, 7.1135470008},
+    {0.00140617506, 5.70406606781, 632.7837393132},
+    {0.00108974848, 3.29313390175, 110.2063212194},
+    {0.00069006962, 5.94099540992, 419.4846438752},
+    {0.00061053367, 0.94037691801, 639.897286314},
+    {0.00048913294, 1.55733638681, 202.2533951741},
+    {0.00034143772, 0.19519102597, 277.0349937414},
+    {0.00032401773, 5.47084567016, 949.1756089698},
+    {0.00020936596, 0.46349251129, 735.8765135318},
+    {0.000208393, 1.52102476129, 433.7117378768},
+    {0.00020746751, 5.33255457763, 199.0720014364},
+    {0.00015298404, 3.0594381494, 529.6909650946},
+    {0.00014296484, 2.60433479142, 323.5054166574},
+    {0.00012884624, 1.64890652873, 138.5174968707},
+    {0.00011993338, 5.98050967385, 846.0828347512},
+    {0.00011380257, 1.7310542704, 522.5774180938},
+    {9.796004e-05, 5.20477537945, 1265.5674786264},
+    {7.752664e-05, 5.85190720634, 95.9792272178},
+};
+static const VsopTerm kWideSaturnR1[] = {
+    {0.0618298134, 0.2584351148, 213.299095438},
+    {0.00506577242, 0.71114625261, 206.1855484372},
+    {0.00341394029, 5.79635741658, 426.598190876},
+    {0.00188491195, 0.47215589652, 220.4126424388},
+    {0.00186261486, 3.14159265359, 0.0},
+    {0.00143891146, 1.40744822888, 7.1135470008},
+    {0.00049621208, 6.0174427982, 103.0927742186},
+    {0.00020928426, 5.09244947411, 639.897286314},
+    {0.00019952564, 1.1756060613, 419.4846438752},
+    {0.00018839544, 1.60818334043, 110.2063212194},
+    {0.00013876849, 0.75884928866, 199.0720014364},
+    {0.00012892843, 5.9432943302, 433.7117378768},
+    {5.396842e-05, 1.28853589711, 14.2270940016},
+    {4.869289e-05, 0.86797227054, 323.5054166574},
+    {4.247221e-05, 0.39294984732, 227.5261894396},
+    {3.252331e-05, 1.2585015433, 95.9792272178},
+    {3.08141e-05, 3.43662543526, 522.5774180938},
+    {2.90954e-05, 4.60680719251, 202.2533951741},
+    {2.856066e-05, 2.1673128387, 735.8765135318},
+    {1.987731e-05, 2.45053765034, 412.3710968744},
+    {1.941443e-05, 6.02392296904, 209.3669421749},
+};
+static const VsopTerm kWideSaturnR2[] = {
+    {0.00436902572, 4.78671677509, 213.299095438},
+    {0.00071922498, 2.5007006993, 206.1855484372},
+    {0.00049766872, 4.97167777235, 220.4126424388},
+    {0.00043220783, 3.86941044212, 426.598190876},
+    {0.00029645766, 5.96309886479, 7.1135470008},
+    {4.720822e-05, 2.47524028389, 199.0720014364},
+    {4.141687e-05, 4.10673009419, 433.7117378768},
+    {3.789321e-05, 3.0977118974, 639.897286314},
+    {2.963981e-05, 1.37198670946, 103.0927742186},
+    {2.556403e-05, 2.85066948131, 419.4846438752},
+    {2.326777e-05, 0.0, 0.0},
+    {2.208473e-05, 6.27590108662, 110.2063212194},
+    {2.187311e-05, 5.8554501714, 14.2270940016},
+    {1.956779e-05, 4.92451269861, 227.5261894396},
+    {9.23829e-06, 5.4638968891, 323.5054166574},
+    {7.05974e-06, 2.97065900638, 95.9792272178},
+    {5.45943e-06, 4.12843012325, 412.3710968744},
+};
+static const VsopTerm kWideSaturnR3[] = {
+    {0.00020315239, 3.02186068237, 213.299095438},
+    {8.923679e-05, 3.19144467228, 220.4126424388},
+    {6.908768e-05, 4.35175288182, 206.1855484372},
+    {4.087056e-05, 4.22398596149, 7.1135470008},
+    {3.878848e-05, 2.01051759517, 426.598190876},
+    {1.070754e-05, 4.20372656114, 199.0720014364},
+    {9.07379e-06, 2.28356519128, 433.7117378768},
+    {6.05936e-06, 3.17456913264, 227.5261894396},
+    {5.96411e-06, 4.13395467306, 14.2270940016},
+    {4.83108e-06, 1.17313249713, 639.897286314},
+    {3.93213e-06, 0.0, 0.0},
+    {2.29396e-06, 4.69783424016, 419.4846438752},
+    {1.87917e-06, 4.5908926492, 110.2063212194},
+    {1.49326e-06, 3.20334759568, 103.0927742186},
+    {1.21613e-06, 3.76751430846, 323.5054166574},
+};
+static const VsopTerm kWideSaturnR4[] = {
+    {1.202117e-05, 1.41498340225, 220.4126424388},
+    {7.07794e-06, 1.16151449537, 213.299095438},
+    {5.16224e-06, 6.2404910535, 206.1855484372},
+    {4.26107e-06, 2.46891791825, 7.1135470008},
+    {2.67495e-06, 0.18644716875, 426.598190876},
+    {1.70055e-06, 5.96000580678, 199.0720014364},
+    {1.50056e-06, 0.47968186381, 433.7117378768},
+    {1.44813e-06, 1.44265291294, 227.5261894396},
+    {1.21067e-06, 2.40476128629, 14.2270940016},
+    {4.7503e-07, 5.56874777537, 639.897286314},
+};
+static const VsopTerm kWideSaturnR5[] = {
+    {1.28668e-06, 5.91279864289, 220.4126424388},
+    {3.2196e-07, 0.69558284384, 7.1135470008},
+    {2.6737e-07, 5.91270395039, 227.5261894396},
+    {1.9994e-07, 4.95031713518, 433.7117378768},
+    {1.9837e-07, 0.6739685296, 14.2270940016},
+    {1.4068e-07, 2.63892426573, 206.1855484372},
+    {1.3706e-07, 4.59824754628, 426.598190876},
+    {1.3627e-07, 1.47747814594, 199.0720014364},
+};
+extern const VsopBody kWideSaturn;
+const VsopBody kWideSaturn = {{{kWideSaturnL0, static_cast<int>(std::size(kWideSaturnL0))}, {kWideSaturnL1, static_cast<int>(std::size(kWideSaturnL1))}, {kWideSaturnL2, static_cast<int>(std::size(kWideSaturnL2))}, {kWideSaturnL3, static_cast<int>(std::size(kWideSaturnL3))}, {kWideSaturnL4, static_cast<int>(std::size(kWideSaturnL4))}, {kWideSaturnL5, static_cast<int>(std::size(kWideSaturnL5))}}, {{kWideSaturnB0, static_cast<int>(std::size(kWideSaturnB0))}, {kWideSaturnB1, static_cast<int>(std::size(kWideSaturnB1))}, {kWideSaturnB2, static_cast<int>(std::size(kWideSaturnB2))}, {kWideSaturnB3, static_cast<int>(std::size(kWideSaturnB3))}, {kWideSaturnB4, static_cast<int>(std::size(kWideSaturnB4))}, {kWideSaturnB5, static_cast<int>(std::size(kWideSaturnB5))}}, {{kWideSaturnR0, static_cast<int>(std::size(kWideSaturnR0))}, {kWideSaturnR1, static_cast<int>(std::size(kWideSaturnR1))}, {kWideSaturnR2, static_cast<int>(std::size(kWideSaturnR2))}, {kWideSaturnR3, static_cast<int>(std::size(kWideSaturnR3))}, {kWideSaturnR4, static_cast<int>(std::size(kWideSaturnR4))}, {kWideSaturnR5, static_cast<int>(std::size(kWideSaturnR5))}}};
+
+static const VsopTerm kWideUranusL0[] = {
+    {5.48129294297, 0.0, 0.0},
+    {0.09260408234, 0.89106421507, 74.7815985673},
+    {0.01504247898, 3.6271926092, 1.4844727083},
+    {0.00365981674, 1.89962179044, 73.297125859},
+    {0.00272328168, 3.35823706307, 149.5631971346},
+    {0.00070328461, 5.39254450063, 63.7358983034},
+    {0.00068892678, 6.09292483287, 76.2660712756},
+    {0.00061998615, 2.26952066061, 2.9689454166},
+    {0.00061950719, 2.85098872691, 11.0457002639},
+    {0.0002646877, 3.14152083966, 71.8126531507},
+    {0.00025710476, 6.11379840493, 454.9093665273},
+    {0.0002107885, 4.36059339067, 148.0787244263},
+    {0.00017818647, 1.74436930289, 36.6485629295},
+    {0.00014613507, 4.73732166022, 3.9321532631},
+    {0.00011162509, 5.8268179635, 224.3447957019},
+    {0.0001099791, 0.48865004018, 138.5174968707},
+    {9.527478e-05, 2.95516862826, 35.1640902212},
+    {7.545601e-05, 5.236265824, 109.9456887885},
+    {4.220241e-05, 3.23328220918, 70.8494453042},
+    {4.0519e-05, 2.277550173, 151.0476698429},
+    {3.49034e-05, 5.48306144511, 146.594251718},
+    {3.354596e-05, 1.0654900738, 4.4534181249},
+    {3.144069e-05, 4.75199570434, 77.7505439839},
+    {2.926718e-05, 4.62903718891, 9.5612275556},
+    {2.922333e-05, 5.35235361027, 85.8272988312},
+    {2.272788e-05, 4.36600400036, 70.3281804424},
+    {2.148602e-05, 0.60745949945, 38.1330356378},
+    {2.051219e-05, 1.51773566586, 0.1118745846},
+    {1.991643e-05, 4.92437588682, 277.0349937414},
+    {1.666902e-05, 3.62744066769, 380.12776796},
+    {1.533221e-05, 2.58594681212, 52.6901980395},
+    {1.376226e-05, 2.04283539351, 65.2203710117},
+    {1.372139e-05, 4.19641530878, 111.4301614968},
+    {1.284107e-05, 3.11347961505, 202.2533951741},
+    {1.281604e-05, 0.54271272721, 222.8603229936},
+    {1.244347e-05, 0.91614441731, 2.4476805548},
+    {1.221029e-05, 0.1990065003, 108.4612160802},
+    {1.150989e-05, 4.17898916639, 33.6796175129},
+    {1.150429e-05, 0.93343589092, 3.1813937377},
+    {1.090463e-05, 1.77501500531, 12.5301729722},
+    {1.072013e-05, 0.23566016888, 62.2514255951},
+    {9.46181e-06, 1.19253165736, 127.4717966068},
+};
+static const VsopTerm kWideUranusL1[] = {
+    {74.7815986091, 0.0, 0.0},
+    {0.00154332863, 5.24158770553, 74.7815985673},
+    {0.00024456474, 1.71260334156, 1.4844727083},
+    {9.258442e-05, 0.4282973235, 11.0457002639},
+    {9.15016e-05, 1.41213765216, 149.5631971346},
+    {8.265977e-05, 1.50218091379, 63.7358983034},
+    {3.899108e-05, 0.4648357916, 3.9321532631},
+    {2.277065e-05, 4.17199181523, 76.2660712756},
+    {1.92747e-05, 0.52976188479, 2.9689454166},
+    {1.232725e-05, 1.58632088145, 70.8494453042},
+    {7.91201e-06, 5.43640595978, 3.1813937377},
+    {7.66954e-06, 1.99425624214, 73.297125859},
+    {5.65091e-06, 3.87400932383, 224.3447957019},
+    {4.81813e-06, 2.98574070918, 85.8272988312},
+    {4.49635e-06, 4.14242946378, 138.5174968707},
+    {4.266e-06, 4.73158166033, 71.8126531507},
+    {3.47745e-06, 2.45368882357, 9.5612275556},
+    {3.32699e-06, 2.55525645638, 148.0787244263},
+    {3.17054e-06, 5.57858240166, 52.6901980395},
+    {2.05579e-06, 2.36242761009, 2.4476805548},
+    {2.02696e-06, 0.34360451816, 151.0476698429},
+};
+static const VsopTerm kWideUranusL2[] = {
+    {2.349469e-05, 2.26708640433, 74.7815985673},
+    {8.48806e-06, 3.14159265359, 0.0},
+    {7.68983e-06, 4.52562378749, 11.0457002639},
+    {5.51555e-06, 3.2581932204, 63.7358983034},
+    {5.41559e-06, 2.27572631399, 3.9321532631},
+    {5.29491e-06, 4.92336172394, 1.4844727083},
+    {2.57527e-06, 3.69060540044, 3.1813937377},
+    {1.84429e-06, 5.05954505833, 149.5631971346},
+    {1.82036e-06, 6.21866555925, 70.8494453042},
+    {5.3456e-07, 1.45801353517, 76.2660712756},
+};
+static const VsopTerm kWideUranusL3[] = {
+    {1.22192e-06, 0.02112102225, 74.7815985673},
+    {6.8195e-07, 4.12138633187, 3.9321532631},
+    {5.2729e-07, 2.38808499397, 11.0457002639},
+    {4.5405e-07, 2.04405402149, 3.1813937377},
+    {4.3714e-07, 2.95937380925, 1.4844727083},
+    {2.4903e-07, 4.886800756, 63.7358983034},
+    {2.1004e-07, 4.54879176205, 70.8494453042},
+};
+static const VsopTerm kWideUranusL4[] = {
+    {5.536e-08, 4.57721551627, 74.7815985673},
+    {3.183e-08, 0.34467460171, 11.0457002639},
+};
+static const VsopTerm kWideUranusL5[] = {
+    {-8.73e-09, 0.0, 0.0},
+};
+static const VsopTerm kWideUranusB0[] = {
+    {0.01346277648, 2.61877810547, 74.7815985673},
+    {0.000623414, 5.08111189648, 149.5631971346},
+    {0.00061601196, 3.14159265359, 0.0},
+    {9.963722e-05, 1.61603805646, 76.2660712756},
+    {9.92616e-05, 0.57630380333, 73.297125859},
+    {3.259466e-05, 1.26119342526, 224.3447957019},
+    {2.972303e-05, 2.24367206357, 1.4844727083},
+    {2.010275e-05, 6.05550884547, 148.0787244263},
+    {1.522163e-05, 0.27959645002, 63.7358983034},
+    {9.24064e-06, 4.03822512696, 151.0476698429},
+};
+static const VsopTerm kWideUranusB1[] = {
+    {0.00034101978, 0.01321929936, 74.7815985673},
+    {2.480115e-05, 2.73961370453, 149.5631971346},
+    {1.719377e-05, 0.0, 0.0},
+    {3.95276e-06, 5.49322816551, 76.2660712756},
+    {3.08903e-06, 3.61139770633, 73.297125859},
+};
+static const VsopTerm kWideUranusB2[] = {
+    {7.64663e-06, 1.74870957857, 74.7815985673},
+    {5.5734e-07, 3.14159265359, 0.0},
+};
+static const VsopTerm kWideUranusB3[] = {
+    {2.1201e-07, 3.16540759295, 74.7815985673},
+};
+static const VsopTerm kWideUranusB4[] = {
+    {5.719e-08, 2.85499529315, 74.7815985673},
+};
+static const VsopTerm kWideUranusR0[] = {
+    {19.21264847206, 0.0, 0.0},
+    {0.88784984413, 5.60377527014, 74.7815985673},
+    {0.03440836062, 0.32836099706, 73.297125859},
+    {0.0205565386, 1.7829515933, 149.5631971346},
+    {0.0064932241, 4.52247285911, 76.2660712756},
+    {0.00602247865, 3.86003823674, 63.7358983034},
+    {0.00496404167, 1.40139935333, 454.9093665273},
+    {0.00338525369, 1.58002770318, 138.5174968707},
+    {0.00243509114, 1.57086606044, 71.8126531507},
+    {0.00190522303, 1.99809394714, 1.4844727083},
+    {0.00161858838, 2.79137786799, 148.0787244263},
+    {0.00143706183, 1.38368544947, 11.0457002639},
+    {0.00093192405, 0.17437220467, 36.6485629295},
+    {0.00089806014, 3.66105364565, 109.9456887885},
+    {0.00071424548, 4.24509236074, 224.3447957019},
+    {0.00046677296, 1.39976401694, 35.1640902212},
+    {0.00039025624, 3.36234773834, 277.0349937414},
+    {0.00039009723, 1.66971401684, 70.8494453042},
+    {0.00036755274, 3.88649278513, 146.594251718},
+    {0.00030348723, 0.70100838798, 151.0476698429},
+    {0.00029156413, 3.180563367, 77.7505439839},
+    {0.0002578588, 3.7853770987, 85.8272988312},
+    {0.00025620756, 5.25656086672, 380.12776796},
+    {0.00022637073, 0.72518687029, 529.6909650946},
+    {0.00020473534, 2.79640244248, 70.3281804424},
+    {0.00020471591, 1.55587964879, 202.2533951741},
+    {0.000179013, 0.55455066863, 2.9689454166},
+    {0.00015502375, 5.35405396163, 38.1330356378},
+};
+static const VsopTerm kWideUranusR1[] = {
+    {0.01479896629, 3.67205697578, 74.7815985673},
+    {0.00071212143, 6.22600975161, 63.7358983034},
+    {0.0006862716, 6.13411179902, 149.5631971346},
+    {0.00024059369, 3.14159265359, 0.0},
+    {0.00021468362, 2.60175716374, 76.2660712756},
+    {0.00020857554, 5.2462584896, 11.0457002639},
+    {0.00011405056, 0.01849738017, 70.8494453042},
+    {7.496797e-05, 0.42361355955, 73.297125859},
+    {4.243606e-05, 1.41691058162, 85.8272988312},
+    {3.926833e-05, 3.15526349399, 71.8126531507},
+};
+static const VsopTerm kWideUranusR2[] = {
+    {0.00022439899, 0.69953310903, 74.7815985673},
+    {4.726838e-05, 1.69896897296, 63.7358983034},
+    {1.681383e-05, 4.64842242588, 70.8494453042},
+    {1.649477e-05, 3.09669484042, 11.0457002639},
+    {1.433633e-05, 3.52135281258, 149.5631971346},
+};
+static const VsopTerm kWideUranusR3[] = {
+    {1.164663e-05, 4.73440180792, 74.7815985673},
+};
+extern const VsopBody kWideUranus;
+const VsopBody kWideUranus = {{{kWideUranusL0, static_cast<int>(std::size(kWideUranusL0))}, {kWideUranusL1, static_cast<int>(std::size(kWideUranusL1))}, {kWideUranusL2, static_cast<int>(std::size(kWideUranusL2))}, {kWideUranusL3, static_cast<int>(std::size(kWideUranusL3))}, {kWideUranusL4, static_cast<int>(std::size(kWideUranusL4))}, {kWideUranusL5, static_cast<int>(std::size(kWideUranusL5))}}, {{kWideUranusB0, static_cast<int>(std::size(kWideUranusB0))}, {kWideUranusB1, static_cast<int>(std::size(kWideUranusB1))}, {kWideUranusB2, static_cast<int>(std::size(kWideUranusB2))}, {kWideUranusB3, static_cast<int>(std::size(kWideUranusB3))}, {kWideUranusB4, static_cast<int>(std::size(kWideUranusB4))}, {nullptr, 0}}, {{kWideUranusR0, static_cast<int>(std::size(kWideUranusR0))}, {kWideUranusR1, static_cast<int>(std::size(kWideUranusR1))}, {kWideUranusR2, static_cast<int>(std::size(kWideUranusR2))}, {kWideUranusR3, static_cast<int>(std::size(kWideUranusR3))}, {nullptr, 0}, {nullptr, 0}}};
+
+static const VsopTerm kWideNeptuneL0[] = {
+    {5.31188633046, 0.0, 0.0},
+    {0.0179847553, 2.9010127389, 38.1330356378},
+    {0.01019727652, 0.48580922867, 1.4844727083},
+    {0.00124531845, 4.83008090676, 36.6485629295},
+    {0.00042064466, 5.41054993053, 2.9689454166},
+    {0.00037714584, 6.09221808686, 35.1640902212},
+    {0.00033784738, 1.24488874087, 76.2660712756},
+    {0.00016482741, 7.727998e-05, 491.5579294568},
+    {9.198584e-05, 4.93747051954, 39.6175083461},
+    {8.99425e-05, 0.27462171806, 175.1660598002},
+    {4.216242e-05, 1.98711875978, 73.297125859},
+    {3.364807e-05, 1.03590060915, 33.6796175129},
+    {2.2848e-05, 4.20606949415, 4.4534181249},
+    {1.433516e-05, 2.78339802539, 74.7815985673},
+    {9.00236e-06, 2.07607168714, 109.9456887885},
+};
+static const VsopTerm kWideNeptuneL1[] = {
+    {38.13303563957, 0.0, 0.0},
+    {0.00016604172, 4.86323329249, 1.4844727083},
+    {0.00015744045, 2.27887427527, 38.1330356378},
+    {1.306261e-05, 3.6728520962, 2.9689454166},
+    {6.04842e-06, 1.5048304279, 35.1640902212},
+};
+static const VsopTerm kWideNeptuneL2[] = {
+    {2.9565e-06, 1.85520880574, 1.4844727083},
+    {2.86136e-06, 1.18985661922, 38.1330356378},
+    {1.02284e-06, 0.0, 0.0},
+};
+static const VsopTerm kWideNeptuneL4[] = {
+    {-1.13998e-06, 0.0, 0.0},
+};
+static const VsopTerm kWideNeptuneL5[] = {
+    {-8.74e-09, 0.0, 0.0},
+};
+static const VsopTerm kWideNeptuneB0[] = {
+    {0.03088622933, 1.44104372644, 38.1330356378},
+    {0.00027780087, 5.91271884599, 76.2660712756},
+    {0.00027623609, 0.0, 0.0},
+    {0.00015448133, 3.50877079215, 39.6175083461},
+    {0.00015355489, 2.52123799551, 36.6485629295},
+    {1.999918e-05, 1.50998668632, 74.7815985673},
+    {1.96754e-05, 4.37778196626, 1.4844727083},
+    {1.015137e-05, 3.21560997434, 35.1640902212},
+};
+static const VsopTerm kWideNeptuneB1[] = {
+    {5.150897e-05, 2.14270496419, 38.1330356378},
+    {2.58298e-06, 5.4653959892, 76.2660712756},
+    {2.51862e-06, 4.40444268588, 36.6485629295},
+    {2.34436e-06, 1.65983511437, 39.6175083461},
+    {2.08814e-06, 0.0, 0.0},
+};
+static const VsopTerm kWideNeptuneB4[] = {
+    {5.728e-08, 2.66872693322, 38.1330356378},
+};
+static const VsopTerm kWideNeptuneR0[] = {
+    {30.07013205828, 0.0, 0.0},
+    {0.27062259632, 1.32999459377, 38.1330356378},
+    {0.01691764014, 3.25186135653, 36.6485629295},
+    {0.00807830553, 5.18592878704, 1.4844727083},
+    {0.0053776051, 4.52113935896, 35.1640902212},
+    {0.00495725141, 1.5710564165, 491.5579294568},
+    {0.00274571975, 1.84552258866, 175.1660598002},
+    {0.00135134092, 3.37220609835, 39.6175083461},
+    {0.00121801746, 5.79754470298, 76.2660712756},
+    {0.00100896068, 0.3770272493, 73.297125859},
+    {0.00069791331, 3.79616637768, 2.9689454166},
+    {0.00046687836, 5.74938034313, 33.6796175129},
+    {0.00024594531, 0.50801745878, 109.9456887885},
+};
+static const VsopTerm kWideNeptuneR1[] = {
+    {0.00236338618, 0.70497954792, 38.1330356378},
+    {0.00013220034, 3.3201438793, 1.4844727083},
+    {8.621779e-05, 6.21626927537, 35.1640902212},
+};
+static const VsopTerm kWideNeptuneR2[] = {
+    {4.247776e-05, 5.89911844921, 38.1330356378},
+};
+extern const VsopBody kWideNeptune;
+const VsopBody kWideNeptune = {{{kWideNeptuneL0, static_cast<int>(std::size(kWideNeptuneL0))}, {kWideNeptuneL1, static_cast<int>(std::size(kWideNeptuneL1))}, {kWideNeptuneL2, static_cast<int>(std::size(kWideNeptuneL2))}, {nullptr, 0}, {kWideNeptuneL4, static_cast<int>(std::size(kWideNeptuneL4))}, {kWideNeptuneL5, static_cast<int>(std::size(kWideNeptuneL5))}}, {{kWideNeptuneB0, static_cast<int>(std::size(kWideNeptuneB0))}, {kWideNeptuneB1, static_cast<int>(std::size(kWideNeptuneB1))}, {nullptr, 0}, {nullptr, 0}, {kWideNeptuneB4, static_cast<int>(std::size(kWideNeptuneB4))}, {nullptr, 0}}, {{kWideNeptuneR0, static_cast<int>(std::size(kWideNeptuneR0))}, {kWideNeptuneR1, static_cast<int>(std::size(kWideNeptuneR1))}, {kWideNeptuneR2, static_cast<int>(std::size(kWideNeptuneR2))}, {nullptr, 0}, {nullptr, 0}, {nullptr, 0}}};
+
+// Wide: 1229 terms in all (weighted for |t| <= 4.0 millennia).
 }  // namespace welkin::astro::detail

@@ -1,14 +1,14 @@
 // VSOP87 planetary theory (version B: heliocentric spherical coordinates referred to the
 // ecliptic and equinox J2000), in two forms with one evaluator:
 //
-//   const auto& fast = welkin::astro::vsop87Truncated(welkin::astro::VsopPlanet::Mars);  // compiled in
+//   const auto& fast = welkin::astro::vsop87Truncated(welkin::astro::VsopPlanet::Mars, t);  // compiled in
 //   const auto& full = welkin::astro::vsop87Full(welkin::astro::VsopPlanet::Mars);       // kstars-data files
 //   double t = welkin::astro::julianMillenniaTT(jdTT);                                  // from J2000
 //   welkin::astro::VsopState s = welkin::astro::evaluate(full, t);
 //   // s.lbr = (L rad, B rad, R au), s.rate = d/dt in rad/day and au/day
 //
-// The truncated series (engine/src/astro/vsop87_fast_tables.cpp) keep the terms that matter in
-// 1900-2100 (see tools/gen_fast_tables.py); the full series are read once from
+// The truncated series (engine/src/astro/vsop87_fast_tables.cpp, see tools/gen_fast_tables.py)
+// keep the terms whose size over the date span exceeds a per-planet threshold; the full series are read once from
 // /usr/share/kstars/<planet>.{L,B,R}{0..5}.vsop (Debian package kstars-data; override with the
 // environment variable WELKIN_VSOP87_DIR) and cached for the life of the process. Each file line
 // is "A B C": the term A cos(B + C t), t in Julian millennia of TT from J2000.0.
@@ -37,11 +37,18 @@ enum class VsopPlanet { Mercury, Venus, Earth, Mars, Jupiter, Saturn, Uranus, Ne
 /// Lower-case English name ("earth"), as in the kstars-data file names.
 const char* vsopName(VsopPlanet p);
 
-/// Compiled-in truncated series (no I/O, no allocation).
-const VsopBody& vsop87Truncated(VsopPlanet p);
+/// |t| (millennia from J2000) up to which the compact truncated set is used: years 1500-2500.
+inline constexpr double kVsopNearSpan = 0.5;
+/// Compiled-in truncated series (no I/O, no allocation) for dates near `t` (Julian millennia TT
+/// from J2000): a compact set for |t| <= kVsopNearSpan, a larger one (about twice the terms)
+/// truncated for the same accuracy out to |t| = 4 (years -2000 .. 6000).
+const VsopBody& vsop87Truncated(VsopPlanet p, double t = 0.0);
 /// Full series loaded from kstars-data on first use (thread-safe), then cached. Throws
 /// welkin::Error naming the missing or malformed file.
 const VsopBody& vsop87Full(VsopPlanet p);
+/// Reads every full-series file of every planet under `directory` (no caching) and throws
+/// welkin::Error naming the first missing or malformed file. For diagnostics and tests.
+void checkVsop87Files(const std::string& directory);
 /// Directory the full series are read from: $WELKIN_VSOP87_DIR or /usr/share/kstars.
 std::string vsop87Directory();
 
