@@ -211,6 +211,11 @@ TEST_CASE("Star frame cost (Fast path)", "[cpu][astro]") {
     }
     double us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count() / n;
     std::printf("astro starFrame (fast): %.2f us per evaluation (%g)\n", us, sink > 0 ? 1.0 : 0.0);
-    // Target 5 us; 25 us here leaves room for a loaded shared machine (the bench reports the number).
+    // Target 5 us; 25 us here leaves room for a loaded shared machine (the bench reports the
+    // number); unoptimised (assert-enabled) builds are ~10x slower.
+#ifdef NDEBUG
     CHECK(us < 25.0);
+#else
+    CHECK(us < 250.0);
+#endif
 }
