@@ -58,13 +58,14 @@ struct ObserverFrame {
     glm::dvec3 siteVelocityTod{0.0};        ///< its velocity from the Earth's rotation, m/s
     glm::dvec3 earthVelocityIcrs{0.0};      ///< Earth's barycentric velocity / c, ICRS axes
     glm::dvec3 observerVelocityIcrs{0.0};   ///< earthVelocityIcrs + site velocity / c (ICRS axes)
-    glm::dvec3 sunFromEarthIcrs{0.0};       ///< heliocentric Earth direction (unit) ICRS (Precise)
+    glm::dvec3 sunFromEarthIcrs{0.0};       ///< Sun -> Earth unit vector, ICRS (Fast: Keplerian)
     double sunDistanceAu = 1.0;             ///< Sun-Earth distance, au
     double lastRad = 0;                     ///< local apparent sidereal time, rad [0, 2 pi)
     double lmstRad = 0;                     ///< local mean sidereal time, rad [0, 2 pi)
 };
-/// Builds the frame. Fast: analytic Earth velocity (Keplerian Earth-Moon barycentre orbit,
-/// ~0.01" in aberration); Precise: eraEpv00. Throws welkin::Error for an invalid site.
+/// Builds the frame. Fast: analytic Earth velocity (Keplerian Earth-Moon barycentre, Jupiter and
+/// Saturn reflex, circular Moon: 0.002" of aberration vs eraEpv00); Precise: eraEpv00. Throws
+/// welkin::Error for an invalid site.
 ObserverFrame observerFrame(const Site& site, const TimeScales& ts, Path path);
 
 /// Earth's barycentric velocity divided by c, ICRS axes (Fast: analytic; Precise: eraEpv00).
