@@ -50,47 +50,51 @@ glm::dmat3 fwMatrix(double gamb, double phib, double psi, double eps) {
     return rotationX(-eps) * rotationZ(-psi) * rotationX(phib) * rotationZ(gamb);
 }
 
-// IAU 2000B nutation with the IAU 2006 J2-rate and precession-rate adjustments (as eraNut06a
-// applies to 2000A), radians.
-Nutation nutation2000B(double t) {
-    // Delaunay arguments (IERS Conventions 2003, Simon et al. 1994; the polynomial forms of ERFA
-    // fal03..faom03 so that the Fast path follows the Precise one far from J2000), radians.
-    const double l = std::fmod(485868.249036 + t * (1717915923.2178 + t * (31.8792 + t * (0.051635 + t * -0.00024470))), kTurnArcsec) * kArcsec;
-    const double lp = std::fmod(1287104.793048 + t * (129596581.0481 + t * (-0.5532 + t * (0.000136 + t * -0.00001149))), kTurnArcsec) * kArcsec;
-    const double f = std::fmod(335779.526232 + t * (1739527262.8478 + t * (-12.7512 + t * (-0.001037 + t * 0.00000417))), kTurnArcsec) * kArcsec;
-    const double d = std::fmod(1072260.703692 + t * (1602961601.2090 + t * (-6.3706 + t * (0.006593 + t * -0.00003169))), kTurnArcsec) * kArcsec;
-    const double om = std::fmod(450160.398036 + t * (-6962890.5431 + t * (7.4722 + t * (0.007702 + t * -0.00005939))), kTurnArcsec) * kArcsec;
-    // sin/cos of every term's argument from the powers e^{ik a} of the five arguments (|k| <= 4
-    // in this table): 10 sincos instead of 77 (the Fast path's cost is dominated by this series).
+// The five Delaunay arguments (IERS Conventions 2003, Simon et al. 1994; the polynomial forms of
+// ERFA fal03..faom03, so that the Fast path follows the Precise one far from J2000) and the
+// powers e^{ik a}, |k| <= 4, from which every series term's sin/cos is formed: 10 sincos for
+// the whole of nutation and the CIO locator instead of one per term.
+struct Delaunay {
     struct Cx {
         double c, s;
     };
-    const double args[5] = {l, lp, f, d, om};
     Cx pw[5][5];
-    for (int a = 0; a < 5; ++a) {
-        pw[a][0] = {1.0, 0.0};
-        pw[a][1] = {std::cos(args[a]), std::sin(args[a])};
-        for (int k = 2; k < 5; ++k) {
-            const Cx& p = pw[a][k - 1];
-            pw[a][k] = {p.c * pw[a][1].c - p.s * pw[a][1].s, p.s * pw[a][1].c + p.c * pw[a][1].s};
+    explicit Delaunay(double t) {
+        const double args[5] = {
+            std::fmod(485868.249036 + t * (1717915923.2178 + t * (31.8792 + t * (0.051635 + t * -0.00024470))), kTurnArcsec) * kArcsec,
+            std::fmod(1287104.793048 + t * (129596581.0481 + t * (-0.5532 + t * (0.000136 + t * -0.00001149))), kTurnArcsec) * kArcsec,
+            std::fmod(335779.526232 + t * (1739527262.8478 + t * (-12.7512 + t * (-0.001037 + t * 0.00000417))), kTurnArcsec) * kArcsec,
+            std::fmod(1072260.703692 + t * (1602961601.2090 + t * (-6.3706 + t * (0.006593 + t * -0.00003169))), kTurnArcsec) * kArcsec,
+            std::fmod(450160.398036 + t * (-6962890.5431 + t * (7.4722 + t * (0.007702 + t * -0.00005939))), kTurnArcsec) * kArcsec};
+        for (int a = 0; a < 5; ++a) {
+            pw[a][0] = {1.0, 0.0};
+            pw[a][1] = {std::cos(args[a]), std::sin(args[a])};
+            for (int k = 2; k < 5; ++k) pw[a][k] = mul(pw[a][k - 1], pw[a][1]);
         }
     }
-    auto power = [&](int a, int m) {
-        Cx z = pw[a][m < 0 ? -m : m];
-        if (m < 0) z.s = -z.s;
+    static Cx mul(const Cx& a, const Cx& b) { return {a.c * b.c - a.s * b.s, a.s * b.c + a.c * b.s}; }
+    // cos and sin of  l*l + lp*l' + f*F + d*D + om*Omega.
+    Cx term(int l, int lp, int f, int d, int om) const {
+        const int mult[5] = {l, lp, f, d, om};
+        Cx z{1.0, 0.0};
+        for (int a = 0; a < 5; ++a) {
+            if (mult[a] == 0) continue;
+            Cx w = pw[a][mult[a] < 0 ? -mult[a] : mult[a]];
+            if (mult[a] < 0) w.s = -w.s;
+            z = mul(z, w);
+        }
         return z;
-    };
+    }
+};
+
+// IAU 2000B nutation with the IAU 2006 J2-rate and precession-rate adjustments (as eraNut06a
+// applies to 2000A), radians.
+Nutation nutation2000B(const Delaunay& fa, double t) {
     double dp = 0, de = 0;
     // Smallest terms first for a slightly better rounding.
     for (int i = int(std::size(detail::kNutation2000B)) - 1; i >= 0; --i) {
         const detail::NutationTerm& k = detail::kNutation2000B[i];
-        const int mult[5] = {k.l, k.lp, k.f, k.d, k.om};
-        Cx z{1.0, 0.0};
-        for (int a = 0; a < 5; ++a) {
-            if (mult[a] == 0) continue;
-            const Cx w = power(a, mult[a]);
-            z = {z.c * w.c - z.s * w.s, z.s * w.c + z.c * w.s};
-        }
+        const Delaunay::Cx z = fa.term(k.l, k.lp, k.f, k.d, k.om);
         dp += (k.ps + k.pst * t) * z.s + k.pc * z.c;
         de += (k.ec + k.ect * t) * z.c + k.es * z.s;
     }
@@ -104,17 +108,63 @@ Nutation nutation2000B(double t) {
     deps *= 1.0 + fj2;
     return {dpsi, deps};
 }
+Nutation nutation2000B(double t) { return nutation2000B(Delaunay(t), t); }
 
-// Equation of the equinoxes, complementary terms (largest of IERS 2003 Table 5.2e, > 0.5 uas), rad.
-double eqeqComplementary(double t) {
-    const double om = std::fmod(450160.398036 + t * (-6962890.5431 + t * (7.4722 + t * (0.007702 + t * -0.00005939))), kTurnArcsec) * kArcsec;
-    const double f = std::fmod(335779.526232 + t * (1739527262.8478 + t * (-12.7512 + t * (-0.001037 + t * 0.00000417))), kTurnArcsec) * kArcsec;
-    const double d = std::fmod(1072260.703692 + t * (1602961601.2090 + t * (-6.3706 + t * (0.006593 + t * -0.00003169))), kTurnArcsec) * kArcsec;
-    const double fd = 2.0 * (f - d);
-    const double s = 2640.96e-6 * std::sin(om) - 0.39e-6 * std::cos(om) + 63.52e-6 * std::sin(2.0 * om) +
-                     11.75e-6 * std::sin(fd + 3.0 * om) + 11.21e-6 * std::sin(fd + om) - 4.55e-6 * std::sin(fd + 2.0 * om) -
-                     0.87e-6 * t * std::sin(om);
-    return s * kArcsec;
+// The CIO locator s (IAU 2006, IERS Conventions 2010 Table 5.2d) truncated to its luni-solar
+// terms above 0.2 uas (the series of ERFA s06 without the planetary and smallest terms): s + XY/2
+// in microarcseconds as polynomial + sum_j t^j sum (S sin + C cos).
+struct CioTerm {
+    signed char l, lp, f, d, om;
+    double s, c;  // uas
+};
+constexpr CioTerm kCio0[] = {
+    {0, 0, 0, 0, 1, -2640.73, 0.39}, {0, 0, 0, 0, 2, -63.53, 0.02}, {0, 0, 2, -2, 3, -11.75, -0.01},
+    {0, 0, 2, -2, 1, -11.21, -0.01}, {0, 0, 2, -2, 2, 4.57, 0.00},  {0, 0, 2, 0, 3, -2.02, 0.00},
+    {0, 0, 2, 0, 1, -1.98, 0.00},    {0, 0, 0, 0, 3, 1.72, 0.00},   {0, 1, 0, 0, 1, 1.41, 0.01},
+    {0, 1, 0, 0, -1, 1.26, 0.01},    {1, 0, 0, 0, -1, 0.63, 0.00},  {1, 0, 0, 0, 1, 0.63, 0.00},
+    {0, 1, 2, -2, 3, -0.46, 0.00},   {0, 1, 2, -2, 1, -0.45, 0.00}, {0, 0, 4, -4, 4, -0.36, 0.00},
+    {0, 0, 2, 0, 0, -0.32, 0.00},    {0, 0, 2, 0, 2, -0.28, 0.00},  {1, 0, 2, 0, 3, -0.27, 0.00},
+    {1, 0, 2, 0, 1, -0.26, 0.00},    {0, 0, 2, -2, 0, 0.21, 0.00},
+};
+constexpr CioTerm kCio1[] = {{0, 0, 0, 0, 2, -0.07, 3.57}, {0, 0, 0, 0, 1, 1.73, -0.03}, {0, 0, 2, -2, 3, 0.00, 0.48}};
+constexpr CioTerm kCio2[] = {
+    {0, 0, 0, 0, 1, 743.52, -0.17}, {0, 0, 2, -2, 2, 56.91, 0.06}, {0, 0, 2, 0, 2, 9.84, -0.01},
+    {0, 0, 0, 0, 2, -8.85, 0.01},   {0, 1, 0, 0, 0, -6.38, -0.05}, {1, 0, 0, 0, 0, -3.07, 0.00},
+    {0, 1, 2, -2, 2, 2.23, 0.00},   {0, 0, 2, 0, 1, 1.67, 0.00},   {1, 0, 2, 0, 2, 1.30, 0.00},
+    {0, 1, -2, 2, -2, 0.93, 0.00},  {1, 0, 0, -2, 0, 0.68, 0.00},  {0, 0, 2, -2, 1, -0.55, 0.00},
+    {1, 0, -2, 0, -2, 0.53, 0.00},  {0, 0, 0, 2, 0, -0.27, 0.00},  {1, 0, 0, 0, 1, -0.27, 0.00},
+    {1, 0, -2, -2, -2, -0.26, 0.00}, {1, 0, 0, 0, -1, -0.25, 0.00}, {1, 0, 2, 0, 1, 0.22, 0.00},
+    {2, 0, 0, -2, 0, -0.21, 0.00},  {2, 0, -2, 0, -1, 0.20, 0.00},
+};
+constexpr CioTerm kCio3[] = {{0, 0, 0, 0, 1, 0.30, -23.42}, {0, 0, 2, -2, 2, -0.03, -1.46}, {0, 0, 2, 0, 2, -0.01, -0.25}, {0, 0, 0, 0, 2, 0.00, 0.23}};
+constexpr CioTerm kCio4[] = {{0, 0, 0, 0, 1, -0.26, -0.01}};
+
+template <size_t N>
+double cioSeries(const Delaunay& fa, const CioTerm (&terms)[N]) {
+    double w = 0;
+    for (size_t i = N; i-- > 0;) {
+        const CioTerm& k = terms[i];
+        const Delaunay::Cx z = fa.term(k.l, k.lp, k.f, k.d, k.om);
+        w += k.s * z.s + k.c * z.c;
+    }
+    return w;
+}
+
+// Greenwich apparent sidereal time the CIO way (as ERFA gst06): GAST = ERA - EO, with the
+// equation of the origins EO from the bias-precession-nutation matrix and the CIO locator s.
+double gastFromCio(double era, const glm::dmat3& npb, const Delaunay& fa, double t) {
+    auto r = [&](int i, int j) { return npb[j][i]; };  // row i, column j
+    const double x = r(2, 0), y = r(2, 1);
+    const double w0 = 94.00 + cioSeries(fa, kCio0), w1 = 3808.65 + cioSeries(fa, kCio1);
+    const double w2 = -122.68 + cioSeries(fa, kCio2), w3 = -72574.11 + cioSeries(fa, kCio3);
+    const double w4 = 27.98 + cioSeries(fa, kCio4), w5 = 15.62;
+    const double s = (w0 + (w1 + (w2 + (w3 + (w4 + w5 * t) * t) * t) * t) * t) * 1e-6 * kArcsec - x * y / 2.0;
+    const double ax = x / (1.0 + r(2, 2));
+    const double xs = 1.0 - ax * x, ys = -ax * y, zs = -x;
+    const double p = r(0, 0) * xs + r(0, 1) * ys + r(0, 2) * zs;
+    const double q = r(1, 0) * xs + r(1, 1) * ys + r(1, 2) * zs;
+    const double eo = (p != 0 || q != 0) ? s - std::atan2(q, p) : s;
+    return wrap(era - eo);
 }
 
 double gmstFromEra(double era, double t) {
@@ -189,11 +239,13 @@ EarthOrientation earthOrientation(const TimeScales& ts, Path path) {
         eo.gast = eraGst06(ts.ut1.day, ts.ut1.fraction, ts.tt.day, ts.tt.fraction, r);
     } else {
         const FWAngles a = fukushimaWilliams(t);
-        eo.nutation = nutation2000B(t);
+        const Delaunay fa(t);
+        eo.nutation = nutation2000B(fa, t);
         eo.celestialToTrueOfDate = fwMatrix(a.gamb, a.phib, a.psib + eo.nutation.dpsi, a.epsa + eo.nutation.deps);
         eo.meanObliquity = a.epsa;
-        eo.gmst = gmstFromEra(earthRotationAngle(ts), t);
-        eo.gast = wrap(eo.gmst + eo.nutation.dpsi * std::cos(a.epsa) + eqeqComplementary(t));
+        const double era = earthRotationAngle(ts);
+        eo.gmst = gmstFromEra(era, t);
+        eo.gast = gastFromCio(era, eo.celestialToTrueOfDate, fa, t);
     }
     eo.trueObliquity = eo.meanObliquity + eo.nutation.deps;
     return eo;

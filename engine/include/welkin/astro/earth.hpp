@@ -9,10 +9,12 @@
 //
 // Fast path: IAU 2006 precession (Fukushima-Williams angles, including the frame bias), IAU 2000B
 // nutation (77 luni-solar terms, fixed planetary offsets, IAU 2006 scaling), GMST from the Earth
-// rotation angle (IAU 2006) and GAST = GMST + dpsi cos(eps_A) + the main complementary terms.
+// rotation angle (IAU 2006) and GAST the CIO way, ERA - EO, with the equation of the origins from
+// the Fast matrix and the CIO locator s truncated to its luni-solar terms above 0.2 uas.
 // Precise path: ERFA eraPnm06a (IAU 2006/2000A), eraGmst06, eraGst06 (from the same matrix),
-// eraNut06a, eraObl06. Measured differences (tests/astro/test_frames.cpp, 1900-2100): see
-// docs/astronomy-time-and-frames.md; the Fast path is within 0.01" of the Precise path there.
+// eraNut06a, eraObl06. Measured differences (tests/astro/test_frames.cpp): the Fast path is
+// within 0.003" of the Precise path over 1900-2100 and at the years -2000 and +6000 (see
+// docs/astronomy-time-and-frames.md).
 // Polar motion is neglected (< 0.5", it needs IERS data that an offline renderer does not have).
 #pragma once
 #include <welkin/astro/timescales.hpp>
