@@ -130,6 +130,40 @@ Atmosphere Atmosphere::earthBruneton2017() {
     return a;
 }
 
+Atmosphere Atmosphere::earthBruneton2017Evaluation() {
+    // Rayleigh scattering coefficient of standard air at 0 C, 1/m, 360..830 nm every 10 nm
+    // (Penndorf 1957, table III), scaled by T0 / T = 273.16 / 288.16 to 15 C as Bruneton does.
+    static const double kPenndorf[48] = {
+        70.45e-6, 62.82e-6, 56.20e-6, 50.43e-6, 45.40e-6, 40.98e-6, 37.08e-6, 33.65e-6, 30.60e-6, 27.89e-6,
+        25.48e-6, 23.33e-6, 21.40e-6, 19.66e-6, 18.10e-6, 16.69e-6, 15.42e-6, 14.26e-6, 13.21e-6, 12.26e-6,
+        11.39e-6, 10.60e-6, 9.876e-6, 9.212e-6, 8.604e-6, 8.045e-6, 7.531e-6, 7.057e-6, 6.620e-6, 6.217e-6,
+        5.844e-6, 5.498e-6, 5.178e-6, 4.881e-6, 4.605e-6, 4.348e-6, 4.109e-6, 3.886e-6, 3.678e-6, 3.484e-6,
+        3.302e-6, 3.132e-6, 2.973e-6, 2.824e-6, 2.684e-6, 2.583e-6, 2.481e-6, 2.380e-6};
+    // Grass spectral albedo, 360..800 nm every 10 nm (Feister & Grewe 1995, as tabulated by Bruneton).
+    static const double kGrass[45] = {0.018, 0.019, 0.019, 0.020, 0.022, 0.024, 0.027, 0.029, 0.030, 0.031, 0.032, 0.032,
+                                      0.032, 0.033, 0.035, 0.040, 0.055, 0.073, 0.084, 0.089, 0.089, 0.079, 0.069, 0.063,
+                                      0.061, 0.057, 0.052, 0.051, 0.048, 0.042, 0.039, 0.035, 0.035, 0.043, 0.087, 0.156,
+                                      0.234, 0.334, 0.437, 0.513, 0.553, 0.571, 0.579, 0.581, 0.587};
+    auto table = [](const double* t, int n, double nm) {
+        const double u = std::clamp((nm - 360.0) / 10.0, 0.0, double(n - 1));
+        const int i = std::min(int(u), n - 2);
+        const double f = u - i;
+        return t[i] * (1.0 - f) + t[i + 1] * f;
+    };
+    Atmosphere a = earthWith(0.0, 0.0, 0.8, 0.7, MiePhaseFunction::CornetteShanks);
+    a.name = "earth-bruneton2017-evaluation";
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        const double nm = a.wavelengthsNm[i];
+        a.rayleighScattering[i] = table(kPenndorf, 48, nm) * (273.16 / 288.16);
+        const double ext = 0.04 * std::pow(nm * 1e-3, -0.8) / a.mieScaleHeightM;  // beta lambda_um^-alpha / H
+        a.mieExtinction[i] = ext;
+        a.mieScattering[i] = ext * 0.8;
+        a.ozoneAbsorption[i] = 0.0;
+        a.groundAlbedo[i] = table(kGrass, 45, nm);
+    }
+    return a;
+}
+
 Atmosphere Atmosphere::mars() {
     // Sources and derivations (all values approximate; Mars' dust loading varies by season):
     //  * Radius 3389.5 km (IAU mean radius). The top at +100 km leaves exp(-100/10.7) ~ 1e-4

@@ -25,7 +25,8 @@ std::pair<double, double> sphereMoments(const std::function<double(double)>& f) 
 }  // namespace
 
 TEST_CASE("atmosphere: presets are valid and match published columns", "[cpu][atmosphere]") {
-    for (const Atmosphere& a : {Atmosphere::earthClear(), Atmosphere::earthHazy(), Atmosphere::earthBruneton2017(), Atmosphere::mars()})
+    for (const Atmosphere& a : {Atmosphere::earthClear(), Atmosphere::earthHazy(), Atmosphere::earthBruneton2017(),
+                                Atmosphere::earthBruneton2017Evaluation(), Atmosphere::mars()})
         CHECK_NOTHROW(a.validate());
     const Atmosphere e = Atmosphere::earthClear();
     // Rayleigh optical depth of the standard atmosphere at 550 nm: about 0.0973 (Bodhaine et al.
@@ -39,6 +40,11 @@ TEST_CASE("atmosphere: presets are valid and match published columns", "[cpu][at
     CHECK(Atmosphere::earthHazy().aerosolOpticalDepth(550.0) == Approx(0.4).epsilon(1e-3));
     // Bruneton's demo: Mie beta 5.328e-3 with alpha 0 is the aerosol optical depth at every wavelength.
     CHECK(Atmosphere::earthBruneton2017().aerosolOpticalDepth(450.0) == Approx(5.328e-3).epsilon(1e-6));
+    // Bruneton's evaluation: AOD = beta lambda_um^-alpha = 0.04 * 0.55^-0.8 = 0.0645 at 550 nm;
+    // Penndorf's 550 nm coefficient 12.26e-6 /m at 0 C, times 273.16 / 288.16 and 8 km.
+    const Atmosphere be = Atmosphere::earthBruneton2017Evaluation();
+    CHECK(be.aerosolOpticalDepth(550.0) == Approx(0.04 * std::pow(0.55, -0.8)).epsilon(1e-3));
+    CHECK(be.rayleighOpticalDepth(550.0) == Approx(12.26e-6 * 273.16 / 288.16 * 8000.0).epsilon(2e-3));
     // Mars: the Sun at 1.5237 AU receives 1 / 1.5237^2 = 0.4307 of the Earth's irradiance.
     const Atmosphere m = Atmosphere::mars();
     CHECK(m.solarIrradiance[10] / e.solarIrradiance[10] == Approx(1.0 / (1.5237 * 1.5237)).epsilon(1e-9));

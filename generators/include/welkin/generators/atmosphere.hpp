@@ -113,6 +113,12 @@ struct Atmosphere {
     /// Rayleigh 1.24062e-6 lambda_um^-4 /m, Mie beta 5.328e-3 (AOD 0.0053), alpha 0, SSA 0.9,
     /// CS g 0.8, same ozone, ground albedo 0.1, radii 6360/6420 km.
     static Atmosphere earthBruneton2017();
+    /// The atmosphere of Bruneton's 2017 evaluation of 8 clear-sky models (clear-sky-models,
+    /// atmosphere/atmosphere.{h,cc}), used to compare with the Kider 2013 measurements:
+    /// Rayleigh from Penndorf 1957 at 15 C, Angstrom alpha 0.8 and beta 0.04 (AOD 0.0645 at
+    /// 550 nm), aerosol single-scattering albedo 0.8, Cornette-Shanks g 0.7, scale heights 8 and
+    /// 1.2 km, no ozone, a grass ground albedo (Feister & Grewe 1995), radii 6360/6420 km.
+    static Atmosphere earthBruneton2017Evaluation();
     /// Mars (documented in the .cpp): CO2 Rayleigh scattering, suspended dust, no ozone,
     /// 3389.5 km radius, the Sun at 1.524 AU.
     static Atmosphere mars();
