@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <numbers>
 #include <sstream>
@@ -27,13 +28,13 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 
 struct AstroOptions {
     std::string time;
-    double lat = NAN, lon = NAN, height = 0.0;
+    std::string lat, lon, height = "0";  // parsed by run(): bad numbers are one-line errors
     std::string bodies = "sun,moon,mercury,venus,mars,jupiter,saturn,uranus,neptune";
     bool precise = false;
     std::string refraction = "on";
     bool events = false;
     bool json = false;
-    double pressure = 1013.25, temperature = 10.0;
+    std::string pressure = "1013.25", temperature = "10";
 };
 
 std::vector<Body> parseBodies(const std::string& list) {
@@ -77,13 +78,35 @@ nlohmann::json bodyJson(const BodyState& s) {
 
 nlohmann::json optIso(const std::optional<UtcInstant>& t) { return t ? nlohmann::json(t->toIso()) : nlohmann::json(nullptr); }
 
-int run(const AstroOptions& o) {
-    if (o.time.empty()) throw Error("--time is required (ISO 8601, e.g. 2026-06-21T21:00:00Z)");
-    if (!(o.lat >= -90.0 && o.lat <= 90.0)) throw Error("--lat " + std::to_string(o.lat) + " not in [-90, 90]");
-    if (!(o.lon >= -180.0 && o.lon <= 180.0)) throw Error("--lon " + std::to_string(o.lon) + " not in [-180, 180]");
-    if (!(o.height >= -1e4 && o.height <= 1e8)) throw Error("--height " + std::to_string(o.height) + " not in [-10000, 1e8] m");
+/// A number from the command line within [lo, hi]; throws a one-line Error naming the option.
+double number(const std::string& option, const std::string& text, double lo, double hi, const char* unit) {
+    if (text.empty()) throw Error(option + " is required");
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (end == text.c_str() || *end != '\0' || !std::isfinite(v)) throw Error(option + " '" + text + "': not a number");
+    if (v < lo || v > hi) {
+        char buf[128];
+        std::snprintf(buf, sizeof buf, " not in [%g, %g] %s", lo, hi, unit);
+        throw Error(option + " " + text + buf);
+    }
+    return v;
+}
+
+int run(const AstroOptions& opt) {
+    if (opt.time.empty()) throw Error("--time is required (ISO 8601, e.g. 2026-06-21T21:00:00Z)");
+    struct {
+        double lat, lon, height, pressure, temperature;
+        const std::string& refraction;
+        const std::string& bodies;
+        bool precise, events, json;
+    } o{number("--lat", opt.lat, -90, 90, "deg"),
+        number("--lon", opt.lon, -180, 180, "deg"),
+        number("--height", opt.height, -1e4, 1e8, "m"),
+        number("--pressure", opt.pressure, 0, 2000, "hPa"),
+        number("--temperature", opt.temperature, -100, 100, "C"),
+        opt.refraction, opt.bodies, opt.precise, opt.events, opt.json};
     if (o.refraction != "on" && o.refraction != "off") throw Error("--refraction '" + o.refraction + "': expected on or off");
-    const UtcInstant t = UtcInstant::parse(o.time);
+    const UtcInstant t = UtcInstant::parse(opt.time);
     const std::vector<Body> bodies = parseBodies(o.bodies);
     Site site{o.lat * kDeg, o.lon * kDeg, o.height, o.refraction == "on" ? o.pressure : 0.0, o.temperature};
     validate(site);
