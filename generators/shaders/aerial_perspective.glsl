@@ -26,7 +26,6 @@ void main() {
     float dEnd = ground ? distanceToBottom(u_h, mu) : distanceToTop(u_h, mu);
     float r = atm_bottom() + u_h;
     float phaseR = rayleighPhase(nu), phaseM = miePhase(nu);
-    float msSize = float(textureSize(ATM_MULTISCATTERING_LUT, 0).x);
     vec3 L = vec3(0.0), thr = vec3(1.0);
     float t0 = 0.0;
     for (int k = 0; k < u_size; ++k) {
@@ -42,8 +41,9 @@ void main() {
             vec3 sigmaT = atm_extinction(hp);
             vec3 seg = atm_segmentFactor(sigmaT, dt);
             vec3 Tl = transmittanceToLight(hp, muSp, u_angular);
-            vec3 ms = texture(ATM_MULTISCATTERING_LUT, multiScatteringUv(hp, muSp, msSize)).rgb;
-            L += thr * ((sR * phaseR + sM * phaseM) * Tl + (sR + sM) * ms) * seg;
+            float muP = clamp((r * mu + t) / rp, -1.0, 1.0);
+            vec3 ms = msInscatter(hp, muP, muSp, nu, sR, sM);
+            L += thr * ((sR * phaseR + sM * phaseM) * Tl + ms) * seg;
             thr *= exp(-sigmaT * dt);
         }
         t0 = max(t0, t1);

@@ -14,6 +14,7 @@ layout(std140, binding = 1) uniform WelkinAtmosphere {
     vec4 atm_absorption;         // ozone extinction rgb (1/m), unused
     vec4 atm_groundAlbedo;       // rgb, unused
     vec4 atm_solarIlluminance;   // rgb (lux), Sun's angular radius (rad)
+    vec4 atm_phaseMoments;       // Legendre moments: Mie l1, Mie l2, Rayleigh l2, 0
     vec4 atm_profiles[9];        // 3 profiles x (w0 e0 s0 l0)(c0 e1 s1 l1)(c1 0 0 0)
 };
 
@@ -83,13 +84,16 @@ vec2 transmittanceHMu(vec2 uv, vec2 size) {
     float mu = d == 0.0 ? 1.0 : clamp((H * H - rho * rho - d * d) / (2.0 * r * d), -1.0, 1.0);
     return vec2(h, mu);
 }
+// mu_s axis dense around the horizon: u = 1/2 + atan(mu_s / 0.15) / (2 atan(1 / 0.15)).
+const float ATM_MS_A = 0.15;
 vec2 multiScatteringUv(float h, float muS, float size) {
-    return vec2(texCoordFromUnit(clamp(0.5 + 0.5 * muS, 0.0, 1.0), size),
-                texCoordFromUnit(clamp(h / atm_thickness(), 0.0, 1.0), size));
+    float x = 0.5 + 0.5 * atan(clamp(muS, -1.0, 1.0) / ATM_MS_A) / atan(1.0 / ATM_MS_A);
+    return vec2(texCoordFromUnit(clamp(x, 0.0, 1.0), size), texCoordFromUnit(clamp(h / atm_thickness(), 0.0, 1.0), size));
 }
 vec2 multiScatteringHMuS(vec2 uv, float size) {
-    return vec2(clamp(unitFromTexCoord(uv.y, size), 0.0, 1.0) * atm_thickness(),
-                clamp(unitFromTexCoord(uv.x, size), 0.0, 1.0) * 2.0 - 1.0);
+    float x = clamp(unitFromTexCoord(uv.x, size), 0.0, 1.0);
+    float muS = clamp(ATM_MS_A * tan((2.0 * x - 1.0) * atan(1.0 / ATM_MS_A)), -1.0, 1.0);
+    return vec2(clamp(unitFromTexCoord(uv.y, size), 0.0, 1.0) * atm_thickness(), muS);
 }
 float atm_horizonZenith(float h) {
     float r = atm_bottom() + h;
@@ -175,6 +179,39 @@ vec3 transmittanceToLight(float h, float muS, float angularRadius) {
 // The multiple-scattering LUT on texture unit 5 (define ATM_USE_MULTISCATTERING).
 layout(binding = 5) uniform sampler2D u_atmMultiScattering;
 #define ATM_MULTISCATTERING_LUT u_atmMultiScattering
+#ifdef ATM_MS_DIRECTIONAL
+// The SH l <= 2 projection of the incident radiance field (6 layers) on texture unit 8.
+layout(binding = 8) uniform sampler2DArray u_atmShLut;
+#endif
+
+float[6] atm_shBasis(float x, float z) {
+    float y2 = max(0.0, 1.0 - x * x - z * z);
+    return float[6](0.282095, 0.488603 * z, 0.488603 * x, 0.315392 * (3.0 * z * z - 1.0), 1.092548 * x * z,
+                    0.546274 * (x * x - y2));
+}
+
+// In-scattered radiance per lux of scattering orders >= 2 at a point; twin of cpu::msInscatter().
+vec3 msInscatter(float h, float mu, float muS, float nu, vec3 sR, vec3 sM) {
+    float size = float(textureSize(ATM_MULTISCATTERING_LUT, 0).x);
+    vec2 uv = multiScatteringUv(h, muS, size);
+#ifdef ATM_MS_DIRECTIONAL
+    float sinS = sqrt(max(1.0 - muS * muS, 0.0));
+    float x = sinS > 1e-6 ? clamp((nu - mu * muS) / sinS, -1.0, 1.0) : 0.0;
+    float Y[6] = atm_shBasis(x, mu);
+    vec4 mo = atm_phaseMoments;
+    float lR[6] = float[6](1.0, 0.0, 0.0, mo.z, mo.z, mo.z);
+    float lM[6] = float[6](1.0, mo.x, mo.x, mo.y, mo.y, mo.y);
+    vec3 aR = vec3(0.0), aM = vec3(0.0);
+    for (int k = 0; k < 6; ++k) {
+        vec3 c = texture(u_atmShLut, vec3(uv, float(k))).rgb;
+        aR += c * (lR[k] * Y[k]);
+        aM += c * (lM[k] * Y[k]);
+    }
+    return sR * max(aR, vec3(0.0)) + sM * max(aM, vec3(0.0));
+#else
+    return (sR + sM) * texture(ATM_MULTISCATTERING_LUT, uv).rgb;
+#endif
+}
 struct Scattering {
     vec3 smooth_;     // Rayleigh single (phase applied), multiple scattering and ground
     vec3 mieNoPhase;  // Mie single scattering without its phase function
@@ -194,7 +231,6 @@ Scattering integrateScattering(float h, float mu, float muS, float nu, float max
     d = min(d, maxDistance);
     float p = quadratic ? 0.0 : atm_perigeeFraction(h, mu, d);
     float r = atm_bottom() + h;
-    float msSize = float(textureSize(ATM_MULTISCATTERING_LUT, 0).x);
     float phaseR = rayleighPhase(nu);
     vec3 thr = vec3(1.0);
     for (int k = 0; k < steps && d > 0.0; ++k) {
@@ -207,8 +243,9 @@ Scattering integrateScattering(float h, float mu, float muS, float nu, float max
         vec3 sigmaT = atm_extinction(hp);
         vec3 seg = atm_segmentFactor(sigmaT, dt);
         vec3 Tl = transmittanceToLight(hp, muSp, lightAngularRadius);
-        vec3 ms = texture(ATM_MULTISCATTERING_LUT, multiScatteringUv(hp, muSp, msSize)).rgb;
-        o.smooth_ += thr * (sR * Tl * phaseR + (sR + sM) * ms) * seg;
+        float muP = clamp((r * mu + t) / rp, -1.0, 1.0);
+        vec3 ms = msInscatter(hp, muP, muSp, nu, sR, sM);
+        o.smooth_ += thr * (sR * Tl * phaseR + ms) * seg;
         o.mieNoPhase += thr * sM * Tl * seg;
         thr *= exp(-sigmaT * dt);
     }

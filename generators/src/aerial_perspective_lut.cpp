@@ -13,6 +13,7 @@ namespace welkin::generators {
 AerialPerspectiveLut::AerialPerspectiveLut() : SkyGenerator("sky.aerial_perspective") {
     input(skykeys::transmittanceRev);
     input(skykeys::multiScatteringRev);
+    input(skykeys::shRev);
     input(keys::observerHeight);
     input(keys::sunDirection);
     output(skykeys::aerialInscatter);
@@ -42,6 +43,7 @@ void AerialPerspectiveLut::doRun(SkyVars& vars, const Logger&) {
         prog_ = gl::ProgramBuilder("AerialPerspectiveLut")
                     .define("ATM_USE_TRANSMITTANCE")
                     .define("ATM_USE_MULTISCATTERING")
+                    .define("ATM_MS_DIRECTIONAL")
                     .compute("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
                     .compute("generators/aerial_perspective.glsl", embedded::generator_shaders("aerial_perspective.glsl"))
                     .build();
@@ -51,6 +53,7 @@ void AerialPerspectiveLut::doRun(SkyVars& vars, const Logger&) {
     const double muS = std::clamp(dir.z / std::max(glm::length(dir), 1e-12), -1.0, 1.0);
     glBindTextureUnit(4, vars.get(skykeys::transmittanceLut).id);
     glBindTextureUnit(5, vars.get(skykeys::multiScatteringLut).id);
+        glBindTextureUnit(8, vars.get(skykeys::shLut).id);
     glBindImageTexture(0, inscatter_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glBindImageTexture(1, transmittance_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     prog_.use();
@@ -69,7 +72,7 @@ void AerialPerspectiveLut::doRun(SkyVars& vars, const Logger&) {
 }
 
 namespace cpu {
-AerialTexel aerialTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const Lut2D& MS, double h, double muS, int i,
+AerialTexel aerialTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const MsField& MS, double h, double muS, int i,
                         int j, int k) {
     const int n = q.aerialSize;
     glm::dvec2 ma = skyViewMuAz(m, h, {(i + 0.5) / n, (j + 0.5) / n}, n, n);
@@ -80,6 +83,7 @@ AerialTexel aerialTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, 
     double dEnd = ground ? distanceToBottom(m, h, mu) : distanceToTop(m, h, mu);
     double r = m.bottomRadius + h;
     double phaseR = rayleighPhase(nu), phaseM = miePhase(nu, m.mieG, m.miePhase);
+    const glm::dvec4 moments = phaseMoments(m);
     glm::dvec3 L(0.0), thr(1.0);
     double t0 = 0.0;
     for (int kk = 0; kk <= k; ++kk) {
@@ -95,8 +99,9 @@ AerialTexel aerialTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, 
             glm::dvec3 seg;
             for (int c = 0; c < 3; ++c) seg[c] = sigmaT[c] * dt > 1e-7 ? (1.0 - std::exp(-sigmaT[c] * dt)) / sigmaT[c] : dt;
             glm::dvec3 Tl = transmittanceToLight(m, T, hp, muSp, m.sunAngularRadius);
-            glm::dvec3 ms = MS.sample(multiScatteringUv(m, hp, muSp, MS.width));
-            L += thr * ((sR * phaseR + sM * phaseM) * Tl + (sR + sM) * ms) * seg;
+            double muP = std::clamp((r * mu + t) / rp, -1.0, 1.0);
+            glm::dvec3 ms = msInscatter(m, MS, moments, hp, muP, muSp, nu, sR, sM);
+            L += thr * ((sR * phaseR + sM * phaseM) * Tl + ms) * seg;
             thr *= glm::exp(-sigmaT * dt);
         }
         t0 = std::max(t0, t1);

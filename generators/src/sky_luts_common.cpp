@@ -18,6 +18,7 @@ AtmosphereBlock AtmosphereBlock::from(const SkyModel& m) {
     b.absorption = glm::vec4(glm::vec3(m.absorptionExtinction), 0.0f);
     b.groundAlbedo = glm::vec4(glm::vec3(m.groundAlbedo), 0.0f);
     b.solarIlluminance = glm::vec4(glm::vec3(m.solarIlluminance), float(m.sunAngularRadius));
+    b.phaseMoments = glm::vec4(cpu::phaseMoments(m));
     const DensityProfile* p[3] = {&m.rayleighDensity, &m.mieDensity, &m.absorptionDensity};
     for (int i = 0; i < 3; ++i) {
         const DensityLayer &a = p[i]->layers[0], &c = p[i]->layers[1];
@@ -59,6 +60,7 @@ void SkyGenerator::fullscreen() const {
 namespace {
 const Key<std::shared_ptr<TransmittanceLut>> kGenTransmittance{"sky.gen.transmittance"};
 const Key<std::shared_ptr<MultiScatteringLut>> kGenMultiScattering{"sky.gen.multiscattering"};
+const Key<std::shared_ptr<ShLut>> kGenSh{"sky.gen.sh"};
 const Key<std::shared_ptr<SkyViewLut>> kGenSunView{"sky.gen.sun_view"};
 const Key<std::shared_ptr<SkyViewLut>> kGenMoonView{"sky.gen.moon_view"};
 const Key<std::shared_ptr<AerialPerspectiveLut>> kGenAerial{"sky.gen.aerial"};
@@ -69,6 +71,7 @@ SkyLuts SkyLuts::obtain(SkyVars& vars) {
     SkyLuts l;
     l.transmittance = vars.obtain<TransmittanceLut>(kGenTransmittance, [] { return std::make_shared<TransmittanceLut>(); });
     l.multiScattering = vars.obtain<MultiScatteringLut>(kGenMultiScattering, [] { return std::make_shared<MultiScatteringLut>(); });
+    l.sh = vars.obtain<ShLut>(kGenSh, [] { return std::make_shared<ShLut>(); });
     l.sunView = vars.obtain<SkyViewLut>(kGenSunView, [] { return std::make_shared<SkyViewLut>(Light::Sun); });
     l.moonView = vars.obtain<SkyViewLut>(kGenMoonView, [] { return std::make_shared<SkyViewLut>(Light::Moon); });
     l.aerial = vars.obtain<AerialPerspectiveLut>(kGenAerial, [] { return std::make_shared<AerialPerspectiveLut>(); });
@@ -77,7 +80,7 @@ SkyLuts SkyLuts::obtain(SkyVars& vars) {
 }
 
 void SkyLuts::releaseGl() {
-    for (SkyGenerator* g : std::initializer_list<SkyGenerator*>{transmittance.get(), multiScattering.get(), sunView.get(),
+    for (SkyGenerator* g : std::initializer_list<SkyGenerator*>{transmittance.get(), multiScattering.get(), sh.get(), sunView.get(),
                                                                 moonView.get(), aerial.get(), irradiance.get()})
         if (g) g->releaseGl();
 }

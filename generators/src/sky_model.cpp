@@ -73,14 +73,14 @@ SkyQuality SkyQuality::preset(int quality) {
         q.multiScatteringSize = 16, q.multiScatteringDirections = 32, q.multiScatteringSteps = 12;
         q.skyViewW = 96, q.skyViewH = 54, q.skyViewSteps = 16;
         q.aerialSize = 16, q.aerialSteps = 1;
-        q.raymarchSteps = 24, q.halfFloat = true;
+        q.raymarchSteps = 24, q.halfFloat = true, q.shDirections = 64;
         q.irradianceAzimuth = 16, q.irradianceZenith = 8;
         break;
     case 1:  // medium (default): Hillaire 2020 sizes
         break;
     case 2:  // high: larger LUTs and more samples, fp32
         q.transmittanceW = 256, q.transmittanceH = 128, q.transmittanceSteps = 128;
-        q.multiScatteringSize = 32, q.multiScatteringDirections = 128, q.multiScatteringSteps = 32;
+        q.multiScatteringSize = 32, q.multiScatteringDirections = 128, q.multiScatteringSteps = 32, q.shDirections = 256;
         q.skyViewW = 256, q.skyViewH = 192, q.skyViewSteps = 64;
         q.aerialSize = 32, q.aerialSteps = 4;
         q.raymarchSteps = 96;
@@ -88,7 +88,7 @@ SkyQuality SkyQuality::preset(int quality) {
         break;
     case 3:  // reference: every pixel ray-marched with many steps
         q.transmittanceW = 512, q.transmittanceH = 128, q.transmittanceSteps = 256;
-        q.multiScatteringSize = 64, q.multiScatteringDirections = 256, q.multiScatteringSteps = 64;
+        q.multiScatteringSize = 64, q.multiScatteringDirections = 256, q.multiScatteringSteps = 64, q.shDirections = 512;
         q.skyViewW = 256, q.skyViewH = 192, q.skyViewSteps = 64;
         q.aerialSize = 32, q.aerialSteps = 8;
         q.raymarchSteps = 256, q.perPixel = true;
@@ -106,7 +106,7 @@ SkyQuality SkyQuality::preset(int quality) {
 SkyQuality SkyQuality::tiny() {
     SkyQuality q;
     q.transmittanceW = 64, q.transmittanceH = 16, q.transmittanceSteps = 24;
-    q.multiScatteringSize = 8, q.multiScatteringDirections = 16, q.multiScatteringSteps = 8;
+    q.multiScatteringSize = 8, q.multiScatteringDirections = 16, q.multiScatteringSteps = 8, q.shDirections = 32;
     q.skyViewW = 32, q.skyViewH = 24, q.skyViewSteps = 12;
     q.aerialSize = 8, q.aerialSteps = 1;
     q.raymarchSteps = 16;
@@ -160,14 +160,22 @@ glm::dvec2 transmittanceHMu(const SkyModel& m, glm::dvec2 uv, int w, int hgt) {
     return {h, mu};
 }
 
+// mu_s axis: u = 1/2 + atan(mu_s / a) / (2 atan(1 / a)) with a = 0.15, about 4.7 times denser
+// than linear around the horizon (the terminator sweeps the low atmosphere there: twilight).
+namespace {
+constexpr double kMsA = 0.15;
+}
 glm::dvec2 multiScatteringUv(const SkyModel& m, double h, double muS, int size) {
     const double Ht = m.topRadius - m.bottomRadius;
-    return {texCoordFromUnit(clamp01(0.5 + 0.5 * muS), size), texCoordFromUnit(clamp01(h / Ht), size)};
+    double x = 0.5 + 0.5 * std::atan(std::clamp(muS, -1.0, 1.0) / kMsA) / std::atan(1.0 / kMsA);
+    return {texCoordFromUnit(clamp01(x), size), texCoordFromUnit(clamp01(h / Ht), size)};
 }
 
 glm::dvec2 multiScatteringHMuS(const SkyModel& m, glm::dvec2 uv, int size) {
     const double Ht = m.topRadius - m.bottomRadius;
-    return {clamp01(unitFromTexCoord(uv.y, size)) * Ht, clamp01(unitFromTexCoord(uv.x, size)) * 2.0 - 1.0};
+    double x = clamp01(unitFromTexCoord(uv.x, size));
+    double muS = std::clamp(kMsA * std::tan((2.0 * x - 1.0) * std::atan(1.0 / kMsA)), -1.0, 1.0);
+    return {clamp01(unitFromTexCoord(uv.y, size)) * Ht, muS};
 }
 
 // Latitude: the upper half (rows H/2 .. H-1) covers [horizon, zenith], the lower half (rows
@@ -325,6 +333,11 @@ glm::dvec3 segmentFactor(const glm::dvec3& sigmaT, double dt) {
 }
 }  // namespace
 
+glm::dvec3 fibonacciDirectionPublic(int i, int n) { return fibonacciDirection(i, n); }
+glm::dvec3 segmentFactorPublic(const glm::dvec3& s, double dt) { return segmentFactor(s, dt); }
+double warpPublic(double s, double p) { return warp(s, p); }
+double perigeeFractionPublic(const SkyModel& m, double h, double mu, double d) { return perigeeFraction(m, h, mu, d); }
+
 glm::dvec3 multiScatteringTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, double h, double muS) {
     const int n = q.multiScatteringDirections, steps = q.multiScatteringSteps;
     const glm::dvec3 sun(safeSqrt(1.0 - muS * muS), 0.0, muS);
@@ -377,9 +390,110 @@ Lut2D multiScatteringLut(const SkyModel& m, const SkyQuality& q, const Lut2D& T)
     return lut;
 }
 
+
+// --- Directional multiple scattering (SH l <= 2) -------------------------------------------------
+
+glm::dvec4 phaseMoments(const SkyModel& m) {
+    double l1 = m.mieG, l2 = m.mieG * m.mieG;
+    if (m.miePhase == 1) {
+        // Cornette-Shanks: no closed form used; Simpson's rule on 4000 intervals (peaked phase).
+        const int n = 4000;
+        double s1 = 0, s2 = 0;
+        for (int i = 0; i <= n; ++i) {
+            double t = -1.0 + 2.0 * i / n, w = (i == 0 || i == n) ? 1 : (i % 2 ? 4 : 2);
+            double p = miePhase(t, m.mieG, 1);
+            s1 += w * p * t;
+            s2 += w * p * 0.5 * (3 * t * t - 1);
+        }
+        l1 = 2 * kPi * s1 * (2.0 / n) / 3.0;
+        l2 = 2 * kPi * s2 * (2.0 / n) / 3.0;
+    }
+    return {l1, l2, 0.1, 0.0};  // Rayleigh: Lambda_1 = 0, Lambda_2 = 1/10
+}
+
+std::array<double, 6> shBasis(double x, double z) {
+    double y2 = std::max(0.0, 1.0 - x * x - z * z);
+    return {0.282095, 0.488603 * z, 0.488603 * x, 0.315392 * (3 * z * z - 1), 1.092548 * x * z, 0.546274 * (x * x - y2)};
+}
+
+std::array<glm::dvec3, 6> shTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const Lut2D& psi, double h, double muS) {
+    const int n = q.shDirections, steps = q.multiScatteringSteps;
+    const glm::dvec3 sun(safeSqrt(1.0 - muS * muS), 0.0, muS);
+    std::array<glm::dvec3, 6> c{};
+    const double r = m.bottomRadius + h;
+    for (int i = 0; i < n; ++i) {
+        glm::dvec3 v = cpu::fibonacciDirectionPublic(i, n);
+        double mu = v.z, nu = glm::dot(v, sun);
+        double pR = rayleighPhase(nu), pM = miePhase(nu, m.mieG, m.miePhase);
+        bool ground = cpu::rayIntersectsGround(m, h, mu);
+        double d = ground ? cpu::distanceToBottom(m, h, mu) : cpu::distanceToTop(m, h, mu);
+        double p = cpu::perigeeFractionPublic(m, h, mu, d);
+        glm::dvec3 thr(1.0), L(0.0);
+        for (int k = 0; k < steps; ++k) {
+            double s0 = double(k) / steps, s1 = double(k + 1) / steps, sm = (k + 0.5) / steps;
+            double dt = d * (cpu::warpPublic(s1, p) - cpu::warpPublic(s0, p)), t = d * cpu::warpPublic(sm, p);
+            double hp = cpu::heightAt(m, h, mu, t);
+            double rp = m.bottomRadius + hp;
+            double muSp = std::clamp((r * muS + t * nu) / rp, -1.0, 1.0);
+            glm::dvec3 sR = m.scatteringRayleigh(hp), sM = m.scatteringMie(hp), sigmaT = m.extinction(hp);
+            glm::dvec3 seg = cpu::segmentFactorPublic(sigmaT, dt);
+            glm::dvec3 Tl = cpu::transmittanceToLight(m, T, hp, muSp, m.sunAngularRadius);
+            glm::dvec3 ps = psi.sample(multiScatteringUv(m, hp, muSp, psi.width));
+            L += thr * ((sR * pR + sM * pM) * Tl + (sR + sM) * ps) * seg;
+            thr *= glm::exp(-sigmaT * dt);
+        }
+        if (ground) {
+            double muSg = std::clamp((r * muS + d * nu) / m.bottomRadius, -1.0, 1.0);
+            glm::dvec3 Tg = cpu::transmittanceToLight(m, T, 0.0, muSg, m.sunAngularRadius);
+            L += thr * Tg * std::max(muSg, 0.0) * m.groundAlbedo / kPi;
+        }
+        auto Y = shBasis(v.x, v.z);
+        for (int k = 0; k < 6; ++k) c[k] += L * Y[k];
+    }
+    for (auto& x : c) x *= 4.0 * kPi / n;
+    return c;
+}
+
+MsField msField(const SkyModel& m, const SkyQuality& q, const Lut2D& T) {
+    MsField f;
+    f.psi = cpu::multiScatteringLut(m, q, T);
+    f.directional = q.directionalMs;
+    if (!f.directional) return f;
+    const int n = q.multiScatteringSize;
+    for (auto& l : f.sh) {
+        l.width = l.height = n;
+        l.texels.resize(size_t(n) * n);
+    }
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+            glm::dvec2 hm = multiScatteringHMuS(m, {(x + 0.5) / n, (y + 0.5) / n}, n);
+            auto c = shTexel(m, q, T, f.psi, hm.x, hm.y);
+            for (int k = 0; k < 6; ++k) f.sh[k].at(x, y) = c[k];
+        }
+    return f;
+}
+
+glm::dvec3 msInscatter(const SkyModel& m, const MsField& f, const glm::dvec4& moments, double h, double mu, double muS,
+                       double nu, const glm::dvec3& sR, const glm::dvec3& sM) {
+    glm::dvec2 uv = multiScatteringUv(m, h, muS, f.psi.width);
+    if (!f.directional) return (sR + sM) * f.psi.sample(uv);
+    double sinS = safeSqrt(1.0 - muS * muS);
+    double x = sinS > 1e-6 ? (nu - mu * muS) / sinS : 0.0;
+    auto Y = shBasis(std::clamp(x, -1.0, 1.0), mu);
+    const double lR[6] = {1, 0, 0, moments.z, moments.z, moments.z};
+    const double lM[6] = {1, moments.x, moments.x, moments.y, moments.y, moments.y};
+    glm::dvec3 aR(0.0), aM(0.0);
+    for (int k = 0; k < 6; ++k) {
+        glm::dvec3 c = f.sh[k].sample(uv);
+        aR += c * (lR[k] * Y[k]);
+        aM += c * (lM[k] * Y[k]);
+    }
+    return sR * glm::max(aR, glm::dvec3(0.0)) + sM * glm::max(aM, glm::dvec3(0.0));
+}
+
 // --- Single + multiple scattering along a ray ----------------------------------------------------
 
-Scattering integrate(const SkyModel& m, const Lut2D& T, const Lut2D& MS, double h, double mu, double muS, double nu,
+Scattering integrate(const SkyModel& m, const Lut2D& T, const MsField& MS, double h, double mu, double muS, double nu,
                      double maxDistance, int steps, bool quadratic, double lightAngularRadius, int groundMode) {
     Scattering out;
     const double Ht = m.topRadius - m.bottomRadius;
@@ -391,6 +505,7 @@ Scattering integrate(const SkyModel& m, const Lut2D& T, const Lut2D& MS, double 
     if (!reachesEnd) out.hitGround = false;
     const double p = quadratic ? 0.0 : perigeeFraction(m, h, mu, d);
     const double r = m.bottomRadius + h;
+    const glm::dvec4 moments = phaseMoments(m);
     glm::dvec3 thr(1.0);
     for (int k = 0; k < steps && d > 0.0; ++k) {
         double s0 = double(k) / steps, s1 = double(k + 1) / steps, sm = (k + 0.5) / steps;
@@ -402,8 +517,9 @@ Scattering integrate(const SkyModel& m, const Lut2D& T, const Lut2D& MS, double 
         glm::dvec3 sigmaT = m.extinction(hp);
         glm::dvec3 seg = segmentFactor(sigmaT, dt);
         glm::dvec3 Tl = transmittanceToLight(m, T, hp, muSp, lightAngularRadius);
-        glm::dvec3 ms = MS.sample(multiScatteringUv(m, hp, muSp, MS.width));
-        out.smooth += thr * (sR * Tl * rayleighPhase(nu) + (sR + sM) * ms) * seg;
+        double muP = std::clamp((r * mu + t) / rp, -1.0, 1.0);
+        glm::dvec3 ms = msInscatter(m, MS, moments, hp, muP, muSp, nu, sR, sM);
+        out.smooth += thr * (sR * Tl * rayleighPhase(nu) + ms) * seg;
         out.mieNoPhase += thr * sM * Tl * seg;
         thr *= glm::exp(-sigmaT * dt);
     }
@@ -420,7 +536,7 @@ glm::dvec3 radiance(const SkyModel& m, const Scattering& s, double nu) {
     return s.smooth + s.mieNoPhase * miePhase(nu, m.mieG, m.miePhase);
 }
 
-SkyViewTexel skyViewTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const Lut2D& MS, double h, double muS,
+SkyViewTexel skyViewTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const MsField& MS, double h, double muS,
                           glm::dvec2 uv, double lightAngularRadius) {
     glm::dvec2 ma = skyViewMuAz(m, h, uv, q.skyViewW, q.skyViewH);
     double mu = ma.x, az = ma.y;
@@ -438,7 +554,7 @@ glm::dvec3 skyViewSample(const SkyModel& m, const Lut2D& smooth, const Lut2D& mi
     return smooth.sample(uv) + mie.sample(uv) * miePhase(nu, m.mieG, m.miePhase);
 }
 
-glm::dvec3 skyRadiance(const SkyModel& m, const Lut2D& T, const Lut2D& MS, double h, const glm::dvec3& viewDir,
+glm::dvec3 skyRadiance(const SkyModel& m, const Lut2D& T, const MsField& MS, double h, const glm::dvec3& viewDir,
                        const glm::dvec3& lightDir, const glm::dvec3& E, int steps, double lightAngularRadius) {
     const double R = m.bottomRadius, Ht = m.topRadius - R;
     double mu = viewDir.z, muS = lightDir.z, nu = glm::dot(viewDir, lightDir);

@@ -12,6 +12,7 @@ namespace welkin::generators {
 SkyViewLut::SkyViewLut(Light light) : SkyGenerator(light == Light::Sun ? "sky.sun_view" : "sky.moon_view"), light_(light) {
     input(skykeys::transmittanceRev);
     input(skykeys::multiScatteringRev);
+    input(skykeys::shRev);
     input(keys::observerHeight);
     if (light == Light::Sun) {
         input(keys::sunDirection);
@@ -54,6 +55,7 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
         prog_ = gl::ProgramBuilder(name())
                     .define("ATM_USE_TRANSMITTANCE")
                     .define("ATM_USE_MULTISCATTERING")
+                    .define("ATM_MS_DIRECTIONAL")
                     .fullscreenVertex()
                     .fragment("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
                     .fragment("generators/skyview_lut.glsl", embedded::generator_shaders("skyview_lut.glsl"))
@@ -79,6 +81,7 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
     } else {
         glBindTextureUnit(4, vars.get(skykeys::transmittanceLut).id);
         glBindTextureUnit(5, vars.get(skykeys::multiScatteringLut).id);
+        glBindTextureUnit(8, vars.get(skykeys::shLut).id);
         prog_.use();
         prog_.set("u_h", float(h_));
         prog_.set("u_muS", float(muS_));

@@ -46,7 +46,7 @@ struct Rig {
         vars.set(skykeys::sunIlluminance, m.solarIlluminance);
         vars.set(skykeys::moonIlluminance, m.solarIlluminance * 2e-6);
         luts = SkyLuts::obtain(vars);
-        for (SkyGenerator* g : {(SkyGenerator*)luts.transmittance.get(), (SkyGenerator*)luts.multiScattering.get(),
+        for (SkyGenerator* g : {(SkyGenerator*)luts.transmittance.get(), (SkyGenerator*)luts.multiScattering.get(), (SkyGenerator*)luts.sh.get(),
                                 (SkyGenerator*)luts.sunView.get(), (SkyGenerator*)luts.moonView.get(),
                                 (SkyGenerator*)luts.aerial.get(), (SkyGenerator*)luts.irradiance.get()})
             g->setFixedQuality(q);
@@ -55,6 +55,7 @@ struct Rig {
         const Logger& log = test::testLogger();
         luts.transmittance->runIfDue(vars, log);
         luts.multiScattering->runIfDue(vars, log);
+        luts.sh->runIfDue(vars, log);
         luts.sunView->runIfDue(vars, log);
         luts.moonView->runIfDue(vars, log);
         luts.aerial->runIfDue(vars, log);
@@ -84,12 +85,32 @@ TEST_CASE("Sky LUTs: GPU passes match their CPU double twins", "[gl][sky]") {
     CHECK(worstT < 1e-3);
 
     // Multiple scattering: sums of ~16 x 8 float terms through the same LUT lookups; 2e-3.
-    Lut2D MScpu = cpu::multiScatteringLut(m, q, Tcpu);
+    cpu::MsField MScpu = cpu::msField(m, q, Tcpu);
     Lut2D MSgpu = readLut(rig.luts.multiScattering->texture());
     double worstMS = 0;
-    for (size_t i = 0; i < MScpu.texels.size(); ++i) worstMS = std::max(worstMS, relErr(MSgpu.texels[i], MScpu.texels[i], 1e-9));
+    for (size_t i = 0; i < MScpu.psi.texels.size(); ++i) worstMS = std::max(worstMS, relErr(MSgpu.texels[i], MScpu.psi.texels[i], 1e-9));
     INFO("worst multiple-scattering relative error " << worstMS);
     CHECK(worstMS < 2e-3);
+
+    // Directional multiple scattering (SH l <= 2, 6 layers): each coefficient against the twin,
+    // relative to the layer's largest magnitude: 5e-3 (the l = 2 layers are sums of terms of both
+    // signs that cancel to ~1/10 of their parts, so float rounding is amplified ~10x).
+    {
+        std::vector<float> px(size_t(q.multiScatteringSize) * q.multiScatteringSize * 6 * 4);
+        glGetTextureImage(rig.luts.sh->texture().id(), 0, GL_RGBA, GL_FLOAT, GLsizei(px.size() * sizeof(float)), px.data());
+        const size_t layer = size_t(q.multiScatteringSize) * q.multiScatteringSize;
+        for (int k = 0; k < 6; ++k) {
+            double big = 0, worst = 0;
+            for (auto& t : MScpu.sh[k].texels) big = std::max(big, std::abs(t.g));
+            for (size_t i = 0; i < layer; ++i) {
+                glm::dvec3 g(px[(k * layer + i) * 4], px[(k * layer + i) * 4 + 1], px[(k * layer + i) * 4 + 2]);
+                worst = std::max(worst, glm::length(g - MScpu.sh[k].texels[i]) / big);
+            }
+            INFO("SH layer " << k << ": worst error " << worst << " of the layer's largest " << big);
+            CHECK(big > 0.0);
+            CHECK(worst < 5e-3);
+        }
+    }
 
     // Sky view (Sun at 20 deg, observer at 500 m): every texel, both textures; 3e-3 relative
     // (float march of 12 steps, LUT lookups at float texture coordinates) over a floor of 1e-3 of

@@ -39,9 +39,12 @@ TEST_CASE("Sky diagnostics: CPU twin against the reference integrator", "[.diag]
         SkyModel m = SkyModel::fromVars(vars);
         SkyQuality q = SkyQuality::preset(2);
         Lut2D T = cpu::transmittanceLut(m, q);
-        Lut2D MS = cpu::multiScatteringLut(m, q, T);
-        if (orders == 1)
-            for (auto& t : MS.texels) t = glm::dvec3(0.0);
+        cpu::MsField MS = cpu::msField(m, q, T);
+        if (orders == 1) {
+            for (auto& t : MS.psi.texels) t = glm::dvec3(0.0);
+            for (auto& l : MS.sh)
+                for (auto& t : l.texels) t = glm::dvec3(0.0);
+        }
         for (double sunAlt : {60.0, 20.0, 5.0, -4.0, -10.0, -18.0}) {
             glm::dvec3 sun = directionFromAzAlt(0.0, sunAlt * kDeg);
             for (auto [az, alt] : {std::pair{180.0, 45.0}, {90.0, 10.0}, {0.0, 90.0}, {0.0, 5.0}, {180.0, 5.0}, {30.0, 20.0}}) {

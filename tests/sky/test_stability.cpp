@@ -137,7 +137,7 @@ TEST_CASE("Sky stability: no band at the horizon, day and twilight", "[gl][sky]"
     SkyModel m = SkyModel::fromVars(vars);
     SkyQuality q = SkyQuality::preset(1);
     Lut2D T = cpu::transmittanceLut(m, q);
-    Lut2D MS = cpu::multiScatteringLut(m, q, T);
+    cpu::MsField MS = cpu::msField(m, q, T);
     for (double h : {0.0, 1000.0}) {
         for (double sunAlt : {5.0, -4.0, -10.0}) {
             vars.set(keys::observerHeight, h);

@@ -157,6 +157,7 @@ void Sky::doInit(InitContext& ctx) {
     addGenerator(lights);
     addGenerator(luts_.transmittance);
     addGenerator(luts_.multiScattering);
+    addGenerator(luts_.sh);
     addGenerator(luts_.sunView);
     addGenerator(luts_.moonView);
     addGenerator(luts_.irradiance);
@@ -164,7 +165,7 @@ void Sky::doInit(InitContext& ctx) {
     auto build = [&](bool perPixel) {
         gl::ProgramBuilder b(perPixel ? "Sky (per pixel)" : "Sky");
         b.define("ATM_USE_TRANSMITTANCE");
-        if (perPixel) b.define("ATM_USE_MULTISCATTERING").define("SKY_PER_PIXEL");
+        if (perPixel) b.define("ATM_USE_MULTISCATTERING").define("ATM_MS_DIRECTIONAL").define("SKY_PER_PIXEL");
         return b.fullscreenVertex()
             .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
             .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
@@ -203,6 +204,7 @@ void Sky::doRender(const FrameContext& ctx) {
     glBindTextureUnit(3, v.get(skykeys::moonViewMieLut).id);
     glBindTextureUnit(4, v.get(skykeys::transmittanceLut).id);
     glBindTextureUnit(5, v.get(skykeys::multiScatteringLut).id);
+    glBindTextureUnit(8, v.get(skykeys::shLut).id);
     const gl::Program& p = perPixel_ ? marchProgram_ : lutProgram_;
     p.use();
     auto unit = [](glm::dvec3 d) { return glm::length(d) > 0 ? glm::normalize(d) : glm::dvec3(0, 0, -1); };

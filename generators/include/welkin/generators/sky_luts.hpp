@@ -40,6 +40,8 @@ inline const Key<TextureRef> transmittanceLut{"sky.transmittance_lut", "transmit
 inline const Key<int> transmittanceRev{"sky.transmittance_rev", "transmittance LUT revision"};
 inline const Key<TextureRef> multiScatteringLut{"sky.multiscattering_lut", "multiple-scattering LUT (Hillaire Psi_ms)"};
 inline const Key<int> multiScatteringRev{"sky.multiscattering_rev", "multiple-scattering LUT revision"};
+inline const Key<TextureRef> shLut{"sky.sh_lut", "directional multiple scattering: SH l<=2 of the incident field (2D array, 6 layers)"};
+inline const Key<int> shRev{"sky.sh_rev", "directional multiple-scattering LUT revision"};
 inline const Key<TextureRef> sunViewLut{"sky.sun_view_lut", "sky-view LUT for the Sun: Rayleigh + multiple scattering + ground"};
 inline const Key<TextureRef> sunViewMieLut{"sky.sun_view_mie_lut", "sky-view LUT for the Sun: Mie single scattering without phase"};
 inline const Key<int> sunViewRev{"sky.sun_view_rev", "Sun sky-view LUT revision"};
@@ -74,6 +76,7 @@ struct AtmosphereBlock {
     glm::vec4 absorption;
     glm::vec4 groundAlbedo;
     glm::vec4 solarIlluminance;
+    glm::vec4 phaseMoments;
     glm::vec4 profiles[9];
     static AtmosphereBlock from(const SkyModel& m);
 };
@@ -128,6 +131,22 @@ public:
 private:
     void doRun(SkyVars& vars, const Logger& log) override;
     gl::Texture2D tex_;
+    gl::Framebuffer fbo_;
+    gl::Program prog_;
+    int rev_ = 0;
+};
+
+/// Directional multiple scattering (SkyQuality::directionalMs): SH l <= 2 of the incident
+/// radiance field at (h, mu_s), 6 layers; read on texture unit 8 by the passes after it.
+class ShLut final : public SkyGenerator {
+public:
+    ShLut();
+    const gl::Texture2DArray& texture() const { return tex_; }
+    void releaseGl() override;
+
+private:
+    void doRun(SkyVars& vars, const Logger& log) override;
+    gl::Texture2DArray tex_;
     gl::Framebuffer fbo_;
     gl::Program prog_;
     int rev_ = 0;
@@ -199,7 +218,7 @@ struct AerialTexel {
     glm::dvec3 inscatter{0.0};
     glm::dvec3 transmittance{1.0};
 };
-AerialTexel aerialTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const Lut2D& MS, double h, double muS, int i,
+AerialTexel aerialTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const MsField& MS, double h, double muS, int i,
                         int j, int k);
 }  // namespace cpu
 
@@ -207,6 +226,7 @@ AerialTexel aerialTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, 
 struct SkyLuts {
     std::shared_ptr<TransmittanceLut> transmittance;
     std::shared_ptr<MultiScatteringLut> multiScattering;
+    std::shared_ptr<ShLut> sh;
     std::shared_ptr<SkyViewLut> sunView, moonView;
     std::shared_ptr<AerialPerspectiveLut> aerial;
     std::shared_ptr<SkyIrradiance> irradiance;

@@ -87,6 +87,13 @@ struct SkyQuality {
     int multiScatteringSize = 32;                   ///< texels per side
     int multiScatteringDirections = 64;             ///< sphere directions per texel
     int multiScatteringSteps = 20;                  ///< samples per direction
+    /// Directional multiple scattering: the incident radiance field (single scattering with its
+    /// phase functions plus Hillaire's isotropic higher orders) at each (h, mu_s) projected on
+    /// spherical harmonics l <= 2 and convolved with the Rayleigh/Mie phase functions per view
+    /// direction (exact second order up to the l <= 2 truncation). Off: Hillaire's isotropic
+    /// approximation.
+    bool directionalMs = true;
+    int shDirections = 128;                         ///< gathered directions per SH texel
     int skyViewW = 192, skyViewH = 108;             ///< texels (azimuth x latitude)
     int skyViewSteps = 32;                          ///< samples per ray
     int aerialSize = 32;                            ///< texels per side of the volume
@@ -157,6 +164,27 @@ glm::dvec3 transmittanceToLight(const SkyModel& m, const Lut2D& T, double h, dou
 glm::dvec3 multiScatteringTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, double h, double muS);
 Lut2D multiScatteringLut(const SkyModel& m, const SkyQuality& q, const Lut2D& T);
 
+/// The fields the view-ray marches read for scattering orders >= 2.
+struct MsField {
+    Lut2D psi;                   ///< Hillaire's Psi_ms (isotropic), per lux
+    std::array<Lut2D, 6> sh{};   ///< SH coefficients (l <= 2, even in y) of the incident field
+    bool directional = false;    ///< use sh (else psi)
+};
+/// Legendre moments Lambda_l = 2 pi int p(t) P_l(t) dt of the phase functions, l = 1, 2:
+/// (Mie l1, Mie l2, Rayleigh l2, 0).
+glm::dvec4 phaseMoments(const SkyModel& m);
+/// The 6 real SH basis functions used (Y00, Y10, Y11, Y20, Y21, Y22) at a unit vector in the
+/// local frame (x horizontal towards the light, z up); y enters only squared.
+std::array<double, 6> shBasis(double x, double z);
+/// SH texel: the projection of the incident radiance field at (h, mu_s), per lux.
+std::array<glm::dvec3, 6> shTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const Lut2D& psi, double h, double muS);
+/// Builds psi (and sh if q.directionalMs).
+MsField msField(const SkyModel& m, const SkyQuality& q, const Lut2D& T);
+/// In-scattered radiance per lux of orders >= 2 at a point (h, mu, mu_s, nu), for the given
+/// Rayleigh and Mie scattering coefficients there.
+glm::dvec3 msInscatter(const SkyModel& m, const MsField& f, const glm::dvec4& moments, double h, double mu, double muS,
+                       double nu, const glm::dvec3& sR, const glm::dvec3& sM);
+
 /// Result of a ray march: radiance per unit light illuminance, split into the phase-applied
 /// part (Rayleigh single, multiple scattering, ground) and Mie single scattering without its
 /// phase function; plus the transmittance along the marched segment.
@@ -169,7 +197,7 @@ struct Scattering {
 /// March from height h along mu (light at mu_s, nu) for at most maxDistance metres, with
 /// `steps` samples spaced quadratically from the origin when `quadratic`, else densest at the
 /// ray's lowest point. groundMode: -1 from the geometry, 0 never hits, 1 hits the ground.
-Scattering integrate(const SkyModel& m, const Lut2D& T, const Lut2D& MS, double h, double mu, double muS, double nu,
+Scattering integrate(const SkyModel& m, const Lut2D& T, const MsField& MS, double h, double mu, double muS, double nu,
                      double maxDistance, int steps, bool quadratic, double lightAngularRadius, int groundMode = -1);
 /// Total radiance per unit illuminance along a ray (smooth + mie * phase).
 glm::dvec3 radiance(const SkyModel& m, const Scattering& s, double nu);
@@ -179,7 +207,7 @@ struct SkyViewTexel {
     glm::dvec3 smooth{0.0};
     glm::dvec3 mie{0.0};
 };
-SkyViewTexel skyViewTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const Lut2D& MS, double h, double muS,
+SkyViewTexel skyViewTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const MsField& MS, double h, double muS,
                           glm::dvec2 uv, double lightAngularRadius);
 /// Radiance per lux from sky-view LUTs (values without kLutScale) for a view (mu, azimuth from
 /// the light, nu): the twin of skyViewSample() in atmosphere.glsl (halves never blended).
@@ -187,7 +215,7 @@ glm::dvec3 skyViewSample(const SkyModel& m, const Lut2D& smooth, const Lut2D& mi
 /// Sky radiance (cd/m^2) seen from height h (clamped into the atmosphere) in direction
 /// `viewDir` with the light at `lightDir` (both unit ENU vectors), for a light of illuminance
 /// `E` (lux per channel), marching every ray (CPU reference for tests).
-glm::dvec3 skyRadiance(const SkyModel& m, const Lut2D& T, const Lut2D& MS, double h, const glm::dvec3& viewDir,
+glm::dvec3 skyRadiance(const SkyModel& m, const Lut2D& T, const MsField& MS, double h, const glm::dvec3& viewDir,
                        const glm::dvec3& lightDir, const glm::dvec3& E, int steps, double lightAngularRadius);
 }  // namespace cpu
 

@@ -1,0 +1,70 @@
+// Directional multiple-scattering LUT pass (fragment, 6 outputs = 6 layers): at each (h, mu_s)
+// the incident radiance field per lux -- single scattering with the Rayleigh and Mie phase
+// functions, Hillaire's isotropic higher orders (Psi_ms) along each gathered ray, and the lit
+// ground -- projected on the real spherical harmonics l <= 2 that are even in y (the field is
+// symmetric about the light's vertical plane). Local frame: x horizontal towards the light, z up.
+// Twin of cpu::shTexel(). Needs atmosphere.glsl (ATM_USE_TRANSMITTANCE, ATM_USE_MULTISCATTERING).
+uniform int u_directions;
+uniform int u_steps;
+uniform int u_size;
+layout(location = 0) out vec4 o_c0;
+layout(location = 1) out vec4 o_c1;
+layout(location = 2) out vec4 o_c2;
+layout(location = 3) out vec4 o_c3;
+layout(location = 4) out vec4 o_c4;
+layout(location = 5) out vec4 o_c5;
+
+vec3 shFibonacci(int i, int n) {
+    const float golden = ATM_PI * (3.0 - sqrt(5.0));
+    float z = 1.0 - (2.0 * float(i) + 1.0) / float(n);
+    float rr = sqrt(max(1.0 - z * z, 0.0));
+    float phi = golden * float(i);
+    return vec3(rr * cos(phi), rr * sin(phi), z);
+}
+
+void main() {
+    vec2 hm = multiScatteringHMuS(gl_FragCoord.xy / float(u_size), float(u_size));
+    float h = hm.x, muS = hm.y;
+    vec3 sun = vec3(sqrt(max(1.0 - muS * muS, 0.0)), 0.0, muS);
+    float angular = atm_solarIlluminance.w;
+    float r = atm_bottom() + h;
+    float msSize = float(u_size);
+    vec3 c[6] = vec3[6](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+    for (int i = 0; i < u_directions; ++i) {
+        vec3 v = shFibonacci(i, u_directions);
+        float mu = v.z, nu = dot(v, sun);
+        float pR = rayleighPhase(nu), pM = miePhase(nu);
+        bool ground = rayIntersectsGround(h, mu);
+        float d = ground ? distanceToBottom(h, mu) : distanceToTop(h, mu);
+        float p = atm_perigeeFraction(h, mu, d);
+        vec3 thr = vec3(1.0), L = vec3(0.0);
+        for (int k = 0; k < u_steps; ++k) {
+            float s0 = float(k) / float(u_steps), s1 = float(k + 1) / float(u_steps), sm = (float(k) + 0.5) / float(u_steps);
+            float dt = d * (atm_warp(s1, p) - atm_warp(s0, p)), t = d * atm_warp(sm, p);
+            float hp = heightAt(h, mu, t);
+            float rp = atm_bottom() + hp;
+            float muSp = clamp((r * muS + t * nu) / rp, -1.0, 1.0);
+            vec3 sR = atm_scatteringRayleigh(hp), sM = atm_scatteringMie(hp);
+            vec3 sigmaT = atm_extinction(hp);
+            vec3 seg = atm_segmentFactor(sigmaT, dt);
+            vec3 Tl = transmittanceToLight(hp, muSp, angular);
+            vec3 ps = texture(ATM_MULTISCATTERING_LUT, multiScatteringUv(hp, muSp, msSize)).rgb;
+            L += thr * ((sR * pR + sM * pM) * Tl + (sR + sM) * ps) * seg;
+            thr *= exp(-sigmaT * dt);
+        }
+        if (ground) {
+            float muSg = clamp((r * muS + d * nu) / atm_bottom(), -1.0, 1.0);
+            vec3 Tg = transmittanceToLight(0.0, muSg, angular);
+            L += thr * Tg * max(muSg, 0.0) * atm_groundAlbedo.rgb / ATM_PI;
+        }
+        float Y[6] = atm_shBasis(v.x, v.z);
+        for (int k = 0; k < 6; ++k) c[k] += L * Y[k];
+    }
+    float w = 4.0 * ATM_PI / float(u_directions);
+    o_c0 = vec4(c[0] * w, 1.0);
+    o_c1 = vec4(c[1] * w, 1.0);
+    o_c2 = vec4(c[2] * w, 1.0);
+    o_c3 = vec4(c[3] * w, 1.0);
+    o_c4 = vec4(c[4] * w, 1.0);
+    o_c5 = vec4(c[5] * w, 1.0);
+}
