@@ -1,5 +1,6 @@
 #include <welkin/astro/astro_keys.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -40,7 +41,9 @@ void updateSkyVars(SkyVars& vars) {
     Site site;
     site.latitudeRad = vars.get(welkin::keys::observerLatitude);
     site.longitudeRad = vars.get(welkin::keys::observerLongitude);
-    site.heightMeters = vars.get(welkin::keys::observerHeight);
+    // observer.height_m allows up to 1e9 m; the astronomy's site model stops at 1e8 m (beyond it
+    // "topocentric" loses meaning for the Moon): clamp rather than fail a frame.
+    site.heightMeters = std::min(vars.get(welkin::keys::observerHeight), 1e8);
     site.pressureHpa = vars.get(keys::refractionPressure);
     site.temperatureC = vars.get(keys::refractionTemperature);
     const Path path = vars.get(keys::precise) ? Path::Precise : Path::Fast;

@@ -26,14 +26,14 @@ inline const Key<double> refractionPressure{"astro.refraction_pressure_hpa", Ran
 inline const Key<double> refractionTemperature{"astro.refraction_temperature_c", Range{-100, 100}, "temperature for refraction, deg C"};
 
 // --- Sun -------------------------------------------------------------------------------------
-inline const Key<double> sunDistance{"sun.distance_m", Range{1.4e11, 1.6e11}, "Earth-Sun distance (topocentric), m"};
+inline const Key<double> sunDistance{"sun.distance_m", Range{1.4e11, 1.6e11}, "observer-Sun distance, m"};
 inline const Key<double> sunAngularRadius{"sun.angular_radius_rad", Range{0, 0.01}, "apparent angular radius of the Sun, rad"};
 inline const Key<double> sunAzimuth{"sun.azimuth_rad", Range{0, 2 * welkin::keys::kPi}, "Sun azimuth from north through east, rad"};
 inline const Key<double> sunAltitude{"sun.altitude_rad", Range{-welkin::keys::kPi / 2, welkin::keys::kPi / 2}, "Sun refracted altitude, rad"};
 
 // --- Moon ------------------------------------------------------------------------------------
-inline const Key<double> moonDistance{"moon.distance_m", Range{3.4e8, 4.1e8}, "observer-Moon distance, m"};
-inline const Key<double> moonAngularRadius{"moon.angular_radius_rad", Range{0, 0.01}, "apparent angular radius of the Moon, rad"};
+inline const Key<double> moonDistance{"moon.distance_m", Range{1e7, 1e9}, "observer-Moon distance, m (3.5e8 .. 4.1e8 on the ground)"};
+inline const Key<double> moonAngularRadius{"moon.angular_radius_rad", Range{0, 0.2}, "apparent angular radius of the Moon, rad"};
 inline const Key<double> moonAzimuth{"moon.azimuth_rad", Range{0, 2 * welkin::keys::kPi}, "Moon azimuth from north through east, rad"};
 inline const Key<double> moonAltitude{"moon.altitude_rad", Range{-welkin::keys::kPi / 2, welkin::keys::kPi / 2}, "Moon refracted altitude, rad"};
 inline const Key<double> moonPhaseAngle{"moon.phase_angle_rad", Range{0, welkin::keys::kPi}, "Sun-Moon-Earth angle, rad (0 full)"};
