@@ -1,6 +1,7 @@
 // `welkin bench sky-measured`: the reference integrator against a real sky (issue 4 item 12).
 //
 //   welkin bench sky-measured [--data DIR] [--quick] [--rgb] [--threads 2] [--csv out.csv] [--json]
+//                             [--sensitivity]
 //
 // Reads the Kider et al. 2013 clear-sky scans (15 scans x 81 directions, Cornell, 2013-05-27;
 // see DIR/README.md) and, for each scan, evaluates the reference integrator (reference_sky.hpp)
@@ -48,6 +49,7 @@ struct Options {
     int spectralSamples = 16;
     std::string csv;
     bool json = false;
+    bool sensitivity = false;
 };
 
 struct Sample {
@@ -179,10 +181,25 @@ int run(const Options& o) {
         std::string name;
         Atmosphere atmosphere;
     };
-    const std::vector<Model> models = {
-        {"welkin", Atmosphere::earthClear().withAerosolOpticalDepth(tau550, alpha).withAerosolAsymmetry(0.64)},
+    const Atmosphere welkinDay = Atmosphere::earthClear().withAerosolOpticalDepth(tau550, alpha).withAerosolAsymmetry(0.64);
+    std::vector<Model> models = {
+        {"welkin", welkinDay},
         {"bruneton2017", Atmosphere::earthBruneton2017Evaluation()},
     };
+    if (o.sensitivity) {
+        // One change at a time from "welkin" towards Bruneton's parameters, to see what sets the level.
+        auto withSsa = [](Atmosphere a, double ssa) {
+            for (std::size_t i = 0; i < a.size(); ++i) a.mieScattering[i] = a.mieExtinction[i] * ssa;
+            return a;
+        };
+        Atmosphere grass = welkinDay;
+        grass.groundAlbedo = Atmosphere::earthBruneton2017Evaluation().groundAlbedo;
+        models.push_back({"welkin-ssa0.8", withSsa(welkinDay, 0.8)});
+        models.push_back({"welkin-grass", grass});
+        models.push_back({"welkin-aod0.0645", welkinDay.withAerosolOpticalDepth(0.0645, 0.8)});
+        models.push_back({"welkin-no-ozone", welkinDay.withOzoneColumn(0.0)});
+        models.push_back({"welkin-ssa0.8-grass", withSsa(grass, 0.8)});
+    }
 
     std::vector<std::string> csvRows;
     nlohmann::json out;
@@ -249,6 +266,8 @@ welkin::cli::BenchRegistrar bench("sky-measured",
                                       sub.add_option("--threads", o.threads, "precomputation threads (default 2)");
                                       sub.add_option("--csv", o.csv, "write every sample's measured and modelled values");
                                       sub.add_flag("--json", o.json, "print one JSON object");
+                                      sub.add_flag("--sensitivity", o.sensitivity,
+                                                   "also run variants of the welkin atmosphere (SSA, ground, AOD, ozone)");
                                       return [] { return run(o); };
                                   });
 

@@ -609,7 +609,7 @@ ReferenceSky::ReferenceSky(const Atmosphere& atmosphere, const ReferenceOptions&
     m.alpha = atmosphere.sunAngularRadiusRad;
 
     if (options.mode == SpectralMode::Rgb) {
-        const RgbCoefficients c = atmosphere.rgb();
+        const RgbCoefficients c = options.rgbWavelengthsNm ? atmosphere.rgbAtWavelengths(*options.rgbWavelengthsNm) : atmosphere.rgb();
         m.nc = 3;
         for (int i = 0; i < 3; ++i) {
             m.wl.push_back(c.wavelengthsNm[i]);

@@ -140,7 +140,7 @@ TEST_CASE("atmosphere: RGB coefficients", "[cpu][atmosphere]") {
     CHECK(p.rayleighScattering.g == Approx(13.558e-6).epsilon(0.12));
     CHECK(p.rayleighScattering.b == Approx(33.1e-6).epsilon(0.12));
     const RgbCoefficients c = a.rgb();
-    // Band averages keep the ordering and lie within the visible range.
+    // Effective wavelengths keep the channel order and the coefficients their spectral order.
     CHECK(c.rayleighScattering.b > c.rayleighScattering.g);
     CHECK(c.rayleighScattering.g > c.rayleighScattering.r);
     CHECK(c.wavelengthsNm.r > c.wavelengthsNm.g);

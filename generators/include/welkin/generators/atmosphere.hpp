@@ -142,10 +142,10 @@ struct Atmosphere {
     /// Throws welkin::Error naming the first invalid member and its accepted range.
     void validate() const;
 
-    /// The 3-channel version (see RgbCoefficients). Each coefficient is averaged over the
-    /// spectrum with the weight E_sun(lambda) * max(0, cmf_c(lambda)) where cmf_c is the
-    /// sRGB colour-matching function of channel c (so the Sun's colour is exact and the
-    /// optically thin sky's colour nearly so).
+    /// The 3-channel version (see RgbCoefficients): the coefficients sampled at the effective
+    /// wavelengths (612, 549, 464) nm, which reproduce the spectral reference's sky luminance to
+    /// ~2% RMS (measured, see docs/sky-reference-and-measurements.md); solarIlluminance is the
+    /// exact linear sRGB of the solar spectrum, so the Sun's colour is exact.
     RgbCoefficients rgb() const;
     /// The 3-channel version sampled at three wavelengths (r, g, b), nm, in [360, 830] (e.g.
     /// 680, 550, 440 as Bruneton's and Hillaire's RGB modes); solarIlluminance is the same as rgb()'s.

@@ -56,6 +56,9 @@ enum class SpectralMode {
 struct ReferenceOptions {
     SpectralMode mode = SpectralMode::Spectral;
     int spectralSamples = 16;  ///< wavelengths spread evenly over the atmosphere's range, [3, 64]
+    /// Rgb mode only: sample the coefficients at these wavelengths (r, g, b), nm, with
+    /// Atmosphere::rgbAtWavelengths() instead of the band averages of Atmosphere::rgb().
+    std::optional<glm::dvec3> rgbWavelengthsNm;
 
     // Multiple-scattering tables (orders >= 2).
     int altitudeSamples = 16;      ///< altitude grid (uniform in sqrt(altitude)), [4, 256]
