@@ -95,6 +95,9 @@ TEST_CASE("reference: energy conservation in a conservative plane-parallel atmos
     ReferenceOptions o = ReferenceOptions::fast();
     o.maxOrders = 200;
     o.convergence = 1e-6;
+    // On a 1e9 m planet every point within reach sees the Sun within 0.3 deg of its zenith: the
+    // sun-zenith grid needs no resolution away from 0 (4 nodes: same result to 1e-4, 5x faster).
+    o.sunZenithSamples = 4;
     const glm::dvec3 sun(0, 0, 1);
     // Radiance is azimuth-independent with the Sun at the zenith: a Gauss-Legendre rule in mu.
     std::vector<double> x, w;
@@ -122,15 +125,17 @@ TEST_CASE("reference: energy conservation in a conservative plane-parallel atmos
         const double up = flux(sky, 60e3, -1.0);
         const double down = flux(sky, 0.0, 1.0) + sky.channelTransmittance(0.0, sun)[1];
         INFO("black ground: up " << up << " down " << down << " orders " << sky.orders());
-        // The coarse test grid keeps the balance to ~1%; the default grid to ~0.2% (see docs).
-        CHECK(up + down == Approx(1.0).epsilon(0.015));
+        // Measured 1.00099 with these settings (see docs for the default settings): 0.5% allows
+        // for platform differences only.
+        CHECK(up + down == Approx(1.0).epsilon(0.005));
     }
     {
         const ReferenceSky sky(a.withGroundAlbedo(1.0), o);
         const double up = flux(sky, 60e3, -1.0);
         INFO("white ground: up " << up << " orders " << sky.orders());
-        // Many more orders (each ground bounce returns most of the light): errors accumulate a bit more.
-        CHECK(up == Approx(1.0).epsilon(0.03));
+        // Many more orders (each ground bounce returns most of the light) accumulate the table
+        // errors: measured 1.0127 with these settings; 2.5% allows for platform differences.
+        CHECK(up == Approx(1.0).epsilon(0.025));
         CHECK(sky.orders() > 10);
     }
 }
