@@ -10,6 +10,8 @@
 #include <erfa.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
 #include <numbers>
 #include <random>
 
@@ -303,6 +305,13 @@ TEST_CASE("Bodies: names, Ephemeris equals computeBody, VSOP87 file errors", "[c
     }
     CHECK_THROWS_WITH(checkVsop87Files("/nonexistent-dir"), Catch::Contains("/nonexistent-dir/mercury.L0.vsop"));
     CHECK_NOTHROW(checkVsop87Files(vsop87Directory()));
+    // A malformed line is an error naming file and line.
+    const std::string dir = std::string(WELKIN_BINARY_DIR) + "/test-output/vsop87-malformed";
+    REQUIRE(std::system(("rm -rf '" + dir + "' && mkdir -p '" + dir + "'").c_str()) == 0);
+    {
+        std::ofstream(dir + "/mercury.L0.vsop") << "4.40250710144 0.0 0.0\n0.40989414977 1.48302034195\n";
+    }
+    CHECK_THROWS_WITH(checkVsop87Files(dir), Catch::Contains("mercury.L0.vsop:2: expected three numbers"));
 }
 
 TEST_CASE("updateSkyVars writes the light directions and the Moon's keys", "[cpu][astro][bodies]") {
