@@ -11,8 +11,8 @@
 //
 // Paths (chosen by the ObserverFrame's path, i.e. the SkyVars key astro.precise):
 // - Fast: Earth and planets from VSOP87B truncated in code (vsop87.hpp), the Moon from Meeus
-//   ch. 47 (elp.hpp), light time from the planet's velocity, annual aberration, A's IAU 2006 /
-//   2000B precession-nutation. Measured against Precise in docs/astronomy-bodies.md.
+//   ch. 47 (elp.hpp), light time from the planet's velocity, annual aberration, IAU 2006 /
+//   2000B precession-nutation (earth.hpp). Measured against Precise in docs/astronomy-bodies.md.
 // - Precise: the Sun from ERFA eraEpv00 (1900-2100; the full VSOP87 Earth outside that span,
 //   where eraEpv00's fit degrades), the Moon from eraMoon98, the planets from the full VSOP87B
 //   series of kstars-data with light time iterated to convergence, relativistic aberration (eraAb),
