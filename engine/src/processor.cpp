@@ -114,7 +114,7 @@ void SkyProcessor::deriveVariables() {
     vars_.set(keys::observerLatitude, observer_.latitudeRad);
     vars_.set(keys::observerLongitude, observer_.longitudeRad);
     vars_.set(keys::observerHeight, observer_.heightMeters);
-    astro::updateSkyVars(vars_);  // Sun, Moon, planets: directions and the astro keys (astro_keys.hpp)
+    if (options_.astronomy) astro::updateSkyVars(vars_);  // Sun, Moon, planets: directions and the astro keys (astro_keys.hpp)
 }
 
 void SkyProcessor::init() {

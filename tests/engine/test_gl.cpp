@@ -290,3 +290,24 @@ TEST_CASE("Two processors in one process are independent", "[gl][processor]") {
     a.vars().set(keys::quality, 3);
     CHECK(b.vars().get(keys::quality) == 1);
 }
+
+TEST_CASE("The astronomy step writes the Sun's direction unless the host owns it", "[gl][processor]") {
+    test::glContext();
+    Camera cam;
+    cam.width = 4;
+    cam.height = 4;
+    const glm::dvec3 pinned = glm::normalize(glm::dvec3(0.0, -1.0, 1.0));  // 45 deg up in the south
+    // Equator, 2026-03-20 12:07 UTC at longitude 0: the Sun is within ~1 deg of the zenith.
+    for (bool astronomy : {true, false}) {
+        SkyProcessor p(SkyVars::earth(), Logger(), {.astronomy = astronomy});
+        p.setCamera(cam);
+        p.setTime(UtcInstant::parse("2026-03-20T12:07:00Z"));
+        p.vars().set(keys::sunDirection, pinned);
+        p.renderFrame();
+        glm::dvec3 sun = p.vars().get(keys::sunDirection);
+        if (astronomy)
+            CHECK(sun.z > std::cos(2.0 * M_PI / 180));  // within 2 deg of the zenith (equinox noon)
+        else
+            CHECK(sun == pinned);
+    }
+}

@@ -65,7 +65,9 @@ struct RenderTarget {
 };
 
 struct ProcessorOptions {
-    bool timing = false;  ///< bracket every element and generator call with glFinish (for --stats)
+    bool timing = false;     ///< bracket every element and generator call with glFinish (for --stats)
+    bool astronomy = true;   ///< compute the Sun, Moon and planets from time and place every frame;
+                             ///< false leaves sun.direction, moon.direction ... to the host
 };
 
 class SkyProcessor {
