@@ -337,11 +337,11 @@ void Atmosphere::validate() const {
 
 RgbCoefficients Atmosphere::rgb() const {
     // Effective wavelengths of the three channels: sampling the spectral coefficients at
-    // (612, 549, 464) nm reproduced the 47-wavelength spectral reference best among the sets
-    // tried (clear and hazy Earth, Sun from 60 to -4 deg, 60 views each; see
-    // docs/sky-reference-and-measurements.md): 1.7% RMS luminance error against 11% for
+    // (624, 549, 456) nm reproduced the 47-wavelength spectral reference best among the sets
+    // tried (a grid search on clear and hazy Earth, Sun from 60 to -4 deg, 60 views each; see
+    // docs/sky-reference-and-measurements.md): 0.8-1.0% RMS luminance error against 9-11% for
     // (680, 550, 440) and 5-6% for band averages weighted by the sRGB colour-matching functions.
-    return rgbAtWavelengths({612.0, 549.0, 464.0});
+    return rgbAtWavelengths({624.0, 549.0, 456.0});
 }
 
 RgbCoefficients Atmosphere::rgbAtWavelengths(const glm::dvec3& nm) const {

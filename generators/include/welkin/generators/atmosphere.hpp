@@ -143,8 +143,8 @@ struct Atmosphere {
     void validate() const;
 
     /// The 3-channel version (see RgbCoefficients): the coefficients sampled at the effective
-    /// wavelengths (612, 549, 464) nm, which reproduce the spectral reference's sky luminance to
-    /// ~2% RMS (measured, see docs/sky-reference-and-measurements.md); solarIlluminance is the
+    /// wavelengths (624, 549, 456) nm, which reproduce the spectral reference's sky luminance to
+    /// ~1% RMS (measured, see docs/sky-reference-and-measurements.md); solarIlluminance is the
     /// exact linear sRGB of the solar spectrum, so the Sun's colour is exact.
     RgbCoefficients rgb() const;
     /// The 3-channel version sampled at three wavelengths (r, g, b), nm, in [360, 830] (e.g.

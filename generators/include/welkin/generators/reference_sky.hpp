@@ -50,9 +50,9 @@ enum class SpectralMode {
 };
 
 /// Resolution and convergence settings. The defaults give a reference whose numerical error is
-/// documented in docs/sky-reference-and-measurements.md (about 0.5% at the horizon, less
-/// elsewhere; ~40 s of precomputation in RGB on one core of this machine); tests use coarser
-/// settings (ReferenceOptions::fast()).
+/// documented in docs/sky-reference-and-measurements.md (0.2% RMS by day, ~1% RMS and <= 2.7%
+/// at the horizon around sunset, 2-3% RMS in deep twilight; 40-110 s of precomputation in RGB
+/// on one core of this machine); tests use ReferenceOptions::fast().
 struct ReferenceOptions {
     SpectralMode mode = SpectralMode::Spectral;
     int spectralSamples = 16;  ///< wavelengths spread evenly over the atmosphere's range, [3, 64]
@@ -81,8 +81,9 @@ struct ReferenceOptions {
     /// Throws welkin::Error naming the first member out of range.
     void validate() const;
 
-    /// Coarse settings for tests (about 1 s of precomputation in RGB; ~5% error at the horizon,
-    /// ~1-2% elsewhere by day, up to tens of percent in deep twilight).
+    /// Coarse settings for tests of behaviour (about 1 s of precomputation in RGB): 5-10% RMS
+    /// luminance error, up to ~25% at the horizon near sunset and x1.5-2 at -18 deg (measured
+    /// against a refined run, see the docs). Not for accuracy figures.
     static ReferenceOptions fast() {
         ReferenceOptions o;
         o.mode = SpectralMode::Rgb;
