@@ -501,22 +501,47 @@ struct ReferenceSky::Impl {
                             for (int c = 0; c < nc; ++c) eNext[std::size_t(is) * nc + c] += 2.0 * in.weight * in.w.z * in.L[c];
                 }
                 // Phase-weighted gather for every table direction.
+                // Rayleigh: P_R(w.v) = 3 / (16 pi) (1 + (w.v)^2), so G_R(v) needs only the zeroth
+                // and second moments of the incoming radiance: G_R = 3 / (16 pi) (E0 + v.M.v), exact.
+                const std::size_t nin = ins.size();
+                std::vector<double> e0(nc, 0.0), mom(std::size_t(6) * nc, 0.0);  // xx yy zz xy xz yz
+                std::vector<double> wx(nin), wy(nin), wz(nin), lw(std::size_t(nc) * nin), pm(nin);
+                for (std::size_t q = 0; q < nin; ++q) {
+                    const In& in = ins[q];
+                    wx[q] = in.w.x, wy[q] = in.w.y, wz[q] = in.w.z;
+                    for (int c = 0; c < nc; ++c) {
+                        const double a = in.weight * in.L[c];
+                        lw[std::size_t(c) * nin + q] = a;
+                        // The mirrored direction (x, -y, z) carries the same radiance: xy and yz cancel.
+                        e0[c] += 2.0 * a;
+                        mom[6 * c + 0] += 2.0 * a * in.w.x * in.w.x;
+                        mom[6 * c + 1] += 2.0 * a * in.w.y * in.w.y;
+                        mom[6 * c + 2] += 2.0 * a * in.w.z * in.w.z;
+                        mom[6 * c + 4] += 2.0 * a * in.w.x * in.w.z;
+                    }
+                }
+                const double g = atm.mieG, g2 = g * g;
+                const bool hg = atm.miePhase == MiePhaseFunction::HenyeyGreenstein;
+                const double kM = hg ? (1.0 - g2) / (4.0 * kPi) : 3.0 * (1.0 - g2) / (8.0 * kPi * (2.0 + g2));
                 for (int o = 0; o < nmu * nphi; ++o) {
                     const glm::dvec3& v = outDir[o];
-                    double accR[64] = {}, accM[64] = {};
-                    for (const In& in : ins) {
-                        const double n1 = glm::dot(in.w, v), n2 = glm::dot(in.wm, v);
-                        const double wR = in.weight * (rayleighPhase(n1) + rayleighPhase(n2));
-                        const double wM = in.weight * (miePhaseFn(n1) + miePhaseFn(n2));
-                        for (int c = 0; c < nc; ++c) {
-                            accR[c] += wR * in.L[c];
-                            accM[c] += wM * in.L[c];
-                        }
+                    // Aerosols: both mirrored directions, in a loop the compiler can vectorise.
+                    for (std::size_t q = 0; q < nin; ++q) {
+                        const double n1 = wx[q] * v.x + wy[q] * v.y + wz[q] * v.z;
+                        const double n2 = n1 - 2.0 * wy[q] * v.y;
+                        const double d1 = 1.0 + g2 - 2.0 * g * n1, d2 = 1.0 + g2 - 2.0 * g * n2;
+                        const double a1 = hg ? 1.0 : 1.0 + n1 * n1, a2 = hg ? 1.0 : 1.0 + n2 * n2;
+                        pm[q] = kM * (a1 / (d1 * std::sqrt(d1)) + a2 / (d2 * std::sqrt(d2)));
                     }
-                    float* g = &next[gIndex(ir, is, o / nphi, o % nphi)];
+                    float* gOut = &next[gIndex(ir, is, o / nphi, o % nphi)];
                     for (int c = 0; c < nc; ++c) {
-                        g[c] = float(accR[c]);
-                        g[nc + c] = float(accM[c]);
+                        const double* l = &lw[std::size_t(c) * nin];
+                        double accM = 0.0;
+                        for (std::size_t q = 0; q < nin; ++q) accM += pm[q] * l[q];
+                        const double* mm = &mom[6 * c];
+                        const double vmv = mm[0] * v.x * v.x + mm[1] * v.y * v.y + mm[2] * v.z * v.z + 2.0 * mm[4] * v.x * v.z;
+                        gOut[c] = float(3.0 / (16.0 * kPi) * (e0[c] + vmv));
+                        gOut[nc + c] = float(accM);
                     }
                 }
             });
