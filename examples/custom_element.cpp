@@ -29,12 +29,21 @@ struct HaloOptions {
 class Halo final : public welkin::SkyElement {
 public:
     explicit Halo(const HaloOptions& o = {}) : SkyElement("halo"), options_(o) {
-        if (!(o.radiusRad > 0 && o.radiusRad <= std::numbers::pi / 2))
-            throw welkin::Error("Halo: radiusRad " + std::to_string(o.radiusRad) + " not in (0, pi/2]");
+        check("radiusRad", o.radiusRad, 0, std::numbers::pi / 2);
+        check("widthRad", o.widthRad, 0, 0.2);
+        if (!(o.luminanceCdM2 >= 0 && o.luminanceCdM2 <= 1e6))
+            throw welkin::Error("Halo: luminanceCdM2 " + std::to_string(o.luminanceCdM2) + " not in [0, 1e6]");
         reads(welkin::keys::sunDirection);  // declared for tools and documentation
     }
 
 private:
+    // Options are checked at the API boundary: one line naming the member and the range.
+    static void check(const char* name, double v, double lo, double hi) {
+        if (!(v > lo && v <= hi))
+            throw welkin::Error(std::string("Halo: ") + name + " " + std::to_string(v) + " not in (" + std::to_string(lo) +
+                                ", " + std::to_string(hi) + "]");
+    }
+
     // The element's own GLSL. In a library element this is a .glsl file beside the class,
     // embedded at build time; the engine's chunks come first.
     static constexpr const char* kFragment = R"(

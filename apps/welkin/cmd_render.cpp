@@ -26,27 +26,34 @@ struct RenderOptions {
     bool debug = false;
 };
 
-void writeTextAtomically(const std::string& path, const std::string& text) {
+// Checks that `path` can be created: its directory exists and is writable, it is not a
+// directory, and an existing file there is writable.
+void checkTextWritable(const std::string& path, const char* option) {
     namespace fs = std::filesystem;
     fs::path target(path);
     fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
     std::error_code ec;
-    if (!fs::is_directory(dir, ec)) throw Error("--stats '" + path + "': directory '" + dir.string() + "' does not exist");
+    if (!fs::is_directory(dir, ec)) throw Error(std::string(option) + " '" + path + "': directory '" + dir.string() + "' does not exist");
+    if (::access(dir.c_str(), W_OK) != 0) throw Error(std::string(option) + " '" + path + "': directory '" + dir.string() + "' is not writable");
+    if (fs::is_directory(target, ec)) throw Error(std::string(option) + " '" + path + "' is a directory");
+    if (fs::exists(target, ec) && ::access(path.c_str(), W_OK) != 0)
+        throw Error(std::string(option) + " '" + path + "' exists and is not writable");
+}
+
+// Writes `text` to a temporary file beside `path` and returns its name (renamed by the caller).
+std::string writeTemporary(const std::string& path, const std::string& text) {
+    namespace fs = std::filesystem;
+    fs::path target(path);
+    fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
     std::string tmp = (dir / ("." + target.filename().string() + ".tmp" + std::to_string(::getpid()))).string();
-    {
-        std::ofstream f(tmp);
-        if (!f) throw Error("--stats '" + path + "': cannot write in '" + dir.string() + "'");
-        f << text;
-        if (!f.flush()) {
-            fs::remove(tmp, ec);
-            throw Error("--stats '" + path + "': write failed");
-        }
+    std::ofstream f(tmp);
+    if (f) f << text;
+    if (!f || !f.flush()) {
+        std::error_code ignored;
+        fs::remove(tmp, ignored);
+        throw Error("--stats '" + path + "': write failed");
     }
-    fs::rename(tmp, target, ec);
-    if (ec) {
-        fs::remove(tmp, ec);
-        throw Error("--stats '" + path + "': " + ec.message());
-    }
+    return tmp;
 }
 
 bool endsWith(std::string s, const std::string& ext) {
@@ -58,7 +65,10 @@ int run(const RenderOptions& o) {
     // Validate everything before touching GL or the file system.
     o.scene.validate();
     checkWritable(o.out);
-    if (!o.stats.empty() && !endsWith(o.stats, ".json")) throw Error("--stats '" + o.stats + "' must end in .json");
+    if (!o.stats.empty()) {
+        if (!endsWith(o.stats, ".json")) throw Error("--stats '" + o.stats + "' must end in .json");
+        checkTextWritable(o.stats, "--stats");
+    }
 
     Logger log;
     auto ctx = gl::HeadlessContext::create({.debug = o.debug}, log);
@@ -70,7 +80,9 @@ int run(const RenderOptions& o) {
         Image img = endsWith(o.out, ".exr") ? processor.readHdr() : processor.readToneMapped();
         for (float v : img.pixels)
             if (!std::isfinite(v)) throw Error("render produced a non-finite pixel; nothing written");
-        writeImage(img, o.out);
+        // The stats go to a temporary file first; the image is written (atomically) only when
+        // they are safe, and the stats are renamed last, so a failure leaves neither file.
+        std::string statsTmp;
         if (!o.stats.empty()) {
             nlohmann::json j = processor.stats();
             j["inputs"] = {{"time", o.scene.time},       {"lat_deg", o.scene.latDeg},       {"lon_deg", o.scene.lonDeg},
@@ -78,7 +90,24 @@ int run(const RenderOptions& o) {
                            {"size", o.scene.size},        {"exposure", o.scene.exposure},   {"quality", o.scene.quality},
                            {"out", o.out}};
             j["gl"] = ctx->description();
-            writeTextAtomically(o.stats, j.dump(2) + "\n");
+            statsTmp = writeTemporary(o.stats, j.dump(2) + "\n");
+        }
+        namespace fs = std::filesystem;
+        std::error_code ec, ignored;
+        try {
+            writeImage(img, o.out);
+        } catch (...) {
+            if (!statsTmp.empty()) fs::remove(statsTmp, ignored);
+            throw;
+        }
+        if (!statsTmp.empty()) {
+            fs::rename(statsTmp, o.stats, ec);
+            if (ec) {
+                std::string why = ec.message();
+                fs::remove(statsTmp, ignored);
+                fs::remove(o.out, ignored);
+                throw Error("--stats '" + o.stats + "': " + why);
+            }
         }
         std::printf("%s\n", o.out.c_str());
     }

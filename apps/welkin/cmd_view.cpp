@@ -92,6 +92,11 @@ void onScroll(GLFWwindow* w, double, double dy) {
 int run(const ViewOptions& o) {
     o.scene.validate();
     if (o.frames < 0) throw Error("--frames " + std::to_string(o.frames) + " must be >= 0");
+    if (!(std::abs(o.speed) <= 1e7)) {
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "--speed %g not in [-1e7, 1e7]", o.speed);
+        throw Error(buf);
+    }
     if (!o.screenshot.empty()) checkWritable(o.screenshot);
     Logger log;
     Camera cam = o.scene.camera();
@@ -109,6 +114,7 @@ int run(const ViewOptions& o) {
 
     SkyProcessor sky(SkyVars::earth(), log);
     o.scene.apply(sky);
+    sky.setAnimationTime(std::nullopt);  // the window animates with the wall clock
     const UtcInstant start = o.scene.instant();
     auto last = std::chrono::steady_clock::now();
     int frame = 0;
@@ -124,7 +130,13 @@ int run(const ViewOptions& o) {
         s.camera.width = fw;
         s.camera.height = fh;
         sky.setCamera(s.camera);
-        sky.setTime(start.plusSeconds(s.timeOffset));
+        try {
+            sky.setTime(start.plusSeconds(s.timeOffset));
+        } catch (const Error& e) {  // ran past year 10000 or before -4000: stop there
+            log.warn(e.what());
+            s.timeOffset -= dt * s.speed;
+            s.paused = true;
+        }
         sky.renderFrame();
         sky.toneMapInto(0);
         ++frame;

@@ -47,7 +47,8 @@ void SceneOptions::addTo(CLI::App& app, bool required) {
     app.add_option("--height", heightM, "observer height above the ellipsoid, metres [-10000, 1e9]")->capture_default_str();
     std::string known;
     for (auto& k : elements::knownElements()) known += (known.empty() ? "" : ",") + k;
-    app.add_option("--elements", elements, "comma list of elements, composited in this order (known: " + known + ")");
+    app.add_option("--elements", elements, "comma list of elements, composited in this order (known: " + known + ")")
+        ->each([this](const std::string&) { elementsGiven = true; });
     app.add_option("--projection", projection, "perspective | fisheye | equirect | cube")->capture_default_str();
     app.add_option("--az", azDeg, "view azimuth, degrees from north through east (perspective)")->capture_default_str();
     app.add_option("--alt", altDeg, "view altitude, degrees [-90, 90] (perspective)")->capture_default_str();
@@ -120,7 +121,7 @@ int SceneOptions::qualityLevel() const {
 }
 
 std::vector<std::string> SceneOptions::elementNames() const {
-    std::vector<std::string> names = elements.empty() ? elements::defaultElements() : elements::parseElementList(elements);
+    std::vector<std::string> names = elementsGiven ? elements::parseElementList(elements) : elements::defaultElements();
     for (auto& n : names) elements::makeElement(n);  // throws for an unknown name, listing the known ones
     return names;
 }
@@ -135,6 +136,7 @@ void SceneOptions::validate() const {
 }
 
 void SceneOptions::apply(SkyProcessor& p) const {
+    p.setAnimationTime(0.0);  // deterministic: animated elements show their state at t = 0
     p.vars().set(keys::quality, qualityLevel());
     p.setTime(instant());
     p.setObserver(observer());

@@ -12,7 +12,8 @@ namespace welkin::cli {
 struct SceneOptions {
     std::string time;
     double latDeg = 0, lonDeg = 0, heightM = 0;
-    std::string elements;  // empty: the default list
+    std::string elements;
+    bool elementsGiven = false;  // --elements present (an empty list is then an error)
     std::string projection = "perspective";
     double azDeg = 180, altDeg = 20, fovDeg = 60;
     int cubeFace = 0;

@@ -1,5 +1,7 @@
 // Log-luminance of the HDR image for automatic exposure: writes (w * ln L, w) so that the mean
-// over a mip chain gives the weighted log-average; w = 0 outside the camera's image (fisheye).
+// over a mip chain gives the weighted log-average; w = 0 outside the camera's image (fisheye) and
+// where nothing emits light (L below 1e-7 cd/m^2, far below the faintest night sky), so an empty
+// background does not drag the exposure down.
 layout(binding = 0) uniform sampler2D u_hdr;
 in vec2 v_ndc;
 out vec4 o_logLum;
@@ -7,9 +9,8 @@ void main() {
     vec2 uv = 0.5 * v_ndc + 0.5;  // same relative position in the HDR image
     vec2 pixel = vec2(uv.x, 1.0 - uv.y) * welkin_viewport.xy;
     vec3 dir;
-    float w = welkin_viewDirection(pixel, dir) ? 1.0 : 0.0;
     vec3 c = texture(u_hdr, uv).rgb;
     float L = dot(c, vec3(0.2126, 0.7152, 0.0722));
-    // 1e-7 cd/m^2 floor: below the faintest night sky, keeps ln() finite.
+    float w = (welkin_viewDirection(pixel, dir) && L > 1e-7) ? 1.0 : 0.0;
     o_logLum = vec4(w * log(max(L, 1e-7)), w, 0.0, 1.0);
 }

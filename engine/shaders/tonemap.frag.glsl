@@ -12,8 +12,9 @@ out vec4 o_color;
 float welkin_autoEv100() {
     vec2 m = texelFetch(u_logLum, ivec2(0), u_logLumLevel).rg;
     float logAvg = m.y > 0.0 ? m.x / m.y : log(1e-7);
-    // EV100 = log2(Lavg * S / K) with S = 100 and K = 12.5 (reflected-light meter calibration).
-    return log2(exp(logAvg) * 100.0 / 12.5);
+    // EV100 = log2(Lavg * S / K) with S = 100 and K = 12.5 (reflected-light meter calibration),
+    // kept in the manual range [-20, 30].
+    return clamp(log2(exp(logAvg) * 100.0 / 12.5), -20.0, 30.0);
 }
 
 vec3 welkin_filmic(vec3 x) {

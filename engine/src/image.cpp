@@ -32,6 +32,7 @@ void checkWritable(const std::string& path) {
     if (!fs::is_directory(dir, ec)) throw Error("output '" + path + "': directory '" + dir.string() + "' does not exist");
     if (::access(dir.c_str(), W_OK) != 0) throw Error("output '" + path + "': directory '" + dir.string() + "' is not writable");
     if (fs::is_directory(path, ec)) throw Error("output '" + path + "' is a directory");
+    if (fs::exists(path, ec) && ::access(path.c_str(), W_OK) != 0) throw Error("output '" + path + "' exists and is not writable");
 }
 
 void writeImage(const Image& img, const std::string& path) {
@@ -63,15 +64,16 @@ void writeImage(const Image& img, const std::string& path) {
     }
     std::string err = out->geterror();
     out.reset();
-    std::error_code ec;
+    std::error_code ec, ignored;
     if (!ok) {
-        fs::remove(tmp, ec);
+        fs::remove(tmp, ignored);
         throw Error("writeImage('" + path + "'): " + (err.empty() ? "write failed" : err));
     }
     fs::rename(tmp, target, ec);
     if (ec) {
-        fs::remove(tmp, ec);
-        throw Error("writeImage('" + path + "'): cannot rename the temporary file (" + ec.message() + ")");
+        std::string why = ec.message();
+        fs::remove(tmp, ignored);
+        throw Error("writeImage('" + path + "'): cannot rename the temporary file (" + why + ")");
     }
 }
 

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <algorithm>
 #include <cstdio>
 #include <numbers>
 #include <tuple>
@@ -85,6 +86,8 @@ void SkyProcessor::setCamera(const Camera& c) {
     camera_ = c;
     if (resized && glReady_) {
         hdr_ = {};  // recreated at the new size by ensureTargets()
+        ldr_ = {};
+        logLumValid_ = false;
         for (auto& e : elements_) e->resize(c.width, c.height);
     }
 }
@@ -104,7 +107,13 @@ void SkyProcessor::setExposure(const Exposure& e) {
 }
 
 double SkyProcessor::seconds() const {
+    if (animationTime_) return *animationTime_;
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+}
+
+void SkyProcessor::setAnimationTime(std::optional<double> s) {
+    if (s && !std::isfinite(*s)) throw Error("SkyProcessor::setAnimationTime(): seconds must be finite");
+    animationTime_ = s;
 }
 
 void SkyProcessor::deriveVariables() {
@@ -187,25 +196,86 @@ void SkyProcessor::update() {
     for (auto& e : elements_) e->update(ctx);
 }
 
-void SkyProcessor::composite(unsigned framebuffer, bool depthTest) {
-    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
-    glViewport(0, 0, camera_.width, camera_.height);
-    cameraUbo_.bindBase(GL_UNIFORM_BUFFER, 0);
-    emptyVao_.bind();
-    glEnable(GL_BLEND);
-    // dst.rgb = src0.rgb + dst.rgb * src1.rgb (radiance plus attenuated background); alpha kept.
-    glBlendFuncSeparate(GL_ONE, GL_SRC1_COLOR, GL_ZERO, GL_ONE);
-    glBlendEquation(GL_FUNC_ADD);
-    if (depthTest) {
-        glEnable(GL_DEPTH_TEST);
-        glDepthFunc(GL_LEQUAL);
-        glDepthMask(GL_FALSE);
-    } else {
-        glDisable(GL_DEPTH_TEST);
+namespace {
+// GL state that compositing changes, saved from and restored to the host (renderInto()).
+struct SavedState {
+    GLint framebuffer = 0, program = 0, vao = 0, ubo0 = 0, viewport[4] = {};
+    GLint blendSrcRgb = 0, blendDstRgb = 0, blendSrcA = 0, blendDstA = 0, blendEqRgb = 0, blendEqA = 0, depthFunc = 0;
+    GLboolean blend = 0, depthTest = 0, cull = 0, depthMask = 0;
+    std::vector<GLenum> drawBuffers;
+
+    void save() {
+        glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &framebuffer);
+        glGetIntegerv(GL_CURRENT_PROGRAM, &program);
+        glGetIntegerv(GL_VERTEX_ARRAY_BINDING, &vao);
+        glGetIntegeri_v(GL_UNIFORM_BUFFER_BINDING, 0, &ubo0);
+        glGetIntegerv(GL_VIEWPORT, viewport);
+        glGetIntegerv(GL_BLEND_SRC_RGB, &blendSrcRgb);
+        glGetIntegerv(GL_BLEND_DST_RGB, &blendDstRgb);
+        glGetIntegerv(GL_BLEND_SRC_ALPHA, &blendSrcA);
+        glGetIntegerv(GL_BLEND_DST_ALPHA, &blendDstA);
+        glGetIntegerv(GL_BLEND_EQUATION_RGB, &blendEqRgb);
+        glGetIntegerv(GL_BLEND_EQUATION_ALPHA, &blendEqA);
+        glGetIntegerv(GL_DEPTH_FUNC, &depthFunc);
+        blend = glIsEnabled(GL_BLEND);
+        depthTest = glIsEnabled(GL_DEPTH_TEST);
+        cull = glIsEnabled(GL_CULL_FACE);
+        glGetBooleanv(GL_DEPTH_WRITEMASK, &depthMask);
+        if (framebuffer != 0) {
+            GLint n = 0;
+            glGetIntegerv(GL_MAX_DRAW_BUFFERS, &n);
+            for (GLint i = 0; i < n; ++i) {
+                GLint b = 0;
+                glGetIntegerv(GL_DRAW_BUFFER0 + i, &b);
+                drawBuffers.push_back(GLenum(b));
+            }
+        }
     }
-    glDisable(GL_CULL_FACE);
+    void restore() const {
+        glBindFramebuffer(GL_FRAMEBUFFER, GLuint(framebuffer));
+        if (!drawBuffers.empty()) glDrawBuffers(GLsizei(drawBuffers.size()), drawBuffers.data());
+        glUseProgram(GLuint(program));
+        glBindVertexArray(GLuint(vao));
+        glBindBufferBase(GL_UNIFORM_BUFFER, 0, GLuint(ubo0));
+        glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
+        glBlendFuncSeparate(GLenum(blendSrcRgb), GLenum(blendDstRgb), GLenum(blendSrcA), GLenum(blendDstA));
+        glBlendEquationSeparate(GLenum(blendEqRgb), GLenum(blendEqA));
+        glDepthFunc(GLenum(depthFunc));
+        (blend ? glEnable : glDisable)(GL_BLEND);
+        (depthTest ? glEnable : glDisable)(GL_DEPTH_TEST);
+        (cull ? glEnable : glDisable)(GL_CULL_FACE);
+        glDepthMask(depthMask);
+    }
+};
+}  // namespace
+
+void SkyProcessor::composite(unsigned framebuffer, bool depthTest) {
+    // The compositing state is applied before every element, so an element that binds its own
+    // framebuffer or changes blending in doRender() cannot break the ones after it.
+    auto apply = [&] {
+        glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+        if (framebuffer != 0) glDrawBuffer(GL_COLOR_ATTACHMENT0);  // dual-source: one draw buffer
+        glViewport(0, 0, camera_.width, camera_.height);
+        cameraUbo_.bindBase(GL_UNIFORM_BUFFER, 0);
+        emptyVao_.bind();
+        glEnable(GL_BLEND);
+        // dst.rgb = src0.rgb + dst.rgb * src1.rgb (radiance plus attenuated background); alpha kept.
+        glBlendFuncSeparate(GL_ONE, GL_SRC1_COLOR, GL_ZERO, GL_ONE);
+        glBlendEquation(GL_FUNC_ADD);
+        if (depthTest) {
+            glEnable(GL_DEPTH_TEST);
+            glDepthFunc(GL_LEQUAL);
+        } else {
+            glDisable(GL_DEPTH_TEST);
+        }
+        glDepthMask(GL_FALSE);
+        glDisable(GL_CULL_FACE);
+    };
     FrameContext ctx = frameContext();
-    for (auto& e : elements_) e->render(ctx);
+    for (auto& e : elements_) {
+        apply();
+        e->render(ctx);
+    }
     glDisable(GL_BLEND);
     glDisable(GL_DEPTH_TEST);
     glDepthMask(GL_TRUE);
@@ -233,8 +303,16 @@ void SkyProcessor::renderInto(const RenderTarget& target) {
                     std::to_string(target.height) + " differs from the camera's " + std::to_string(camera_.width) + "x" +
                     std::to_string(camera_.height));
     auto t0 = std::chrono::steady_clock::now();
-    update();
-    composite(target.framebuffer, target.depthTest);
+    SavedState saved;
+    saved.save();
+    try {
+        update();
+        composite(target.framebuffer, target.depthTest);
+    } catch (...) {
+        saved.restore();
+        throw;
+    }
+    saved.restore();
     frameMs_ = msSince(t0);
     ++frames_;
     gl::checkError("SkyProcessor::renderInto()");
@@ -257,6 +335,7 @@ void SkyProcessor::toneMapInto(unsigned framebuffer) {
         glDrawArrays(GL_TRIANGLES, 0, 3);
         hdr_.setFilter(GL_NEAREST);
         logLum_.generateMipmaps();
+        logLumValid_ = true;
     }
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
     glViewport(0, 0, camera_.width, camera_.height);
@@ -274,10 +353,12 @@ void SkyProcessor::toneMapInto(unsigned framebuffer) {
 }
 
 double SkyProcessor::lastEv100() const {
-    if (!exposure_.automatic || !logLum_) return exposure_.ev100;
+    if (!exposure_.automatic || !logLumValid_) return exposure_.ev100;
     std::vector<float> top = logLum_.readRgbaFloat(logLum_.levels() - 1);
+    // Same arithmetic as welkin_autoEv100() in tonemap.frag.glsl.
     double logAvg = top[1] > 0 ? top[0] / top[1] : std::log(1e-7);
-    return std::log2(std::exp(logAvg) * 100.0 / 12.5) - exposure_.compensationEv;
+    double ev = std::clamp(std::log2(std::exp(logAvg) * 100.0 / 12.5), -20.0, 30.0);
+    return ev - exposure_.compensationEv;
 }
 
 namespace {

@@ -108,6 +108,9 @@ void validate(std::string_view iso, const DateTime& dt, Calendar calendar) {
     checkRange(iso, "hour", dt.hour, 0, 23);
     checkRange(iso, "minute", dt.minute, 0, 59);
     if (!(dt.second >= 0.0 && dt.second < 61.0)) checkRange(iso, "second", dt.second, 0, 60.999);
+    // A leap second (60.x) can only end a UTC day (at 23:59 UTC; with an offset, the local
+    // minute that corresponds to it).
+    if (dt.second >= 60.0 && dt.minute != 59) checkRange(iso, "second", dt.second, 0, 59.999);
 }
 }  // namespace
 
@@ -120,7 +123,21 @@ UtcInstant UtcInstant::fromDateTime(const DateTime& utc, Calendar calendar) {
     return t;
 }
 
+namespace {
+// Julian dates of -4000-01-01 and 10001-01-01 (Gregorian): the supported span.
+constexpr double kMinJd = 260089.5, kMaxJd = 5373850.5;
+void checkJd(const JulianDate& jd, const char* where) {
+    double v = jd.day + jd.fraction;
+    if (!std::isfinite(v) || v < kMinJd || v >= kMaxJd) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "%s: Julian date %.6f outside the supported years [-4000, 10000]", where, v);
+        throw Error(buf);
+    }
+}
+}  // namespace
+
 UtcInstant UtcInstant::fromJulianDate(const JulianDate& jdUtc) {
+    checkJd(jdUtc, "UtcInstant::fromJulianDate()");
     UtcInstant t;
     t.jd_ = jdUtc.normalized();
     t.utc_ = welkin::fromJulianDate(t.jd_, Calendar::Gregorian);
@@ -186,8 +203,12 @@ UtcInstant UtcInstant::parse(std::string_view iso, Calendar calendar) {
                 ++pos;
                 int oh = 0, om = 0;
                 digits(2, oh);
-                if (pos < iso.size() && iso[pos] == ':') ++pos;
-                if (pos < iso.size()) digits(2, om);
+                if (pos < iso.size() && iso[pos] == ':') {
+                    ++pos;
+                    digits(2, om);  // "+05:" with nothing after the colon is malformed
+                } else if (pos < iso.size()) {
+                    digits(2, om);
+                }
                 checkRange(iso, "UTC offset hours", oh, 0, 18);
                 checkRange(iso, "UTC offset minutes", om, 0, 59);
                 offsetMinutes = (c == '-' ? -1 : 1) * (oh * 60 + om);
@@ -207,6 +228,7 @@ UtcInstant UtcInstant::parse(std::string_view iso, Calendar calendar) {
     } else {
         t.jd_ = local.plusDays(-offsetMinutes / 1440.0);
         t.utc_ = welkin::fromJulianDate(t.jd_, calendar);
+        checkRange(iso, "UTC year", t.utc_.year, -4000, 10000);
     }
     return t;
 }
@@ -225,9 +247,11 @@ std::string UtcInstant::toIso() const {
 }
 
 UtcInstant UtcInstant::plusSeconds(double seconds) const {
+    if (!std::isfinite(seconds)) throw Error("UtcInstant::plusSeconds(): seconds must be finite");
     UtcInstant t;
     t.calendar_ = calendar_;
     t.jd_ = jd_.plusDays(seconds / 86400.0);
+    checkJd(t.jd_, "UtcInstant::plusSeconds()");
     t.utc_ = welkin::fromJulianDate(t.jd_, calendar_);
     return t;
 }

@@ -56,22 +56,43 @@ TEST_CASE("welkin render: fisheye grid EXR puts the horizon and the cardinal mar
     double az = 17 * M_PI / 180;  // not on an azimuth line (every 10 deg)
     CHECK(windowMax(img, W / 2 - r30 * std::sin(az), W / 2 - r30 * std::cos(az), 1) > 0.5 * lineL);
     CHECK(luminance(img, int(W / 2 - r35 * std::sin(az)), int(W / 2 - r35 * std::cos(az))) < 0.05 * lineL);
-    // Cardinal markers at altitude 8 deg: N top, E left, S bottom, W right. Their glyphs are bright
-    // near the expected pixel and the markers' pixels elsewhere on that circle are not.
-    double rm = 82.0 / 90 * R;
-    struct M {
-        const char* name;
-        double azDeg;
-    } markers[] = {{"N", 0}, {"E", 90}, {"S", 180}, {"W", 270}};
-    for (auto& m : markers) {
-        double a = m.azDeg * M_PI / 180;
-        double x = W / 2 - rm * std::sin(a), y = W / 2 - rm * std::cos(a);
-        INFO("marker " << m.name << " at " << x << ", " << y);
-        CHECK(windowMax(img, x, y, 6) > 0.5 * lineL);
-        // 45 deg away along the same circle there is no glyph: only thin grid lines at most.
-        double a2 = a + M_PI / 4 + 0.05;
-        double x2 = W / 2 - rm * std::sin(a2), y2 = W / 2 - rm * std::cos(a2);
-        CHECK(luminance(img, int(x2), int(y2) ) < 0.05 * lineL);
+    // Cardinal markers: 5x7 glyphs (N red, E/S/W white) centred at altitude 8 deg, scale 4 px per
+    // cell at 512 px (Grid: round(512 / 128)). Check every cell of each glyph: set cells are lit
+    // with the glyph's colour, unset cells are dark unless a grid line crosses them. This fails
+    // for a missing, swapped (N/S), mirrored (E/W) or misplaced glyph.
+    static const int kGlyphs[4][7] = {{0x11, 0x19, 0x15, 0x13, 0x11, 0x11, 0x11},   // N
+                                      {0x1F, 0x10, 0x10, 0x1E, 0x10, 0x10, 0x1F},   // E
+                                      {0x0F, 0x10, 0x10, 0x0E, 0x01, 0x01, 0x1E},   // S
+                                      {0x11, 0x11, 0x11, 0x15, 0x15, 0x15, 0x0A}};  // W
+    const double rm = 82.0 / 90 * R, scale = 4;
+    const char* names[4] = {"N", "E", "S", "W"};
+    for (int g = 0; g < 4; ++g) {
+        double a = g * M_PI / 2;
+        double cx = W / 2 - rm * std::sin(a), cy = W / 2 - rm * std::cos(a);
+        int setLit = 0, setCells = 0, unsetDark = 0, unsetCells = 0, redCells = 0;
+        for (int row = 0; row < 7; ++row) {
+            for (int col = 0; col < 5; ++col) {
+                int x = int(cx + (col + 0.5 - 2.5) * scale), y = int(cy + (row + 0.5 - 3.5) * scale);
+                double l = luminance(img, x, y);
+                if ((kGlyphs[g][row] >> (4 - col)) & 1) {
+                    ++setCells;
+                    setLit += l > 0.3 * lineL;
+                    redCells += img.at(x, y, 0) > 2.0 * img.at(x, y, 2);
+                } else {
+                    ++unsetCells;
+                    unsetDark += l < 0.1 * lineL;
+                }
+            }
+        }
+        INFO("marker " << names[g] << " centred at " << cx << ", " << cy);
+        CHECK(setLit == setCells);
+        // Grid lines (every 10 deg, the cardinal azimuth line through the glyph's centre column)
+        // cross a few unset cells; a mirrored or wrong glyph lights many more.
+        CHECK(unsetDark >= unsetCells - 5);
+        if (g == 0)
+            CHECK(redCells == setCells);  // N is red
+        else
+            CHECK(redCells == 0);  // E, S, W are white
     }
     // Outside the image circle nothing is drawn.
     CHECK(luminance(img, 3, 3) == 0.0);
@@ -101,6 +122,10 @@ TEST_CASE("welkin render: bad input exits non-zero with one line and writes noth
         {ok + "--exposure 99 --out " + dir + "/a.png", "", "--exposure 99 not in [-20, 30]"},
         {ok + "--quality ultra --out " + dir + "/a.png", "", "--quality 'ultra' unknown"},
         {ok + "--projection mercator --out " + dir + "/a.png", "", "perspective, fisheye, equirect, cube"},
+        {ok + "--elements '' --out " + dir + "/a.png", "", "empty item"},
+        // A bad --stats path fails before anything is written, image included.
+        {ok + "--elements grid --out " + dir + "/a.png --stats " + dir + "/missing/s.json", "", "--stats"},
+        {ok + "--elements grid --out " + dir + "/a.png --stats " + dir, "", "must end in .json"},
         // No EGL: point glvnd at no vendor library.
         {ok + "--elements grid --out " + dir + "/a.png", "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json", "EGL"},
     };
@@ -112,6 +137,12 @@ TEST_CASE("welkin render: bad input exits non-zero with one line and writes noth
         // One line of error.
         CHECK(std::count(r.output.begin(), r.output.end(), '\n') <= 2);
     }
+    // A directory named like the stats file.
+    fs::create_directory(dir + "/s.json");
+    auto r = test::runCli("render " + ok + "--elements grid --out " + dir + "/a.png --stats " + dir + "/s.json");
+    CHECK(r.status != 0);
+    CHECK_THAT(r.output, Catch::Contains("is a directory"));
+    fs::remove(dir + "/s.json");
     // Nothing (not even a temporary file) was left behind.
     CHECK(fs::is_empty(dir));
 }

@@ -67,3 +67,16 @@ TEST_CASE("Impossible dates and malformed strings are errors", "[cpu][time]") {
     CHECK_THROWS(UtcInstant::parse("1900-02-29"));
     CHECK_NOTHROW(UtcInstant::parse("1900-02-29", Calendar::Julian));
 }
+
+TEST_CASE("The supported span and leap-second placement are enforced", "[cpu][time]") {
+    // The span's ends are the Julian dates of -4000-01-01 and 10001-01-01 (Gregorian).
+    CHECK(toJulianDate({-4000, 1, 1, 0, 0, 0.0}).value() == 260089.5);
+    CHECK(toJulianDate({10001, 1, 1, 0, 0, 0.0}).value() == 5373850.5);
+    auto t = UtcInstant::parse("2026-06-21T12:00:00Z");
+    CHECK_THROWS_WITH(t.plusSeconds(1e300), Catch::Contains("outside the supported years"));
+    CHECK_THROWS_WITH(t.plusSeconds(std::nan("")), Catch::Contains("finite"));
+    CHECK(t.plusSeconds(86400.0 * 365).utc().year == 2027);
+    CHECK_THROWS_WITH(UtcInstant::parse("2026-06-21T12:30:60Z"), Catch::Contains("second 60"));
+    CHECK_THROWS_WITH(UtcInstant::parse("2026-06-21T12:30:00+05:"), Catch::Contains("not ISO 8601"));
+    CHECK_THROWS_WITH(UtcInstant::parse("10000-12-31T23:00:00-05:00"), Catch::Contains("UTC year 10001"));
+}

@@ -134,8 +134,13 @@ TEST_CASE("SkyProcessor keeps elements in registration order and rejects duplica
     CHECK(p.elements()[2]->name() == "clouds");
     CHECK(p.find("sky") == p.elements()[1].get());
     CHECK_THROWS_WITH(p.add(std::make_unique<NamedElement>("sky")), Catch::Contains("already registered"));
-    // Using an element before init() is an error naming it.
+    // Bad sizes are errors naming the element, and rendering before init() is refused.
     CHECK_THROWS_WITH(p.elements()[0]->resize(0, 10), Catch::Contains("stars::resize()"));
+    InitContext ic{p.vars(), p.logger()};
+    (void)ic;
+    Camera cam;
+    FrameContext fc{p.vars(), p.logger(), cam, 0.0, nullptr};
+    CHECK_THROWS_WITH(p.elements()[1]->render(fc), Catch::Contains("sky::render(): element not initialised"));
     CHECK_THROWS_WITH(p.setObserver({.latitudeRad = 2.0}), Catch::Contains("latitude") && Catch::Contains("[-90, 90]"));
     CHECK_THROWS_WITH(p.setExposure({.ev100 = 40}), Catch::Contains("ev100 40 not in [-20, 30]"));
 }

@@ -282,3 +282,30 @@ TEST_CASE("Sky: aerial perspective over a host's depth buffer", "[gl][sky]") {
     }
     ap.release();
 }
+
+#ifdef WELKIN_HAVE_REFERENCE
+TEST_CASE("Sky diagnostics: where the real-time model departs from the reference", "[.diag]") {
+    auto atm = atmosphere::Atmosphere::earthClear();
+    atmosphere::ReferenceOptions ro;
+    ro.mode = atmosphere::SpectralMode::Rgb;
+    ro.threads = 2;
+    atmosphere::ReferenceSky ref(atm, ro);
+    SkyVars vars = SkyVars::earth();
+    vars.set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(atm));
+    SkyModel m = SkyModel::fromVars(vars);
+    SkyQuality q = SkyQuality::preset(1);
+    Lut2D T = cpu::transmittanceLut(m, q);
+    cpu::MsField MS = cpu::msField(m, q, T);
+    for (double sunAlt : {20.0, 5.0}) {
+        glm::dvec3 sun = directionFromAzAlt(0.0, sunAlt * kDeg);
+        for (double alt : {3.0, 10.0, 30.0, 60.0})
+            for (double az = 0; az <= 180; az += 15) {
+                glm::dvec3 d = directionFromAzAlt(az * kDeg, alt * kDeg);
+                if (glm::dot(d, sun) > std::cos(2 * kDeg)) continue;
+                double r = Y(ref.radiance(0.0, d, sun));
+                double c = Y(cpu::skyRadiance(m, T, MS, 0.0, d, sun, m.solarIlluminance, 256, m.sunAngularRadius));
+                std::printf("sun %4.0f alt %4.0f az %4.0f ratio %.3f\n", sunAlt, alt, az, c / r);
+            }
+    }
+}
+#endif

@@ -1,5 +1,5 @@
 // Issue 4 item 11: every output of the sky finite and non-negative over a grid of extreme
-// configurations, the below-ground clamp warns, and no band at the horizon (radiance across the
+// configurations (and on Mars), the below-ground clamp warns, and no band at the horizon (radiance across the
 // horizon direction follows the direct ray march, at twilight too).
 #include <catch2/catch.hpp>
 
@@ -56,7 +56,8 @@ TEST_CASE("Sky stability: finite, non-negative outputs over extreme configuratio
     } atmospheres[] = {{"clear", atmosphere::Atmosphere::earthClear()},
                        {"mie x0", scaledMie(0.0)},
                        {"mie x20", scaledMie(20.0)},
-                       {"ozone off", atmosphere::Atmosphere::earthClear().withOzoneColumn(0.0)}};
+                       {"ozone off", atmosphere::Atmosphere::earthClear().withOzoneColumn(0.0)},
+                       {"mars", atmosphere::Atmosphere::mars()}};
     const double heights[] = {0.0, -0.001, 60e3, 1000e3, 36000e3};
     const double sunAlts[] = {90.0, 0.0, -18.0, -90.0};
 
@@ -109,7 +110,7 @@ TEST_CASE("Sky stability: finite, non-negative outputs over extreme configuratio
             }
         }
     }
-    CHECK(renders == 80);
+    CHECK(renders == 100);
     // The 1 mm below ground observer was clamped with a warning naming the height.
     bool warned = false;
     for (auto& w : warnings) warned = warned || (w.find("-0.001 m") != std::string::npos && w.find("clamped") != std::string::npos);

@@ -16,7 +16,8 @@
 // then call renderInto({.framebuffer = hostFbo, ...}): elements are drawn at the far plane with
 // depth test GL_LEQUAL, so the host's geometry hides the sky. Or call renderFrame() and
 // toneMapInto(0) to present. No global state: two processors in one process are independent
-// (each needs its context current when called).
+// (each needs its context current when called, including when it is destroyed: GL names belong
+// to the context that created them).
 //
 // HDR format: RGBA32F. Starlight (~1e-5 cd/m^2) and the solar disk (~1.6e9 cd/m^2) both keep
 // 24-bit relative precision; fp16 would clip at 65504 cd/m^2 without pre-exposure. Cost and
@@ -109,7 +110,9 @@ public:
     /// into its LDR target.
     void renderFrame();
     /// update(), then composites into a caller's framebuffer (its current contents are the
-    /// background; blending is additive-attenuating). Does not tone-map.
+    /// background; blending is additive-attenuating). Does not tone-map. Only colour attachment 0
+    /// is drawn to. The host's GL state (framebuffer and program bindings, viewport, blend, depth
+    /// and cull state, draw buffers, vertex array, uniform-buffer binding 0) is restored.
     void renderInto(const RenderTarget& target);
     /// Tone-maps the last HDR frame into `framebuffer` (0 = default) at the camera's size.
     void toneMapInto(unsigned framebuffer);
@@ -123,8 +126,11 @@ public:
     /// EV100 used by the last tone map (reads 1 texel back when automatic).
     double lastEv100() const;
 
-    /// Seconds since construction (animation time passed to elements).
+    /// Animation time passed to elements: seconds since construction, or the fixed value given
+    /// to setAnimationTime() (offline renders use 0 so that output is deterministic).
     double seconds() const;
+    /// Fixes the animation time (seconds, finite), or, with std::nullopt, follows the wall clock.
+    void setAnimationTime(std::optional<double> seconds);
     /// Stats of the last frame: inputs, per element and generator CPU-timed cost (ms).
     nlohmann::json stats() const;
     /// Frees every GL resource (also done by the destructor; needs the context current).
@@ -146,6 +152,8 @@ private:
     Camera camera_{};
     Exposure exposure_{};
     bool glReady_ = false;
+    bool logLumValid_ = false;  // the log-luminance texture holds the last frame's meter
+    std::optional<double> animationTime_;
     std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 
     gl::Texture2D hdr_, ldr_, logLum_;

@@ -70,7 +70,8 @@ public:
     JulianDate julianDate() const { return jd_; }
     /// ISO 8601 in UTC with a trailing Z; milliseconds shown only when non-zero.
     std::string toIso() const;
-    /// This instant plus `seconds` (may be negative).
+    /// This instant plus `seconds` (finite, may be negative); throws welkin::Error if the result
+    /// leaves the supported years [-4000, 10000].
     UtcInstant plusSeconds(double seconds) const;
 
 private:

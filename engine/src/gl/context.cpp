@@ -37,9 +37,10 @@ void GLAPIENTRY debugCallback(GLenum, GLenum type, GLuint id, GLenum severity, G
 
 void Context::setupDebugOutput(bool debug, const Logger& log) {
     if (!debug) return;
+    log_ = log;
     glEnable(GL_DEBUG_OUTPUT);
     glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
-    glDebugMessageCallback(debugCallback, &log);
+    glDebugMessageCallback(debugCallback, &log_);
     glDebugMessageControl(GL_DONT_CARE, GL_DONT_CARE, GL_DONT_CARE, 0, nullptr, GL_TRUE);
 }
 
@@ -94,7 +95,8 @@ std::unique_ptr<HeadlessContext> HeadlessContext::create(const ContextOptions& o
 
 HeadlessContext::~HeadlessContext() {
     if (display_) {
-        eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+        // Release this context only if it is the current one: another context may be in use.
+        if (eglGetCurrentContext() == context_) eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
         if (context_) eglDestroyContext(display_, context_);
         // The display is shared by every context in the process (EGL returns the same handle),
         // so it is not terminated here: another context may still be alive.

@@ -34,14 +34,13 @@ Texture::Texture(GLenum target, GLenum internalFormat, int w, int h, int d, int 
     if (w <= 0 || h <= 0 || d <= 0 || levels <= 0)
         throw Error("gl::Texture: size " + std::to_string(w) + "x" + std::to_string(h) + "x" + std::to_string(d) +
                     " with " + std::to_string(levels) + " levels must be positive");
+    const bool layered = target == GL_TEXTURE_3D || target == GL_TEXTURE_2D_ARRAY;
+    if (!layered && target != GL_TEXTURE_2D && target != GL_TEXTURE_CUBE_MAP) throw Error("gl::Texture: unsupported target");
     glCreateTextures(target, 1, &id_);
-    switch (target) {
-        case GL_TEXTURE_2D: glTextureStorage2D(id_, levels, internalFormat, w, h); break;
-        case GL_TEXTURE_CUBE_MAP: glTextureStorage2D(id_, levels, internalFormat, w, h); break;
-        case GL_TEXTURE_3D:
-        case GL_TEXTURE_2D_ARRAY: glTextureStorage3D(id_, levels, internalFormat, w, h, d); break;
-        default: throw Error("gl::Texture: unsupported target");
-    }
+    if (layered)
+        glTextureStorage3D(id_, levels, internalFormat, w, h, d);
+    else
+        glTextureStorage2D(id_, levels, internalFormat, w, h);
     GLenum filter = levels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR;
     glTextureParameteri(id_, GL_TEXTURE_MIN_FILTER, filter);
     glTextureParameteri(id_, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
@@ -144,6 +143,7 @@ Framebuffer& Framebuffer::operator=(Framebuffer&& o) noexcept {
     return *this;
 }
 void Framebuffer::attach(GLenum attachment, const Texture& t, int level, int layer) {
+    if (!id_) throw Error("gl::Framebuffer::attach(): empty framebuffer (use Framebuffer::create())");
     if (layer >= 0)
         glNamedFramebufferTextureLayer(id_, attachment, t.id(), level, layer);
     else

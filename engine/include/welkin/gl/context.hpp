@@ -28,7 +28,7 @@ struct ContextOptions {
 };
 
 /// A current-able GL 4.5 core context. Destroying it destroys the context: destroy every GL
-/// object first.
+/// object first, with this context current (GL names belong to the context that made them).
 class Context {
 public:
     virtual ~Context() = default;
@@ -41,8 +41,12 @@ public:
 
 protected:
     Context() = default;
-    /// Installs the debug-output callback (if requested) once the context is current.
+    /// Installs the debug-output callback (if requested) once the context is current. The
+    /// context keeps its own copy of `log`, so the caller's logger may go out of scope.
     void setupDebugOutput(bool debug, const Logger& log);
+
+private:
+    Logger log_;
 };
 
 class HeadlessContext final : public Context {

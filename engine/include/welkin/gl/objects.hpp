@@ -4,7 +4,7 @@
 //
 //   welkin::gl::Texture2D lut(256, 64, GL_RGBA32F);            // immutable storage, 1 level
 //   lut.setFilter(GL_LINEAR); lut.setWrap(GL_CLAMP_TO_EDGE);
-//   welkin::gl::Framebuffer fb;
+//   auto fb = welkin::gl::Framebuffer::create();
 //   fb.attach(GL_COLOR_ATTACHMENT0, lut);
 //   fb.checkComplete("TransmittanceLut");                         // throws naming the owner
 //   std::vector<float> px = lut.readRgbaFloat();                  // for tests and CPU twins

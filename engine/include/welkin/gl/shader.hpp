@@ -2,9 +2,10 @@
 //
 //   auto program = welkin::gl::ProgramBuilder("Grid")
 //       .define("GRID_STEP_DEG", 10)                                    // generated header
-//       .vertex("engine/fullscreen.vert.glsl", engineShader("fullscreen.vert.glsl"))
-//       .fragment("engine/common.glsl", engineShader("common.glsl"))  // shared chunks first
-//       .fragment("grid/grid.frag.glsl", gridText)                     // then the owner's code
+//       .fullscreenVertex()                                             // engine/fullscreen.vert.glsl
+//       .fragment("engine/camera.glsl", engineShader("camera.glsl"))    // shared chunks first
+//       .fragment("engine/composite.glsl", engineShader("composite.glsl"))
+//       .fragment("grid/grid.frag.glsl", gridText)                      // then the owner's code
 //       .build();                                                      // throws welkin::Error
 //
 // Each stage is assembled as: a generated header (`#version 450 core`, then every define in the

@@ -5,7 +5,8 @@
 //   opt.altitudeStepDeg = 15;                 // circles of equal altitude every 15 deg
 //   processor.add(std::make_unique<welkin::elements::Grid>(opt));
 //
-// Lines are drawn with a constant width in pixels and antialiased; they are opaque (they hide
+// Lines are antialiased and drawn with a constant angular width: `lineWidthPx` pixels at the
+// centre of the image (projections stretch them elsewhere, e.g. towards a fisheye's rim); opaque (they hide
 // what lies behind) and emit `luminanceCdM2` (or, if that is 0, a luminance that the current
 // manual exposure renders at 80 % of white, so the grid stays visible at any exposure).
 #pragma once
