@@ -26,7 +26,7 @@ void main() {
     float dEnd = ground ? distanceToBottom(u_h, mu) : distanceToTop(u_h, mu);
     float r = atm_bottom() + u_h;
     float phaseR = rayleighPhase(nu), phaseM = miePhase(nu);
-    vec3 L = vec3(0.0), thr = vec3(1.0);
+    vec3 L = vec3(0.0), thr = vec3(1.0), thrD = vec3(1.0);  // exact and delta-M (scattered light)
     float t0 = 0.0;
     for (int k = 0; k < u_size; ++k) {
         float f = float(k + 1) / n;
@@ -39,12 +39,14 @@ void main() {
             float muSp = clamp((r * u_muS + t * nu) / rp, -1.0, 1.0);
             vec3 sR = atm_scatteringRayleigh(hp), sM = atm_scatteringMie(hp);
             vec3 sigmaT = atm_extinction(hp);
-            vec3 seg = atm_segmentFactor(sigmaT, dt);
+            vec3 sigmaD = sigmaT - atm_phaseMoments.w * sM;
+            vec3 seg = atm_segmentFactor(sigmaD, dt);
             vec3 Tl = transmittanceToLight(hp, muSp, u_angular);
             float muP = clamp((r * mu + t) / rp, -1.0, 1.0);
             vec3 ms = msInscatter(hp, muP, muSp, nu, sR, sM);
-            L += thr * ((sR * phaseR + sM * phaseM) * Tl + ms) * seg;
+            L += thrD * ((sR * phaseR + sM * phaseM) * Tl + ms) * seg;
             thr *= exp(-sigmaT * dt);
+            thrD *= exp(-sigmaD * dt);
         }
         t0 = max(t0, t1);
         imageStore(u_inscatter, ivec3(ij, k), vec4(L * u_scale, 1.0));

@@ -14,7 +14,7 @@ layout(std140, binding = 1) uniform WelkinAtmosphere {
     vec4 atm_absorption;         // ozone extinction rgb (1/m), unused
     vec4 atm_groundAlbedo;       // rgb, unused
     vec4 atm_solarIlluminance;   // rgb (lux), Sun's angular radius (rad)
-    vec4 atm_phaseMoments;       // Legendre moments: Mie l1, Mie l2, Rayleigh l2, 0
+    vec4 atm_phaseMoments;       // Legendre moments: Mie l1, Mie l2, Rayleigh l2; delta-M fraction f
     vec4 atm_profiles[9];        // 3 profiles x (w0 e0 s0 l0)(c0 e1 s1 l1)(c1 0 0 0)
 };
 
@@ -200,7 +200,8 @@ vec3 msInscatter(float h, float mu, float muS, float nu, vec3 sR, vec3 sM) {
     float Y[6] = atm_shBasis(x, mu);
     vec4 mo = atm_phaseMoments;
     float lR[6] = float[6](1.0, 0.0, 0.0, mo.z, mo.z, mo.z);
-    float lM[6] = float[6](1.0, mo.x, mo.x, mo.y, mo.y, mo.y);
+    float fw = mo.w;  // delta-M: the forward fraction stays in the beam
+    float lM[6] = float[6](1.0 - fw, mo.x - fw, mo.x - fw, mo.y - fw, mo.y - fw, mo.y - fw);
     vec3 aR = vec3(0.0), aM = vec3(0.0);
     for (int k = 0; k < 6; ++k) {
         vec3 c = texture(u_atmShLut, vec3(uv, float(k))).rgb;
@@ -232,7 +233,7 @@ Scattering integrateScattering(float h, float mu, float muS, float nu, float max
     float p = quadratic ? 0.0 : atm_perigeeFraction(h, mu, d);
     float r = atm_bottom() + h;
     float phaseR = rayleighPhase(nu);
-    vec3 thr = vec3(1.0);
+    vec3 thr = vec3(1.0), thrD = vec3(1.0);  // exact (background) and delta-M (scattered light)
     for (int k = 0; k < steps && d > 0.0; ++k) {
         float s0 = float(k) / float(steps), s1 = float(k + 1) / float(steps), sm = (float(k) + 0.5) / float(steps);
         float dt = d * (atm_warp(s1, p) - atm_warp(s0, p)), t = d * atm_warp(sm, p);
@@ -241,18 +242,20 @@ Scattering integrateScattering(float h, float mu, float muS, float nu, float max
         float muSp = clamp((r * muS + t * nu) / rp, -1.0, 1.0);
         vec3 sR = atm_scatteringRayleigh(hp), sM = atm_scatteringMie(hp);
         vec3 sigmaT = atm_extinction(hp);
-        vec3 seg = atm_segmentFactor(sigmaT, dt);
+        vec3 sigmaD = sigmaT - atm_phaseMoments.w * sM;
+        vec3 seg = atm_segmentFactor(sigmaD, dt);
         vec3 Tl = transmittanceToLight(hp, muSp, lightAngularRadius);
         float muP = clamp((r * mu + t) / rp, -1.0, 1.0);
         vec3 ms = msInscatter(hp, muP, muSp, nu, sR, sM);
-        o.smooth_ += thr * (sR * Tl * phaseR + ms) * seg;
-        o.mieNoPhase += thr * sM * Tl * seg;
+        o.smooth_ += thrD * (sR * Tl * phaseR + ms) * seg;
+        o.mieNoPhase += thrD * sM * Tl * seg;
         thr *= exp(-sigmaT * dt);
+        thrD *= exp(-sigmaD * dt);
     }
     if (o.hitGround) {
         float muSg = clamp((r * muS + d * nu) / atm_bottom(), -1.0, 1.0);
         vec3 Tg = transmittanceToLight(0.0, muSg, lightAngularRadius);
-        o.smooth_ += thr * Tg * max(muSg, 0.0) * atm_groundAlbedo.rgb / ATM_PI;
+        o.smooth_ += thrD * Tg * max(muSg, 0.0) * atm_groundAlbedo.rgb / ATM_PI;
     }
     o.transmittance = thr;
     return o;

@@ -45,7 +45,7 @@ void main() {
             float rp = atm_bottom() + hp;
             float muSp = clamp((r * muS + t * nu) / rp, -1.0, 1.0);
             vec3 sR = atm_scatteringRayleigh(hp), sM = atm_scatteringMie(hp);
-            vec3 sigmaT = atm_extinction(hp);
+            vec3 sigmaT = atm_extinction(hp) - atm_phaseMoments.w * sM;  // delta-M (see sky_model.cpp)
             vec3 seg = atm_segmentFactor(sigmaT, dt);
             vec3 Tl = transmittanceToLight(hp, muSp, angular);
             vec3 ps = texture(ATM_MULTISCATTERING_LUT, multiScatteringUv(hp, muSp, msSize)).rgb;

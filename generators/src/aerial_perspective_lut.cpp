@@ -84,7 +84,7 @@ AerialTexel aerialTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, 
     double r = m.bottomRadius + h;
     double phaseR = rayleighPhase(nu), phaseM = miePhase(nu, m.mieG, m.miePhase);
     const glm::dvec4 moments = phaseMoments(m);
-    glm::dvec3 L(0.0), thr(1.0);
+    glm::dvec3 L(0.0), thr(1.0), thrD(1.0);
     double t0 = 0.0;
     for (int kk = 0; kk <= k; ++kk) {
         double f = double(kk + 1) / n;
@@ -96,13 +96,15 @@ AerialTexel aerialTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, 
             double rp = m.bottomRadius + hp;
             double muSp = std::clamp((r * muS + t * nu) / rp, -1.0, 1.0);
             glm::dvec3 sR = m.scatteringRayleigh(hp), sM = m.scatteringMie(hp), sigmaT = m.extinction(hp);
+            glm::dvec3 sigmaD = sigmaT - moments.w * sM;
             glm::dvec3 seg;
-            for (int c = 0; c < 3; ++c) seg[c] = sigmaT[c] * dt > 1e-7 ? (1.0 - std::exp(-sigmaT[c] * dt)) / sigmaT[c] : dt;
+            for (int c = 0; c < 3; ++c) seg[c] = sigmaD[c] * dt > 1e-7 ? (1.0 - std::exp(-sigmaD[c] * dt)) / sigmaD[c] : dt;
             glm::dvec3 Tl = transmittanceToLight(m, T, hp, muSp, m.sunAngularRadius);
             double muP = std::clamp((r * mu + t) / rp, -1.0, 1.0);
             glm::dvec3 ms = msInscatter(m, MS, moments, hp, muP, muSp, nu, sR, sM);
-            L += thr * ((sR * phaseR + sM * phaseM) * Tl + ms) * seg;
+            L += thrD * ((sR * phaseR + sM * phaseM) * Tl + ms) * seg;
             thr *= glm::exp(-sigmaT * dt);
+            thrD *= glm::exp(-sigmaD * dt);
         }
         t0 = std::max(t0, t1);
     }

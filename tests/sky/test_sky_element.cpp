@@ -138,9 +138,10 @@ TEST_CASE("Sky: rendered radiance and illuminance against the reference integrat
         glm::dvec3 ours = rig.vars.get(skykeys::horizontalIlluminance);
         INFO("Sun " << sunAlt << " deg: RMS luminance error " << rms << " over " << n << " directions; diffuse " << ours.z
                     << " vs " << e.diffuse << " lx; direct " << ours.y << " vs " << e.direct);
-        // Day: the directional multiple scattering keeps the RMS near 5 % (measured 3-6 %); -4 deg:
-        // ~10 %. Bounds with margin for the coarse reference.
-        CHECK(rms < (sunAlt > 0 ? 0.08 : 0.2));
+        // Measured 4-5 % by day and 3 % at -4 deg (directional multiple scattering with delta-M);
+        // 7 % leaves room for the coarse reference (1-2 %) and the LUT; Hillaire's isotropic
+        // approximation alone measured 9-12 % here and fails this bound.
+        CHECK(rms < 0.07);
         CHECK(ours.z == Approx(e.diffuse).epsilon(sunAlt > 0 ? 0.1 : 0.25));
         CHECK(ours.y == Approx(e.direct).epsilon(0.03).margin(1e-3));  // same transmittance model
     }

@@ -170,8 +170,8 @@ struct MsField {
     std::array<Lut2D, 6> sh{};   ///< SH coefficients (l <= 2, even in y) of the incident field
     bool directional = false;    ///< use sh (else psi)
 };
-/// Legendre moments Lambda_l = 2 pi int p(t) P_l(t) dt of the phase functions, l = 1, 2:
-/// (Mie l1, Mie l2, Rayleigh l2, 0).
+/// Legendre moments Lambda_l = 2 pi int p(t) P_l(t) dt of the phase functions, l = 1, 2, and
+/// the delta-M forward fraction: (Mie l1, Mie l2, Rayleigh l2, f = Lambda_3(Mie) / 2).
 glm::dvec4 phaseMoments(const SkyModel& m);
 /// The 6 real SH basis functions used (Y00, Y10, Y11, Y20, Y21, Y22) at a unit vector in the
 /// local frame (x horizontal towards the light, z up); y enters only squared.
