@@ -234,9 +234,11 @@ struct SavedState {
     void restore() const {
         glBindFramebuffer(GL_FRAMEBUFFER, GLuint(framebuffer));
         if (!drawBuffers.empty()) glDrawBuffers(GLsizei(drawBuffers.size()), drawBuffers.data());
-        glUseProgram(GLuint(program));
-        glBindVertexArray(GLuint(vao));
-        glBindBufferBase(GL_UNIFORM_BUFFER, 0, GLuint(ubo0));
+        // Names the host saw may have been deleted since (bindings can still report them):
+        // restore only live objects.
+        glUseProgram(program && glIsProgram(GLuint(program)) ? GLuint(program) : 0);
+        glBindVertexArray(vao && glIsVertexArray(GLuint(vao)) ? GLuint(vao) : 0);
+        glBindBufferBase(GL_UNIFORM_BUFFER, 0, ubo0 && glIsBuffer(GLuint(ubo0)) ? GLuint(ubo0) : 0);
         glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
         glBlendFuncSeparate(GLenum(blendSrcRgb), GLenum(blendDstRgb), GLenum(blendSrcA), GLenum(blendDstA));
         glBlendEquationSeparate(GLenum(blendEqRgb), GLenum(blendEqA));

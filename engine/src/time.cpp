@@ -130,7 +130,7 @@ void checkJd(const JulianDate& jd, const char* where) {
     double v = jd.day + jd.fraction;
     if (!std::isfinite(v) || v < kMinJd || v >= kMaxJd) {
         char buf[160];
-        std::snprintf(buf, sizeof buf, "%s: Julian date %.6f outside the supported years [-4000, 10000]", where, v);
+        std::snprintf(buf, sizeof buf, "%s: Julian date %.10g outside the supported years [-4000, 10000]", where, v);
         throw Error(buf);
     }
 }

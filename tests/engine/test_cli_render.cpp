@@ -88,7 +88,7 @@ TEST_CASE("welkin render: fisheye grid EXR puts the horizon and the cardinal mar
         CHECK(setLit == setCells);
         // Grid lines (every 10 deg, the cardinal azimuth line through the glyph's centre column)
         // cross a few unset cells; a mirrored or wrong glyph lights many more.
-        CHECK(unsetDark >= unsetCells - 5);
+        CHECK(unsetDark >= unsetCells - 8);
         if (g == 0)
             CHECK(redCells == setCells);  // N is red
         else
