@@ -84,16 +84,18 @@ vec2 transmittanceHMu(vec2 uv, vec2 size) {
     float mu = d == 0.0 ? 1.0 : clamp((H * H - rho * rho - d * d) / (2.0 * r * d), -1.0, 1.0);
     return vec2(h, mu);
 }
-// mu_s axis dense around the horizon: u = 1/2 + atan(mu_s / 0.15) / (2 atan(1 / 0.15)).
+// mu_s axis dense around the horizon: u = 1/2 + atan(mu_s / 0.15) / (2 atan(1 / 0.15));
+// height axis v = sqrt(h / thickness).
 const float ATM_MS_A = 0.15;
-vec2 multiScatteringUv(float h, float muS, float size) {
+vec2 multiScatteringUv(float h, float muS, vec2 size) {
     float x = 0.5 + 0.5 * atan(clamp(muS, -1.0, 1.0) / ATM_MS_A) / atan(1.0 / ATM_MS_A);
-    return vec2(texCoordFromUnit(clamp(x, 0.0, 1.0), size), texCoordFromUnit(clamp(h / atm_thickness(), 0.0, 1.0), size));
+    return vec2(texCoordFromUnit(clamp(x, 0.0, 1.0), size.x), texCoordFromUnit(sqrt(clamp(h / atm_thickness(), 0.0, 1.0)), size.y));
 }
-vec2 multiScatteringHMuS(vec2 uv, float size) {
-    float x = clamp(unitFromTexCoord(uv.x, size), 0.0, 1.0);
+vec2 multiScatteringHMuS(vec2 uv, vec2 size) {
+    float x = clamp(unitFromTexCoord(uv.x, size.x), 0.0, 1.0);
     float muS = clamp(ATM_MS_A * tan((2.0 * x - 1.0) * atan(1.0 / ATM_MS_A)), -1.0, 1.0);
-    return vec2(clamp(unitFromTexCoord(uv.y, size), 0.0, 1.0) * atm_thickness(), muS);
+    float y = clamp(unitFromTexCoord(uv.y, size.y), 0.0, 1.0);
+    return vec2(y * y * atm_thickness(), muS);
 }
 float atm_horizonZenith(float h) {
     float r = atm_bottom() + h;
@@ -192,8 +194,7 @@ float[6] atm_shBasis(float x, float z) {
 
 // In-scattered radiance per lux of scattering orders >= 2 at a point; twin of cpu::msInscatter().
 vec3 msInscatter(float h, float mu, float muS, float nu, vec3 sR, vec3 sM) {
-    float size = float(textureSize(ATM_MULTISCATTERING_LUT, 0).x);
-    vec2 uv = multiScatteringUv(h, muS, size);
+    vec2 uv = multiScatteringUv(h, muS, vec2(textureSize(ATM_MULTISCATTERING_LUT, 0)));
 #ifdef ATM_MS_DIRECTIONAL
     float sinS = sqrt(max(1.0 - muS * muS, 0.0));
     float x = sinS > 1e-6 ? clamp((nu - mu * muS) / sinS, -1.0, 1.0) : 0.0;

@@ -4,7 +4,7 @@
 // cpu::multiScatteringTexel(). Needs atmosphere.glsl (ATM_USE_TRANSMITTANCE) before it.
 uniform int u_directions;
 uniform int u_steps;
-uniform int u_size;
+uniform ivec2 u_size;  // texels: mu_s, height
 out vec4 o_psi;
 
 vec3 fibonacciDirection(int i, int n) {
@@ -16,7 +16,7 @@ vec3 fibonacciDirection(int i, int n) {
 }
 
 void main() {
-    vec2 hm = multiScatteringHMuS(gl_FragCoord.xy / float(u_size), float(u_size));
+    vec2 hm = multiScatteringHMuS(gl_FragCoord.xy / vec2(u_size), vec2(u_size));
     float h = hm.x, muS = hm.y;
     vec3 sun = vec3(sqrt(max(1.0 - muS * muS, 0.0)), 0.0, muS);
     float angular = atm_solarIlluminance.w;

@@ -6,7 +6,7 @@
 // Twin of cpu::shTexel(). Needs atmosphere.glsl (ATM_USE_TRANSMITTANCE, ATM_USE_MULTISCATTERING).
 uniform int u_directions;
 uniform int u_steps;
-uniform int u_size;
+uniform ivec2 u_size;  // texels: mu_s, height
 layout(location = 0) out vec4 o_c0;
 layout(location = 1) out vec4 o_c1;
 layout(location = 2) out vec4 o_c2;
@@ -23,12 +23,12 @@ vec3 shFibonacci(int i, int n) {
 }
 
 void main() {
-    vec2 hm = multiScatteringHMuS(gl_FragCoord.xy / float(u_size), float(u_size));
+    vec2 hm = multiScatteringHMuS(gl_FragCoord.xy / vec2(u_size), vec2(u_size));
     float h = hm.x, muS = hm.y;
     vec3 sun = vec3(sqrt(max(1.0 - muS * muS, 0.0)), 0.0, muS);
     float angular = atm_solarIlluminance.w;
     float r = atm_bottom() + h;
-    float msSize = float(u_size);
+    vec2 msSize = vec2(u_size);
     vec3 c[6] = vec3[6](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
     for (int i = 0; i < u_directions; ++i) {
         vec3 v = shFibonacci(i, u_directions);

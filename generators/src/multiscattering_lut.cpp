@@ -23,9 +23,9 @@ void MultiScatteringLut::doRun(SkyVars& vars, const Logger&) {
     prepare(vars);
     const TextureRef T = vars.get(skykeys::transmittanceLut);
     const GLenum fmt = q_.halfFloat ? GL_RGBA16F : GL_RGBA32F;
-    const int n = q_.multiScatteringSize;
-    if (!tex_ || tex_.width() != n || tex_.internalFormat() != fmt) {
-        tex_ = gl::Texture2D(n, n, fmt);
+    const int w = q_.multiScatteringMuS, n = q_.multiScatteringSize;
+    if (!tex_ || tex_.width() != w || tex_.height() != n || tex_.internalFormat() != fmt) {
+        tex_ = gl::Texture2D(w, n, fmt);
         tex_.setFilter(GL_LINEAR);
         tex_.setWrap(GL_CLAMP_TO_EDGE);
         fbo_ = gl::Framebuffer::create();
@@ -40,12 +40,12 @@ void MultiScatteringLut::doRun(SkyVars& vars, const Logger&) {
                     .fragment("generators/multiscattering_lut.glsl", embedded::generator_shaders("multiscattering_lut.glsl"))
                     .build();
     fbo_.bind();
-    glViewport(0, 0, n, n);
+    glViewport(0, 0, w, n);
     glBindTextureUnit(4, T.id);
     prog_.use();
     prog_.set("u_directions", q_.multiScatteringDirections);
     prog_.set("u_steps", q_.multiScatteringSteps);
-    prog_.set("u_size", n);
+    prog_.set("u_size", glm::ivec2(w, n));
     fullscreen();
     vars.set(skykeys::multiScatteringLut, tex_.ref());
     vars.set(skykeys::multiScatteringRev, ++rev_);

@@ -22,9 +22,9 @@ void ShLut::releaseGl() {
 void ShLut::doRun(SkyVars& vars, const Logger&) {
     prepare(vars);
     const GLenum fmt = q_.halfFloat ? GL_RGBA16F : GL_RGBA32F;
-    const int n = q_.multiScatteringSize;
-    if (!tex_ || tex_.width() != n || tex_.internalFormat() != fmt) {
-        tex_ = gl::Texture2DArray(n, n, 6, fmt);
+    const int w = q_.multiScatteringMuS, n = q_.multiScatteringSize;
+    if (!tex_ || tex_.width() != w || tex_.height() != n || tex_.internalFormat() != fmt) {
+        tex_ = gl::Texture2DArray(w, n, 6, fmt);
         tex_.setFilter(GL_LINEAR);
         tex_.setWrap(GL_CLAMP_TO_EDGE);
         fbo_ = gl::Framebuffer::create();
@@ -43,13 +43,13 @@ void ShLut::doRun(SkyVars& vars, const Logger&) {
     const GLenum bufs[6] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
                             GL_COLOR_ATTACHMENT3, GL_COLOR_ATTACHMENT4, GL_COLOR_ATTACHMENT5};
     glNamedFramebufferDrawBuffers(fbo_.id(), 6, bufs);
-    glViewport(0, 0, n, n);
+    glViewport(0, 0, w, n);
     glBindTextureUnit(4, vars.get(skykeys::transmittanceLut).id);
     glBindTextureUnit(5, vars.get(skykeys::multiScatteringLut).id);
     prog_.use();
     prog_.set("u_directions", q_.shDirections);
     prog_.set("u_steps", q_.multiScatteringSteps);
-    prog_.set("u_size", n);
+    prog_.set("u_size", glm::ivec2(w, n));
     fullscreen();
     vars.set(skykeys::shLut, tex_.ref());
     vars.set(skykeys::shRev, ++rev_);

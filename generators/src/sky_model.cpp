@@ -70,7 +70,7 @@ SkyQuality SkyQuality::preset(int quality) {
     switch (quality) {
     case 0:  // low: small LUTs, few samples, fp16
         q.transmittanceW = 128, q.transmittanceH = 32, q.transmittanceSteps = 24;
-        q.multiScatteringSize = 16, q.multiScatteringDirections = 32, q.multiScatteringSteps = 12;
+        q.multiScatteringMuS = 32, q.multiScatteringSize = 8, q.multiScatteringDirections = 32, q.multiScatteringSteps = 12;
         q.skyViewW = 96, q.skyViewH = 54, q.skyViewSteps = 16;
         q.aerialSize = 16, q.aerialSteps = 1;
         q.raymarchSteps = 24, q.halfFloat = true, q.shDirections = 64;
@@ -80,7 +80,7 @@ SkyQuality SkyQuality::preset(int quality) {
         break;
     case 2:  // high: larger LUTs and more samples, fp32
         q.transmittanceW = 256, q.transmittanceH = 128, q.transmittanceSteps = 128;
-        q.multiScatteringSize = 32, q.multiScatteringDirections = 128, q.multiScatteringSteps = 32, q.shDirections = 256;
+        q.multiScatteringMuS = 64, q.multiScatteringSize = 32, q.multiScatteringDirections = 128, q.multiScatteringSteps = 32, q.shDirections = 256;
         q.skyViewW = 256, q.skyViewH = 192, q.skyViewSteps = 64;
         q.aerialSize = 32, q.aerialSteps = 4;
         q.raymarchSteps = 96;
@@ -88,7 +88,7 @@ SkyQuality SkyQuality::preset(int quality) {
         break;
     case 3:  // reference: every pixel ray-marched with many steps
         q.transmittanceW = 512, q.transmittanceH = 128, q.transmittanceSteps = 256;
-        q.multiScatteringSize = 64, q.multiScatteringDirections = 256, q.multiScatteringSteps = 64, q.shDirections = 512;
+        q.multiScatteringMuS = 128, q.multiScatteringSize = 32, q.multiScatteringDirections = 256, q.multiScatteringSteps = 64, q.shDirections = 512;
         q.skyViewW = 256, q.skyViewH = 192, q.skyViewSteps = 64;
         q.aerialSize = 32, q.aerialSteps = 8;
         q.raymarchSteps = 256, q.perPixel = true;
@@ -106,7 +106,7 @@ SkyQuality SkyQuality::preset(int quality) {
 SkyQuality SkyQuality::tiny() {
     SkyQuality q;
     q.transmittanceW = 64, q.transmittanceH = 16, q.transmittanceSteps = 24;
-    q.multiScatteringSize = 8, q.multiScatteringDirections = 16, q.multiScatteringSteps = 8, q.shDirections = 32;
+    q.multiScatteringMuS = 16, q.multiScatteringSize = 4, q.multiScatteringDirections = 16, q.multiScatteringSteps = 8, q.shDirections = 32;
     q.skyViewW = 32, q.skyViewH = 24, q.skyViewSteps = 12;
     q.aerialSize = 8, q.aerialSteps = 1;
     q.raymarchSteps = 16;
@@ -162,20 +162,22 @@ glm::dvec2 transmittanceHMu(const SkyModel& m, glm::dvec2 uv, int w, int hgt) {
 
 // mu_s axis: u = 1/2 + atan(mu_s / a) / (2 atan(1 / a)) with a = 0.15, about 4.7 times denser
 // than linear around the horizon (the terminator sweeps the low atmosphere there: twilight).
+// Height axis: v = sqrt(h / thickness), dense near the ground where the aerosols are.
 namespace {
 constexpr double kMsA = 0.15;
 }
-glm::dvec2 multiScatteringUv(const SkyModel& m, double h, double muS, int size) {
+glm::dvec2 multiScatteringUv(const SkyModel& m, double h, double muS, int w, int hgt) {
     const double Ht = m.topRadius - m.bottomRadius;
     double x = 0.5 + 0.5 * std::atan(std::clamp(muS, -1.0, 1.0) / kMsA) / std::atan(1.0 / kMsA);
-    return {texCoordFromUnit(clamp01(x), size), texCoordFromUnit(clamp01(h / Ht), size)};
+    return {texCoordFromUnit(clamp01(x), w), texCoordFromUnit(std::sqrt(clamp01(h / Ht)), hgt)};
 }
 
-glm::dvec2 multiScatteringHMuS(const SkyModel& m, glm::dvec2 uv, int size) {
+glm::dvec2 multiScatteringHMuS(const SkyModel& m, glm::dvec2 uv, int w, int hgt) {
     const double Ht = m.topRadius - m.bottomRadius;
-    double x = clamp01(unitFromTexCoord(uv.x, size));
+    double x = clamp01(unitFromTexCoord(uv.x, w));
     double muS = std::clamp(kMsA * std::tan((2.0 * x - 1.0) * std::atan(1.0 / kMsA)), -1.0, 1.0);
-    return {clamp01(unitFromTexCoord(uv.y, size)) * Ht, muS};
+    const double y = clamp01(unitFromTexCoord(uv.y, hgt));
+    return {y * y * Ht, muS};
 }
 
 // Latitude: the upper half (rows H/2 .. H-1) covers [horizon, zenith], the lower half (rows
@@ -379,12 +381,12 @@ glm::dvec3 multiScatteringTexel(const SkyModel& m, const SkyQuality& q, const Lu
 }
 
 Lut2D multiScatteringLut(const SkyModel& m, const SkyQuality& q, const Lut2D& T) {
-    const int n = q.multiScatteringSize;
-    Lut2D lut{n, n, {}};
-    lut.texels.resize(size_t(n) * n);
+    const int w = q.multiScatteringMuS, n = q.multiScatteringSize;
+    Lut2D lut{w, n, {}};
+    lut.texels.resize(size_t(w) * n);
     for (int y = 0; y < n; ++y)
-        for (int x = 0; x < n; ++x) {
-            glm::dvec2 hm = multiScatteringHMuS(m, {(x + 0.5) / n, (y + 0.5) / n}, n);
+        for (int x = 0; x < w; ++x) {
+            glm::dvec2 hm = multiScatteringHMuS(m, {(x + 0.5) / w, (y + 0.5) / n}, w, n);
             lut.at(x, y) = multiScatteringTexel(m, q, T, hm.x, hm.y);
         }
     return lut;
@@ -449,7 +451,7 @@ std::array<glm::dvec3, 6> shTexel(const SkyModel& m, const SkyQuality& q, const 
             glm::dvec3 sigmaD = sigmaT - fDelta * sM;
             glm::dvec3 seg = cpu::segmentFactorPublic(sigmaD, dt);
             glm::dvec3 Tl = cpu::transmittanceToLight(m, T, hp, muSp, m.sunAngularRadius);
-            glm::dvec3 ps = psi.sample(multiScatteringUv(m, hp, muSp, psi.width));
+            glm::dvec3 ps = psi.sample(multiScatteringUv(m, hp, muSp, psi.width, psi.height));
             L += thr * ((sR * pR + sM * pM) * Tl + (sR + sM) * ps) * seg;
             thr *= glm::exp(-sigmaD * dt);
         }
@@ -470,14 +472,15 @@ MsField msField(const SkyModel& m, const SkyQuality& q, const Lut2D& T) {
     f.psi = cpu::multiScatteringLut(m, q, T);
     f.directional = q.directionalMs;
     if (!f.directional) return f;
-    const int n = q.multiScatteringSize;
+    const int w = q.multiScatteringMuS, n = q.multiScatteringSize;
     for (auto& l : f.sh) {
-        l.width = l.height = n;
-        l.texels.resize(size_t(n) * n);
+        l.width = w;
+        l.height = n;
+        l.texels.resize(size_t(w) * n);
     }
     for (int y = 0; y < n; ++y)
-        for (int x = 0; x < n; ++x) {
-            glm::dvec2 hm = multiScatteringHMuS(m, {(x + 0.5) / n, (y + 0.5) / n}, n);
+        for (int x = 0; x < w; ++x) {
+            glm::dvec2 hm = multiScatteringHMuS(m, {(x + 0.5) / w, (y + 0.5) / n}, w, n);
             auto c = shTexel(m, q, T, f.psi, hm.x, hm.y);
             for (int k = 0; k < 6; ++k) f.sh[k].at(x, y) = c[k];
         }
@@ -486,7 +489,7 @@ MsField msField(const SkyModel& m, const SkyQuality& q, const Lut2D& T) {
 
 glm::dvec3 msInscatter(const SkyModel& m, const MsField& f, const glm::dvec4& moments, double h, double mu, double muS,
                        double nu, const glm::dvec3& sR, const glm::dvec3& sM) {
-    glm::dvec2 uv = multiScatteringUv(m, h, muS, f.psi.width);
+    glm::dvec2 uv = multiScatteringUv(m, h, muS, f.psi.width, f.psi.height);
     if (!f.directional) return (sR + sM) * f.psi.sample(uv);
     double sinS = safeSqrt(1.0 - muS * muS);
     double x = sinS > 1e-6 ? (nu - mu * muS) / sinS : 0.0;

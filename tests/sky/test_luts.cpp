@@ -96,9 +96,9 @@ TEST_CASE("Sky LUTs: GPU passes match their CPU double twins", "[gl][sky]") {
     // relative to the layer's largest magnitude: 5e-3 (the l = 2 layers are sums of terms of both
     // signs that cancel to ~1/10 of their parts, so float rounding is amplified ~10x).
     {
-        std::vector<float> px(size_t(q.multiScatteringSize) * q.multiScatteringSize * 6 * 4);
+        std::vector<float> px(size_t(q.multiScatteringMuS) * q.multiScatteringSize * 6 * 4);
         glGetTextureImage(rig.luts.sh->texture().id(), 0, GL_RGBA, GL_FLOAT, GLsizei(px.size() * sizeof(float)), px.data());
-        const size_t layer = size_t(q.multiScatteringSize) * q.multiScatteringSize;
+        const size_t layer = size_t(q.multiScatteringMuS) * q.multiScatteringSize;
         for (int k = 0; k < 6; ++k) {
             double big = 0, worst = 0;
             for (auto& t : MScpu.sh[k].texels) big = std::max(big, std::abs(t.g));

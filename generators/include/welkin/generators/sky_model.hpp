@@ -84,7 +84,8 @@ struct SkyModel {
 struct SkyQuality {
     int transmittanceW = 256, transmittanceH = 64;  ///< texels
     int transmittanceSteps = 64;                    ///< trapezoid samples along each ray
-    int multiScatteringSize = 32;                   ///< texels per side
+    int multiScatteringMuS = 64;                    ///< texels along mu_s (multiple-scattering LUTs)
+    int multiScatteringSize = 16;                   ///< texels along the height
     int multiScatteringDirections = 64;             ///< sphere directions per texel
     int multiScatteringSteps = 20;                  ///< samples per direction
     /// Directional multiple scattering: the incident radiance field (single scattering with its
@@ -129,8 +130,8 @@ glm::dvec2 transmittanceUv(const SkyModel& m, double h, double mu, int w, int hg
 /// Inverse: returns (h, mu).
 glm::dvec2 transmittanceHMu(const SkyModel& m, glm::dvec2 uv, int w, int hgt);
 /// Multiple-scattering LUT: (h, mu_s) <-> uv.
-glm::dvec2 multiScatteringUv(const SkyModel& m, double h, double muS, int size);
-glm::dvec2 multiScatteringHMuS(const SkyModel& m, glm::dvec2 uv, int size);
+glm::dvec2 multiScatteringUv(const SkyModel& m, double h, double muS, int w, int hgt);
+glm::dvec2 multiScatteringHMuS(const SkyModel& m, glm::dvec2 uv, int w, int hgt);
 /// Sky-view LUT at height h: (cos view zenith mu, azimuth from the light in [0, pi]) <-> uv.
 /// Latitude is dense at the horizon (square-root law on each side of the horizon, whose texel
 /// rows never mix: the upper half is sampled with v clamped to its own rows).
