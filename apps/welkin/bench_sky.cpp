@@ -26,6 +26,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <functional>
 #include <memory>
@@ -43,6 +44,7 @@ struct SkyBenchOptions {
     int repeats = 3;
     bool full = false;  // also time `reference` at 1280x720 (minutes on llvmpipe)
     bool timingOnly = false;  // skip the reference integrator (no error columns)
+    std::string projection = "fisheye";  // of the 1280x720 frame
 };
 
 double Y(const glm::dvec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
@@ -167,7 +169,7 @@ int run(const SkyBenchOptions& o) {
     const double sunAlts[] = {60, 20, 5, 0, -4, -10, -18};
     const double sunAz = 3.0;
     Camera big, small, probe;
-    big.width = 1280, big.height = 720, big.projection = Projection::Fisheye;
+    big.width = 1280, big.height = 720, big.projection = parseProjection(o.projection);
     small.width = 512, small.height = 256, small.projection = Projection::Equirect;
     probe.width = 64, probe.height = 32, probe.projection = Projection::Equirect;
     std::vector<Row> rows;
@@ -241,6 +243,16 @@ int run(const SkyBenchOptions& o) {
             std::fflush(stdout);
             rows.push_back(row);
         }
+        if (std::getenv("WELKIN_BENCH_DEBUG")) {
+            for (int i = 0; i < 3; ++i) {
+                r.draw(sky, big, true);
+                double gs = r.generatorsMs(), ds = r.drawMs();
+                r.draw(trivial, big, true);
+                std::printf("  sky: generators %.2f ms, update+render %.2f ms; trivial: %.2f, %.2f\n", gs, ds, r.generatorsMs(), r.drawMs());
+            }
+        }
+        if (std::getenv("WELKIN_BENCH_DEBUG"))
+            for (auto& g : sky.generators()) std::printf("  %s: %d runs\n", g->name().c_str(), g->runCount());
         sky.release();
         trivial.release();
         r.release();
@@ -267,6 +279,7 @@ static BenchRegistrar reg("sky", "real-time sky: LUT build and frame cost per qu
                               sub.add_option("--repeats", o.repeats, "timed repetitions per measurement (median)");
                               sub.add_flag("--full", o.full, "also time `reference` at 1280x720 (slow on llvmpipe)");
                               sub.add_flag("--timing-only", o.timingOnly, "skip the comparison with the reference integrator");
+                              sub.add_option("--projection", o.projection, "projection of the 1280x720 frame (perspective: az 0, alt 20 deg, fov 60 deg)");
                               return [] { return run(o); };
                           });
 

@@ -58,19 +58,22 @@ void main() {
 #ifdef SKY_PER_PIXEL
     bool ground;
     L = marchLight(u_h, mu, dir, u_sunDir, atm_solarIlluminance.w, T, ground) * u_sunE;
-    if (dot(u_moonE, vec3(1.0)) > 0.0 && u_moonDir.z > -0.342) {
-        vec3 Tm;
-        bool gm;
-        L += marchLight(u_h, mu, dir, u_moonDir, u_moonAngular, Tm, gm) * u_moonE;
-    }
+#ifdef SKY_MOON
+    vec3 Tm;
+    bool gm;
+    L += marchLight(u_h, mu, dir, u_moonDir, u_moonAngular, Tm, gm) * u_moonE;
+#endif
     if (ground) T = vec3(0.0);
 #else
     float h = min(u_h, atm_thickness());
     float thetaH = u_thetaH;
-    float azS = azimuthFrom(dir, u_sunDir), azM = azimuthFrom(dir, u_moonDir);
+    float azS = azimuthFrom(dir, u_sunDir);
     L = skyViewSampleH(u_sunSmooth, u_sunMie, thetaH, mu, azS, clamp(dot(dir, u_sunDir), -1.0, 1.0), u_invScale) * u_sunE;
-    if (dot(u_moonE, vec3(1.0)) > 0.0)
-        L += skyViewSampleH(u_moonSmooth, u_moonMie, thetaH, mu, azM, clamp(dot(dir, u_moonDir), -1.0, 1.0), u_invScale) * u_moonE;
+#ifdef SKY_MOON
+    // (A separate program variant: llvmpipe evaluates both sides of a branch under a mask.)
+    float azM = azimuthFrom(dir, u_moonDir);
+    L += skyViewSampleH(u_moonSmooth, u_moonMie, thetaH, mu, azM, clamp(dot(dir, u_moonDir), -1.0, 1.0), u_invScale) * u_moonE;
+#endif
     T = rayIntersectsGround(h, mu) ? vec3(0.0) : transmittanceFromLut(h, mu);
 #endif
     welkin_output(L, T);

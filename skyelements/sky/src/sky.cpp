@@ -162,9 +162,10 @@ void Sky::doInit(InitContext& ctx) {
     addGenerator(luts_.moonView);
     addGenerator(luts_.irradiance);
     addGenerator(luts_.aerial);
-    auto build = [&](bool perPixel) {
-        gl::ProgramBuilder b(perPixel ? "Sky (per pixel)" : "Sky");
+    auto build = [&](bool perPixel, bool moon) {
+        gl::ProgramBuilder b(std::string(perPixel ? "Sky (per pixel)" : "Sky") + (moon ? " + Moon" : ""));
         b.define("ATM_USE_TRANSMITTANCE");
+        if (moon) b.define("SKY_MOON");
         if (perPixel) b.define("ATM_USE_MULTISCATTERING").define("ATM_MS_DIRECTIONAL").define("SKY_PER_PIXEL");
         return b.fullscreenVertex()
             .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
@@ -173,8 +174,10 @@ void Sky::doInit(InitContext& ctx) {
             .fragment("sky/sky.frag.glsl", embedded::sky_shaders("sky.frag.glsl"))
             .build();
     };
-    lutProgram_ = build(false);
-    marchProgram_ = build(true);
+    for (int moon = 0; moon < 2; ++moon) {
+        lutProgram_[moon] = build(false, moon == 1);
+        marchProgram_[moon] = build(true, moon == 1);
+    }
     ubo_ = gl::Buffer(sizeof(AtmosphereBlock));
 }
 
@@ -205,14 +208,17 @@ void Sky::doRender(const FrameContext& ctx) {
     glBindTextureUnit(4, v.get(skykeys::transmittanceLut).id);
     glBindTextureUnit(5, v.get(skykeys::multiScatteringLut).id);
     glBindTextureUnit(8, v.get(skykeys::shLut).id);
-    const gl::Program& p = perPixel_ ? marchProgram_ : lutProgram_;
-    p.use();
     auto unit = [](glm::dvec3 d) { return glm::length(d) > 0 ? glm::normalize(d) : glm::dvec3(0, 0, -1); };
+    const glm::dvec3 moonE = options_.moon ? v.getOr(skykeys::moonIlluminance, glm::dvec3(0.0)) : glm::dvec3(0.0);
+    // The Moon's term only while it gives light and is above -20 deg (its LUT is black below).
+    const bool moon = glm::length(moonE) > 0.0 && unit(v.get(keys::moonDirection)).z > -0.342;
+    const gl::Program& p = perPixel_ ? marchProgram_[moon] : lutProgram_[moon];
+    p.use();
     p.set("u_h", float(h));
     p.set("u_sunDir", glm::vec3(unit(v.get(keys::sunDirection))));
     p.set("u_moonDir", glm::vec3(unit(v.get(keys::moonDirection))));
     p.set("u_sunE", glm::vec3(v.getOr(skykeys::sunIlluminance, m.solarIlluminance)));
-    p.set("u_moonE", glm::vec3(options_.moon ? v.getOr(skykeys::moonIlluminance, glm::dvec3(0.0)) : glm::dvec3(0.0)));
+    p.set("u_moonE", glm::vec3(moonE));
     p.set("u_invScale", float(1.0 / kLutScale));
     p.set("u_steps", q.raymarchSteps);
     p.set("u_moonAngular", float(kMoonAngularRadius));
@@ -224,8 +230,8 @@ void Sky::doRender(const FrameContext& ctx) {
 }
 
 void Sky::doRelease() {
-    lutProgram_ = {};
-    marchProgram_ = {};
+    for (auto& p : lutProgram_) p = {};
+    for (auto& p : marchProgram_) p = {};
     ubo_ = {};
     luts_.releaseGl();
 }

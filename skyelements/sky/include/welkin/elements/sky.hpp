@@ -65,7 +65,7 @@ private:
 
     SkyOptions options_;
     generators::SkyLuts luts_;
-    gl::Program lutProgram_, marchProgram_;
+    gl::Program lutProgram_[2], marchProgram_[2];  // [without, with] the Moon
     gl::Buffer ubo_;
     bool perPixel_ = false;
     double zenith_ = 0, global_ = 0, direct_ = 0, diffuse_ = 0;
