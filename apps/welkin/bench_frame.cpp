@@ -2,6 +2,7 @@
 // fullscreen pass into RGBA32F and RGBA16F targets, the tone map (manual and automatic
 // exposure) and the Grid element. CPU-timed with glFinish (GL timer queries mean nothing on
 // llvmpipe). Prints a Markdown table; --csv writes the same rows.
+#include "bench_util.hpp"
 #include "command.hpp"
 
 #include <welkin/elements/grid.hpp>
@@ -25,21 +26,6 @@ struct FrameBenchOptions {
     int repeats = 10;
     std::string csv;
 };
-
-// Median of `repeats` timings of `fn`, milliseconds, each bracketed by glFinish.
-double medianMs(int repeats, const std::function<void()>& fn) {
-    fn();  // warm-up (shader compilation, first-touch allocation)
-    std::vector<double> t;
-    for (int i = 0; i < repeats; ++i) {
-        glFinish();
-        auto t0 = std::chrono::steady_clock::now();
-        fn();
-        glFinish();
-        t.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-    }
-    std::sort(t.begin(), t.end());
-    return t[t.size() / 2];
-}
 
 int run(const FrameBenchOptions& o) {
     int w = 0, h = 0;
