@@ -20,6 +20,16 @@ layout(std140, binding = 1) uniform WelkinAtmosphere {
 
 const float ATM_PI = 3.14159265358979;
 
+// Spherical Fibonacci direction i of n (z up): equal-area, deterministic. Twin of
+// cpu::fibonacciDirection() in sky_model.cpp.
+vec3 atm_fibonacciDirection(int i, int n) {
+    const float golden = ATM_PI * (3.0 - sqrt(5.0));
+    float z = 1.0 - (2.0 * float(i) + 1.0) / float(n);
+    float rr = sqrt(max(1.0 - z * z, 0.0));
+    float phi = golden * float(i);
+    return vec3(rr * cos(phi), rr * sin(phi), z);
+}
+
 float atm_bottom() { return atm_radii.x; }
 float atm_top() { return atm_radii.y; }
 float atm_thickness() { return atm_radii.z; }

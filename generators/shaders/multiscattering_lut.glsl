@@ -7,14 +7,6 @@ uniform int u_steps;
 uniform ivec2 u_size;  // texels: mu_s, height
 out vec4 o_psi;
 
-vec3 fibonacciDirection(int i, int n) {
-    const float golden = ATM_PI * (3.0 - sqrt(5.0));
-    float z = 1.0 - (2.0 * float(i) + 1.0) / float(n);
-    float rr = sqrt(max(1.0 - z * z, 0.0));
-    float phi = golden * float(i);
-    return vec3(rr * cos(phi), rr * sin(phi), z);
-}
-
 void main() {
     vec2 hm = multiScatteringHMuS(gl_FragCoord.xy / vec2(u_size), vec2(u_size));
     float h = hm.x, muS = hm.y;
@@ -23,7 +15,7 @@ void main() {
     float r = atm_bottom() + h;
     vec3 L2 = vec3(0.0), fms = vec3(0.0);
     for (int i = 0; i < u_directions; ++i) {
-        vec3 v = fibonacciDirection(i, u_directions);
+        vec3 v = atm_fibonacciDirection(i, u_directions);
         float mu = v.z, nu = dot(v, sun);
         bool ground = rayIntersectsGround(h, mu);
         float d = ground ? distanceToBottom(h, mu) : distanceToTop(h, mu);

@@ -14,14 +14,6 @@ layout(location = 3) out vec4 o_c3;
 layout(location = 4) out vec4 o_c4;
 layout(location = 5) out vec4 o_c5;
 
-vec3 shFibonacci(int i, int n) {
-    const float golden = ATM_PI * (3.0 - sqrt(5.0));
-    float z = 1.0 - (2.0 * float(i) + 1.0) / float(n);
-    float rr = sqrt(max(1.0 - z * z, 0.0));
-    float phi = golden * float(i);
-    return vec3(rr * cos(phi), rr * sin(phi), z);
-}
-
 void main() {
     vec2 hm = multiScatteringHMuS(gl_FragCoord.xy / vec2(u_size), vec2(u_size));
     float h = hm.x, muS = hm.y;
@@ -31,7 +23,7 @@ void main() {
     vec2 msSize = vec2(u_size);
     vec3 c[6] = vec3[6](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
     for (int i = 0; i < u_directions; ++i) {
-        vec3 v = shFibonacci(i, u_directions);
+        vec3 v = atm_fibonacciDirection(i, u_directions);
         float mu = v.z, nu = dot(v, sun);
         float pR = rayleighPhase(nu), pM = miePhase(nu);
         bool ground = rayIntersectsGround(h, mu);
