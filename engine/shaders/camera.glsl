@@ -36,8 +36,11 @@ bool welkin_viewDirection(vec2 pixel, out vec3 dir) {
         float r = length(d);
         if (r > R) return false;
         float alt = 0.5 * WELKIN_PI * (1.0 - r / R);
-        float az = atan(d.x, d.y);
-        dir = welkin_directionFromAzAlt(az, alt);
+        // (sin az, cos az) = d / r: no atan, sin or cos of the azimuth (llvmpipe evaluates every
+        // projection's branch, so each transcendental here costs every pixel of every element).
+        vec2 sc = r > 0.0 ? d / r : vec2(0.0, 1.0);
+        float c = cos(alt);
+        dir = vec3(sc.x * c, sc.y * c, sin(alt));
         return true;
     }
     if (type == 2) {
