@@ -139,7 +139,11 @@ Program ProgramBuilder::build() const {
         std::string log(size_t(std::max(len, 1)), '\0');
         glGetProgramInfoLog(p, len, nullptr, log.data());
         glDeleteProgram(p);
-        throw Error(label_ + ": program failed to link: " + mapLog(log.c_str(), compute_.empty() ? fragment_ : compute_));
+        // Link messages may concern either stage, so file:line mapping would guess; keep them
+        // as the driver wrote them, on one line.
+        std::string oneLine;
+        for (char ch : std::string(log.c_str())) oneLine += (ch == '\n') ? ' ' : ch;
+        throw Error(label_ + ": program failed to link: " + oneLine);
     }
     glObjectLabel(GL_PROGRAM, p, GLsizei(label_.size()), label_.c_str());
     return Program(p, label_);
