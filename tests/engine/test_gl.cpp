@@ -389,3 +389,16 @@ TEST_CASE("Destroying one headless context leaves another current", "[gl]") {
     gl::Texture2D t(2, 2, GL_RGBA8);
     CHECK(glIsTexture(t.id()));
 }
+
+TEST_CASE("GL debug output reaches the context's logger", "[gl]") {
+    std::vector<std::string> seen;
+    Logger log([&](LogLevel, std::string_view m) { seen.emplace_back(m); }, LogLevel::Debug);
+    {
+        auto ctx = gl::HeadlessContext::create({.debug = true}, log);
+        glEnable(GL_TEXTURE_2D);  // not a capability in the core profile: GL_INVALID_ENUM
+        CHECK(glGetError() == GL_INVALID_ENUM);
+    }
+    test::glContext();  // back to the shared context for the following tests
+    REQUIRE_FALSE(seen.empty());
+    CHECK_THAT(seen.front(), Catch::StartsWith("GL["));
+}
