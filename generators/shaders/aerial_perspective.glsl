@@ -24,7 +24,6 @@ void main() {
     float nu = clamp(sinV * sinS * cos(az) + mu * u_muS, -1.0, 1.0);
     bool ground = ij.y < u_size / 2;
     float dEnd = ground ? distanceToBottom(u_h, mu) : distanceToTop(u_h, mu);
-    float r = atm_bottom() + u_h;
     float phaseR = rayleighPhase(nu), phaseM = miePhase(nu);
     vec3 L = vec3(0.0), thr = vec3(1.0), thrD = vec3(1.0);  // exact and delta-M (scattered light)
     float t0 = 0.0;
@@ -34,19 +33,10 @@ void main() {
         float dt = (t1 - t0) / float(u_substeps);
         for (int s = 0; s < u_substeps && dt > 0.0; ++s) {
             float t = t0 + (float(s) + 0.5) * dt;
-            float hp = heightAt(u_h, mu, t);
-            float rp = atm_bottom() + hp;
-            float muSp = clamp((r * u_muS + t * nu) / rp, -1.0, 1.0);
-            vec3 sR = atm_scatteringRayleigh(hp), sM = atm_scatteringMie(hp);
-            vec3 sigmaT = atm_extinction(hp);
-            vec3 sigmaD = sigmaT - atm_phaseMoments.w * sM;
-            vec3 seg = atm_segmentFactor(sigmaD, dt);
-            vec3 Tl = transmittanceToLight(hp, muSp, u_angular);
-            float muP = clamp((r * mu + t) / rp, -1.0, 1.0);
-            vec3 ms = msInscatter(hp, muP, muSp, nu, sR, sM);
-            L += thrD * ((sR * phaseR + sM * phaseM) * Tl + ms) * seg;
-            thr *= exp(-sigmaT * dt);
-            thrD *= exp(-sigmaD * dt);
+            RaySample q = atm_raySample(u_h, mu, u_muS, nu, t, dt, u_angular);
+            L += thrD * ((q.sR * phaseR + q.sM * phaseM) * q.Tl + q.ms) * q.seg;
+            thr *= exp(-q.sigmaT * dt);
+            thrD *= exp(-q.sigmaD * dt);
         }
         t0 = max(t0, t1);
         imageStore(u_inscatter, ivec3(ij, k), vec4(L * u_scale, 1.0));

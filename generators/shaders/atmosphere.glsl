@@ -224,6 +224,30 @@ vec3 msInscatter(float h, float mu, float muS, float nu, vec3 sR, vec3 sM) {
     return (sR + sM) * texture(ATM_MULTISCATTERING_LUT, uv).rgb;
 #endif
 }
+// What a view-ray march needs at the point t metres along a ray from height h (direction
+// cosine mu, light at muS, view-light cosine nu), for a segment of length dt: scattering
+// coefficients, true and delta-M extinction (see sky_model.cpp), the segment's integration
+// factor, transmittance to the light and the orders >= 2 in-scattering. Shared by the sky-view
+// and aerial-perspective marches.
+struct RaySample {
+    vec3 sR, sM, sigmaT, sigmaD, seg, Tl, ms;
+};
+RaySample atm_raySample(float h, float mu, float muS, float nu, float t, float dt, float lightAngularRadius) {
+    RaySample q;
+    float r = atm_bottom() + h;
+    float hp = heightAt(h, mu, t);
+    float rp = atm_bottom() + hp;
+    float muSp = clamp((r * muS + t * nu) / rp, -1.0, 1.0);
+    q.sR = atm_scatteringRayleigh(hp);
+    q.sM = atm_scatteringMie(hp);
+    q.sigmaT = atm_extinction(hp);
+    q.sigmaD = q.sigmaT - atm_phaseMoments.w * q.sM;
+    q.seg = atm_segmentFactor(q.sigmaD, dt);
+    q.Tl = transmittanceToLight(hp, muSp, lightAngularRadius);
+    float muP = clamp((r * mu + t) / rp, -1.0, 1.0);
+    q.ms = msInscatter(hp, muP, muSp, nu, q.sR, q.sM);
+    return q;
+}
 struct Scattering {
     vec3 smooth_;     // Rayleigh single (phase applied), multiple scattering and ground
     vec3 mieNoPhase;  // Mie single scattering without its phase function
@@ -248,20 +272,11 @@ Scattering integrateScattering(float h, float mu, float muS, float nu, float max
     for (int k = 0; k < steps && d > 0.0; ++k) {
         float s0 = float(k) / float(steps), s1 = float(k + 1) / float(steps), sm = (float(k) + 0.5) / float(steps);
         float dt = d * (atm_warp(s1, p) - atm_warp(s0, p)), t = d * atm_warp(sm, p);
-        float hp = heightAt(h, mu, t);
-        float rp = atm_bottom() + hp;
-        float muSp = clamp((r * muS + t * nu) / rp, -1.0, 1.0);
-        vec3 sR = atm_scatteringRayleigh(hp), sM = atm_scatteringMie(hp);
-        vec3 sigmaT = atm_extinction(hp);
-        vec3 sigmaD = sigmaT - atm_phaseMoments.w * sM;
-        vec3 seg = atm_segmentFactor(sigmaD, dt);
-        vec3 Tl = transmittanceToLight(hp, muSp, lightAngularRadius);
-        float muP = clamp((r * mu + t) / rp, -1.0, 1.0);
-        vec3 ms = msInscatter(hp, muP, muSp, nu, sR, sM);
-        o.smooth_ += thrD * (sR * Tl * phaseR + ms) * seg;
-        o.mieNoPhase += thrD * sM * Tl * seg;
-        thr *= exp(-sigmaT * dt);
-        thrD *= exp(-sigmaD * dt);
+        RaySample q = atm_raySample(h, mu, muS, nu, t, dt, lightAngularRadius);
+        o.smooth_ += thrD * (q.sR * q.Tl * phaseR + q.ms) * q.seg;
+        o.mieNoPhase += thrD * q.sM * q.Tl * q.seg;
+        thr *= exp(-q.sigmaT * dt);
+        thrD *= exp(-q.sigmaD * dt);
     }
     if (o.hitGround) {
         float muSg = clamp((r * muS + d * nu) / atm_bottom(), -1.0, 1.0);
