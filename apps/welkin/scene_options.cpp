@@ -2,6 +2,7 @@
 
 #include <welkin/elements/registry.hpp>
 #include <welkin/error.hpp>
+#include <welkin/generators/sky_spectral.hpp>
 #include <welkin/keys.hpp>
 
 #include <cmath>
@@ -58,6 +59,9 @@ void SceneOptions::addTo(CLI::App& app, bool required) {
     app.add_option("--size", size, "image size WIDTHxHEIGHT, each in [1, 16384]")->capture_default_str();
     app.add_option("--exposure", exposure, "EV100 in [-20, 30], or auto")->capture_default_str();
     app.add_option("--quality", quality, "low | medium | high | reference")->capture_default_str();
+    app.add_option("--wavelengths", wavelengths,
+                   "sky light transport: 3 = RGB, or 6..24 (a multiple of 3) wavelengths through the CIE 1931 observer")
+        ->capture_default_str();
 }
 
 UtcInstant SceneOptions::instant() const {
@@ -132,12 +136,15 @@ void SceneOptions::validate() const {
     camera();
     exposureSetting();
     qualityLevel();
+    generators::validateWavelengthCount(wavelengths, "--wavelengths");
     elementNames();
 }
 
 void SceneOptions::apply(SkyProcessor& p) const {
     p.setAnimationTime(0.0);  // deterministic: animated elements show their state at t = 0
     p.vars().set(keys::quality, qualityLevel());
+    generators::validateWavelengthCount(wavelengths, "--wavelengths");
+    p.vars().set(generators::skykeys::wavelengths, wavelengths);
     p.setTime(instant());
     p.setObserver(observer());
     p.setCamera(camera());

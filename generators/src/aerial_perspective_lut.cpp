@@ -1,6 +1,7 @@
 // Aerial perspective volume generator (GPU pass aerial_perspective.glsl; CPU twin
 // cpu::aerialTexel below).
 #include <welkin/embedded/generator_shaders.hpp>
+#include <welkin/error.hpp>
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/gl/shader.hpp>
 #include <welkin/keys.hpp>
@@ -24,6 +25,8 @@ AerialPerspectiveLut::AerialPerspectiveLut() : SkyGenerator("sky.aerial_perspect
 void AerialPerspectiveLut::releaseGl() {
     inscatter_ = {};
     transmittance_ = {};
+    inscatterK_ = {};
+    transmittanceK_ = {};
     prog_ = {};
     releaseCommon();
 }
@@ -51,21 +54,41 @@ void AerialPerspectiveLut::doRun(SkyVars& vars, const Logger&) {
     const double h = std::clamp(vars.getOr(keys::observerHeight, 0.0), 0.0, Ht);
     glm::dvec3 dir = vars.getOr(keys::sunDirection, glm::dvec3(0, 0, 1));
     const double muS = std::clamp(dir.z / std::max(glm::length(dir), 1e-12), -1.0, 1.0);
-    glBindTextureUnit(4, vars.get(skykeys::transmittanceLut).id);
-    glBindTextureUnit(5, vars.get(skykeys::multiScatteringLut).id);
-        glBindTextureUnit(8, vars.get(skykeys::shLut).id);
-    glBindImageTexture(0, inscatter_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glBindImageTexture(1, transmittance_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    prog_.use();
-    prog_.set("u_h", float(h));
-    prog_.set("u_muS", float(muS));
-    prog_.set("u_size", n);
-    prog_.set("u_substeps", q_.aerialSteps);
-    prog_.set("u_maxDistance", float(q_.aerialMaxDistance));
-    prog_.set("u_scale", float(kLutScale));
-    prog_.set("u_angular", float(model_.sunAngularRadius));
-    glDispatchCompute((n + 7) / 8, (n + 7) / 8, 1);
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    if (spectral_ && (!inscatterK_ || inscatterK_.width() != n)) {
+        inscatterK_ = gl::Texture3D(n, n, n, GL_RGBA32F);
+        transmittanceK_ = gl::Texture3D(n, n, n, GL_RGBA32F);
+    }
+    const skykeys::TextureList T = vars.get(skykeys::transmittanceLuts), MS = vars.get(skykeys::multiScatteringLuts),
+                               SH = vars.get(skykeys::shLuts);
+    const int K = triples();
+    if (int(T->size()) != K || int(MS->size()) != K || int(SH->size()) != K)
+        throw Error("AerialPerspectiveLut: input LUTs for " + std::to_string(T->size()) + " triples, expected " + std::to_string(K));
+    for (int k = 0; k < K; ++k) {
+        // Spectral mode: the triple's volumes go to the scratch pair, then are added to the RGB
+        // pair through its matrix (transmittance too: the solar-weighted transmittance).
+        const gl::Texture3D& in = spectral_ ? inscatterK_ : inscatter_;
+        const gl::Texture3D& tr = spectral_ ? transmittanceK_ : transmittance_;
+        useTriple(k);
+        glBindTextureUnit(4, (*T)[size_t(k)].id);
+        glBindTextureUnit(5, (*MS)[size_t(k)].id);
+        glBindTextureUnit(8, (*SH)[size_t(k)].id);
+        glBindImageTexture(0, in.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glBindImageTexture(1, tr.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        prog_.use();
+        prog_.set("u_h", float(h));
+        prog_.set("u_muS", float(muS));
+        prog_.set("u_size", n);
+        prog_.set("u_substeps", q_.aerialSteps);
+        prog_.set("u_maxDistance", float(q_.aerialMaxDistance));
+        prog_.set("u_scale", float(kLutScale));
+        prog_.set("u_angular", float(model_.sunAngularRadius));
+        glDispatchCompute((n + 7) / 8, (n + 7) / 8, 1);
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        if (spectral_) {
+            combine(inscatterK_, inscatter_, k);
+            combine(transmittanceK_, transmittance_, k);
+        }
+    }
     vars.set(skykeys::aerialInscatter, inscatter_.ref());
     vars.set(skykeys::aerialTransmittance, transmittance_.ref());
     vars.set(skykeys::aerialRev, ++rev_);

@@ -1,6 +1,7 @@
 // Multiple-scattering LUT generator (GPU pass multiscattering_lut.glsl; CPU twin
 // cpu::multiScatteringLut).
 #include <welkin/embedded/generator_shaders.hpp>
+#include <welkin/error.hpp>
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/gl/shader.hpp>
 
@@ -10,10 +11,12 @@ MultiScatteringLut::MultiScatteringLut() : SkyGenerator("sky.multiscattering") {
     input(skykeys::transmittanceRev);
     output(skykeys::multiScatteringLut);
     output(skykeys::multiScatteringRev);
+    output(skykeys::multiScatteringLuts);
 }
 
 void MultiScatteringLut::releaseGl() {
     tex_ = {};
+    more_.clear();
     fbo_ = {};
     prog_ = {};
     releaseCommon();
@@ -21,7 +24,7 @@ void MultiScatteringLut::releaseGl() {
 
 void MultiScatteringLut::doRun(SkyVars& vars, const Logger&) {
     prepare(vars);
-    const TextureRef T = vars.get(skykeys::transmittanceLut);
+    const skykeys::TextureList T = vars.get(skykeys::transmittanceLuts);
     const GLenum fmt = q_.halfFloat ? GL_RGBA16F : GL_RGBA32F;
     const int w = q_.multiScatteringMuS, n = q_.multiScatteringSize;
     if (!tex_ || tex_.width() != w || tex_.height() != n || tex_.internalFormat() != fmt) {
@@ -39,14 +42,32 @@ void MultiScatteringLut::doRun(SkyVars& vars, const Logger&) {
                     .fragment("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
                     .fragment("generators/multiscattering_lut.glsl", embedded::generator_shaders("multiscattering_lut.glsl"))
                     .build();
-    fbo_.bind();
-    glViewport(0, 0, w, n);
-    glBindTextureUnit(4, T.id);
-    prog_.use();
-    prog_.set("u_directions", q_.multiScatteringDirections);
-    prog_.set("u_steps", q_.multiScatteringSteps);
-    prog_.set("u_size", glm::ivec2(w, n));
-    fullscreen();
+    const int K = triples();
+    if (int(T->size()) != K) throw Error("MultiScatteringLut: " + std::to_string(T->size()) + " transmittance LUTs for " + std::to_string(K) + " triples");
+    if (int(more_.size()) != K - 1 || (K > 1 && (more_[0].width() != w || more_[0].height() != n || more_[0].internalFormat() != fmt))) {
+        more_.clear();
+        for (int k = 1; k < K; ++k) {
+            more_.emplace_back(w, n, fmt);
+            more_.back().setFilter(GL_LINEAR);
+            more_.back().setWrap(GL_CLAMP_TO_EDGE);
+        }
+    }
+    auto list = std::make_shared<std::vector<TextureRef>>();
+    for (int k = 0; k < K; ++k) {
+        const gl::Texture2D& target = texture(k);
+        useTriple(k);
+        fbo_.attach(GL_COLOR_ATTACHMENT0, target);
+        fbo_.bind();
+        glViewport(0, 0, w, n);
+        glBindTextureUnit(4, (*T)[size_t(k)].id);
+        prog_.use();
+        prog_.set("u_directions", q_.multiScatteringDirections);
+        prog_.set("u_steps", q_.multiScatteringSteps);
+        prog_.set("u_size", glm::ivec2(w, n));
+        fullscreen();
+        list->push_back(target.ref());
+    }
+    vars.set(skykeys::multiScatteringLuts, skykeys::TextureList(list));
     vars.set(skykeys::multiScatteringLut, tex_.ref());
     vars.set(skykeys::multiScatteringRev, ++rev_);
 }

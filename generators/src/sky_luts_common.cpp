@@ -1,7 +1,10 @@
 // Shared parts of the sky generators: the atmosphere block, quality resolution, the shared
 // instances in SkyVars, and the CPU twin of the irradiance quadrature.
+#include <welkin/embedded/generator_shaders.hpp>
+#include <welkin/error.hpp>
 #include <welkin/generators/atmosphere.hpp>
 #include <welkin/generators/sky_luts.hpp>
+#include <welkin/gl/shader.hpp>
 #include <welkin/keys.hpp>
 
 #include <cmath>
@@ -33,6 +36,7 @@ SkyGenerator::SkyGenerator(std::string name) : Generator(std::move(name)) {
     input(atmosphere::kAtmosphere);
     input(skykeys::quality);
     input(keys::quality);
+    input(skykeys::wavelengths);
 }
 
 void SkyGenerator::prepare(SkyVars& vars) {
@@ -40,11 +44,58 @@ void SkyGenerator::prepare(SkyVars& vars) {
     model_.validate();
     int preset = vars.getOr(skykeys::quality, vars.getOr(keys::quality, 1));
     q_ = fixed_ ? *fixed_ : SkyQuality::preset(preset);
-    AtmosphereBlock block = AtmosphereBlock::from(model_);
+    const int n = vars.getOr(skykeys::wavelengths, 3);
+    validateWavelengthCount(n, "sky.wavelengths");
+    if (n == 3) {
+        spectral_.reset();
+        spectralFor_.reset();
+    } else {
+        std::shared_ptr<const atmosphere::Atmosphere> a;
+        if (vars.has(atmosphere::kAtmosphere)) a = vars.get(atmosphere::kAtmosphere);
+        if (!a) a = std::make_shared<const atmosphere::Atmosphere>(atmosphere::Atmosphere::earthClear());
+        if (!spectral_ || spectral_->wavelengths != n || spectralFor_ != a) {
+            spectral_ = std::make_shared<const SpectralSampling>(SpectralSampling::make(*a, n));
+            spectralFor_ = a;
+        }
+    }
     if (!ubo_) ubo_ = gl::Buffer(sizeof(AtmosphereBlock));
+    if (!vao_) vao_ = gl::VertexArray::create();
+    AtmosphereBlock block = AtmosphereBlock::from(spectral_ ? spectral_->models[0] : model_);
     ubo_.update(&block, sizeof block);
     ubo_.bindBase(GL_UNIFORM_BUFFER, 1);
-    if (!vao_) vao_ = gl::VertexArray::create();
+}
+
+void SkyGenerator::useTriple(int k) {
+    if (!spectral_) return;
+    AtmosphereBlock block = AtmosphereBlock::from(spectral_->models.at(size_t(k)));
+    ubo_.update(&block, sizeof block);
+    ubo_.bindBase(GL_UNIFORM_BUFFER, 1);
+}
+
+void SkyGenerator::combine(const gl::Texture& src, const gl::Texture& dst, int k) {
+    if (!spectral_) throw Error("SkyGenerator::combine(): RGB mode has nothing to combine");
+    const bool is3D = dst.target() == GL_TEXTURE_3D;
+    const bool half = dst.internalFormat() == GL_RGBA16F;
+    if (is3D && half) throw Error("SkyGenerator::combine(): rgba16f volumes not supported");
+    gl::Program& p = is3D ? combine3D32_ : half ? combine2D16_ : combine2D32_;
+    if (!p) {
+        gl::ProgramBuilder b(std::string("SpectralCombine") + (is3D ? "3D" : "2D") + (half ? "16" : "32"));
+        if (is3D) b.define("COMBINE_3D");
+        b.define("COMBINE_FORMAT", half ? "rgba16f" : "rgba32f");
+        p = b.compute("generators/spectral_combine.glsl", embedded::generator_shaders("spectral_combine.glsl")).build();
+    }
+    // Image stores of the previous triple (or the pass's own image writes) before these reads.
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    glBindTextureUnit(0, src.id());
+    glBindImageTexture(0, dst.id(), 0, is3D ? GL_TRUE : GL_FALSE, 0, GL_READ_WRITE, half ? GL_RGBA16F : GL_RGBA32F);
+    p.use();
+    p.set("u_toRgb", glm::mat3(spectral_->toRgb.at(size_t(k))));
+    p.set("u_accumulate", k > 0 ? 1 : 0);
+    p.set("u_last", k + 1 == triples() ? 1 : 0);
+    const glm::ivec3 size(dst.width(), dst.height(), std::max(dst.depth(), 1));
+    glUniform3i(glGetUniformLocation(p.id(), "u_size"), size.x, size.y, size.z);
+    glDispatchCompute(GLuint((size.x + 7) / 8), GLuint((size.y + 7) / 8), GLuint(size.z));
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
 }
 
 void SkyGenerator::fullscreen() const {

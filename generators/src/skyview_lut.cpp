@@ -1,6 +1,7 @@
 // Sky-view LUT generator, one instance per light (GPU pass skyview_lut.glsl; CPU twin
 // cpu::skyViewTexel).
 #include <welkin/embedded/generator_shaders.hpp>
+#include <welkin/error.hpp>
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/gl/shader.hpp>
 #include <welkin/keys.hpp>
@@ -31,7 +32,10 @@ SkyViewLut::SkyViewLut(Light light) : SkyGenerator(light == Light::Sun ? "sky.su
 void SkyViewLut::releaseGl() {
     smooth_ = {};
     mie_ = {};
+    smoothK_ = {};
+    mieK_ = {};
     fbo_ = {};
+    fboK_ = {};
     prog_ = {};
     releaseCommon();
 }
@@ -65,10 +69,18 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
     const Key<glm::dvec3>& dirKey = light_ == Light::Sun ? keys::sunDirection : keys::moonDirection;
     glm::dvec3 dir = vars.getOr(dirKey, glm::dvec3(0, 0, 1));
     muS_ = std::clamp(dir.z / std::max(glm::length(dir), 1e-12), -1.0, 1.0);
-    fbo_.bind();
-    glViewport(0, 0, q_.skyViewW, q_.skyViewH);
+    // Spectral mode: each triple's pass goes to the scratch pair, then is added to the RGB pair
+    // through the triple's matrix (combine()).
+    if (spectral_ && (!smoothK_ || smoothK_.width() != smooth_.width() || smoothK_.height() != smooth_.height() ||
+                      smoothK_.internalFormat() != fmt)) {
+        smoothK_ = gl::Texture2D(q_.skyViewW, q_.skyViewH, fmt);
+        mieK_ = gl::Texture2D(q_.skyViewW, q_.skyViewH, fmt);
+        fboK_ = gl::Framebuffer::create();
+        fboK_.attach(GL_COLOR_ATTACHMENT0, smoothK_);
+        fboK_.attach(GL_COLOR_ATTACHMENT1, mieK_);
+        fboK_.checkComplete("SkyViewLut (triple)");
+    }
     const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-    glNamedFramebufferDrawBuffers(fbo_.id(), 2, bufs);
     // The Moon's LUT is skipped (left black) while the Moon gives no light or is far below the
     // horizon (< -20 deg: its scattered light is then below the night sky's airglow by orders of
     // magnitude).
@@ -79,17 +91,33 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
         glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, zero);
         glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 1, zero);
     } else {
-        glBindTextureUnit(4, vars.get(skykeys::transmittanceLut).id);
-        glBindTextureUnit(5, vars.get(skykeys::multiScatteringLut).id);
-        glBindTextureUnit(8, vars.get(skykeys::shLut).id);
-        prog_.use();
-        prog_.set("u_h", float(h_));
-        prog_.set("u_muS", float(muS_));
-        prog_.set("u_steps", q_.skyViewSteps);
-        prog_.set("u_size", glm::ivec2(q_.skyViewW, q_.skyViewH));
-        prog_.set("u_scale", float(kLutScale));
-        prog_.set("u_angular", float(light_ == Light::Sun ? model_.sunAngularRadius : 0.0045));
-        fullscreen();
+        const skykeys::TextureList T = vars.get(skykeys::transmittanceLuts), MS = vars.get(skykeys::multiScatteringLuts),
+                                   SH = vars.get(skykeys::shLuts);
+        const int K = triples();
+        if (int(T->size()) != K || int(MS->size()) != K || int(SH->size()) != K)
+            throw Error("SkyViewLut: input LUTs for " + std::to_string(T->size()) + " triples, expected " + std::to_string(K));
+        for (int k = 0; k < K; ++k) {
+            const gl::Framebuffer& fb = spectral_ ? fboK_ : fbo_;
+            useTriple(k);
+            fb.bind();
+            glViewport(0, 0, q_.skyViewW, q_.skyViewH);
+            glNamedFramebufferDrawBuffers(fb.id(), 2, bufs);
+            glBindTextureUnit(4, (*T)[size_t(k)].id);
+            glBindTextureUnit(5, (*MS)[size_t(k)].id);
+            glBindTextureUnit(8, (*SH)[size_t(k)].id);
+            prog_.use();
+            prog_.set("u_h", float(h_));
+            prog_.set("u_muS", float(muS_));
+            prog_.set("u_steps", q_.skyViewSteps);
+            prog_.set("u_size", glm::ivec2(q_.skyViewW, q_.skyViewH));
+            prog_.set("u_scale", float(kLutScale));
+            prog_.set("u_angular", float(light_ == Light::Sun ? model_.sunAngularRadius : 0.0045));
+            fullscreen();
+            if (spectral_) {
+                combine(smoothK_, smooth_, k);
+                combine(mieK_, mie_, k);
+            }
+        }
     }
     if (light_ == Light::Sun) {
         vars.set(skykeys::sunViewLut, smooth_.ref());

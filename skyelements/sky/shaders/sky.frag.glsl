@@ -14,6 +14,14 @@ uniform float u_invScale;   // 1 / kLutScale
 uniform int u_steps;        // per-pixel ray march
 uniform float u_moonAngular;
 uniform float u_thetaH;     // zenith angle of the observer's horizon, rad (LUT path)
+#ifdef SKY_SPECTRAL
+// Spectral mode, per pixel: one draw per wavelength triple (atmosphere block of that triple),
+// its per-lux values converted to linear sRGB per lux; T = 1 (the first draw outputs T).
+uniform mat3 u_toRgb;
+#define SKY_TO_RGB(x) (u_toRgb * (x))
+#else
+#define SKY_TO_RGB(x) (x)
+#endif
 
 // Azimuth of `dir` measured from the light's vertical plane, [0, pi].
 float azimuthFrom(vec3 dir, vec3 light) {
@@ -45,7 +53,7 @@ vec3 marchLight(float h, float mu, vec3 dir, vec3 light, float angular, out vec3
     Scattering s = integrateScattering(h, mu, muS, nu, 1e30, u_steps, false, angular, -1);
     transmittance = s.transmittance;
     ground = s.hitGround;
-    return s.smooth_ + s.mieNoPhase * miePhase(nu);
+    return SKY_TO_RGB(s.smooth_ + s.mieNoPhase * miePhase(nu));
 }
 #endif
 
@@ -75,6 +83,9 @@ void main() {
     L += skyViewSampleH(u_moonSmooth, u_moonMie, thetaH, mu, azM, clamp(dot(dir, u_moonDir), -1.0, 1.0), u_invScale) * u_moonE;
 #endif
     T = rayIntersectsGround(h, mu) ? vec3(0.0) : transmittanceFromLut(h, mu);
+#endif
+#ifdef SKY_SPECTRAL
+    T = vec3(1.0);
 #endif
     welkin_output(L, T);
 }

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <optional>
 
 namespace welkin::elements {
 
@@ -61,6 +62,7 @@ public:
         input(kSunAngularRadius);
         input(kMoonDistance);
         input(kMoonPhaseAngle);
+        input(skykeys::wavelengths);
         output(skykeys::sunIlluminance);
         output(skykeys::moonIlluminance);
         output(skykeys::sunDiskRadiance);
@@ -86,7 +88,23 @@ private:
         glm::dvec3 Esun = m.solarIlluminance * (kAu / sunDist) * (kAu / sunDist);
         double alpha = vars.getOr(kSunAngularRadius, m.sunAngularRadius);
         if (alpha <= 0) alpha = m.sunAngularRadius;
-        glm::dvec3 Tsun = transmittanceTowards(m, h, sun);
+        // Spectral mode: per wavelength, combined as the transmitted linear sRGB of the solar
+        // spectrum over the unattenuated one (sky_spectral.hpp), like the combined LUT.
+        const int n = vars.getOr(skykeys::wavelengths, 3);
+        validateWavelengthCount(n, "sky.wavelengths");
+        std::optional<SpectralSampling> sp;
+        if (n != 3) {
+            std::shared_ptr<const atmosphere::Atmosphere> a;
+            if (vars.has(atmosphere::kAtmosphere)) a = vars.get(atmosphere::kAtmosphere);
+            sp = SpectralSampling::make(a ? *a : atmosphere::Atmosphere::earthClear(), n);
+        }
+        auto transmittance = [&](const glm::dvec3& d) {
+            if (!sp) return transmittanceTowards(m, h, d);
+            std::vector<glm::dvec3> t;
+            for (const SkyModel& mk : sp->models) t.push_back(transmittanceTowards(mk, h, d));
+            return sp->combine(t);
+        };
+        glm::dvec3 Tsun = transmittance(sun);
         // Mean radiance of a uniform disk of angular radius alpha: E / (pi alpha^2).
         glm::dvec3 disk = Esun * Tsun / (kPi * alpha * alpha);
         glm::dvec3 Emoon(0.0);
@@ -105,7 +123,7 @@ private:
         vars.set(skykeys::moonIlluminance, Emoon);
         vars.set(skykeys::sunDiskRadiance, disk);
         vars.set(skykeys::sunTransmittance, glm::clamp(Tsun, 0.0, 1.0));
-        vars.set(skykeys::moonTransmittance, glm::clamp(transmittanceTowards(m, h, moonDir), 0.0, 1.0));
+        vars.set(skykeys::moonTransmittance, glm::clamp(transmittance(moonDir), 0.0, 1.0));
     }
 };
 
@@ -124,6 +142,7 @@ void SkyOptions::validate() const {
         std::snprintf(buf, sizeof buf, "Sky: quality %d not in [-1, 3] (-1 follows render.quality)", quality);
         throw Error(buf);
     }
+    if (wavelengths != 0) validateWavelengthCount(wavelengths, "Sky: wavelengths (0 follows sky.wavelengths)");
 }
 
 Sky::Sky(const SkyOptions& options) : SkyElement("sky"), options_(options) {
@@ -151,6 +170,8 @@ void Sky::doInit(InitContext& ctx) {
     v.declare(keys::observerHeight, 0.0);
     v.declare(keys::quality, 1);
     if (options_.quality >= 0) v.set(skykeys::quality, options_.quality);
+    if (options_.wavelengths > 0) v.set(skykeys::wavelengths, options_.wavelengths);
+    else v.declare(skykeys::wavelengths, 3);
     auto lights = v.obtain<SkyLights>(kGenLights, [] { return std::make_shared<SkyLights>(); });
     lights->moon = options_.moon;
     luts_ = SkyLuts::obtain(v);
@@ -162,28 +183,31 @@ void Sky::doInit(InitContext& ctx) {
     addGenerator(luts_.moonView);
     addGenerator(luts_.irradiance);
     addGenerator(luts_.aerial);
-    auto build = [&](bool perPixel, bool moon) {
-        gl::ProgramBuilder b(std::string(perPixel ? "Sky (per pixel)" : "Sky") + (moon ? " + Moon" : ""));
-        b.define("ATM_USE_TRANSMITTANCE");
-        if (moon) b.define("SKY_MOON");
-        if (perPixel) b.define("ATM_USE_MULTISCATTERING").define("ATM_MS_DIRECTIONAL").define("SKY_PER_PIXEL");
-        return b.fullscreenVertex()
-            .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
-            .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
-            .fragment("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
-            .fragment("sky/sky.frag.glsl", embedded::sky_shaders("sky.frag.glsl"))
-            .build();
-    };
     for (int moon = 0; moon < 2; ++moon) {
-        lutProgram_[moon] = build(false, moon == 1);
-        marchProgram_[moon] = build(true, moon == 1);
+        lutProgram_[moon] = buildProgram(false, moon == 1, false);
+        marchProgram_[moon] = buildProgram(true, moon == 1, false);
     }
     ubo_ = gl::Buffer(sizeof(AtmosphereBlock));
+}
+
+gl::Program Sky::buildProgram(bool perPixel, bool moon, bool spectral) {
+    gl::ProgramBuilder b(std::string(perPixel ? "Sky (per pixel)" : "Sky") + (moon ? " + Moon" : "") + (spectral ? " spectral" : ""));
+    b.define("ATM_USE_TRANSMITTANCE");
+    if (moon) b.define("SKY_MOON");
+    if (perPixel) b.define("ATM_USE_MULTISCATTERING").define("ATM_MS_DIRECTIONAL").define("SKY_PER_PIXEL");
+    if (spectral) b.define("SKY_SPECTRAL");
+    return b.fullscreenVertex()
+        .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
+        .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
+        .fragment("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
+        .fragment("sky/sky.frag.glsl", embedded::sky_shaders("sky.frag.glsl"))
+        .build();
 }
 
 void Sky::doUpdate(const FrameContext& ctx) {
     SkyVars& v = ctx.vars;
     if (options_.quality >= 0) v.set(skykeys::quality, options_.quality);
+    if (options_.wavelengths > 0) v.set(skykeys::wavelengths, options_.wavelengths);
     glm::dvec3 hv = v.getOr(skykeys::horizontalIlluminance, glm::dvec3(0.0));
     global_ = hv.x;
     direct_ = hv.y;
@@ -212,26 +236,59 @@ void Sky::doRender(const FrameContext& ctx) {
     const glm::dvec3 moonE = options_.moon ? v.getOr(skykeys::moonIlluminance, glm::dvec3(0.0)) : glm::dvec3(0.0);
     // The Moon's term only while it gives light and is above -20 deg (its LUT is black below).
     const bool moon = glm::length(moonE) > 0.0 && unit(v.get(keys::moonDirection)).z > -0.342;
-    const gl::Program& p = perPixel_ ? marchProgram_[moon] : lutProgram_[moon];
-    p.use();
-    p.set("u_h", float(h));
-    p.set("u_sunDir", glm::vec3(unit(v.get(keys::sunDirection))));
-    p.set("u_moonDir", glm::vec3(unit(v.get(keys::moonDirection))));
-    p.set("u_sunE", glm::vec3(v.getOr(skykeys::sunIlluminance, m.solarIlluminance)));
-    p.set("u_moonE", glm::vec3(moonE));
-    p.set("u_invScale", float(1.0 / kLutScale));
-    p.set("u_steps", q.raymarchSteps);
-    p.set("u_moonAngular", float(kMoonAngularRadius));
-    {
+    const glm::dvec3 sunE = v.getOr(skykeys::sunIlluminance, m.solarIlluminance);
+    auto setUniforms = [&](const gl::Program& p, const glm::dvec3& eSun, const glm::dvec3& eMoon) {
+        p.use();
+        p.set("u_h", float(h));
+        p.set("u_sunDir", glm::vec3(unit(v.get(keys::sunDirection))));
+        p.set("u_moonDir", glm::vec3(unit(v.get(keys::moonDirection))));
+        p.set("u_sunE", glm::vec3(eSun));
+        p.set("u_moonE", glm::vec3(eMoon));
+        p.set("u_invScale", float(1.0 / kLutScale));
+        p.set("u_steps", q.raymarchSteps);
+        p.set("u_moonAngular", float(kMoonAngularRadius));
         const double hc = std::min(h, m.topRadius - m.bottomRadius), R = m.bottomRadius;
         p.set("u_thetaH", float(std::acos(std::clamp(-std::sqrt(hc * (2 * R + hc)) / (R + hc), -1.0, 1.0))));
+    };
+    const auto& sp = luts_.sunView->spectral();
+    if (!perPixel_ || !sp) {
+        const gl::Program& p = perPixel_ ? marchProgram_[moon] : lutProgram_[moon];
+        setUniforms(p, sunE, moonE);
+        ctx.drawFullscreen();
+        return;
+    }
+    // Spectral mode, per pixel (reference quality, space): the compositor blends
+    // dst = L + T dst, so a first draw outputs only the transmittance (L = 0) and then one draw
+    // per wavelength triple adds that triple's radiance (converted by its matrix) with T = 1.
+    // Inside the atmosphere the transmittance is the combined (solar-weighted) LUT's, as on the
+    // LUT path; above it, a ray march with the RGB coefficients (Atmosphere::rgb()).
+    if (h <= m.topRadius - m.bottomRadius - 1.0) {
+        setUniforms(lutProgram_[0], glm::dvec3(0.0), glm::dvec3(0.0));
+    } else {
+        setUniforms(marchProgram_[0], glm::dvec3(0.0), glm::dvec3(0.0));
     }
     ctx.drawFullscreen();
+    gl::Program& ps = spectralProgram_[moon];
+    if (!ps) ps = buildProgram(true, moon, true);
+    const skykeys::TextureList T = v.get(skykeys::transmittanceLuts), MS = v.get(skykeys::multiScatteringLuts),
+                               SH = v.get(skykeys::shLuts);
+    for (int k = 0; k < sp->triples(); ++k) {
+        AtmosphereBlock bk = AtmosphereBlock::from(sp->models[size_t(k)]);
+        ubo_.update(&bk, sizeof bk);
+        ubo_.bindBase(GL_UNIFORM_BUFFER, 1);
+        glBindTextureUnit(4, T->at(size_t(k)).id);
+        glBindTextureUnit(5, MS->at(size_t(k)).id);
+        glBindTextureUnit(8, SH->at(size_t(k)).id);
+        setUniforms(ps, sunE, moonE);
+        ps.set("u_toRgb", glm::mat3(sp->toRgb[size_t(k)]));
+        ctx.drawFullscreen();
+    }
 }
 
 void Sky::doRelease() {
     for (auto& p : lutProgram_) p = {};
     for (auto& p : marchProgram_) p = {};
+    for (auto& p : spectralProgram_) p = {};
     ubo_ = {};
     luts_.releaseGl();
 }

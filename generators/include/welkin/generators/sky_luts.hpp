@@ -18,13 +18,23 @@
 // The sky-view and aerial-perspective values are radiance per lux of the light's illuminance
 // (times kLutScale), so one LUT serves any light intensity and colour: multiply by the light's
 // per-channel illuminance (sky.sun_illuminance / sky.moon_illuminance, lux) to get cd/m^2.
+//
+// Spectral mode (sky.wavelengths = N > 3, sky_spectral.hpp): every pass runs once per wavelength
+// triple k with that triple's coefficients in the atmosphere block. The transmittance,
+// multiple-scattering and SH LUTs keep one texture per triple (sky.*_luts, read by the passes
+// after them); the sky views and the aerial-perspective volume are accumulated, through the
+// triple's 3x3 matrix, into the same single RGB textures as in RGB mode, and
+// sky.transmittance_lut holds the combined (solar-weighted) transmittance. So the Sky's per-pixel
+// cost is unchanged and the LUT cost is about N/3 times RGB's.
 #pragma once
 #include <welkin/element.hpp>
 #include <welkin/generators/sky_model.hpp>
+#include <welkin/generators/sky_spectral.hpp>
 #include <welkin/gl/objects.hpp>
 
 #include <memory>
 #include <optional>
+#include <vector>
 
 namespace welkin::generators {
 
@@ -37,6 +47,13 @@ namespace skykeys {
 /// render.quality).
 inline const Key<int> quality{"sky.quality", Range{0, 3}, "effective sky quality preset"};
 inline const Key<TextureRef> transmittanceLut{"sky.transmittance_lut", "transmittance LUT (RGB, to the top of the atmosphere)"};
+/// One texture per wavelength triple (RGB mode: one), for the passes after them; in spectral
+/// mode sky.transmittance_lut is the combined one and sky.multiscattering_lut / sky.sh_lut are
+/// triple 0's.
+using TextureList = std::shared_ptr<const std::vector<TextureRef>>;
+inline const Key<TextureList> transmittanceLuts{"sky.transmittance_luts", "transmittance LUT per wavelength triple"};
+inline const Key<TextureList> multiScatteringLuts{"sky.multiscattering_luts", "multiple-scattering LUT per wavelength triple"};
+inline const Key<TextureList> shLuts{"sky.sh_luts", "directional multiple-scattering LUT per wavelength triple"};
 inline const Key<int> transmittanceRev{"sky.transmittance_rev", "transmittance LUT revision"};
 inline const Key<TextureRef> multiScatteringLut{"sky.multiscattering_lut", "multiple-scattering LUT (Hillaire Psi_ms)"};
 inline const Key<int> multiScatteringRev{"sky.multiscattering_rev", "multiple-scattering LUT revision"};
@@ -89,34 +106,56 @@ public:
     /// The preset used by the last run.
     const SkyQuality& quality() const { return q_; }
     const SkyModel& model() const { return model_; }
+    /// The spectral sampling of the last run (null in RGB mode).
+    const std::shared_ptr<const SpectralSampling>& spectral() const { return spectral_; }
     /// Frees GL resources (call with the context current before the context goes away).
     virtual void releaseGl() = 0;
 
 protected:
     explicit SkyGenerator(std::string name);
-    /// Resolves the model and quality from vars; uploads the atmosphere block (binding 1).
+    /// Resolves the model, quality and wavelengths from vars; uploads the atmosphere block
+    /// (binding 1) of the RGB model (or of triple 0 in spectral mode).
     void prepare(SkyVars& vars);
+    /// Number of passes: 1 in RGB mode, N/3 in spectral mode.
+    int triples() const { return spectral_ ? spectral_->triples() : 1; }
+    /// Uploads the atmosphere block of triple k (spectral mode; no-op in RGB mode).
+    void useTriple(int k);
+    /// Spectral mode: dst (+)= toRgb[k] * src over the whole texture (2D or 3D, same size;
+    /// dst's format rgba16f or rgba32f); overwrite for k = 0, clamp at 0 after the last triple.
+    void combine(const gl::Texture& src, const gl::Texture& dst, int k);
     void fullscreen() const;
     SkyModel model_;
     SkyQuality q_;
     std::optional<SkyQuality> fixed_;
+    std::shared_ptr<const SpectralSampling> spectral_;
     gl::Buffer ubo_;
     gl::VertexArray vao_;
+    gl::Program combine2D16_, combine2D32_, combine3D32_;
     void releaseCommon() {
         ubo_ = {};
         vao_ = {};
+        combine2D16_ = {};
+        combine2D32_ = {};
+        combine3D32_ = {};
     }
+
+private:
+    std::shared_ptr<const atmosphere::Atmosphere> spectralFor_;  // cache key of spectral_
 };
 
 class TransmittanceLut final : public SkyGenerator {
 public:
     TransmittanceLut();
+    /// RGB mode: the LUT; spectral mode: the combined (solar-weighted) transmittance.
     const gl::Texture2D& texture() const { return tex_; }
+    /// Spectral mode: triple k's LUT (k < N/3); RGB mode: texture().
+    const gl::Texture2D& tripleTexture(int k) const { return spectral_ ? triples_.at(size_t(k)) : tex_; }
     void releaseGl() override;
 
 private:
     void doRun(SkyVars& vars, const Logger& log) override;
     gl::Texture2D tex_;
+    std::vector<gl::Texture2D> triples_;
     gl::Framebuffer fbo_;
     gl::Program prog_;
     int rev_ = 0;
@@ -125,12 +164,14 @@ private:
 class MultiScatteringLut final : public SkyGenerator {
 public:
     MultiScatteringLut();
-    const gl::Texture2D& texture() const { return tex_; }
+    /// Triple k's LUT (spectral mode; k = 0 in RGB mode).
+    const gl::Texture2D& texture(int k = 0) const { return k == 0 ? tex_ : more_.at(size_t(k - 1)); }
     void releaseGl() override;
 
 private:
     void doRun(SkyVars& vars, const Logger& log) override;
     gl::Texture2D tex_;
+    std::vector<gl::Texture2D> more_;  // triples 1.. (spectral mode)
     gl::Framebuffer fbo_;
     gl::Program prog_;
     int rev_ = 0;
@@ -141,12 +182,14 @@ private:
 class ShLut final : public SkyGenerator {
 public:
     ShLut();
-    const gl::Texture2DArray& texture() const { return tex_; }
+    /// Triple k's LUT (spectral mode; k = 0 in RGB mode).
+    const gl::Texture2DArray& texture(int k = 0) const { return k == 0 ? tex_ : more_.at(size_t(k - 1)); }
     void releaseGl() override;
 
 private:
     void doRun(SkyVars& vars, const Logger& log) override;
     gl::Texture2DArray tex_;
+    std::vector<gl::Texture2DArray> more_;  // triples 1.. (spectral mode)
     gl::Framebuffer fbo_;
     gl::Program prog_;
     int rev_ = 0;
@@ -170,7 +213,8 @@ private:
     void doRun(SkyVars& vars, const Logger& log) override;
     Light light_;
     gl::Texture2D smooth_, mie_;
-    gl::Framebuffer fbo_;
+    gl::Texture2D smoothK_, mieK_;  // spectral mode: one triple's pass, before combine()
+    gl::Framebuffer fbo_, fboK_;
     gl::Program prog_;
     int rev_ = 0;
     double h_ = 0.0, muS_ = 1.0;
@@ -189,6 +233,7 @@ public:
 private:
     void doRun(SkyVars& vars, const Logger& log) override;
     gl::Texture3D inscatter_, transmittance_;
+    gl::Texture3D inscatterK_, transmittanceK_;  // spectral mode: one triple's pass
     gl::Program prog_;
     int rev_ = 0;
 };

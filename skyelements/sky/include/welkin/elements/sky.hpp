@@ -4,6 +4,7 @@
 //
 //   welkin::elements::SkyOptions opt;
 //   opt.quality = 2;                                     // high; -1 follows render.quality
+//   opt.wavelengths = 15;                                // spectral (CIE 1931); 3 = RGB
 //   processor.add(std::make_unique<welkin::elements::Sky>(opt));   // before stars? no: stars first,
 //                                                        // the sky attenuates them (farthest first)
 //   processor.renderFrame();
@@ -38,6 +39,12 @@ namespace welkin::elements {
 struct SkyOptions {
     int quality = -1;   ///< -1: render.quality; else 0 low, 1 medium, 2 high, 3 reference
     bool moon = true;   ///< the Moon as a second light
+    /// Wavelengths of the atmosphere's light transport: 0 follows sky.wavelengths (default 3);
+    /// 3 = RGB (Atmosphere::rgb()); 6..24, a multiple of 3 = spectral: that many wavelengths
+    /// through the CIE 1931 observer (generators/sky_spectral.hpp). Spectral mode costs about
+    /// N/3 times the LUT rebuild of RGB mode and the same per frame on the LUT path; at quality
+    /// reference (and from space) the per-pixel march runs N/3 times.
+    int wavelengths = 0;
     /// Throws welkin::Error naming the member and its range.
     void validate() const;
 };
@@ -62,10 +69,12 @@ private:
     void doRender(const FrameContext& ctx) override;
     void doRelease() override;
     void doStats(nlohmann::json& root) const override;
+    gl::Program buildProgram(bool perPixel, bool moon, bool spectral);
 
     SkyOptions options_;
     generators::SkyLuts luts_;
     gl::Program lutProgram_[2], marchProgram_[2];  // [without, with] the Moon
+    gl::Program spectralProgram_[2];               // per pixel, one wavelength triple (built on first use)
     gl::Buffer ubo_;
     bool perPixel_ = false;
     double zenith_ = 0, global_ = 0, direct_ = 0, diffuse_ = 0;
