@@ -102,7 +102,9 @@ private:
             if (!sp) return transmittanceTowards(m, h, d);
             std::vector<glm::dvec3> t;
             for (const SkyModel& mk : sp->models) t.push_back(transmittanceTowards(mk, h, d));
-            return sp->combine(t);
+            // A deep-red setting Sun is outside the sRGB gamut: its blue (and green) channel can
+            // come out slightly negative; clamped at 0 like the combined LUTs.
+            return glm::max(sp->combine(t), glm::dvec3(0.0));
         };
         glm::dvec3 Tsun = transmittance(sun);
         // Mean radiance of a uniform disk of angular radius alpha: E / (pi alpha^2).
