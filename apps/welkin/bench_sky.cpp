@@ -46,6 +46,7 @@ struct SkyBenchOptions {
     bool full = false;  // also time `reference` at 1280x720 (minutes on llvmpipe)
     bool timingOnly = false;  // skip the reference integrator (no error columns)
     std::string projection = "fisheye";  // of the 1280x720 frame
+    bool breakdown = false;  // print each generator's share of a full LUT rebuild
 };
 
 double Y(const glm::dvec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
@@ -186,6 +187,16 @@ int run(const SkyBenchOptions& o) {
                 vars.set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(atm));
                 r.draw(sky, small, true);
                 allLuts = r.generatorsMs();
+                if (o.breakdown) {
+                    // The same rebuild again, each generator bracketed by glFinish.
+                    vars.set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(atm));
+                    std::printf("preset %d, all LUTs rebuilt, per generator:", preset);
+                    for (auto& g : sky.generators()) {
+                        g->runIfDue(vars, log, true);
+                        std::printf(" %s %.1f ms;", g->name().c_str(), g->timing().lastMs);
+                    }
+                    std::printf("\n");
+                }
             }
             row.allLutsMs = allLuts;
             // Sun-dependent LUTs only (sky view, aerial perspective, irradiance).
@@ -271,6 +282,7 @@ static BenchRegistrar reg("sky", "real-time sky: LUT build and frame cost per qu
                               sub.add_option("--repeats", o.repeats, "timed repetitions per measurement (median)");
                               sub.add_flag("--full", o.full, "also time `reference` at 1280x720 (slow on llvmpipe)");
                               sub.add_flag("--timing-only", o.timingOnly, "skip the comparison with the reference integrator");
+                              sub.add_flag("--breakdown", o.breakdown, "print each generator's time in a full LUT rebuild (glFinish around each)");
                               sub.add_option("--projection", o.projection, "projection of the 1280x720 frame (perspective: az 0, alt 20 deg, fov 60 deg)");
                               return [] { return run(o); };
                           });

@@ -74,7 +74,11 @@ void main() {
     float azM = azimuthFrom(dir, u_moonDir);
     L += skyViewSampleH(u_moonSmooth, u_moonMie, thetaH, mu, azM, clamp(dot(dir, u_moonDir), -1.0, 1.0), u_invScale) * u_moonE;
 #endif
+#ifdef SKY_TRANSMITTANCE
     T = rayIntersectsGround(h, mu) ? vec3(0.0) : transmittanceFromLut(h, mu);
+#else
+    T = vec3(0.0);  // nothing behind the sky (the program variant for the first element)
+#endif
 #endif
     welkin_output(L, T);
 }

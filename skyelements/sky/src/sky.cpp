@@ -162,22 +162,27 @@ void Sky::doInit(InitContext& ctx) {
     addGenerator(luts_.moonView);
     addGenerator(luts_.irradiance);
     addGenerator(luts_.aerial);
-    auto build = [&](bool perPixel, bool moon) {
-        gl::ProgramBuilder b(std::string(perPixel ? "Sky (per pixel)" : "Sky") + (moon ? " + Moon" : ""));
+    auto recipe = [&](bool perPixel, bool moon, bool transmittance) {
+        gl::ProgramBuilder b(std::string(perPixel ? "Sky (per pixel)" : "Sky") + (moon ? " + Moon" : "") +
+                             (transmittance ? "" : " (nothing behind)"));
         b.define("ATM_USE_TRANSMITTANCE");
         if (moon) b.define("SKY_MOON");
+        if (transmittance) b.define("SKY_TRANSMITTANCE");
         if (perPixel) b.define("ATM_USE_MULTISCATTERING").define("ATM_MS_DIRECTIONAL").define("SKY_PER_PIXEL");
-        return b.fullscreenVertex()
+        b.fullscreenVertex()
             .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
             .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
             .fragment("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
-            .fragment("sky/sky.frag.glsl", embedded::sky_shaders("sky.frag.glsl"))
-            .build();
+            .fragment("sky/sky.frag.glsl", embedded::sky_shaders("sky.frag.glsl"));
+        return b;
     };
     for (int moon = 0; moon < 2; ++moon) {
-        lutProgram_[moon] = build(false, moon == 1);
-        marchProgram_[moon] = build(true, moon == 1);
+        for (int t = 0; t < 2; ++t) lutPrograms_[moon][t] = gl::ProjectionPrograms(recipe(false, moon == 1, t == 1));
+        marchPrograms_[moon] = gl::ProjectionPrograms(recipe(true, moon == 1, true));
     }
+    // Compile the common variant now (so that shader errors surface in init() and the first
+    // frame is not slowed by it); the others compile on first use.
+    lutPrograms_[0][1].get(Projection::Perspective);
     ubo_ = gl::Buffer(sizeof(AtmosphereBlock));
 }
 
@@ -212,7 +217,8 @@ void Sky::doRender(const FrameContext& ctx) {
     const glm::dvec3 moonE = options_.moon ? v.getOr(skykeys::moonIlluminance, glm::dvec3(0.0)) : glm::dvec3(0.0);
     // The Moon's term only while it gives light and is above -20 deg (its LUT is black below).
     const bool moon = glm::length(moonE) > 0.0 && unit(v.get(keys::moonDirection)).z > -0.342;
-    const gl::Program& p = perPixel_ ? marchProgram_[moon] : lutProgram_[moon];
+    const Projection proj = ctx.camera.projection;
+    const gl::Program& p = perPixel_ ? marchPrograms_[moon].get(proj) : lutPrograms_[moon][ctx.nothingBehind ? 0 : 1].get(proj);
     p.use();
     p.set("u_h", float(h));
     p.set("u_sunDir", glm::vec3(unit(v.get(keys::sunDirection))));
@@ -230,8 +236,9 @@ void Sky::doRender(const FrameContext& ctx) {
 }
 
 void Sky::doRelease() {
-    for (auto& p : lutProgram_) p = {};
-    for (auto& p : marchProgram_) p = {};
+    for (auto& row : lutPrograms_)
+        for (auto& p : row) p.releasePrograms();
+    for (auto& p : marchPrograms_) p.releasePrograms();
     ubo_ = {};
     luts_.releaseGl();
 }

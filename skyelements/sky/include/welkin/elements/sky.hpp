@@ -32,6 +32,7 @@
 #include <welkin/element.hpp>
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/gl/objects.hpp>
+#include <welkin/gl/projection_programs.hpp>
 
 namespace welkin::elements {
 
@@ -65,7 +66,9 @@ private:
 
     SkyOptions options_;
     generators::SkyLuts luts_;
-    gl::Program lutProgram_[2], marchProgram_[2];  // [without, with] the Moon
+    // [without, with the Moon][without, with the transmittance output]: separate variants because
+    // llvmpipe evaluates both sides of a uniform branch; each compiled per projection on first use.
+    gl::ProjectionPrograms lutPrograms_[2][2], marchPrograms_[2];
     gl::Buffer ubo_;
     bool perPixel_ = false;
     double zenith_ = 0, global_ = 0, direct_ = 0, diffuse_ = 0;
