@@ -111,34 +111,47 @@ float atm_horizonZenith(float h) {
     float r = atm_bottom() + h;
     return acos(clamp(-sqrt(max(atm_rho2(max(h, 0.0)), 0.0)) / r, -1.0, 1.0));
 }
-// Sky-view latitude: rows [H/2, H) from the horizon (exactly on the first row's centre) up to
-// the zenith, rows [0, H/2) from the horizon down to the nadir; square-root law on each side.
-vec2 skyViewUvH(float thetaH, float mu, float azimuth, vec2 size) {
-    float theta = acos(clamp(mu, -1.0, 1.0));
-    float half_ = floor(size.y / 2.0);
-    float v;
-    if (theta <= thetaH) {
-        float x = sqrt(clamp((thetaH - theta) / thetaH, 0.0, 1.0));
-        v = 0.5 + (x * (half_ - 1.0) + 0.5) / size.y;
-    } else {
-        float x = sqrt(clamp((theta - thetaH) / (ATM_PI - thetaH), 0.0, 1.0));
-        v = 0.5 - (x * (half_ - 1.0) + 0.5) / size.y;
-    }
-    return vec2(texCoordFromUnit(clamp(azimuth / ATM_PI, 0.0, 1.0), size.x), v);
+// sin(theta_H / 2) of the observer's horizon (a per-frame constant for pixel shaders).
+float atm_horizonS(float h) {
+    float r = atm_bottom() + h;
+    float muH = -sqrt(max(atm_rho2(max(h, 0.0)), 0.0)) / r;
+    return sqrt(clamp(0.5 - 0.5 * muH, 0.0, 1.0));
 }
-vec2 skyViewUv(float h, float mu, float azimuth, vec2 size) { return skyViewUvH(atm_horizonZenith(h), mu, azimuth, size); }
-vec2 skyViewMuAz(float h, vec2 uv, vec2 size) {
-    float thetaH = atm_horizonZenith(h);
+// Sky-view LUT coordinates (twin of cpu::skyViewUvCos): latitude rows [H/2, H) from the horizon
+// (exactly on the first row's centre) up to the zenith, rows [0, H/2) from the horizon down to
+// the nadir, square-root law in s = sin(theta / 2) on each side; azimuth u = sin(az / 2) =
+// sqrt((1 - cos az) / 2). sH = atm_horizonS(h). Square roots only: no acos, no atan per pixel.
+vec2 skyViewUvS(float sH, float mu, float cosAz, vec2 size) {
+    float s = sqrt(clamp(0.5 - 0.5 * mu, 0.0, 1.0));
     float half_ = floor(size.y / 2.0);
-    float theta;
+    bool sky = s <= sH;
+    float x = sqrt(clamp(sky ? (sH - s) / sH : (s - sH) / (1.0 - sH), 0.0, 1.0));
+    float dv = (x * (half_ - 1.0) + 0.5) / size.y;
+    float v = sky ? 0.5 + dv : 0.5 - dv;
+    return vec2(texCoordFromUnit(sqrt(clamp(0.5 - 0.5 * cosAz, 0.0, 1.0)), size.x), v);
+}
+vec2 skyViewUvH(float thetaH, float mu, float azimuth, vec2 size) { return skyViewUvS(sin(0.5 * thetaH), mu, cos(azimuth), size); }
+vec2 skyViewUv(float h, float mu, float azimuth, vec2 size) { return skyViewUvS(atm_horizonS(h), mu, cos(azimuth), size); }
+// Inverse (texel centre -> view): returns (mu, azimuth in [0, pi]).
+vec2 skyViewMuAz(float h, vec2 uv, vec2 size) {
+    float sH = atm_horizonS(h);
+    float half_ = floor(size.y / 2.0);
+    float s;
     if (uv.y >= 0.5) {
         float x = clamp(((uv.y - 0.5) * size.y - 0.5) / (half_ - 1.0), 0.0, 1.0);
-        theta = thetaH - x * x * thetaH;
+        s = sH - x * x * sH;
     } else {
         float x = clamp(((0.5 - uv.y) * size.y - 0.5) / (half_ - 1.0), 0.0, 1.0);
-        theta = thetaH + x * x * (ATM_PI - thetaH);
+        s = sH + x * x * (1.0 - sH);
     }
-    return vec2(cos(theta), clamp(unitFromTexCoord(uv.x, size.x), 0.0, 1.0) * ATM_PI);
+    return vec2(clamp(1.0 - 2.0 * s * s, -1.0, 1.0), 2.0 * asin(clamp(unitFromTexCoord(uv.x, size.x), 0.0, 1.0)));
+}
+// Keeps v inside the half (sky or ground) it started in: the halves are never blended.
+vec2 skyViewClampHalf(vec2 uv, vec2 size) {
+    float half_ = floor(size.y / 2.0);
+    uv.y = uv.y >= 0.5 ? clamp(uv.y, (half_ + 0.5) / size.y, 1.0 - 0.5 / size.y)
+                       : clamp(uv.y, 0.5 / size.y, (half_ - 0.5) / size.y);
+    return uv;
 }
 
 float rayleighPhase(float nu) { return 3.0 / (16.0 * ATM_PI) * (1.0 + nu * nu); }
@@ -293,10 +306,7 @@ Scattering integrateScattering(float h, float mu, float muS, float nu, float max
 // is no band at the horizon. Twin of cpu::skyViewSample().
 vec3 skyViewSampleH(sampler2D smoothLut, sampler2D mieLut, float thetaH, float mu, float az, float nu, float invScale) {
     vec2 size = vec2(textureSize(smoothLut, 0));
-    vec2 uv = skyViewUvH(thetaH, mu, az, size);
-    float half_ = floor(size.y / 2.0);
-    if (uv.y >= 0.5) uv.y = clamp(uv.y, (half_ + 0.5) / size.y, 1.0 - 0.5 / size.y);
-    else uv.y = clamp(uv.y, 0.5 / size.y, (half_ - 0.5) / size.y);
+    vec2 uv = skyViewClampHalf(skyViewUvH(thetaH, mu, az, size), size);
     return (texture(smoothLut, uv).rgb + texture(mieLut, uv).rgb * miePhase(nu)) * invScale;
 }
 vec3 skyViewSample(sampler2D smoothLut, sampler2D mieLut, float h, float mu, float az, float nu, float invScale) {

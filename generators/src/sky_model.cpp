@@ -81,7 +81,7 @@ SkyQuality SkyQuality::preset(int quality) {
     case 2:  // high: larger LUTs and more samples, fp32
         q.transmittanceW = 256, q.transmittanceH = 128, q.transmittanceSteps = 128;
         q.multiScatteringMuS = 64, q.multiScatteringSize = 32, q.multiScatteringDirections = 128, q.multiScatteringSteps = 32, q.shDirections = 256;
-        q.skyViewW = 256, q.skyViewH = 192, q.skyViewSteps = 64;
+        q.skyViewW = 256, q.skyViewH = 192, q.skyViewSteps = 64, q.bakedMiePhase = false;
         q.aerialSize = 32, q.aerialSteps = 4;
         q.raymarchSteps = 96;
         q.irradianceAzimuth = 64, q.irradianceZenith = 32;
@@ -91,7 +91,7 @@ SkyQuality SkyQuality::preset(int quality) {
         q.multiScatteringMuS = 128, q.multiScatteringSize = 32, q.multiScatteringDirections = 256, q.multiScatteringSteps = 64, q.shDirections = 512;
         q.skyViewW = 256, q.skyViewH = 192, q.skyViewSteps = 64;
         q.aerialSize = 32, q.aerialSteps = 8;
-        q.raymarchSteps = 256, q.perPixel = true;
+        q.raymarchSteps = 256, q.perPixel = true, q.bakedMiePhase = false;
         q.irradianceAzimuth = 64, q.irradianceZenith = 32;
         break;
     default: {
@@ -181,43 +181,53 @@ glm::dvec2 multiScatteringHMuS(const SkyModel& m, glm::dvec2 uv, int w, int hgt)
 }
 
 // Latitude: the upper half (rows H/2 .. H-1) covers [horizon, zenith], the lower half (rows
-// H/2-1 .. 0) covers [horizon, nadir]; within each half x = sqrt(angle from horizon / span)
-// is spread over the half's texel centres, so both halves have a row exactly at the horizon.
+// H/2-1 .. 0) covers [horizon, nadir]; within each half x = sqrt(distance from the horizon /
+// span) is spread over the half's texel centres, so both halves have a row exactly at the
+// horizon. The distance is measured in s = sin(theta / 2) (theta: view zenith angle), which is
+// within 1.4x of linear in theta and costs one square root per pixel instead of an acos:
+// s = sqrt((1 - mu) / 2). Azimuth: u = sin(azimuth / 2) = sqrt((1 - cos azimuth) / 2), from the
+// cosine without an atan, twice as dense as linear at the light's vertical plane (where the
+// aureole is) and coarse only opposite the light, where the sky is smooth in azimuth.
 glm::dvec2 skyViewUv(const SkyModel& m, double h, double mu, double azimuth, int w, int hgt) {
+    return skyViewUvCos(m, h, mu, std::cos(azimuth), w, hgt);
+}
+
+double skyViewHorizonS(const SkyModel& m, double h) {
     const double R = m.bottomRadius;
     const double r = R + h;
     const double muH = -safeSqrt(rho2(R, std::max(h, 0.0))) / r;  // cos of the horizon's zenith angle
-    const double thetaH = std::acos(std::clamp(muH, -1.0, 1.0));
-    const double theta = std::acos(std::clamp(mu, -1.0, 1.0));
+    return std::sqrt(std::clamp(0.5 - 0.5 * muH, 0.0, 1.0));
+}
+
+glm::dvec2 skyViewUvCos(const SkyModel& m, double h, double mu, double cosAzimuth, int w, int hgt) {
+    const double sH = skyViewHorizonS(m, h);
+    const double sv = std::sqrt(std::clamp(0.5 - 0.5 * mu, 0.0, 1.0));
     const int half = hgt / 2;
     double v;
-    if (theta <= thetaH) {
-        double x = std::sqrt(clamp01((thetaH - theta) / thetaH));
+    if (sv <= sH) {
+        double x = std::sqrt(clamp01((sH - sv) / sH));
         v = 0.5 + (x * (half - 1) + 0.5) / hgt;
     } else {
-        double x = std::sqrt(clamp01((theta - thetaH) / (kPi - thetaH)));
+        double x = std::sqrt(clamp01((sv - sH) / (1.0 - sH)));
         v = 0.5 - (x * (half - 1) + 0.5) / hgt;
     }
-    const double u = texCoordFromUnit(clamp01(azimuth / kPi), w);
+    const double u = texCoordFromUnit(std::sqrt(clamp01(0.5 - 0.5 * cosAzimuth)), w);
     return {u, v};
 }
 
 glm::dvec2 skyViewMuAz(const SkyModel& m, double h, glm::dvec2 uv, int w, int hgt) {
-    const double R = m.bottomRadius;
-    const double r = R + h;
-    const double muH = -safeSqrt(rho2(R, std::max(h, 0.0))) / r;
-    const double thetaH = std::acos(std::clamp(muH, -1.0, 1.0));
+    const double sH = skyViewHorizonS(m, h);
     const int half = hgt / 2;
-    double theta;
+    double sv;
     if (uv.y >= 0.5) {
         double x = clamp01(((uv.y - 0.5) * hgt - 0.5) / (half - 1));
-        theta = thetaH - x * x * thetaH;
+        sv = sH - x * x * sH;
     } else {
         double x = clamp01(((0.5 - uv.y) * hgt - 0.5) / (half - 1));
-        theta = thetaH + x * x * (kPi - thetaH);
+        sv = sH + x * x * (1.0 - sH);
     }
-    const double az = clamp01(unitFromTexCoord(uv.x, w)) * kPi;
-    return {std::cos(theta), az};
+    const double az = 2.0 * std::asin(clamp01(unitFromTexCoord(uv.x, w)));
+    return {std::clamp(1.0 - 2.0 * sv * sv, -1.0, 1.0), az};
 }
 
 // --- Phase functions --------------------------------------------------------------------------

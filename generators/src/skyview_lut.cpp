@@ -18,12 +18,14 @@ SkyViewLut::SkyViewLut(Light light) : SkyGenerator(light == Light::Sun ? "sky.su
         input(keys::sunDirection);
         output(skykeys::sunViewLut);
         output(skykeys::sunViewMieLut);
+        output(skykeys::sunViewTotalLut);
         output(skykeys::sunViewRev);
     } else {
         input(keys::moonDirection);
         input(skykeys::moonIlluminance);
         output(skykeys::moonViewLut);
         output(skykeys::moonViewMieLut);
+        output(skykeys::moonViewTotalLut);
         output(skykeys::moonViewRev);
     }
 }
@@ -31,6 +33,7 @@ SkyViewLut::SkyViewLut(Light light) : SkyGenerator(light == Light::Sun ? "sky.su
 void SkyViewLut::releaseGl() {
     smooth_ = {};
     mie_ = {};
+    total_ = {};
     fbo_ = {};
     prog_ = {};
     releaseCommon();
@@ -42,13 +45,15 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
     if (!smooth_ || smooth_.width() != q_.skyViewW || smooth_.height() != q_.skyViewH || smooth_.internalFormat() != fmt) {
         smooth_ = gl::Texture2D(q_.skyViewW, q_.skyViewH, fmt);
         mie_ = gl::Texture2D(q_.skyViewW, q_.skyViewH, fmt);
-        for (gl::Texture2D* t : {&smooth_, &mie_}) {
+        total_ = gl::Texture2D(q_.skyViewW, q_.skyViewH, fmt);
+        for (gl::Texture2D* t : {&smooth_, &mie_, &total_}) {
             t->setFilter(GL_LINEAR);
             t->setWrap(GL_CLAMP_TO_EDGE);
         }
         fbo_ = gl::Framebuffer::create();
         fbo_.attach(GL_COLOR_ATTACHMENT0, smooth_);
         fbo_.attach(GL_COLOR_ATTACHMENT1, mie_);
+        fbo_.attach(GL_COLOR_ATTACHMENT2, total_);
         fbo_.checkComplete("SkyViewLut");
     }
     if (!prog_)
@@ -67,8 +72,8 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
     muS_ = std::clamp(dir.z / std::max(glm::length(dir), 1e-12), -1.0, 1.0);
     fbo_.bind();
     glViewport(0, 0, q_.skyViewW, q_.skyViewH);
-    const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-    glNamedFramebufferDrawBuffers(fbo_.id(), 2, bufs);
+    const GLenum bufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+    glNamedFramebufferDrawBuffers(fbo_.id(), 3, bufs);
     // The Moon's LUT is skipped (left black) while the Moon gives no light or is far below the
     // horizon (< -20 deg: its scattered light is then below the night sky's airglow by orders of
     // magnitude).
@@ -78,6 +83,7 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
         const float zero[4] = {0, 0, 0, 1};
         glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, zero);
         glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 1, zero);
+        glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 2, zero);
     } else {
         glBindTextureUnit(4, vars.get(skykeys::transmittanceLut).id);
         glBindTextureUnit(5, vars.get(skykeys::multiScatteringLut).id);
@@ -94,10 +100,12 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
     if (light_ == Light::Sun) {
         vars.set(skykeys::sunViewLut, smooth_.ref());
         vars.set(skykeys::sunViewMieLut, mie_.ref());
+        vars.set(skykeys::sunViewTotalLut, total_.ref());
         vars.set(skykeys::sunViewRev, ++rev_);
     } else {
         vars.set(skykeys::moonViewLut, smooth_.ref());
         vars.set(skykeys::moonViewMieLut, mie_.ref());
+        vars.set(skykeys::moonViewTotalLut, total_.ref());
         vars.set(skykeys::moonViewRev, ++rev_);
     }
 }

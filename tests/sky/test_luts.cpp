@@ -139,6 +139,25 @@ TEST_CASE("Sky LUTs: GPU passes match their CPU double twins", "[gl][sky]") {
     INFO("worst sky-view relative errors " << worstS << " (smooth), " << worstM << " (Mie)");
     CHECK(worstS < 3e-3);
     CHECK(worstM < 3e-3);
+    // The total texture: smooth + Mie x phase at the texel's own angle to the Sun (baked-phase
+    // presets). The Sun's vertical plane is at azimuth 0 of the parameterisation.
+    {
+        Lut2D Tgpu = readLut(rig.luts.sunView->totalTexture(), 1.0 / kLutScale);
+        Lut2D want{q.skyViewW, q.skyViewH, Scpu.texels};
+        double worstT = 0, maxT = 0;
+        for (int y = 0; y < q.skyViewH; ++y)
+            for (int x = 0; x < q.skyViewW; ++x) {
+                glm::dvec2 ma = skyViewMuAz(m, h, {(x + 0.5) / q.skyViewW, (y + 0.5) / q.skyViewH}, q.skyViewW, q.skyViewH);
+                double sinV = std::sqrt(std::max(1.0 - ma.x * ma.x, 0.0)), sinS = std::sqrt(1.0 - muS * muS);
+                double nu = std::clamp(sinV * sinS * std::cos(ma.y) + ma.x * muS, -1.0, 1.0);
+                want.at(x, y) += Mcpu.at(x, y) * miePhase(nu, m.mieG, m.miePhase);
+                maxT = std::max(maxT, want.at(x, y).g);
+            }
+        for (size_t i = 0; i < want.texels.size(); ++i) worstT = std::max(worstT, relErr(Tgpu.texels[i], want.texels[i], 1e-3 * maxT));
+        INFO("worst total-texture relative error " << worstT);
+        CHECK(maxT > maxS);  // the aureole adds to the smooth part
+        CHECK(worstT < 3e-3);
+    }
 
     // Aerial perspective: sample texels (directions above and below the horizon, near and far
     // slices); same tolerance reasoning as the sky view.

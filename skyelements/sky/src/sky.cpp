@@ -162,12 +162,13 @@ void Sky::doInit(InitContext& ctx) {
     addGenerator(luts_.moonView);
     addGenerator(luts_.irradiance);
     addGenerator(luts_.aerial);
-    auto recipe = [&](bool perPixel, bool moon, bool transmittance) {
+    auto recipe = [&](bool perPixel, bool moon, bool transmittance, bool baked) {
         gl::ProgramBuilder b(std::string(perPixel ? "Sky (per pixel)" : "Sky") + (moon ? " + Moon" : "") +
-                             (transmittance ? "" : " (nothing behind)"));
+                             (transmittance ? "" : " (nothing behind)") + (baked ? " (baked phase)" : ""));
         b.define("ATM_USE_TRANSMITTANCE");
         if (moon) b.define("SKY_MOON");
         if (transmittance) b.define("SKY_TRANSMITTANCE");
+        if (baked) b.define("SKY_BAKED_PHASE");
         if (perPixel) b.define("ATM_USE_MULTISCATTERING").define("ATM_MS_DIRECTIONAL").define("SKY_PER_PIXEL");
         b.fullscreenVertex()
             .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
@@ -177,12 +178,14 @@ void Sky::doInit(InitContext& ctx) {
         return b;
     };
     for (int moon = 0; moon < 2; ++moon) {
-        for (int t = 0; t < 2; ++t) lutPrograms_[moon][t] = gl::ProjectionPrograms(recipe(false, moon == 1, t == 1));
-        marchPrograms_[moon] = gl::ProjectionPrograms(recipe(true, moon == 1, true));
+        for (int t = 0; t < 2; ++t)
+            for (int baked = 0; baked < 2; ++baked)
+                lutPrograms_[moon][t][baked] = gl::ProjectionPrograms(recipe(false, moon == 1, t == 1, baked == 1));
+        marchPrograms_[moon] = gl::ProjectionPrograms(recipe(true, moon == 1, true, false));
     }
-    // Compile the common variant now (so that shader errors surface in init() and the first
-    // frame is not slowed by it); the others compile on first use.
-    lutPrograms_[0][1].get(Projection::Perspective);
+    // Compile one variant now (so that shader errors surface in init()); the others compile on
+    // first use.
+    lutPrograms_[0][1][1].get(Projection::Perspective);
     ubo_ = gl::Buffer(sizeof(AtmosphereBlock));
 }
 
@@ -206,9 +209,10 @@ void Sky::doRender(const FrameContext& ctx) {
     AtmosphereBlock block = AtmosphereBlock::from(m);
     ubo_.update(&block, sizeof block);
     ubo_.bindBase(GL_UNIFORM_BUFFER, 1);
-    glBindTextureUnit(0, v.get(skykeys::sunViewLut).id);
+    // With the phase baked in, units 0 and 2 get the total LUTs and 1, 3 are not read.
+    glBindTextureUnit(0, v.get(q.bakedMiePhase ? skykeys::sunViewTotalLut : skykeys::sunViewLut).id);
     glBindTextureUnit(1, v.get(skykeys::sunViewMieLut).id);
-    glBindTextureUnit(2, v.get(skykeys::moonViewLut).id);
+    glBindTextureUnit(2, v.get(q.bakedMiePhase ? skykeys::moonViewTotalLut : skykeys::moonViewLut).id);
     glBindTextureUnit(3, v.get(skykeys::moonViewMieLut).id);
     glBindTextureUnit(4, v.get(skykeys::transmittanceLut).id);
     glBindTextureUnit(5, v.get(skykeys::multiScatteringLut).id);
@@ -218,7 +222,8 @@ void Sky::doRender(const FrameContext& ctx) {
     // The Moon's term only while it gives light and is above -20 deg (its LUT is black below).
     const bool moon = glm::length(moonE) > 0.0 && unit(v.get(keys::moonDirection)).z > -0.342;
     const Projection proj = ctx.camera.projection;
-    const gl::Program& p = perPixel_ ? marchPrograms_[moon].get(proj) : lutPrograms_[moon][ctx.nothingBehind ? 0 : 1].get(proj);
+    const bool baked = q.bakedMiePhase;
+    const gl::Program& p = perPixel_ ? marchPrograms_[moon].get(proj) : lutPrograms_[moon][ctx.nothingBehind ? 0 : 1][baked].get(proj);
     p.use();
     p.set("u_h", float(h));
     p.set("u_sunDir", glm::vec3(unit(v.get(keys::sunDirection))));
@@ -228,16 +233,14 @@ void Sky::doRender(const FrameContext& ctx) {
     p.set("u_invScale", float(1.0 / kLutScale));
     p.set("u_steps", q.raymarchSteps);
     p.set("u_moonAngular", float(kMoonAngularRadius));
-    {
-        const double hc = std::min(h, m.topRadius - m.bottomRadius), R = m.bottomRadius;
-        p.set("u_thetaH", float(std::acos(std::clamp(-std::sqrt(hc * (2 * R + hc)) / (R + hc), -1.0, 1.0))));
-    }
+    p.set("u_sH", float(skyViewHorizonS(m, std::min(h, m.topRadius - m.bottomRadius))));
     ctx.drawFullscreen();
 }
 
 void Sky::doRelease() {
     for (auto& row : lutPrograms_)
-        for (auto& p : row) p.releasePrograms();
+        for (auto& col : row)
+            for (auto& p : col) p.releasePrograms();
     for (auto& p : marchPrograms_) p.releasePrograms();
     ubo_ = {};
     luts_.releaseGl();

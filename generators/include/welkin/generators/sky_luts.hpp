@@ -44,9 +44,11 @@ inline const Key<TextureRef> shLut{"sky.sh_lut", "directional multiple scatterin
 inline const Key<int> shRev{"sky.sh_rev", "directional multiple-scattering LUT revision"};
 inline const Key<TextureRef> sunViewLut{"sky.sun_view_lut", "sky-view LUT for the Sun: Rayleigh + multiple scattering + ground"};
 inline const Key<TextureRef> sunViewMieLut{"sky.sun_view_mie_lut", "sky-view LUT for the Sun: Mie single scattering without phase"};
+inline const Key<TextureRef> sunViewTotalLut{"sky.sun_view_total_lut", "sky-view LUT for the Sun: everything, Mie phase at the texel's angle"};
 inline const Key<int> sunViewRev{"sky.sun_view_rev", "Sun sky-view LUT revision"};
 inline const Key<TextureRef> moonViewLut{"sky.moon_view_lut", "sky-view LUT for the Moon (smooth part)"};
 inline const Key<TextureRef> moonViewMieLut{"sky.moon_view_mie_lut", "sky-view LUT for the Moon (Mie without phase)"};
+inline const Key<TextureRef> moonViewTotalLut{"sky.moon_view_total_lut", "sky-view LUT for the Moon: everything, Mie phase at the texel's angle"};
 inline const Key<int> moonViewRev{"sky.moon_view_rev", "Moon sky-view LUT revision"};
 inline const Key<TextureRef> aerialInscatter{"sky.aerial_inscatter", "aerial perspective volume: in-scattered radiance per lux x kLutScale"};
 inline const Key<TextureRef> aerialTransmittance{"sky.aerial_transmittance", "aerial perspective volume: transmittance"};
@@ -161,6 +163,8 @@ public:
     explicit SkyViewLut(Light light);
     const gl::Texture2D& smoothTexture() const { return smooth_; }
     const gl::Texture2D& mieTexture() const { return mie_; }
+    /// smooth + Mie x phase(angle of the texel's direction to the light).
+    const gl::Texture2D& totalTexture() const { return total_; }
     /// Height and light cos-zenith of the last run (h clamped into the atmosphere).
     double height() const { return h_; }
     double lightMuS() const { return muS_; }
@@ -169,7 +173,7 @@ public:
 private:
     void doRun(SkyVars& vars, const Logger& log) override;
     Light light_;
-    gl::Texture2D smooth_, mie_;
+    gl::Texture2D smooth_, mie_, total_;
     gl::Framebuffer fbo_;
     gl::Program prog_;
     int rev_ = 0;

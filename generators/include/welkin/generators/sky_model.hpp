@@ -102,6 +102,11 @@ struct SkyQuality {
     double aerialMaxDistance = 100e3;               ///< m, last slice
     int raymarchSteps = 48;                         ///< per-pixel ray march (space, reference)
     bool halfFloat = false;                         ///< fp16 LUTs (else fp32)
+    /// The pixel shader reads one sky-view texture with the Mie phase function baked in at each
+    /// texel's own angle to the light (one texture fetch and no phase per pixel), instead of two
+    /// (smooth + Mie without phase, the phase evaluated at the pixel's exact angle: a sharper
+    /// aureole). Measured cost and error in docs/sky.md.
+    bool bakedMiePhase = true;
     bool perPixel = false;                          ///< ray-march every pixel (reference)
     int irradianceAzimuth = 32, irradianceZenith = 16;  ///< hemisphere quadrature
     /// 0 low, 1 medium, 2 high, 3 reference. Throws welkin::Error outside [0, 3].
@@ -133,9 +138,14 @@ glm::dvec2 transmittanceHMu(const SkyModel& m, glm::dvec2 uv, int w, int hgt);
 glm::dvec2 multiScatteringUv(const SkyModel& m, double h, double muS, int w, int hgt);
 glm::dvec2 multiScatteringHMuS(const SkyModel& m, glm::dvec2 uv, int w, int hgt);
 /// Sky-view LUT at height h: (cos view zenith mu, azimuth from the light in [0, pi]) <-> uv.
-/// Latitude is dense at the horizon (square-root law on each side of the horizon, whose texel
-/// rows never mix: the upper half is sampled with v clamped to its own rows).
+/// Latitude is dense at the horizon (square-root law in sin(theta/2) on each side of the
+/// horizon, whose texel rows never mix: the upper half is sampled with v clamped to its own
+/// rows); azimuth u = sin(azimuth / 2). Both need only square roots per pixel (no acos, atan).
 glm::dvec2 skyViewUv(const SkyModel& m, double h, double mu, double azimuth, int w, int hgt);
+/// The same from the cosine of the azimuth (what a pixel shader has: no atan).
+glm::dvec2 skyViewUvCos(const SkyModel& m, double h, double mu, double cosAzimuth, int w, int hgt);
+/// sin(theta_H / 2), theta_H the zenith angle of the observer's horizon at height h.
+double skyViewHorizonS(const SkyModel& m, double h);
 /// Inverse: returns (mu, azimuth).
 glm::dvec2 skyViewMuAz(const SkyModel& m, double h, glm::dvec2 uv, int w, int hgt);
 

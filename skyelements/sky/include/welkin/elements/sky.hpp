@@ -66,9 +66,10 @@ private:
 
     SkyOptions options_;
     generators::SkyLuts luts_;
-    // [without, with the Moon][without, with the transmittance output]: separate variants because
-    // llvmpipe evaluates both sides of a uniform branch; each compiled per projection on first use.
-    gl::ProjectionPrograms lutPrograms_[2][2], marchPrograms_[2];
+    // [without, with the Moon][without, with the transmittance output][separate, baked Mie phase]:
+    // separate variants because llvmpipe evaluates both sides of a uniform branch; each compiled
+    // per projection on first use.
+    gl::ProjectionPrograms lutPrograms_[2][2][2], marchPrograms_[2];
     gl::Buffer ubo_;
     bool perPixel_ = false;
     double zenith_ = 0, global_ = 0, direct_ = 0, diffuse_ = 0;
