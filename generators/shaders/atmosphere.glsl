@@ -192,9 +192,21 @@ vec3 transmittanceToLight(float h, float muS, float angularRadius) {
 layout(binding = 5) uniform sampler2D u_atmMultiScattering;
 #define ATM_MULTISCATTERING_LUT u_atmMultiScattering
 #ifdef ATM_MS_DIRECTIONAL
-// The SH l <= 2 projection of the incident radiance field (6 layers) on texture unit 8.
+// The SH l <= 2 projection of the incident radiance field (layers 0-5) on texture unit 8; layer 6
+// row 0 holds the sky's irradiance on the ground over mu_s.
 layout(binding = 8) uniform sampler2DArray u_atmShLut;
 #endif
+
+// Irradiance of the horizontal ground per lux of the light at muS (direct light, plus the sky's
+// with ATM_MS_DIRECTIONAL); twin of cpu::groundIrradiance().
+vec3 atm_groundIrradiance(float muS, float lightAngularRadius) {
+    vec3 e = transmittanceToLight(0.0, muS, lightAngularRadius) * max(muS, 0.0);
+#ifdef ATM_MS_DIRECTIONAL
+    vec2 size = vec2(textureSize(u_atmShLut, 0).xy);
+    e += texture(u_atmShLut, vec3(multiScatteringUv(0.0, muS, vec2(size.x, 2.0)).x, 0.5 / size.y, 6.0)).rgb;
+#endif
+    return e;
+}
 
 float[6] atm_shBasis(float x, float z) {
     float y2 = max(0.0, 1.0 - x * x - z * z);
@@ -279,9 +291,9 @@ Scattering integrateScattering(float h, float mu, float muS, float nu, float max
         thrD *= exp(-q.sigmaD * dt);
     }
     if (o.hitGround) {
+        // The ground: Lambertian, lit by the light and by the sky.
         float muSg = clamp((r * muS + d * nu) / atm_bottom(), -1.0, 1.0);
-        vec3 Tg = transmittanceToLight(0.0, muSg, lightAngularRadius);
-        o.smooth_ += thrD * Tg * max(muSg, 0.0) * atm_groundAlbedo.rgb / ATM_PI;
+        o.smooth_ += thrD * atm_groundIrradiance(muSg, lightAngularRadius) * atm_groundAlbedo.rgb / ATM_PI;
     }
     o.transmittance = thr;
     return o;

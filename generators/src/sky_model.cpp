@@ -427,39 +427,72 @@ std::array<double, 6> shBasis(double x, double z) {
     return {0.282095, 0.488603 * z, 0.488603 * x, 0.315392 * (3 * z * z - 1), 1.092548 * x * z, 0.546274 * (x * x - y2)};
 }
 
-std::array<glm::dvec3, 6> shTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const Lut2D& psi, double h, double muS) {
-    const int n = q.shDirections, steps = q.multiScatteringSteps;
-    const glm::dvec3 sun(safeSqrt(1.0 - muS * muS), 0.0, muS);
-    std::array<glm::dvec3, 6> c{};
+namespace {
+// Radiance per lux arriving at (h, mu_s) from direction v (local frame: x towards the light, z up):
+// single scattering with the phase functions plus Hillaire's isotropic higher orders along the
+// ray (delta-M extinction for the scattered light), and the ground lit by the direct light and
+// by `ground`'s sky irradiance. The gather shared by the SH and ground-irradiance texels.
+glm::dvec3 incidentRadiance(const SkyModel& m, int steps, const Lut2D& T, const Lut2D& psi, const Lut2D& ground, double h,
+                            double muS, const glm::dvec3& v, double fDelta) {
     const double r = m.bottomRadius + h;
+    double mu = v.z, nu = v.x * safeSqrt(1.0 - muS * muS) + v.z * muS;
+    double pR = rayleighPhase(nu), pM = miePhase(nu, m.mieG, m.miePhase);
+    bool hits = cpu::rayIntersectsGround(m, h, mu);
+    double d = hits ? cpu::distanceToBottom(m, h, mu) : cpu::distanceToTop(m, h, mu);
+    double p = perigeeFraction(m, h, mu, d);
+    glm::dvec3 thr(1.0), L(0.0);
+    for (int k = 0; k < steps; ++k) {
+        double s0 = double(k) / steps, s1 = double(k + 1) / steps, sm = (k + 0.5) / steps;
+        double dt = d * (warp(s1, p) - warp(s0, p)), t = d * warp(sm, p);
+        double hp = cpu::heightAt(m, h, mu, t);
+        double rp = m.bottomRadius + hp;
+        double muSp = std::clamp((r * muS + t * nu) / rp, -1.0, 1.0);
+        glm::dvec3 sR = m.scatteringRayleigh(hp), sM = m.scatteringMie(hp), sigmaT = m.extinction(hp);
+        glm::dvec3 sigmaD = sigmaT - fDelta * sM;
+        glm::dvec3 seg = cpu::segmentFactorPublic(sigmaD, dt);
+        glm::dvec3 Tl = cpu::transmittanceToLight(m, T, hp, muSp, m.sunAngularRadius);
+        glm::dvec3 ps = psi.sample(multiScatteringUv(m, hp, muSp, psi.width, psi.height));
+        L += thr * ((sR * pR + sM * pM) * Tl + (sR + sM) * ps) * seg;
+        thr *= glm::exp(-sigmaD * dt);
+    }
+    if (hits) {
+        double muSg = std::clamp((r * muS + d * nu) / m.bottomRadius, -1.0, 1.0);
+        L += thr * cpu::groundIrradiance(m, T, ground, muSg, m.sunAngularRadius) * m.groundAlbedo / kPi;
+    }
+    return L;
+}
+}  // namespace
+
+glm::dvec3 groundIrradianceTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const Lut2D& psi, double muS) {
+    // Equal-area (Fibonacci) directions of the upper hemisphere: z uniform in (0, 1], each
+    // carrying a solid angle 2 pi / n; the rays leave the ground, so none returns to it.
+    const int n = q.shDirections;
+    const double fDelta = phaseMoments(m).w;
+    const double golden = kPi * (3.0 - std::sqrt(5.0));
+    const Lut2D none;
+    glm::dvec3 E(0.0);
+    for (int i = 0; i < n; ++i) {
+        double z = 1.0 - (i + 0.5) / n, rr = safeSqrt(1.0 - z * z), phi = golden * i;
+        glm::dvec3 v(rr * std::cos(phi), rr * std::sin(phi), z);
+        E += incidentRadiance(m, q.multiScatteringSteps, T, psi, none, 0.0, muS, v, fDelta) * z;
+    }
+    return E * (2.0 * kPi / n);
+}
+
+glm::dvec3 groundIrradiance(const SkyModel& m, const Lut2D& T, const Lut2D& ground, double muS, double lightAngularRadius) {
+    glm::dvec3 e = transmittanceToLight(m, T, 0.0, muS, lightAngularRadius) * std::max(muS, 0.0);
+    if (!ground.texels.empty()) e += ground.sample({multiScatteringUv(m, 0.0, muS, ground.width, 2).x, 0.5});
+    return e;
+}
+
+std::array<glm::dvec3, 6> shTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const Lut2D& psi, const Lut2D& ground,
+                                  double h, double muS) {
+    const int n = q.shDirections;
+    std::array<glm::dvec3, 6> c{};
     const double fDelta = phaseMoments(m).w;
     for (int i = 0; i < n; ++i) {
         glm::dvec3 v = cpu::fibonacciDirectionPublic(i, n);
-        double mu = v.z, nu = glm::dot(v, sun);
-        double pR = rayleighPhase(nu), pM = miePhase(nu, m.mieG, m.miePhase);
-        bool ground = cpu::rayIntersectsGround(m, h, mu);
-        double d = ground ? cpu::distanceToBottom(m, h, mu) : cpu::distanceToTop(m, h, mu);
-        double p = cpu::perigeeFractionPublic(m, h, mu, d);
-        glm::dvec3 thr(1.0), L(0.0);
-        for (int k = 0; k < steps; ++k) {
-            double s0 = double(k) / steps, s1 = double(k + 1) / steps, sm = (k + 0.5) / steps;
-            double dt = d * (cpu::warpPublic(s1, p) - cpu::warpPublic(s0, p)), t = d * cpu::warpPublic(sm, p);
-            double hp = cpu::heightAt(m, h, mu, t);
-            double rp = m.bottomRadius + hp;
-            double muSp = std::clamp((r * muS + t * nu) / rp, -1.0, 1.0);
-            glm::dvec3 sR = m.scatteringRayleigh(hp), sM = m.scatteringMie(hp), sigmaT = m.extinction(hp);
-            glm::dvec3 sigmaD = sigmaT - fDelta * sM;
-            glm::dvec3 seg = cpu::segmentFactorPublic(sigmaD, dt);
-            glm::dvec3 Tl = cpu::transmittanceToLight(m, T, hp, muSp, m.sunAngularRadius);
-            glm::dvec3 ps = psi.sample(multiScatteringUv(m, hp, muSp, psi.width, psi.height));
-            L += thr * ((sR * pR + sM * pM) * Tl + (sR + sM) * ps) * seg;
-            thr *= glm::exp(-sigmaD * dt);
-        }
-        if (ground) {
-            double muSg = std::clamp((r * muS + d * nu) / m.bottomRadius, -1.0, 1.0);
-            glm::dvec3 Tg = cpu::transmittanceToLight(m, T, 0.0, muSg, m.sunAngularRadius);
-            L += thr * Tg * std::max(muSg, 0.0) * m.groundAlbedo / kPi;
-        }
+        glm::dvec3 L = incidentRadiance(m, q.multiScatteringSteps, T, psi, ground, h, muS, v, fDelta);
         auto Y = shBasis(v.x, v.z);
         for (int k = 0; k < 6; ++k) c[k] += L * Y[k];
     }
@@ -473,6 +506,9 @@ MsField msField(const SkyModel& m, const SkyQuality& q, const Lut2D& T) {
     f.directional = q.directionalMs;
     if (!f.directional) return f;
     const int w = q.multiScatteringMuS, n = q.multiScatteringSize;
+    f.ground = {w, 1, std::vector<glm::dvec3>(size_t(w))};
+    for (int x = 0; x < w; ++x)
+        f.ground.at(x, 0) = groundIrradianceTexel(m, q, T, f.psi, multiScatteringHMuS(m, {(x + 0.5) / w, 0.0}, w, 2).y);
     for (auto& l : f.sh) {
         l.width = w;
         l.height = n;
@@ -481,7 +517,7 @@ MsField msField(const SkyModel& m, const SkyQuality& q, const Lut2D& T) {
     for (int y = 0; y < n; ++y)
         for (int x = 0; x < w; ++x) {
             glm::dvec2 hm = multiScatteringHMuS(m, {(x + 0.5) / w, (y + 0.5) / n}, w, n);
-            auto c = shTexel(m, q, T, f.psi, hm.x, hm.y);
+            auto c = shTexel(m, q, T, f.psi, f.ground, hm.x, hm.y);
             for (int k = 0; k < 6; ++k) f.sh[k].at(x, y) = c[k];
         }
     return f;
@@ -541,9 +577,9 @@ Scattering integrate(const SkyModel& m, const Lut2D& T, const MsField& MS, doubl
         thrD *= glm::exp(-sigmaD * dt);
     }
     if (out.hitGround) {
+        // The ground: Lambertian, lit by the light and by the sky (MS.ground).
         double muSg = std::clamp((r * muS + d * nu) / m.bottomRadius, -1.0, 1.0);
-        glm::dvec3 Tg = transmittanceToLight(m, T, 0.0, muSg, lightAngularRadius);
-        out.smooth += thrD * Tg * std::max(muSg, 0.0) * m.groundAlbedo / kPi;
+        out.smooth += thrD * groundIrradiance(m, T, MS.ground, muSg, lightAngularRadius) * m.groundAlbedo / kPi;
     }
     out.transmittance = thr;
     return out;

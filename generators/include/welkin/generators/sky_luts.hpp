@@ -137,7 +137,8 @@ private:
 };
 
 /// Directional multiple scattering (SkyQuality::directionalMs): SH l <= 2 of the incident
-/// radiance field at (h, mu_s), 6 layers; read on texture unit 8 by the passes after it.
+/// radiance field at (h, mu_s) in layers 0-5, and in layer 6 (row 0) the sky's irradiance on the
+/// ground over mu_s (cpu::MsField::ground); read on texture unit 8 by the passes after it.
 class ShLut final : public SkyGenerator {
 public:
     ShLut();
@@ -149,6 +150,9 @@ private:
     gl::Texture2DArray tex_;
     gl::Framebuffer fbo_;
     gl::Program prog_;
+    gl::Texture2D ground_;  ///< the sky's irradiance on the ground over mu_s (w x 1)
+    gl::Framebuffer groundFbo_;
+    gl::Program groundProg_;
     int rev_ = 0;
 };
 

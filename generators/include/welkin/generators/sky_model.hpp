@@ -169,6 +169,10 @@ Lut2D multiScatteringLut(const SkyModel& m, const SkyQuality& q, const Lut2D& T)
 struct MsField {
     Lut2D psi;                   ///< Hillaire's Psi_ms (isotropic), per lux
     std::array<Lut2D, 6> sh{};   ///< SH coefficients (l <= 2, even in y) of the incident field
+    /// Sky irradiance on the (horizontal) ground per lux of the light, over mu_s at the ground
+    /// (width = psi's, height 1, u as multiScatteringUv at h = 0). Empty: the ground is lit by
+    /// the direct light only.
+    Lut2D ground;
     bool directional = false;    ///< use sh (else psi)
 };
 /// Legendre moments Lambda_l = 2 pi int p(t) P_l(t) dt of the phase functions, l = 1, 2, and
@@ -177,9 +181,18 @@ glm::dvec4 phaseMoments(const SkyModel& m);
 /// The 6 real SH basis functions used (Y00, Y10, Y11, Y20, Y21, Y22) at a unit vector in the
 /// local frame (x horizontal towards the light, z up); y enters only squared.
 std::array<double, 6> shBasis(double x, double z);
-/// SH texel: the projection of the incident radiance field at (h, mu_s), per lux.
-std::array<glm::dvec3, 6> shTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const Lut2D& psi, double h, double muS);
-/// Builds psi (and sh if q.directionalMs).
+/// Ground texel: the sky's irradiance on a horizontal surface at the ground, per lux of the
+/// light at mu_s, gathered over q.shDirections directions of the upper hemisphere (single
+/// scattering with the phase functions plus Hillaire's isotropic higher orders along each ray).
+glm::dvec3 groundIrradianceTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const Lut2D& psi, double muS);
+/// Irradiance of the ground (direct light plus sky light) per lux of the light at mu_s (the
+/// ground's radiance is groundAlbedo / pi times this). `ground` may be empty (direct only).
+glm::dvec3 groundIrradiance(const SkyModel& m, const Lut2D& T, const Lut2D& ground, double muS, double lightAngularRadius);
+/// SH texel: the projection of the incident radiance field at (h, mu_s), per lux (the ground
+/// lit by `ground`, as groundIrradiance()).
+std::array<glm::dvec3, 6> shTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const Lut2D& psi, const Lut2D& ground,
+                                  double h, double muS);
+/// Builds psi (and ground and sh if q.directionalMs).
 MsField msField(const SkyModel& m, const SkyQuality& q, const Lut2D& T);
 /// In-scattered radiance per lux of orders >= 2 at a point (h, mu, mu_s, nu), for the given
 /// Rayleigh and Mie scattering coefficients there.
