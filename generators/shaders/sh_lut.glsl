@@ -1,12 +1,13 @@
-// Directional multiple-scattering LUT passes (fragment). Twins of cpu::groundIrradianceTexel()
-// and cpu::shTexel(). Needs atmosphere.glsl (ATM_USE_TRANSMITTANCE, ATM_USE_MULTISCATTERING).
-//  - SH_GROUND_PASS (a row of u_size.x texels over mu_s): the sky's irradiance on the horizontal
-//    ground per lux, gathered over the upper hemisphere.
-//  - otherwise (6 outputs = 6 layers): at each (h, mu_s) the incident radiance field per lux --
-//    single scattering with the Rayleigh and Mie phase functions, Hillaire's isotropic higher
-//    orders (Psi_ms) along each gathered ray, and the ground lit by the light and the sky --
-//    projected on the real spherical harmonics l <= 2 that are even in y (the field is symmetric
-//    about the light's vertical plane). Local frame: x horizontal towards the light, z up.
+// Directional multiple-scattering LUT passes. Twins of cpu::groundIrradianceTexel() and
+// cpu::shTexel(). Needs atmosphere.glsl (ATM_USE_TRANSMITTANCE, ATM_USE_MULTISCATTERING).
+//  - SH_GROUND_PASS (fragment, a row of u_size.x texels over mu_s): the sky's irradiance on the
+//    horizontal ground per lux, gathered over the upper hemisphere.
+//  - otherwise (compute, one invocation per texel, 15 image layers): at each (h, mu_s) the
+//    incident radiance field per lux -- single scattering with the Rayleigh and Mie phase
+//    functions, Hillaire's isotropic higher orders (Psi_ms) along each gathered ray, and the
+//    ground lit by the light and the sky -- projected on the real spherical harmonics l <= 4 that
+//    are even in y (the field is symmetric about the light's vertical plane). Local frame: x
+//    horizontal towards the light, z up. SH_IMAGE_FORMAT: rgba32f or rgba16f.
 uniform int u_directions;
 uniform int u_steps;
 uniform ivec2 u_size;  // texels: mu_s, height
@@ -68,29 +69,22 @@ void main() {
     o_ground = vec4(E * (2.0 * ATM_PI / float(u_directions)), 1.0);
 }
 #else
-layout(location = 0) out vec4 o_c0;
-layout(location = 1) out vec4 o_c1;
-layout(location = 2) out vec4 o_c2;
-layout(location = 3) out vec4 o_c3;
-layout(location = 4) out vec4 o_c4;
-layout(location = 5) out vec4 o_c5;
-
+layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+layout(SH_IMAGE_FORMAT, binding = 0) uniform writeonly image2DArray u_sh;
 void main() {
-    vec2 hm = multiScatteringHMuS(gl_FragCoord.xy / vec2(u_size), vec2(u_size));
+    ivec2 ij = ivec2(gl_GlobalInvocationID.xy);
+    if (ij.x >= u_size.x || ij.y >= u_size.y) return;
+    vec2 hm = multiScatteringHMuS((vec2(ij) + 0.5) / vec2(u_size), vec2(u_size));
     float h = hm.x, muS = hm.y;
-    vec3 c[6] = vec3[6](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+    vec3 c[ATM_SH_COEFFICIENTS];
+    for (int k = 0; k < ATM_SH_COEFFICIENTS; ++k) c[k] = vec3(0.0);
     for (int i = 0; i < u_directions; ++i) {
         vec3 v = atm_fibonacciDirection(i, u_directions);
         vec3 L = atm_incidentRadiance(h, muS, v);
-        float Y[6] = atm_shBasis(v.x, v.z);
-        for (int k = 0; k < 6; ++k) c[k] += L * Y[k];
+        float Y[ATM_SH_COEFFICIENTS] = atm_shBasis(v.x, v.z);
+        for (int k = 0; k < ATM_SH_COEFFICIENTS; ++k) c[k] += L * Y[k];
     }
     float w = 4.0 * ATM_PI / float(u_directions);
-    o_c0 = vec4(c[0] * w, 1.0);
-    o_c1 = vec4(c[1] * w, 1.0);
-    o_c2 = vec4(c[2] * w, 1.0);
-    o_c3 = vec4(c[3] * w, 1.0);
-    o_c4 = vec4(c[4] * w, 1.0);
-    o_c5 = vec4(c[5] * w, 1.0);
+    for (int k = 0; k < ATM_SH_COEFFICIENTS; ++k) imageStore(u_sh, ivec3(ij, k), vec4(c[k] * w, 1.0));
 }
 #endif
