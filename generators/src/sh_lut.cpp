@@ -1,4 +1,5 @@
-// Directional multiple-scattering LUT generator (GPU pass sh_lut.glsl; CPU twin cpu::shTexel).
+// Directional multiple-scattering LUT generator (GPU passes sh_lut.glsl; CPU twins
+// cpu::groundIrradianceTexel and cpu::shTexel).
 #include <welkin/embedded/generator_shaders.hpp>
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/gl/shader.hpp>
@@ -14,8 +15,10 @@ ShLut::ShLut() : SkyGenerator("sky.ms_directional") {
 
 void ShLut::releaseGl() {
     tex_ = {};
-    fbo_ = {};
     prog_ = {};
+    ground_ = {};
+    groundFbo_ = {};
+    groundProg_ = {};
     releaseCommon();
 }
 
@@ -24,33 +27,59 @@ void ShLut::doRun(SkyVars& vars, const Logger&) {
     const GLenum fmt = q_.halfFloat ? GL_RGBA16F : GL_RGBA32F;
     const int w = q_.multiScatteringMuS, n = q_.multiScatteringSize;
     if (!tex_ || tex_.width() != w || tex_.height() != n || tex_.internalFormat() != fmt) {
-        tex_ = gl::Texture2DArray(w, n, 6, fmt);
+        // Layers 0-14: SH coefficients (cpu::kShCoefficients); layer 15, row 0: the ground's sky
+        // irradiance (copied from ground_ below; the other rows stay 0, never sampled with weight).
+        tex_ = gl::Texture2DArray(w, n, cpu::kShCoefficients + 1, fmt);
         tex_.setFilter(GL_LINEAR);
         tex_.setWrap(GL_CLAMP_TO_EDGE);
-        fbo_ = gl::Framebuffer::create();
-        for (int k = 0; k < 6; ++k) fbo_.attach(GL_COLOR_ATTACHMENT0 + k, tex_, 0, k);
-        fbo_.checkComplete("ShLut");
+        const float zero[4] = {0, 0, 0, 0};
+        glClearTexImage(tex_.id(), 0, GL_RGBA, GL_FLOAT, zero);
+        ground_ = gl::Texture2D(w, 1, fmt);
+        ground_.setFilter(GL_LINEAR);
+        ground_.setWrap(GL_CLAMP_TO_EDGE);
+        groundFbo_ = gl::Framebuffer::create();
+        groundFbo_.attach(GL_COLOR_ATTACHMENT0, ground_);
+        groundFbo_.checkComplete("ShLut ground");
+        prog_ = {};  // the image format is compiled in
     }
     if (!prog_)
         prog_ = gl::ProgramBuilder("ShLut")
                     .define("ATM_USE_TRANSMITTANCE")
                     .define("ATM_USE_MULTISCATTERING")
-                    .fullscreenVertex()
-                    .fragment("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
-                    .fragment("generators/sh_lut.glsl", embedded::generator_shaders("sh_lut.glsl"))
+                    .define("SH_IMAGE_FORMAT", q_.halfFloat ? "rgba16f" : "rgba32f")
+                    .compute("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
+                    .compute("generators/sh_lut.glsl", embedded::generator_shaders("sh_lut.glsl"))
                     .build();
-    fbo_.bind();
-    const GLenum bufs[6] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
-                            GL_COLOR_ATTACHMENT3, GL_COLOR_ATTACHMENT4, GL_COLOR_ATTACHMENT5};
-    glNamedFramebufferDrawBuffers(fbo_.id(), 6, bufs);
-    glViewport(0, 0, w, n);
+    if (!groundProg_)
+        groundProg_ = gl::ProgramBuilder("ShLut ground")
+                          .define("ATM_USE_TRANSMITTANCE")
+                          .define("ATM_USE_MULTISCATTERING")
+                          .define("SH_GROUND_PASS")
+                          .fullscreenVertex()
+                          .fragment("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
+                          .fragment("generators/sh_lut.glsl", embedded::generator_shaders("sh_lut.glsl"))
+                          .build();
     glBindTextureUnit(4, vars.get(skykeys::transmittanceLut).id);
     glBindTextureUnit(5, vars.get(skykeys::multiScatteringLut).id);
+    // 1. The sky's irradiance on the ground over mu_s (what lights the ground besides the light).
+    groundFbo_.bind();
+    glViewport(0, 0, w, 1);
+    groundProg_.use();
+    groundProg_.set("u_directions", q_.shDirections);
+    groundProg_.set("u_steps", q_.multiScatteringSteps);
+    groundProg_.set("u_size", glm::ivec2(w, n));
+    fullscreen();
+    // 2. The SH layers, with the ground lit by the light and the sky.
+    glBindTextureUnit(9, ground_.id());
+    glBindImageTexture(0, tex_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, fmt);
     prog_.use();
     prog_.set("u_directions", q_.shDirections);
     prog_.set("u_steps", q_.multiScatteringSteps);
     prog_.set("u_size", glm::ivec2(w, n));
-    fullscreen();
+    glDispatchCompute((w + 7) / 8, (n + 7) / 8, 1);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    glCopyImageSubData(ground_.id(), GL_TEXTURE_2D, 0, 0, 0, 0, tex_.id(), GL_TEXTURE_2D_ARRAY, 0, 0, 0, cpu::kShCoefficients, w,
+                       1, 1);
     vars.set(skykeys::shLut, tex_.ref());
     vars.set(skykeys::shRev, ++rev_);
 }

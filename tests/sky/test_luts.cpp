@@ -92,14 +92,15 @@ TEST_CASE("Sky LUTs: GPU passes match their CPU double twins", "[gl][sky]") {
     INFO("worst multiple-scattering relative error " << worstMS);
     CHECK(worstMS < 2e-3);
 
-    // Directional multiple scattering (SH l <= 2, 6 layers): each coefficient against the twin,
+    // Directional multiple scattering (SH l <= 4, 15 layers): each coefficient against the twin,
     // relative to the layer's largest magnitude: 5e-3 (the l = 2 layers are sums of terms of both
     // signs that cancel to ~1/10 of their parts, so float rounding is amplified ~10x).
     {
-        std::vector<float> px(size_t(q.multiScatteringMuS) * q.multiScatteringSize * 6 * 4);
+        const int layers = cpu::kShCoefficients + 1;  // + the ground-irradiance layer
+        std::vector<float> px(size_t(q.multiScatteringMuS) * q.multiScatteringSize * layers * 4);
         glGetTextureImage(rig.luts.sh->texture().id(), 0, GL_RGBA, GL_FLOAT, GLsizei(px.size() * sizeof(float)), px.data());
         const size_t layer = size_t(q.multiScatteringMuS) * q.multiScatteringSize;
-        for (int k = 0; k < 6; ++k) {
+        for (int k = 0; k < cpu::kShCoefficients; ++k) {
             double big = 0, worst = 0;
             for (auto& t : MScpu.sh[k].texels) big = std::max(big, std::abs(t.g));
             for (size_t i = 0; i < layer; ++i) {
@@ -110,6 +111,18 @@ TEST_CASE("Sky LUTs: GPU passes match their CPU double twins", "[gl][sky]") {
             CHECK(big > 0.0);
             CHECK(worst < 5e-3);
         }
+        // Last layer, row 0: the sky's irradiance on the ground over mu_s, relative per texel where
+        // it exceeds 1e-4 of its largest (deep below the horizon it falls by decades): 2e-3.
+        double big = 0, worst = 0;
+        for (auto& t : MScpu.ground.texels) big = std::max(big, t.g);
+        for (int i = 0; i < q.multiScatteringMuS; ++i) {
+            const size_t at = (size_t(cpu::kShCoefficients) * layer + i) * 4;
+            glm::dvec3 g(px[at], px[at + 1], px[at + 2]);
+            if (MScpu.ground.texels[i].g > 1e-4 * big) worst = std::max(worst, relErr(g, MScpu.ground.texels[i], 1e-9));
+        }
+        INFO("ground irradiance layer: worst relative error " << worst << "; largest " << big);
+        CHECK(big > 0.0);
+        CHECK(worst < 2e-3);
     }
 
     // Sky view (Sun at 20 deg, observer at 500 m): every texel, both textures; 3e-3 relative

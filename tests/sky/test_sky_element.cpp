@@ -151,6 +151,39 @@ TEST_CASE("Sky: rendered radiance and illuminance against the reference integrat
 }
 #endif
 
+#ifdef WELKIN_HAVE_REFERENCE
+TEST_CASE("Sky: the ground is lit by the sky as well as by the Sun", "[gl][sky]") {
+    // Looking straight down from 0 m the ray ends on the ground at once: the pixel is the
+    // ground's own radiance, albedo / pi x (direct + sky irradiance). The reference integrator
+    // adds the sky's irradiance (all orders) to the direct light. With the Sun at -2 deg there
+    // is no direct light at all, so a ground lit by the Sun alone would be black; at 30 deg the
+    // sky gives 23 % of the ground's light (reference: 13 100 of 56 100 lx).
+    SkyRig rig(1, false);
+    atmosphere::ReferenceSky ref(atmosphere::Atmosphere::earthClear(), atmosphere::ReferenceOptions::fast());
+    Camera cam;
+    cam.projection = Projection::Equirect;
+    cam.width = 32;
+    cam.height = 16;
+    for (double sunAlt : {30.0, -2.0}) {
+        Image img = rig.render(sunAlt, 0.0, cam.width, cam.height);
+        glm::dvec3 sun = directionFromAzAlt(3.0, sunAlt * kDeg);
+        for (int x : {0, 8, 16, 24}) {
+            auto d = cam.directionAt({x + 0.5, 15.5});  // 84 deg below the horizon
+            REQUIRE(d);
+            double g = Y(glm::dvec3(img.at(x, 15, 0), img.at(x, 15, 1), img.at(x, 15, 2)));
+            double r = Y(ref.radiance(0.0, *d, sun));
+            INFO("Sun " << sunAlt << " deg, ground pixel " << x << ": " << g << " cd/m^2, reference " << r);
+            CHECK(g > 0.0);
+            // Measured (medium): +1.3 % at 30 deg, -0.5 % at -2 deg (the sky irradiance is
+            // gathered from single scattering plus Hillaire's isotropic higher orders: -3..+8 %
+            // against the default reference between 60 and -4 deg; ReferenceOptions::fast() adds
+            // its own ~1-2 %). 6 % fails a ground lit by the Sun only (-23 %, and 0 at -2 deg).
+            CHECK(g == Approx(r).epsilon(0.06));
+        }
+    }
+}
+#endif
+
 TEST_CASE("Sky: the Moon lights a faint blue night sky that follows its phase", "[gl][sky]") {
     // Allen's law: full Moon m = -12.73 -> 0.31 lx; quarter (90 deg) 2.6 mag fainter.
     CHECK(elements::moonIlluminanceLux(0.0, 384400e3) == Approx(0.313).epsilon(0.01));

@@ -80,6 +80,7 @@ struct AtmosphereBlock {
     glm::vec4 solarIlluminance;
     glm::vec4 phaseMoments;
     glm::vec4 profiles[9];
+    glm::vec4 phaseMoments2;  ///< Mie Lambda_3, Lambda_4 (cpu::PhaseMoments::high)
     static AtmosphereBlock from(const SkyModel& m);
 };
 
@@ -138,8 +139,9 @@ private:
     int rev_ = 0;
 };
 
-/// Directional multiple scattering (SkyQuality::directionalMs): SH l <= 2 of the incident
-/// radiance field at (h, mu_s), 6 layers; read on texture unit 8 by the passes after it.
+/// Directional multiple scattering (SkyQuality::directionalMs): SH l <= 4 of the incident
+/// radiance field at (h, mu_s) in layers 0-14, and in layer 15 (row 0) the sky's irradiance on
+/// the ground over mu_s (cpu::MsField::ground); read on texture unit 8 by the passes after it.
 class ShLut final : public SkyGenerator {
 public:
     ShLut();
@@ -149,8 +151,10 @@ public:
 private:
     void doRun(SkyVars& vars, const Logger& log) override;
     gl::Texture2DArray tex_;
-    gl::Framebuffer fbo_;
     gl::Program prog_;
+    gl::Texture2D ground_;  ///< the sky's irradiance on the ground over mu_s (w x 1)
+    gl::Framebuffer groundFbo_;
+    gl::Program groundProg_;
     int rev_ = 0;
 };
 
