@@ -50,6 +50,7 @@ struct SkyBenchOptions {
     std::string projection = "fisheye";  // of the 1280x720 frame
     std::string wavelengths = "3";       // comma list: 3 = RGB, 6..24 = spectral
     std::string reference = "rgb";       // reference integrator mode: rgb | spectral
+    bool breakdown = false;  // print each generator's share of a full LUT rebuild
 };
 
 double Y(const glm::dvec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
@@ -220,6 +221,16 @@ int run(const SkyBenchOptions& o) {
                 vars.set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(atm));
                 r.draw(sky, small, true);
                 allLuts = r.generatorsMs();
+                if (o.breakdown) {
+                    // The same rebuild again, each generator bracketed by glFinish.
+                    vars.set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(atm));
+                    std::printf("preset %d, all LUTs rebuilt, per generator:", preset);
+                    for (auto& g : sky.generators()) {
+                        g->runIfDue(vars, log, true);
+                        std::printf(" %s %.1f ms;", g->name().c_str(), g->timing().lastMs);
+                    }
+                    std::printf("\n");
+                }
             }
             row.allLutsMs = allLuts;
             // Sun-dependent LUTs only (sky view, aerial perspective, irradiance).
@@ -309,6 +320,7 @@ static BenchRegistrar reg("sky", "real-time sky: LUT build and frame cost per qu
                                              "comma list of sky wavelength counts: 3 = RGB, 6..24 (multiple of 3) = spectral");
                               sub.add_option("--reference", o.reference,
                                              "reference integrator mode: rgb (same channels as RGB mode) | spectral (the atmosphere's 47 wavelengths, CIE 1931)");
+                              sub.add_flag("--breakdown", o.breakdown, "print each generator's time in a full LUT rebuild (glFinish around each)");
                               sub.add_option("--projection", o.projection, "projection of the 1280x720 frame (perspective: az 0, alt 20 deg, fov 60 deg)");
                               return [] { return run(o); };
                           });

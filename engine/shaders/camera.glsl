@@ -9,6 +9,17 @@ layout(std140, binding = 0) uniform WelkinCamera {
 
 const float WELKIN_PI = 3.14159265358979;
 
+// The camera's projection. A program built with WELKIN_PROJECTION defined (0..3, see
+// welkin::gl::ProjectionPrograms) compiles only that projection's code: llvmpipe, like most GPU
+// compilers for divergent code, otherwise evaluates every branch of the projection switch.
+int welkin_projectionType() {
+#ifdef WELKIN_PROJECTION
+    return WELKIN_PROJECTION;
+#else
+    return int(welkin_projection.x + 0.5);
+#endif
+}
+
 // Pixel position with the origin at the top-left corner, y downwards (image convention).
 vec2 welkin_pixel() { return vec2(gl_FragCoord.x, welkin_viewport.y - gl_FragCoord.y); }
 
@@ -20,7 +31,7 @@ vec3 welkin_directionFromAzAlt(float az, float alt) {
 // Unit world direction through `pixel`; returns false outside a fisheye's image circle.
 bool welkin_viewDirection(vec2 pixel, out vec3 dir) {
     vec2 size = welkin_viewport.xy;
-    int type = int(welkin_projection.x + 0.5);
+    int type = welkin_projectionType();
     dir = vec3(0.0, 0.0, 1.0);
     if (type == 0) {
         float tanY = welkin_projection.y, tanX = tanY * welkin_projection.z;
@@ -65,7 +76,7 @@ bool welkin_viewDirection(vec2 pixel, out vec3 dir) {
 
 // Angular size of one pixel at the image centre, radians (for antialiasing widths).
 float welkin_pixelAngle() {
-    int type = int(welkin_projection.x + 0.5);
+    int type = welkin_projectionType();
     vec2 size = welkin_viewport.xy;
     if (type == 0) return 2.0 * welkin_projection.y / size.y;
     if (type == 1) return WELKIN_PI / min(size.x, size.y);

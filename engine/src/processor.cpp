@@ -274,9 +274,13 @@ void SkyProcessor::composite(unsigned framebuffer, bool depthTest) {
         glDisable(GL_CULL_FACE);
     };
     FrameContext ctx = frameContext();
+    // Over the processor's own HDR target (cleared to black) the first element has nothing
+    // behind it; over a host's framebuffer there may be anything.
+    ctx.nothingBehind = framebuffer == hdrFbo_.id();
     for (auto& e : elements_) {
         apply();
         e->render(ctx);
+        ctx.nothingBehind = false;
     }
     glDisable(GL_BLEND);
     glDisable(GL_DEPTH_TEST);

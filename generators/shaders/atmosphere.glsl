@@ -16,6 +16,7 @@ layout(std140, binding = 1) uniform WelkinAtmosphere {
     vec4 atm_solarIlluminance;   // rgb (lux), Sun's angular radius (rad)
     vec4 atm_phaseMoments;       // Legendre moments: Mie l1, Mie l2, Rayleigh l2; delta-M fraction f
     vec4 atm_profiles[9];        // 3 profiles x (w0 e0 s0 l0)(c0 e1 s1 l1)(c1 0 0 0)
+    vec4 atm_phaseMoments2;      // Legendre moments: Mie l3, Mie l4, unused, unused
 };
 
 const float ATM_PI = 3.14159265358979;
@@ -111,34 +112,47 @@ float atm_horizonZenith(float h) {
     float r = atm_bottom() + h;
     return acos(clamp(-sqrt(max(atm_rho2(max(h, 0.0)), 0.0)) / r, -1.0, 1.0));
 }
-// Sky-view latitude: rows [H/2, H) from the horizon (exactly on the first row's centre) up to
-// the zenith, rows [0, H/2) from the horizon down to the nadir; square-root law on each side.
-vec2 skyViewUvH(float thetaH, float mu, float azimuth, vec2 size) {
-    float theta = acos(clamp(mu, -1.0, 1.0));
-    float half_ = floor(size.y / 2.0);
-    float v;
-    if (theta <= thetaH) {
-        float x = sqrt(clamp((thetaH - theta) / thetaH, 0.0, 1.0));
-        v = 0.5 + (x * (half_ - 1.0) + 0.5) / size.y;
-    } else {
-        float x = sqrt(clamp((theta - thetaH) / (ATM_PI - thetaH), 0.0, 1.0));
-        v = 0.5 - (x * (half_ - 1.0) + 0.5) / size.y;
-    }
-    return vec2(texCoordFromUnit(clamp(azimuth / ATM_PI, 0.0, 1.0), size.x), v);
+// sin(theta_H / 2) of the observer's horizon (a per-frame constant for pixel shaders).
+float atm_horizonS(float h) {
+    float r = atm_bottom() + h;
+    float muH = -sqrt(max(atm_rho2(max(h, 0.0)), 0.0)) / r;
+    return sqrt(clamp(0.5 - 0.5 * muH, 0.0, 1.0));
 }
-vec2 skyViewUv(float h, float mu, float azimuth, vec2 size) { return skyViewUvH(atm_horizonZenith(h), mu, azimuth, size); }
-vec2 skyViewMuAz(float h, vec2 uv, vec2 size) {
-    float thetaH = atm_horizonZenith(h);
+// Sky-view LUT coordinates (twin of cpu::skyViewUvCos): latitude rows [H/2, H) from the horizon
+// (exactly on the first row's centre) up to the zenith, rows [0, H/2) from the horizon down to
+// the nadir, square-root law in s = sin(theta / 2) on each side; azimuth u = sin(az / 2) =
+// sqrt((1 - cos az) / 2). sH = atm_horizonS(h). Square roots only: no acos, no atan per pixel.
+vec2 skyViewUvS(float sH, float mu, float cosAz, vec2 size) {
+    float s = sqrt(clamp(0.5 - 0.5 * mu, 0.0, 1.0));
     float half_ = floor(size.y / 2.0);
-    float theta;
+    bool sky = s <= sH;
+    float x = sqrt(clamp(sky ? (sH - s) / sH : (s - sH) / (1.0 - sH), 0.0, 1.0));
+    float dv = (x * (half_ - 1.0) + 0.5) / size.y;
+    float v = sky ? 0.5 + dv : 0.5 - dv;
+    return vec2(texCoordFromUnit(sqrt(clamp(0.5 - 0.5 * cosAz, 0.0, 1.0)), size.x), v);
+}
+vec2 skyViewUvH(float thetaH, float mu, float azimuth, vec2 size) { return skyViewUvS(sin(0.5 * thetaH), mu, cos(azimuth), size); }
+vec2 skyViewUv(float h, float mu, float azimuth, vec2 size) { return skyViewUvS(atm_horizonS(h), mu, cos(azimuth), size); }
+// Inverse (texel centre -> view): returns (mu, azimuth in [0, pi]).
+vec2 skyViewMuAz(float h, vec2 uv, vec2 size) {
+    float sH = atm_horizonS(h);
+    float half_ = floor(size.y / 2.0);
+    float s;
     if (uv.y >= 0.5) {
         float x = clamp(((uv.y - 0.5) * size.y - 0.5) / (half_ - 1.0), 0.0, 1.0);
-        theta = thetaH - x * x * thetaH;
+        s = sH - x * x * sH;
     } else {
         float x = clamp(((0.5 - uv.y) * size.y - 0.5) / (half_ - 1.0), 0.0, 1.0);
-        theta = thetaH + x * x * (ATM_PI - thetaH);
+        s = sH + x * x * (1.0 - sH);
     }
-    return vec2(cos(theta), clamp(unitFromTexCoord(uv.x, size.x), 0.0, 1.0) * ATM_PI);
+    return vec2(clamp(1.0 - 2.0 * s * s, -1.0, 1.0), 2.0 * asin(clamp(unitFromTexCoord(uv.x, size.x), 0.0, 1.0)));
+}
+// Keeps v inside the half (sky or ground) it started in: the halves are never blended.
+vec2 skyViewClampHalf(vec2 uv, vec2 size) {
+    float half_ = floor(size.y / 2.0);
+    uv.y = uv.y >= 0.5 ? clamp(uv.y, (half_ + 0.5) / size.y, 1.0 - 0.5 / size.y)
+                       : clamp(uv.y, 0.5 / size.y, (half_ - 0.5) / size.y);
+    return uv;
 }
 
 float rayleighPhase(float nu) { return 3.0 / (16.0 * ATM_PI) * (1.0 + nu * nu); }
@@ -192,14 +206,36 @@ vec3 transmittanceToLight(float h, float muS, float angularRadius) {
 layout(binding = 5) uniform sampler2D u_atmMultiScattering;
 #define ATM_MULTISCATTERING_LUT u_atmMultiScattering
 #ifdef ATM_MS_DIRECTIONAL
-// The SH l <= 2 projection of the incident radiance field (6 layers) on texture unit 8.
+// The SH l <= 4 projection of the incident radiance field (layers 0-14) on texture unit 8; layer
+// 15, row 0, holds the sky's irradiance on the ground over mu_s.
 layout(binding = 8) uniform sampler2DArray u_atmShLut;
 #endif
+const int ATM_SH_COEFFICIENTS = 15;
+const float ATM_SH_GROUND_LAYER = 15.0;
 
-float[6] atm_shBasis(float x, float z) {
-    float y2 = max(0.0, 1.0 - x * x - z * z);
-    return float[6](0.282095, 0.488603 * z, 0.488603 * x, 0.315392 * (3.0 * z * z - 1.0), 1.092548 * x * z,
-                    0.546274 * (x * x - y2));
+// The 15 real SH (l <= 4, even in y) at a unit vector (x, y, z) given x and z; twin of
+// cpu::shBasis().
+float[ATM_SH_COEFFICIENTS] atm_shBasis(float x, float z) {
+    float y2 = max(0.0, 1.0 - x * x - z * z), z2 = z * z;
+    float c2 = x * x - y2, c3 = x * (x * x - 3.0 * y2), c4 = x * x * x * x - 6.0 * x * x * y2 + y2 * y2;
+    return float[ATM_SH_COEFFICIENTS](0.282095,
+                                      0.488603 * z, 0.488603 * x,
+                                      0.315392 * (3.0 * z2 - 1.0), 1.092548 * x * z, 0.546274 * c2,
+                                      0.373176 * z * (5.0 * z2 - 3.0), 0.457046 * x * (5.0 * z2 - 1.0), 1.445306 * z * c2,
+                                      0.590044 * c3,
+                                      0.105786 * (35.0 * z2 * z2 - 30.0 * z2 + 3.0), 0.669047 * x * z * (7.0 * z2 - 3.0),
+                                      0.473087 * c2 * (7.0 * z2 - 1.0), 1.770131 * z * c3, 0.625836 * c4);
+}
+
+// Irradiance of the horizontal ground per lux of the light at muS (direct light, plus the sky's
+// with ATM_MS_DIRECTIONAL); twin of cpu::groundIrradiance().
+vec3 atm_groundIrradiance(float muS, float lightAngularRadius) {
+    vec3 e = transmittanceToLight(0.0, muS, lightAngularRadius) * max(muS, 0.0);
+#ifdef ATM_MS_DIRECTIONAL
+    vec2 size = vec2(textureSize(u_atmShLut, 0).xy);
+    e += texture(u_atmShLut, vec3(multiScatteringUv(0.0, muS, vec2(size.x, 2.0)).x, 0.5 / size.y, ATM_SH_GROUND_LAYER)).rgb;
+#endif
+    return e;
 }
 
 // In-scattered radiance per lux of scattering orders >= 2 at a point; twin of cpu::msInscatter().
@@ -208,16 +244,19 @@ vec3 msInscatter(float h, float mu, float muS, float nu, vec3 sR, vec3 sM) {
 #ifdef ATM_MS_DIRECTIONAL
     float sinS = sqrt(max(1.0 - muS * muS, 0.0));
     float x = sinS > 1e-6 ? clamp((nu - mu * muS) / sinS, -1.0, 1.0) : 0.0;
-    float Y[6] = atm_shBasis(x, mu);
-    vec4 mo = atm_phaseMoments;
-    float lR[6] = float[6](1.0, 0.0, 0.0, mo.z, mo.z, mo.z);
-    float fw = mo.w;  // delta-M: the forward fraction stays in the beam
-    float lM[6] = float[6](1.0 - fw, mo.x - fw, mo.x - fw, mo.y - fw, mo.y - fw, mo.y - fw);
+    float Y[ATM_SH_COEFFICIENTS] = atm_shBasis(x, mu);
+    // Funk-Hecke: band l scaled by the phase function's Legendre moment; delta-M: the forward
+    // fraction fw stays in the beam.
+    vec4 mo = atm_phaseMoments, mo2 = atm_phaseMoments2;
+    float fw = mo.w;
+    float bR[5] = float[5](1.0, 0.0, mo.z, 0.0, 0.0);
+    float bM[5] = float[5](1.0 - fw, mo.x - fw, mo.y - fw, mo2.x - fw, mo2.y - fw);
+    const int band[ATM_SH_COEFFICIENTS] = int[ATM_SH_COEFFICIENTS](0, 1, 1, 2, 2, 2, 3, 3, 3, 3, 4, 4, 4, 4, 4);
     vec3 aR = vec3(0.0), aM = vec3(0.0);
-    for (int k = 0; k < 6; ++k) {
+    for (int k = 0; k < ATM_SH_COEFFICIENTS; ++k) {
         vec3 c = texture(u_atmShLut, vec3(uv, float(k))).rgb;
-        aR += c * (lR[k] * Y[k]);
-        aM += c * (lM[k] * Y[k]);
+        aR += c * (bR[band[k]] * Y[k]);
+        aM += c * (bM[band[k]] * Y[k]);
     }
     return sR * max(aR, vec3(0.0)) + sM * max(aM, vec3(0.0));
 #else
@@ -279,9 +318,9 @@ Scattering integrateScattering(float h, float mu, float muS, float nu, float max
         thrD *= exp(-q.sigmaD * dt);
     }
     if (o.hitGround) {
+        // The ground: Lambertian, lit by the light and by the sky.
         float muSg = clamp((r * muS + d * nu) / atm_bottom(), -1.0, 1.0);
-        vec3 Tg = transmittanceToLight(0.0, muSg, lightAngularRadius);
-        o.smooth_ += thrD * Tg * max(muSg, 0.0) * atm_groundAlbedo.rgb / ATM_PI;
+        o.smooth_ += thrD * atm_groundIrradiance(muSg, lightAngularRadius) * atm_groundAlbedo.rgb / ATM_PI;
     }
     o.transmittance = thr;
     return o;
@@ -293,10 +332,7 @@ Scattering integrateScattering(float h, float mu, float muS, float nu, float max
 // is no band at the horizon. Twin of cpu::skyViewSample().
 vec3 skyViewSampleH(sampler2D smoothLut, sampler2D mieLut, float thetaH, float mu, float az, float nu, float invScale) {
     vec2 size = vec2(textureSize(smoothLut, 0));
-    vec2 uv = skyViewUvH(thetaH, mu, az, size);
-    float half_ = floor(size.y / 2.0);
-    if (uv.y >= 0.5) uv.y = clamp(uv.y, (half_ + 0.5) / size.y, 1.0 - 0.5 / size.y);
-    else uv.y = clamp(uv.y, 0.5 / size.y, (half_ - 0.5) / size.y);
+    vec2 uv = skyViewClampHalf(skyViewUvH(thetaH, mu, az, size), size);
     return (texture(smoothLut, uv).rgb + texture(mieLut, uv).rgb * miePhase(nu)) * invScale;
 }
 vec3 skyViewSample(sampler2D smoothLut, sampler2D mieLut, float h, float mu, float az, float nu, float invScale) {

@@ -1,62 +1,90 @@
-// Directional multiple-scattering LUT pass (fragment, 6 outputs = 6 layers): at each (h, mu_s)
-// the incident radiance field per lux -- single scattering with the Rayleigh and Mie phase
-// functions, Hillaire's isotropic higher orders (Psi_ms) along each gathered ray, and the lit
-// ground -- projected on the real spherical harmonics l <= 2 that are even in y (the field is
-// symmetric about the light's vertical plane). Local frame: x horizontal towards the light, z up.
-// Twin of cpu::shTexel(). Needs atmosphere.glsl (ATM_USE_TRANSMITTANCE, ATM_USE_MULTISCATTERING).
+// Directional multiple-scattering LUT passes. Twins of cpu::groundIrradianceTexel() and
+// cpu::shTexel(). Needs atmosphere.glsl (ATM_USE_TRANSMITTANCE, ATM_USE_MULTISCATTERING).
+//  - SH_GROUND_PASS (fragment, a row of u_size.x texels over mu_s): the sky's irradiance on the
+//    horizontal ground per lux, gathered over the upper hemisphere.
+//  - otherwise (compute, one invocation per texel, 15 image layers): at each (h, mu_s) the
+//    incident radiance field per lux -- single scattering with the Rayleigh and Mie phase
+//    functions, Hillaire's isotropic higher orders (Psi_ms) along each gathered ray, and the
+//    ground lit by the light and the sky -- projected on the real spherical harmonics l <= 4 that
+//    are even in y (the field is symmetric about the light's vertical plane). Local frame: x
+//    horizontal towards the light, z up. SH_IMAGE_FORMAT: rgba32f or rgba16f.
 uniform int u_directions;
 uniform int u_steps;
 uniform ivec2 u_size;  // texels: mu_s, height
-layout(location = 0) out vec4 o_c0;
-layout(location = 1) out vec4 o_c1;
-layout(location = 2) out vec4 o_c2;
-layout(location = 3) out vec4 o_c3;
-layout(location = 4) out vec4 o_c4;
-layout(location = 5) out vec4 o_c5;
 
-void main() {
-    vec2 hm = multiScatteringHMuS(gl_FragCoord.xy / vec2(u_size), vec2(u_size));
-    float h = hm.x, muS = hm.y;
-    vec3 sun = vec3(sqrt(max(1.0 - muS * muS, 0.0)), 0.0, muS);
+#ifndef SH_GROUND_PASS
+// The ground-irradiance row made by the SH_GROUND_PASS (texture unit 9).
+layout(binding = 9) uniform sampler2D u_groundLut;
+#endif
+
+// Radiance per lux arriving at (h, muS) from direction v; twin of incidentRadiance() in
+// sky_model.cpp.
+vec3 atm_incidentRadiance(float h, float muS, vec3 v) {
     float angular = atm_solarIlluminance.w;
     float r = atm_bottom() + h;
-    vec2 msSize = vec2(u_size);
-    vec3 c[6] = vec3[6](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+    vec2 msSize = vec2(textureSize(ATM_MULTISCATTERING_LUT, 0));
+    float mu = v.z, nu = v.x * sqrt(max(1.0 - muS * muS, 0.0)) + v.z * muS;
+    float pR = rayleighPhase(nu), pM = miePhase(nu);
+    bool ground = rayIntersectsGround(h, mu);
+    float d = ground ? distanceToBottom(h, mu) : distanceToTop(h, mu);
+    float p = atm_perigeeFraction(h, mu, d);
+    vec3 thr = vec3(1.0), L = vec3(0.0);
+    for (int k = 0; k < u_steps; ++k) {
+        float s0 = float(k) / float(u_steps), s1 = float(k + 1) / float(u_steps), sm = (float(k) + 0.5) / float(u_steps);
+        float dt = d * (atm_warp(s1, p) - atm_warp(s0, p)), t = d * atm_warp(sm, p);
+        float hp = heightAt(h, mu, t);
+        float rp = atm_bottom() + hp;
+        float muSp = clamp((r * muS + t * nu) / rp, -1.0, 1.0);
+        vec3 sR = atm_scatteringRayleigh(hp), sM = atm_scatteringMie(hp);
+        vec3 sigmaT = atm_extinction(hp) - atm_phaseMoments.w * sM;  // delta-M (see sky_model.cpp)
+        vec3 seg = atm_segmentFactor(sigmaT, dt);
+        vec3 Tl = transmittanceToLight(hp, muSp, angular);
+        vec3 ps = texture(ATM_MULTISCATTERING_LUT, multiScatteringUv(hp, muSp, msSize)).rgb;
+        L += thr * ((sR * pR + sM * pM) * Tl + (sR + sM) * ps) * seg;
+        thr *= exp(-sigmaT * dt);
+    }
+    if (ground) {
+        float muSg = clamp((r * muS + d * nu) / atm_bottom(), -1.0, 1.0);
+        vec3 e = transmittanceToLight(0.0, muSg, angular) * max(muSg, 0.0);
+#ifndef SH_GROUND_PASS
+        e += texture(u_groundLut, vec2(multiScatteringUv(0.0, muSg, vec2(u_size.x, 2.0)).x, 0.5)).rgb;
+#endif
+        L += thr * e * atm_groundAlbedo.rgb / ATM_PI;
+    }
+    return L;
+}
+
+#ifdef SH_GROUND_PASS
+out vec4 o_ground;
+void main() {
+    float muS = multiScatteringHMuS(vec2(gl_FragCoord.x / float(u_size.x), 0.0), vec2(u_size.x, 2.0)).y;
+    // Equal-area directions of the upper hemisphere (z uniform in (0, 1]), 2 pi / n sr each.
+    const float golden = ATM_PI * (3.0 - sqrt(5.0));
+    vec3 E = vec3(0.0);
+    for (int i = 0; i < u_directions; ++i) {
+        float z = 1.0 - (float(i) + 0.5) / float(u_directions), rr = sqrt(max(1.0 - z * z, 0.0));
+        float phi = golden * float(i);
+        E += atm_incidentRadiance(0.0, muS, vec3(rr * cos(phi), rr * sin(phi), z)) * z;
+    }
+    o_ground = vec4(E * (2.0 * ATM_PI / float(u_directions)), 1.0);
+}
+#else
+layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+layout(SH_IMAGE_FORMAT, binding = 0) uniform writeonly image2DArray u_sh;
+void main() {
+    ivec2 ij = ivec2(gl_GlobalInvocationID.xy);
+    if (ij.x >= u_size.x || ij.y >= u_size.y) return;
+    vec2 hm = multiScatteringHMuS((vec2(ij) + 0.5) / vec2(u_size), vec2(u_size));
+    float h = hm.x, muS = hm.y;
+    vec3 c[ATM_SH_COEFFICIENTS];
+    for (int k = 0; k < ATM_SH_COEFFICIENTS; ++k) c[k] = vec3(0.0);
     for (int i = 0; i < u_directions; ++i) {
         vec3 v = atm_fibonacciDirection(i, u_directions);
-        float mu = v.z, nu = dot(v, sun);
-        float pR = rayleighPhase(nu), pM = miePhase(nu);
-        bool ground = rayIntersectsGround(h, mu);
-        float d = ground ? distanceToBottom(h, mu) : distanceToTop(h, mu);
-        float p = atm_perigeeFraction(h, mu, d);
-        vec3 thr = vec3(1.0), L = vec3(0.0);
-        for (int k = 0; k < u_steps; ++k) {
-            float s0 = float(k) / float(u_steps), s1 = float(k + 1) / float(u_steps), sm = (float(k) + 0.5) / float(u_steps);
-            float dt = d * (atm_warp(s1, p) - atm_warp(s0, p)), t = d * atm_warp(sm, p);
-            float hp = heightAt(h, mu, t);
-            float rp = atm_bottom() + hp;
-            float muSp = clamp((r * muS + t * nu) / rp, -1.0, 1.0);
-            vec3 sR = atm_scatteringRayleigh(hp), sM = atm_scatteringMie(hp);
-            vec3 sigmaT = atm_extinction(hp) - atm_phaseMoments.w * sM;  // delta-M (see sky_model.cpp)
-            vec3 seg = atm_segmentFactor(sigmaT, dt);
-            vec3 Tl = transmittanceToLight(hp, muSp, angular);
-            vec3 ps = texture(ATM_MULTISCATTERING_LUT, multiScatteringUv(hp, muSp, msSize)).rgb;
-            L += thr * ((sR * pR + sM * pM) * Tl + (sR + sM) * ps) * seg;
-            thr *= exp(-sigmaT * dt);
-        }
-        if (ground) {
-            float muSg = clamp((r * muS + d * nu) / atm_bottom(), -1.0, 1.0);
-            vec3 Tg = transmittanceToLight(0.0, muSg, angular);
-            L += thr * Tg * max(muSg, 0.0) * atm_groundAlbedo.rgb / ATM_PI;
-        }
-        float Y[6] = atm_shBasis(v.x, v.z);
-        for (int k = 0; k < 6; ++k) c[k] += L * Y[k];
+        vec3 L = atm_incidentRadiance(h, muS, v);
+        float Y[ATM_SH_COEFFICIENTS] = atm_shBasis(v.x, v.z);
+        for (int k = 0; k < ATM_SH_COEFFICIENTS; ++k) c[k] += L * Y[k];
     }
     float w = 4.0 * ATM_PI / float(u_directions);
-    o_c0 = vec4(c[0] * w, 1.0);
-    o_c1 = vec4(c[1] * w, 1.0);
-    o_c2 = vec4(c[2] * w, 1.0);
-    o_c3 = vec4(c[3] * w, 1.0);
-    o_c4 = vec4(c[4] * w, 1.0);
-    o_c5 = vec4(c[5] * w, 1.0);
+    for (int k = 0; k < ATM_SH_COEFFICIENTS; ++k) imageStore(u_sh, ivec3(ij, k), vec4(c[k] * w, 1.0));
 }
+#endif

@@ -106,7 +106,7 @@ AerialTexel aerialTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, 
     double dEnd = ground ? distanceToBottom(m, h, mu) : distanceToTop(m, h, mu);
     double r = m.bottomRadius + h;
     double phaseR = rayleighPhase(nu), phaseM = miePhase(nu, m.mieG, m.miePhase);
-    const glm::dvec4 moments = phaseMoments(m);
+    const PhaseMoments moments = phaseMoments(m);
     glm::dvec3 L(0.0), thr(1.0), thrD(1.0);
     double t0 = 0.0;
     for (int kk = 0; kk <= k; ++kk) {
@@ -119,7 +119,7 @@ AerialTexel aerialTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, 
             double rp = m.bottomRadius + hp;
             double muSp = std::clamp((r * muS + t * nu) / rp, -1.0, 1.0);
             glm::dvec3 sR = m.scatteringRayleigh(hp), sM = m.scatteringMie(hp), sigmaT = m.extinction(hp);
-            glm::dvec3 sigmaD = sigmaT - moments.w * sM;
+            glm::dvec3 sigmaD = sigmaT - moments.low.w * sM;
             glm::dvec3 seg;
             for (int c = 0; c < 3; ++c) seg[c] = sigmaD[c] * dt > 1e-7 ? (1.0 - std::exp(-sigmaD[c] * dt)) / sigmaD[c] : dt;
             glm::dvec3 Tl = transmittanceToLight(m, T, hp, muSp, m.sunAngularRadius);

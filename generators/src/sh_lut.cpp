@@ -1,4 +1,6 @@
-// Directional multiple-scattering LUT generator (GPU pass sh_lut.glsl; CPU twin cpu::shTexel).
+// Directional multiple-scattering LUT generator (GPU passes sh_lut.glsl; CPU twins
+// cpu::groundIrradianceTexel and cpu::shTexel). In spectral mode, one layered texture per
+// wavelength triple.
 #include <welkin/embedded/generator_shaders.hpp>
 #include <welkin/error.hpp>
 #include <welkin/generators/sky_luts.hpp>
@@ -17,8 +19,10 @@ ShLut::ShLut() : SkyGenerator("sky.ms_directional") {
 void ShLut::releaseGl() {
     tex_ = {};
     more_.clear();
-    fbo_ = {};
     prog_ = {};
+    ground_ = {};
+    groundFbo_ = {};
+    groundProg_ = {};
     releaseCommon();
 }
 
@@ -26,51 +30,77 @@ void ShLut::doRun(SkyVars& vars, const Logger&) {
     prepare(vars);
     const GLenum fmt = q_.halfFloat ? GL_RGBA16F : GL_RGBA32F;
     const int w = q_.multiScatteringMuS, n = q_.multiScatteringSize;
+    // Layers 0-14: SH coefficients (cpu::kShCoefficients); layer 15, row 0: the ground's sky
+    // irradiance (copied from ground_ below; the other rows stay 0, never sampled with weight).
+    auto makeLayered = [&] {
+        gl::Texture2DArray t(w, n, cpu::kShCoefficients + 1, fmt);
+        t.setFilter(GL_LINEAR);
+        t.setWrap(GL_CLAMP_TO_EDGE);
+        const float zero[4] = {0, 0, 0, 0};
+        glClearTexImage(t.id(), 0, GL_RGBA, GL_FLOAT, zero);
+        return t;
+    };
     if (!tex_ || tex_.width() != w || tex_.height() != n || tex_.internalFormat() != fmt) {
-        tex_ = gl::Texture2DArray(w, n, 6, fmt);
-        tex_.setFilter(GL_LINEAR);
-        tex_.setWrap(GL_CLAMP_TO_EDGE);
-        fbo_ = gl::Framebuffer::create();
-        for (int k = 0; k < 6; ++k) fbo_.attach(GL_COLOR_ATTACHMENT0 + k, tex_, 0, k);
-        fbo_.checkComplete("ShLut");
+        tex_ = makeLayered();
+        more_.clear();
+        ground_ = gl::Texture2D(w, 1, fmt);
+        ground_.setFilter(GL_LINEAR);
+        ground_.setWrap(GL_CLAMP_TO_EDGE);
+        groundFbo_ = gl::Framebuffer::create();
+        groundFbo_.attach(GL_COLOR_ATTACHMENT0, ground_);
+        groundFbo_.checkComplete("ShLut ground");
+        prog_ = {};  // the image format is compiled in
     }
     if (!prog_)
         prog_ = gl::ProgramBuilder("ShLut")
                     .define("ATM_USE_TRANSMITTANCE")
                     .define("ATM_USE_MULTISCATTERING")
-                    .fullscreenVertex()
-                    .fragment("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
-                    .fragment("generators/sh_lut.glsl", embedded::generator_shaders("sh_lut.glsl"))
+                    .define("SH_IMAGE_FORMAT", q_.halfFloat ? "rgba16f" : "rgba32f")
+                    .compute("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
+                    .compute("generators/sh_lut.glsl", embedded::generator_shaders("sh_lut.glsl"))
                     .build();
+    if (!groundProg_)
+        groundProg_ = gl::ProgramBuilder("ShLut ground")
+                          .define("ATM_USE_TRANSMITTANCE")
+                          .define("ATM_USE_MULTISCATTERING")
+                          .define("SH_GROUND_PASS")
+                          .fullscreenVertex()
+                          .fragment("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
+                          .fragment("generators/sh_lut.glsl", embedded::generator_shaders("sh_lut.glsl"))
+                          .build();
     const skykeys::TextureList T = vars.get(skykeys::transmittanceLuts), MS = vars.get(skykeys::multiScatteringLuts);
     const int K = triples();
     if (int(T->size()) != K || int(MS->size()) != K)
         throw Error("ShLut: " + std::to_string(T->size()) + "/" + std::to_string(MS->size()) + " input LUTs for " + std::to_string(K) + " triples");
-    if (int(more_.size()) != K - 1 || (K > 1 && (more_[0].width() != w || more_[0].height() != n || more_[0].internalFormat() != fmt))) {
+    if (int(more_.size()) != K - 1) {
         more_.clear();
-        for (int k = 1; k < K; ++k) {
-            more_.emplace_back(w, n, 6, fmt);
-            more_.back().setFilter(GL_LINEAR);
-            more_.back().setWrap(GL_CLAMP_TO_EDGE);
-        }
+        for (int k = 1; k < K; ++k) more_.push_back(makeLayered());
     }
-    const GLenum bufs[6] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
-                            GL_COLOR_ATTACHMENT3, GL_COLOR_ATTACHMENT4, GL_COLOR_ATTACHMENT5};
     auto list = std::make_shared<std::vector<TextureRef>>();
     for (int k = 0; k < K; ++k) {
         const gl::Texture2DArray& target = texture(k);
         useTriple(k);
-        for (int l = 0; l < 6; ++l) fbo_.attach(GL_COLOR_ATTACHMENT0 + l, target, 0, l);
-        fbo_.bind();
-        glNamedFramebufferDrawBuffers(fbo_.id(), 6, bufs);
-        glViewport(0, 0, w, n);
         glBindTextureUnit(4, (*T)[size_t(k)].id);
         glBindTextureUnit(5, (*MS)[size_t(k)].id);
+        // 1. The sky's irradiance on the ground over mu_s (what lights the ground besides the light).
+        groundFbo_.bind();
+        glViewport(0, 0, w, 1);
+        groundProg_.use();
+        groundProg_.set("u_directions", q_.shDirections);
+        groundProg_.set("u_steps", q_.multiScatteringSteps);
+        groundProg_.set("u_size", glm::ivec2(w, n));
+        fullscreen();
+        // 2. The SH layers, with the ground lit by the light and the sky.
+        glBindTextureUnit(9, ground_.id());
+        glBindImageTexture(0, target.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, fmt);
         prog_.use();
         prog_.set("u_directions", q_.shDirections);
         prog_.set("u_steps", q_.multiScatteringSteps);
         prog_.set("u_size", glm::ivec2(w, n));
-        fullscreen();
+        glDispatchCompute((w + 7) / 8, (n + 7) / 8, 1);
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+        glCopyImageSubData(ground_.id(), GL_TEXTURE_2D, 0, 0, 0, 0, target.id(), GL_TEXTURE_2D_ARRAY, 0, 0, 0,
+                           cpu::kShCoefficients, w, 1, 1);
         list->push_back(target.ref());
     }
     vars.set(skykeys::shLuts, skykeys::TextureList(list));

@@ -21,7 +21,9 @@ AtmosphereBlock AtmosphereBlock::from(const SkyModel& m) {
     b.absorption = glm::vec4(glm::vec3(m.absorptionExtinction), 0.0f);
     b.groundAlbedo = glm::vec4(glm::vec3(m.groundAlbedo), 0.0f);
     b.solarIlluminance = glm::vec4(glm::vec3(m.solarIlluminance), float(m.sunAngularRadius));
-    b.phaseMoments = glm::vec4(cpu::phaseMoments(m));
+    const cpu::PhaseMoments pm = cpu::phaseMoments(m);
+    b.phaseMoments = glm::vec4(pm.low);
+    b.phaseMoments2 = glm::vec4(pm.high);
     const DensityProfile* p[3] = {&m.rayleighDensity, &m.mieDensity, &m.absorptionDensity};
     for (int i = 0; i < 3; ++i) {
         const DensityLayer &a = p[i]->layers[0], &c = p[i]->layers[1];

@@ -81,7 +81,7 @@ SkyQuality SkyQuality::preset(int quality) {
     case 2:  // high: larger LUTs and more samples, fp32
         q.transmittanceW = 256, q.transmittanceH = 128, q.transmittanceSteps = 128;
         q.multiScatteringMuS = 64, q.multiScatteringSize = 32, q.multiScatteringDirections = 128, q.multiScatteringSteps = 32, q.shDirections = 256;
-        q.skyViewW = 256, q.skyViewH = 192, q.skyViewSteps = 64;
+        q.skyViewW = 256, q.skyViewH = 192, q.skyViewSteps = 64, q.bakedMiePhase = false;
         q.aerialSize = 32, q.aerialSteps = 4;
         q.raymarchSteps = 96;
         q.irradianceAzimuth = 64, q.irradianceZenith = 32;
@@ -91,7 +91,7 @@ SkyQuality SkyQuality::preset(int quality) {
         q.multiScatteringMuS = 128, q.multiScatteringSize = 32, q.multiScatteringDirections = 256, q.multiScatteringSteps = 64, q.shDirections = 512;
         q.skyViewW = 256, q.skyViewH = 192, q.skyViewSteps = 64;
         q.aerialSize = 32, q.aerialSteps = 8;
-        q.raymarchSteps = 256, q.perPixel = true;
+        q.raymarchSteps = 256, q.perPixel = true, q.bakedMiePhase = false;
         q.irradianceAzimuth = 64, q.irradianceZenith = 32;
         break;
     default: {
@@ -181,43 +181,53 @@ glm::dvec2 multiScatteringHMuS(const SkyModel& m, glm::dvec2 uv, int w, int hgt)
 }
 
 // Latitude: the upper half (rows H/2 .. H-1) covers [horizon, zenith], the lower half (rows
-// H/2-1 .. 0) covers [horizon, nadir]; within each half x = sqrt(angle from horizon / span)
-// is spread over the half's texel centres, so both halves have a row exactly at the horizon.
+// H/2-1 .. 0) covers [horizon, nadir]; within each half x = sqrt(distance from the horizon /
+// span) is spread over the half's texel centres, so both halves have a row exactly at the
+// horizon. The distance is measured in s = sin(theta / 2) (theta: view zenith angle), which is
+// within 1.4x of linear in theta and costs one square root per pixel instead of an acos:
+// s = sqrt((1 - mu) / 2). Azimuth: u = sin(azimuth / 2) = sqrt((1 - cos azimuth) / 2), from the
+// cosine without an atan, twice as dense as linear at the light's vertical plane (where the
+// aureole is) and coarse only opposite the light, where the sky is smooth in azimuth.
 glm::dvec2 skyViewUv(const SkyModel& m, double h, double mu, double azimuth, int w, int hgt) {
+    return skyViewUvCos(m, h, mu, std::cos(azimuth), w, hgt);
+}
+
+double skyViewHorizonS(const SkyModel& m, double h) {
     const double R = m.bottomRadius;
     const double r = R + h;
     const double muH = -safeSqrt(rho2(R, std::max(h, 0.0))) / r;  // cos of the horizon's zenith angle
-    const double thetaH = std::acos(std::clamp(muH, -1.0, 1.0));
-    const double theta = std::acos(std::clamp(mu, -1.0, 1.0));
+    return std::sqrt(std::clamp(0.5 - 0.5 * muH, 0.0, 1.0));
+}
+
+glm::dvec2 skyViewUvCos(const SkyModel& m, double h, double mu, double cosAzimuth, int w, int hgt) {
+    const double sH = skyViewHorizonS(m, h);
+    const double sv = std::sqrt(std::clamp(0.5 - 0.5 * mu, 0.0, 1.0));
     const int half = hgt / 2;
     double v;
-    if (theta <= thetaH) {
-        double x = std::sqrt(clamp01((thetaH - theta) / thetaH));
+    if (sv <= sH) {
+        double x = std::sqrt(clamp01((sH - sv) / sH));
         v = 0.5 + (x * (half - 1) + 0.5) / hgt;
     } else {
-        double x = std::sqrt(clamp01((theta - thetaH) / (kPi - thetaH)));
+        double x = std::sqrt(clamp01((sv - sH) / (1.0 - sH)));
         v = 0.5 - (x * (half - 1) + 0.5) / hgt;
     }
-    const double u = texCoordFromUnit(clamp01(azimuth / kPi), w);
+    const double u = texCoordFromUnit(std::sqrt(clamp01(0.5 - 0.5 * cosAzimuth)), w);
     return {u, v};
 }
 
 glm::dvec2 skyViewMuAz(const SkyModel& m, double h, glm::dvec2 uv, int w, int hgt) {
-    const double R = m.bottomRadius;
-    const double r = R + h;
-    const double muH = -safeSqrt(rho2(R, std::max(h, 0.0))) / r;
-    const double thetaH = std::acos(std::clamp(muH, -1.0, 1.0));
+    const double sH = skyViewHorizonS(m, h);
     const int half = hgt / 2;
-    double theta;
+    double sv;
     if (uv.y >= 0.5) {
         double x = clamp01(((uv.y - 0.5) * hgt - 0.5) / (half - 1));
-        theta = thetaH - x * x * thetaH;
+        sv = sH - x * x * sH;
     } else {
         double x = clamp01(((0.5 - uv.y) * hgt - 0.5) / (half - 1));
-        theta = thetaH + x * x * (kPi - thetaH);
+        sv = sH + x * x * (1.0 - sH);
     }
-    const double az = clamp01(unitFromTexCoord(uv.x, w)) * kPi;
-    return {std::cos(theta), az};
+    const double az = 2.0 * std::asin(clamp01(unitFromTexCoord(uv.x, w)));
+    return {std::clamp(1.0 - 2.0 * sv * sv, -1.0, 1.0), az};
 }
 
 // --- Phase functions --------------------------------------------------------------------------
@@ -395,73 +405,119 @@ Lut2D multiScatteringLut(const SkyModel& m, const SkyQuality& q, const Lut2D& T)
 
 // --- Directional multiple scattering (SH l <= 2) -------------------------------------------------
 
-// Delta-M for the Mie forward peak beyond l = 2: a fraction f = kDeltaScale * Lambda_3 of the Mie
+// Delta-M for the Mie forward peak beyond l = 4: a fraction f = kDeltaScale * Lambda_5 of the Mie
 // scattering is treated as not scattered (it stays in the beam: scattered light travels with
 // extinction sigma_t - f sigma_M, the SH convolution uses Lambda_l - f). Delta-M proper takes
-// f = Lambda_3; half of it matched the reference integrator best over the whole sky (f = Lambda_3
-// makes the horizon 10-30 % too bright, where beams are longest; f = 0 leaves the forward chains
-// out: 20-35 % too dark at 90 deg from the Sun). Measured on the Earth clear atmosphere.
+// f = Lambda_5; half of it matched the reference integrator best over the whole sky (measured
+// on the Earth clear atmosphere against the reference, Sun 60 .. -4 deg: f = 0.3..0.4 Lambda_5
+// leaves the low-Sun sky 1-2 % too dark, 0.6..0.7 Lambda_5 makes the horizon 10-16 % too bright).
 constexpr double kDeltaScale = 0.5;
-glm::dvec4 phaseMoments(const SkyModel& m) {
-    double l1 = m.mieG, l2 = m.mieG * m.mieG, l3 = l2 * m.mieG;
+PhaseMoments phaseMoments(const SkyModel& m) {
+    double l[6] = {1.0, m.mieG, 0, 0, 0, 0};
+    for (int k = 2; k < 6; ++k) l[k] = l[k - 1] * m.mieG;  // Henyey-Greenstein: Lambda_l = g^l
     if (m.miePhase == 1) {
-        // Cornette-Shanks: no closed form used; Simpson's rule on 4000 intervals (peaked phase).
+        // Cornette-Shanks: no closed form used; Simpson's rule on 4000 intervals (peaked phase),
+        // Legendre polynomials by their recurrence.
         const int n = 4000;
-        double s1 = 0, s2 = 0, s3 = 0;
+        double s[6] = {0, 0, 0, 0, 0, 0};
         for (int i = 0; i <= n; ++i) {
             double t = -1.0 + 2.0 * i / n, w = (i == 0 || i == n) ? 1 : (i % 2 ? 4 : 2);
-            double p = miePhase(t, m.mieG, 1);
-            s1 += w * p * t;
-            s2 += w * p * 0.5 * (3 * t * t - 1);
-            s3 += w * p * 0.5 * (5 * t * t * t - 3 * t);
+            double p = miePhase(t, m.mieG, 1) * w;
+            double P0 = 1.0, P1 = t;
+            s[0] += p, s[1] += p * t;
+            for (int k = 2; k < 6; ++k) {
+                double P2 = ((2 * k - 1) * t * P1 - (k - 1) * P0) / k;
+                s[k] += p * P2;
+                P0 = P1, P1 = P2;
+            }
         }
-        l1 = 2 * kPi * s1 * (2.0 / n) / 3.0;
-        l2 = 2 * kPi * s2 * (2.0 / n) / 3.0;
-        l3 = 2 * kPi * s3 * (2.0 / n) / 3.0;
+        for (int k = 1; k < 6; ++k) l[k] = 2 * kPi * s[k] * (2.0 / n) / 3.0;
     }
-    return {l1, l2, 0.1, kDeltaScale * l3};  // Rayleigh: Lambda_1 = 0, Lambda_2 = 1/10; w: delta-M f
+    // Rayleigh: Lambda_1 = 0, Lambda_2 = 1/10, 0 beyond.
+    return {{l[1], l[2], 0.1, kDeltaScale * l[5]}, {l[3], l[4], 0.0, 0.0}};
 }
 
-std::array<double, 6> shBasis(double x, double z) {
-    double y2 = std::max(0.0, 1.0 - x * x - z * z);
-    return {0.282095, 0.488603 * z, 0.488603 * x, 0.315392 * (3 * z * z - 1), 1.092548 * x * z, 0.546274 * (x * x - y2)};
+std::array<double, kShCoefficients> shBasis(double x, double z) {
+    const double y2 = std::max(0.0, 1.0 - x * x - z * z), z2 = z * z;
+    const double c2 = x * x - y2;              // cos(2 phi) sin^2(theta)
+    const double c3 = x * (x * x - 3.0 * y2);  // cos(3 phi) sin^3(theta)
+    const double c4 = x * x * x * x - 6.0 * x * x * y2 + y2 * y2;
+    return {0.282095,
+            0.488603 * z, 0.488603 * x,
+            0.315392 * (3 * z2 - 1), 1.092548 * x * z, 0.546274 * c2,
+            0.373176 * z * (5 * z2 - 3), 0.457046 * x * (5 * z2 - 1), 1.445306 * z * c2, 0.590044 * c3,
+            0.105786 * (35 * z2 * z2 - 30 * z2 + 3), 0.669047 * x * z * (7 * z2 - 3), 0.473087 * c2 * (7 * z2 - 1),
+            1.770131 * z * c3, 0.625836 * c4};
 }
 
-std::array<glm::dvec3, 6> shTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const Lut2D& psi, double h, double muS) {
-    const int n = q.shDirections, steps = q.multiScatteringSteps;
-    const glm::dvec3 sun(safeSqrt(1.0 - muS * muS), 0.0, muS);
-    std::array<glm::dvec3, 6> c{};
+namespace {
+// Radiance per lux arriving at (h, mu_s) from direction v (local frame: x towards the light, z up):
+// single scattering with the phase functions plus Hillaire's isotropic higher orders along the
+// ray (delta-M extinction for the scattered light), and the ground lit by the direct light and
+// by `ground`'s sky irradiance. The gather shared by the SH and ground-irradiance texels.
+glm::dvec3 incidentRadiance(const SkyModel& m, int steps, const Lut2D& T, const Lut2D& psi, const Lut2D& ground, double h,
+                            double muS, const glm::dvec3& v, double fDelta) {
     const double r = m.bottomRadius + h;
-    const double fDelta = phaseMoments(m).w;
+    double mu = v.z, nu = v.x * safeSqrt(1.0 - muS * muS) + v.z * muS;
+    double pR = rayleighPhase(nu), pM = miePhase(nu, m.mieG, m.miePhase);
+    bool hits = cpu::rayIntersectsGround(m, h, mu);
+    double d = hits ? cpu::distanceToBottom(m, h, mu) : cpu::distanceToTop(m, h, mu);
+    double p = perigeeFraction(m, h, mu, d);
+    glm::dvec3 thr(1.0), L(0.0);
+    for (int k = 0; k < steps; ++k) {
+        double s0 = double(k) / steps, s1 = double(k + 1) / steps, sm = (k + 0.5) / steps;
+        double dt = d * (warp(s1, p) - warp(s0, p)), t = d * warp(sm, p);
+        double hp = cpu::heightAt(m, h, mu, t);
+        double rp = m.bottomRadius + hp;
+        double muSp = std::clamp((r * muS + t * nu) / rp, -1.0, 1.0);
+        glm::dvec3 sR = m.scatteringRayleigh(hp), sM = m.scatteringMie(hp), sigmaT = m.extinction(hp);
+        glm::dvec3 sigmaD = sigmaT - fDelta * sM;
+        glm::dvec3 seg = cpu::segmentFactorPublic(sigmaD, dt);
+        glm::dvec3 Tl = cpu::transmittanceToLight(m, T, hp, muSp, m.sunAngularRadius);
+        glm::dvec3 ps = psi.sample(multiScatteringUv(m, hp, muSp, psi.width, psi.height));
+        L += thr * ((sR * pR + sM * pM) * Tl + (sR + sM) * ps) * seg;
+        thr *= glm::exp(-sigmaD * dt);
+    }
+    if (hits) {
+        double muSg = std::clamp((r * muS + d * nu) / m.bottomRadius, -1.0, 1.0);
+        L += thr * cpu::groundIrradiance(m, T, ground, muSg, m.sunAngularRadius) * m.groundAlbedo / kPi;
+    }
+    return L;
+}
+}  // namespace
+
+glm::dvec3 groundIrradianceTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const Lut2D& psi, double muS) {
+    // Equal-area (Fibonacci) directions of the upper hemisphere: z uniform in (0, 1], each
+    // carrying a solid angle 2 pi / n; the rays leave the ground, so none returns to it.
+    const int n = q.shDirections;
+    const double fDelta = phaseMoments(m).low.w;
+    const double golden = kPi * (3.0 - std::sqrt(5.0));
+    const Lut2D none;
+    glm::dvec3 E(0.0);
+    for (int i = 0; i < n; ++i) {
+        double z = 1.0 - (i + 0.5) / n, rr = safeSqrt(1.0 - z * z), phi = golden * i;
+        glm::dvec3 v(rr * std::cos(phi), rr * std::sin(phi), z);
+        E += incidentRadiance(m, q.multiScatteringSteps, T, psi, none, 0.0, muS, v, fDelta) * z;
+    }
+    return E * (2.0 * kPi / n);
+}
+
+glm::dvec3 groundIrradiance(const SkyModel& m, const Lut2D& T, const Lut2D& ground, double muS, double lightAngularRadius) {
+    glm::dvec3 e = transmittanceToLight(m, T, 0.0, muS, lightAngularRadius) * std::max(muS, 0.0);
+    if (!ground.texels.empty()) e += ground.sample({multiScatteringUv(m, 0.0, muS, ground.width, 2).x, 0.5});
+    return e;
+}
+
+std::array<glm::dvec3, kShCoefficients> shTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const Lut2D& psi,
+                                                const Lut2D& ground, double h, double muS) {
+    const int n = q.shDirections;
+    std::array<glm::dvec3, kShCoefficients> c{};
+    const double fDelta = phaseMoments(m).low.w;
     for (int i = 0; i < n; ++i) {
         glm::dvec3 v = cpu::fibonacciDirectionPublic(i, n);
-        double mu = v.z, nu = glm::dot(v, sun);
-        double pR = rayleighPhase(nu), pM = miePhase(nu, m.mieG, m.miePhase);
-        bool ground = cpu::rayIntersectsGround(m, h, mu);
-        double d = ground ? cpu::distanceToBottom(m, h, mu) : cpu::distanceToTop(m, h, mu);
-        double p = cpu::perigeeFractionPublic(m, h, mu, d);
-        glm::dvec3 thr(1.0), L(0.0);
-        for (int k = 0; k < steps; ++k) {
-            double s0 = double(k) / steps, s1 = double(k + 1) / steps, sm = (k + 0.5) / steps;
-            double dt = d * (cpu::warpPublic(s1, p) - cpu::warpPublic(s0, p)), t = d * cpu::warpPublic(sm, p);
-            double hp = cpu::heightAt(m, h, mu, t);
-            double rp = m.bottomRadius + hp;
-            double muSp = std::clamp((r * muS + t * nu) / rp, -1.0, 1.0);
-            glm::dvec3 sR = m.scatteringRayleigh(hp), sM = m.scatteringMie(hp), sigmaT = m.extinction(hp);
-            glm::dvec3 sigmaD = sigmaT - fDelta * sM;
-            glm::dvec3 seg = cpu::segmentFactorPublic(sigmaD, dt);
-            glm::dvec3 Tl = cpu::transmittanceToLight(m, T, hp, muSp, m.sunAngularRadius);
-            glm::dvec3 ps = psi.sample(multiScatteringUv(m, hp, muSp, psi.width, psi.height));
-            L += thr * ((sR * pR + sM * pM) * Tl + (sR + sM) * ps) * seg;
-            thr *= glm::exp(-sigmaD * dt);
-        }
-        if (ground) {
-            double muSg = std::clamp((r * muS + d * nu) / m.bottomRadius, -1.0, 1.0);
-            glm::dvec3 Tg = cpu::transmittanceToLight(m, T, 0.0, muSg, m.sunAngularRadius);
-            L += thr * Tg * std::max(muSg, 0.0) * m.groundAlbedo / kPi;
-        }
+        glm::dvec3 L = incidentRadiance(m, q.multiScatteringSteps, T, psi, ground, h, muS, v, fDelta);
         auto Y = shBasis(v.x, v.z);
-        for (int k = 0; k < 6; ++k) c[k] += L * Y[k];
+        for (int k = 0; k < kShCoefficients; ++k) c[k] += L * Y[k];
     }
     for (auto& x : c) x *= 4.0 * kPi / n;
     return c;
@@ -473,6 +529,9 @@ MsField msField(const SkyModel& m, const SkyQuality& q, const Lut2D& T) {
     f.directional = q.directionalMs;
     if (!f.directional) return f;
     const int w = q.multiScatteringMuS, n = q.multiScatteringSize;
+    f.ground = {w, 1, std::vector<glm::dvec3>(size_t(w))};
+    for (int x = 0; x < w; ++x)
+        f.ground.at(x, 0) = groundIrradianceTexel(m, q, T, f.psi, multiScatteringHMuS(m, {(x + 0.5) / w, 0.0}, w, 2).y);
     for (auto& l : f.sh) {
         l.width = w;
         l.height = n;
@@ -481,27 +540,30 @@ MsField msField(const SkyModel& m, const SkyQuality& q, const Lut2D& T) {
     for (int y = 0; y < n; ++y)
         for (int x = 0; x < w; ++x) {
             glm::dvec2 hm = multiScatteringHMuS(m, {(x + 0.5) / w, (y + 0.5) / n}, w, n);
-            auto c = shTexel(m, q, T, f.psi, hm.x, hm.y);
-            for (int k = 0; k < 6; ++k) f.sh[k].at(x, y) = c[k];
+            auto c = shTexel(m, q, T, f.psi, f.ground, hm.x, hm.y);
+            for (int k = 0; k < kShCoefficients; ++k) f.sh[k].at(x, y) = c[k];
         }
     return f;
 }
 
-glm::dvec3 msInscatter(const SkyModel& m, const MsField& f, const glm::dvec4& moments, double h, double mu, double muS,
+glm::dvec3 msInscatter(const SkyModel& m, const MsField& f, const PhaseMoments& moments, double h, double mu, double muS,
                        double nu, const glm::dvec3& sR, const glm::dvec3& sM) {
     glm::dvec2 uv = multiScatteringUv(m, h, muS, f.psi.width, f.psi.height);
     if (!f.directional) return (sR + sM) * f.psi.sample(uv);
     double sinS = safeSqrt(1.0 - muS * muS);
     double x = sinS > 1e-6 ? (nu - mu * muS) / sinS : 0.0;
     auto Y = shBasis(std::clamp(x, -1.0, 1.0), mu);
-    const double lR[6] = {1, 0, 0, moments.z, moments.z, moments.z};
-    const double fw = moments.w;  // delta-M: the forward peak fw stays in the beam, not in the SH
-    const double lM[6] = {1 - fw, moments.x - fw, moments.x - fw, moments.y - fw, moments.y - fw, moments.y - fw};
+    // Funk-Hecke: the phase function's convolution scales band l by its Legendre moment Lambda_l;
+    // delta-M: the forward peak fw stays in the beam, not in the SH.
+    const double fw = moments.low.w;
+    const double bandR[5] = {1, 0, moments.low.z, 0, 0};
+    const double bandM[5] = {1 - fw, moments.low.x - fw, moments.low.y - fw, moments.high.x - fw, moments.high.y - fw};
+    static constexpr int kBand[kShCoefficients] = {0, 1, 1, 2, 2, 2, 3, 3, 3, 3, 4, 4, 4, 4, 4};
     glm::dvec3 aR(0.0), aM(0.0);
-    for (int k = 0; k < 6; ++k) {
+    for (int k = 0; k < kShCoefficients; ++k) {
         glm::dvec3 c = f.sh[k].sample(uv);
-        aR += c * (lR[k] * Y[k]);
-        aM += c * (lM[k] * Y[k]);
+        aR += c * (bandR[kBand[k]] * Y[k]);
+        aM += c * (bandM[kBand[k]] * Y[k]);
     }
     return sR * glm::max(aR, glm::dvec3(0.0)) + sM * glm::max(aM, glm::dvec3(0.0));
 }
@@ -520,7 +582,7 @@ Scattering integrate(const SkyModel& m, const Lut2D& T, const MsField& MS, doubl
     if (!reachesEnd) out.hitGround = false;
     const double p = quadratic ? 0.0 : perigeeFraction(m, h, mu, d);
     const double r = m.bottomRadius + h;
-    const glm::dvec4 moments = phaseMoments(m);
+    const PhaseMoments moments = phaseMoments(m);
     glm::dvec3 thr(1.0), thrD(1.0);  // exact (background) and delta-M (scattered light) transmittance
     for (int k = 0; k < steps && d > 0.0; ++k) {
         double s0 = double(k) / steps, s1 = double(k + 1) / steps, sm = (k + 0.5) / steps;
@@ -530,7 +592,7 @@ Scattering integrate(const SkyModel& m, const Lut2D& T, const MsField& MS, doubl
         double muSp = std::clamp((r * muS + t * nu) / rp, -1.0, 1.0);
         glm::dvec3 sR = m.scatteringRayleigh(hp), sM = m.scatteringMie(hp);
         glm::dvec3 sigmaT = m.extinction(hp);
-        glm::dvec3 sigmaD = sigmaT - moments.w * sM;
+        glm::dvec3 sigmaD = sigmaT - moments.low.w * sM;
         glm::dvec3 seg = segmentFactor(sigmaD, dt);
         glm::dvec3 Tl = transmittanceToLight(m, T, hp, muSp, lightAngularRadius);
         double muP = std::clamp((r * mu + t) / rp, -1.0, 1.0);
@@ -541,9 +603,9 @@ Scattering integrate(const SkyModel& m, const Lut2D& T, const MsField& MS, doubl
         thrD *= glm::exp(-sigmaD * dt);
     }
     if (out.hitGround) {
+        // The ground: Lambertian, lit by the light and by the sky (MS.ground).
         double muSg = std::clamp((r * muS + d * nu) / m.bottomRadius, -1.0, 1.0);
-        glm::dvec3 Tg = transmittanceToLight(m, T, 0.0, muSg, lightAngularRadius);
-        out.smooth += thrD * Tg * std::max(muSg, 0.0) * m.groundAlbedo / kPi;
+        out.smooth += thrD * groundIrradiance(m, T, MS.ground, muSg, lightAngularRadius) * m.groundAlbedo / kPi;
     }
     out.transmittance = thr;
     return out;

@@ -19,12 +19,14 @@ SkyViewLut::SkyViewLut(Light light) : SkyGenerator(light == Light::Sun ? "sky.su
         input(keys::sunDirection);
         output(skykeys::sunViewLut);
         output(skykeys::sunViewMieLut);
+        output(skykeys::sunViewTotalLut);
         output(skykeys::sunViewRev);
     } else {
         input(keys::moonDirection);
         input(skykeys::moonIlluminance);
         output(skykeys::moonViewLut);
         output(skykeys::moonViewMieLut);
+        output(skykeys::moonViewTotalLut);
         output(skykeys::moonViewRev);
     }
 }
@@ -32,8 +34,10 @@ SkyViewLut::SkyViewLut(Light light) : SkyGenerator(light == Light::Sun ? "sky.su
 void SkyViewLut::releaseGl() {
     smooth_ = {};
     mie_ = {};
+    total_ = {};
     smoothK_ = {};
     mieK_ = {};
+    totalK_ = {};
     fbo_ = {};
     fboK_ = {};
     prog_ = {};
@@ -46,13 +50,15 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
     if (!smooth_ || smooth_.width() != q_.skyViewW || smooth_.height() != q_.skyViewH || smooth_.internalFormat() != fmt) {
         smooth_ = gl::Texture2D(q_.skyViewW, q_.skyViewH, fmt);
         mie_ = gl::Texture2D(q_.skyViewW, q_.skyViewH, fmt);
-        for (gl::Texture2D* t : {&smooth_, &mie_}) {
+        total_ = gl::Texture2D(q_.skyViewW, q_.skyViewH, fmt);
+        for (gl::Texture2D* t : {&smooth_, &mie_, &total_}) {
             t->setFilter(GL_LINEAR);
             t->setWrap(GL_CLAMP_TO_EDGE);
         }
         fbo_ = gl::Framebuffer::create();
         fbo_.attach(GL_COLOR_ATTACHMENT0, smooth_);
         fbo_.attach(GL_COLOR_ATTACHMENT1, mie_);
+        fbo_.attach(GL_COLOR_ATTACHMENT2, total_);
         fbo_.checkComplete("SkyViewLut");
     }
     if (!prog_)
@@ -69,18 +75,20 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
     const Key<glm::dvec3>& dirKey = light_ == Light::Sun ? keys::sunDirection : keys::moonDirection;
     glm::dvec3 dir = vars.getOr(dirKey, glm::dvec3(0, 0, 1));
     muS_ = std::clamp(dir.z / std::max(glm::length(dir), 1e-12), -1.0, 1.0);
-    // Spectral mode: each triple's pass goes to the scratch pair, then is added to the RGB pair
-    // through the triple's matrix (combine()).
+    // Spectral mode: each triple's pass goes to the scratch textures, then is added to the RGB
+    // ones through the triple's matrix (combine()).
     if (spectral_ && (!smoothK_ || smoothK_.width() != smooth_.width() || smoothK_.height() != smooth_.height() ||
                       smoothK_.internalFormat() != fmt)) {
         smoothK_ = gl::Texture2D(q_.skyViewW, q_.skyViewH, fmt);
         mieK_ = gl::Texture2D(q_.skyViewW, q_.skyViewH, fmt);
+        totalK_ = gl::Texture2D(q_.skyViewW, q_.skyViewH, fmt);
         fboK_ = gl::Framebuffer::create();
         fboK_.attach(GL_COLOR_ATTACHMENT0, smoothK_);
         fboK_.attach(GL_COLOR_ATTACHMENT1, mieK_);
+        fboK_.attach(GL_COLOR_ATTACHMENT2, totalK_);
         fboK_.checkComplete("SkyViewLut (triple)");
     }
-    const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    const GLenum bufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
     // The Moon's LUT is skipped (left black) while the Moon gives no light or is far below the
     // horizon (< -20 deg: its scattered light is then below the night sky's airglow by orders of
     // magnitude).
@@ -90,6 +98,7 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
         const float zero[4] = {0, 0, 0, 1};
         glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, zero);
         glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 1, zero);
+        glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 2, zero);
     } else {
         const skykeys::TextureList T = vars.get(skykeys::transmittanceLuts), MS = vars.get(skykeys::multiScatteringLuts),
                                    SH = vars.get(skykeys::shLuts);
@@ -101,7 +110,7 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
             useTriple(k);
             fb.bind();
             glViewport(0, 0, q_.skyViewW, q_.skyViewH);
-            glNamedFramebufferDrawBuffers(fb.id(), 2, bufs);
+            glNamedFramebufferDrawBuffers(fb.id(), 3, bufs);
             glBindTextureUnit(4, (*T)[size_t(k)].id);
             glBindTextureUnit(5, (*MS)[size_t(k)].id);
             glBindTextureUnit(8, (*SH)[size_t(k)].id);
@@ -116,16 +125,19 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
             if (spectral_) {
                 combine(smoothK_, smooth_, k);
                 combine(mieK_, mie_, k);
+                combine(totalK_, total_, k);
             }
         }
     }
     if (light_ == Light::Sun) {
         vars.set(skykeys::sunViewLut, smooth_.ref());
         vars.set(skykeys::sunViewMieLut, mie_.ref());
+        vars.set(skykeys::sunViewTotalLut, total_.ref());
         vars.set(skykeys::sunViewRev, ++rev_);
     } else {
         vars.set(skykeys::moonViewLut, smooth_.ref());
         vars.set(skykeys::moonViewMieLut, mie_.ref());
+        vars.set(skykeys::moonViewTotalLut, total_.ref());
         vars.set(skykeys::moonViewRev, ++rev_);
     }
 }

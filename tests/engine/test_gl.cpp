@@ -7,6 +7,7 @@
 #include <welkin/embedded/engine_shaders.hpp>
 #include <welkin/error.hpp>
 #include <welkin/gl/objects.hpp>
+#include <welkin/gl/projection_programs.hpp>
 #include <welkin/gl/shader.hpp>
 #include <welkin/keys.hpp>
 #include <welkin/processor.hpp>
@@ -104,14 +105,22 @@ private:
     gl::Program program_;
 };
 
-// Writes the view direction + 2 as radiance (positive), opaque.
+// Writes the view direction + 2 as radiance (positive), opaque. `specialised`: through
+// gl::ProjectionPrograms (camera.glsl compiled for the camera's projection only).
 class Probe final : public SkyElement {
 public:
-    Probe() : SkyElement("probe") {}
+    explicit Probe(bool specialised = false) : SkyElement("probe"), specialised_(specialised) {}
 
 private:
     void doInit(InitContext&) override {
-        program_ = gl::ProgramBuilder("Probe")
+        programs_ = gl::ProjectionPrograms(gl::ProgramBuilder("Probe")
+                                               .fullscreenVertex()
+                                               .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
+                                               .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
+                                               .fragment("probe.frag",
+                                                         "void main() { vec3 d; if (!welkin_viewDirection(welkin_pixel(), d)) discard;\n"
+                                                         "  welkin_output(d + 2.0, vec3(0.0)); }\n"));
+        generic_ = gl::ProgramBuilder("Probe (generic)")
                        .fullscreenVertex()
                        .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
                        .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
@@ -121,11 +130,16 @@ private:
                        .build();
     }
     void doRender(const FrameContext& ctx) override {
-        program_.use();
+        (specialised_ ? programs_.get(ctx.camera.projection) : generic_).use();
         ctx.drawFullscreen();
     }
-    void doRelease() override { program_ = {}; }
-    gl::Program program_;
+    void doRelease() override {
+        programs_.releasePrograms();
+        generic_ = {};
+    }
+    bool specialised_;
+    gl::ProjectionPrograms programs_;
+    gl::Program generic_;
 };
 }  // namespace
 
@@ -203,6 +217,7 @@ TEST_CASE("Each projection puts a known direction on the expected pixel (GPU)", 
         k.py = (1 - glm::dot(d, u) / glm::dot(d, f) / tanY) * k.h / 2;
         REQUIRE(k.px > 24.5);  // west of south is on the right when looking south
     }
+    for (bool specialised : {false, true})
     for (const auto& k : cases) {
         SkyProcessor p;
         Camera cam;
@@ -213,7 +228,7 @@ TEST_CASE("Each projection puts a known direction on the expected pixel (GPU)", 
         cam.altitudeRad = 20 * M_PI / 180;
         cam.cubeFace = 2;
         p.setCamera(cam);
-        p.add(std::make_unique<Probe>());
+        p.add(std::make_unique<Probe>(specialised));
         p.renderFrame();
         Image img = p.readHdr();
         // Bilinear interpolation between the four pixel centres around the exact position: the
@@ -228,7 +243,7 @@ TEST_CASE("Each projection puts a known direction on the expected pixel (GPU)", 
             got[c] = (1 - ty) * top + ty * bottom - 2.0;
         }
         glm::dvec3 want = directionFromAzAlt(k.azDeg * M_PI / 180, k.altDeg * M_PI / 180);
-        INFO("projection " << toString(k.projection) << " az " << k.azDeg << " alt " << k.altDeg << " at " << k.px << ", " << k.py);
+ INFO((specialised ? "specialised " : "generic ") << "projection " << toString(k.projection) << " az " << k.azDeg << " alt " << k.altDeg << " at " << k.px << ", " << k.py);
         // Interpolation error ~ (pixel angle)^2 / 8 plus float32 output: < 0.5 deg at these sizes;
         // an off-by-one-pixel or mirrored convention errs by >= 2.8 deg.
         CHECK(std::acos(std::clamp(glm::dot(glm::normalize(got), want), -1.0, 1.0)) < 0.5 * M_PI / 180);

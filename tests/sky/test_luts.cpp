@@ -92,14 +92,15 @@ TEST_CASE("Sky LUTs: GPU passes match their CPU double twins", "[gl][sky]") {
     INFO("worst multiple-scattering relative error " << worstMS);
     CHECK(worstMS < 2e-3);
 
-    // Directional multiple scattering (SH l <= 2, 6 layers): each coefficient against the twin,
+    // Directional multiple scattering (SH l <= 4, 15 layers): each coefficient against the twin,
     // relative to the layer's largest magnitude: 5e-3 (the l = 2 layers are sums of terms of both
     // signs that cancel to ~1/10 of their parts, so float rounding is amplified ~10x).
     {
-        std::vector<float> px(size_t(q.multiScatteringMuS) * q.multiScatteringSize * 6 * 4);
+        const int layers = cpu::kShCoefficients + 1;  // + the ground-irradiance layer
+        std::vector<float> px(size_t(q.multiScatteringMuS) * q.multiScatteringSize * layers * 4);
         glGetTextureImage(rig.luts.sh->texture().id(), 0, GL_RGBA, GL_FLOAT, GLsizei(px.size() * sizeof(float)), px.data());
         const size_t layer = size_t(q.multiScatteringMuS) * q.multiScatteringSize;
-        for (int k = 0; k < 6; ++k) {
+        for (int k = 0; k < cpu::kShCoefficients; ++k) {
             double big = 0, worst = 0;
             for (auto& t : MScpu.sh[k].texels) big = std::max(big, std::abs(t.g));
             for (size_t i = 0; i < layer; ++i) {
@@ -110,6 +111,18 @@ TEST_CASE("Sky LUTs: GPU passes match their CPU double twins", "[gl][sky]") {
             CHECK(big > 0.0);
             CHECK(worst < 5e-3);
         }
+        // Last layer, row 0: the sky's irradiance on the ground over mu_s, relative per texel where
+        // it exceeds 1e-4 of its largest (deep below the horizon it falls by decades): 2e-3.
+        double big = 0, worst = 0;
+        for (auto& t : MScpu.ground.texels) big = std::max(big, t.g);
+        for (int i = 0; i < q.multiScatteringMuS; ++i) {
+            const size_t at = (size_t(cpu::kShCoefficients) * layer + i) * 4;
+            glm::dvec3 g(px[at], px[at + 1], px[at + 2]);
+            if (MScpu.ground.texels[i].g > 1e-4 * big) worst = std::max(worst, relErr(g, MScpu.ground.texels[i], 1e-9));
+        }
+        INFO("ground irradiance layer: worst relative error " << worst << "; largest " << big);
+        CHECK(big > 0.0);
+        CHECK(worst < 2e-3);
     }
 
     // Sky view (Sun at 20 deg, observer at 500 m): every texel, both textures; 3e-3 relative
@@ -139,6 +152,25 @@ TEST_CASE("Sky LUTs: GPU passes match their CPU double twins", "[gl][sky]") {
     INFO("worst sky-view relative errors " << worstS << " (smooth), " << worstM << " (Mie)");
     CHECK(worstS < 3e-3);
     CHECK(worstM < 3e-3);
+    // The total texture: smooth + Mie x phase at the texel's own angle to the Sun (baked-phase
+    // presets). The Sun's vertical plane is at azimuth 0 of the parameterisation.
+    {
+        Lut2D Tgpu = readLut(rig.luts.sunView->totalTexture(), 1.0 / kLutScale);
+        Lut2D want{q.skyViewW, q.skyViewH, Scpu.texels};
+        double worstT = 0, maxT = 0;
+        for (int y = 0; y < q.skyViewH; ++y)
+            for (int x = 0; x < q.skyViewW; ++x) {
+                glm::dvec2 ma = skyViewMuAz(m, h, {(x + 0.5) / q.skyViewW, (y + 0.5) / q.skyViewH}, q.skyViewW, q.skyViewH);
+                double sinV = std::sqrt(std::max(1.0 - ma.x * ma.x, 0.0)), sinS = std::sqrt(1.0 - muS * muS);
+                double nu = std::clamp(sinV * sinS * std::cos(ma.y) + ma.x * muS, -1.0, 1.0);
+                want.at(x, y) += Mcpu.at(x, y) * miePhase(nu, m.mieG, m.miePhase);
+                maxT = std::max(maxT, want.at(x, y).g);
+            }
+        for (size_t i = 0; i < want.texels.size(); ++i) worstT = std::max(worstT, relErr(Tgpu.texels[i], want.texels[i], 1e-3 * maxT));
+        INFO("worst total-texture relative error " << worstT);
+        CHECK(maxT > maxS);  // the aureole adds to the smooth part
+        CHECK(worstT < 3e-3);
+    }
 
     // Aerial perspective: sample texels (directions above and below the horizon, near and far
     // slices); same tolerance reasoning as the sky view.

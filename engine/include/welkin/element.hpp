@@ -59,6 +59,10 @@ struct FrameContext {
     const Camera& camera;
     double seconds;                     ///< seconds since the processor was created (animation)
     const gl::VertexArray* emptyVao;    ///< bound VAO with no attributes, for fullscreen passes
+    /// True when nothing is behind this element: it is the first one composited over the
+    /// processor's own target, cleared to black. Its transmittance output then multiplies black,
+    /// so an element may skip computing it (the Sky does: one texture fetch less per pixel).
+    bool nothingBehind = false;
     /// Draws the fullscreen triangle (3 vertices, engine/shaders/fullscreen.vert.glsl).
     void drawFullscreen() const;
 };

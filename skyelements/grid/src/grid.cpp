@@ -36,17 +36,18 @@ void Grid::setOptions(const GridOptions& options) {
 
 void Grid::doInit(InitContext& ctx) {
     ctx.vars.declare(keys::exposureEv100, 15.0);
-    program_ = gl::ProgramBuilder("Grid")
-                   .fullscreenVertex()
-                   .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
-                   .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
-                   .fragment("grid/grid.frag.glsl", embedded::grid_shaders("grid.frag.glsl"))
-                   .build();
+    programs_ = gl::ProjectionPrograms(gl::ProgramBuilder("Grid")
+                                           .fullscreenVertex()
+                                           .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
+                                           .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
+                                           .fragment("grid/grid.frag.glsl", embedded::grid_shaders("grid.frag.glsl")));
+    programs_.get(Projection::Perspective);  // shader errors surface in init()
 }
 
 void Grid::doRender(const FrameContext& ctx) {
     double L = options_.luminanceCdM2;
     if (L <= 0) L = 0.8 * 1.2 * std::exp2(ctx.vars.get(keys::exposureEv100));  // ~80 % of white
+    const gl::Program& program_ = programs_.get(ctx.camera.projection);
     program_.use();
     program_.set("u_altStep", float(options_.altitudeStepDeg * M_PI / 180));
     program_.set("u_azStep", float(options_.azimuthStepDeg * M_PI / 180));
@@ -66,6 +67,6 @@ void Grid::doRender(const FrameContext& ctx) {
     ctx.drawFullscreen();
 }
 
-void Grid::doRelease() { program_ = {}; }
+void Grid::doRelease() { programs_.releasePrograms(); }
 
 }  // namespace welkin::elements

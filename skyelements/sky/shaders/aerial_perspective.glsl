@@ -22,11 +22,8 @@ vec3 welkin_aerialPerspective(vec3 dir, float distanceM, out vec3 transmittance)
     vec3 size = vec3(textureSize(welkin_apInscatter, 0));
     float mu = clamp(dir.z, -1.0, 1.0);
     vec2 a = dir.xy, b = welkin_apSunDir.xy;
-    float az = (length(a) < 1e-7 || length(b) < 1e-7) ? 0.0 : atan(abs(a.x * b.y - a.y * b.x), dot(a, b));
-    vec2 uv = skyViewUv(welkin_apH, mu, az, size.xy);
-    float half_ = floor(size.y / 2.0);
-    if (uv.y >= 0.5) uv.y = clamp(uv.y, (half_ + 0.5) / size.y, 1.0 - 0.5 / size.y);
-    else uv.y = clamp(uv.y, 0.5 / size.y, (half_ - 0.5) / size.y);
+    float cosAz = dot(a, b) * inversesqrt(max(dot(a, a) * dot(b, b), 1e-30));  // 0 at the zenith: any azimuth
+    vec2 uv = skyViewClampHalf(skyViewUvS(atm_horizonS(welkin_apH), mu, cosAz, size.xy), size.xy);
     // Slice k holds the values at d_k = D ((k + 1) / N)^2.
     float w = sqrt(max(distanceM, 0.0) / welkin_apMaxDistance) * size.z;
     float f = clamp(w, 0.0, 1.0);  // before the first slice: linear in distance from the observer

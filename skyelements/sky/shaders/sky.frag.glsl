@@ -13,7 +13,7 @@ uniform vec3 u_moonE;
 uniform float u_invScale;   // 1 / kLutScale
 uniform int u_steps;        // per-pixel ray march
 uniform float u_moonAngular;
-uniform float u_thetaH;     // zenith angle of the observer's horizon, rad (LUT path)
+uniform float u_sH;         // sin(theta_H / 2), theta_H the zenith angle of the observer's horizon (LUT path)
 #ifdef SKY_SPECTRAL
 // Spectral mode, per pixel: one draw per wavelength triple (atmosphere block of that triple),
 // its per-lux values converted to linear sRGB per lux; T = 1 (the first draw outputs T).
@@ -23,14 +23,24 @@ uniform mat3 u_toRgb;
 #define SKY_TO_RGB(x) (x)
 #endif
 
-// Azimuth of `dir` measured from the light's vertical plane, [0, pi].
-float azimuthFrom(vec3 dir, vec3 light) {
+// Cosine of the azimuth of `dir` measured from the light's vertical plane (0 when either is
+// vertical: every azimuth is then the same direction).
+float cosAzimuthFrom(vec3 dir, vec3 light) {
     vec2 a = dir.xy, b = light.xy;
-    float la = length(a), lb = length(b);
-    if (la < 1e-7 || lb < 1e-7) return 0.0;
-    a /= la;
-    b /= lb;
-    return atan(abs(a.x * b.y - a.y * b.x), dot(a, b));
+    return clamp(dot(a, b) * inversesqrt(max(dot(a, a) * dot(b, b), 1e-30)), -1.0, 1.0);
+}
+
+// Radiance per lux of one light from its sky-view LUT(s) (SKY_BAKED_PHASE: `smoothLut` holds
+// everything with the Mie phase baked in; else the Mie part is fetched separately and its phase
+// evaluated at the pixel's exact angle to the light).
+vec3 skyViewLight(sampler2D smoothLut, sampler2D mieLut, vec3 dir, vec3 light) {
+    vec2 size = vec2(textureSize(smoothLut, 0));
+    vec2 uv = skyViewClampHalf(skyViewUvS(u_sH, dir.z, cosAzimuthFrom(dir, light), size), size);
+#ifdef SKY_BAKED_PHASE
+    return texture(smoothLut, uv).rgb * u_invScale;
+#else
+    return (texture(smoothLut, uv).rgb + texture(mieLut, uv).rgb * miePhase(clamp(dot(dir, light), -1.0, 1.0))) * u_invScale;
+#endif
 }
 
 #ifdef SKY_PER_PIXEL
@@ -74,15 +84,16 @@ void main() {
     if (ground) T = vec3(0.0);
 #else
     float h = min(u_h, atm_thickness());
-    float thetaH = u_thetaH;
-    float azS = azimuthFrom(dir, u_sunDir);
-    L = skyViewSampleH(u_sunSmooth, u_sunMie, thetaH, mu, azS, clamp(dot(dir, u_sunDir), -1.0, 1.0), u_invScale) * u_sunE;
+    L = skyViewLight(u_sunSmooth, u_sunMie, dir, u_sunDir) * u_sunE;
 #ifdef SKY_MOON
     // (A separate program variant: llvmpipe evaluates both sides of a branch under a mask.)
-    float azM = azimuthFrom(dir, u_moonDir);
-    L += skyViewSampleH(u_moonSmooth, u_moonMie, thetaH, mu, azM, clamp(dot(dir, u_moonDir), -1.0, 1.0), u_invScale) * u_moonE;
+    L += skyViewLight(u_moonSmooth, u_moonMie, dir, u_moonDir) * u_moonE;
 #endif
+#ifdef SKY_TRANSMITTANCE
     T = rayIntersectsGround(h, mu) ? vec3(0.0) : transmittanceFromLut(h, mu);
+#else
+    T = vec3(0.0);  // nothing behind the sky (the program variant for the first element)
+#endif
 #endif
 #ifdef SKY_SPECTRAL
     T = vec3(1.0);

@@ -186,24 +186,33 @@ void Sky::doInit(InitContext& ctx) {
     addGenerator(luts_.irradiance);
     addGenerator(luts_.aerial);
     for (int moon = 0; moon < 2; ++moon) {
-        lutProgram_[moon] = buildProgram(false, moon == 1, false);
-        marchProgram_[moon] = buildProgram(true, moon == 1, false);
+        for (int t = 0; t < 2; ++t)
+            for (int baked = 0; baked < 2; ++baked)
+                lutPrograms_[moon][t][baked] = gl::ProjectionPrograms(recipe(false, moon == 1, t == 1, baked == 1, false));
+        marchPrograms_[moon] = gl::ProjectionPrograms(recipe(true, moon == 1, true, false, false));
+        spectralPrograms_[moon] = gl::ProjectionPrograms(recipe(true, moon == 1, true, false, true));
     }
+    // Compile one variant now (so that shader errors surface in init()); the others compile on
+    // first use.
+    lutPrograms_[0][1][1].get(Projection::Perspective);
     ubo_ = gl::Buffer(sizeof(AtmosphereBlock));
 }
 
-gl::Program Sky::buildProgram(bool perPixel, bool moon, bool spectral) {
-    gl::ProgramBuilder b(std::string(perPixel ? "Sky (per pixel)" : "Sky") + (moon ? " + Moon" : "") + (spectral ? " spectral" : ""));
+gl::ProgramBuilder Sky::recipe(bool perPixel, bool moon, bool transmittance, bool baked, bool spectral) {
+    gl::ProgramBuilder b(std::string(perPixel ? "Sky (per pixel)" : "Sky") + (moon ? " + Moon" : "") +
+                         (transmittance ? "" : " (nothing behind)") + (baked ? " (baked phase)" : "") + (spectral ? " spectral" : ""));
     b.define("ATM_USE_TRANSMITTANCE");
     if (moon) b.define("SKY_MOON");
+    if (transmittance) b.define("SKY_TRANSMITTANCE");
+    if (baked) b.define("SKY_BAKED_PHASE");
     if (perPixel) b.define("ATM_USE_MULTISCATTERING").define("ATM_MS_DIRECTIONAL").define("SKY_PER_PIXEL");
     if (spectral) b.define("SKY_SPECTRAL");
-    return b.fullscreenVertex()
+    b.fullscreenVertex()
         .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
         .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
         .fragment("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
-        .fragment("sky/sky.frag.glsl", embedded::sky_shaders("sky.frag.glsl"))
-        .build();
+        .fragment("sky/sky.frag.glsl", embedded::sky_shaders("sky.frag.glsl"));
+    return b;
 }
 
 void Sky::doUpdate(const FrameContext& ctx) {
@@ -227,9 +236,10 @@ void Sky::doRender(const FrameContext& ctx) {
     AtmosphereBlock block = AtmosphereBlock::from(m);
     ubo_.update(&block, sizeof block);
     ubo_.bindBase(GL_UNIFORM_BUFFER, 1);
-    glBindTextureUnit(0, v.get(skykeys::sunViewLut).id);
+    // With the phase baked in, units 0 and 2 get the total LUTs and 1, 3 are not read.
+    glBindTextureUnit(0, v.get(q.bakedMiePhase ? skykeys::sunViewTotalLut : skykeys::sunViewLut).id);
     glBindTextureUnit(1, v.get(skykeys::sunViewMieLut).id);
-    glBindTextureUnit(2, v.get(skykeys::moonViewLut).id);
+    glBindTextureUnit(2, v.get(q.bakedMiePhase ? skykeys::moonViewTotalLut : skykeys::moonViewLut).id);
     glBindTextureUnit(3, v.get(skykeys::moonViewMieLut).id);
     glBindTextureUnit(4, v.get(skykeys::transmittanceLut).id);
     glBindTextureUnit(5, v.get(skykeys::multiScatteringLut).id);
@@ -239,6 +249,7 @@ void Sky::doRender(const FrameContext& ctx) {
     // The Moon's term only while it gives light and is above -20 deg (its LUT is black below).
     const bool moon = glm::length(moonE) > 0.0 && unit(v.get(keys::moonDirection)).z > -0.342;
     const glm::dvec3 sunE = v.getOr(skykeys::sunIlluminance, m.solarIlluminance);
+    const Projection proj = ctx.camera.projection;
     auto setUniforms = [&](const gl::Program& p, const glm::dvec3& eSun, const glm::dvec3& eMoon) {
         p.use();
         p.set("u_h", float(h));
@@ -249,12 +260,12 @@ void Sky::doRender(const FrameContext& ctx) {
         p.set("u_invScale", float(1.0 / kLutScale));
         p.set("u_steps", q.raymarchSteps);
         p.set("u_moonAngular", float(kMoonAngularRadius));
-        const double hc = std::min(h, m.topRadius - m.bottomRadius), R = m.bottomRadius;
-        p.set("u_thetaH", float(std::acos(std::clamp(-std::sqrt(hc * (2 * R + hc)) / (R + hc), -1.0, 1.0))));
+        p.set("u_sH", float(skyViewHorizonS(m, std::min(h, m.topRadius - m.bottomRadius))));
     };
     const auto& sp = luts_.sunView->spectral();
     if (!perPixel_ || !sp) {
-        const gl::Program& p = perPixel_ ? marchProgram_[moon] : lutProgram_[moon];
+        const gl::Program& p = perPixel_ ? marchPrograms_[moon].get(proj)
+                                         : lutPrograms_[moon][ctx.nothingBehind ? 0 : 1][q.bakedMiePhase].get(proj);
         setUniforms(p, sunE, moonE);
         ctx.drawFullscreen();
         return;
@@ -265,13 +276,12 @@ void Sky::doRender(const FrameContext& ctx) {
     // Inside the atmosphere the transmittance is the combined (solar-weighted) LUT's, as on the
     // LUT path; above it, a ray march with the RGB coefficients (Atmosphere::rgb()).
     if (h <= m.topRadius - m.bottomRadius - 1.0) {
-        setUniforms(lutProgram_[0], glm::dvec3(0.0), glm::dvec3(0.0));
+        setUniforms(lutPrograms_[0][1][q.bakedMiePhase].get(proj), glm::dvec3(0.0), glm::dvec3(0.0));
     } else {
-        setUniforms(marchProgram_[0], glm::dvec3(0.0), glm::dvec3(0.0));
+        setUniforms(marchPrograms_[0].get(proj), glm::dvec3(0.0), glm::dvec3(0.0));
     }
     ctx.drawFullscreen();
-    gl::Program& ps = spectralProgram_[moon];
-    if (!ps) ps = buildProgram(true, moon, true);
+    const gl::Program& ps = spectralPrograms_[moon].get(proj);
     const skykeys::TextureList T = v.get(skykeys::transmittanceLuts), MS = v.get(skykeys::multiScatteringLuts),
                                SH = v.get(skykeys::shLuts);
     for (int k = 0; k < sp->triples(); ++k) {
@@ -288,9 +298,11 @@ void Sky::doRender(const FrameContext& ctx) {
 }
 
 void Sky::doRelease() {
-    for (auto& p : lutProgram_) p = {};
-    for (auto& p : marchProgram_) p = {};
-    for (auto& p : spectralProgram_) p = {};
+    for (auto& row : lutPrograms_)
+        for (auto& col : row)
+            for (auto& p : col) p.releasePrograms();
+    for (auto& p : marchPrograms_) p.releasePrograms();
+    for (auto& p : spectralPrograms_) p.releasePrograms();
     ubo_ = {};
     luts_.releaseGl();
 }

@@ -61,9 +61,11 @@ inline const Key<TextureRef> shLut{"sky.sh_lut", "directional multiple scatterin
 inline const Key<int> shRev{"sky.sh_rev", "directional multiple-scattering LUT revision"};
 inline const Key<TextureRef> sunViewLut{"sky.sun_view_lut", "sky-view LUT for the Sun: Rayleigh + multiple scattering + ground"};
 inline const Key<TextureRef> sunViewMieLut{"sky.sun_view_mie_lut", "sky-view LUT for the Sun: Mie single scattering without phase"};
+inline const Key<TextureRef> sunViewTotalLut{"sky.sun_view_total_lut", "sky-view LUT for the Sun: everything, Mie phase at the texel's angle"};
 inline const Key<int> sunViewRev{"sky.sun_view_rev", "Sun sky-view LUT revision"};
 inline const Key<TextureRef> moonViewLut{"sky.moon_view_lut", "sky-view LUT for the Moon (smooth part)"};
 inline const Key<TextureRef> moonViewMieLut{"sky.moon_view_mie_lut", "sky-view LUT for the Moon (Mie without phase)"};
+inline const Key<TextureRef> moonViewTotalLut{"sky.moon_view_total_lut", "sky-view LUT for the Moon: everything, Mie phase at the texel's angle"};
 inline const Key<int> moonViewRev{"sky.moon_view_rev", "Moon sky-view LUT revision"};
 inline const Key<TextureRef> aerialInscatter{"sky.aerial_inscatter", "aerial perspective volume: in-scattered radiance per lux x kLutScale"};
 inline const Key<TextureRef> aerialTransmittance{"sky.aerial_transmittance", "aerial perspective volume: transmittance"};
@@ -95,6 +97,7 @@ struct AtmosphereBlock {
     glm::vec4 solarIlluminance;
     glm::vec4 phaseMoments;
     glm::vec4 profiles[9];
+    glm::vec4 phaseMoments2;  ///< Mie Lambda_3, Lambda_4 (cpu::PhaseMoments::high)
     static AtmosphereBlock from(const SkyModel& m);
 };
 
@@ -177,8 +180,9 @@ private:
     int rev_ = 0;
 };
 
-/// Directional multiple scattering (SkyQuality::directionalMs): SH l <= 2 of the incident
-/// radiance field at (h, mu_s), 6 layers; read on texture unit 8 by the passes after it.
+/// Directional multiple scattering (SkyQuality::directionalMs): SH l <= 4 of the incident
+/// radiance field at (h, mu_s) in layers 0-14, and in layer 15 (row 0) the sky's irradiance on
+/// the ground over mu_s (cpu::MsField::ground); read on texture unit 8 by the passes after it.
 class ShLut final : public SkyGenerator {
 public:
     ShLut();
@@ -190,8 +194,10 @@ private:
     void doRun(SkyVars& vars, const Logger& log) override;
     gl::Texture2DArray tex_;
     std::vector<gl::Texture2DArray> more_;  // triples 1.. (spectral mode)
-    gl::Framebuffer fbo_;
     gl::Program prog_;
+    gl::Texture2D ground_;  ///< the sky's irradiance on the ground over mu_s (w x 1)
+    gl::Framebuffer groundFbo_;
+    gl::Program groundProg_;
     int rev_ = 0;
 };
 
@@ -204,6 +210,8 @@ public:
     explicit SkyViewLut(Light light);
     const gl::Texture2D& smoothTexture() const { return smooth_; }
     const gl::Texture2D& mieTexture() const { return mie_; }
+    /// smooth + Mie x phase(angle of the texel's direction to the light).
+    const gl::Texture2D& totalTexture() const { return total_; }
     /// Height and light cos-zenith of the last run (h clamped into the atmosphere).
     double height() const { return h_; }
     double lightMuS() const { return muS_; }
@@ -212,8 +220,8 @@ public:
 private:
     void doRun(SkyVars& vars, const Logger& log) override;
     Light light_;
-    gl::Texture2D smooth_, mie_;
-    gl::Texture2D smoothK_, mieK_;  // spectral mode: one triple's pass, before combine()
+    gl::Texture2D smooth_, mie_, total_;
+    gl::Texture2D smoothK_, mieK_, totalK_;  // spectral mode: one triple's pass, before combine()
     gl::Framebuffer fbo_, fboK_;
     gl::Program prog_;
     int rev_ = 0;

@@ -102,6 +102,11 @@ struct SkyQuality {
     double aerialMaxDistance = 100e3;               ///< m, last slice
     int raymarchSteps = 48;                         ///< per-pixel ray march (space, reference)
     bool halfFloat = false;                         ///< fp16 LUTs (else fp32)
+    /// The pixel shader reads one sky-view texture with the Mie phase function baked in at each
+    /// texel's own angle to the light (one texture fetch and no phase per pixel), instead of two
+    /// (smooth + Mie without phase, the phase evaluated at the pixel's exact angle: a sharper
+    /// aureole). Measured cost and error in docs/sky.md.
+    bool bakedMiePhase = true;
     bool perPixel = false;                          ///< ray-march every pixel (reference)
     int irradianceAzimuth = 32, irradianceZenith = 16;  ///< hemisphere quadrature
     /// 0 low, 1 medium, 2 high, 3 reference. Throws welkin::Error outside [0, 3].
@@ -133,9 +138,14 @@ glm::dvec2 transmittanceHMu(const SkyModel& m, glm::dvec2 uv, int w, int hgt);
 glm::dvec2 multiScatteringUv(const SkyModel& m, double h, double muS, int w, int hgt);
 glm::dvec2 multiScatteringHMuS(const SkyModel& m, glm::dvec2 uv, int w, int hgt);
 /// Sky-view LUT at height h: (cos view zenith mu, azimuth from the light in [0, pi]) <-> uv.
-/// Latitude is dense at the horizon (square-root law on each side of the horizon, whose texel
-/// rows never mix: the upper half is sampled with v clamped to its own rows).
+/// Latitude is dense at the horizon (square-root law in sin(theta/2) on each side of the
+/// horizon, whose texel rows never mix: the upper half is sampled with v clamped to its own
+/// rows); azimuth u = sin(azimuth / 2). Both need only square roots per pixel (no acos, atan).
 glm::dvec2 skyViewUv(const SkyModel& m, double h, double mu, double azimuth, int w, int hgt);
+/// The same from the cosine of the azimuth (what a pixel shader has: no atan).
+glm::dvec2 skyViewUvCos(const SkyModel& m, double h, double mu, double cosAzimuth, int w, int hgt);
+/// sin(theta_H / 2), theta_H the zenith angle of the observer's horizon at height h.
+double skyViewHorizonS(const SkyModel& m, double h);
 /// Inverse: returns (mu, azimuth).
 glm::dvec2 skyViewMuAz(const SkyModel& m, double h, glm::dvec2 uv, int w, int hgt);
 
@@ -165,25 +175,47 @@ glm::dvec3 transmittanceToLight(const SkyModel& m, const Lut2D& T, double h, dou
 glm::dvec3 multiScatteringTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, double h, double muS);
 Lut2D multiScatteringLut(const SkyModel& m, const SkyQuality& q, const Lut2D& T);
 
+/// Spherical-harmonic coefficients kept of the incident radiance field: the real SH of bands
+/// l <= 4 that are even about the light's vertical plane (cos(m phi) terms): 1 + 2 + 3 + 4 + 5.
+constexpr int kShCoefficients = 15;
 /// The fields the view-ray marches read for scattering orders >= 2.
 struct MsField {
     Lut2D psi;                   ///< Hillaire's Psi_ms (isotropic), per lux
-    std::array<Lut2D, 6> sh{};   ///< SH coefficients (l <= 2, even in y) of the incident field
+    std::array<Lut2D, kShCoefficients> sh{};  ///< SH coefficients (l <= 4, even in y) of the incident field
+    /// Sky irradiance on the (horizontal) ground per lux of the light, over mu_s at the ground
+    /// (width = psi's, height 1, u as multiScatteringUv at h = 0). Empty: the ground is lit by
+    /// the direct light only.
+    Lut2D ground;
     bool directional = false;    ///< use sh (else psi)
 };
-/// Legendre moments Lambda_l = 2 pi int p(t) P_l(t) dt of the phase functions, l = 1, 2, and
-/// the delta-M forward fraction: (Mie l1, Mie l2, Rayleigh l2, f = Lambda_3(Mie) / 2).
-glm::dvec4 phaseMoments(const SkyModel& m);
-/// The 6 real SH basis functions used (Y00, Y10, Y11, Y20, Y21, Y22) at a unit vector in the
-/// local frame (x horizontal towards the light, z up); y enters only squared.
-std::array<double, 6> shBasis(double x, double z);
-/// SH texel: the projection of the incident radiance field at (h, mu_s), per lux.
-std::array<glm::dvec3, 6> shTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const Lut2D& psi, double h, double muS);
-/// Builds psi (and sh if q.directionalMs).
+/// Legendre moments Lambda_l = 2 pi int p(t) P_l(t) dt of the phase functions and the delta-M
+/// forward fraction: low = (Mie l1, Mie l2, Rayleigh l2, f = Lambda_5(Mie) / 2), high = (Mie l3,
+/// Mie l4, 0, 0) (Rayleigh's moments beyond l = 2 are 0).
+struct PhaseMoments {
+    glm::dvec4 low{0.0};
+    glm::dvec4 high{0.0};
+};
+PhaseMoments phaseMoments(const SkyModel& m);
+/// The 15 real SH basis functions used (l <= 4, m >= 0: Y00, Y10, Y11, Y20, Y21, Y22, Y30 ..
+/// Y33, Y40 .. Y44, i.e. l (l + 1) / 2 + m) at a unit vector in the local frame (x horizontal
+/// towards the light, z up); y enters only squared.
+std::array<double, kShCoefficients> shBasis(double x, double z);
+/// Ground texel: the sky's irradiance on a horizontal surface at the ground, per lux of the
+/// light at mu_s, gathered over q.shDirections directions of the upper hemisphere (single
+/// scattering with the phase functions plus Hillaire's isotropic higher orders along each ray).
+glm::dvec3 groundIrradianceTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const Lut2D& psi, double muS);
+/// Irradiance of the ground (direct light plus sky light) per lux of the light at mu_s (the
+/// ground's radiance is groundAlbedo / pi times this). `ground` may be empty (direct only).
+glm::dvec3 groundIrradiance(const SkyModel& m, const Lut2D& T, const Lut2D& ground, double muS, double lightAngularRadius);
+/// SH texel: the projection of the incident radiance field at (h, mu_s), per lux (the ground
+/// lit by `ground`, as groundIrradiance()).
+std::array<glm::dvec3, kShCoefficients> shTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const Lut2D& psi, const Lut2D& ground,
+                                  double h, double muS);
+/// Builds psi (and ground and sh if q.directionalMs).
 MsField msField(const SkyModel& m, const SkyQuality& q, const Lut2D& T);
 /// In-scattered radiance per lux of orders >= 2 at a point (h, mu, mu_s, nu), for the given
 /// Rayleigh and Mie scattering coefficients there.
-glm::dvec3 msInscatter(const SkyModel& m, const MsField& f, const glm::dvec4& moments, double h, double mu, double muS,
+glm::dvec3 msInscatter(const SkyModel& m, const MsField& f, const PhaseMoments& moments, double h, double mu, double muS,
                        double nu, const glm::dvec3& sR, const glm::dvec3& sM);
 
 /// Result of a ray march: radiance per unit light illuminance, split into the phase-applied

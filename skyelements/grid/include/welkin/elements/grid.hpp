@@ -12,6 +12,7 @@
 #pragma once
 #include <welkin/element.hpp>
 #include <welkin/gl/objects.hpp>
+#include <welkin/gl/projection_programs.hpp>
 
 namespace welkin::elements {
 
@@ -42,7 +43,7 @@ private:
     void doRelease() override;
 
     GridOptions options_;
-    gl::Program program_;
+    gl::ProjectionPrograms programs_;  // one per camera projection
 };
 
 }  // namespace welkin::elements

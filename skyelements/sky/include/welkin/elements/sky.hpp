@@ -33,6 +33,7 @@
 #include <welkin/element.hpp>
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/gl/objects.hpp>
+#include <welkin/gl/projection_programs.hpp>
 
 namespace welkin::elements {
 
@@ -69,12 +70,14 @@ private:
     void doRender(const FrameContext& ctx) override;
     void doRelease() override;
     void doStats(nlohmann::json& root) const override;
-    gl::Program buildProgram(bool perPixel, bool moon, bool spectral);
+    static gl::ProgramBuilder recipe(bool perPixel, bool moon, bool transmittance, bool baked, bool spectral);
 
     SkyOptions options_;
     generators::SkyLuts luts_;
-    gl::Program lutProgram_[2], marchProgram_[2];  // [without, with] the Moon
-    gl::Program spectralProgram_[2];               // per pixel, one wavelength triple (built on first use)
+    // [without, with the Moon][without, with the transmittance output][separate, baked Mie phase]:
+    // separate variants because llvmpipe evaluates both sides of a uniform branch; each compiled
+    // per projection on first use. spectralPrograms_: per pixel, one wavelength triple per draw.
+    gl::ProjectionPrograms lutPrograms_[2][2][2], marchPrograms_[2], spectralPrograms_[2];
     gl::Buffer ubo_;
     bool perPixel_ = false;
     double zenith_ = 0, global_ = 0, direct_ = 0, diffuse_ = 0;
