@@ -1,14 +1,18 @@
-// Multiple-scattering LUT pass (fragment), Hillaire 2020: for a point at height h with the light
+// Multiple-scattering LUT pass (compute, 8x8 invocations per group: llvmpipe spreads groups over
+// its threads, where a fragment pass this small is one 64x64 tile, one thread), Hillaire 2020: for a point at height h with the light
 // at cos zenith muS, the second-order radiance L2 and the transfer f_ms gathered over the sphere
 // with an isotropic phase, Psi_ms = L2 / (1 - f_ms), per lux of the light. Twin of
 // cpu::multiScatteringTexel(). Needs atmosphere.glsl (ATM_USE_TRANSMITTANCE) before it.
 uniform int u_directions;
 uniform int u_steps;
 uniform ivec2 u_size;  // texels: mu_s, height
-out vec4 o_psi;
+layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+layout(MS_IMAGE_FORMAT, binding = 0) uniform writeonly image2D u_psi;
 
 void main() {
-    vec2 hm = multiScatteringHMuS(gl_FragCoord.xy / vec2(u_size), vec2(u_size));
+    ivec2 ij = ivec2(gl_GlobalInvocationID.xy);
+    if (ij.x >= u_size.x || ij.y >= u_size.y) return;
+    vec2 hm = multiScatteringHMuS((vec2(ij) + 0.5) / vec2(u_size), vec2(u_size));
     float h = hm.x, muS = hm.y;
     vec3 sun = vec3(sqrt(max(1.0 - muS * muS, 0.0)), 0.0, muS);
     float angular = atm_solarIlluminance.w;
@@ -45,5 +49,5 @@ void main() {
     }
     L2 /= float(u_directions);
     fms /= float(u_directions);
-    o_psi = vec4(L2 / (1.0 - min(fms, vec3(0.999))), 1.0);
+    imageStore(u_psi, ij, vec4(L2 / (1.0 - min(fms, vec3(0.999))), 1.0));
 }

@@ -17,7 +17,6 @@ MultiScatteringLut::MultiScatteringLut() : SkyGenerator("sky.multiscattering") {
 void MultiScatteringLut::releaseGl() {
     tex_ = {};
     more_.clear();
-    fbo_ = {};
     prog_ = {};
     releaseCommon();
 }
@@ -31,16 +30,15 @@ void MultiScatteringLut::doRun(SkyVars& vars, const Logger&) {
         tex_ = gl::Texture2D(w, n, fmt);
         tex_.setFilter(GL_LINEAR);
         tex_.setWrap(GL_CLAMP_TO_EDGE);
-        fbo_ = gl::Framebuffer::create();
-        fbo_.attach(GL_COLOR_ATTACHMENT0, tex_);
-        fbo_.checkComplete("MultiScatteringLut");
+        more_.clear();
+        prog_ = {};  // the image format is compiled in
     }
     if (!prog_)
         prog_ = gl::ProgramBuilder("MultiScatteringLut")
                     .define("ATM_USE_TRANSMITTANCE")
-                    .fullscreenVertex()
-                    .fragment("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
-                    .fragment("generators/multiscattering_lut.glsl", embedded::generator_shaders("multiscattering_lut.glsl"))
+                    .define("MS_IMAGE_FORMAT", q_.halfFloat ? "rgba16f" : "rgba32f")
+                    .compute("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
+                    .compute("generators/multiscattering_lut.glsl", embedded::generator_shaders("multiscattering_lut.glsl"))
                     .build();
     const int K = triples();
     if (int(T->size()) != K) throw Error("MultiScatteringLut: " + std::to_string(T->size()) + " transmittance LUTs for " + std::to_string(K) + " triples");
@@ -56,15 +54,14 @@ void MultiScatteringLut::doRun(SkyVars& vars, const Logger&) {
     for (int k = 0; k < K; ++k) {
         const gl::Texture2D& target = texture(k);
         useTriple(k);
-        fbo_.attach(GL_COLOR_ATTACHMENT0, target);
-        fbo_.bind();
-        glViewport(0, 0, w, n);
         glBindTextureUnit(4, (*T)[size_t(k)].id);
+        glBindImageTexture(0, target.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, fmt);
         prog_.use();
         prog_.set("u_directions", q_.multiScatteringDirections);
         prog_.set("u_steps", q_.multiScatteringSteps);
         prog_.set("u_size", glm::ivec2(w, n));
-        fullscreen();
+        glDispatchCompute(GLuint((w + 7) / 8), GLuint((n + 7) / 8), 1);
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
         list->push_back(target.ref());
     }
     vars.set(skykeys::multiScatteringLuts, skykeys::TextureList(list));

@@ -175,7 +175,6 @@ private:
     void doRun(SkyVars& vars, const Logger& log) override;
     gl::Texture2D tex_;
     std::vector<gl::Texture2D> more_;  // triples 1.. (spectral mode)
-    gl::Framebuffer fbo_;
     gl::Program prog_;
     int rev_ = 0;
 };
