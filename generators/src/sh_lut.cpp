@@ -16,6 +16,8 @@ ShLut::ShLut() : SkyGenerator("sky.ms_directional") {
 void ShLut::releaseGl() {
     tex_ = {};
     prog_ = {};
+    iterTex_ = {};
+    iterProg_ = {};
     ground_ = {};
     groundFbo_ = {};
     groundProg_ = {};
@@ -41,7 +43,26 @@ void ShLut::doRun(SkyVars& vars, const Logger&) {
         groundFbo_.attach(GL_COLOR_ATTACHMENT0, ground_);
         groundFbo_.checkComplete("ShLut ground");
         prog_ = {};  // the image format is compiled in
+        iterProg_ = {};
     }
+    if (q_.shIterations == 0) iterTex_ = {};
+    if (q_.shIterations > 0 && (!iterTex_ || iterTex_.width() != w || iterTex_.height() != n || iterTex_.internalFormat() != fmt)) {
+        iterTex_ = gl::Texture2DArray(w, n, cpu::kShCoefficients + 1, fmt);
+        iterTex_.setFilter(GL_LINEAR);
+        iterTex_.setWrap(GL_CLAMP_TO_EDGE);
+        const float zero[4] = {0, 0, 0, 0};
+        glClearTexImage(iterTex_.id(), 0, GL_RGBA, GL_FLOAT, zero);
+    }
+    if (q_.shIterations > 0 && !iterProg_)
+        iterProg_ = gl::ProgramBuilder("ShLut iteration")
+                        .define("ATM_USE_TRANSMITTANCE")
+                        .define("ATM_USE_MULTISCATTERING")
+                        .define("ATM_MS_DIRECTIONAL")
+                        .define("SH_ITERATION")
+                        .define("SH_IMAGE_FORMAT", q_.halfFloat ? "rgba16f" : "rgba32f")
+                        .compute("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
+                        .compute("generators/sh_lut.glsl", embedded::generator_shaders("sh_lut.glsl"))
+                        .build();
     if (!prog_)
         prog_ = gl::ProgramBuilder("ShLut")
                     .define("ATM_USE_TRANSMITTANCE")
@@ -80,7 +101,23 @@ void ShLut::doRun(SkyVars& vars, const Logger&) {
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
     glCopyImageSubData(ground_.id(), GL_TEXTURE_2D, 0, 0, 0, 0, tex_.id(), GL_TEXTURE_2D_ARRAY, 0, 0, 0, cpu::kShCoefficients, w,
                        1, 1);
-    vars.set(skykeys::shLut, tex_.ref());
+    const gl::Texture2DArray* out = &tex_;
+    if (q_.shIterations > 0) {
+        // 3. Second pass: every gathered ray marched through the first pass's field.
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+        glBindTextureUnit(8, tex_.id());
+        glBindImageTexture(0, iterTex_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, fmt);
+        iterProg_.use();
+        iterProg_.set("u_directions", q_.shDirections);
+        iterProg_.set("u_steps", q_.multiScatteringSteps);
+        iterProg_.set("u_size", glm::ivec2(w, n));
+        glDispatchCompute((w + 7) / 8, (n + 7) / 8, 1);
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+        glCopyImageSubData(ground_.id(), GL_TEXTURE_2D, 0, 0, 0, 0, iterTex_.id(), GL_TEXTURE_2D_ARRAY, 0, 0, 0,
+                           cpu::kShCoefficients, w, 1, 1);
+        out = &iterTex_;
+    }
+    vars.set(skykeys::shLut, out->ref());
     vars.set(skykeys::shRev, ++rev_);
 }
 

@@ -143,13 +143,16 @@ private:
 class ShLut final : public SkyGenerator {
 public:
     ShLut();
-    const gl::Texture2DArray& texture() const { return tex_; }
+    /// The published field (the second pass's when SkyQuality::shIterations > 0).
+    const gl::Texture2DArray& texture() const { return iterTex_ ? iterTex_ : tex_; }
     void releaseGl() override;
 
 private:
     void doRun(SkyVars& vars, const Logger& log) override;
     gl::Texture2DArray tex_;
     gl::Program prog_;
+    gl::Texture2DArray iterTex_;  ///< second pass (SkyQuality::shIterations)
+    gl::Program iterProg_;
     gl::Texture2D ground_;  ///< the sky's irradiance on the ground over mu_s (w x 1)
     gl::Framebuffer groundFbo_;
     gl::Program groundProg_;

@@ -95,6 +95,10 @@ struct SkyQuality {
     /// approximation.
     bool directionalMs = true;
     int shDirections = 128;                         ///< gathered directions per SH texel
+    /// Second pass of the directional field (0 or 1): the incident field is gathered again, its
+    /// orders >= 2 now from the first pass's SH (directional) instead of Hillaire's isotropic
+    /// Psi, which is left to orders >= 4 of a view ray. Costs one more, dearer, SH pass.
+    int shIterations = 0;
     int skyViewW = 192, skyViewH = 108;             ///< texels (azimuth x latitude)
     int skyViewSteps = 32;                          ///< samples per ray
     int aerialSize = 32;                            ///< texels per side of the volume
@@ -201,7 +205,11 @@ glm::dvec3 groundIrradiance(const SkyModel& m, const Lut2D& T, const Lut2D& grou
 /// lit by `ground`, as groundIrradiance()).
 std::array<glm::dvec3, kShCoefficients> shTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const Lut2D& psi, const Lut2D& ground,
                                   double h, double muS);
-/// Builds psi (and ground and sh if q.directionalMs).
+/// SH texel of the second pass (q.shIterations): the projection of the incident field whose
+/// every gathered ray is marched like a view ray through `prev` (integrate()).
+std::array<glm::dvec3, kShCoefficients> shIterationTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T,
+                                                         const MsField& prev, double h, double muS);
+/// Builds psi (and ground and sh if q.directionalMs, iterated q.shIterations times).
 MsField msField(const SkyModel& m, const SkyQuality& q, const Lut2D& T);
 /// In-scattered radiance per lux of orders >= 2 at a point (h, mu, mu_s, nu), for the given
 /// Rayleigh and Mie scattering coefficients there.
