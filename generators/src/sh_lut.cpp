@@ -108,8 +108,8 @@ void ShLut::doRun(SkyVars& vars, const Logger&) {
         glBindTextureUnit(8, tex_.id());
         glBindImageTexture(0, iterTex_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, fmt);
         iterProg_.use();
-        iterProg_.set("u_directions", q_.shDirections);
-        iterProg_.set("u_steps", q_.multiScatteringSteps);
+        iterProg_.set("u_directions", q_.shIterationDirections);
+        iterProg_.set("u_steps", q_.shIterationSteps);
         iterProg_.set("u_size", glm::ivec2(w, n));
         glDispatchCompute((w + 7) / 8, (n + 7) / 8, 1);
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);

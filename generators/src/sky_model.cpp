@@ -76,14 +76,15 @@ SkyQuality SkyQuality::preset(int quality) {
         q.raymarchSteps = 24, q.halfFloat = true, q.shDirections = 64;
         q.irradianceAzimuth = 16, q.irradianceZenith = 8;
         break;
-    case 1:  // medium (default): Hillaire 2020 sizes
+    case 1:  // medium (default): Hillaire 2020 sizes, a cheap second SH pass (64 x 12 per texel)
+        q.shIterations = 1;
         break;
     case 2:  // high: larger LUTs and more samples, fp32
         q.transmittanceW = 256, q.transmittanceH = 128, q.transmittanceSteps = 128;
         q.multiScatteringMuS = 64, q.multiScatteringSize = 32, q.multiScatteringDirections = 128, q.multiScatteringSteps = 32, q.shDirections = 256;
         q.skyViewW = 256, q.skyViewH = 192, q.skyViewSteps = 64;
         q.aerialSize = 32, q.aerialSteps = 4;
-        q.raymarchSteps = 96, q.shIterations = 1;
+        q.raymarchSteps = 96, q.shIterations = 1, q.shIterationDirections = 128, q.shIterationSteps = 16;
         q.irradianceAzimuth = 64, q.irradianceZenith = 32;
         break;
     case 3:  // reference: every pixel ray-marched with many steps
@@ -91,7 +92,7 @@ SkyQuality SkyQuality::preset(int quality) {
         q.multiScatteringMuS = 128, q.multiScatteringSize = 32, q.multiScatteringDirections = 256, q.multiScatteringSteps = 64, q.shDirections = 512;
         q.skyViewW = 256, q.skyViewH = 192, q.skyViewSteps = 64;
         q.aerialSize = 32, q.aerialSteps = 8;
-        q.raymarchSteps = 256, q.perPixel = true, q.shIterations = 1;
+        q.raymarchSteps = 256, q.perPixel = true, q.shIterations = 1, q.shIterationDirections = 256, q.shIterationSteps = 32;
         q.irradianceAzimuth = 64, q.irradianceZenith = 32;
         break;
     default: {
@@ -559,13 +560,13 @@ MsField msField(const SkyModel& m, const SkyQuality& q, const Lut2D& T) {
 
 std::array<glm::dvec3, kShCoefficients> shIterationTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T,
                                                          const MsField& prev, double h, double muS) {
-    const int n = q.shDirections;
+    const int n = q.shIterationDirections;
     std::array<glm::dvec3, kShCoefficients> c{};
     const glm::dvec3 sun(safeSqrt(1.0 - muS * muS), 0.0, muS);
     for (int i = 0; i < n; ++i) {
         glm::dvec3 v = fibonacciDirection(i, n);
         double nu = glm::dot(v, sun);
-        Scattering s = integrate(m, T, prev, h, v.z, muS, nu, 1e30, q.multiScatteringSteps, false, m.sunAngularRadius);
+        Scattering s = integrate(m, T, prev, h, v.z, muS, nu, 1e30, q.shIterationSteps, false, m.sunAngularRadius);
         glm::dvec3 L = radiance(m, s, nu);
         auto Y = shBasis(v.x, v.z);
         for (int k = 0; k < kShCoefficients; ++k) c[k] += L * Y[k];

@@ -97,8 +97,11 @@ struct SkyQuality {
     int shDirections = 128;                         ///< gathered directions per SH texel
     /// Second pass of the directional field (0 or 1): the incident field is gathered again, its
     /// orders >= 2 now from the first pass's SH (directional) instead of Hillaire's isotropic
-    /// Psi, which is left to orders >= 4 of a view ray. Costs one more, dearer, SH pass.
+    /// Psi, which is left to orders >= 4 of a view ray. Costs one more SH pass, whose rays are
+    /// marched like view rays (15 SH fetches per sample): hence its own, smaller, counts.
     int shIterations = 0;
+    int shIterationDirections = 64;  ///< gathered directions per texel in the second pass
+    int shIterationSteps = 12;       ///< samples per direction in the second pass
     int skyViewW = 192, skyViewH = 108;             ///< texels (azimuth x latitude)
     int skyViewSteps = 32;                          ///< samples per ray
     int aerialSize = 32;                            ///< texels per side of the volume
