@@ -243,14 +243,16 @@ vec3 msInscatter(float h, float mu, float muS, float nu, vec3 sR, vec3 sM) {
     vec2 uv = multiScatteringUv(h, muS, vec2(textureSize(ATM_MULTISCATTERING_LUT, 0)));
 #ifdef ATM_MS_DIRECTIONAL
     float sinS = sqrt(max(1.0 - muS * muS, 0.0));
-    float x = sinS > 1e-6 ? clamp((nu - mu * muS) / sinS, -1.0, 1.0) : 0.0;
+    float x = sinS > 1e-3 ? clamp((nu - mu * muS) / sinS, -1.0, 1.0) : 0.0;  // see cpu::msInscatter()
     float Y[ATM_SH_COEFFICIENTS] = atm_shBasis(x, mu);
     // Funk-Hecke: band l scaled by the phase function's Legendre moment; delta-M: the forward
     // fraction fw stays in the beam.
     vec4 mo = atm_phaseMoments, mo2 = atm_phaseMoments2;
     float fw = mo.w;
     float bR[5] = float[5](1.0, 0.0, mo.z, 0.0, 0.0);
-    float bM[5] = float[5](1.0 - fw, mo.x - fw, mo.y - fw, mo2.x - fw, mo2.y - fw);
+    // Mie bands damped by the Gaussian window exp(-0.03 l^2) (see cpu::msInscatter()).
+    float bM[5] = float[5](1.0 - fw, (mo.x - fw) * 0.970446, (mo.y - fw) * 0.886920, (mo2.x - fw) * 0.763379,
+                           (mo2.y - fw) * 0.618783);
     const int band[ATM_SH_COEFFICIENTS] = int[ATM_SH_COEFFICIENTS](0, 1, 1, 2, 2, 2, 3, 3, 3, 3, 4, 4, 4, 4, 4);
     vec3 aR = vec3(0.0), aM = vec3(0.0);
     for (int k = 0; k < ATM_SH_COEFFICIENTS; ++k) {

@@ -8,6 +8,9 @@
 //    ground lit by the light and the sky -- projected on the real spherical harmonics l <= 4 that
 //    are even in y (the field is symmetric about the light's vertical plane). Local frame: x
 //    horizontal towards the light, z up. SH_IMAGE_FORMAT: rgba32f or rgba16f.
+//  - SH_ITERATION (compute, with ATM_MS_DIRECTIONAL: the first pass's layers on unit 8): the
+//    same projection, each gathered ray marched like a view ray (integrateScattering()), so its
+//    orders >= 2 come from the first pass's directional field; twin of cpu::shIterationTexel().
 uniform int u_directions;
 uniform int u_steps;
 uniform ivec2 u_size;  // texels: mu_s, height
@@ -80,7 +83,13 @@ void main() {
     for (int k = 0; k < ATM_SH_COEFFICIENTS; ++k) c[k] = vec3(0.0);
     for (int i = 0; i < u_directions; ++i) {
         vec3 v = atm_fibonacciDirection(i, u_directions);
+#ifdef SH_ITERATION
+        float nu = v.x * sqrt(max(1.0 - muS * muS, 0.0)) + v.z * muS;
+        Scattering s = integrateScattering(h, v.z, muS, nu, 1e30, u_steps, false, atm_solarIlluminance.w, -1);
+        vec3 L = s.smooth_ + s.mieNoPhase * miePhase(nu);
+#else
         vec3 L = atm_incidentRadiance(h, muS, v);
+#endif
         float Y[ATM_SH_COEFFICIENTS] = atm_shBasis(v.x, v.z);
         for (int k = 0; k < ATM_SH_COEFFICIENTS; ++k) c[k] += L * Y[k];
     }

@@ -17,19 +17,26 @@ ShLut::ShLut() : SkyGenerator("sky.ms_directional") {
 }
 
 void ShLut::releaseGl() {
-    tex_ = {};
-    more_.clear();
+    first_.clear();
+    iter_.clear();
     prog_ = {};
+    iterProg_ = {};
     ground_ = {};
     groundFbo_ = {};
     groundProg_ = {};
     releaseCommon();
 }
 
+const gl::Texture2DArray& ShLut::texture(int k) const {
+    const auto& v = iter_.empty() ? first_ : iter_;
+    return v.at(size_t(k));
+}
+
 void ShLut::doRun(SkyVars& vars, const Logger&) {
     prepare(vars);
     const GLenum fmt = q_.halfFloat ? GL_RGBA16F : GL_RGBA32F;
     const int w = q_.multiScatteringMuS, n = q_.multiScatteringSize;
+    const int K = triples();
     // Layers 0-14: SH coefficients (cpu::kShCoefficients); layer 15, row 0: the ground's sky
     // irradiance (copied from ground_ below; the other rows stay 0, never sampled with weight).
     auto makeLayered = [&] {
@@ -40,9 +47,10 @@ void ShLut::doRun(SkyVars& vars, const Logger&) {
         glClearTexImage(t.id(), 0, GL_RGBA, GL_FLOAT, zero);
         return t;
     };
-    if (!tex_ || tex_.width() != w || tex_.height() != n || tex_.internalFormat() != fmt) {
-        tex_ = makeLayered();
-        more_.clear();
+    const bool resized = first_.empty() || first_[0].width() != w || first_[0].height() != n || first_[0].internalFormat() != fmt;
+    if (resized) {
+        first_.clear();
+        iter_.clear();
         ground_ = gl::Texture2D(w, 1, fmt);
         ground_.setFilter(GL_LINEAR);
         ground_.setWrap(GL_CLAMP_TO_EDGE);
@@ -50,7 +58,24 @@ void ShLut::doRun(SkyVars& vars, const Logger&) {
         groundFbo_.attach(GL_COLOR_ATTACHMENT0, ground_);
         groundFbo_.checkComplete("ShLut ground");
         prog_ = {};  // the image format is compiled in
+        iterProg_ = {};
     }
+    while (int(first_.size()) < K) first_.push_back(makeLayered());
+    first_.resize(size_t(K));
+    const int iterations = q_.shIterations > 0 ? 1 : 0;
+    if (iterations == 0) iter_.clear();
+    while (iterations > 0 && int(iter_.size()) < K) iter_.push_back(makeLayered());
+    if (iterations > 0) iter_.resize(size_t(K));
+    if (iterations > 0 && !iterProg_)
+        iterProg_ = gl::ProgramBuilder("ShLut iteration")
+                        .define("ATM_USE_TRANSMITTANCE")
+                        .define("ATM_USE_MULTISCATTERING")
+                        .define("ATM_MS_DIRECTIONAL")
+                        .define("SH_ITERATION")
+                        .define("SH_IMAGE_FORMAT", q_.halfFloat ? "rgba16f" : "rgba32f")
+                        .compute("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
+                        .compute("generators/sh_lut.glsl", embedded::generator_shaders("sh_lut.glsl"))
+                        .build();
     if (!prog_)
         prog_ = gl::ProgramBuilder("ShLut")
                     .define("ATM_USE_TRANSMITTANCE")
@@ -69,16 +94,10 @@ void ShLut::doRun(SkyVars& vars, const Logger&) {
                           .fragment("generators/sh_lut.glsl", embedded::generator_shaders("sh_lut.glsl"))
                           .build();
     const skykeys::TextureList T = vars.get(skykeys::transmittanceLuts), MS = vars.get(skykeys::multiScatteringLuts);
-    const int K = triples();
     if (int(T->size()) != K || int(MS->size()) != K)
         throw Error("ShLut: " + std::to_string(T->size()) + "/" + std::to_string(MS->size()) + " input LUTs for " + std::to_string(K) + " triples");
-    if (int(more_.size()) != K - 1) {
-        more_.clear();
-        for (int k = 1; k < K; ++k) more_.push_back(makeLayered());
-    }
     auto list = std::make_shared<std::vector<TextureRef>>();
     for (int k = 0; k < K; ++k) {
-        const gl::Texture2DArray& target = texture(k);
         useTriple(k);
         glBindTextureUnit(4, (*T)[size_t(k)].id);
         glBindTextureUnit(5, (*MS)[size_t(k)].id);
@@ -91,20 +110,36 @@ void ShLut::doRun(SkyVars& vars, const Logger&) {
         groundProg_.set("u_size", glm::ivec2(w, n));
         fullscreen();
         // 2. The SH layers, with the ground lit by the light and the sky.
+        const gl::Texture2DArray& first = first_[size_t(k)];
         glBindTextureUnit(9, ground_.id());
-        glBindImageTexture(0, target.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, fmt);
+        glBindImageTexture(0, first.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, fmt);
         prog_.use();
         prog_.set("u_directions", q_.shDirections);
         prog_.set("u_steps", q_.multiScatteringSteps);
         prog_.set("u_size", glm::ivec2(w, n));
         glDispatchCompute((w + 7) / 8, (n + 7) / 8, 1);
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
-        glCopyImageSubData(ground_.id(), GL_TEXTURE_2D, 0, 0, 0, 0, target.id(), GL_TEXTURE_2D_ARRAY, 0, 0, 0,
+        glCopyImageSubData(ground_.id(), GL_TEXTURE_2D, 0, 0, 0, 0, first.id(), GL_TEXTURE_2D_ARRAY, 0, 0, 0,
                            cpu::kShCoefficients, w, 1, 1);
-        list->push_back(target.ref());
+        if (iterations > 0) {
+            // 3. Second pass: every gathered ray marched through the first pass's field.
+            const gl::Texture2DArray& it = iter_[size_t(k)];
+            glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+            glBindTextureUnit(8, first.id());
+            glBindImageTexture(0, it.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, fmt);
+            iterProg_.use();
+            iterProg_.set("u_directions", q_.shIterationDirections);
+            iterProg_.set("u_steps", q_.shIterationSteps);
+            iterProg_.set("u_size", glm::ivec2(w, n));
+            glDispatchCompute((w + 7) / 8, (n + 7) / 8, 1);
+            glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+            glCopyImageSubData(ground_.id(), GL_TEXTURE_2D, 0, 0, 0, 0, it.id(), GL_TEXTURE_2D_ARRAY, 0, 0, 0,
+                               cpu::kShCoefficients, w, 1, 1);
+        }
+        list->push_back(texture(k).ref());
     }
     vars.set(skykeys::shLuts, skykeys::TextureList(list));
-    vars.set(skykeys::shLut, tex_.ref());
+    vars.set(skykeys::shLut, texture(0).ref());
     vars.set(skykeys::shRev, ++rev_);
 }
 

@@ -76,14 +76,15 @@ SkyQuality SkyQuality::preset(int quality) {
         q.raymarchSteps = 24, q.halfFloat = true, q.shDirections = 64;
         q.irradianceAzimuth = 16, q.irradianceZenith = 8;
         break;
-    case 1:  // medium (default): Hillaire 2020 sizes
+    case 1:  // medium (default): Hillaire 2020 sizes, a cheap second SH pass (64 x 12 per texel)
+        q.shIterations = 1;
         break;
     case 2:  // high: larger LUTs and more samples, fp32
         q.transmittanceW = 256, q.transmittanceH = 128, q.transmittanceSteps = 128;
         q.multiScatteringMuS = 64, q.multiScatteringSize = 32, q.multiScatteringDirections = 128, q.multiScatteringSteps = 32, q.shDirections = 256;
         q.skyViewW = 256, q.skyViewH = 192, q.skyViewSteps = 64, q.bakedMiePhase = false;
         q.aerialSize = 32, q.aerialSteps = 4;
-        q.raymarchSteps = 96;
+        q.raymarchSteps = 96, q.shIterations = 1, q.shIterationDirections = 128, q.shIterationSteps = 16;
         q.irradianceAzimuth = 64, q.irradianceZenith = 32;
         break;
     case 3:  // reference: every pixel ray-marched with many steps
@@ -91,7 +92,7 @@ SkyQuality SkyQuality::preset(int quality) {
         q.multiScatteringMuS = 128, q.multiScatteringSize = 32, q.multiScatteringDirections = 256, q.multiScatteringSteps = 64, q.shDirections = 512;
         q.skyViewW = 256, q.skyViewH = 192, q.skyViewSteps = 64;
         q.aerialSize = 32, q.aerialSteps = 8;
-        q.raymarchSteps = 256, q.perPixel = true, q.bakedMiePhase = false;
+        q.raymarchSteps = 256, q.perPixel = true, q.bakedMiePhase = false, q.shIterations = 1, q.shIterationDirections = 256, q.shIterationSteps = 32;
         q.irradianceAzimuth = 64, q.irradianceZenith = 32;
         break;
     default: {
@@ -412,7 +413,16 @@ Lut2D multiScatteringLut(const SkyModel& m, const SkyQuality& q, const Lut2D& T)
 // on the Earth clear atmosphere against the reference, Sun 60 .. -4 deg: f = 0.3..0.4 Lambda_5
 // leaves the low-Sun sky 1-2 % too dark, 0.6..0.7 Lambda_5 makes the horizon 10-16 % too bright).
 constexpr double kDeltaScale = 0.5;
+// Gaussian window exp(-0.03 l^2) on the Mie bands (see msInscatter()); same in atmosphere.glsl.
+constexpr double kShWindow[5] = {1.0, 0.970446, 0.886920, 0.763379, 0.618783};
 PhaseMoments phaseMoments(const SkyModel& m) {
+    // Called once per marched ray: the last result per thread is kept (Simpson's rule below).
+    thread_local struct {
+        double g = -2.0;
+        int kind = -1;
+        PhaseMoments pm;
+    } cache;
+    if (cache.g == m.mieG && cache.kind == m.miePhase) return cache.pm;
     double l[6] = {1.0, m.mieG, 0, 0, 0, 0};
     for (int k = 2; k < 6; ++k) l[k] = l[k - 1] * m.mieG;  // Henyey-Greenstein: Lambda_l = g^l
     if (m.miePhase == 1) {
@@ -434,7 +444,9 @@ PhaseMoments phaseMoments(const SkyModel& m) {
         for (int k = 1; k < 6; ++k) l[k] = 2 * kPi * s[k] * (2.0 / n) / 3.0;
     }
     // Rayleigh: Lambda_1 = 0, Lambda_2 = 1/10, 0 beyond.
-    return {{l[1], l[2], 0.1, kDeltaScale * l[5]}, {l[3], l[4], 0.0, 0.0}};
+    cache.g = m.mieG, cache.kind = m.miePhase;
+    cache.pm = {{l[1], l[2], 0.1, kDeltaScale * l[5]}, {l[3], l[4], 0.0, 0.0}};
+    return cache.pm;
 }
 
 std::array<double, kShCoefficients> shBasis(double x, double z) {
@@ -543,7 +555,34 @@ MsField msField(const SkyModel& m, const SkyQuality& q, const Lut2D& T) {
             auto c = shTexel(m, q, T, f.psi, f.ground, hm.x, hm.y);
             for (int k = 0; k < kShCoefficients; ++k) f.sh[k].at(x, y) = c[k];
         }
+    for (int it = 0; it < q.shIterations; ++it) {
+        MsField next = f;
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < w; ++x) {
+                glm::dvec2 hm = multiScatteringHMuS(m, {(x + 0.5) / w, (y + 0.5) / n}, w, n);
+                auto c = shIterationTexel(m, q, T, f, hm.x, hm.y);
+                for (int k = 0; k < kShCoefficients; ++k) next.sh[k].at(x, y) = c[k];
+            }
+        f = std::move(next);
+    }
     return f;
+}
+
+std::array<glm::dvec3, kShCoefficients> shIterationTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T,
+                                                         const MsField& prev, double h, double muS) {
+    const int n = q.shIterationDirections;
+    std::array<glm::dvec3, kShCoefficients> c{};
+    const glm::dvec3 sun(safeSqrt(1.0 - muS * muS), 0.0, muS);
+    for (int i = 0; i < n; ++i) {
+        glm::dvec3 v = fibonacciDirection(i, n);
+        double nu = glm::dot(v, sun);
+        Scattering s = integrate(m, T, prev, h, v.z, muS, nu, 1e30, q.shIterationSteps, false, m.sunAngularRadius);
+        glm::dvec3 L = radiance(m, s, nu);
+        auto Y = shBasis(v.x, v.z);
+        for (int k = 0; k < kShCoefficients; ++k) c[k] += L * Y[k];
+    }
+    for (auto& x : c) x *= 4.0 * kPi / n;
+    return c;
 }
 
 glm::dvec3 msInscatter(const SkyModel& m, const MsField& f, const PhaseMoments& moments, double h, double mu, double muS,
@@ -551,13 +590,20 @@ glm::dvec3 msInscatter(const SkyModel& m, const MsField& f, const PhaseMoments& 
     glm::dvec2 uv = multiScatteringUv(m, h, muS, f.psi.width, f.psi.height);
     if (!f.directional) return (sR + sM) * f.psi.sample(uv);
     double sinS = safeSqrt(1.0 - muS * muS);
-    double x = sinS > 1e-6 ? (nu - mu * muS) / sinS : 0.0;
+    // x = cos(azimuth from the light) sin(zenith); undefined with the light at the zenith, where the
+    // field is symmetric: below sinS = 1e-3 float rounding of nu - mu muS would dominate.
+    double x = sinS > 1e-3 ? (nu - mu * muS) / sinS : 0.0;
     auto Y = shBasis(std::clamp(x, -1.0, 1.0), mu);
     // Funk-Hecke: the phase function's convolution scales band l by its Legendre moment Lambda_l;
     // delta-M: the forward peak fw stays in the beam, not in the SH.
     const double fw = moments.low.w;
     const double bandR[5] = {1, 0, moments.low.z, 0, 0};
-    const double bandM[5] = {1 - fw, moments.low.x - fw, moments.low.y - fw, moments.high.x - fw, moments.high.y - fw};
+    // The Mie bands are also damped by a Gaussian window exp(-0.03 l^2) (0.97, 0.89, 0.76, 0.62
+    // for l = 1..4): the l <= 4 truncation of the field's sharp horizon rings (Gibbs) along the
+    // horizon's azimuth at low Sun (+-10 % at 3 deg altitude with the Sun at 5 deg); the window
+    // halves the ringing. Rayleigh needs l <= 2 only, where the projection is exact.
+    const double bandM[5] = {1 - fw, (moments.low.x - fw) * kShWindow[1], (moments.low.y - fw) * kShWindow[2],
+                             (moments.high.x - fw) * kShWindow[3], (moments.high.y - fw) * kShWindow[4]};
     static constexpr int kBand[kShCoefficients] = {0, 1, 1, 2, 2, 2, 3, 3, 3, 3, 4, 4, 4, 4, 4};
     glm::dvec3 aR(0.0), aM(0.0);
     for (int k = 0; k < kShCoefficients; ++k) {

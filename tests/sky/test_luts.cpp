@@ -36,7 +36,8 @@ struct Rig {
     SkyLuts luts;
     SkyQuality q = SkyQuality::tiny();
     SkyModel m;
-    explicit Rig(double sunAltDeg, double h = 0.0) {
+    explicit Rig(double sunAltDeg, double h = 0.0, int shIterations = 0) {
+        q.shIterations = shIterations;
         test::glContext();
         vars.set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(atmosphere::Atmosphere::earthClear()));
         vars.set(keys::sunDirection, directionFromAzAlt(1.0, sunAltDeg * kDeg));
@@ -68,7 +69,10 @@ struct Rig {
 
 TEST_CASE("Sky LUTs: GPU passes match their CPU double twins", "[gl][sky]") {
     const double h = 500.0;  // above the ground, so that rays below the horizon have a path too
-    Rig rig(20.0, h);
+    // Both forms of the directional field: one SH pass (medium) and two (high, reference).
+    const int shIterations = GENERATE(0, 1);
+    INFO("SkyQuality::shIterations " << shIterations);
+    Rig rig(20.0, h, shIterations);
     rig.runAll();
     const SkyModel& m = rig.m;
     const SkyQuality& q = rig.q;

@@ -185,15 +185,17 @@ private:
 class ShLut final : public SkyGenerator {
 public:
     ShLut();
-    /// Triple k's LUT (spectral mode; k = 0 in RGB mode).
-    const gl::Texture2DArray& texture(int k = 0) const { return k == 0 ? tex_ : more_.at(size_t(k - 1)); }
+    /// Triple k's published field (spectral mode; k = 0 in RGB mode): the second pass's when
+    /// SkyQuality::shIterations > 0.
+    const gl::Texture2DArray& texture(int k = 0) const;
     void releaseGl() override;
 
 private:
     void doRun(SkyVars& vars, const Logger& log) override;
-    gl::Texture2DArray tex_;
-    std::vector<gl::Texture2DArray> more_;  // triples 1.. (spectral mode)
+    std::vector<gl::Texture2DArray> first_;  ///< first pass, per triple
+    std::vector<gl::Texture2DArray> iter_;   ///< second pass per triple (SkyQuality::shIterations)
     gl::Program prog_;
+    gl::Program iterProg_;
     gl::Texture2D ground_;  ///< the sky's irradiance on the ground over mu_s (w x 1)
     gl::Framebuffer groundFbo_;
     gl::Program groundProg_;

@@ -95,6 +95,13 @@ struct SkyQuality {
     /// approximation.
     bool directionalMs = true;
     int shDirections = 128;                         ///< gathered directions per SH texel
+    /// Second pass of the directional field (0 or 1): the incident field is gathered again, its
+    /// orders >= 2 now from the first pass's SH (directional) instead of Hillaire's isotropic
+    /// Psi, which is left to orders >= 4 of a view ray. Costs one more SH pass, whose rays are
+    /// marched like view rays (15 SH fetches per sample): hence its own, smaller, counts.
+    int shIterations = 0;
+    int shIterationDirections = 64;  ///< gathered directions per texel in the second pass
+    int shIterationSteps = 12;       ///< samples per direction in the second pass
     int skyViewW = 192, skyViewH = 108;             ///< texels (azimuth x latitude)
     int skyViewSteps = 32;                          ///< samples per ray
     int aerialSize = 32;                            ///< texels per side of the volume
@@ -211,7 +218,11 @@ glm::dvec3 groundIrradiance(const SkyModel& m, const Lut2D& T, const Lut2D& grou
 /// lit by `ground`, as groundIrradiance()).
 std::array<glm::dvec3, kShCoefficients> shTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const Lut2D& psi, const Lut2D& ground,
                                   double h, double muS);
-/// Builds psi (and ground and sh if q.directionalMs).
+/// SH texel of the second pass (q.shIterations): the projection of the incident field whose
+/// every gathered ray is marched like a view ray through `prev` (integrate()).
+std::array<glm::dvec3, kShCoefficients> shIterationTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T,
+                                                         const MsField& prev, double h, double muS);
+/// Builds psi (and ground and sh if q.directionalMs, iterated q.shIterations times).
 MsField msField(const SkyModel& m, const SkyQuality& q, const Lut2D& T);
 /// In-scattered radiance per lux of orders >= 2 at a point (h, mu, mu_s, nu), for the given
 /// Rayleigh and Mie scattering coefficients there.
