@@ -44,13 +44,18 @@ double relErr(const glm::dvec3& gpu, const glm::dvec3& cpu, double floor) {
 }  // namespace
 
 TEST_CASE("Sky spectral: wavelength counts and conversion weights", "[cpu][sky]") {
-    for (int n : {3, 6, 12, 15, 24}) CHECK_NOTHROW(validateWavelengthCount(n, "x"));
-    for (int n : {0, 4, 5, 7, 27, -3}) CHECK_THROWS_AS(validateWavelengthCount(n, "x"), Error);
+    for (int n : {0, 3, 6, 12, 15, 24}) CHECK_NOTHROW(validateWavelengthCount(n, "x"));
+    for (int n : {1, 4, 5, 7, 27, -3}) CHECK_THROWS_AS(validateWavelengthCount(n, "x"), Error);
+    CHECK_THROWS_AS(SpectralSampling::make(atmosphere::Atmosphere::earthClear(), 3), Error);
+    // The presets: only `reference` (per pixel) is spectral by default.
+    for (int p = 0; p < 4; ++p) CHECK(effectiveWavelengths(0, SkyQuality::preset(p)) == (p == 3 ? kReferenceWavelengths : 3));
+    CHECK(effectiveWavelengths(3, SkyQuality::preset(3)) == 3);
+    CHECK(effectiveWavelengths(12, SkyQuality::preset(1)) == 12);
     try {
         validateWavelengthCount(7, "--wavelengths");
         FAIL("no throw");
     } catch (const Error& e) {
-        CHECK(std::string(e.what()) == "--wavelengths: 7 not 3 (RGB) or a multiple of 3 in [6, 24]");
+        CHECK(std::string(e.what()) == "--wavelengths: 7 not 0 (the quality preset's), 3 (RGB) or a multiple of 3 in [6, 24]");
     }
     CHECK_THROWS_AS(elements::Sky(elements::SkyOptions{.wavelengths = 10}), Error);
 
@@ -264,8 +269,8 @@ TEST_CASE("Sky spectral: per-pixel path (reference quality, space) agrees with t
     // The per-pixel path draws the transmittance first and then one pass per triple; it must
     // agree with the LUT path of the same spectral mode as the RGB per-pixel path agrees with the
     // RGB LUT path (same model; LUT resolution and march steps differ): median |dY|/Y over the
-    // upper hemisphere < 5 %, and the two must differ from the RGB ones alike.
-    ElementRig lut(1, 12), march(3, 12);
+    // upper hemisphere < 2 % (measured 0.19 % at Sun 20 deg, 6 wavelengths).
+    ElementRig lut(1, 6), march(3, 6);  // 2 triples (the reference preset's LUTs cost ~4 s per triple here)
     Image a = lut.render(20.0, 0.0, 16, 8), b = march.render(20.0, 0.0, 16, 8);
     std::vector<double> e;
     for (int y = 0; y < 4; ++y)
@@ -276,7 +281,7 @@ TEST_CASE("Sky spectral: per-pixel path (reference quality, space) agrees with t
         }
     std::nth_element(e.begin(), e.begin() + long(e.size() / 2), e.end());
     INFO("median relative difference " << e[e.size() / 2]);
-    CHECK(e[e.size() / 2] < 0.05);
+    CHECK(e[e.size() / 2] < 0.02);
     CHECK(march.sky.perPixel());
 
     // From orbit (1000 km) every pixel is marched: finite, non-negative, the limb is lit.

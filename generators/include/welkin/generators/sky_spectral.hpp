@@ -42,18 +42,27 @@
 namespace welkin::generators {
 
 namespace skykeys {
-/// Wavelengths of the real-time sky: 3 = RGB (Atmosphere::rgb(), one pass per LUT), or a multiple
-/// of 3 in [6, 24] = spectral (that many wavelengths through the CIE 1931 observer; each LUT pass
-/// runs N/3 times). Set by the Sky element from SkyOptions::wavelengths or by the host.
-inline const Key<int> wavelengths{"sky.wavelengths", Range{3, 24}, "real-time sky wavelengths: 3 = RGB, 6..24 (multiple of 3) = spectral"};
+/// Wavelengths of the real-time sky: 0 = the quality preset's (kReferenceWavelengths at
+/// `reference`, else 3); 3 = RGB (Atmosphere::rgb(), one pass per LUT); a multiple of 3 in
+/// [6, 24] = spectral (that many wavelengths through the CIE 1931 observer; each LUT pass runs
+/// N/3 times). Set by the Sky element from SkyOptions::wavelengths or by the host.
+inline const Key<int> wavelengths{"sky.wavelengths", Range{0, 24},
+                                  "real-time sky wavelengths: 0 = preset's, 3 = RGB, 6..24 (multiple of 3) = spectral"};
 }  // namespace skykeys
 
 /// Smallest and largest spectral wavelength counts (and 3 = RGB).
 inline constexpr int kMinSpectralWavelengths = 6;
 inline constexpr int kMaxSpectralWavelengths = 24;
+/// Wavelengths of the `reference` quality preset (the only preset that is spectral by default:
+/// 12 and 15 measured alike, 15 kept as Bruneton 2017's spectral setting).
+inline constexpr int kReferenceWavelengths = 15;
 
-/// Throws welkin::Error "`who`: N not 3 (RGB) or a multiple of 3 in [6, 24]" unless n is valid.
+/// Throws welkin::Error "`who`: N not 0 (the quality preset's), 3 (RGB) or a multiple of 3 in
+/// [6, 24]" unless n is valid.
 void validateWavelengthCount(int n, const std::string& who);
+/// The count in use: `requested` unless 0, else the preset's (kReferenceWavelengths when the
+/// preset ray-marches every pixel, i.e. `reference`; else 3).
+int effectiveWavelengths(int requested, const SkyQuality& q);
 
 /// The real-time sky's N wavelengths, nm: centres of N equal bins over [380, 720] nm.
 std::vector<double> spectralWavelengthsNm(int n);
