@@ -382,3 +382,48 @@ TEST_CASE("Sky spectral: welkin render --wavelengths", "[gl][sky]") {
     CHECK(zenith[0] > 1000.0);
     CHECK(zenith[1] == Approx(zenith[0]).epsilon(0.03));
 }
+
+TEST_CASE("Sky spectral: finite, non-negative outputs over extreme configurations", "[gl][sky]") {
+    // As the RGB stability test, in spectral mode at quality low (fp16 LUTs: the rgba16f combine
+    // pass) with 6 wavelengths: every pixel and every published light key finite and >= 0, for
+    // the Earth clear, very hazy (AOD 2) and Mars atmospheres, observers at 0 m and 1000 km, Sun
+    // at the zenith, on the horizon and at -18 deg. (Before the out-of-gamut clamp, the bench hit
+    // a negative blue Sun transmittance with the Sun on the horizon and 6 wavelengths.)
+    test::glContext();
+    SkyVars vars = SkyVars::earth();
+    elements::OfflineRenderer proc(vars, test::testLogger());
+    elements::Sky sky(elements::SkyOptions{.quality = 0, .moon = false, .wavelengths = 6});
+    Camera cam;
+    cam.projection = Projection::Equirect;
+    cam.width = 16;
+    cam.height = 8;
+    vars.set(keys::moonDirection, glm::dvec3(0, 0, -1));
+    const atmosphere::Atmosphere atms[] = {atmosphere::Atmosphere::earthClear(),
+                                           atmosphere::Atmosphere::earthClear().withAerosolOpticalDepth(2.0),
+                                           atmosphere::Atmosphere::mars()};
+    int checked = 0;
+    for (const auto& a : atms) {
+        vars.set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(a));
+        for (double h : {0.0, 1e6})
+            for (double sunAlt : {90.0, 0.0, -18.0}) {
+                vars.set(keys::observerHeight, h);
+                vars.set(keys::sunDirection, directionFromAzAlt(1.0, sunAlt * kDeg));
+                Image img = proc.render(sky, cam);
+                INFO(a.name << ", h " << h << " m, Sun " << sunAlt << " deg");
+                bool ok = true;
+                for (float v : img.pixels) ok = ok && std::isfinite(v) && v >= 0.0f;
+                CHECK(ok);
+                for (const Key<glm::dvec3>* k : {&skykeys::sunTransmittance, &skykeys::sunDiskRadiance, &skykeys::horizontalIlluminance,
+                                                 &skykeys::diffuseIrradiance}) {
+                    glm::dvec3 v = vars.get(*k);
+                    INFO(k->name());
+                    CHECK(std::isfinite(v.x + v.y + v.z));
+                    CHECK(glm::all(glm::greaterThanEqual(v, glm::dvec3(0.0))));
+                }
+                ++checked;
+            }
+    }
+    CHECK(checked == 18);
+    sky.release();
+    proc.release();
+}
