@@ -48,7 +48,7 @@ struct SkyBenchOptions {
     bool full = false;  // also time `reference` at 1280x720 (minutes on llvmpipe)
     bool timingOnly = false;  // skip the reference integrator (no error columns)
     std::string projection = "fisheye";  // of the 1280x720 frame
-    std::string wavelengths = "3";       // comma list: 3 = RGB, 6..24 = spectral
+    std::string wavelengths = "0";       // comma list: 0 = the preset's, 3 = RGB, 6..24 = spectral
     std::string reference = "rgb";       // reference integrator mode: rgb | spectral
     bool breakdown = false;  // print each generator's share of a full LUT rebuild
 };
@@ -157,7 +157,7 @@ int run(const SkyBenchOptions& o) {
                 try {
                     n = std::stoi(cur);
                 } catch (...) {
-                    throw Error("--wavelengths '" + o.wavelengths + "': a comma list of 3 or 6..24 (multiples of 3)");
+                    throw Error("--wavelengths '" + o.wavelengths + "': a comma list of 0, 3 or 6..24 (multiples of 3)");
                 }
                 generators::validateWavelengthCount(n, "--wavelengths");
                 wavelengths.push_back(n);
@@ -211,7 +211,7 @@ int run(const SkyBenchOptions& o) {
         for (double alt : sunAlts) {
             Row row{};
             row.preset = preset;
-            row.wavelengths = nWl;
+            row.wavelengths = generators::effectiveWavelengths(nWl, generators::SkyQuality::preset(preset));
             row.sunAlt = alt;
             glm::dvec3 sun = directionFromAzAlt(sunAz, alt * kDeg);
             vars.set(keys::sunDirection, sun);
@@ -271,7 +271,7 @@ int run(const SkyBenchOptions& o) {
 #endif
             std::printf("preset %d wl %2d sun %5.1f: LUTs %8.1f ms (sun-dependent %7.1f), frame 1280x720 %8.1f ms (trivial %6.1f, x%.1f), "
                         "512x256 %7.1f ms (trivial %5.1f)",
-                        preset, nWl, alt, row.allLutsMs, row.sunLutsMs, row.frameBig, row.trivialBig, row.frameBig / row.trivialBig,
+                        preset, row.wavelengths, alt, row.allLutsMs, row.sunLutsMs, row.frameBig, row.trivialBig, row.frameBig / row.trivialBig,
                         row.frameSmall, row.trivialSmall);
             if (o.timingOnly)
                 std::printf("\n");  // no comparison with the reference integrator
@@ -317,7 +317,7 @@ static BenchRegistrar reg("sky", "real-time sky: LUT build and frame cost per qu
                               sub.add_flag("--full", o.full, "also time `reference` at 1280x720 (slow on llvmpipe)");
                               sub.add_flag("--timing-only", o.timingOnly, "skip the comparison with the reference integrator");
                               sub.add_option("--wavelengths", o.wavelengths,
-                                             "comma list of sky wavelength counts: 3 = RGB, 6..24 (multiple of 3) = spectral");
+                                             "comma list of sky wavelength counts: 0 = the preset's (reference: 15, else 3), 3 = RGB, 6..24 (multiple of 3) = spectral");
                               sub.add_option("--reference", o.reference,
                                              "reference integrator mode: rgb (same channels as RGB mode) | spectral (the atmosphere's 47 wavelengths, CIE 1931)");
                               sub.add_flag("--breakdown", o.breakdown, "print each generator's time in a full LUT rebuild (glFinish around each)");

@@ -60,7 +60,8 @@ void SceneOptions::addTo(CLI::App& app, bool required) {
     app.add_option("--exposure", exposure, "EV100 in [-20, 30], or auto")->capture_default_str();
     app.add_option("--quality", quality, "low | medium | high | reference")->capture_default_str();
     app.add_option("--wavelengths", wavelengths,
-                   "sky light transport: 3 = RGB, or 6..24 (a multiple of 3) wavelengths through the CIE 1931 observer")
+                   "sky light transport: 0 = the quality preset's (reference: 15, else 3), 3 = RGB, or 6..24 (a multiple of 3) "
+                   "wavelengths through the CIE 1931 observer")
         ->capture_default_str();
 }
 

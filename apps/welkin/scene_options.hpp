@@ -20,7 +20,7 @@ struct SceneOptions {
     std::string size = "1280x720";
     std::string exposure = "auto";
     std::string quality = "medium";
-    int wavelengths = 3;  ///< sky: 3 = RGB, 6..24 (multiple of 3) = spectral
+    int wavelengths = 0;  ///< sky: 0 = quality preset's, 3 = RGB, 6..24 (multiple of 3) = spectral
 
     /// Adds the options to a subcommand.
     void addTo(CLI::App& app, bool requireTimeAndPlace);

@@ -46,8 +46,8 @@ void SkyGenerator::prepare(SkyVars& vars) {
     model_.validate();
     int preset = vars.getOr(skykeys::quality, vars.getOr(keys::quality, 1));
     q_ = fixed_ ? *fixed_ : SkyQuality::preset(preset);
-    const int n = vars.getOr(skykeys::wavelengths, 3);
-    validateWavelengthCount(n, "sky.wavelengths");
+    validateWavelengthCount(vars.getOr(skykeys::wavelengths, 0), "sky.wavelengths");
+    const int n = effectiveWavelengths(vars.getOr(skykeys::wavelengths, 0), q_);
     if (n == 3) {
         spectral_.reset();
         spectralFor_.reset();

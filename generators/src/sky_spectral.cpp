@@ -9,9 +9,14 @@
 namespace welkin::generators {
 
 void validateWavelengthCount(int n, const std::string& who) {
-    if (n == 3 || (n >= kMinSpectralWavelengths && n <= kMaxSpectralWavelengths && n % 3 == 0)) return;
-    throw Error(who + ": " + std::to_string(n) + " not 3 (RGB) or a multiple of 3 in [" + std::to_string(kMinSpectralWavelengths) +
-                ", " + std::to_string(kMaxSpectralWavelengths) + "]");
+    if (n == 0 || n == 3 || (n >= kMinSpectralWavelengths && n <= kMaxSpectralWavelengths && n % 3 == 0)) return;
+    throw Error(who + ": " + std::to_string(n) + " not 0 (the quality preset's), 3 (RGB) or a multiple of 3 in [" +
+                std::to_string(kMinSpectralWavelengths) + ", " + std::to_string(kMaxSpectralWavelengths) + "]");
+}
+
+int effectiveWavelengths(int requested, const SkyQuality& q) {
+    if (requested != 0) return requested;
+    return q.perPixel ? kReferenceWavelengths : 3;
 }
 
 std::vector<double> spectralWavelengthsNm(int n) {
@@ -41,7 +46,9 @@ SkyModel skyModelFrom(const atmosphere::Atmosphere& a, const atmosphere::RgbCoef
 }
 
 SpectralSampling SpectralSampling::make(const atmosphere::Atmosphere& a, int n) {
-    validateWavelengthCount(n, "SpectralSampling::make(): wavelengths");
+    if (n < kMinSpectralWavelengths || n > kMaxSpectralWavelengths || n % 3 != 0)
+        throw Error("SpectralSampling::make(): wavelengths " + std::to_string(n) + " not a multiple of 3 in [" +
+                    std::to_string(kMinSpectralWavelengths) + ", " + std::to_string(kMaxSpectralWavelengths) + "]");
     a.validate();
     SpectralSampling s;
     s.wavelengths = n;

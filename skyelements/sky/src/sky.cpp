@@ -63,6 +63,8 @@ public:
         input(kMoonDistance);
         input(kMoonPhaseAngle);
         input(skykeys::wavelengths);
+        input(skykeys::quality);
+        input(keys::quality);
         output(skykeys::sunIlluminance);
         output(skykeys::moonIlluminance);
         output(skykeys::sunDiskRadiance);
@@ -90,8 +92,9 @@ private:
         if (alpha <= 0) alpha = m.sunAngularRadius;
         // Spectral mode: per wavelength, combined as the transmitted linear sRGB of the solar
         // spectrum over the unattenuated one (sky_spectral.hpp), like the combined LUT.
-        const int n = vars.getOr(skykeys::wavelengths, 3);
-        validateWavelengthCount(n, "sky.wavelengths");
+        validateWavelengthCount(vars.getOr(skykeys::wavelengths, 0), "sky.wavelengths");
+        const int n = effectiveWavelengths(vars.getOr(skykeys::wavelengths, 0),
+                                           SkyQuality::preset(vars.getOr(skykeys::quality, vars.getOr(keys::quality, 1))));
         std::optional<SpectralSampling> sp;
         if (n != 3) {
             std::shared_ptr<const atmosphere::Atmosphere> a;
@@ -144,7 +147,7 @@ void SkyOptions::validate() const {
         std::snprintf(buf, sizeof buf, "Sky: quality %d not in [-1, 3] (-1 follows render.quality)", quality);
         throw Error(buf);
     }
-    if (wavelengths != 0) validateWavelengthCount(wavelengths, "Sky: wavelengths (0 follows sky.wavelengths)");
+    validateWavelengthCount(wavelengths, "Sky: wavelengths");
 }
 
 Sky::Sky(const SkyOptions& options) : SkyElement("sky"), options_(options) {
@@ -173,7 +176,7 @@ void Sky::doInit(InitContext& ctx) {
     v.declare(keys::quality, 1);
     if (options_.quality >= 0) v.set(skykeys::quality, options_.quality);
     if (options_.wavelengths > 0) v.set(skykeys::wavelengths, options_.wavelengths);
-    else v.declare(skykeys::wavelengths, 3);
+    else v.declare(skykeys::wavelengths, 0);
     auto lights = v.obtain<SkyLights>(kGenLights, [] { return std::make_shared<SkyLights>(); });
     lights->moon = options_.moon;
     luts_ = SkyLuts::obtain(v);

@@ -10,9 +10,10 @@
 //   glm::dvec3 rgbPerLux = s.toRgb[k] * transferOfTripleK;   // summed over k
 //   vars.set(skykeys::wavelengths, 15);                        // the generators switch to it
 //
-// Method. The wavelengths are the centres of N equal bins over [380, 720] nm (the range where the
-// CIE 1931 y-bar is above 1e-3 of its peak; the transfer, radiance per unit irradiance, is smooth
-// in wavelength, so N = 12..15 samples suffice). As in the reference integrator's spectral mode
+// Method. The wavelengths are the centres of N equal bins over [380, 720] nm (outside it the CIE
+// 1931 colour-matching functions are below 0.4 % of their peaks: z-bar at 380 nm, x-bar at
+// 720 nm); the transfer, radiance per unit irradiance, is smooth in wavelength, so N = 12..15
+// samples suffice (measured in docs/sky.md, "Spectral mode"). As in the reference integrator's spectral mode
 // (reference_sky.hpp), the transfer at these wavelengths is taken as piecewise linear in
 // wavelength (constant beyond the ends), evaluated at the atmosphere's own wavelengths (47 for
 // the Earth presets), multiplied by its solar spectrum and integrated against the CIE 1931
@@ -42,18 +43,27 @@
 namespace welkin::generators {
 
 namespace skykeys {
-/// Wavelengths of the real-time sky: 3 = RGB (Atmosphere::rgb(), one pass per LUT), or a multiple
-/// of 3 in [6, 24] = spectral (that many wavelengths through the CIE 1931 observer; each LUT pass
-/// runs N/3 times). Set by the Sky element from SkyOptions::wavelengths or by the host.
-inline const Key<int> wavelengths{"sky.wavelengths", Range{3, 24}, "real-time sky wavelengths: 3 = RGB, 6..24 (multiple of 3) = spectral"};
+/// Wavelengths of the real-time sky: 0 = the quality preset's (kReferenceWavelengths at
+/// `reference`, else 3); 3 = RGB (Atmosphere::rgb(), one pass per LUT); a multiple of 3 in
+/// [6, 24] = spectral (that many wavelengths through the CIE 1931 observer; each LUT pass runs
+/// N/3 times). Set by the Sky element from SkyOptions::wavelengths or by the host.
+inline const Key<int> wavelengths{"sky.wavelengths", Range{0, 24},
+                                  "real-time sky wavelengths: 0 = preset's, 3 = RGB, 6..24 (multiple of 3) = spectral"};
 }  // namespace skykeys
 
 /// Smallest and largest spectral wavelength counts (and 3 = RGB).
 inline constexpr int kMinSpectralWavelengths = 6;
 inline constexpr int kMaxSpectralWavelengths = 24;
+/// Wavelengths of the `reference` quality preset (the only preset that is spectral by default:
+/// 12 and 15 measured alike, 15 kept as Bruneton 2017's spectral setting).
+inline constexpr int kReferenceWavelengths = 15;
 
-/// Throws welkin::Error "`who`: N not 3 (RGB) or a multiple of 3 in [6, 24]" unless n is valid.
+/// Throws welkin::Error "`who`: N not 0 (the quality preset's), 3 (RGB) or a multiple of 3 in
+/// [6, 24]" unless n is valid.
 void validateWavelengthCount(int n, const std::string& who);
+/// The count in use: `requested` unless 0, else the preset's (kReferenceWavelengths when the
+/// preset ray-marches every pixel, i.e. `reference`; else 3).
+int effectiveWavelengths(int requested, const SkyQuality& q);
 
 /// The real-time sky's N wavelengths, nm: centres of N equal bins over [380, 720] nm.
 std::vector<double> spectralWavelengthsNm(int n);

@@ -40,11 +40,12 @@ namespace welkin::elements {
 struct SkyOptions {
     int quality = -1;   ///< -1: render.quality; else 0 low, 1 medium, 2 high, 3 reference
     bool moon = true;   ///< the Moon as a second light
-    /// Wavelengths of the atmosphere's light transport: 0 follows sky.wavelengths (default 3);
-    /// 3 = RGB (Atmosphere::rgb()); 6..24, a multiple of 3 = spectral: that many wavelengths
-    /// through the CIE 1931 observer (generators/sky_spectral.hpp). Spectral mode costs about
-    /// N/3 times the LUT rebuild of RGB mode and the same per frame on the LUT path; at quality
-    /// reference (and from space) the per-pixel march runs N/3 times.
+    /// Wavelengths of the atmosphere's light transport: 0 follows sky.wavelengths, whose default
+    /// 0 is the quality preset's (15 at `reference`, else 3); 3 = RGB (Atmosphere::rgb());
+    /// 6..24, a multiple of 3 = spectral: that many wavelengths through the CIE 1931 observer
+    /// (generators/sky_spectral.hpp). Spectral mode costs about N/3 times the LUT rebuild of RGB
+    /// mode and the same per frame on the LUT path; per pixel (reference, space) the march runs
+    /// N/3 times (plus a transmittance pass).
     int wavelengths = 0;
     /// Throws welkin::Error naming the member and its range.
     void validate() const;
