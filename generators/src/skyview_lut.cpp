@@ -46,6 +46,10 @@ void SkyViewLut::releaseGl() {
 
 void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
     prepare(vars);
+    // Even heights: the two halves (sky, ground) then have the same rows and the pixel shaders'
+    // mapping stays inside its half without a clamp.
+    if (q_.skyViewH % 2 != 0 || q_.skyViewH < 4)
+        throw Error("SkyViewLut: height " + std::to_string(q_.skyViewH) + " texels must be even and >= 4");
     const GLenum fmt = q_.halfFloat ? GL_RGBA16F : GL_RGBA32F;
     if (!smooth_ || smooth_.width() != q_.skyViewW || smooth_.height() != q_.skyViewH || smooth_.internalFormat() != fmt) {
         smooth_ = gl::Texture2D(q_.skyViewW, q_.skyViewH, fmt);

@@ -11,6 +11,7 @@ uniform vec3 u_moonDir;
 uniform vec3 u_sunE;        // lux per channel at the top of the atmosphere
 uniform vec3 u_moonE;
 uniform float u_invScale;   // 1 / kLutScale
+uniform vec2 u_lutSize;     // sky-view LUT size, texels (height even)
 uniform int u_steps;        // per-pixel ray march
 uniform float u_moonAngular;
 uniform float u_sH;         // sin(theta_H / 2), theta_H the zenith angle of the observer's horizon (LUT path)
@@ -30,16 +31,17 @@ float cosAzimuthFrom(vec3 dir, vec3 light) {
     return clamp(dot(a, b) * inversesqrt(max(dot(a, a) * dot(b, b), 1e-30)), -1.0, 1.0);
 }
 
-// Radiance per lux of one light from its sky-view LUT(s) (SKY_BAKED_PHASE: `smoothLut` holds
-// everything with the Mie phase baked in; else the Mie part is fetched separately and its phase
-// evaluated at the pixel's exact angle to the light).
-vec3 skyViewLight(sampler2D smoothLut, sampler2D mieLut, vec3 dir, vec3 light) {
-    vec2 size = vec2(textureSize(smoothLut, 0));
-    vec2 uv = skyViewClampHalf(skyViewUvS(u_sH, dir.z, cosAzimuthFrom(dir, light), size), size);
+// Radiance of one light from its sky-view LUT(s), cd/m^2: `E` is the light's illuminance per
+// channel divided by kLutScale. SKY_BAKED_PHASE: `smoothLut` holds everything with the Mie phase
+// baked in; else the Mie part is fetched separately and its phase evaluated at the pixel's exact
+// angle to the light. The LUT height is even, so skyViewUvS() keeps v inside its own half (sky
+// or ground) by construction: no clamp is needed here (skyViewClampHalf).
+vec3 skyViewLight(sampler2D smoothLut, sampler2D mieLut, vec3 dir, vec3 light, vec3 E) {
+    vec2 uv = skyViewUvS(u_sH, dir.z, cosAzimuthFrom(dir, light), u_lutSize);
 #ifdef SKY_BAKED_PHASE
-    return texture(smoothLut, uv).rgb * u_invScale;
+    return texture(smoothLut, uv).rgb * E;
 #else
-    return (texture(smoothLut, uv).rgb + texture(mieLut, uv).rgb * miePhase(clamp(dot(dir, light), -1.0, 1.0))) * u_invScale;
+    return (texture(smoothLut, uv).rgb + texture(mieLut, uv).rgb * miePhase(clamp(dot(dir, light), -1.0, 1.0))) * E;
 #endif
 }
 
@@ -84,10 +86,10 @@ void main() {
     if (ground) T = vec3(0.0);
 #else
     float h = min(u_h, atm_thickness());
-    L = skyViewLight(u_sunSmooth, u_sunMie, dir, u_sunDir) * u_sunE;
+    L = skyViewLight(u_sunSmooth, u_sunMie, dir, u_sunDir, u_sunE * u_invScale);
 #ifdef SKY_MOON
     // (A separate program variant: llvmpipe evaluates both sides of a branch under a mask.)
-    L += skyViewLight(u_moonSmooth, u_moonMie, dir, u_moonDir) * u_moonE;
+    L += skyViewLight(u_moonSmooth, u_moonMie, dir, u_moonDir, u_moonE * u_invScale);
 #endif
 #ifdef SKY_TRANSMITTANCE
     T = rayIntersectsGround(h, mu) ? vec3(0.0) : transmittanceFromLut(h, mu);

@@ -264,6 +264,7 @@ void Sky::doRender(const FrameContext& ctx) {
         p.set("u_steps", q.raymarchSteps);
         p.set("u_moonAngular", float(kMoonAngularRadius));
         p.set("u_sH", float(skyViewHorizonS(m, std::min(h, m.topRadius - m.bottomRadius))));
+        p.set("u_lutSize", glm::vec2(float(q.skyViewW), float(q.skyViewH)));
     };
     const auto& sp = luts_.sunView->spectral();
     if (!perPixel_ || !sp) {
