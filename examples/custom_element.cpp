@@ -6,6 +6,7 @@
 #include <welkin/elements/grid.hpp>
 #include <welkin/error.hpp>
 #include <welkin/gl/context.hpp>
+#include <welkin/gl/projection_programs.hpp>
 #include <welkin/gl/shader.hpp>
 #include <welkin/image.hpp>
 #include <welkin/keys.hpp>
@@ -64,14 +65,16 @@ void main() {
     void doInit(welkin::InitContext& ctx) override {
         // Declaring a key shares it with every other element that declares it.
         ctx.vars.declare(welkin::keys::sunDirection, glm::dvec3(0, 0, 1));
-        program_ = welkin::gl::ProgramBuilder("Halo")
-                       .fullscreenVertex()
-                       .fragment("engine/camera.glsl", welkin::gl::engineShader("camera.glsl"))
-                       .fragment("engine/composite.glsl", welkin::gl::engineShader("composite.glsl"))
-                       .fragment("halo.frag.glsl", kFragment)
-                       .build();
+        // One program per camera projection, compiled on first use (camera.glsl then runs only
+        // that projection's code).
+        programs_ = welkin::gl::ProjectionPrograms(welkin::gl::ProgramBuilder("Halo")
+                                                       .fullscreenVertex()
+                                                       .fragment("engine/camera.glsl", welkin::gl::engineShader("camera.glsl"))
+                                                       .fragment("engine/composite.glsl", welkin::gl::engineShader("composite.glsl"))
+                                                       .fragment("halo.frag.glsl", kFragment));
     }
     void doRender(const welkin::FrameContext& ctx) override {
+        const welkin::gl::Program& program_ = programs_.get(ctx.camera.projection);
         program_.set("u_sun", glm::vec3(ctx.vars.get(welkin::keys::sunDirection)));
         program_.set("u_radius", float(options_.radiusRad));
         program_.set("u_width", float(options_.widthRad));
@@ -79,10 +82,10 @@ void main() {
         program_.use();
         ctx.drawFullscreen();
     }
-    void doRelease() override { program_ = {}; }
+    void doRelease() override { programs_.releasePrograms(); }
 
     HaloOptions options_;
-    welkin::gl::Program program_;
+    welkin::gl::ProjectionPrograms programs_;
 };
 // [element]
 
