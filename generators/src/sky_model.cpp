@@ -92,7 +92,7 @@ SkyQuality SkyQuality::preset(int quality) {
         q.multiScatteringMuS = 128, q.multiScatteringSize = 32, q.multiScatteringDirections = 256, q.multiScatteringSteps = 64, q.shDirections = 512;
         q.skyViewW = 256, q.skyViewH = 192, q.skyViewSteps = 64;
         q.aerialSize = 32, q.aerialSteps = 8;
-        q.raymarchSteps = 256, q.perPixel = true, q.shIterations = 1, q.shIterationDirections = 256, q.shIterationSteps = 32;
+        q.raymarchSteps = 256, q.perPixel = true, q.shIterations = 1, q.shIterationDirections = 128, q.shIterationSteps = 16;
         q.irradianceAzimuth = 64, q.irradianceZenith = 32;
         break;
     default: {
