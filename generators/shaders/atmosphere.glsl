@@ -95,14 +95,16 @@ vec2 transmittanceHMu(vec2 uv, vec2 size) {
     float mu = d == 0.0 ? 1.0 : clamp((H * H - rho * rho - d * d) / (2.0 * r * d), -1.0, 1.0);
     return vec2(h, mu);
 }
-// mu_s axis dense around the horizon: u = 1/2 + atan(mu_s / 0.15) / (2 atan(1 / 0.15));
-// height axis v = sqrt(h / thickness).
-const float ATM_MS_A = 0.15;
+// mu_s axis dense around the horizon: u = 1/2 + atan(mu_s / a) / (2 atan(1 / a)), a = 0.25 from
+// 64 texels up, 0.15 below (see sky_model.cpp); height axis v = sqrt(h / thickness).
+float atm_msA(float width) { return width >= 63.5 ? 0.25 : 0.15; }
 vec2 multiScatteringUv(float h, float muS, vec2 size) {
+    float ATM_MS_A = atm_msA(size.x);
     float x = 0.5 + 0.5 * atan(clamp(muS, -1.0, 1.0) / ATM_MS_A) / atan(1.0 / ATM_MS_A);
     return vec2(texCoordFromUnit(clamp(x, 0.0, 1.0), size.x), texCoordFromUnit(sqrt(clamp(h / atm_thickness(), 0.0, 1.0)), size.y));
 }
 vec2 multiScatteringHMuS(vec2 uv, vec2 size) {
+    float ATM_MS_A = atm_msA(size.x);
     float x = clamp(unitFromTexCoord(uv.x, size.x), 0.0, 1.0);
     float muS = clamp(ATM_MS_A * tan((2.0 * x - 1.0) * atan(1.0 / ATM_MS_A)), -1.0, 1.0);
     float y = clamp(unitFromTexCoord(uv.y, size.y), 0.0, 1.0);

@@ -57,7 +57,7 @@ inline const Key<TextureList> shLuts{"sky.sh_luts", "directional multiple-scatte
 inline const Key<int> transmittanceRev{"sky.transmittance_rev", "transmittance LUT revision"};
 inline const Key<TextureRef> multiScatteringLut{"sky.multiscattering_lut", "multiple-scattering LUT (Hillaire Psi_ms)"};
 inline const Key<int> multiScatteringRev{"sky.multiscattering_rev", "multiple-scattering LUT revision"};
-inline const Key<TextureRef> shLut{"sky.sh_lut", "directional multiple scattering: SH l<=2 of the incident field (2D array, 6 layers)"};
+inline const Key<TextureRef> shLut{"sky.sh_lut", "directional multiple scattering: SH l<=4 of the incident field (2D array, layers 0-14) and the ground's sky irradiance (layer 15, row 0)"};
 inline const Key<int> shRev{"sky.sh_rev", "directional multiple-scattering LUT revision"};
 inline const Key<TextureRef> sunViewLut{"sky.sun_view_lut", "sky-view LUT for the Sun: Rayleigh + multiple scattering + ground"};
 inline const Key<TextureRef> sunViewMieLut{"sky.sun_view_mie_lut", "sky-view LUT for the Sun: Mie single scattering without phase"};

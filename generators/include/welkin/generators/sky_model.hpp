@@ -90,12 +90,12 @@ struct SkyQuality {
     int multiScatteringSteps = 20;                  ///< samples per direction
     /// Directional multiple scattering: the incident radiance field (single scattering with its
     /// phase functions plus Hillaire's isotropic higher orders) at each (h, mu_s) projected on
-    /// spherical harmonics l <= 2 and convolved with the Rayleigh/Mie phase functions per view
-    /// direction (exact second order up to the l <= 2 truncation). Off: Hillaire's isotropic
+    /// spherical harmonics l <= 4 and convolved with the Rayleigh/Mie phase functions per view
+    /// direction (exact second order up to the l <= 4 truncation). Off: Hillaire's isotropic
     /// approximation.
     bool directionalMs = true;
     int shDirections = 128;                         ///< gathered directions per SH texel
-    /// Second pass of the directional field (0 or 1): the incident field is gathered again, its
+    /// Second pass of the directional field (0 or 1; more acts as 1): the incident field is gathered again, its
     /// orders >= 2 now from the first pass's SH (directional) instead of Hillaire's isotropic
     /// Psi, which is left to orders >= 4 of a view ray. Costs one more SH pass, whose rays are
     /// marched like view rays (15 SH fetches per sample): hence its own, smaller, counts.
