@@ -18,6 +18,7 @@ void ShLut::releaseGl() {
     prog_ = {};
     iterTex_ = {};
     iterProg_ = {};
+    iterGroundProg_ = {};
     ground_ = {};
     groundFbo_ = {};
     groundProg_ = {};
@@ -53,6 +54,17 @@ void ShLut::doRun(SkyVars& vars, const Logger&) {
         const float zero[4] = {0, 0, 0, 0};
         glClearTexImage(iterTex_.id(), 0, GL_RGBA, GL_FLOAT, zero);
     }
+    if (q_.shIterations > 0 && !iterGroundProg_)
+        iterGroundProg_ = gl::ProgramBuilder("ShLut iteration ground")
+                              .define("ATM_USE_TRANSMITTANCE")
+                              .define("ATM_USE_MULTISCATTERING")
+                              .define("ATM_MS_DIRECTIONAL")
+                              .define("SH_ITERATION")
+                              .define("SH_GROUND_PASS")
+                              .fullscreenVertex()
+                              .fragment("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
+                              .fragment("generators/sh_lut.glsl", embedded::generator_shaders("sh_lut.glsl"))
+                              .build();
     if (q_.shIterations > 0 && !iterProg_)
         iterProg_ = gl::ProgramBuilder("ShLut iteration")
                         .define("ATM_USE_TRANSMITTANCE")
@@ -113,6 +125,16 @@ void ShLut::doRun(SkyVars& vars, const Logger&) {
         iterProg_.set("u_size", glm::ivec2(w, n));
         glDispatchCompute((w + 7) / 8, (n + 7) / 8, 1);
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+        // The ground's sky irradiance again, from the first pass's field (ground_ is free again:
+        // its first-pass values are in tex_'s last layer).
+        glBindTextureUnit(9, 0);
+        groundFbo_.bind();
+        glViewport(0, 0, w, 1);
+        iterGroundProg_.use();
+        iterGroundProg_.set("u_directions", q_.shIterationDirections);
+        iterGroundProg_.set("u_steps", q_.shIterationSteps);
+        iterGroundProg_.set("u_size", glm::ivec2(w, n));
+        fullscreen();
         glCopyImageSubData(ground_.id(), GL_TEXTURE_2D, 0, 0, 0, 0, iterTex_.id(), GL_TEXTURE_2D_ARRAY, 0, 0, 0,
                            cpu::kShCoefficients, w, 1, 1);
         out = &iterTex_;

@@ -153,6 +153,7 @@ private:
     gl::Program prog_;
     gl::Texture2DArray iterTex_;  ///< second pass (SkyQuality::shIterations)
     gl::Program iterProg_;
+    gl::Program iterGroundProg_;
     gl::Texture2D ground_;  ///< the sky's irradiance on the ground over mu_s (w x 1)
     gl::Framebuffer groundFbo_;
     gl::Program groundProg_;
