@@ -8,9 +8,10 @@
 //    ground lit by the light and the sky -- projected on the real spherical harmonics l <= 4 that
 //    are even in y (the field is symmetric about the light's vertical plane). Local frame: x
 //    horizontal towards the light, z up. SH_IMAGE_FORMAT: rgba32f or rgba16f.
-//  - SH_ITERATION (compute, with ATM_MS_DIRECTIONAL: the first pass's layers on unit 8): the
-//    same projection, each gathered ray marched like a view ray (integrateScattering()), so its
-//    orders >= 2 come from the first pass's directional field; twin of cpu::shIterationTexel().
+//  - SH_ITERATION (with ATM_MS_DIRECTIONAL: the first pass's layers on unit 8): the same
+//    projection (compute) or ground irradiance (with SH_GROUND_PASS), each gathered ray marched
+//    like a view ray (integrateScattering()), so its orders >= 2 come from the first pass's
+//    directional field; twins of cpu::shIterationTexel() and groundIrradianceIterationTexel().
 uniform int u_directions;
 uniform int u_steps;
 uniform ivec2 u_size;  // texels: mu_s, height
@@ -67,7 +68,15 @@ void main() {
     for (int i = 0; i < u_directions; ++i) {
         float z = 1.0 - (float(i) + 0.5) / float(u_directions), rr = sqrt(max(1.0 - z * z, 0.0));
         float phi = golden * float(i);
+#ifdef SH_ITERATION
+        // Second pass: each ray marched like a view ray through the first pass's field; twin of
+        // cpu::groundIrradianceIterationTexel().
+        float nu = rr * cos(phi) * sqrt(max(1.0 - muS * muS, 0.0)) + z * muS;
+        Scattering s = integrateScattering(0.0, z, muS, nu, 1e30, u_steps, false, atm_solarIlluminance.w, -1);
+        E += (s.smooth_ + s.mieNoPhase * miePhase(nu)) * z;
+#else
         E += atm_incidentRadiance(0.0, muS, vec3(rr * cos(phi), rr * sin(phi), z)) * z;
+#endif
     }
     o_ground = vec4(E * (2.0 * ATM_PI / float(u_directions)), 1.0);
 }

@@ -21,6 +21,7 @@ void ShLut::releaseGl() {
     iter_.clear();
     prog_ = {};
     iterProg_ = {};
+    iterGroundProg_ = {};
     ground_ = {};
     groundFbo_ = {};
     groundProg_ = {};
@@ -66,6 +67,17 @@ void ShLut::doRun(SkyVars& vars, const Logger&) {
     if (iterations == 0) iter_.clear();
     while (iterations > 0 && int(iter_.size()) < K) iter_.push_back(makeLayered());
     if (iterations > 0) iter_.resize(size_t(K));
+    if (iterations > 0 && !iterGroundProg_)
+        iterGroundProg_ = gl::ProgramBuilder("ShLut iteration ground")
+                              .define("ATM_USE_TRANSMITTANCE")
+                              .define("ATM_USE_MULTISCATTERING")
+                              .define("ATM_MS_DIRECTIONAL")
+                              .define("SH_ITERATION")
+                              .define("SH_GROUND_PASS")
+                              .fullscreenVertex()
+                              .fragment("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
+                              .fragment("generators/sh_lut.glsl", embedded::generator_shaders("sh_lut.glsl"))
+                              .build();
     if (iterations > 0 && !iterProg_)
         iterProg_ = gl::ProgramBuilder("ShLut iteration")
                         .define("ATM_USE_TRANSMITTANCE")
@@ -133,6 +145,16 @@ void ShLut::doRun(SkyVars& vars, const Logger&) {
             iterProg_.set("u_size", glm::ivec2(w, n));
             glDispatchCompute((w + 7) / 8, (n + 7) / 8, 1);
             glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+            // The ground's sky irradiance again, from the first pass's field (ground_ is free
+            // again: its first-pass values are in the first pass's last layer).
+            glBindTextureUnit(9, 0);
+            groundFbo_.bind();
+            glViewport(0, 0, w, 1);
+            iterGroundProg_.use();
+            iterGroundProg_.set("u_directions", q_.shIterationDirections);
+            iterGroundProg_.set("u_steps", q_.shIterationSteps);
+            iterGroundProg_.set("u_size", glm::ivec2(w, n));
+            fullscreen();
             glCopyImageSubData(ground_.id(), GL_TEXTURE_2D, 0, 0, 0, 0, it.id(), GL_TEXTURE_2D_ARRAY, 0, 0, 0,
                                cpu::kShCoefficients, w, 1, 1);
         }

@@ -520,6 +520,21 @@ glm::dvec3 groundIrradianceTexel(const SkyModel& m, const SkyQuality& q, const L
     return E * (2.0 * kPi / n);
 }
 
+glm::dvec3 groundIrradianceIterationTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const MsField& prev,
+                                          double muS) {
+    const int n = q.shIterationDirections;
+    const double golden = kPi * (3.0 - std::sqrt(5.0));
+    const double sinS = safeSqrt(1.0 - muS * muS);
+    glm::dvec3 E(0.0);
+    for (int i = 0; i < n; ++i) {
+        double z = 1.0 - (i + 0.5) / n, rr = safeSqrt(1.0 - z * z), phi = golden * i;
+        double x = rr * std::cos(phi), nu = x * sinS + z * muS;
+        Scattering s = integrate(m, T, prev, 0.0, z, muS, nu, 1e30, q.shIterationSteps, false, m.sunAngularRadius);
+        E += radiance(m, s, nu) * z;
+    }
+    return E * (2.0 * kPi / n);
+}
+
 glm::dvec3 groundIrradiance(const SkyModel& m, const Lut2D& T, const Lut2D& ground, double muS, double lightAngularRadius) {
     glm::dvec3 e = transmittanceToLight(m, T, 0.0, muS, lightAngularRadius) * std::max(muS, 0.0);
     if (!ground.texels.empty()) e += ground.sample({multiScatteringUv(m, 0.0, muS, ground.width, 2).x, 0.5});
@@ -569,6 +584,9 @@ MsField msField(const SkyModel& m, const SkyQuality& q, const Lut2D& T) {
                 auto c = shIterationTexel(m, q, T, f, hm.x, hm.y);
                 for (int k = 0; k < kShCoefficients; ++k) next.sh[k].at(x, y) = c[k];
             }
+        for (int x = 0; x < w; ++x)
+            next.ground.at(x, 0) =
+                groundIrradianceIterationTexel(m, q, T, f, multiScatteringHMuS(m, {(x + 0.5) / w, 0.0}, w, 2).y);
         f = std::move(next);
     }
     return f;

@@ -176,11 +176,11 @@ TEST_CASE("Sky: the ground is lit by the sky as well as by the Sun", "[gl][sky]"
             double r = Y(ref.radiance(0.0, *d, sun));
             INFO("Sun " << sunAlt << " deg, ground pixel " << x << ": " << g << " cd/m^2, reference " << r);
             CHECK(g > 0.0);
-            // Measured (medium): +1.3 % at 30 deg, -0.5 % at -2 deg (the sky irradiance is
-            // gathered from single scattering plus Hillaire's isotropic higher orders: -3..+8 %
-            // against the default reference between 60 and -4 deg; ReferenceOptions::fast() adds
-            // its own ~1-2 %). 6 % fails a ground lit by the Sun only (-23 %, and 0 at -2 deg).
-            CHECK(g == Approx(r).epsilon(0.06));
+            // Measured (medium): +1.5 % at 30 deg, +4.8 % at -2 deg. The sky irradiance (second
+            // SH pass) is within -1.3..+2.9 % of the default reference's between 60 and -4 deg
+            // (+0.4 % at -2 deg); ReferenceOptions::fast()'s own is 4.5 % low at -2 deg. 8 % fails
+            // a ground lit by the Sun only (-23 % at 30 deg, and 0 at -2 deg).
+            CHECK(g == Approx(r).epsilon(0.08));
         }
     }
 }

@@ -196,6 +196,7 @@ private:
     std::vector<gl::Texture2DArray> iter_;   ///< second pass per triple (SkyQuality::shIterations)
     gl::Program prog_;
     gl::Program iterProg_;
+    gl::Program iterGroundProg_;
     gl::Texture2D ground_;  ///< the sky's irradiance on the ground over mu_s (w x 1)
     gl::Framebuffer groundFbo_;
     gl::Program groundProg_;

@@ -222,6 +222,10 @@ std::array<glm::dvec3, kShCoefficients> shTexel(const SkyModel& m, const SkyQual
 /// every gathered ray is marched like a view ray through `prev` (integrate()).
 std::array<glm::dvec3, kShCoefficients> shIterationTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T,
                                                          const MsField& prev, double h, double muS);
+/// Ground texel of the second pass: the sky's irradiance on the ground with every gathered ray
+/// marched like a view ray through `prev` (q.shIterationDirections over the upper hemisphere).
+glm::dvec3 groundIrradianceIterationTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const MsField& prev,
+                                          double muS);
 /// Builds psi (and ground and sh if q.directionalMs, iterated q.shIterations times).
 MsField msField(const SkyModel& m, const SkyQuality& q, const Lut2D& T);
 /// In-scattered radiance per lux of orders >= 2 at a point (h, mu, mu_s, nu), for the given
