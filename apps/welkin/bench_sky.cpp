@@ -51,6 +51,7 @@ struct SkyBenchOptions {
     std::string wavelengths = "0";       // comma list: 0 = the preset's, 3 = RGB, 6..24 = spectral
     std::string reference = "rgb";       // reference integrator mode: rgb | spectral
     bool breakdown = false;  // print each generator's share of a full LUT rebuild
+    bool behind = false;     // time the sky as if something (stars) were behind it
 };
 
 double Y(const glm::dvec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
@@ -201,6 +202,7 @@ int run(const SkyBenchOptions& o) {
         vars.set(keys::observerHeight, 0.0);
         vars.set(keys::moonDirection, glm::dvec3(0, 0, -1));
         elements::OfflineRenderer r(vars, log);
+        r.nothingBehind = !o.behind;
         elements::Sky sky(elements::SkyOptions{.quality = preset, .moon = false, .wavelengths = nWl});
         Trivial trivial;
         double allLuts = NAN;
@@ -348,6 +350,8 @@ static BenchRegistrar reg("sky", "real-time sky: LUT build and frame cost per qu
                                              "comma list of sky wavelength counts: 0 = the preset's (reference: 15, else 3), 3 = RGB, 6..24 (multiple of 3) = spectral");
                               sub.add_option("--reference", o.reference,
                                              "reference integrator mode: rgb (same channels as RGB mode) | spectral (the atmosphere's 47 wavelengths, CIE 1931)");
+                              sub.add_flag("--behind", o.behind,
+                                           "time the sky as if something (stars) were behind it: with its transmittance output");
                               sub.add_flag("--breakdown", o.breakdown, "print each generator's time in a full LUT rebuild (glFinish around each)");
                               sub.add_option("--projection", o.projection, "projection of the 1280x720 frame (perspective: az 0, alt 20 deg, fov 60 deg)");
                               return [] { return run(o); };

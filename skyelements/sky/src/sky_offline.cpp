@@ -27,7 +27,7 @@ void OfflineRenderer::draw(SkyElement& e, const Camera& camera, bool finish) {
     if (finish) glFinish();
     auto t1 = clock::now();
     FrameContext fc{vars_, log_, camera, 0.0, &vao_};
-    fc.nothingBehind = true;  // one element over a target cleared to black
+    fc.nothingBehind = nothingBehind;  // one element over a target cleared to black
     e.update(fc);
     CameraBlock block = makeCameraBlock(camera, 0.0);
     cameraUbo_.update(&block, sizeof block);

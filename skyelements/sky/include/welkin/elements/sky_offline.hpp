@@ -26,6 +26,10 @@ public:
     double generatorsMs() const { return generatorsMs_; }
     double drawMs() const { return drawMs_; }
     void release();
+    /// Passed to the element as FrameContext::nothingBehind (the target is cleared to black).
+    /// false makes the element compute its transmittance output as if something were behind it
+    /// (to time that case).
+    bool nothingBehind = true;
 
 private:
     SkyVars& vars_;
