@@ -20,6 +20,7 @@ SkyViewLut::SkyViewLut(Light light) : SkyGenerator(light == Light::Sun ? "sky.su
         output(skykeys::sunViewLut);
         output(skykeys::sunViewMieLut);
         output(skykeys::sunViewTotalLut);
+        output(skykeys::viewTransmittanceLut);
         output(skykeys::sunViewRev);
     } else {
         input(keys::moonDirection);
@@ -35,6 +36,8 @@ void SkyViewLut::releaseGl() {
     smooth_ = {};
     mie_ = {};
     total_ = {};
+    viewT_ = {};
+    viewTProg_ = {};
     smoothK_ = {};
     mieK_ = {};
     totalK_ = {};
@@ -134,6 +137,30 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
         }
     }
     if (light_ == Light::Sun) {
+        // The view-transmittance row (view_transmittance.glsl), from the RGB (or, in spectral
+        // mode, solar-weighted combined) transmittance LUT; the geometry is every triple's.
+        const int nT = 4 * q_.skyViewH;
+        if (!viewT_ || viewT_.width() != nT) {
+            viewT_ = gl::Texture1D(nT, GL_RGBA32F);
+            viewT_.setFilter(GL_LINEAR);
+            viewT_.setWrap(GL_CLAMP_TO_EDGE);
+        }
+        if (!viewTProg_)
+            viewTProg_ = gl::ProgramBuilder("SkyViewLut transmittance row")
+                             .define("ATM_USE_TRANSMITTANCE")
+                             .compute("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
+                             .compute("generators/view_transmittance.glsl", embedded::generator_shaders("view_transmittance.glsl"))
+                             .build();
+        if (spectral_) useTriple(0);
+        glBindTextureUnit(4, vars.get(skykeys::transmittanceLut).id);
+        glBindImageTexture(0, viewT_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        viewTProg_.use();
+        viewTProg_.set("u_h", float(h_));
+        viewTProg_.set("u_size", nT);
+        viewTProg_.set("u_skyViewH", q_.skyViewH);
+        glDispatchCompute(GLuint((nT + 63) / 64), 1, 1);
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        vars.set(skykeys::viewTransmittanceLut, viewT_.ref());
         vars.set(skykeys::sunViewLut, smooth_.ref());
         vars.set(skykeys::sunViewMieLut, mie_.ref());
         vars.set(skykeys::sunViewTotalLut, total_.ref());

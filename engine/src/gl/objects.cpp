@@ -35,10 +35,13 @@ Texture::Texture(GLenum target, GLenum internalFormat, int w, int h, int d, int 
         throw Error("gl::Texture: size " + std::to_string(w) + "x" + std::to_string(h) + "x" + std::to_string(d) +
                     " with " + std::to_string(levels) + " levels must be positive");
     const bool layered = target == GL_TEXTURE_3D || target == GL_TEXTURE_2D_ARRAY;
-    if (!layered && target != GL_TEXTURE_2D && target != GL_TEXTURE_CUBE_MAP) throw Error("gl::Texture: unsupported target");
+    if (!layered && target != GL_TEXTURE_1D && target != GL_TEXTURE_2D && target != GL_TEXTURE_CUBE_MAP)
+        throw Error("gl::Texture: unsupported target");
     glCreateTextures(target, 1, &id_);
     if (layered)
         glTextureStorage3D(id_, levels, internalFormat, w, h, d);
+    else if (target == GL_TEXTURE_1D)
+        glTextureStorage1D(id_, levels, internalFormat, w);
     else
         glTextureStorage2D(id_, levels, internalFormat, w, h);
     GLenum filter = levels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR;
@@ -83,7 +86,9 @@ void Texture::generateMipmaps() { glGenerateTextureMipmap(id_); }
 
 void Texture::upload(GLenum format, GLenum type, const void* data, int level) {
     int w = std::max(1, w_ >> level), h = std::max(1, h_ >> level);
-    if (target_ == GL_TEXTURE_2D) {
+    if (target_ == GL_TEXTURE_1D) {
+        glTextureSubImage1D(id_, level, 0, w, format, type, data);
+    } else if (target_ == GL_TEXTURE_2D) {
         glTextureSubImage2D(id_, level, 0, 0, w, h, format, type, data);
     } else {
         int d = target_ == GL_TEXTURE_3D ? std::max(1, d_ >> level) : d_;
@@ -101,6 +106,7 @@ std::vector<float> Texture::readRgbaFloat(int level) const {
     return out;
 }
 
+Texture1D::Texture1D(int w, GLenum f, int levels) : Texture(GL_TEXTURE_1D, f, w, 1, 1, levels) {}
 Texture2D::Texture2D(int w, int h, GLenum f, int levels) : Texture(GL_TEXTURE_2D, f, w, h, 1, levels) {}
 Texture3D::Texture3D(int w, int h, int d, GLenum f, int levels) : Texture(GL_TEXTURE_3D, f, w, h, d, levels) {}
 TextureCube::TextureCube(int s, GLenum f, int levels) : Texture(GL_TEXTURE_CUBE_MAP, f, s, s, 6, levels) {}

@@ -5,6 +5,7 @@ layout(binding = 0) uniform sampler2D u_sunSmooth;
 layout(binding = 1) uniform sampler2D u_sunMie;
 layout(binding = 2) uniform sampler2D u_moonSmooth;
 layout(binding = 3) uniform sampler2D u_moonMie;
+layout(binding = 10) uniform sampler1D u_viewTransmittance;  // sky.view_transmittance_lut
 uniform float u_h;          // observer height above the ground, m (>= 0; may exceed the top)
 uniform vec3 u_sunDir;      // unit ENU
 uniform vec3 u_moonDir;
@@ -36,8 +37,9 @@ float cosAzimuthFrom(vec3 dir, vec3 light) {
 // baked in; else the Mie part is fetched separately and its phase evaluated at the pixel's exact
 // angle to the light. The LUT height is even, so skyViewUvS() keeps v inside its own half (sky
 // or ground) by construction: no clamp is needed here (skyViewClampHalf).
-vec3 skyViewLight(sampler2D smoothLut, sampler2D mieLut, vec3 dir, vec3 light, vec3 E) {
+vec3 skyViewLight(sampler2D smoothLut, sampler2D mieLut, vec3 dir, vec3 light, vec3 E, out float v) {
     vec2 uv = skyViewUvS(u_sH, dir.z, cosAzimuthFrom(dir, light), u_lutSize);
+    v = uv.y;
 #ifdef SKY_BAKED_PHASE
     return texture(smoothLut, uv).rgb * E;
 #else
@@ -85,14 +87,16 @@ void main() {
 #endif
     if (ground) T = vec3(0.0);
 #else
-    float h = min(u_h, atm_thickness());
-    L = skyViewLight(u_sunSmooth, u_sunMie, dir, u_sunDir, u_sunE * u_invScale);
+    float v, vMoon;
+    L = skyViewLight(u_sunSmooth, u_sunMie, dir, u_sunDir, u_sunE * u_invScale, v);
 #ifdef SKY_MOON
     // (A separate program variant: llvmpipe evaluates both sides of a branch under a mask.)
-    L += skyViewLight(u_moonSmooth, u_moonMie, dir, u_moonDir, u_moonE * u_invScale);
+    L += skyViewLight(u_moonSmooth, u_moonMie, dir, u_moonDir, u_moonE * u_invScale, vMoon);
 #endif
 #ifdef SKY_TRANSMITTANCE
-    T = rayIntersectsGround(h, mu) ? vec3(0.0) : transmittanceFromLut(h, mu);
+    // Transmittance to the top along this latitude (0 on the ground half), from the 1-D row the
+    // Sun's sky-view pass wrote at the same v (half the cost of the 2-D transmittance LUT).
+    T = texture(u_viewTransmittance, v).rgb;
 #else
     T = vec3(0.0);  // nothing behind the sky (the program variant for the first element)
 #endif

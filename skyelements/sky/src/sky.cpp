@@ -244,6 +244,7 @@ void Sky::doRender(const FrameContext& ctx) {
     glBindTextureUnit(1, v.get(skykeys::sunViewMieLut).id);
     glBindTextureUnit(2, v.get(q.bakedMiePhase ? skykeys::moonViewTotalLut : skykeys::moonViewLut).id);
     glBindTextureUnit(3, v.get(skykeys::moonViewMieLut).id);
+    glBindTextureUnit(10, v.get(skykeys::viewTransmittanceLut).id);
     glBindTextureUnit(4, v.get(skykeys::transmittanceLut).id);
     glBindTextureUnit(5, v.get(skykeys::multiScatteringLut).id);
     glBindTextureUnit(8, v.get(skykeys::shLut).id);

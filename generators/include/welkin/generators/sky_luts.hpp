@@ -62,6 +62,9 @@ inline const Key<int> shRev{"sky.sh_rev", "directional multiple-scattering LUT r
 inline const Key<TextureRef> sunViewLut{"sky.sun_view_lut", "sky-view LUT for the Sun: Rayleigh + multiple scattering + ground"};
 inline const Key<TextureRef> sunViewMieLut{"sky.sun_view_mie_lut", "sky-view LUT for the Sun: Mie single scattering without phase"};
 inline const Key<TextureRef> sunViewTotalLut{"sky.sun_view_total_lut", "sky-view LUT for the Sun: everything, Mie phase at the texel's angle"};
+/// Transmittance observer -> top of the atmosphere along each sky-view latitude (1-D, N = 4 x the
+/// sky view's height; 0 on the ground half), sampled with the sky view's v. Written with the Sun's view.
+inline const Key<TextureRef> viewTransmittanceLut{"sky.view_transmittance_lut", "transmittance to the top along each sky-view latitude (1-D)"};
 inline const Key<int> sunViewRev{"sky.sun_view_rev", "Sun sky-view LUT revision"};
 inline const Key<TextureRef> moonViewLut{"sky.moon_view_lut", "sky-view LUT for the Moon (smooth part)"};
 inline const Key<TextureRef> moonViewMieLut{"sky.moon_view_mie_lut", "sky-view LUT for the Moon (Mie without phase)"};
@@ -214,6 +217,8 @@ public:
     const gl::Texture2D& mieTexture() const { return mie_; }
     /// smooth + Mie x phase(angle of the texel's direction to the light).
     const gl::Texture2D& totalTexture() const { return total_; }
+    /// Sun only: transmittance to the top along each latitude (1-D, see viewTransmittanceLut).
+    const gl::Texture1D& viewTransmittanceTexture() const { return viewT_; }
     /// Height and light cos-zenith of the last run (h clamped into the atmosphere).
     double height() const { return h_; }
     double lightMuS() const { return muS_; }
@@ -223,6 +228,8 @@ private:
     void doRun(SkyVars& vars, const Logger& log) override;
     Light light_;
     gl::Texture2D smooth_, mie_, total_;
+    gl::Texture1D viewT_;  // Sun only: transmittance along each latitude (viewTransmittanceLut)
+    gl::Program viewTProg_;
     gl::Texture2D smoothK_, mieK_, totalK_;  // spectral mode: one triple's pass, before combine()
     gl::Framebuffer fbo_, fboK_;
     gl::Program prog_;
