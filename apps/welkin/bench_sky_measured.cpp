@@ -193,7 +193,7 @@ glm::dvec3 sampleEquirect(const Image& img, const Camera& cam, const glm::dvec3&
 /// at sea level, no Moon), sampled bilinearly at the 81 directions. The only part of this bench
 /// that needs an OpenGL context.
 Predictions predictRealtime(const Atmosphere& atmosphere, const std::vector<Scan>& scans, int quality, int width,
-                            double* renderSeconds) {
+                            int wavelengths, double* renderSeconds) {
     Logger log;
     auto ctx = gl::HeadlessContext::create({}, log);
     SkyVars vars = SkyVars::earth();
@@ -201,7 +201,7 @@ Predictions predictRealtime(const Atmosphere& atmosphere, const std::vector<Scan
     vars.set(keys::moonDirection, glm::dvec3(0, 0, -1));
     vars.set(kAtmosphere, std::make_shared<const Atmosphere>(atmosphere));
     elements::OfflineRenderer r(vars, log);
-    elements::Sky sky(elements::SkyOptions{.quality = quality, .moon = false});
+    elements::Sky sky(elements::SkyOptions{.quality = quality, .moon = false, .wavelengths = wavelengths});
     Camera cam;
     cam.projection = Projection::Equirect;
     cam.width = width;
@@ -284,13 +284,17 @@ int run(const Options& o) {
         std::string name;
         Atmosphere atmosphere;
         bool realtime = false;  // the real-time Sky element instead of the reference integrator
+        int wavelengths = 3;    // real-time: 3 = RGB, else spectral
     };
     const Atmosphere welkinDay = Atmosphere::earthClear().withAerosolOpticalDepth(tau550, alpha).withAerosolAsymmetry(0.64);
     std::vector<Model> models = {
         {"welkin", welkinDay},
         {"bruneton2017", Atmosphere::earthBruneton2017Evaluation()},
     };
-    if (o.realtime) models.push_back({"realtime-medium-welkin", welkinDay, true});
+    if (o.realtime) {
+        models.push_back({"realtime-medium-welkin", welkinDay, true, 3});
+        models.push_back({"realtime-medium-spectral15-welkin", welkinDay, true, 15});
+    }
     if (o.sensitivity) {
         // One change at a time from "welkin" towards Bruneton's parameters, to see what sets the level.
         auto withSsa = [](Atmosphere a, double ssa) {
@@ -317,7 +321,7 @@ int run(const Options& o) {
         if (model.realtime) {
             double seconds = 0;
             try {
-                pred = predictRealtime(model.atmosphere, scans, 1, o.realtimeWidth, &seconds);
+                pred = predictRealtime(model.atmosphere, scans, 1, o.realtimeWidth, model.wavelengths, &seconds);
             } catch (const std::exception& e) {
                 // No OpenGL 4.5 context here: the reference rows stand on their own.
                 std::fprintf(stderr, "WARN bench sky-measured: real-time rows skipped (%s); --no-realtime silences this\n", e.what());
@@ -326,10 +330,12 @@ int run(const Options& o) {
             std::fprintf(stderr, "%s: %d equirect renders %dx%d in %.1f s\n", model.name.c_str(), int(scans.size()), o.realtimeWidth,
                          o.realtimeWidth / 2, seconds);
             char buf[160];
-            std::snprintf(buf, sizeof buf, "real-time Sky element, quality medium, RGB, %dx%d equirect sampled bilinearly, %.1f s",
-                          o.realtimeWidth, o.realtimeWidth / 2, seconds);
+            std::snprintf(buf, sizeof buf, "real-time Sky element, quality medium, %s, %dx%d equirect sampled bilinearly, %.1f s",
+                          model.wavelengths == 3 ? "RGB" : (std::to_string(model.wavelengths) + " wavelengths").c_str(), o.realtimeWidth,
+                          o.realtimeWidth / 2, seconds);
             how = buf;
-            meta = {{"renderer", "realtime"}, {"quality", "medium"}, {"equirect_width", o.realtimeWidth}, {"render_s", seconds}};
+            meta = {{"renderer", "realtime"}, {"quality", "medium"}, {"wavelengths", model.wavelengths},
+                    {"equirect_width", o.realtimeWidth}, {"render_s", seconds}};
         } else {
             const ReferenceSky sky(model.atmosphere, ro);
             std::fprintf(stderr, "%s: precomputed %d orders in %.1f s\n", model.name.c_str(), sky.orders(), sky.precomputeSeconds());
