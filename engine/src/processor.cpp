@@ -251,7 +251,7 @@ struct SavedState {
 };
 }  // namespace
 
-void SkyProcessor::composite(unsigned framebuffer, bool depthTest) {
+void SkyProcessor::composite(unsigned framebuffer, bool depthTest, bool clearedToBlack) {
     // The compositing state is applied before every element, so an element that binds its own
     // framebuffer or changes blending in doRender() cannot break the ones after it.
     auto apply = [&] {
@@ -276,7 +276,7 @@ void SkyProcessor::composite(unsigned framebuffer, bool depthTest) {
     FrameContext ctx = frameContext();
     // Over the processor's own HDR target (cleared to black) the first element has nothing
     // behind it; over a host's framebuffer there may be anything.
-    ctx.nothingBehind = framebuffer == hdrFbo_.id();
+    ctx.nothingBehind = clearedToBlack;
     for (auto& e : elements_) {
         apply();
         e->render(ctx);
@@ -295,7 +295,7 @@ void SkyProcessor::renderFrame() {
     hdrFbo_.bind();
     const float black[4] = {0, 0, 0, 1};
     glClearBufferfv(GL_COLOR, 0, black);
-    composite(hdrFbo_.id(), false);
+    composite(hdrFbo_.id(), false, true);
     toneMapInto(ldrFbo_.id());
     if (options_.timing) glFinish();
     frameMs_ = msSince(t0);
@@ -313,7 +313,7 @@ void SkyProcessor::renderInto(const RenderTarget& target) {
     saved.save();
     try {
         update();
-        composite(target.framebuffer, target.depthTest);
+        composite(target.framebuffer, target.depthTest, false);
     } catch (...) {
         saved.restore();
         throw;

@@ -140,7 +140,8 @@ private:
     void ensureTargets();
     void deriveVariables();
     void runGenerators();
-    void composite(unsigned framebuffer, bool depthTest);
+    /// `clearedToBlack`: the target was just cleared to black (the first element has nothing behind it).
+    void composite(unsigned framebuffer, bool depthTest, bool clearedToBlack);
     FrameContext frameContext();
 
     SkyVars vars_;

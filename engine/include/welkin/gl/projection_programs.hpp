@@ -1,8 +1,8 @@
 // One program per camera projection, built on first use from a recipe with WELKIN_PROJECTION
 // defined (0 perspective, 1 fisheye, 2 equirect, 3 cube face), so engine/camera.glsl compiles
 // only that projection's code. llvmpipe (and GPUs for divergent code) otherwise evaluates every
-// branch of the projection switch on every pixel: measured on llvmpipe, a fisheye sky frame at
-// 1280x720 went from 18.1 to 15.5 ms (docs/sky.md).
+// branch of the projection switch on every pixel (measured on llvmpipe: about a sixth of a
+// fisheye sky frame at 1280x720; docs/writing-an-element.md).
 //
 //   welkin::gl::ProjectionPrograms programs(welkin::gl::ProgramBuilder("Mine")
 //       .fullscreenVertex()
