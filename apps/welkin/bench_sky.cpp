@@ -207,10 +207,16 @@ int run(const SkyBenchOptions& o) {
         Trivial trivial;
         double allLuts = NAN;
         const int repeats = preset == 3 ? 1 : o.repeats;
-        // Warm-up: compiles every program (not part of a LUT rebuild).
+        // Warm-up: compiles every program the timed frames use (not part of a LUT rebuild nor of
+        // a frame): the programs are per projection, so both the probe's (equirect, also the
+        // 512x256 frame's) and the 1280x720 frame's.
         vars.set(keys::sunDirection, directionFromAzAlt(sunAz, 0.5));
-        r.draw(sky, probe, true);
-        r.draw(trivial, probe, true);
+        Camera probeBig = big;
+        probeBig.width = 64, probeBig.height = 36;
+        for (const Camera* c : {&probe, &probeBig}) {
+            r.draw(sky, *c, true);
+            r.draw(trivial, *c, true);
+        }
         for (double alt : sunAlts) {
             Row row{};
             row.preset = preset;

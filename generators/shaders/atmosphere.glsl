@@ -14,9 +14,9 @@ layout(std140, binding = 1) uniform WelkinAtmosphere {
     vec4 atm_absorption;         // ozone extinction rgb (1/m), unused
     vec4 atm_groundAlbedo;       // rgb, unused
     vec4 atm_solarIlluminance;   // rgb (lux), Sun's angular radius (rad)
-    vec4 atm_phaseMoments;       // Legendre moments: Mie l1, Mie l2, Rayleigh l2; delta-M fraction f
+    vec4 atm_shFactors;          // SH convolution (cpu::PhaseMoments): Mie l1, Mie l2, Rayleigh l2; delta-M fraction f
     vec4 atm_profiles[9];        // 3 profiles x (w0 e0 s0 l0)(c0 e1 s1 l1)(c1 0 0 0)
-    vec4 atm_phaseMoments2;      // Legendre moments: Mie l3, Mie l4, unused, unused
+    vec4 atm_shFactors2;         // SH convolution: Mie l3 .. l6 (0 beyond ATM_SH_BANDS)
 };
 
 const float ATM_PI = 3.14159265358979;
@@ -208,25 +208,44 @@ vec3 transmittanceToLight(float h, float muS, float angularRadius) {
 layout(binding = 5) uniform sampler2D u_atmMultiScattering;
 #define ATM_MULTISCATTERING_LUT u_atmMultiScattering
 #ifdef ATM_MS_DIRECTIONAL
-// The SH l <= 4 projection of the incident radiance field (layers 0-14) on texture unit 8; layer
-// 15, row 0, holds the sky's irradiance on the ground over mu_s.
+// The SH projection of the incident radiance field (layers 0 .. ATM_SH_COEFFICIENTS - 1) on
+// texture unit 8; the next layer, row 0, holds the sky's irradiance on the ground over mu_s.
 layout(binding = 8) uniform sampler2DArray u_atmShLut;
 #endif
-const int ATM_SH_COEFFICIENTS = 15;
-const float ATM_SH_GROUND_LAYER = 15.0;
+// SH bands L of the directional field (SkyQuality::shBands, set by the pass's program).
+#ifndef ATM_SH_BANDS
+#define ATM_SH_BANDS 4
+#endif
+const int ATM_SH_COEFFICIENTS = (ATM_SH_BANDS + 1) * (ATM_SH_BANDS + 2) / 2;
+const float ATM_SH_GROUND_LAYER = float(ATM_SH_COEFFICIENTS);
+// N_lm = sqrt((2l + 1) / (4 pi) (l - m)! / (l + m)!), times sqrt(2) for m > 0, at l (l + 1) / 2 + m.
+const float ATM_SH_NORM[28] = float[28](0.28209479, 0.48860251, 0.48860251, 0.63078313, 0.36418281, 0.18209141,
+    0.74635267, 0.30469720, 0.09635371, 0.03933624, 0.84628438, 0.26761862, 0.06307831, 0.01685839, 0.00596034,
+    0.93560258, 0.24157155, 0.04565273, 0.00931882, 0.00219647, 0.00069458, 1.01710724, 0.22195100, 0.03509353,
+    0.00584892, 0.00106786, 0.00022767, 0.00006572);
 
-// The 15 real SH (l <= 4, even in y) at a unit vector (x, y, z) given x and z; twin of
-// cpu::shBasis().
+// The real SH of bands l <= ATM_SH_BANDS that are even in y, at a unit vector given x and z
+// (index l (l + 1) / 2 + m); twin of cpu::shBasis(): N_lm P_l^m(z) / sin^m * Re((x + i y)^m), the
+// associated Legendre function (no Condon-Shortley phase) by its recurrence in l.
 float[ATM_SH_COEFFICIENTS] atm_shBasis(float x, float z) {
-    float y2 = max(0.0, 1.0 - x * x - z * z), z2 = z * z;
-    float c2 = x * x - y2, c3 = x * (x * x - 3.0 * y2), c4 = x * x * x * x - 6.0 * x * x * y2 + y2 * y2;
-    return float[ATM_SH_COEFFICIENTS](0.282095,
-                                      0.488603 * z, 0.488603 * x,
-                                      0.315392 * (3.0 * z2 - 1.0), 1.092548 * x * z, 0.546274 * c2,
-                                      0.373176 * z * (5.0 * z2 - 3.0), 0.457046 * x * (5.0 * z2 - 1.0), 1.445306 * z * c2,
-                                      0.590044 * c3,
-                                      0.105786 * (35.0 * z2 * z2 - 30.0 * z2 + 3.0), 0.669047 * x * z * (7.0 * z2 - 3.0),
-                                      0.473087 * c2 * (7.0 * z2 - 1.0), 1.770131 * z * c3, 0.625836 * c4);
+    float Y[ATM_SH_COEFFICIENTS];
+    float y = sqrt(max(0.0, 1.0 - x * x - z * z));
+    float cm = 1.0, sm = 0.0, pmm = 1.0;
+    for (int m = 0; m <= ATM_SH_BANDS; ++m) {
+        float a = pmm, b = 0.0;
+        for (int l = m; l <= ATM_SH_BANDS; ++l) {
+            int k = l * (l + 1) / 2 + m;
+            Y[k] = ATM_SH_NORM[k] * a * cm;
+            float next = (float(2 * l + 1) * z * a - float(l + m) * b) / float(l + 1 - m);
+            b = a;
+            a = next;
+        }
+        pmm *= float(2 * m + 1);
+        float c = x * cm - y * sm;
+        sm = x * sm + y * cm;
+        cm = c;
+    }
+    return Y;
 }
 
 // Irradiance of the horizontal ground per lux of the light at muS (direct light, plus the sky's
@@ -246,21 +265,32 @@ vec3 msInscatter(float h, float mu, float muS, float nu, vec3 sR, vec3 sM) {
 #ifdef ATM_MS_DIRECTIONAL
     float sinS = sqrt(max(1.0 - muS * muS, 0.0));
     float x = sinS > 1e-3 ? clamp((nu - mu * muS) / sinS, -1.0, 1.0) : 0.0;  // see cpu::msInscatter()
-    float Y[ATM_SH_COEFFICIENTS] = atm_shBasis(x, mu);
     // Funk-Hecke: band l scaled by the phase function's Legendre moment; delta-M: the forward
-    // fraction fw stays in the beam.
-    vec4 mo = atm_phaseMoments, mo2 = atm_phaseMoments2;
-    float fw = mo.w;
-    float bR[5] = float[5](1.0, 0.0, mo.z, 0.0, 0.0);
-    // Mie bands damped by the Gaussian window exp(-0.03 l^2) (see cpu::msInscatter()).
-    float bM[5] = float[5](1.0 - fw, (mo.x - fw) * 0.970446, (mo.y - fw) * 0.886920, (mo2.x - fw) * 0.763379,
-                           (mo2.y - fw) * 0.618783);
-    const int band[ATM_SH_COEFFICIENTS] = int[ATM_SH_COEFFICIENTS](0, 1, 1, 2, 2, 2, 3, 3, 3, 3, 4, 4, 4, 4, 4);
+    // fraction stays in the beam; the Mie bands windowed (factors from cpu::phaseMoments()). The
+    // basis is evaluated as in atm_shBasis(), each function used as soon as it is known (no array
+    // of 28 basis values: with one, the second SH pass at l <= 6 came out wrong on Mesa llvmpipe
+    // 22.3, rows of texels 2-15 % off the CPU twin).
+    vec4 f1 = atm_shFactors, f2 = atm_shFactors2;
+    float bM[7] = float[7](1.0 - f1.w, f1.x, f1.y, f2.x, f2.y, f2.z, f2.w);
     vec3 aR = vec3(0.0), aM = vec3(0.0);
-    for (int k = 0; k < ATM_SH_COEFFICIENTS; ++k) {
-        vec3 c = texture(u_atmShLut, vec3(uv, float(k))).rgb;
-        aR += c * (bR[band[k]] * Y[k]);
-        aM += c * (bM[band[k]] * Y[k]);
+    float y = sqrt(max(0.0, 1.0 - x * x - mu * mu));
+    float cm = 1.0, sm = 0.0, pmm = 1.0;
+    for (int m = 0; m <= ATM_SH_BANDS; ++m) {
+        float a = pmm, b = 0.0;
+        for (int l = m; l <= ATM_SH_BANDS; ++l) {
+            int k = l * (l + 1) / 2 + m;
+            vec3 c = texture(u_atmShLut, vec3(uv, float(k))).rgb * (ATM_SH_NORM[k] * a * cm);
+            aM += c * bM[l];
+            if (l == 0) aR += c;
+            if (l == 2) aR += c * f1.z;
+            float next = (float(2 * l + 1) * mu * a - float(l + m) * b) / float(l + 1 - m);
+            b = a;
+            a = next;
+        }
+        pmm *= float(2 * m + 1);
+        float cn = x * cm - y * sm;
+        sm = x * sm + y * cm;
+        cm = cn;
     }
     return sR * max(aR, vec3(0.0)) + sM * max(aM, vec3(0.0));
 #else
@@ -284,7 +314,7 @@ RaySample atm_raySample(float h, float mu, float muS, float nu, float t, float d
     q.sR = atm_scatteringRayleigh(hp);
     q.sM = atm_scatteringMie(hp);
     q.sigmaT = atm_extinction(hp);
-    q.sigmaD = q.sigmaT - atm_phaseMoments.w * q.sM;
+    q.sigmaD = q.sigmaT - atm_shFactors.w * q.sM;
     q.seg = atm_segmentFactor(q.sigmaD, dt);
     q.Tl = transmittanceToLight(hp, muSp, lightAngularRadius);
     float muP = clamp((r * mu + t) / rp, -1.0, 1.0);

@@ -2,18 +2,24 @@
 // cpu::shTexel(). Needs atmosphere.glsl (ATM_USE_TRANSMITTANCE, ATM_USE_MULTISCATTERING).
 //  - SH_GROUND_PASS (fragment, a row of u_size.x texels over mu_s): the sky's irradiance on the
 //    horizontal ground per lux, gathered over the upper hemisphere.
-//  - otherwise (compute, one invocation per texel, 15 image layers): at each (h, mu_s) the
-//    incident radiance field per lux -- single scattering with the Rayleigh and Mie phase
-//    functions, Hillaire's isotropic higher orders (Psi_ms) along each gathered ray, and the
-//    ground lit by the light and the sky -- projected on the real spherical harmonics l <= 4 that
-//    are even in y (the field is symmetric about the light's vertical plane). Local frame: x
-//    horizontal towards the light, z up. SH_IMAGE_FORMAT: rgba32f or rgba16f.
+//  - otherwise (compute, one invocation per texel, one image layer per coefficient): at each
+//    (h, mu_s) the incident radiance field per lux -- single scattering with the Rayleigh and
+//    Mie phase functions, Hillaire's isotropic higher orders (Psi_ms) along each gathered ray,
+//    and the ground lit by the light and the sky -- projected on the real spherical harmonics
+//    l <= ATM_SH_BANDS (4 or 6) that are even in y (the field is symmetric about the light's
+//    vertical plane). Local frame: x horizontal towards the light, z up. SH_IMAGE_FORMAT:
+//    rgba32f or rgba16f.
 //  - SH_ITERATION (with ATM_MS_DIRECTIONAL: the first pass's layers on unit 8): the same
 //    projection (compute) or ground irradiance (with SH_GROUND_PASS), each gathered ray marched
 //    like a view ray (integrateScattering()), so its orders >= 2 come from the first pass's
 //    directional field; twins of cpu::shIterationTexel() and groundIrradianceIterationTexel().
 uniform int u_directions;
 uniform int u_steps;
+#ifdef SH_ITERATION
+// This draw's (dispatch's) directions [x, y) of u_directions: the second pass is split into
+// several, each adding to the previous ones (see ShLut::doRun()).
+uniform ivec2 u_directionRange;
+#endif
 uniform ivec2 u_size;  // texels: mu_s, height
 
 #ifndef SH_GROUND_PASS
@@ -40,7 +46,7 @@ vec3 atm_incidentRadiance(float h, float muS, vec3 v) {
         float rp = atm_bottom() + hp;
         float muSp = clamp((r * muS + t * nu) / rp, -1.0, 1.0);
         vec3 sR = atm_scatteringRayleigh(hp), sM = atm_scatteringMie(hp);
-        vec3 sigmaT = atm_extinction(hp) - atm_phaseMoments.w * sM;  // delta-M (see sky_model.cpp)
+        vec3 sigmaT = atm_extinction(hp) - atm_shFactors.w * sM;  // delta-M (see sky_model.cpp)
         vec3 seg = atm_segmentFactor(sigmaT, dt);
         vec3 Tl = transmittanceToLight(hp, muSp, angular);
         vec3 ps = texture(ATM_MULTISCATTERING_LUT, multiScatteringUv(hp, muSp, msSize)).rgb;
@@ -65,7 +71,11 @@ void main() {
     // Equal-area directions of the upper hemisphere (z uniform in (0, 1]), 2 pi / n sr each.
     const float golden = ATM_PI * (3.0 - sqrt(5.0));
     vec3 E = vec3(0.0);
+#ifdef SH_ITERATION
+    for (int i = u_directionRange.x; i < u_directionRange.y; ++i) {
+#else
     for (int i = 0; i < u_directions; ++i) {
+#endif
         float z = 1.0 - (float(i) + 0.5) / float(u_directions), rr = sqrt(max(1.0 - z * z, 0.0));
         float phi = golden * float(i);
 #ifdef SH_ITERATION
@@ -82,7 +92,11 @@ void main() {
 }
 #else
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+#ifdef SH_ITERATION
+layout(SH_IMAGE_FORMAT, binding = 0) uniform restrict image2DArray u_sh;  // added to after the first range
+#else
 layout(SH_IMAGE_FORMAT, binding = 0) uniform writeonly image2DArray u_sh;
+#endif
 void main() {
     ivec2 ij = ivec2(gl_GlobalInvocationID.xy);
     if (ij.x >= u_size.x || ij.y >= u_size.y) return;
@@ -90,7 +104,11 @@ void main() {
     float h = hm.x, muS = hm.y;
     vec3 c[ATM_SH_COEFFICIENTS];
     for (int k = 0; k < ATM_SH_COEFFICIENTS; ++k) c[k] = vec3(0.0);
+#ifdef SH_ITERATION
+    for (int i = u_directionRange.x; i < u_directionRange.y; ++i) {
+#else
     for (int i = 0; i < u_directions; ++i) {
+#endif
         vec3 v = atm_fibonacciDirection(i, u_directions);
 #ifdef SH_ITERATION
         float nu = v.x * sqrt(max(1.0 - muS * muS, 0.0)) + v.z * muS;
@@ -103,6 +121,12 @@ void main() {
         for (int k = 0; k < ATM_SH_COEFFICIENTS; ++k) c[k] += L * Y[k];
     }
     float w = 4.0 * ATM_PI / float(u_directions);
-    for (int k = 0; k < ATM_SH_COEFFICIENTS; ++k) imageStore(u_sh, ivec3(ij, k), vec4(c[k] * w, 1.0));
+    for (int k = 0; k < ATM_SH_COEFFICIENTS; ++k) {
+        vec3 sum = c[k] * w;
+#ifdef SH_ITERATION
+        if (u_directionRange.x > 0) sum += imageLoad(u_sh, ivec3(ij, k)).rgb;
+#endif
+        imageStore(u_sh, ivec3(ij, k), vec4(sum, 1.0));
+    }
 }
 #endif

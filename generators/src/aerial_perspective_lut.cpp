@@ -42,14 +42,17 @@ void AerialPerspectiveLut::doRun(SkyVars& vars, const Logger&) {
             t->setWrap(GL_CLAMP_TO_EDGE);
         }
     }
-    if (!prog_)
+    if (!prog_ || progBands_ != q_.shBands) {
+        progBands_ = q_.shBands;
         prog_ = gl::ProgramBuilder("AerialPerspectiveLut")
                     .define("ATM_USE_TRANSMITTANCE")
                     .define("ATM_USE_MULTISCATTERING")
                     .define("ATM_MS_DIRECTIONAL")
+                    .define("ATM_SH_BANDS", q_.shBands)
                     .compute("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
                     .compute("generators/aerial_perspective.glsl", embedded::generator_shaders("aerial_perspective.glsl"))
                     .build();
+    }
     const double Ht = model_.topRadius - model_.bottomRadius;
     const double h = std::clamp(vars.getOr(keys::observerHeight, 0.0), 0.0, Ht);
     glm::dvec3 dir = vars.getOr(keys::sunDirection, glm::dvec3(0, 0, 1));
@@ -106,7 +109,7 @@ AerialTexel aerialTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, 
     double dEnd = ground ? distanceToBottom(m, h, mu) : distanceToTop(m, h, mu);
     double r = m.bottomRadius + h;
     double phaseR = rayleighPhase(nu), phaseM = miePhase(nu, m.mieG, m.miePhase);
-    const PhaseMoments moments = phaseMoments(m);
+    const PhaseMoments moments = phaseMoments(m, MS.bands);
     glm::dvec3 L(0.0), thr(1.0), thrD(1.0);
     double t0 = 0.0;
     for (int kk = 0; kk <= k; ++kk) {
@@ -119,7 +122,7 @@ AerialTexel aerialTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, 
             double rp = m.bottomRadius + hp;
             double muSp = std::clamp((r * muS + t * nu) / rp, -1.0, 1.0);
             glm::dvec3 sR = m.scatteringRayleigh(hp), sM = m.scatteringMie(hp), sigmaT = m.extinction(hp);
-            glm::dvec3 sigmaD = sigmaT - moments.low.w * sM;
+            glm::dvec3 sigmaD = sigmaT - moments.forward * sM;
             glm::dvec3 seg;
             for (int c = 0; c < 3; ++c) seg[c] = sigmaD[c] * dt > 1e-7 ? (1.0 - std::exp(-sigmaD[c] * dt)) / sigmaD[c] : dt;
             glm::dvec3 Tl = transmittanceToLight(m, T, hp, muSp, m.sunAngularRadius);

@@ -6,6 +6,8 @@
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/gl/shader.hpp>
 
+#include <algorithm>
+
 namespace welkin::generators {
 
 ShLut::ShLut() : SkyGenerator("sky.ms_directional") {
@@ -38,17 +40,22 @@ void ShLut::doRun(SkyVars& vars, const Logger&) {
     const GLenum fmt = q_.halfFloat ? GL_RGBA16F : GL_RGBA32F;
     const int w = q_.multiScatteringMuS, n = q_.multiScatteringSize;
     const int K = triples();
-    // Layers 0-14: SH coefficients (cpu::kShCoefficients); layer 15, row 0: the ground's sky
-    // irradiance (copied from ground_ below; the other rows stay 0, never sampled with weight).
+    if (q_.shBands < cpu::kShMinBands || q_.shBands > cpu::kShMaxBands)
+        throw Error("ShLut: SkyQuality::shBands " + std::to_string(q_.shBands) + " not in [" + std::to_string(cpu::kShMinBands) +
+                    ", " + std::to_string(cpu::kShMaxBands) + "]");
+    const int nc = cpu::shCoefficients(q_.shBands);
+    // Layers 0 .. nc - 1: SH coefficients; layer nc, row 0: the ground's sky irradiance (copied
+    // from ground_ below; the other rows stay 0, never sampled with weight).
     auto makeLayered = [&] {
-        gl::Texture2DArray t(w, n, cpu::kShCoefficients + 1, fmt);
+        gl::Texture2DArray t(w, n, nc + 1, fmt);
         t.setFilter(GL_LINEAR);
         t.setWrap(GL_CLAMP_TO_EDGE);
         const float zero[4] = {0, 0, 0, 0};
         glClearTexImage(t.id(), 0, GL_RGBA, GL_FLOAT, zero);
         return t;
     };
-    const bool resized = first_.empty() || first_[0].width() != w || first_[0].height() != n || first_[0].internalFormat() != fmt;
+    const bool resized = first_.empty() || first_[0].width() != w || first_[0].height() != n || first_[0].internalFormat() != fmt ||
+                         first_[0].depth() != nc + 1;
     if (resized) {
         first_.clear();
         iter_.clear();
@@ -58,8 +65,10 @@ void ShLut::doRun(SkyVars& vars, const Logger&) {
         groundFbo_ = gl::Framebuffer::create();
         groundFbo_.attach(GL_COLOR_ATTACHMENT0, ground_);
         groundFbo_.checkComplete("ShLut ground");
-        prog_ = {};  // the image format is compiled in
+        prog_ = {};  // the image format and the SH bands are compiled in
         iterProg_ = {};
+        groundProg_ = {};
+        iterGroundProg_ = {};
     }
     while (int(first_.size()) < K) first_.push_back(makeLayered());
     first_.resize(size_t(K));
@@ -73,6 +82,7 @@ void ShLut::doRun(SkyVars& vars, const Logger&) {
                               .define("ATM_USE_MULTISCATTERING")
                               .define("ATM_MS_DIRECTIONAL")
                               .define("SH_ITERATION")
+                              .define("ATM_SH_BANDS", q_.shBands)
                               .define("SH_GROUND_PASS")
                               .fullscreenVertex()
                               .fragment("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
@@ -84,6 +94,7 @@ void ShLut::doRun(SkyVars& vars, const Logger&) {
                         .define("ATM_USE_MULTISCATTERING")
                         .define("ATM_MS_DIRECTIONAL")
                         .define("SH_ITERATION")
+                        .define("ATM_SH_BANDS", q_.shBands)
                         .define("SH_IMAGE_FORMAT", q_.halfFloat ? "rgba16f" : "rgba32f")
                         .compute("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
                         .compute("generators/sh_lut.glsl", embedded::generator_shaders("sh_lut.glsl"))
@@ -92,6 +103,7 @@ void ShLut::doRun(SkyVars& vars, const Logger&) {
         prog_ = gl::ProgramBuilder("ShLut")
                     .define("ATM_USE_TRANSMITTANCE")
                     .define("ATM_USE_MULTISCATTERING")
+                    .define("ATM_SH_BANDS", q_.shBands)
                     .define("SH_IMAGE_FORMAT", q_.halfFloat ? "rgba16f" : "rgba32f")
                     .compute("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
                     .compute("generators/sh_lut.glsl", embedded::generator_shaders("sh_lut.glsl"))
@@ -101,6 +113,7 @@ void ShLut::doRun(SkyVars& vars, const Logger&) {
                           .define("ATM_USE_TRANSMITTANCE")
                           .define("ATM_USE_MULTISCATTERING")
                           .define("SH_GROUND_PASS")
+                          .define("ATM_SH_BANDS", q_.shBands)
                           .fullscreenVertex()
                           .fragment("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
                           .fragment("generators/sh_lut.glsl", embedded::generator_shaders("sh_lut.glsl"))
@@ -132,31 +145,52 @@ void ShLut::doRun(SkyVars& vars, const Logger&) {
         glDispatchCompute((w + 7) / 8, (n + 7) / 8, 1);
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
         glCopyImageSubData(ground_.id(), GL_TEXTURE_2D, 0, 0, 0, 0, first.id(), GL_TEXTURE_2D_ARRAY, 0, 0, 0,
-                           cpu::kShCoefficients, w, 1, 1);
+                           nc, w, 1, 1);
         if (iterations > 0) {
-            // 3. Second pass: every gathered ray marched through the first pass's field.
+            // 3. Second pass: every gathered ray marched through the first pass's field. The
+            // directions are split over several dispatches (draws) of at most kMaxSamples samples
+            // per texel, each adding to the previous: one invocation marching 128 x 16 samples
+            // through the l <= 6 field came out wrong on Mesa llvmpipe 22.3 (texels 10-170 % off
+            // the CPU twin where the Sun is up; 128 x 12 too, 96 x 12 and 64 x 16 right), as if
+            // a loop-iteration limit per invocation were reached.
+            constexpr int kMaxSamples = 1024;
+            const int D = q_.shIterationDirections, chunk = std::max(1, kMaxSamples / std::max(q_.shIterationSteps, 1));
             const gl::Texture2DArray& it = iter_[size_t(k)];
             glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
             glBindTextureUnit(8, first.id());
-            glBindImageTexture(0, it.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, fmt);
+            glBindImageTexture(0, it.id(), 0, GL_TRUE, 0, GL_READ_WRITE, fmt);
             iterProg_.use();
-            iterProg_.set("u_directions", q_.shIterationDirections);
+            iterProg_.set("u_directions", D);
             iterProg_.set("u_steps", q_.shIterationSteps);
             iterProg_.set("u_size", glm::ivec2(w, n));
-            glDispatchCompute((w + 7) / 8, (n + 7) / 8, 1);
-            glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+            for (int begin = 0; begin < D; begin += chunk) {
+                iterProg_.set("u_directionRange", glm::ivec2(begin, std::min(begin + chunk, D)));
+                glDispatchCompute((w + 7) / 8, (n + 7) / 8, 1);
+                glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+            }
             // The ground's sky irradiance again, from the first pass's field (ground_ is free
-            // again: its first-pass values are in the first pass's last layer).
+            // again: its first-pass values are in the first pass's last layer); the chunks are
+            // added by blending.
             glBindTextureUnit(9, 0);
             groundFbo_.bind();
             glViewport(0, 0, w, 1);
             iterGroundProg_.use();
-            iterGroundProg_.set("u_directions", q_.shIterationDirections);
+            iterGroundProg_.set("u_directions", D);
             iterGroundProg_.set("u_steps", q_.shIterationSteps);
             iterGroundProg_.set("u_size", glm::ivec2(w, n));
-            fullscreen();
+            for (int begin = 0; begin < D; begin += chunk) {
+                iterGroundProg_.set("u_directionRange", glm::ivec2(begin, std::min(begin + chunk, D)));
+                if (begin == 0) {
+                    fullscreen();  // the first chunk overwrites (blending off, VAO bound)
+                } else {
+                    glEnable(GL_BLEND);
+                    glBlendFunc(GL_ONE, GL_ONE);
+                    glDrawArrays(GL_TRIANGLES, 0, 3);
+                }
+            }
+            glDisable(GL_BLEND);
             glCopyImageSubData(ground_.id(), GL_TEXTURE_2D, 0, 0, 0, 0, it.id(), GL_TEXTURE_2D_ARRAY, 0, 0, 0,
-                               cpu::kShCoefficients, w, 1, 1);
+                               nc, w, 1, 1);
         }
         list->push_back(texture(k).ref());
     }

@@ -12,7 +12,7 @@
 
 namespace welkin::generators {
 
-AtmosphereBlock AtmosphereBlock::from(const SkyModel& m) {
+AtmosphereBlock AtmosphereBlock::from(const SkyModel& m, int shBands) {
     AtmosphereBlock b{};
     b.radii = glm::vec4(float(m.bottomRadius), float(m.topRadius), float(m.topRadius - m.bottomRadius), float(m.miePhase));
     b.rayleigh = glm::vec4(glm::vec3(m.rayleighScattering), float(m.mieG));
@@ -21,9 +21,9 @@ AtmosphereBlock AtmosphereBlock::from(const SkyModel& m) {
     b.absorption = glm::vec4(glm::vec3(m.absorptionExtinction), 0.0f);
     b.groundAlbedo = glm::vec4(glm::vec3(m.groundAlbedo), 0.0f);
     b.solarIlluminance = glm::vec4(glm::vec3(m.solarIlluminance), float(m.sunAngularRadius));
-    const cpu::PhaseMoments pm = cpu::phaseMoments(m);
-    b.phaseMoments = glm::vec4(pm.low);
-    b.phaseMoments2 = glm::vec4(pm.high);
+    const cpu::PhaseMoments pm = cpu::phaseMoments(m, shBands);
+    b.shFactors = glm::vec4(float(pm.mie[1]), float(pm.mie[2]), float(pm.rayleigh[2]), float(pm.forward));
+    b.shFactors2 = glm::vec4(float(pm.mie[3]), float(pm.mie[4]), float(pm.mie[5]), float(pm.mie[6]));
     const DensityProfile* p[3] = {&m.rayleighDensity, &m.mieDensity, &m.absorptionDensity};
     for (int i = 0; i < 3; ++i) {
         const DensityLayer &a = p[i]->layers[0], &c = p[i]->layers[1];
@@ -62,14 +62,14 @@ void SkyGenerator::prepare(SkyVars& vars) {
     }
     if (!ubo_) ubo_ = gl::Buffer(sizeof(AtmosphereBlock));
     if (!vao_) vao_ = gl::VertexArray::create();
-    AtmosphereBlock block = AtmosphereBlock::from(spectral_ ? spectral_->models[0] : model_);
+    AtmosphereBlock block = AtmosphereBlock::from(spectral_ ? spectral_->models[0] : model_, q_.shBands);
     ubo_.update(&block, sizeof block);
     ubo_.bindBase(GL_UNIFORM_BUFFER, 1);
 }
 
 void SkyGenerator::useTriple(int k) {
     if (!spectral_) return;
-    AtmosphereBlock block = AtmosphereBlock::from(spectral_->models.at(size_t(k)));
+    AtmosphereBlock block = AtmosphereBlock::from(spectral_->models.at(size_t(k)), q_.shBands);
     ubo_.update(&block, sizeof block);
     ubo_.bindBase(GL_UNIFORM_BUFFER, 1);
 }

@@ -85,7 +85,7 @@ SkyQuality SkyQuality::preset(int quality) {
         q.multiScatteringMuS = 64, q.multiScatteringSize = 32, q.multiScatteringDirections = 128, q.multiScatteringSteps = 32, q.shDirections = 256;
         q.skyViewW = 256, q.skyViewH = 192, q.skyViewSteps = 64;
         q.aerialSize = 32, q.aerialSteps = 4;
-        q.raymarchSteps = 96, q.shIterations = 1, q.shIterationDirections = 128, q.shIterationSteps = 16;
+        q.raymarchSteps = 96, q.shIterations = 1, q.shIterationDirections = 128, q.shIterationSteps = 16, q.shBands = 6;
         q.irradianceAzimuth = 64, q.irradianceZenith = 32;
         break;
     case 3:  // reference: every pixel ray-marched with many steps
@@ -94,6 +94,7 @@ SkyQuality SkyQuality::preset(int quality) {
         q.skyViewW = 256, q.skyViewH = 192, q.skyViewSteps = 64;
         q.aerialSize = 32, q.aerialSteps = 8;
         q.raymarchSteps = 256, q.perPixel = true, q.bakedMiePhase = false, q.shIterations = 1, q.shIterationDirections = 128, q.shIterationSteps = 16;
+        q.shBands = 6;
         q.irradianceAzimuth = 64, q.irradianceZenith = 32;
         break;
     default: {
@@ -413,60 +414,89 @@ Lut2D multiScatteringLut(const SkyModel& m, const SkyQuality& q, const Lut2D& T)
 
 // --- Directional multiple scattering (SH l <= 4) -------------------------------------------------
 
-// Delta-M for the Mie forward peak beyond l = 4: a fraction f = kDeltaScale * Lambda_5 of the Mie
-// scattering is treated as not scattered (it stays in the beam: scattered light travels with
+// Delta-M for the Mie forward peak beyond band L: a fraction f = kDeltaScale * Lambda_(L+1) of the
+// Mie scattering is treated as not scattered (it stays in the beam: scattered light travels with
 // extinction sigma_t - f sigma_M, the SH convolution uses Lambda_l - f). Delta-M proper takes
-// f = Lambda_5; half of it matched the reference integrator best over the whole sky (measured
-// on the Earth clear atmosphere against the reference, Sun 60 .. -4 deg: f = 0.3..0.4 Lambda_5
-// leaves the low-Sun sky 1-2 % too dark, 0.6..0.7 Lambda_5 makes the horizon 10-16 % too bright).
+// f = Lambda_(L+1); half of it matched the reference integrator best over the whole sky (measured
+// at L = 4 on the Earth clear atmosphere against the reference, Sun 60 .. -4 deg: f = 0.3..0.4
+// Lambda_5 leaves the low-Sun sky 1-2 % too dark, 0.6..0.7 Lambda_5 makes the horizon 10-16 % too
+// bright).
 constexpr double kDeltaScale = 0.5;
-// Gaussian window exp(-0.03 l^2) on the Mie bands (see msInscatter()); same in atmosphere.glsl.
-constexpr double kShWindow[5] = {1.0, 0.970446, 0.886920, 0.763379, 0.618783};
-PhaseMoments phaseMoments(const SkyModel& m) {
+// Gaussian window exp(-c l^2) on the Mie bands, c = kShWindow / L^2 (see msInscatter()).
+constexpr double kShWindow = 0.48;
+PhaseMoments phaseMoments(const SkyModel& m, int bands) {
+    if (bands < kShMinBands || bands > kShMaxBands) {
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "phaseMoments(): SH bands %d not in [%d, %d]", bands, kShMinBands, kShMaxBands);
+        throw Error(buf);
+    }
     // Called once per marched ray: the last result per thread is kept (Simpson's rule below).
     thread_local struct {
         double g = -2.0;
-        int kind = -1;
+        int kind = -1, bands = -1;
         PhaseMoments pm;
     } cache;
-    if (cache.g == m.mieG && cache.kind == m.miePhase) return cache.pm;
-    double l[6] = {1.0, m.mieG, 0, 0, 0, 0};
-    for (int k = 2; k < 6; ++k) l[k] = l[k - 1] * m.mieG;  // Henyey-Greenstein: Lambda_l = g^l
+    if (cache.g == m.mieG && cache.kind == m.miePhase && cache.bands == bands) return cache.pm;
+    PhaseMoments pm;
+    pm.bands = bands;
+    constexpr int n = kShMaxBands + 2;
+    auto& l = pm.lambda;
+    l[0] = 1.0;
+    for (int k = 1; k < n; ++k) l[k] = l[k - 1] * m.mieG;  // Henyey-Greenstein: Lambda_l = g^l
     if (m.miePhase == 1) {
         // Cornette-Shanks: no closed form used; Simpson's rule on 4000 intervals (peaked phase),
         // Legendre polynomials by their recurrence.
-        const int n = 4000;
-        double s[6] = {0, 0, 0, 0, 0, 0};
-        for (int i = 0; i <= n; ++i) {
-            double t = -1.0 + 2.0 * i / n, w = (i == 0 || i == n) ? 1 : (i % 2 ? 4 : 2);
+        const int steps = 4000;
+        std::array<double, n> s{};
+        for (int i = 0; i <= steps; ++i) {
+            double t = -1.0 + 2.0 * i / steps, w = (i == 0 || i == steps) ? 1 : (i % 2 ? 4 : 2);
             double p = miePhase(t, m.mieG, 1) * w;
             double P0 = 1.0, P1 = t;
             s[0] += p, s[1] += p * t;
-            for (int k = 2; k < 6; ++k) {
+            for (int k = 2; k < n; ++k) {
                 double P2 = ((2 * k - 1) * t * P1 - (k - 1) * P0) / k;
                 s[k] += p * P2;
                 P0 = P1, P1 = P2;
             }
         }
-        for (int k = 1; k < 6; ++k) l[k] = 2 * kPi * s[k] * (2.0 / n) / 3.0;
+        for (int k = 1; k < n; ++k) l[k] = 2 * kPi * s[k] * (2.0 / steps) / 3.0;
     }
-    // Rayleigh: Lambda_1 = 0, Lambda_2 = 1/10, 0 beyond.
-    cache.g = m.mieG, cache.kind = m.miePhase;
-    cache.pm = {{l[1], l[2], 0.1, kDeltaScale * l[5]}, {l[3], l[4], 0.0, 0.0}};
-    return cache.pm;
+    pm.forward = kDeltaScale * l[size_t(bands) + 1];
+    const double c = kShWindow / (double(bands) * bands);
+    for (int k = 0; k <= bands; ++k) pm.mie[size_t(k)] = (l[size_t(k)] - pm.forward) * std::exp(-c * k * k);
+    // Rayleigh: Lambda_0 = 1, Lambda_2 = 1/10, 0 otherwise (no window: exact at l <= 2).
+    pm.rayleigh[0] = 1.0;
+    pm.rayleigh[2] = 0.1;
+    cache.g = m.mieG, cache.kind = m.miePhase, cache.bands = bands;
+    cache.pm = pm;
+    return pm;
 }
 
-std::array<double, kShCoefficients> shBasis(double x, double z) {
-    const double y2 = std::max(0.0, 1.0 - x * x - z * z), z2 = z * z;
-    const double c2 = x * x - y2;              // cos(2 phi) sin^2(theta)
-    const double c3 = x * (x * x - 3.0 * y2);  // cos(3 phi) sin^3(theta)
-    const double c4 = x * x * x * x - 6.0 * x * x * y2 + y2 * y2;
-    return {0.282095,
-            0.488603 * z, 0.488603 * x,
-            0.315392 * (3 * z2 - 1), 1.092548 * x * z, 0.546274 * c2,
-            0.373176 * z * (5 * z2 - 3), 0.457046 * x * (5 * z2 - 1), 1.445306 * z * c2, 0.590044 * c3,
-            0.105786 * (35 * z2 * z2 - 30 * z2 + 3), 0.669047 * x * z * (7 * z2 - 3), 0.473087 * c2 * (7 * z2 - 1),
-            1.770131 * z * c3, 0.625836 * c4};
+std::array<double, kShMaxCoefficients> shBasis(double x, double z) {
+    // Y_lm = N_lm P_l^m(z) / sin^m(theta) * Re((x + i y)^m), the associated Legendre function
+    // without the Condon-Shortley phase by its recurrence in l, N_lm = sqrt((2l + 1) / (4 pi)
+    // (l - m)! / (l + m)!) (times sqrt(2) for m > 0). Re((x + i y)^m) = sin^m(theta) cos(m phi) is
+    // even in y, so y's sign does not matter. Same loop in atmosphere.glsl (atm_shBasis).
+    std::array<double, kShMaxCoefficients> Y{};
+    const double y = safeSqrt(1.0 - x * x - z * z);
+    double cm = 1.0, sm = 0.0;  // Re and Im of (x + i y)^m
+    double pmm = 1.0;           // P_m^m / sin^m = (2m - 1)!!
+    for (int mm = 0; mm <= kShMaxBands; ++mm) {
+        double a = pmm, b = 0.0;  // P_l^m / sin^m and P_(l-1)^m / sin^m
+        double fact = 1.0;        // (l + m)! / (l - m)!
+        for (int k = 1; k <= 2 * mm; ++k) fact *= k;
+        for (int l = mm; l <= kShMaxBands; ++l) {
+            double N = std::sqrt((2 * l + 1) / (4.0 * kPi) / fact) * (mm > 0 ? std::numbers::sqrt2 : 1.0);
+            Y[size_t(l * (l + 1) / 2 + mm)] = N * a * cm;
+            double next = ((2 * l + 1) * z * a - (l + mm) * b) / (l + 1 - mm);
+            b = a, a = next;
+            fact *= double(l + 1 + mm) / double(l + 1 - mm);
+        }
+        pmm *= 2 * mm + 1;
+        double c = x * cm - y * sm;
+        sm = x * sm + y * cm, cm = c;
+    }
+    return Y;
 }
 
 namespace {
@@ -509,7 +539,7 @@ glm::dvec3 groundIrradianceTexel(const SkyModel& m, const SkyQuality& q, const L
     // Equal-area (Fibonacci) directions of the upper hemisphere: z uniform in (0, 1], each
     // carrying a solid angle 2 pi / n; the rays leave the ground, so none returns to it.
     const int n = q.shDirections;
-    const double fDelta = phaseMoments(m).low.w;
+    const double fDelta = phaseMoments(m, q.shBands).forward;
     const double golden = kPi * (3.0 - std::sqrt(5.0));
     const Lut2D none;
     glm::dvec3 E(0.0);
@@ -542,16 +572,16 @@ glm::dvec3 groundIrradiance(const SkyModel& m, const Lut2D& T, const Lut2D& grou
     return e;
 }
 
-std::array<glm::dvec3, kShCoefficients> shTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const Lut2D& psi,
-                                                const Lut2D& ground, double h, double muS) {
-    const int n = q.shDirections;
-    std::array<glm::dvec3, kShCoefficients> c{};
-    const double fDelta = phaseMoments(m).low.w;
+ShCoefficients shTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const Lut2D& psi, const Lut2D& ground, double h,
+                       double muS) {
+    const int n = q.shDirections, nc = shCoefficients(q.shBands);
+    ShCoefficients c{};
+    const double fDelta = phaseMoments(m, q.shBands).forward;
     for (int i = 0; i < n; ++i) {
         glm::dvec3 v = cpu::fibonacciDirectionPublic(i, n);
         glm::dvec3 L = incidentRadiance(m, q.multiScatteringSteps, T, psi, ground, h, muS, v, fDelta);
         auto Y = shBasis(v.x, v.z);
-        for (int k = 0; k < kShCoefficients; ++k) c[k] += L * Y[k];
+        for (int k = 0; k < nc; ++k) c[k] += L * Y[k];
     }
     for (auto& x : c) x *= 4.0 * kPi / n;
     return c;
@@ -561,8 +591,10 @@ MsField msField(const SkyModel& m, const SkyQuality& q, const Lut2D& T) {
     MsField f;
     f.psi = cpu::multiScatteringLut(m, q, T);
     f.directional = q.directionalMs;
+    f.bands = q.shBands;
     if (!f.directional) return f;
-    const int w = q.multiScatteringMuS, n = q.multiScatteringSize;
+    const int w = q.multiScatteringMuS, n = q.multiScatteringSize, nc = shCoefficients(q.shBands);
+    f.sh.resize(size_t(nc));
     f.ground = {w, 1, std::vector<glm::dvec3>(size_t(w))};
     for (int x = 0; x < w; ++x)
         f.ground.at(x, 0) = groundIrradianceTexel(m, q, T, f.psi, multiScatteringHMuS(m, {(x + 0.5) / w, 0.0}, w, 2).y);
@@ -575,7 +607,7 @@ MsField msField(const SkyModel& m, const SkyQuality& q, const Lut2D& T) {
         for (int x = 0; x < w; ++x) {
             glm::dvec2 hm = multiScatteringHMuS(m, {(x + 0.5) / w, (y + 0.5) / n}, w, n);
             auto c = shTexel(m, q, T, f.psi, f.ground, hm.x, hm.y);
-            for (int k = 0; k < kShCoefficients; ++k) f.sh[k].at(x, y) = c[k];
+            for (int k = 0; k < nc; ++k) f.sh[size_t(k)].at(x, y) = c[size_t(k)];
         }
     for (int it = 0; it < std::min(q.shIterations, 1); ++it) {  // as the GPU: at most one second pass
         MsField next = f;
@@ -583,7 +615,7 @@ MsField msField(const SkyModel& m, const SkyQuality& q, const Lut2D& T) {
             for (int x = 0; x < w; ++x) {
                 glm::dvec2 hm = multiScatteringHMuS(m, {(x + 0.5) / w, (y + 0.5) / n}, w, n);
                 auto c = shIterationTexel(m, q, T, f, hm.x, hm.y);
-                for (int k = 0; k < kShCoefficients; ++k) next.sh[k].at(x, y) = c[k];
+                for (int k = 0; k < nc; ++k) next.sh[size_t(k)].at(x, y) = c[size_t(k)];
             }
         for (int x = 0; x < w; ++x)
             next.ground.at(x, 0) =
@@ -593,10 +625,10 @@ MsField msField(const SkyModel& m, const SkyQuality& q, const Lut2D& T) {
     return f;
 }
 
-std::array<glm::dvec3, kShCoefficients> shIterationTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T,
-                                                         const MsField& prev, double h, double muS) {
-    const int n = q.shIterationDirections;
-    std::array<glm::dvec3, kShCoefficients> c{};
+ShCoefficients shIterationTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const MsField& prev, double h,
+                                double muS) {
+    const int n = q.shIterationDirections, nc = shCoefficients(prev.bands);
+    ShCoefficients c{};
     const glm::dvec3 sun(safeSqrt(1.0 - muS * muS), 0.0, muS);
     for (int i = 0; i < n; ++i) {
         glm::dvec3 v = fibonacciDirection(i, n);
@@ -604,7 +636,7 @@ std::array<glm::dvec3, kShCoefficients> shIterationTexel(const SkyModel& m, cons
         Scattering s = integrate(m, T, prev, h, v.z, muS, nu, 1e30, q.shIterationSteps, false, m.sunAngularRadius);
         glm::dvec3 L = radiance(m, s, nu);
         auto Y = shBasis(v.x, v.z);
-        for (int k = 0; k < kShCoefficients; ++k) c[k] += L * Y[k];
+        for (int k = 0; k < nc; ++k) c[k] += L * Y[k];
     }
     for (auto& x : c) x *= 4.0 * kPi / n;
     return c;
@@ -620,21 +652,17 @@ glm::dvec3 msInscatter(const SkyModel& m, const MsField& f, const PhaseMoments& 
     double x = sinS > 1e-3 ? (nu - mu * muS) / sinS : 0.0;
     auto Y = shBasis(std::clamp(x, -1.0, 1.0), mu);
     // Funk-Hecke: the phase function's convolution scales band l by its Legendre moment Lambda_l;
-    // delta-M: the forward peak fw stays in the beam, not in the SH.
-    const double fw = moments.low.w;
-    const double bandR[5] = {1, 0, moments.low.z, 0, 0};
-    // The Mie bands are also damped by a Gaussian window exp(-0.03 l^2) (0.97, 0.89, 0.76, 0.62
-    // for l = 1..4): the l <= 4 truncation of the field's sharp horizon rings (Gibbs) along the
-    // horizon's azimuth at low Sun (+-10 % at 3 deg altitude with the Sun at 5 deg); the window
-    // halves the ringing. Rayleigh needs l <= 2 only, where the projection is exact.
-    const double bandM[5] = {1 - fw, (moments.low.x - fw) * kShWindow[1], (moments.low.y - fw) * kShWindow[2],
-                             (moments.high.x - fw) * kShWindow[3], (moments.high.y - fw) * kShWindow[4]};
-    static constexpr int kBand[kShCoefficients] = {0, 1, 1, 2, 2, 2, 3, 3, 3, 3, 4, 4, 4, 4, 4};
+    // delta-M: the forward peak f stays in the beam, not in the SH (PhaseMoments). The Mie bands
+    // are also damped by a Gaussian window exp(-c l^2), c = 0.48 / L^2 (at L = 4: 0.97, 0.89,
+    // 0.76, 0.62 for l = 1..4): the truncation of the field's sharp horizon rings (Gibbs) along
+    // the horizon's azimuth at low Sun (+-10 % at 3 deg altitude with the Sun at 5 deg, L = 4);
+    // the window halves the ringing. Rayleigh needs l <= 2 only, where the projection is exact.
     glm::dvec3 aR(0.0), aM(0.0);
-    for (int k = 0; k < kShCoefficients; ++k) {
-        glm::dvec3 c = f.sh[k].sample(uv);
-        aR += c * (bandR[kBand[k]] * Y[k]);
-        aM += c * (bandM[kBand[k]] * Y[k]);
+    for (int l = 0, k = 0; l <= f.bands; ++l) {
+        glm::dvec3 band(0.0);
+        for (int mm = 0; mm <= l; ++mm, ++k) band += f.sh[size_t(k)].sample(uv) * Y[size_t(k)];
+        aR += band * moments.rayleigh[size_t(l)];
+        aM += band * moments.mie[size_t(l)];
     }
     return sR * glm::max(aR, glm::dvec3(0.0)) + sM * glm::max(aM, glm::dvec3(0.0));
 }
@@ -653,7 +681,7 @@ Scattering integrate(const SkyModel& m, const Lut2D& T, const MsField& MS, doubl
     if (!reachesEnd) out.hitGround = false;
     const double p = quadratic ? 0.0 : perigeeFraction(m, h, mu, d);
     const double r = m.bottomRadius + h;
-    const PhaseMoments moments = phaseMoments(m);
+    const PhaseMoments moments = phaseMoments(m, MS.bands);
     glm::dvec3 thr(1.0), thrD(1.0);  // exact (background) and delta-M (scattered light) transmittance
     for (int k = 0; k < steps && d > 0.0; ++k) {
         double s0 = double(k) / steps, s1 = double(k + 1) / steps, sm = (k + 0.5) / steps;
@@ -663,7 +691,7 @@ Scattering integrate(const SkyModel& m, const Lut2D& T, const MsField& MS, doubl
         double muSp = std::clamp((r * muS + t * nu) / rp, -1.0, 1.0);
         glm::dvec3 sR = m.scatteringRayleigh(hp), sM = m.scatteringMie(hp);
         glm::dvec3 sigmaT = m.extinction(hp);
-        glm::dvec3 sigmaD = sigmaT - moments.low.w * sM;
+        glm::dvec3 sigmaD = sigmaT - moments.forward * sM;
         glm::dvec3 seg = segmentFactor(sigmaD, dt);
         glm::dvec3 Tl = transmittanceToLight(m, T, hp, muSp, lightAngularRadius);
         double muP = std::clamp((r * mu + t) / rp, -1.0, 1.0);

@@ -68,15 +68,18 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
         fbo_.attach(GL_COLOR_ATTACHMENT2, total_);
         fbo_.checkComplete("SkyViewLut");
     }
-    if (!prog_)
+    if (!prog_ || progBands_ != q_.shBands) {
+        progBands_ = q_.shBands;
         prog_ = gl::ProgramBuilder(name())
                     .define("ATM_USE_TRANSMITTANCE")
                     .define("ATM_USE_MULTISCATTERING")
                     .define("ATM_MS_DIRECTIONAL")
+                    .define("ATM_SH_BANDS", q_.shBands)
                     .fullscreenVertex()
                     .fragment("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
                     .fragment("generators/skyview_lut.glsl", embedded::generator_shaders("skyview_lut.glsl"))
                     .build();
+    }
     const double Ht = model_.topRadius - model_.bottomRadius;
     h_ = std::clamp(vars.getOr(keys::observerHeight, 0.0), 0.0, Ht);
     const Key<glm::dvec3>& dirKey = light_ == Light::Sun ? keys::sunDirection : keys::moonDirection;

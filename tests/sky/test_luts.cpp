@@ -36,8 +36,9 @@ struct Rig {
     SkyLuts luts;
     SkyQuality q = SkyQuality::tiny();
     SkyModel m;
-    explicit Rig(double sunAltDeg, double h = 0.0, int shIterations = 0) {
+    explicit Rig(double sunAltDeg, double h = 0.0, int shIterations = 0, int shBands = 4) {
         q.shIterations = shIterations;
+        q.shBands = shBands;
         test::glContext();
         vars.set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(atmosphere::Atmosphere::earthClear()));
         vars.set(keys::sunDirection, directionFromAzAlt(1.0, sunAltDeg * kDeg));
@@ -69,10 +70,11 @@ struct Rig {
 
 TEST_CASE("Sky LUTs: GPU passes match their CPU double twins", "[gl][sky]") {
     const double h = 500.0;  // above the ground, so that rays below the horizon have a path too
-    // Both forms of the directional field: one SH pass (medium) and two (high, reference).
-    const int shIterations = GENERATE(0, 1);
-    INFO("SkyQuality::shIterations " << shIterations);
-    Rig rig(20.0, h, shIterations);
+    // The forms of the directional field: one SH pass, l <= 4 (low, medium), two passes with
+    // l <= 4, and two with l <= 6 (high, reference).
+    const auto [shIterations, shBands] = GENERATE(std::pair{0, 4}, std::pair{1, 4}, std::pair{0, 6}, std::pair{1, 6});
+    INFO("SkyQuality::shIterations " << shIterations << ", shBands " << shBands);
+    Rig rig(20.0, h, shIterations, shBands);
     rig.runAll();
     const SkyModel& m = rig.m;
     const SkyQuality& q = rig.q;
@@ -96,15 +98,18 @@ TEST_CASE("Sky LUTs: GPU passes match their CPU double twins", "[gl][sky]") {
     INFO("worst multiple-scattering relative error " << worstMS);
     CHECK(worstMS < 2e-3);
 
-    // Directional multiple scattering (SH l <= 4, 15 layers): each coefficient against the twin,
-    // relative to the layer's largest magnitude: 5e-3 (the l = 2 layers are sums of terms of both
-    // signs that cancel to ~1/10 of their parts, so float rounding is amplified ~10x).
+    // Directional multiple scattering (SH l <= L: 15 or 28 layers): each coefficient against the
+    // twin, relative to the layer's largest magnitude: 5e-3 (the l = 2 layers are sums of terms of
+    // both signs that cancel to ~1/10 of their parts, so float rounding is amplified ~10x).
     {
-        const int layers = cpu::kShCoefficients + 1;  // + the ground-irradiance layer
+        const int nc = cpu::shCoefficients(q.shBands);
+        REQUIRE(int(MScpu.sh.size()) == nc);
+        const int layers = nc + 1;  // + the ground-irradiance layer
+        REQUIRE(rig.luts.sh->texture().depth() == layers);
         std::vector<float> px(size_t(q.multiScatteringMuS) * q.multiScatteringSize * layers * 4);
         glGetTextureImage(rig.luts.sh->texture().id(), 0, GL_RGBA, GL_FLOAT, GLsizei(px.size() * sizeof(float)), px.data());
         const size_t layer = size_t(q.multiScatteringMuS) * q.multiScatteringSize;
-        for (int k = 0; k < cpu::kShCoefficients; ++k) {
+        for (int k = 0; k < nc; ++k) {
             double big = 0, worst = 0;
             for (auto& t : MScpu.sh[k].texels) big = std::max(big, std::abs(t.g));
             for (size_t i = 0; i < layer; ++i) {
@@ -120,7 +125,7 @@ TEST_CASE("Sky LUTs: GPU passes match their CPU double twins", "[gl][sky]") {
         double big = 0, worst = 0;
         for (auto& t : MScpu.ground.texels) big = std::max(big, t.g);
         for (int i = 0; i < q.multiScatteringMuS; ++i) {
-            const size_t at = (size_t(cpu::kShCoefficients) * layer + i) * 4;
+            const size_t at = (size_t(nc) * layer + i) * 4;
             glm::dvec3 g(px[at], px[at + 1], px[at + 2]);
             if (MScpu.ground.texels[i].g > 1e-4 * big) worst = std::max(worst, relErr(g, MScpu.ground.texels[i], 1e-9));
         }
@@ -226,4 +231,49 @@ TEST_CASE("Sky LUTs: generators run only when their inputs change", "[gl][sky]")
     rig.runAll();
     CHECK(rig.luts.transmittance->runCount() == t + 1);
     CHECK(rig.luts.multiScattering->runCount() == 2);
+}
+
+TEST_CASE("Sky SH basis: orthonormal to l = 6, and the closed forms", "[cpu][sky]") {
+    // Closed forms of the real SH (no Condon-Shortley phase; standard tables) against the
+    // recurrence in cpu::shBasis(): to 1e-6 (the tables' constants have 6-7 digits).
+    for (auto [x, z] : {std::pair{0.3, 0.5}, {-0.7, 0.1}, {0.0, -0.9}, {0.6, 0.8}}) {
+        const double y2 = 1 - x * x - z * z, z2 = z * z;
+        const auto Y = cpu::shBasis(x, z);
+        const std::pair<int, double> closed[] = {
+            {0, 0.282095},
+            {2, 0.488603 * x},
+            {4, 1.092548 * x * z},
+            {5, 0.546274 * (x * x - y2)},
+            {9, 0.590044 * x * (x * x - 3 * y2)},
+            {10, 0.105786 * (35 * z2 * z2 - 30 * z2 + 3)},
+            {14, 0.625836 * (x * x * x * x - 6 * x * x * y2 + y2 * y2)},
+            {15, 0.116950 * z * (63 * z2 * z2 - 70 * z2 + 15)},
+            {21, 0.063569 * (231 * z2 * z2 * z2 - 315 * z2 * z2 + 105 * z2 - 5)},
+            {27, 0.683184 * (std::pow(x, 6) - 15 * std::pow(x, 4) * y2 + 15 * x * x * y2 * y2 - y2 * y2 * y2)},
+        };
+        for (auto [k, v] : closed) {
+            INFO("x " << x << " z " << z << " coefficient " << k);
+            CHECK(Y[size_t(k)] == Approx(v).margin(2e-6).epsilon(2e-6));
+        }
+    }
+    // Orthonormality over the sphere: the products are polynomials of degree <= 12 in z times
+    // trigonometric polynomials of degree <= 12 in phi. 32 equally spaced phi integrate the latter
+    // exactly; the midpoint rule in z errs as 1/nz^2 (5.7e-4 with 400 cells, so ~6e-6 with 4000).
+    const int nz = 4000, nphi = 32;
+    std::array<std::array<double, cpu::kShMaxCoefficients>, cpu::kShMaxCoefficients> gram{};
+    for (int i = 0; i < nz; ++i) {
+        double z = -1 + 2 * (i + 0.5) / nz, s = std::sqrt(1 - z * z);
+        for (int j = 0; j < nphi; ++j) {
+            double phi = 2 * M_PI * (j + 0.5) / nphi;
+            auto Y = cpu::shBasis(s * std::cos(phi), z);
+            for (int a = 0; a < cpu::kShMaxCoefficients; ++a)
+                for (int b = 0; b <= a; ++b) gram[size_t(a)][size_t(b)] += Y[size_t(a)] * Y[size_t(b)];
+        }
+    }
+    const double w = 4 * M_PI / (double(nz) * nphi);
+    double worst = 0;
+    for (int a = 0; a < cpu::kShMaxCoefficients; ++a)
+        for (int b = 0; b <= a; ++b) worst = std::max(worst, std::abs(gram[size_t(a)][size_t(b)] * w - (a == b ? 1.0 : 0.0)));
+    INFO("worst Gram-matrix deviation from the identity " << worst);
+    CHECK(worst < 2e-5);
 }

@@ -21,7 +21,8 @@ void AerialPerspective::bindResources(const SkyVars& vars, const gl::Program& pr
     if (!vars.has(skykeys::aerialInscatter))
         throw Error("AerialPerspective: the sky's aerial-perspective volume does not exist yet (render a frame with the Sky element first)");
     SkyModel m = SkyModel::fromVars(vars);
-    AtmosphereBlock block = AtmosphereBlock::from(m);
+    const SkyQuality q = SkyQuality::preset(vars.getOr(skykeys::quality, vars.getOr(keys::quality, 1)));
+    AtmosphereBlock block = AtmosphereBlock::from(m, q.shBands);
     if (!ubo_) ubo_ = gl::Buffer(sizeof block);
     ubo_.update(&block, sizeof block);
     ubo_.bindBase(GL_UNIFORM_BUFFER, 1);
@@ -33,8 +34,7 @@ void AerialPerspective::bindResources(const SkyVars& vars, const gl::Program& pr
     glm::vec3 E(vars.getOr(skykeys::sunIlluminance, m.solarIlluminance));
     glProgramUniform3f(program.id(), program.location("welkin_apSunE"), E.x, E.y, E.z);
     glProgramUniform1f(program.id(), program.location("welkin_apH"), float(std::clamp(vars.getOr(keys::observerHeight, 0.0), 0.0, Ht)));
-    int q = vars.getOr(skykeys::quality, vars.getOr(keys::quality, 1));
-    glProgramUniform1f(program.id(), program.location("welkin_apMaxDistance"), float(SkyQuality::preset(q).aerialMaxDistance));
+    glProgramUniform1f(program.id(), program.location("welkin_apMaxDistance"), float(q.aerialMaxDistance));
     glProgramUniform1f(program.id(), program.location("welkin_apInvScale"), float(1.0 / kLutScale));
 }
 

@@ -188,27 +188,26 @@ void Sky::doInit(InitContext& ctx) {
     addGenerator(luts_.moonView);
     addGenerator(luts_.irradiance);
     addGenerator(luts_.aerial);
-    for (int moon = 0; moon < 2; ++moon) {
+    // Every variant compiles on first use (which ones a frame needs depends on the projection,
+    // the composition, the Moon and the quality, none known yet); shader errors surface from the
+    // first render(), naming the file and line.
+    for (int moon = 0; moon < 2; ++moon)
         for (int t = 0; t < 2; ++t)
             for (int baked = 0; baked < 2; ++baked)
-                lutPrograms_[moon][t][baked] = gl::ProjectionPrograms(recipe(false, moon == 1, t == 1, baked == 1, false));
-        marchPrograms_[moon] = gl::ProjectionPrograms(recipe(true, moon == 1, true, false, false));
-        spectralPrograms_[moon] = gl::ProjectionPrograms(recipe(true, moon == 1, true, false, true));
-    }
-    // Compile one variant now (so that shader errors surface in init()); the others compile on
-    // first use.
-    lutPrograms_[0][1][1].get(Projection::Perspective);
+                lutPrograms_[moon][t][baked] = gl::ProjectionPrograms(recipe(false, moon == 1, t == 1, baked == 1, false, 0));
+    marchBands_ = 0;
     ubo_ = gl::Buffer(sizeof(AtmosphereBlock));
 }
 
-gl::ProgramBuilder Sky::recipe(bool perPixel, bool moon, bool transmittance, bool baked, bool spectral) {
+gl::ProgramBuilder Sky::recipe(bool perPixel, bool moon, bool transmittance, bool baked, bool spectral, int shBands) {
     gl::ProgramBuilder b(std::string(perPixel ? "Sky (per pixel)" : "Sky") + (moon ? " + Moon" : "") +
                          (transmittance ? "" : " (nothing behind)") + (baked ? " (baked phase)" : "") + (spectral ? " spectral" : ""));
     b.define("ATM_USE_TRANSMITTANCE");
     if (moon) b.define("SKY_MOON");
     if (transmittance) b.define("SKY_TRANSMITTANCE");
     if (baked) b.define("SKY_BAKED_PHASE");
-    if (perPixel) b.define("ATM_USE_MULTISCATTERING").define("ATM_MS_DIRECTIONAL").define("SKY_PER_PIXEL");
+    if (perPixel)
+        b.define("ATM_USE_MULTISCATTERING").define("ATM_MS_DIRECTIONAL").define("ATM_SH_BANDS", shBands).define("SKY_PER_PIXEL");
     if (spectral) b.define("SKY_SPECTRAL");
     b.fullscreenVertex()
         .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
@@ -236,7 +235,14 @@ void Sky::doRender(const FrameContext& ctx) {
     const double h = std::max(v.getOr(keys::observerHeight, 0.0), 0.0);
     // Above the top of the atmosphere (less 1 m) the sky-view parameterisation does not apply.
     perPixel_ = q.perPixel || h > m.topRadius - m.bottomRadius - 1.0;
-    AtmosphereBlock block = AtmosphereBlock::from(m);
+    if (perPixel_ && marchBands_ != q.shBands) {
+        marchBands_ = q.shBands;
+        for (int moon = 0; moon < 2; ++moon) {
+            marchPrograms_[moon] = gl::ProjectionPrograms(recipe(true, moon == 1, true, false, false, marchBands_));
+            spectralPrograms_[moon] = gl::ProjectionPrograms(recipe(true, moon == 1, true, false, true, marchBands_));
+        }
+    }
+    AtmosphereBlock block = AtmosphereBlock::from(m, q.shBands);
     ubo_.update(&block, sizeof block);
     ubo_.bindBase(GL_UNIFORM_BUFFER, 1);
     // With the phase baked in, units 0 and 2 get the total LUTs and 1, 3 are not read.
@@ -279,18 +285,21 @@ void Sky::doRender(const FrameContext& ctx) {
     // dst = L + T dst, so a first draw outputs only the transmittance (L = 0) and then one draw
     // per wavelength triple adds that triple's radiance (converted by its matrix) with T = 1.
     // Inside the atmosphere the transmittance is the combined (solar-weighted) LUT's, as on the
-    // LUT path; above it, a ray march with the RGB coefficients (Atmosphere::rgb()).
-    if (h <= m.topRadius - m.bottomRadius - 1.0) {
-        setUniforms(lutPrograms_[0][1][q.bakedMiePhase].get(proj), glm::dvec3(0.0), glm::dvec3(0.0));
-    } else {
-        setUniforms(marchPrograms_[0].get(proj), glm::dvec3(0.0), glm::dvec3(0.0));
+    // LUT path; above it, a ray march with the RGB coefficients (Atmosphere::rgb()). With nothing
+    // behind the sky (black), the first draw would multiply black: skipped.
+    if (!ctx.nothingBehind) {
+        if (h <= m.topRadius - m.bottomRadius - 1.0) {
+            setUniforms(lutPrograms_[0][1][q.bakedMiePhase].get(proj), glm::dvec3(0.0), glm::dvec3(0.0));
+        } else {
+            setUniforms(marchPrograms_[0].get(proj), glm::dvec3(0.0), glm::dvec3(0.0));
+        }
+        ctx.drawFullscreen();
     }
-    ctx.drawFullscreen();
     const gl::Program& ps = spectralPrograms_[moon].get(proj);
     const skykeys::TextureList T = v.get(skykeys::transmittanceLuts), MS = v.get(skykeys::multiScatteringLuts),
                                SH = v.get(skykeys::shLuts);
     for (int k = 0; k < sp->triples(); ++k) {
-        AtmosphereBlock bk = AtmosphereBlock::from(sp->models[size_t(k)]);
+        AtmosphereBlock bk = AtmosphereBlock::from(sp->models[size_t(k)], q.shBands);
         ubo_.update(&bk, sizeof bk);
         ubo_.bindBase(GL_UNIFORM_BUFFER, 1);
         glBindTextureUnit(4, T->at(size_t(k)).id);

@@ -57,7 +57,7 @@ inline const Key<TextureList> shLuts{"sky.sh_luts", "directional multiple-scatte
 inline const Key<int> transmittanceRev{"sky.transmittance_rev", "transmittance LUT revision"};
 inline const Key<TextureRef> multiScatteringLut{"sky.multiscattering_lut", "multiple-scattering LUT (Hillaire Psi_ms)"};
 inline const Key<int> multiScatteringRev{"sky.multiscattering_rev", "multiple-scattering LUT revision"};
-inline const Key<TextureRef> shLut{"sky.sh_lut", "directional multiple scattering: SH l<=4 of the incident field (2D array, layers 0-14) and the ground's sky irradiance (layer 15, row 0)"};
+inline const Key<TextureRef> shLut{"sky.sh_lut", "directional multiple scattering: SH l<=L of the incident field (2D array, layers 0..n-1) and the ground's sky irradiance (layer n, row 0)"};
 inline const Key<int> shRev{"sky.sh_rev", "directional multiple-scattering LUT revision"};
 inline const Key<TextureRef> sunViewLut{"sky.sun_view_lut", "sky-view LUT for the Sun: Rayleigh + multiple scattering + ground"};
 inline const Key<TextureRef> sunViewMieLut{"sky.sun_view_mie_lut", "sky-view LUT for the Sun: Mie single scattering without phase"};
@@ -98,10 +98,11 @@ struct AtmosphereBlock {
     glm::vec4 absorption;
     glm::vec4 groundAlbedo;
     glm::vec4 solarIlluminance;
-    glm::vec4 phaseMoments;
+    glm::vec4 shFactors;   ///< Mie band factors l = 1, 2; Rayleigh's l = 2; delta-M fraction f (cpu::PhaseMoments)
     glm::vec4 profiles[9];
-    glm::vec4 phaseMoments2;  ///< Mie Lambda_3, Lambda_4 (cpu::PhaseMoments::high)
-    static AtmosphereBlock from(const SkyModel& m);
+    glm::vec4 shFactors2;  ///< Mie band factors l = 3 .. 6 (0 beyond the SH bands)
+    /// The block for `m` with the SH convolution factors of `shBands` bands (SkyQuality::shBands).
+    static AtmosphereBlock from(const SkyModel& m, int shBands);
 };
 
 /// Quality and model resolution shared by the sky generators.
@@ -182,9 +183,10 @@ private:
     int rev_ = 0;
 };
 
-/// Directional multiple scattering (SkyQuality::directionalMs): SH l <= 4 of the incident
-/// radiance field at (h, mu_s) in layers 0-14, and in layer 15 (row 0) the sky's irradiance on
-/// the ground over mu_s (cpu::MsField::ground); read on texture unit 8 by the passes after it.
+/// Directional multiple scattering (SkyQuality::directionalMs): SH l <= L (SkyQuality::shBands)
+/// of the incident radiance field at (h, mu_s) in layers 0 .. n - 1 (n = cpu::shCoefficients(L):
+/// 15 at L = 4, 28 at L = 6), and in layer n (row 0) the sky's irradiance on the ground over mu_s
+/// (cpu::MsField::ground); read on texture unit 8 by the passes after it.
 class ShLut final : public SkyGenerator {
 public:
     ShLut();
@@ -233,6 +235,7 @@ private:
     gl::Texture2D smoothK_, mieK_, totalK_;  // spectral mode: one triple's pass, before combine()
     gl::Framebuffer fbo_, fboK_;
     gl::Program prog_;
+    int progBands_ = 0;  // SkyQuality::shBands prog_ was compiled for
     int rev_ = 0;
     double h_ = 0.0, muS_ = 1.0;
 };
@@ -252,6 +255,7 @@ private:
     gl::Texture3D inscatter_, transmittance_;
     gl::Texture3D inscatterK_, transmittanceK_;  // spectral mode: one triple's pass
     gl::Program prog_;
+    int progBands_ = 0;  // SkyQuality::shBands prog_ was compiled for
     int rev_ = 0;
 };
 

@@ -90,10 +90,15 @@ struct SkyQuality {
     int multiScatteringSteps = 20;                  ///< samples per direction
     /// Directional multiple scattering: the incident radiance field (single scattering with its
     /// phase functions plus Hillaire's isotropic higher orders) at each (h, mu_s) projected on
-    /// spherical harmonics l <= 4 and convolved with the Rayleigh/Mie phase functions per view
-    /// direction (exact second order up to the l <= 4 truncation). Off: Hillaire's isotropic
+    /// spherical harmonics l <= shBands and convolved with the Rayleigh/Mie phase functions per
+    /// view direction (exact second order up to the truncation). Off: Hillaire's isotropic
     /// approximation.
     bool directionalMs = true;
+    /// SH bands L of the directional field, [cpu::kShMinBands, cpu::kShMaxBands] = [2, 6]: 15
+    /// coefficients at L = 4 (low, medium), 28 at L = 6 (high, reference). Every view-ray sample
+    /// reads that many texels; L = 6 holds the aerosols' forward-scattered second order better
+    /// (measured in docs/sky.md).
+    int shBands = 4;
     int shDirections = 128;                         ///< gathered directions per SH texel
     /// Second pass of the directional field (0 or 1; more acts as 1): the incident field is gathered again, its
     /// orders >= 2 now from the first pass's SH (directional) instead of Hillaire's isotropic
@@ -182,31 +187,43 @@ glm::dvec3 transmittanceToLight(const SkyModel& m, const Lut2D& T, double h, dou
 glm::dvec3 multiScatteringTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, double h, double muS);
 Lut2D multiScatteringLut(const SkyModel& m, const SkyQuality& q, const Lut2D& T);
 
-/// Spherical-harmonic coefficients kept of the incident radiance field: the real SH of bands
-/// l <= 4 that are even about the light's vertical plane (cos(m phi) terms): 1 + 2 + 3 + 4 + 5.
-constexpr int kShCoefficients = 15;
+/// Spherical harmonics of the incident radiance field: the real SH of bands l <= L that are even
+/// about the light's vertical plane (cos(m phi) terms, m = 0..l): (L + 1)(L + 2) / 2 coefficients,
+/// stored at index l (l + 1) / 2 + m. L = SkyQuality::shBands in [kShMinBands, kShMaxBands].
+constexpr int kShMinBands = 2;
+constexpr int kShMaxBands = 6;
+constexpr int shCoefficients(int bands) { return (bands + 1) * (bands + 2) / 2; }
+constexpr int kShMaxCoefficients = shCoefficients(kShMaxBands);  // 28
+using ShCoefficients = std::array<glm::dvec3, kShMaxCoefficients>;
 /// The fields the view-ray marches read for scattering orders >= 2.
 struct MsField {
     Lut2D psi;                   ///< Hillaire's Psi_ms (isotropic), per lux
-    std::array<Lut2D, kShCoefficients> sh{};  ///< SH coefficients (l <= 4, even in y) of the incident field
+    int bands = 4;               ///< SH bands L of `sh`
+    std::vector<Lut2D> sh;       ///< shCoefficients(bands) SH coefficient tables of the incident field
     /// Sky irradiance on the (horizontal) ground per lux of the light, over mu_s at the ground
     /// (width = psi's, height 1, u as multiScatteringUv at h = 0). Empty: the ground is lit by
     /// the direct light only.
     Lut2D ground;
     bool directional = false;    ///< use sh (else psi)
 };
-/// Legendre moments Lambda_l = 2 pi int p(t) P_l(t) dt of the phase functions and the delta-M
-/// forward fraction: low = (Mie l1, Mie l2, Rayleigh l2, f = Lambda_5(Mie) / 2), high = (Mie l3,
-/// Mie l4, 0, 0) (Rayleigh's moments beyond l = 2 are 0).
+/// How a view-ray sample convolves the SH field with the phase functions (Funk-Hecke), for L
+/// bands: band l of the field is scaled by rayleigh[l] (Rayleigh's Legendre moments: 1, 0, 1/10,
+/// 0 ...) and by mie[l] = (Lambda_l - f) w_l for the aerosols, where Lambda_l = 2 pi int p(t)
+/// P_l(t) dt is the Mie phase function's Legendre moment, f = kDeltaScale Lambda_(L+1) the
+/// delta-M forward fraction (`forward`: that part of the Mie scattering stays in the beam) and
+/// w_l = exp(-c l^2) a Gaussian window against ringing (c = 0.48 / L^2: 0.03 at L = 4).
 struct PhaseMoments {
-    glm::dvec4 low{0.0};
-    glm::dvec4 high{0.0};
+    int bands = 4;
+    std::array<double, kShMaxBands + 2> lambda{};  ///< Mie Lambda_0 .. Lambda_(kShMaxBands + 1)
+    std::array<double, kShMaxBands + 1> mie{};     ///< Mie band factors (0 beyond `bands`)
+    std::array<double, kShMaxBands + 1> rayleigh{};  ///< Rayleigh band factors
+    double forward = 0.0;                          ///< delta-M fraction f of the Mie scattering
 };
-PhaseMoments phaseMoments(const SkyModel& m);
-/// The 15 real SH basis functions used (l <= 4, m >= 0: Y00, Y10, Y11, Y20, Y21, Y22, Y30 ..
-/// Y33, Y40 .. Y44, i.e. l (l + 1) / 2 + m) at a unit vector in the local frame (x horizontal
-/// towards the light, z up); y enters only squared.
-std::array<double, kShCoefficients> shBasis(double x, double z);
+PhaseMoments phaseMoments(const SkyModel& m, int bands);
+/// The kShMaxCoefficients real SH basis functions (l <= kShMaxBands, m >= 0, normalised over the
+/// sphere, no Condon-Shortley phase: Y00 = 0.282095, Y10 = 0.488603 z, Y11 = 0.488603 x, ...) at a
+/// unit vector in the local frame (x horizontal towards the light, z up); y enters only squared.
+std::array<double, kShMaxCoefficients> shBasis(double x, double z);
 /// Ground texel: the sky's irradiance on a horizontal surface at the ground, per lux of the
 /// light at mu_s, gathered over q.shDirections directions of the upper hemisphere (single
 /// scattering with the phase functions plus Hillaire's isotropic higher orders along each ray).
@@ -216,12 +233,13 @@ glm::dvec3 groundIrradianceTexel(const SkyModel& m, const SkyQuality& q, const L
 glm::dvec3 groundIrradiance(const SkyModel& m, const Lut2D& T, const Lut2D& ground, double muS, double lightAngularRadius);
 /// SH texel: the projection of the incident radiance field at (h, mu_s), per lux (the ground
 /// lit by `ground`, as groundIrradiance()).
-std::array<glm::dvec3, kShCoefficients> shTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const Lut2D& psi, const Lut2D& ground,
-                                  double h, double muS);
+/// The first q.shBands coefficients are set, the others 0.
+ShCoefficients shTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const Lut2D& psi, const Lut2D& ground, double h,
+                       double muS);
 /// SH texel of the second pass (q.shIterations): the projection of the incident field whose
 /// every gathered ray is marched like a view ray through `prev` (integrate()).
-std::array<glm::dvec3, kShCoefficients> shIterationTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T,
-                                                         const MsField& prev, double h, double muS);
+ShCoefficients shIterationTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const MsField& prev, double h,
+                                double muS);
 /// Ground texel of the second pass: the sky's irradiance on the ground with every gathered ray
 /// marched like a view ray through `prev` (q.shIterationDirections over the upper hemisphere).
 glm::dvec3 groundIrradianceIterationTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const MsField& prev,

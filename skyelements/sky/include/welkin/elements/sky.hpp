@@ -71,14 +71,17 @@ private:
     void doRender(const FrameContext& ctx) override;
     void doRelease() override;
     void doStats(nlohmann::json& root) const override;
-    static gl::ProgramBuilder recipe(bool perPixel, bool moon, bool transmittance, bool baked, bool spectral);
+    /// shBands: SkyQuality::shBands (read by the per-pixel march only).
+    static gl::ProgramBuilder recipe(bool perPixel, bool moon, bool transmittance, bool baked, bool spectral, int shBands);
 
     SkyOptions options_;
     generators::SkyLuts luts_;
     // [without, with the Moon][without, with the transmittance output][separate, baked Mie phase]:
     // separate variants because llvmpipe evaluates both sides of a uniform branch; each compiled
-    // per projection on first use. spectralPrograms_: per pixel, one wavelength triple per draw.
+    // per projection on first use. spectralPrograms_: per pixel, one wavelength triple per draw;
+    // the per-pixel ones are (re)made for the quality's SH bands (marchBands_) on first use.
     gl::ProjectionPrograms lutPrograms_[2][2][2], marchPrograms_[2], spectralPrograms_[2];
+    int marchBands_ = 0;
     gl::Buffer ubo_;
     bool perPixel_ = false;
     double zenith_ = 0, global_ = 0, direct_ = 0, diffuse_ = 0;
