@@ -438,7 +438,6 @@ PhaseMoments phaseMoments(const SkyModel& m, int bands) {
     } cache;
     if (cache.g == m.mieG && cache.kind == m.miePhase && cache.bands == bands) return cache.pm;
     PhaseMoments pm;
-    pm.bands = bands;
     constexpr int n = kShMaxBands + 2;
     auto& l = pm.lambda;
     l[0] = 1.0;

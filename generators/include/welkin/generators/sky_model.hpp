@@ -213,7 +213,6 @@ struct MsField {
 /// delta-M forward fraction (`forward`: that part of the Mie scattering stays in the beam) and
 /// w_l = exp(-c l^2) a Gaussian window against ringing (c = 0.48 / L^2: 0.03 at L = 4).
 struct PhaseMoments {
-    int bands = 4;
     std::array<double, kShMaxBands + 2> lambda{};  ///< Mie Lambda_0 .. Lambda_(kShMaxBands + 1)
     std::array<double, kShMaxBands + 1> mie{};     ///< Mie band factors (0 beyond `bands`)
     std::array<double, kShMaxBands + 1> rayleigh{};  ///< Rayleigh band factors
