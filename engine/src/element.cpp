@@ -3,6 +3,7 @@
 #include <welkin/gl/objects.hpp>
 
 #include <chrono>
+#include <cmath>
 
 namespace welkin {
 
@@ -32,9 +33,17 @@ void FrameContext::drawFullscreen() const {
 // --- Generator ---------------------------------------------------------------------------------
 
 bool Generator::isDue(const SkyVars& vars) const {
-    if (timing_.calls == 0 || seen_.size() != inputs_.size()) return true;
-    for (size_t i = 0; i < inputs_.size(); ++i)
-        if (vars.version(inputs_[i].name) != seen_[i]) return true;
+    if (invalidated_ || timing_.calls == 0 || seen_.size() != inputs_.size()) return true;
+    for (size_t i = 0; i < inputs_.size(); ++i) {
+        if (vars.version(inputs_[i].name) == seen_[i]) continue;
+        const double tol = inputOptions_[i].tolerance;
+        if (tol <= 0.0) return true;
+        std::vector<double> now = vars.numeric(inputs_[i].name);
+        const std::vector<double>& then = seenValues_[i];
+        if (now.size() != then.size()) return true;
+        for (size_t k = 0; k < now.size(); ++k)
+            if (!(std::abs(now[k] - then[k]) <= tol)) return true;
+    }
     return false;
 }
 
@@ -49,9 +58,26 @@ void Generator::run(SkyVars& vars, const Logger& log, bool finish) {
     doRun(vars, log);  // GL errors are checked by the caller (SkyProcessor), so CPU-only
                        // generators run without a context
     timing_.add(sw.ms());
+    invalidated_ = false;
     // Record the versions after running: a generator may itself update one of its inputs.
     seen_.resize(inputs_.size());
-    for (size_t i = 0; i < inputs_.size(); ++i) seen_[i] = vars.version(inputs_[i].name);
+    seenValues_.resize(inputs_.size());
+    for (size_t i = 0; i < inputs_.size(); ++i) {
+        seen_[i] = vars.version(inputs_[i].name);
+        if (inputOptions_[i].tolerance > 0.0) seenValues_[i] = vars.numeric(inputs_[i].name);
+    }
+}
+
+const char* toString(Layer layer) {
+    switch (layer) {
+        case Layer::Background: return "background";
+        case Layer::Bodies: return "bodies";
+        case Layer::Atmosphere: return "atmosphere";
+        case Layer::Clouds: return "clouds";
+        case Layer::Foreground: return "foreground";
+        case Layer::Overlay: return "overlay";
+    }
+    return "?";
 }
 
 // --- SkyElement --------------------------------------------------------------------------------

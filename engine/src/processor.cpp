@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <numbers>
+#include <map>
 #include <tuple>
 
 namespace welkin {
@@ -42,12 +43,29 @@ void Observer::validate() const {
 SkyProcessor::SkyProcessor(SkyVars vars, Logger log, ProcessorOptions options)
     : vars_(std::move(vars)), log_(std::move(log)), options_(options) {
     deriveVariables();
+    if (options_.astronomy) addGenerator(std::make_shared<astro::AstronomyGenerator>());
+}
+
+void SkyProcessor::addGenerator(std::shared_ptr<Generator> g) {
+    if (!g) throw Error("SkyProcessor::addGenerator(): null generator");
+    for (auto& existing : generators_)
+        if (existing == g) return;
+    SkyVars::DeclarerScope scope(vars_, g->name());
+    g->declareKeys(vars_);
+    generators_.push_back(std::move(g));
+    orderValid_ = false;
 }
 
 SkyProcessor::~SkyProcessor() { release(); }
 
 void SkyProcessor::release() {
     for (auto& e : elements_) e->release();
+    // Generators own GL resources too (LUTs); released and invalidated so that init() and the
+    // next frame make them again.
+    for (Generator* g : order_) g->release();
+    for (auto& g : generators_) g->release();
+    order_.clear();
+    orderValid_ = false;
     hdr_ = {};
     ldr_ = {};
     logLum_ = {};
@@ -65,7 +83,12 @@ SkyElement& SkyProcessor::add(std::unique_ptr<SkyElement> element) {
     if (!element) throw Error("SkyProcessor::add(): null element");
     if (find(element->name())) throw Error("SkyProcessor::add(): an element named '" + element->name() + "' is already registered");
     element->setTimingEnabled(options_.timing);
+    {
+        SkyVars::DeclarerScope scope(vars_, element->name());
+        element->declareOptions(vars_);
+    }
     elements_.push_back(std::move(element));
+    orderValid_ = false;
     return *elements_.back();
 }
 
@@ -123,7 +146,6 @@ void SkyProcessor::deriveVariables() {
     vars_.set(keys::observerLatitude, observer_.latitudeRad);
     vars_.set(keys::observerLongitude, observer_.longitudeRad);
     vars_.set(keys::observerHeight, observer_.heightMeters);
-    if (options_.astronomy) astro::updateSkyVars(vars_);  // Sun, Moon, planets: directions and the astro keys (astro_keys.hpp)
 }
 
 void SkyProcessor::init() {
@@ -149,11 +171,79 @@ void SkyProcessor::init() {
     InitContext ctx{vars_, log_};
     for (auto& e : elements_) {
         if (!e->initialized()) {
+            SkyVars::DeclarerScope scope(vars_, e->name());
             e->init(ctx);
             e->resize(camera_.width, camera_.height);
+            orderValid_ = false;
         }
     }
+    if (!orderValid_) orderGenerators();
     gl::checkError("SkyProcessor::init()");
+}
+
+void SkyProcessor::orderGenerators() {
+    // Every generator once: the processor's, then each element's (shared instances deduplicated).
+    std::vector<Generator*> all;
+    auto addUnique = [&](Generator* g) {
+        if (std::find(all.begin(), all.end(), g) == all.end()) all.push_back(g);
+    };
+    for (auto& g : generators_) addUnique(g.get());
+    for (auto& e : elements_)
+        for (auto& g : e->generators()) addUnique(g.get());
+    for (Generator* g : all) {
+        SkyVars::DeclarerScope scope(vars_, g->name());
+        g->declareKeys(vars_);
+    }
+    // Writers: one per key.
+    std::map<std::string, size_t> writer;
+    for (size_t i = 0; i < all.size(); ++i)
+        for (const KeyInfo& k : all[i]->outputs()) {
+            auto [it, inserted] = writer.emplace(k.name, i);
+            if (!inserted && it->second != i)
+                throw Error("SkyProcessor::init(): key '" + k.name + "' is written by two generators, '" + all[it->second]->name() +
+                            "' and '" + all[i]->name() + "'");
+        }
+    // Reads: of a key some generator writes (an edge), or of a declared key, or optional.
+    std::vector<std::vector<size_t>> after(all.size());  // after[w] = readers of w's outputs
+    std::vector<int> pending(all.size(), 0);
+    for (size_t i = 0; i < all.size(); ++i) {
+        const auto& ins = all[i]->inputs();
+        std::vector<size_t> deps;
+        for (size_t k = 0; k < ins.size(); ++k) {
+            auto it = writer.find(ins[k].name);
+            if (it != writer.end()) {
+                if (it->second != i && std::find(deps.begin(), deps.end(), it->second) == deps.end()) deps.push_back(it->second);
+                continue;
+            }
+            if (!vars_.contains(ins[k].name) && !all[i]->inputOptions(k).optional)
+                throw Error("SkyProcessor::init(): generator '" + all[i]->name() + "' reads key '" + ins[k].name +
+                            "', which no element, generator or host declares");
+        }
+        for (size_t d : deps) after[d].push_back(i);
+        pending[i] = int(deps.size());
+    }
+    // Kahn's algorithm, always taking the earliest-registered ready generator (stable order).
+    std::vector<Generator*> order;
+    std::vector<bool> done(all.size(), false);
+    while (order.size() < all.size()) {
+        size_t pick = all.size();
+        for (size_t i = 0; i < all.size(); ++i)
+            if (!done[i] && pending[i] == 0) {
+                pick = i;
+                break;
+            }
+        if (pick == all.size()) {
+            std::string cycle;
+            for (size_t i = 0; i < all.size(); ++i)
+                if (!done[i]) cycle += (cycle.empty() ? "" : ", ") + all[i]->name();
+            throw Error("SkyProcessor::init(): generators depend on each other in a cycle: " + cycle);
+        }
+        done[pick] = true;
+        order.push_back(all[pick]);
+        for (size_t r : after[pick]) --pending[r];
+    }
+    order_ = std::move(order);
+    orderValid_ = true;
 }
 
 void SkyProcessor::ensureTargets() {
@@ -172,16 +262,12 @@ void SkyProcessor::ensureTargets() {
 FrameContext SkyProcessor::frameContext() { return FrameContext{vars_, log_, camera_, seconds(), &emptyVao_}; }
 
 void SkyProcessor::runGenerators() {
-    // Each generator once per frame, in element order (shared instances deduplicated).
-    std::vector<Generator*> seen;
+    // Each generator once per frame, in dependency order (orderGenerators()).
+    if (!orderValid_) orderGenerators();
     auto t0 = std::chrono::steady_clock::now();
-    for (auto& e : elements_) {
-        for (auto& g : e->generators()) {
-            if (std::find(seen.begin(), seen.end(), g.get()) != seen.end()) continue;
-            seen.push_back(g.get());
-            g->runIfDue(vars_, log_, options_.timing);
-            gl::checkError(g->name() + "::run()");
-        }
+    for (Generator* g : order_) {
+        g->runIfDue(vars_, log_, options_.timing);
+        gl::checkError(g->name() + "::run()");
     }
     generatorsMs_ = msSince(t0);
 }
@@ -408,11 +494,14 @@ nlohmann::json SkyProcessor::stats() const {
                    {"alt_deg", camera_.altitudeRad * 180 / kPi},
                    {"fov_deg", camera_.verticalFovRad * 180 / kPi}};
     j["exposure"] = {{"automatic", exposure_.automatic}, {"ev100", lastEv100()}};
-    if (vars_.has(astro::keys::sunAzimuth))
-        for (auto [name, az, alt] : {std::tuple{"sun", &astro::keys::sunAzimuth, &astro::keys::sunAltitude},
-                                     std::tuple{"moon", &astro::keys::moonAzimuth, &astro::keys::moonAltitude}})
-            j[name] = {{"az_deg", vars_.get(*az) * 180 / kPi}, {"alt_deg", vars_.get(*alt) * 180 / kPi}};
     j["timing_includes_gpu"] = options_.timing;
+    // Every generator's cost in the order they run, and their own quantities (astronomy: Sun, Moon).
+    json gensAll = json::array();
+    for (Generator* g : order_) {
+        gensAll.push_back({{"name", g->name()}, {"runs", g->runCount()}, {"last_ms", g->timing().lastMs}, {"total_ms", g->timing().totalMs}});
+        g->stats(j);
+    }
+    j["generators"] = gensAll;
     json el = json::array();
     for (auto& e : elements_) {
         json gens = json::array();

@@ -13,7 +13,6 @@ SkyVars SkyVars::earth() {
     v.set(keys::quality, 1);
     v.set(keys::exposureEv100, 15.0);
     v.set(keys::exposureAuto, false);
-    v.set(keys::planetRadius, 6360e3);
     return v;
 }
 

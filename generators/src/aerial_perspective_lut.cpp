@@ -12,14 +12,13 @@
 namespace welkin::generators {
 
 AerialPerspectiveLut::AerialPerspectiveLut() : SkyGenerator("sky.aerial_perspective") {
-    input(skykeys::transmittanceRev);
-    input(skykeys::multiScatteringRev);
-    input(skykeys::shRev);
+    input(skykeys::transmittanceLuts);
+    input(skykeys::multiScatteringLuts);
+    input(skykeys::shLuts);
     input(keys::observerHeight);
     input(keys::sunDirection);
     output(skykeys::aerialInscatter);
     output(skykeys::aerialTransmittance);
-    output(skykeys::aerialRev);
 }
 
 void AerialPerspectiveLut::releaseGl() {
@@ -92,9 +91,8 @@ void AerialPerspectiveLut::doRun(SkyVars& vars, const Logger&) {
             combine(transmittanceK_, transmittance_, k);
         }
     }
-    vars.set(skykeys::aerialInscatter, inscatter_.ref());
-    vars.set(skykeys::aerialTransmittance, transmittance_.ref());
-    vars.set(skykeys::aerialRev, ++rev_);
+    vars.publish(skykeys::aerialInscatter, inscatter_.ref());
+    vars.publish(skykeys::aerialTransmittance, transmittance_.ref());
 }
 
 namespace cpu {

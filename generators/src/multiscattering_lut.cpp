@@ -8,9 +8,8 @@
 namespace welkin::generators {
 
 MultiScatteringLut::MultiScatteringLut() : SkyGenerator("sky.multiscattering") {
-    input(skykeys::transmittanceRev);
+    input(skykeys::transmittanceLuts);
     output(skykeys::multiScatteringLut);
-    output(skykeys::multiScatteringRev);
     output(skykeys::multiScatteringLuts);
 }
 
@@ -64,9 +63,8 @@ void MultiScatteringLut::doRun(SkyVars& vars, const Logger&) {
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
         list->push_back(target.ref());
     }
-    vars.set(skykeys::multiScatteringLuts, skykeys::TextureList(list));
-    vars.set(skykeys::multiScatteringLut, tex_.ref());
-    vars.set(skykeys::multiScatteringRev, ++rev_);
+    vars.publish(skykeys::multiScatteringLuts, skykeys::TextureList(list));
+    vars.publish(skykeys::multiScatteringLut, tex_.ref());
 }
 
 }  // namespace welkin::generators

@@ -11,10 +11,9 @@
 namespace welkin::generators {
 
 ShLut::ShLut() : SkyGenerator("sky.ms_directional") {
-    input(skykeys::transmittanceRev);
-    input(skykeys::multiScatteringRev);
+    input(skykeys::transmittanceLuts);
+    input(skykeys::multiScatteringLuts);
     output(skykeys::shLut);
-    output(skykeys::shRev);
     output(skykeys::shLuts);
 }
 
@@ -194,9 +193,8 @@ void ShLut::doRun(SkyVars& vars, const Logger&) {
         }
         list->push_back(texture(k).ref());
     }
-    vars.set(skykeys::shLuts, skykeys::TextureList(list));
-    vars.set(skykeys::shLut, texture(0).ref());
-    vars.set(skykeys::shRev, ++rev_);
+    vars.publish(skykeys::shLuts, skykeys::TextureList(list));
+    vars.publish(skykeys::shLut, texture(0).ref());
 }
 
 }  // namespace welkin::generators

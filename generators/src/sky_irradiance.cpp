@@ -10,11 +10,11 @@
 namespace welkin::generators {
 
 SkyIrradiance::SkyIrradiance() : SkyGenerator("sky.irradiance") {
-    input(skykeys::transmittanceRev);
-    input(skykeys::sunViewRev);
-    input(skykeys::moonViewRev);
-    input(skykeys::sunIlluminance);
-    input(skykeys::moonIlluminance);
+    input(skykeys::transmittanceLuts);
+    input(skykeys::sunViewLut);
+    input(skykeys::moonViewLut);
+    input(lightkeys::sunIlluminance);
+    input(lightkeys::moonIlluminance);
     input(keys::sunDirection);
     input(keys::moonDirection);
     input(keys::observerHeight);
@@ -43,8 +43,8 @@ void SkyIrradiance::doRun(SkyVars& vars, const Logger&) {
     auto unit = [](glm::dvec3 d) { return glm::length(d) > 0 ? glm::normalize(d) : glm::dvec3(0, 0, -1); };
     glm::dvec3 sun = unit(vars.getOr(keys::sunDirection, glm::dvec3(0, 0, 1)));
     glm::dvec3 moon = unit(vars.getOr(keys::moonDirection, glm::dvec3(0, 0, -1)));
-    glm::dvec3 sunE = vars.getOr(skykeys::sunIlluminance, model_.solarIlluminance);
-    glm::dvec3 moonE = vars.getOr(skykeys::moonIlluminance, glm::dvec3(0.0));
+    glm::dvec3 sunE = vars.getOr(lightkeys::sunIlluminance, model_.solarIlluminance);
+    glm::dvec3 moonE = vars.getOr(lightkeys::moonIlluminance, glm::dvec3(0.0));
     glBindTextureUnit(0, vars.get(skykeys::sunViewLut).id);
     glBindTextureUnit(1, vars.get(skykeys::sunViewMieLut).id);
     glBindTextureUnit(2, vars.get(skykeys::moonViewLut).id);

@@ -12,6 +12,11 @@
 
 namespace welkin::generators {
 
+int effectiveQuality(const SkyVars& vars) {
+    const int q = vars.getOr(skykeys::quality, -1);
+    return q >= 0 ? q : vars.getOr(keys::quality, 1);
+}
+
 AtmosphereBlock AtmosphereBlock::from(const SkyModel& m, int shBands) {
     AtmosphereBlock b{};
     b.radii = glm::vec4(float(m.bottomRadius), float(m.topRadius), float(m.topRadius - m.bottomRadius), float(m.miePhase));
@@ -41,10 +46,18 @@ SkyGenerator::SkyGenerator(std::string name) : Generator(std::move(name)) {
     input(skykeys::wavelengths);
 }
 
+void SkyGenerator::doDeclare(SkyVars& vars) {
+    if (!vars.has(atmosphere::kAtmosphere))
+        vars.set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(atmosphere::Atmosphere::earthClear()));
+    vars.declare(skykeys::quality, -1);
+    vars.declare(keys::quality, 1);
+    vars.declare(skykeys::wavelengths, 0);
+}
+
 void SkyGenerator::prepare(SkyVars& vars) {
     model_ = SkyModel::fromVars(vars);
     model_.validate();
-    int preset = vars.getOr(skykeys::quality, vars.getOr(keys::quality, 1));
+    int preset = effectiveQuality(vars);
     q_ = fixed_ ? *fixed_ : SkyQuality::preset(preset);
     validateWavelengthCount(vars.getOr(skykeys::wavelengths, 0), "sky.wavelengths");
     const int n = effectiveWavelengths(vars.getOr(skykeys::wavelengths, 0), q_);

@@ -11,9 +11,9 @@
 namespace welkin::generators {
 
 SkyViewLut::SkyViewLut(Light light) : SkyGenerator(light == Light::Sun ? "sky.sun_view" : "sky.moon_view"), light_(light) {
-    input(skykeys::transmittanceRev);
-    input(skykeys::multiScatteringRev);
-    input(skykeys::shRev);
+    input(skykeys::transmittanceLuts);
+    input(skykeys::multiScatteringLuts);
+    input(skykeys::shLuts);
     input(keys::observerHeight);
     if (light == Light::Sun) {
         input(keys::sunDirection);
@@ -21,14 +21,12 @@ SkyViewLut::SkyViewLut(Light light) : SkyGenerator(light == Light::Sun ? "sky.su
         output(skykeys::sunViewMieLut);
         output(skykeys::sunViewTotalLut);
         output(skykeys::viewTransmittanceLut);
-        output(skykeys::sunViewRev);
     } else {
         input(keys::moonDirection);
-        input(skykeys::moonIlluminance);
+        input(lightkeys::moonIlluminance);
         output(skykeys::moonViewLut);
         output(skykeys::moonViewMieLut);
         output(skykeys::moonViewTotalLut);
-        output(skykeys::moonViewRev);
     }
 }
 
@@ -103,7 +101,7 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
     // horizon (< -20 deg: its scattered light is then below the night sky's airglow by orders of
     // magnitude).
     bool dark = light_ == Light::Moon &&
-                (glm::length(vars.getOr(skykeys::moonIlluminance, glm::dvec3(0.0))) <= 0.0 || muS_ < -0.342);
+                (glm::length(vars.getOr(lightkeys::moonIlluminance, glm::dvec3(0.0))) <= 0.0 || muS_ < -0.342);
     if (dark) {
         const float zero[4] = {0, 0, 0, 1};
         glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, zero);
@@ -163,16 +161,14 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
         viewTProg_.set("u_skyViewH", q_.skyViewH);
         glDispatchCompute(GLuint((nT + 63) / 64), 1, 1);
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-        vars.set(skykeys::viewTransmittanceLut, viewT_.ref());
-        vars.set(skykeys::sunViewLut, smooth_.ref());
-        vars.set(skykeys::sunViewMieLut, mie_.ref());
-        vars.set(skykeys::sunViewTotalLut, total_.ref());
-        vars.set(skykeys::sunViewRev, ++rev_);
+        vars.publish(skykeys::viewTransmittanceLut, viewT_.ref());
+        vars.publish(skykeys::sunViewLut, smooth_.ref());
+        vars.publish(skykeys::sunViewMieLut, mie_.ref());
+        vars.publish(skykeys::sunViewTotalLut, total_.ref());
     } else {
-        vars.set(skykeys::moonViewLut, smooth_.ref());
-        vars.set(skykeys::moonViewMieLut, mie_.ref());
-        vars.set(skykeys::moonViewTotalLut, total_.ref());
-        vars.set(skykeys::moonViewRev, ++rev_);
+        vars.publish(skykeys::moonViewLut, smooth_.ref());
+        vars.publish(skykeys::moonViewMieLut, mie_.ref());
+        vars.publish(skykeys::moonViewTotalLut, total_.ref());
     }
 }
 

@@ -8,7 +8,6 @@ namespace welkin::generators {
 
 TransmittanceLut::TransmittanceLut() : SkyGenerator("sky.transmittance") {
     output(skykeys::transmittanceLut);
-    output(skykeys::transmittanceRev);
     output(skykeys::transmittanceLuts);
 }
 
@@ -64,9 +63,8 @@ void TransmittanceLut::doRun(SkyVars& vars, const Logger&) {
         if (spectral_) combine(target, tex_, k);
         list->push_back(target.ref());
     }
-    vars.set(skykeys::transmittanceLuts, skykeys::TextureList(list));
-    vars.set(skykeys::transmittanceLut, tex_.ref());
-    vars.set(skykeys::transmittanceRev, ++rev_);
+    vars.publish(skykeys::transmittanceLuts, skykeys::TextureList(list));
+    vars.publish(skykeys::transmittanceLut, tex_.ref());
 }
 
 }  // namespace welkin::generators

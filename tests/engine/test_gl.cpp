@@ -81,9 +81,9 @@ TEST_CASE("Shader errors name the file and the line", "[gl]") {
 
 namespace {
 // A layer of uniform radiance and transmittance.
-class Layer final : public SkyElement {
+class FlatLayer final : public SkyElement {
 public:
-    Layer(std::string name, glm::vec3 radiance, glm::vec3 transmittance)
+    FlatLayer(std::string name, glm::vec3 radiance, glm::vec3 transmittance)
         : SkyElement(std::move(name)), radiance_(radiance), transmittance_(transmittance) {}
 
 private:
@@ -152,9 +152,9 @@ TEST_CASE("Compositing: dst = src + dst * T in registration order", "[gl][compos
     p.setCamera(cam);
     p.setExposure({.ev100 = 0});
     // Back to front: stars-like emitter, an attenuating sky, an opaque-in-red foreground.
-    p.add(std::make_unique<Layer>("back", glm::vec3(1e-5f, 2e-5f, 4e-5f), glm::vec3(0.0f)));
-    p.add(std::make_unique<Layer>("middle", glm::vec3(100.0f, 200.0f, 300.0f), glm::vec3(0.5f, 0.25f, 1.0f)));
-    p.add(std::make_unique<Layer>("front", glm::vec3(1.6e9f, 0.0f, 1.0f), glm::vec3(0.0f, 1.0f, 0.5f)));
+    p.add(std::make_unique<FlatLayer>("back", glm::vec3(1e-5f, 2e-5f, 4e-5f), glm::vec3(0.0f)));
+    p.add(std::make_unique<FlatLayer>("middle", glm::vec3(100.0f, 200.0f, 300.0f), glm::vec3(0.5f, 0.25f, 1.0f)));
+    p.add(std::make_unique<FlatLayer>("front", glm::vec3(1.6e9f, 0.0f, 1.0f), glm::vec3(0.0f, 1.0f, 0.5f)));
     p.renderFrame();
     Image img = p.readHdr();
     // Analytic: ((0*T0 + L0) * T1 + L1) * T2 + L2.
@@ -168,8 +168,8 @@ TEST_CASE("Compositing: dst = src + dst * T in registration order", "[gl][compos
     // The faint end survives beside the bright end: starlight alone through a transparent layer.
     SkyProcessor q;
     q.setCamera(cam);
-    q.add(std::make_unique<Layer>("star", glm::vec3(1e-5f), glm::vec3(0.0f)));
-    q.add(std::make_unique<Layer>("glass", glm::vec3(0.0f), glm::vec3(1.0f)));
+    q.add(std::make_unique<FlatLayer>("star", glm::vec3(1e-5f), glm::vec3(0.0f)));
+    q.add(std::make_unique<FlatLayer>("glass", glm::vec3(0.0f), glm::vec3(1.0f)));
     q.renderFrame();
     CHECK(q.readHdr().at(3, 3, 1) == Approx(1e-5).epsilon(1e-6));
 }
@@ -274,7 +274,7 @@ TEST_CASE("renderInto a host framebuffer respects the host's depth", "[gl][compo
     cam.width = w;
     cam.height = h;
     p.setCamera(cam);
-    p.add(std::make_unique<Layer>("sky", glm::vec3(10.0f), glm::vec3(0.5f)));
+    p.add(std::make_unique<FlatLayer>("sky", glm::vec3(10.0f), glm::vec3(0.5f)));
     // The host's state before the call, which must survive it.
     fbo.bind();
     glEnable(GL_DEPTH_TEST);
@@ -320,7 +320,7 @@ TEST_CASE("Automatic exposure follows the log-average luminance", "[gl][tonemap]
         cam.height = 16;
         p.setCamera(cam);
         p.setExposure({.automatic = true});
-        p.add(std::make_unique<Layer>("uniform", glm::vec3(L), glm::vec3(0.0f)));
+        p.add(std::make_unique<FlatLayer>("uniform", glm::vec3(L), glm::vec3(0.0f)));
         p.renderFrame();
         // EV100 = log2(L * 100 / 12.5); the mip reduction of a uniform image is exact to float
         // rounding, so 0.01 EV is generous.
@@ -345,8 +345,8 @@ TEST_CASE("Two processors in one process are independent", "[gl][processor]") {
     cb.height = 6;
     a.setCamera(ca);
     b.setCamera(cb);
-    a.add(std::make_unique<Layer>("x", glm::vec3(1.0f), glm::vec3(0.0f)));
-    b.add(std::make_unique<Layer>("x", glm::vec3(2.0f), glm::vec3(0.0f)));
+    a.add(std::make_unique<FlatLayer>("x", glm::vec3(1.0f), glm::vec3(0.0f)));
+    b.add(std::make_unique<FlatLayer>("x", glm::vec3(2.0f), glm::vec3(0.0f)));
     a.renderFrame();
     b.renderFrame();
     a.renderFrame();
@@ -387,7 +387,7 @@ TEST_CASE("Automatic exposure ignores empty background pixels", "[gl][tonemap]")
     cam.width = cam.height = 32;
     p.setCamera(cam);
     p.setExposure({.automatic = true});
-    p.add(std::make_unique<Layer>("uniform", glm::vec3(50.0f), glm::vec3(0.0f)));
+    p.add(std::make_unique<FlatLayer>("uniform", glm::vec3(50.0f), glm::vec3(0.0f)));
     p.renderFrame();
     // The corners hold 21 % of the pixels but are outside the image and unlit: the meter reads
     // the 50 cd/m^2 field alone.

@@ -45,8 +45,8 @@ struct Rig {
         vars.set(keys::moonDirection, directionFromAzAlt(4.0, 30 * kDeg));
         vars.set(keys::observerHeight, h);
         m = SkyModel::fromVars(vars);
-        vars.set(skykeys::sunIlluminance, m.solarIlluminance);
-        vars.set(skykeys::moonIlluminance, m.solarIlluminance * 2e-6);
+        vars.set(lightkeys::sunIlluminance, m.solarIlluminance);
+        vars.set(lightkeys::moonIlluminance, m.solarIlluminance * 2e-6);
         luts = SkyLuts::obtain(vars);
         for (SkyGenerator* g : {(SkyGenerator*)luts.transmittance.get(), (SkyGenerator*)luts.multiScattering.get(), (SkyGenerator*)luts.sh.get(),
                                 (SkyGenerator*)luts.sunView.get(), (SkyGenerator*)luts.moonView.get(),

@@ -118,8 +118,8 @@ struct SpectralRig {
         vars.set(keys::moonDirection, directionFromAzAlt(4.0, -40 * kDeg));
         vars.set(keys::observerHeight, h);
         const SkyModel m = SkyModel::fromVars(vars);
-        vars.set(skykeys::sunIlluminance, m.solarIlluminance);
-        vars.set(skykeys::moonIlluminance, glm::dvec3(0.0));
+        vars.set(lightkeys::sunIlluminance, m.solarIlluminance);
+        vars.set(lightkeys::moonIlluminance, glm::dvec3(0.0));
         luts = SkyLuts::obtain(vars);
         for (SkyGenerator* g : {(SkyGenerator*)luts.transmittance.get(), (SkyGenerator*)luts.multiScattering.get(),
                                 (SkyGenerator*)luts.sh.get(), (SkyGenerator*)luts.sunView.get(), (SkyGenerator*)luts.moonView.get(),
@@ -416,7 +416,7 @@ TEST_CASE("Sky spectral: finite, non-negative outputs over extreme configuration
                 bool ok = true;
                 for (float v : img.pixels) ok = ok && std::isfinite(v) && v >= 0.0f;
                 CHECK(ok);
-                for (const Key<glm::dvec3>* k : {&skykeys::sunTransmittance, &skykeys::sunDiskRadiance, &skykeys::horizontalIlluminance,
+                for (const Key<glm::dvec3>* k : {&lightkeys::sunTransmittance, &lightkeys::sunDiskRadiance, &skykeys::horizontalIlluminance,
                                                  &skykeys::diffuseIrradiance}) {
                     glm::dvec3 v = vars.get(*k);
                     INFO(k->name());

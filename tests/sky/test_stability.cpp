@@ -102,8 +102,8 @@ TEST_CASE("Sky stability: finite, non-negative outputs over extreme configuratio
                 CHECK(textureOk(v.get(skykeys::aerialInscatter), "aerial", why));
                 INFO(why);
                 CHECK(finiteNonNegative(v.get(skykeys::horizontalIlluminance)));
-                CHECK(finiteNonNegative(v.get(skykeys::sunDiskRadiance)));
-                CHECK(finiteNonNegative(v.get(skykeys::moonIlluminance)));
+                CHECK(finiteNonNegative(v.get(lightkeys::sunDiskRadiance)));
+                CHECK(finiteNonNegative(v.get(lightkeys::moonIlluminance)));
                 CHECK(std::isfinite(v.get(skykeys::zenithLuminance)));
                 // Above the atmosphere the per-pixel path must be the one used.
                 if (h > 100e3) CHECK(sky.perPixel());
@@ -148,7 +148,7 @@ TEST_CASE("Sky stability: no band at the horizon, day and twilight", "[gl][sky]"
             double dip = std::acos(m.bottomRadius / (m.bottomRadius + h));
             cam.altitudeRad = -dip;
             Image img = proc.render(sky, cam);
-            glm::dvec3 E = vars.get(skykeys::sunIlluminance);
+            glm::dvec3 E = vars.get(lightkeys::sunIlluminance);
             double worst = 0, worstUpper = 0;
             for (int y = 0; y < cam.height; ++y) {
                 auto dir = cam.directionAt({2.0, y + 0.5});

@@ -23,6 +23,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -67,6 +68,20 @@ struct FrameContext {
     void drawFullscreen() const;
 };
 
+/// How a generator depends on one of its inputs.
+struct InputOptions {
+    /// A change smaller than this (largest absolute difference of any component since the
+    /// generator's last run) does not make the generator due: the tables are kept while the Sun
+    /// creeps. 0 = any change. Numeric keys only.
+    double tolerance = 0.0;
+    /// The generator copes with the key being undeclared (reads it with getOr); otherwise a read
+    /// of a key that nobody declares and no generator writes is an error at init.
+    bool optional = false;
+};
+
+/// A pass that runs only when one of its declared inputs changed. The processor orders all
+/// generators by their inputs and outputs (a generator that reads another's output runs after
+/// it), whatever the order of the elements that use them.
 class Generator {
 public:
     virtual ~Generator() = default;
@@ -75,29 +90,54 @@ public:
 
     const std::string& name() const { return name_; }
     const std::vector<KeyInfo>& inputs() const { return inputs_; }
+    /// Options of inputs()[i].
+    const InputOptions& inputOptions(size_t i) const { return inputOptions_.at(i); }
     const std::vector<KeyInfo>& outputs() const { return outputs_; }
 
-    /// True if it never ran or an input's version changed since its last run.
+    /// True if it never ran, was invalidated, or an input changed (beyond its tolerance) since its
+    /// last run.
     bool isDue(const SkyVars& vars) const;
     /// Runs if due; returns whether it ran.
     bool runIfDue(SkyVars& vars, const Logger& log, bool finish = false);
-    /// Runs unconditionally and records the input versions.
+    /// Runs unconditionally and records the input versions (and values, for tolerances).
     void run(SkyVars& vars, const Logger& log, bool finish = false);
+    /// Makes the next isDue() true (after release(), or when its outputs were lost).
+    void invalidate() { invalidated_ = true; }
+    /// Frees GL resources (context current) and invalidates: the next run recreates them.
+    void release() {
+        doRelease();
+        invalidate();
+    }
     int runCount() const { return timing_.calls; }
     const Timing& timing() const { return timing_; }
+    /// Adds the generator's own physical quantities to the --stats JSON.
+    void stats(nlohmann::json& root) const { doStats(root); }
+    /// Declares the keys the generator needs that nobody else may declare (with defaults), so a
+    /// host can set them before the first frame. SkyProcessor calls it, named as the declarer,
+    /// when the generator is registered.
+    void declareKeys(SkyVars& vars) { doDeclare(vars); }
 
 protected:
     explicit Generator(std::string name) : name_(std::move(name)) {}
     template <class T>
-    void input(const Key<T>& key) { inputs_.push_back(key.info()); }
+    void input(const Key<T>& key, InputOptions options = {}) {
+        inputs_.push_back(key.info());
+        inputOptions_.push_back(options);
+    }
     template <class T>
     void output(const Key<T>& key) { outputs_.push_back(key.info()); }
 
 private:
     virtual void doRun(SkyVars& vars, const Logger& log) = 0;
+    virtual void doRelease() {}
+    virtual void doStats(nlohmann::json&) const {}
+    virtual void doDeclare(SkyVars&) {}
     std::string name_;
     std::vector<KeyInfo> inputs_, outputs_;
+    std::vector<InputOptions> inputOptions_;
     std::vector<uint64_t> seen_;
+    std::vector<std::vector<double>> seenValues_;  // for inputs with a tolerance
+    bool invalidated_ = false;
     Timing timing_;
 };
 
@@ -123,6 +163,14 @@ public:
 
     const std::vector<KeyInfo>& readKeys() const { return reads_; }
     const std::vector<KeyInfo>& writeKeys() const { return writes_; }
+    /// The element's options: keys it declares with defaults (settable by the host, by
+    /// `welkin render --var KEY=VALUE` and listed by `welkin vars`).
+    const std::vector<KeyInfo>& optionKeys() const { return optionKeys_; }
+    /// Declares the option keys with their defaults (SkyProcessor::add() does it, with the
+    /// element named as the declarer; a key already declared keeps its value).
+    void declareOptions(SkyVars& vars) const {
+        for (auto& d : optionDeclarers_) d(vars);
+    }
     const std::vector<std::shared_ptr<Generator>>& generators() const { return generators_; }
 
     /// Adds the element's physical quantities to the --stats JSON (e.g. root["sky"][...]).
@@ -140,6 +188,14 @@ protected:
     void reads(const Key<T>& key) { reads_.push_back(key.info()); }
     template <class T>
     void writes(const Key<T>& key) { writes_.push_back(key.info()); }
+    /// Declares an option: a key with a default, read by the element (also counts as reads()).
+    /// Call in the constructor; read the value in doUpdate()/doRender() with ctx.vars.get(key).
+    template <class T>
+    void option(const Key<T>& key, T defaultValue) {
+        optionKeys_.push_back(key.info());
+        reads_.push_back(key.info());
+        optionDeclarers_.push_back([key, defaultValue](SkyVars& v) { v.declare(key, defaultValue); });
+    }
     /// Adds a generator this element depends on (shared instances are run once per frame).
     void addGenerator(std::shared_ptr<Generator> g);
 
@@ -154,7 +210,8 @@ private:
     void requireInitialized(const char* what) const;
 
     std::string name_;
-    std::vector<KeyInfo> reads_, writes_;
+    std::vector<KeyInfo> reads_, writes_, optionKeys_;
+    std::vector<std::function<void(SkyVars&)>> optionDeclarers_;
     std::vector<std::shared_ptr<Generator>> generators_;
     bool initialized_ = false;
     bool timingEnabled_ = false;
@@ -162,3 +219,33 @@ private:
 };
 
 }  // namespace welkin
+
+namespace welkin {
+
+/// Where an element goes in the default compositing order (farthest first).
+enum class Layer {
+    Background,  ///< stars, the Milky Way, airglow: behind everything
+    Bodies,      ///< the Sun's and Moon's disks, planets
+    Atmosphere,  ///< the sky's scattering (attenuates what is behind it)
+    Clouds,      ///< cloud layers
+    Foreground,  ///< rainbows, halos, fog in front of the clouds
+    Overlay,     ///< grids, labels, constellation lines: drawn last, not physical
+};
+const char* toString(Layer layer);
+
+/// What an element folder says about itself; the registry (skyelements/, generated at build time
+/// from the folders) lists one per folder. Declare it in the element's .cpp with
+/// WELKIN_ELEMENT_DESCRIPTOR(folder) { static const ElementDescriptor d{...}; return d; }.
+struct ElementDescriptor {
+    std::string name;         ///< as used by --elements; equals SkyElement::name() and the folder name
+    std::string description;  ///< one line
+    Layer layer = Layer::Foreground;
+    bool inDefaultSet = false;  ///< rendered when no --elements list is given
+    std::function<std::unique_ptr<SkyElement>()> make;
+};
+
+}  // namespace welkin
+
+/// Defines the descriptor function of the element in skyelements/<folder>/ (the build generates
+/// the registry from these: adding a folder is all it takes).
+#define WELKIN_ELEMENT_DESCRIPTOR(folder) const ::welkin::ElementDescriptor& welkin_element_descriptor_##folder()

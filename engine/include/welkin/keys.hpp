@@ -40,8 +40,4 @@ inline const Key<double> exposureEv100{"exposure.ev100", Range{-20, 30}, "exposu
 /// Automatic exposure from the scene's log-average luminance.
 inline const Key<bool> exposureAuto{"exposure.auto", "automatic exposure from log-average luminance"};
 
-// --- Planet ------------------------------------------------------------------------------------
-/// Mean planet radius used for rendering, metres.
-inline const Key<double> planetRadius{"planet.radius_m", Range{1e3, 1e9}, "planet radius, m"};
-
 }  // namespace welkin::keys

@@ -67,8 +67,9 @@ struct RenderTarget {
 
 struct ProcessorOptions {
     bool timing = false;     ///< bracket every element and generator call with glFinish (for --stats)
-    bool astronomy = true;   ///< compute the Sun, Moon and planets from time and place every frame;
-                             ///< false leaves sun.direction, moon.direction ... to the host
+    bool astronomy = true;   ///< register the astronomy generator (Sun, Moon, planets, star frame from
+                             ///< time and place, astro_keys.hpp); false leaves sun.direction,
+                             ///< moon.direction ... to the host
 };
 
 class SkyProcessor {
@@ -92,6 +93,13 @@ public:
     const std::vector<std::unique_ptr<SkyElement>>& elements() const { return elements_; }
     /// The element with this name, or nullptr.
     SkyElement* find(std::string_view name) const;
+    /// Registers a processor-level generator (world state any element may read: the astronomy,
+    /// a host's own weather...). Its keys are declared now (SkyVars::DeclarerScope = its name).
+    void addGenerator(std::shared_ptr<Generator> generator);
+    /// Every generator in the order they run: sorted by their inputs and outputs (a generator
+    /// that reads another's output runs after it), otherwise in registration order (processor
+    /// generators, then each element's). Valid after init().
+    const std::vector<Generator*>& generatorOrder() const { return order_; }
 
     void setTime(const UtcInstant& t);
     const UtcInstant& time() const { return time_; }
@@ -102,7 +110,9 @@ public:
     void setExposure(const Exposure& e);
     const Exposure& exposure() const { return exposure_; }
 
-    /// Initialises every element not yet initialised (needs a current GL 4.5 context).
+    /// Initialises every element not yet initialised (needs a current GL 4.5 context) and orders
+    /// the generators. Throws welkin::Error if two generators write one key, a generator reads a
+    /// key nobody declares or writes, or the generators' dependencies form a cycle.
     void init();
     /// Derives time/observer variables, runs the due generators and every element's update().
     void update();
@@ -133,13 +143,15 @@ public:
     void setAnimationTime(std::optional<double> seconds);
     /// Stats of the last frame: inputs, per element and generator CPU-timed cost (ms).
     nlohmann::json stats() const;
-    /// Frees every GL resource (also done by the destructor; needs the context current).
+    /// Frees every GL resource of the processor, its elements and generators (also done by the
+    /// destructor; needs the context current). init() (or the next frame) makes them again.
     void release();
 
 private:
     void ensureTargets();
     void deriveVariables();
     void runGenerators();
+    void orderGenerators();
     /// `clearedToBlack`: the target was just cleared to black (the first element has nothing behind it).
     void composite(unsigned framebuffer, bool depthTest, bool clearedToBlack);
     FrameContext frameContext();
@@ -148,6 +160,9 @@ private:
     Logger log_;
     ProcessorOptions options_;
     std::vector<std::unique_ptr<SkyElement>> elements_;
+    std::vector<std::shared_ptr<Generator>> generators_;  // processor-level
+    std::vector<Generator*> order_;
+    bool orderValid_ = false;
     UtcInstant time_ = UtcInstant::parse("2000-01-01T12:00:00Z");
     Observer observer_{};
     Camera camera_{};

@@ -6,6 +6,11 @@
 //   vars.set(kTurbidity, 3.0);            // validated against [1, 10]; bumps the version
 //   double t = vars.get(kTurbidity);      // unset or wrong-typed reads throw, naming the key
 //   uint64_t v = vars.version(kTurbidity);
+//   vars.setFromString("sky.turbidity", "4");   // what `--var sky.turbidity=4` does: parsed by type
+//
+// Declarations: a key declared by two parties (elements, generators, the host) must agree on
+// type, range and unit; a disagreement is an error naming both declarers (who is declaring is
+// set by SkyVars::DeclarerScope, which SkyProcessor opens around each element and generator).
 //
 // Keys are typed (Key<T>); values are one of: bool, int, double, glm::dvec2/3/4, glm::dmat3/4,
 // std::string, TextureRef (a non-owning GL texture handle) or std::shared_ptr<U> (a shared
@@ -26,6 +31,7 @@
 #include <string>
 #include <string_view>
 #include <typeindex>
+#include <utility>
 #include <vector>
 
 namespace welkin {
@@ -42,6 +48,7 @@ struct TextureRef {
 struct Range {
     double min = 0.0;
     double max = 0.0;
+    bool operator==(const Range&) const = default;
 };
 
 namespace detail {
@@ -75,7 +82,11 @@ struct KeyInfo {
     const char* typeName = "";
     std::optional<Range> range;
     std::string description;
+    std::string unit;  ///< e.g. "m", "rad", "lx", "cd/m^2"; "" for dimensionless or non-numeric values
 };
+
+/// The unit implied by a key name's suffix ("observer.height_m" -> "m"), or "".
+std::string unitFromKeyName(std::string_view name);
 
 /// A typed key. Name them `area.quantity_unit` (e.g. "observer.height_m", "sun.direction").
 template <class T>
@@ -83,20 +94,33 @@ class Key {
     static_assert(detail::kSupported<T>, "Key<T>: unsupported value type");
 
 public:
-    explicit Key(std::string name, std::string description = {}) : name_(std::move(name)), description_(std::move(description)) {}
+    /// `unit` defaults to the one the name's suffix implies (unitFromKeyName).
+    explicit Key(std::string name, std::string description = {}, std::string unit = {})
+        : name_(std::move(name)), description_(std::move(description)), unit_(unitOr(unit, name_)) {}
     /// A key whose scalar values (or every component of a vector) must lie in `range`.
-    Key(std::string name, Range range, std::string description = {})
-        : name_(std::move(name)), range_(range), description_(std::move(description)) {}
+    Key(std::string name, Range range, std::string description = {}, std::string unit = {})
+        : name_(std::move(name)), range_(range), description_(std::move(description)), unit_(unitOr(unit, name_)) {}
 
     const std::string& name() const { return name_; }
     const std::optional<Range>& range() const { return range_; }
     const std::string& description() const { return description_; }
-    KeyInfo info() const { return {name_, typeid(T), detail::TypeName<T>::value, range_, description_}; }
+    const std::string& unit() const { return unit_; }
+    KeyInfo info() const { return {name_, typeid(T), detail::TypeName<T>::value, range_, description_, unit_}; }
 
 private:
+    static std::string unitOr(const std::string& unit, const std::string& name) { return unit.empty() ? unitFromKeyName(name) : unit; }
     std::string name_;
     std::optional<Range> range_;
     std::string description_;
+    std::string unit_;
+};
+
+/// One row of SkyVars::describe(): what `welkin vars` lists.
+struct KeyDescription {
+    KeyInfo info;
+    std::string declarer;  ///< who declared it first ("host" when no DeclarerScope was open)
+    std::string value;     ///< current value as text ("" if unset or not representable)
+    bool isSet = false;
 };
 
 class SkyVars {
@@ -117,13 +141,17 @@ public:
     void declare(const Key<T>& key, T defaultValue) {
         auto it = entries_.find(key.name());
         if (it != entries_.end()) {
-            checkType<T>(it->second, key.name());
-            if (key.range() && !it->second.range) it->second.range = key.range();
+            checkCompatible(it->second, key.info());
+            if (!it->second.isSet) {
+                validate(key.name(), it->second.range, defaultValue);
+                it->second.value = std::move(defaultValue);
+                it->second.isSet = true;
+                ++it->second.version;
+            }
             return;
         }
         validate(key.name(), key.range(), defaultValue);
-        Entry e{std::any(std::move(defaultValue)), typeid(T), detail::TypeName<T>::value, key.range(), 1, true};
-        entries_.emplace(key.name(), std::move(e));
+        entries_.emplace(key.name(), makeEntry(key.info(), std::any(std::move(defaultValue)), true));
     }
 
     /// Declares `key` with no value yet: reading it before set() is an error.
@@ -131,11 +159,26 @@ public:
     void declareUnset(const Key<T>& key) {
         auto it = entries_.find(key.name());
         if (it != entries_.end()) {
-            checkType<T>(it->second, key.name());
+            checkCompatible(it->second, key.info());
             return;
         }
-        entries_.emplace(key.name(), Entry{std::any(), typeid(T), detail::TypeName<T>::value, key.range(), 0, false});
+        entries_.emplace(key.name(), makeEntry(key.info(), std::any(), false));
     }
+
+    /// Names who is declaring keys until destroyed (an element, a generator, "host"); nests.
+    class DeclarerScope {
+    public:
+        DeclarerScope(SkyVars& vars, std::string who) : vars_(vars), previous_(std::move(vars.declarer_)) { vars.declarer_ = std::move(who); }
+        ~DeclarerScope() { vars_.declarer_ = std::move(previous_); }
+        DeclarerScope(const DeclarerScope&) = delete;
+        DeclarerScope& operator=(const DeclarerScope&) = delete;
+
+    private:
+        SkyVars& vars_;
+        std::string previous_;
+    };
+    /// Who is declaring now ("host" outside any DeclarerScope).
+    const std::string& declarer() const { return declarer_; }
 
     /// Sets a value (declaring the key if needed), validating the key's range. The version is
     /// bumped only if the value changed.
@@ -144,11 +187,12 @@ public:
         validate(key.name(), key.range(), value);
         auto it = entries_.find(key.name());
         if (it == entries_.end()) {
-            entries_.emplace(key.name(), Entry{std::any(std::move(value)), typeid(T), detail::TypeName<T>::value, key.range(), 1, true});
+            entries_.emplace(key.name(), makeEntry(key.info(), std::any(std::move(value)), true));
             return;
         }
         Entry& e = it->second;
         checkType<T>(e, key.name());
+        if (e.range != key.range() || e.unit != key.unit()) checkCompatible(e, key.info());
         if (e.range && !key.range()) validate(key.name(), e.range, value);
         if (e.isSet && std::any_cast<const T&>(e.value) == value) return;
         e.value = std::move(value);
@@ -189,6 +233,37 @@ public:
     }
     bool contains(std::string_view name) const { return entries_.find(std::string(name)) != entries_.end(); }
 
+    /// Sets a value and always bumps its version (a generator republishing a texture it rewrote
+    /// in place: the TextureRef is equal, the contents are new).
+    template <class T>
+    void publish(const Key<T>& key, T value) {
+        const uint64_t before = version(key.name());
+        set(key, std::move(value));
+        if (version(key.name()) == before) touch(key.name());
+    }
+
+    /// Bumps the version of a declared key without changing its value: a generator that rewrote a
+    /// texture in place (same TextureRef) tells its readers. Throws if `name` is undeclared.
+    void touch(std::string_view name);
+    template <class T>
+    void touch(const Key<T>& key) { touch(key.name()); }
+
+    /// Sets a declared key from text, parsed by the key's type: bool (true/false/on/off/1/0),
+    /// int, double, dvec2..4 ("x,y,z"), string. A key whose unit is "rad" also accepts degrees
+    /// with a "deg" suffix ("15deg"). Range-checked; throws one line naming the key and the
+    /// accepted range. Objects, textures and matrices cannot be set from text.
+    void setFromString(std::string_view name, std::string_view text);
+    /// The value of a key as text (the same syntax setFromString() accepts), "" if unset or not
+    /// representable (objects, textures).
+    std::string valueString(std::string_view name) const;
+    /// Scalar components of a numeric key's value (bool, int, double, dvecN, dmatN; column-major),
+    /// or an empty vector if unset or not numeric. For change tolerances.
+    std::vector<double> numeric(std::string_view name) const;
+    /// Every declared key, sorted by name.
+    std::vector<KeyDescription> describe() const;
+    /// Type, range, unit of a declared key (nullopt if undeclared).
+    std::optional<KeyInfo> info(std::string_view name) const;
+
     /// Version counter of a key (0 if unset or undeclared); bumped on every change.
     uint64_t version(std::string_view name) const {
         auto it = entries_.find(std::string(name));
@@ -210,7 +285,16 @@ private:
         std::optional<Range> range;
         uint64_t version = 0;
         bool isSet = false;
+        std::string unit, description, declarer;
     };
+
+    Entry makeEntry(const KeyInfo& k, std::any value, bool isSet) const {
+        Entry e{std::move(value), k.type, k.typeName, k.range, isSet ? 1u : 0u, isSet, k.unit, k.description, declarer_};
+        return e;
+    }
+    /// Throws if `k` disagrees with the entry's type, range or unit, naming both declarers; adopts
+    /// the range, unit and description when the entry had none.
+    void checkCompatible(Entry& e, const KeyInfo& k) const;
 
     template <class T>
     static void checkType(const Entry& e, const std::string& name) {
@@ -232,6 +316,7 @@ private:
     static void checkScalar(const std::string& name, const std::optional<Range>& range, double v);
 
     std::map<std::string, Entry, std::less<>> entries_;
+    std::string declarer_ = "host";
 };
 
 }  // namespace welkin

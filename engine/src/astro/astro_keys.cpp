@@ -1,4 +1,7 @@
 #include <welkin/astro/astro_keys.hpp>
+#include <welkin/astro/stars.hpp>
+
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -51,6 +54,11 @@ void updateSkyVars(SkyVars& vars) {
     Ephemeris eph;
     eph.update(frame);
 
+    const StarFrame sf = starFrame(frame);
+    vars.set(keys::starFrameRotation, sf.icrsToEnu);
+    vars.set(keys::starFrameAberration, sf.aberration);
+    vars.set(keys::starFrameEpochYears, sf.yearsSinceJ2000);
+
     const BodyState& sun = eph[Body::Sun];
     const BodyState& moon = eph[Body::Moon];
     vars.set(welkin::keys::sunDirection, sun.topo.enu);
@@ -80,6 +88,62 @@ void updateSkyVars(SkyVars& vars) {
         vars.set(keys::planetMagnitude(b), p.magnitude);
         vars.set(keys::planetAngularDiameter(b), p.angularDiameterRad);
     }
+}
+
+AstronomyGenerator::AstronomyGenerator() : Generator("astronomy") {
+    input(welkin::keys::timeJdUtc);
+    input(welkin::keys::observerLatitude);
+    input(welkin::keys::observerLongitude);
+    input(welkin::keys::observerHeight);
+    input(keys::precise);
+    input(keys::refractionPressure);
+    input(keys::refractionTemperature);
+    output(welkin::keys::sunDirection);
+    output(welkin::keys::moonDirection);
+    for (auto* k : {&keys::sunDistance, &keys::sunAngularRadius, &keys::sunAzimuth, &keys::sunAltitude, &keys::moonDistance,
+                    &keys::moonAngularRadius, &keys::moonAzimuth, &keys::moonAltitude, &keys::moonPhaseAngle,
+                    &keys::moonIlluminatedFraction, &keys::moonBrightLimbAngle, &keys::moonLibrationLon, &keys::moonLibrationLat,
+                    &keys::moonAxisAngle, &keys::moonMagnitude, &keys::moonParallacticAngle, &keys::starFrameEpochYears})
+        output(*k);
+    output(keys::starFrameRotation);
+    output(keys::starFrameAberration);
+    for (Body b : kAllBodies) {
+        if (b == Body::Sun || b == Body::Moon) continue;
+        output(keys::planetDirection(b));
+        output(keys::planetMagnitude(b));
+        output(keys::planetAngularDiameter(b));
+    }
+}
+
+void AstronomyGenerator::doDeclare(SkyVars& vars) {
+    vars.declare(keys::precise, false);
+    vars.declare(keys::refractionPressure, 1013.25);
+    vars.declare(keys::refractionTemperature, 10.0);
+}
+
+void AstronomyGenerator::doRun(SkyVars& vars, const Logger&) {
+    updateSkyVars(vars);
+    sunAz_ = vars.get(keys::sunAzimuth);
+    sunAlt_ = vars.get(keys::sunAltitude);
+    moonAz_ = vars.get(keys::moonAzimuth);
+    moonAlt_ = vars.get(keys::moonAltitude);
+    moonPhase_ = vars.get(keys::moonPhaseAngle);
+    moonFraction_ = vars.get(keys::moonIlluminatedFraction);
+    precise_ = vars.get(keys::precise);
+    ran_ = true;
+}
+
+void AstronomyGenerator::doStats(nlohmann::json& root) const {
+    if (!ran_) return;
+    constexpr double deg = 180.0 / welkin::keys::kPi;
+    root["sun"]["az_deg"] = sunAz_ * deg;
+    root["sun"]["alt_deg"] = sunAlt_ * deg;
+    root["moon"]["az_deg"] = moonAz_ * deg;
+    root["moon"]["alt_deg"] = moonAlt_ * deg;
+    root["moon"]["phase_angle_deg"] = moonPhase_ * deg;
+    root["moon"]["illuminated_fraction"] = moonFraction_;
+    root["astronomy"]["path"] = precise_ ? "precise" : "fast";
+    root["astronomy"]["last_ms"] = timing().lastMs;
 }
 
 }  // namespace welkin::astro

@@ -337,6 +337,8 @@ namespace magnitude {
 
 double sun(double delta) { return -26.74 + 5.0 * std::log10(delta); }
 
+double illuminanceLux(double m) { return std::pow(10.0, -0.4 * (m + 13.99)); }
+
 double moon(double r, double delta, double a) {
     a = std::fabs(a);
     return 0.21 + 5.0 * std::log10(r * delta) + 0.026 * a + 4e-9 * a * a * a * a;

@@ -21,7 +21,7 @@ void AerialPerspective::bindResources(const SkyVars& vars, const gl::Program& pr
     if (!vars.has(skykeys::aerialInscatter))
         throw Error("AerialPerspective: the sky's aerial-perspective volume does not exist yet (render a frame with the Sky element first)");
     SkyModel m = SkyModel::fromVars(vars);
-    const SkyQuality q = SkyQuality::preset(vars.getOr(skykeys::quality, vars.getOr(keys::quality, 1)));
+    const SkyQuality q = SkyQuality::preset(effectiveQuality(vars));
     AtmosphereBlock block = AtmosphereBlock::from(m, q.shBands);
     if (!ubo_) ubo_ = gl::Buffer(sizeof block);
     ubo_.update(&block, sizeof block);
@@ -31,7 +31,7 @@ void AerialPerspective::bindResources(const SkyVars& vars, const gl::Program& pr
     glm::dvec3 sun = vars.getOr(keys::sunDirection, glm::dvec3(0, 0, 1));
     const double Ht = m.topRadius - m.bottomRadius;
     glProgramUniform3f(program.id(), program.location("welkin_apSunDir"), float(sun.x), float(sun.y), float(sun.z));
-    glm::vec3 E(vars.getOr(skykeys::sunIlluminance, m.solarIlluminance));
+    glm::vec3 E(vars.getOr(lightkeys::sunIlluminance, m.solarIlluminance));
     glProgramUniform3f(program.id(), program.location("welkin_apSunE"), E.x, E.y, E.z);
     glProgramUniform1f(program.id(), program.location("welkin_apH"), float(std::clamp(vars.getOr(keys::observerHeight, 0.0), 0.0, Ht)));
     glProgramUniform1f(program.id(), program.location("welkin_apMaxDistance"), float(q.aerialMaxDistance));

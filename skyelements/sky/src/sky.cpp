@@ -20,126 +20,8 @@ using namespace welkin::generators;
 
 namespace {
 constexpr double kPi = std::numbers::pi;
-constexpr double kAu = 1.495978707e11;         // m
-constexpr double kMoonMeanDistance = 384400e3;  // m, Allen's law reference distance
-constexpr double kMoonAngularRadius = 0.0045;   // rad, mean
-// Astronomy keys (engine/include/welkin/astro/astro_keys.hpp writes them; same names and types).
-const Key<double> kSunDistance{"sun.distance_m", Range{1.4e11, 1.6e11}};
-const Key<double> kSunAngularRadius{"sun.angular_radius_rad", Range{0, 0.01}};
-const Key<double> kMoonDistance{"moon.distance_m", Range{3.4e8, 4.1e8}};
-const Key<double> kMoonPhaseAngle{"moon.phase_angle_rad", Range{0, kPi}};
-
-double luminance(const glm::dvec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
-
-// Transmittance from the observer (any height) towards a direction, CPU double precision; 0 if the
-// planet is in the way.
-glm::dvec3 transmittanceTowards(const SkyModel& m, double h, const glm::dvec3& dir) {
-    const double R = m.bottomRadius, Ht = m.topRadius - R;
-    double mu = std::clamp(dir.z, -1.0, 1.0);
-    h = std::max(h, 0.0);
-    if (h > Ht) {
-        double r = R + h;
-        double disc = r * r * mu * mu - (h - Ht) * (2.0 * R + h + Ht);
-        if (mu >= 0.0 || disc < 0.0) return glm::dvec3(1.0);
-        double t = -r * mu - std::sqrt(disc);
-        mu = std::clamp((r * mu + t) / m.topRadius, -1.0, 1.0);
-        h = Ht;
-    }
-    if (cpu::rayIntersectsGround(m, h, mu)) return glm::dvec3(0.0);
-    return cpu::transmittanceToTop(m, h, mu, 256);
-}
-
-/// The lights: top-of-atmosphere illuminance of the Sun and Moon, the Sun's disk radiance and
-/// the transmittances, computed on the CPU (double) before the LUT passes that use them.
-class SkyLights final : public Generator {
-public:
-    SkyLights() : Generator("sky.lights") {
-        input(atmosphere::kAtmosphere);
-        input(keys::sunDirection);
-        input(keys::moonDirection);
-        input(keys::observerHeight);
-        input(kSunDistance);
-        input(kSunAngularRadius);
-        input(kMoonDistance);
-        input(kMoonPhaseAngle);
-        input(skykeys::wavelengths);
-        input(skykeys::quality);
-        input(keys::quality);
-        output(skykeys::sunIlluminance);
-        output(skykeys::moonIlluminance);
-        output(skykeys::sunDiskRadiance);
-        output(skykeys::sunTransmittance);
-        output(skykeys::moonTransmittance);
-    }
-    bool moon = true;
-
-private:
-    void doRun(SkyVars& vars, const Logger& log) override {
-        SkyModel m = SkyModel::fromVars(vars);
-        double h = vars.getOr(keys::observerHeight, 0.0);
-        if (h < 0.0) {
-            char buf[160];
-            std::snprintf(buf, sizeof buf, "Sky: observer height %g m is below the ground; clamped to 0 m", h);
-            log.warn(buf);
-            h = 0.0;
-        }
-        auto unit = [](glm::dvec3 d) { return glm::length(d) > 0 ? glm::normalize(d) : glm::dvec3(0, 0, -1); };
-        glm::dvec3 sun = unit(vars.getOr(keys::sunDirection, glm::dvec3(0, 0, 1)));
-        glm::dvec3 moonDir = unit(vars.getOr(keys::moonDirection, glm::dvec3(0, 0, -1)));
-        double sunDist = vars.getOr(kSunDistance, kAu);
-        glm::dvec3 Esun = m.solarIlluminance * (kAu / sunDist) * (kAu / sunDist);
-        double alpha = vars.getOr(kSunAngularRadius, m.sunAngularRadius);
-        if (alpha <= 0) alpha = m.sunAngularRadius;
-        // Spectral mode: per wavelength, combined as the transmitted linear sRGB of the solar
-        // spectrum over the unattenuated one (sky_spectral.hpp), like the combined LUT.
-        validateWavelengthCount(vars.getOr(skykeys::wavelengths, 0), "sky.wavelengths");
-        const int n = effectiveWavelengths(vars.getOr(skykeys::wavelengths, 0),
-                                           SkyQuality::preset(vars.getOr(skykeys::quality, vars.getOr(keys::quality, 1))));
-        std::optional<SpectralSampling> sp;
-        if (n != 3) {
-            std::shared_ptr<const atmosphere::Atmosphere> a;
-            if (vars.has(atmosphere::kAtmosphere)) a = vars.get(atmosphere::kAtmosphere);
-            sp = SpectralSampling::make(a ? *a : atmosphere::Atmosphere::earthClear(), n);
-        }
-        auto transmittance = [&](const glm::dvec3& d) {
-            if (!sp) return transmittanceTowards(m, h, d);
-            std::vector<glm::dvec3> t;
-            for (const SkyModel& mk : sp->models) t.push_back(transmittanceTowards(mk, h, d));
-            // A deep-red setting Sun is outside the sRGB gamut: its blue (and green) channel can
-            // come out slightly negative; clamped at 0 like the combined LUTs.
-            return glm::max(sp->combine(t), glm::dvec3(0.0));
-        };
-        glm::dvec3 Tsun = transmittance(sun);
-        // Mean radiance of a uniform disk of angular radius alpha: E / (pi alpha^2).
-        glm::dvec3 disk = Esun * Tsun / (kPi * alpha * alpha);
-        glm::dvec3 Emoon(0.0);
-        if (moon) {
-            double phase;
-            if (vars.has(kMoonPhaseAngle)) {
-                phase = vars.get(kMoonPhaseAngle);
-            } else {
-                // Phase angle ~ pi - elongation (the Sun is ~390x farther than the Moon).
-                phase = kPi - std::acos(std::clamp(glm::dot(sun, moonDir), -1.0, 1.0));
-            }
-            double E = moonIlluminanceLux(phase, vars.getOr(kMoonDistance, kMoonMeanDistance));
-            Emoon = m.solarIlluminance * (E / luminance(m.solarIlluminance));
-        }
-        vars.set(skykeys::sunIlluminance, Esun);
-        vars.set(skykeys::moonIlluminance, Emoon);
-        vars.set(skykeys::sunDiskRadiance, disk);
-        vars.set(skykeys::sunTransmittance, glm::clamp(Tsun, 0.0, 1.0));
-        vars.set(skykeys::moonTransmittance, glm::clamp(transmittance(moonDir), 0.0, 1.0));
-    }
-};
-
-const Key<std::shared_ptr<SkyLights>> kGenLights{"sky.gen.lights"};
+constexpr double kMoonAngularRadius = 0.0045;  // rad, mean (the Moon's share of the sky view)
 }  // namespace
-
-double moonIlluminanceLux(double phaseAngleRad, double distanceM) {
-    double i = std::clamp(std::abs(phaseAngleRad), 0.0, kPi) * 180.0 / kPi;
-    double mag = -12.73 + 0.026 * i + 4e-9 * i * i * i * i + 5.0 * std::log10(distanceM / kMoonMeanDistance);
-    return std::pow(10.0, -0.4 * (mag + 13.99));
-}
 
 void SkyOptions::validate() const {
     if (quality < -1 || quality > 3) {
@@ -152,33 +34,36 @@ void SkyOptions::validate() const {
 
 Sky::Sky(const SkyOptions& options) : SkyElement("sky"), options_(options) {
     options_.validate();
+    option(skykeys::quality, options_.quality);
+    option(skykeys::moonLight, options_.moon);
+    option(skykeys::wavelengths, options_.wavelengths);
     reads(keys::sunDirection);
     reads(keys::moonDirection);
     reads(keys::observerHeight);
     reads(keys::quality);
     reads(atmosphere::kAtmosphere);
-    writes(skykeys::sunDiskRadiance);
-    writes(skykeys::horizontalIlluminance);
+    reads(lightkeys::sunIlluminance);
+    reads(lightkeys::moonIlluminance);
 }
 
-void Sky::setOptions(const SkyOptions& options) {
-    options.validate();
-    options_ = options;
+namespace {
+// The element's options as they stand in `v` (checked: a host may have set any value in range).
+SkyOptions optionsFrom(const SkyVars& v) {
+    SkyOptions o;
+    o.quality = v.get(skykeys::quality);
+    o.moon = v.get(skykeys::moonLight);
+    o.wavelengths = v.get(skykeys::wavelengths);
+    o.validate();
+    return o;
 }
+}  // namespace
 
 void Sky::doInit(InitContext& ctx) {
     SkyVars& v = ctx.vars;
-    if (!v.has(atmosphere::kAtmosphere))
-        v.set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(atmosphere::Atmosphere::earthClear()));
-    v.declare(keys::sunDirection, directionFromAzAlt(kPi, kPi / 4));  // until the astronomy step sets it
-    v.declare(keys::moonDirection, glm::dvec3(0, 0, -1));
-    v.declare(keys::observerHeight, 0.0);
-    v.declare(keys::quality, 1);
-    if (options_.quality >= 0) v.set(skykeys::quality, options_.quality);
-    if (options_.wavelengths > 0) v.set(skykeys::wavelengths, options_.wavelengths);
-    else v.declare(skykeys::wavelengths, 0);
-    auto lights = v.obtain<SkyLights>(kGenLights, [] { return std::make_shared<SkyLights>(); });
-    lights->moon = options_.moon;
+    declareOptions(v);
+    options_ = optionsFrom(v);
+    auto lights = generators::AtmosphereLights::obtain(v);
+    lights->declareKeys(v);
     luts_ = SkyLuts::obtain(v);
     addGenerator(lights);
     addGenerator(luts_.transmittance);
@@ -219,8 +104,7 @@ gl::ProgramBuilder Sky::recipe(bool perPixel, bool moon, bool transmittance, boo
 
 void Sky::doUpdate(const FrameContext& ctx) {
     SkyVars& v = ctx.vars;
-    if (options_.quality >= 0) v.set(skykeys::quality, options_.quality);
-    if (options_.wavelengths > 0) v.set(skykeys::wavelengths, options_.wavelengths);
+    options_ = optionsFrom(v);
     glm::dvec3 hv = v.getOr(skykeys::horizontalIlluminance, glm::dvec3(0.0));
     global_ = hv.x;
     direct_ = hv.y;
@@ -255,10 +139,10 @@ void Sky::doRender(const FrameContext& ctx) {
     glBindTextureUnit(5, v.get(skykeys::multiScatteringLut).id);
     glBindTextureUnit(8, v.get(skykeys::shLut).id);
     auto unit = [](glm::dvec3 d) { return glm::length(d) > 0 ? glm::normalize(d) : glm::dvec3(0, 0, -1); };
-    const glm::dvec3 moonE = options_.moon ? v.getOr(skykeys::moonIlluminance, glm::dvec3(0.0)) : glm::dvec3(0.0);
+    const glm::dvec3 moonE = options_.moon ? v.getOr(lightkeys::moonIlluminance, glm::dvec3(0.0)) : glm::dvec3(0.0);
     // The Moon's term only while it gives light and is above -20 deg (its LUT is black below).
     const bool moon = glm::length(moonE) > 0.0 && unit(v.get(keys::moonDirection)).z > -0.342;
-    const glm::dvec3 sunE = v.getOr(skykeys::sunIlluminance, m.solarIlluminance);
+    const glm::dvec3 sunE = v.getOr(lightkeys::sunIlluminance, m.solarIlluminance);
     const Projection proj = ctx.camera.projection;
     auto setUniforms = [&](const gl::Program& p, const glm::dvec3& eSun, const glm::dvec3& eMoon) {
         p.use();

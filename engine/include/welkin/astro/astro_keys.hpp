@@ -1,15 +1,19 @@
-// SkyVars keys written by the astronomy step each frame, and the function that writes them.
+// SkyVars keys written by the astronomy generator, and the generator that writes them.
 //
 //   welkin::SkyVars vars = welkin::SkyVars::earth();
 //   vars.set(welkin::astro::keys::precise, true);          // ERFA + full VSOP87 instead of series
 //   welkin::astro::updateSkyVars(vars);                    // reads time.* and observer.* keys
 //   glm::dvec3 sun = vars.get(welkin::keys::sunDirection); // ENU unit vector, refracted
 //   double k = vars.get(welkin::astro::keys::moonIlluminatedFraction);
+//   glm::dmat3 m = vars.get(welkin::astro::keys::starFrameRotation);  // ICRS -> ENU, this instant
 //
-// SkyProcessor::deriveVariables() calls updateSkyVars() every frame. Directions are unit vectors in
-// the world ENU frame (x east, y north, z up) towards the refracted (apparent) topocentric place.
+// SkyProcessor registers an AstronomyGenerator (unless ProcessorOptions::astronomy is false): a
+// processor-level generator that runs whenever the time or the observer changed, before every
+// generator that reads what it writes. Directions are unit vectors in the world ENU frame
+// (x east, y north, z up) towards the refracted (apparent) topocentric place.
 #pragma once
 #include <welkin/astro/bodies.hpp>
+#include <welkin/element.hpp>
 #include <welkin/keys.hpp>
 #include <welkin/vars.hpp>
 
@@ -47,6 +51,15 @@ inline const Key<double> moonMagnitude{"moon.magnitude", Range{-14, 0}, "visual 
 /// vertical frame (angle from the zenith direction towards east = position angle - q).
 inline const Key<double> moonParallacticAngle{"moon.parallactic_angle_rad", Range{-welkin::keys::kPi, welkin::keys::kPi}, "parallactic angle at the Moon, rad"};
 
+// --- Star frame (for the Stars element: one rotation per frame on the GPU) ----------------------
+/// Rotation ICRS (J2000 axes) -> observer ENU at this instant (bias-precession-nutation, Earth
+/// rotation, site): v_enu = M * v_icrs. Refraction is not included.
+inline const Key<glm::dmat3> starFrameRotation{"stars.frame_icrs_to_enu", Range{-1, 1}, "rotation ICRS (J2000) -> observer ENU"};
+/// Observer's velocity / c in ICRS axes (annual + diurnal aberration): p_apparent = normalize(p + v).
+inline const Key<glm::dvec3> starFrameAberration{"stars.frame_aberration", Range{-1e-3, 1e-3}, "observer velocity / c, ICRS axes"};
+/// Epoch of the frame: Julian years of TT since J2000.0 (proper motion: p0 + years * pm).
+inline const Key<double> starFrameEpochYears{"stars.frame_epoch_years", Range{-1e4, 1e4}, "epoch, Julian years of TT since J2000.0", "a"};
+
 // --- Planets (Mercury .. Neptune) ----------------------------------------------------------------
 /// Key for a planet's ENU unit vector ("planet.mars.direction") or magnitude ("planet.mars.magnitude").
 const Key<glm::dvec3>& planetDirection(Body planet);
@@ -61,5 +74,21 @@ namespace welkin::astro {
 /// path chosen by astro.precise, and writes welkin::keys::sunDirection / moonDirection and the keys
 /// above. Declares astro.precise (false) and the refraction keys (1013.25 hPa, 10 C) if absent.
 void updateSkyVars(SkyVars& vars);
+
+/// updateSkyVars() as a generator ("astronomy"): inputs time.jd_utc, observer.*, astro.*;
+/// outputs the Sun, Moon, planets and the star frame. Its stats: Sun and Moon az/alt, the Moon's
+/// phase and illuminated fraction.
+class AstronomyGenerator final : public Generator {
+public:
+    AstronomyGenerator();
+
+private:
+    void doRun(SkyVars& vars, const Logger& log) override;
+    void doDeclare(SkyVars& vars) override;
+    void doStats(nlohmann::json& root) const override;
+    double sunAz_ = 0, sunAlt_ = 0, moonAz_ = 0, moonAlt_ = 0, moonPhase_ = 0, moonFraction_ = 0;
+    bool precise_ = false;
+    bool ran_ = false;
+};
 
 }  // namespace welkin::astro

@@ -100,6 +100,9 @@ double planet(Body b, double r, double delta, double phaseDeg, double subLatitud
 double moon(double r, double delta, double phaseDeg);
 /// The Sun: -26.74 + 5 log10(delta).
 double sun(double delta);
+/// Illuminance outside the atmosphere of a source of visual magnitude `m`, lux:
+/// 2.54e-6 x 10^(-0.4 m) (the V = 0 zero point: 10^(-0.4 x 13.99) lux; Allen, 4th ed., 15.1).
+double illuminanceLux(double m);
 }  // namespace magnitude
 
 }  // namespace welkin::astro

@@ -10,11 +10,13 @@
 //
 // Chain and inputs (a generator re-runs when any input's version changed):
 //   TransmittanceLut      <- sky.atmosphere, sky.quality                       (256x64 medium)
-//   MultiScatteringLut    <- sky.atmosphere, sky.quality, sky.transmittance_rev (32x32)
-//   SkyViewLut (Sun)      <- ..., sky.multiscattering_rev, sun.direction, observer.height_m
+//   MultiScatteringLut    <- sky.atmosphere, sky.quality, sky.transmittance_luts (32x32)
+//   SkyViewLut (Sun)      <- ..., sky.multiscattering_luts, sun.direction, observer.height_m
 //   SkyViewLut (Moon)     <- ..., moon.direction, observer.height_m
 //   AerialPerspectiveLut  <- ..., sun.direction, observer.height_m               (32^3)
-//   SkyIrradiance         <- sky-view revisions, light illuminances, directions
+//   SkyIrradiance         <- the sky views, light illuminances, directions
+// A generator that rewrites a texture in place republishes its key (SkyVars::publish), which
+// bumps the key's version: its readers (which name the texture key as an input) run again.
 // The sky-view and aerial-perspective values are radiance per lux of the light's illuminance
 // (times kLutScale), so one LUT serves any light intensity and colour: multiply by the light's
 // per-channel illuminance (sky.sun_illuminance / sky.moon_illuminance, lux) to get cd/m^2.
@@ -28,6 +30,7 @@
 // cost is unchanged and the LUT cost is about N/3 times RGB's.
 #pragma once
 #include <welkin/element.hpp>
+#include <welkin/generators/lights.hpp>
 #include <welkin/generators/sky_model.hpp>
 #include <welkin/generators/sky_spectral.hpp>
 #include <welkin/gl/objects.hpp>
@@ -43,9 +46,11 @@ namespace welkin::generators {
 inline constexpr double kLutScale = 1e4;
 
 namespace skykeys {
-/// Effective quality preset of the sky passes, 0..3 (set by the Sky element from its options or
-/// render.quality).
-inline const Key<int> quality{"sky.quality", Range{0, 3}, "effective sky quality preset"};
+/// Quality preset of the sky passes: -1 follows render.quality, else 0 low .. 3 reference (an
+/// option of the Sky element). effectiveQuality() resolves it.
+inline const Key<int> quality{"sky.quality", Range{-1, 3}, "sky quality preset: -1 follows render.quality, 0 low, 1 medium, 2 high, 3 reference"};
+/// The Moon as a second light of the sky (an option of the Sky element).
+inline const Key<bool> moonLight{"sky.moon", "the Moon lights the sky (false: Sun only)"};
 inline const Key<TextureRef> transmittanceLut{"sky.transmittance_lut", "transmittance LUT (RGB, to the top of the atmosphere)"};
 /// One texture per wavelength triple (RGB mode: one), for the passes after them; in spectral
 /// mode sky.transmittance_lut is the combined one and sky.multiscattering_lut / sky.sh_lut are
@@ -54,33 +59,19 @@ using TextureList = std::shared_ptr<const std::vector<TextureRef>>;
 inline const Key<TextureList> transmittanceLuts{"sky.transmittance_luts", "transmittance LUT per wavelength triple"};
 inline const Key<TextureList> multiScatteringLuts{"sky.multiscattering_luts", "multiple-scattering LUT per wavelength triple"};
 inline const Key<TextureList> shLuts{"sky.sh_luts", "directional multiple-scattering LUT per wavelength triple"};
-inline const Key<int> transmittanceRev{"sky.transmittance_rev", "transmittance LUT revision"};
 inline const Key<TextureRef> multiScatteringLut{"sky.multiscattering_lut", "multiple-scattering LUT (Hillaire Psi_ms)"};
-inline const Key<int> multiScatteringRev{"sky.multiscattering_rev", "multiple-scattering LUT revision"};
 inline const Key<TextureRef> shLut{"sky.sh_lut", "directional multiple scattering: SH l<=L of the incident field (2D array, layers 0..n-1) and the ground's sky irradiance (layer n, row 0)"};
-inline const Key<int> shRev{"sky.sh_rev", "directional multiple-scattering LUT revision"};
 inline const Key<TextureRef> sunViewLut{"sky.sun_view_lut", "sky-view LUT for the Sun: Rayleigh + multiple scattering + ground"};
 inline const Key<TextureRef> sunViewMieLut{"sky.sun_view_mie_lut", "sky-view LUT for the Sun: Mie single scattering without phase"};
 inline const Key<TextureRef> sunViewTotalLut{"sky.sun_view_total_lut", "sky-view LUT for the Sun: everything, Mie phase at the texel's angle"};
 /// Transmittance observer -> top of the atmosphere along each sky-view latitude (1-D, N = 4 x the
 /// sky view's height; 0 on the ground half), sampled with the sky view's v. Written with the Sun's view.
 inline const Key<TextureRef> viewTransmittanceLut{"sky.view_transmittance_lut", "transmittance to the top along each sky-view latitude (1-D)"};
-inline const Key<int> sunViewRev{"sky.sun_view_rev", "Sun sky-view LUT revision"};
 inline const Key<TextureRef> moonViewLut{"sky.moon_view_lut", "sky-view LUT for the Moon (smooth part)"};
 inline const Key<TextureRef> moonViewMieLut{"sky.moon_view_mie_lut", "sky-view LUT for the Moon (Mie without phase)"};
 inline const Key<TextureRef> moonViewTotalLut{"sky.moon_view_total_lut", "sky-view LUT for the Moon: everything, Mie phase at the texel's angle"};
-inline const Key<int> moonViewRev{"sky.moon_view_rev", "Moon sky-view LUT revision"};
 inline const Key<TextureRef> aerialInscatter{"sky.aerial_inscatter", "aerial perspective volume: in-scattered radiance per lux x kLutScale"};
 inline const Key<TextureRef> aerialTransmittance{"sky.aerial_transmittance", "aerial perspective volume: transmittance"};
-inline const Key<int> aerialRev{"sky.aerial_rev", "aerial perspective revision"};
-/// Light sources at the top of the atmosphere, lux per linear-sRGB channel (Y = illuminance).
-inline const Key<glm::dvec3> sunIlluminance{"sky.sun_illuminance", Range{0, 1e7}, "Sun's illuminance above the atmosphere, lux per channel"};
-inline const Key<glm::dvec3> moonIlluminance{"sky.moon_illuminance", Range{0, 1e3}, "Moon's illuminance above the atmosphere, lux per channel"};
-/// The Sun's disk as seen by the observer: mean radiance (cd/m^2 per channel), reddened by the
-/// atmosphere (0 below the horizon), and the transmittance to it.
-inline const Key<glm::dvec3> sunDiskRadiance{"sky.sun_disk_radiance", Range{0, 1e12}, "Sun's disk radiance at the observer, cd/m^2"};
-inline const Key<glm::dvec3> sunTransmittance{"sky.sun_transmittance", Range{0, 1}, "transmittance observer -> Sun"};
-inline const Key<glm::dvec3> moonTransmittance{"sky.moon_transmittance", Range{0, 1}, "transmittance observer -> Moon"};
 /// Horizontal illuminance at the observer, lux: (global, direct, diffuse); Sun and Moon.
 inline const Key<glm::dvec3> horizontalIlluminance{"sky.horizontal_illuminance", Range{0, 1e7}, "global, direct, diffuse horizontal illuminance, lux"};
 /// Diffuse sky irradiance on a horizontal surface per channel (lux; an ambient term for hosts).
@@ -88,6 +79,9 @@ inline const Key<glm::dvec3> diffuseIrradiance{"sky.diffuse_irradiance", Range{0
 /// Zenith luminance, cd/m^2.
 inline const Key<double> zenithLuminance{"sky.zenith_luminance", Range{0, 1e9}, "zenith luminance, cd/m^2"};
 }  // namespace skykeys
+
+/// The preset the sky passes use: sky.quality if >= 0, else render.quality (default medium).
+int effectiveQuality(const SkyVars& vars);
 
 /// std140 mirror of the WelkinAtmosphere block in atmosphere.glsl (binding 1).
 struct AtmosphereBlock {
@@ -147,6 +141,8 @@ protected:
     }
 
 private:
+    void doRelease() override { releaseGl(); }
+    void doDeclare(SkyVars& vars) override;
     std::shared_ptr<const atmosphere::Atmosphere> spectralFor_;  // cache key of spectral_
 };
 
@@ -165,7 +161,6 @@ private:
     std::vector<gl::Texture2D> triples_;
     gl::Framebuffer fbo_;
     gl::Program prog_;
-    int rev_ = 0;
 };
 
 class MultiScatteringLut final : public SkyGenerator {
@@ -180,7 +175,6 @@ private:
     gl::Texture2D tex_;
     std::vector<gl::Texture2D> more_;  // triples 1.. (spectral mode)
     gl::Program prog_;
-    int rev_ = 0;
 };
 
 /// Directional multiple scattering (SkyQuality::directionalMs): SH l <= L (SkyQuality::shBands)
@@ -205,7 +199,6 @@ private:
     gl::Texture2D ground_;  ///< the sky's irradiance on the ground over mu_s (w x 1)
     gl::Framebuffer groundFbo_;
     gl::Program groundProg_;
-    int rev_ = 0;
 };
 
 enum class Light { Sun, Moon };
@@ -236,7 +229,6 @@ private:
     gl::Framebuffer fbo_, fboK_;
     gl::Program prog_;
     int progBands_ = 0;  // SkyQuality::shBands prog_ was compiled for
-    int rev_ = 0;
     double h_ = 0.0, muS_ = 1.0;
 };
 
@@ -256,7 +248,6 @@ private:
     gl::Texture3D inscatterK_, transmittanceK_;  // spectral mode: one triple's pass
     gl::Program prog_;
     int progBands_ = 0;  // SkyQuality::shBands prog_ was compiled for
-    int rev_ = 0;
 };
 
 /// Horizontal illuminance at the observer (global/direct/diffuse, Sun and Moon) and the zenith

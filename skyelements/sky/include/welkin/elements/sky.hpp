@@ -51,9 +51,6 @@ struct SkyOptions {
     void validate() const;
 };
 
-/// Moon's illuminance at the top of the atmosphere, lux, for a phase angle (rad, 0 = full) and
-/// an observer-Moon distance (m): Allen's magnitude law, see the header comment.
-double moonIlluminanceLux(double phaseAngleRad, double distanceM);
 
 class Sky final : public SkyElement {
 public:

@@ -1,0 +1,161 @@
+// AtmosphereLights: Sun and Moon light above the atmosphere, transmittance to the observer and
+// unreddened disk radiance (CPU, double precision; a few hundred microseconds per run).
+#include <welkin/astro/astro_keys.hpp>
+#include <welkin/astro/bodies.hpp>
+#include <welkin/color.hpp>
+#include <welkin/error.hpp>
+#include <welkin/generators/lights.hpp>
+#include <welkin/generators/sky_luts.hpp>
+#include <welkin/generators/sky_model.hpp>
+#include <welkin/generators/sky_spectral.hpp>
+#include <welkin/keys.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <optional>
+
+namespace welkin::generators {
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+constexpr double kAu = 1.495978707e11;          // m
+constexpr double kMoonMeanDistance = 384400e3;  // m
+constexpr double kMoonRadius = 1737.4e3;        // m (IAU mean radius)
+
+// Transmittance from the observer (any height) towards a direction, CPU double precision; 0 if the
+// planet is in the way.
+glm::dvec3 transmittanceTowards(const SkyModel& m, double h, const glm::dvec3& dir) {
+    const double R = m.bottomRadius, Ht = m.topRadius - R;
+    double mu = std::clamp(dir.z, -1.0, 1.0);
+    h = std::max(h, 0.0);
+    if (h > Ht) {
+        double r = R + h;
+        double disc = r * r * mu * mu - (h - Ht) * (2.0 * R + h + Ht);
+        if (mu >= 0.0 || disc < 0.0) return glm::dvec3(1.0);
+        double t = -r * mu - std::sqrt(disc);
+        mu = std::clamp((r * mu + t) / m.topRadius, -1.0, 1.0);
+        h = Ht;
+    }
+    if (cpu::rayIntersectsGround(m, h, mu)) return glm::dvec3(0.0);
+    return cpu::transmittanceToTop(m, h, mu, 256);
+}
+
+glm::dvec3 unit(const glm::dvec3& d, const glm::dvec3& fallback) { return glm::length(d) > 0 ? glm::normalize(d) : fallback; }
+}  // namespace
+
+double moonRelativeReflectance(double wavelengthNm) { return std::max(0.1, 1.0 + 0.0020 * (wavelengthNm - 550.0)); }
+
+glm::dvec3 moonlightColour(const std::vector<double>& wavelengthsNm, const std::vector<double>& solarIrradiance) {
+    if (wavelengthsNm.size() != solarIrradiance.size() || wavelengthsNm.empty())
+        throw Error("moonlightColour(): wavelengths and irradiance differ in length or are empty");
+    std::vector<double> reflected(solarIrradiance.size());
+    for (size_t i = 0; i < reflected.size(); ++i) reflected[i] = solarIrradiance[i] * moonRelativeReflectance(wavelengthsNm[i]);
+    glm::dvec3 rgb = color::spectrumToLinearSrgb(wavelengthsNm, reflected);
+    const double Y = color::luminance(rgb);
+    return Y > 0 ? rgb / Y : glm::dvec3(1.0);
+}
+
+AtmosphereLights::AtmosphereLights() : Generator("atmosphere.lights") {
+    input(atmosphere::kAtmosphere);
+    input(keys::sunDirection);
+    input(keys::moonDirection);
+    input(keys::observerHeight);
+    input(astro::keys::sunDistance, {.optional = true});
+    input(astro::keys::sunAngularRadius, {.optional = true});
+    input(astro::keys::moonDistance, {.optional = true});
+    input(astro::keys::moonPhaseAngle, {.optional = true});
+    input(astro::keys::moonMagnitude, {.optional = true});
+    input(astro::keys::moonAngularRadius, {.optional = true});
+    input(skykeys::wavelengths);
+    input(skykeys::quality, {.optional = true});
+    input(keys::quality);
+    output(lightkeys::sunIlluminance);
+    output(lightkeys::sunTransmittance);
+    output(lightkeys::sunDiskRadiance);
+    output(lightkeys::moonIlluminance);
+    output(lightkeys::moonTransmittance);
+    output(lightkeys::moonDiskRadiance);
+    output(lightkeys::planetRadius);
+}
+
+std::shared_ptr<AtmosphereLights> AtmosphereLights::obtain(SkyVars& vars) {
+    static const Key<std::shared_ptr<AtmosphereLights>> kShared{"generators.atmosphere_lights"};
+    return vars.obtain<AtmosphereLights>(kShared, [] { return std::make_shared<AtmosphereLights>(); });
+}
+
+void AtmosphereLights::doDeclare(SkyVars& vars) {
+    if (!vars.has(atmosphere::kAtmosphere))
+        vars.set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(atmosphere::Atmosphere::earthClear()));
+    vars.declare(keys::sunDirection, directionFromAzAlt(kPi, kPi / 4));  // until the astronomy (or host) sets it
+    vars.declare(keys::moonDirection, glm::dvec3(0, 0, -1));
+    vars.declare(keys::observerHeight, 0.0);
+    vars.declare(keys::quality, 1);
+    vars.declare(skykeys::wavelengths, 0);
+}
+
+void AtmosphereLights::doRun(SkyVars& vars, const Logger& log) {
+    SkyModel m = SkyModel::fromVars(vars);
+    std::shared_ptr<const atmosphere::Atmosphere> atm;
+    if (vars.has(atmosphere::kAtmosphere)) atm = vars.get(atmosphere::kAtmosphere);
+    const atmosphere::Atmosphere& a = atm ? *atm : atmosphere::Atmosphere::earthClear();
+    double h = vars.getOr(keys::observerHeight, 0.0);
+    if (h < 0.0) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "atmosphere.lights: observer height %g m is below the ground; clamped to 0 m", h);
+        log.warn(buf);
+        h = 0.0;
+    }
+    const glm::dvec3 sun = unit(vars.getOr(keys::sunDirection, glm::dvec3(0, 0, 1)), glm::dvec3(0, 0, -1));
+    const glm::dvec3 moonDir = unit(vars.getOr(keys::moonDirection, glm::dvec3(0, 0, -1)), glm::dvec3(0, 0, -1));
+    const double sunDist = vars.getOr(astro::keys::sunDistance, kAu);
+    const glm::dvec3 Esun = m.solarIlluminance * (kAu / sunDist) * (kAu / sunDist);
+    double alpha = vars.getOr(astro::keys::sunAngularRadius, m.sunAngularRadius);
+    if (alpha <= 0) alpha = m.sunAngularRadius;
+    // Spectral mode: per wavelength, combined as the transmitted linear sRGB of the solar
+    // spectrum over the unattenuated one (sky_spectral.hpp), like the combined LUT.
+    validateWavelengthCount(vars.getOr(skykeys::wavelengths, 0), "sky.wavelengths");
+    const int n = effectiveWavelengths(vars.getOr(skykeys::wavelengths, 0),
+                                       SkyQuality::preset(effectiveQuality(vars)));
+    std::optional<SpectralSampling> sp;
+    if (n != 3) sp = SpectralSampling::make(a, n);
+    auto transmittance = [&](const glm::dvec3& d) {
+        if (!sp) return transmittanceTowards(m, h, d);
+        std::vector<glm::dvec3> t;
+        for (const SkyModel& mk : sp->models) t.push_back(transmittanceTowards(mk, h, d));
+        // A deep-red setting Sun is outside the sRGB gamut: its blue (and green) channel can
+        // come out slightly negative; clamped at 0 like the combined LUTs.
+        return glm::max(sp->combine(t), glm::dvec3(0.0));
+    };
+    vars.set(lightkeys::sunIlluminance, Esun);
+    vars.set(lightkeys::sunTransmittance, glm::clamp(transmittance(sun), 0.0, 1.0));
+    vars.set(lightkeys::sunDiskRadiance, Esun / (kPi * alpha * alpha));
+
+    glm::dvec3 Emoon(0.0), Lmoon(0.0);
+    if (moon_) {
+        const double dist = vars.getOr(astro::keys::moonDistance, kMoonMeanDistance);
+        double mag;
+        if (vars.has(astro::keys::moonMagnitude)) {
+            mag = vars.get(astro::keys::moonMagnitude);
+        } else {
+            // No astronomy: the same law from the phase angle (or, lacking it, the elongation:
+            // the Sun is ~390x farther than the Moon, so phase ~ pi - elongation).
+            const double phase = vars.has(astro::keys::moonPhaseAngle)
+                                     ? vars.get(astro::keys::moonPhaseAngle)
+                                     : kPi - std::acos(std::clamp(glm::dot(sun, moonDir), -1.0, 1.0));
+            mag = astro::magnitude::moon(1.0, dist / kAu, phase * 180.0 / kPi);
+        }
+        const double E = astro::magnitude::illuminanceLux(mag);
+        Emoon = E * moonlightColour(a.wavelengthsNm, a.solarIrradiance);
+        double am = vars.getOr(astro::keys::moonAngularRadius, std::asin(std::min(1.0, kMoonRadius / dist)));
+        if (am <= 0) am = std::asin(std::min(1.0, kMoonRadius / dist));
+        Lmoon = Emoon / (kPi * am * am);
+    }
+    vars.set(lightkeys::moonIlluminance, Emoon);
+    vars.set(lightkeys::moonTransmittance, glm::clamp(transmittance(moonDir), 0.0, 1.0));
+    vars.set(lightkeys::moonDiskRadiance, Lmoon);
+    vars.set(lightkeys::planetRadius, m.bottomRadius);
+}
+
+}  // namespace welkin::generators
