@@ -2,7 +2,6 @@
 
 #include <welkin/elements/registry.hpp>
 #include <welkin/error.hpp>
-#include <welkin/generators/sky_spectral.hpp>
 #include <welkin/keys.hpp>
 
 #include <cmath>
@@ -59,10 +58,11 @@ void SceneOptions::addTo(CLI::App& app, bool required) {
     app.add_option("--size", size, "image size WIDTHxHEIGHT, each in [1, 16384]")->capture_default_str();
     app.add_option("--exposure", exposure, "EV100 in [-20, 30], or auto")->capture_default_str();
     app.add_option("--quality", quality, "low | medium | high | reference")->capture_default_str();
-    app.add_option("--wavelengths", wavelengths,
-                   "sky light transport: 0 = the quality preset's (reference: 15, else 3), 3 = RGB, or 6..24 (a multiple of 3) "
-                   "wavelengths through the CIE 1931 observer")
-        ->capture_default_str();
+    app.add_option("--var", vars,
+                   "KEY=VALUE: set any SkyVars key (an element's option, the atmosphere's, the astronomy's), checked against "
+                   "its type and range; repeatable; `welkin vars` lists the keys (e.g. --var sky.wavelengths=15 "
+                   "--var grid.altitude_step_rad=15deg)")
+        ->allow_extra_args(false);
 }
 
 UtcInstant SceneOptions::instant() const {
@@ -137,20 +137,35 @@ void SceneOptions::validate() const {
     camera();
     exposureSetting();
     qualityLevel();
-    generators::validateWavelengthCount(wavelengths, "--wavelengths");
     elementNames();
+    // The --var values against the keys the elements and the processor declare (no GL needed).
+    SkyProcessor probe;
+    for (auto& n : elementNames()) probe.add(elements::makeElement(n));
+    applyVars(probe);
+    for (auto& e : probe.elements()) e->validateOptions(probe.vars());
+}
+
+void SceneOptions::applyVars(SkyProcessor& p) const {
+    for (const std::string& kv : vars) {
+        const size_t eq = kv.find('=');
+        if (eq == std::string::npos || eq == 0) throw Error("--var '" + kv + "' is not KEY=VALUE");
+        try {
+            p.vars().setFromString(kv.substr(0, eq), kv.substr(eq + 1));
+        } catch (const Error& e) {
+            throw Error("--var " + kv + ": " + e.what());
+        }
+    }
 }
 
 void SceneOptions::apply(SkyProcessor& p) const {
     p.setAnimationTime(0.0);  // deterministic: animated elements show their state at t = 0
     p.vars().set(keys::quality, qualityLevel());
-    generators::validateWavelengthCount(wavelengths, "--wavelengths");
-    p.vars().set(generators::skykeys::wavelengths, wavelengths);
     p.setTime(instant());
     p.setObserver(observer());
     p.setCamera(camera());
     p.setExposure(exposureSetting());
     for (auto& n : elementNames()) p.add(elements::makeElement(n));
+    applyVars(p);
 }
 
 }  // namespace welkin::cli

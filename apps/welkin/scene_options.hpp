@@ -20,7 +20,7 @@ struct SceneOptions {
     std::string size = "1280x720";
     std::string exposure = "auto";
     std::string quality = "medium";
-    int wavelengths = 0;  ///< sky: 0 = quality preset's, 3 = RGB, 6..24 (multiple of 3) = spectral
+    std::vector<std::string> vars;  ///< --var KEY=VALUE, in order
 
     /// Adds the options to a subcommand.
     void addTo(CLI::App& app, bool requireTimeAndPlace);
@@ -32,8 +32,11 @@ struct SceneOptions {
     Exposure exposureSetting() const;
     int qualityLevel() const;
     std::vector<std::string> elementNames() const;
-    /// Adds the elements and the scene state to a processor.
+    /// Adds the elements and the scene state to a processor, then the --var values (after the
+    /// elements, which declare their options).
     void apply(SkyProcessor& processor) const;
+    /// Sets the --var values on `processor` (each "KEY=VALUE"); throws naming the option.
+    void applyVars(SkyProcessor& processor) const;
 };
 
 /// Parses "WxH" (each in [1, 16384]); throws naming `option`.

@@ -172,6 +172,7 @@ void SkyProcessor::init() {
     for (auto& e : elements_) {
         if (!e->initialized()) {
             SkyVars::DeclarerScope scope(vars_, e->name());
+            e->declareOptions(vars_);
             e->init(ctx);
             e->resize(camera_.width, camera_.height);
             orderValid_ = false;

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 
 namespace welkin {
 
@@ -52,13 +53,14 @@ std::string trim(std::string_view t) {
 std::string formatDouble(double v) {
     char buf[40];
     std::snprintf(buf, sizeof buf, "%.17g", v);
-    // Shortest form that reads back to the same double.
+    // Shortest form that reads back to the same double ("10", not "1e+01").
+    std::string best = buf;
     for (int p = 1; p <= 17; ++p) {
         char b2[40];
         std::snprintf(b2, sizeof b2, "%.*g", p, v);
-        if (std::strtod(b2, nullptr) == v) return b2;
+        if (std::strtod(b2, nullptr) == v && std::strlen(b2) < best.size()) best = b2;
     }
-    return buf;
+    return best;
 }
 }  // namespace
 

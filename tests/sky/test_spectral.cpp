@@ -360,21 +360,25 @@ TEST_CASE("Sky spectral: the real-time spectral correction matches the reference
 
 #include "cli_runner.hpp"
 
-TEST_CASE("Sky spectral: welkin render --wavelengths", "[gl][sky]") {
+TEST_CASE("Sky spectral: welkin render --var sky.wavelengths", "[gl][sky]") {
     // Refused with one line naming the option and the accepted values; accepted values render
     // and the spectral sky's zenith luminance stays within 3 % of the RGB one (measured: 1.4 % with 6 wavelengths;
     // Atmosphere::rgb()'s wavelengths were chosen to reproduce the spectral luminance).
     auto bad = test::runCli("render --time 2026-06-21T14:00:00Z --lat 45 --lon 0 --elements sky --size 8x8 --out /tmp/x.png "
-                            "--wavelengths 7");
+                            "--var sky.wavelengths=7");
     CHECK(bad.status == 1);
-    CHECK(bad.output == "welkin render: --wavelengths: 7 not 0 (the quality preset's), 3 (RGB) or a multiple of 3 in [6, 24]\n");
+    CHECK(bad.output == "welkin render: sky.wavelengths: 7 not 0 (the quality preset's), 3 (RGB) or a multiple of 3 in [6, 24]\n");
+    auto range = test::runCli("render --time 2026-06-21T14:00:00Z --lat 45 --lon 0 --elements sky --size 8x8 --out /tmp/x.png "
+                              "--var sky.wavelengths=30");
+    CHECK(range.status == 1);
+    CHECK(range.output == "welkin render: --var sky.wavelengths=30: key 'sky.wavelengths' (int in [0, 24]): '30' not in [0, 24]\n");
     const std::string dir = test::scratchDir("spectral_cli");
     double zenith[2] = {0, 0};
     int i = 0;
     for (int n : {3, 6}) {
         const std::string st = dir + "/s" + std::to_string(n) + ".json";
         auto r = test::runCli("render --time 2026-06-21T14:00:00Z --lat 45 --lon 0 --elements sky --projection fisheye --size 16x16 "
-                              "--out " + dir + "/a.png --stats " + st + " --wavelengths " + std::to_string(n));
+                              "--out " + dir + "/a.png --stats " + st + " --var sky.wavelengths=" + std::to_string(n));
         INFO(r.output);
         REQUIRE(r.status == 0);
         std::ifstream f(st);

@@ -166,10 +166,17 @@ public:
     /// The element's options: keys it declares with defaults (settable by the host, by
     /// `welkin render --var KEY=VALUE` and listed by `welkin vars`).
     const std::vector<KeyInfo>& optionKeys() const { return optionKeys_; }
-    /// Declares the option keys with their defaults (SkyProcessor::add() does it, with the
-    /// element named as the declarer; a key already declared keeps its value).
-    void declareOptions(SkyVars& vars) const {
+    /// Checks the option values in `vars` together (beyond each key's own range), throwing one
+    /// line naming the key and what it accepts. Needs no GL: tools call it before rendering.
+    void validateOptions(const SkyVars& vars) const { doValidateOptions(vars); }
+    /// Declares the option keys with their defaults in `vars` (SkyProcessor::add() does it, with
+    /// the element named as the declarer; a key already declared keeps its value unless the
+    /// element was constructed with explicit options). Once per SkyVars: a second call for the
+    /// same SkyVars does nothing, so values set since (a host, --var) are kept.
+    void declareOptions(SkyVars& vars) {
+        if (optionsDeclaredIn_ == &vars) return;
         for (auto& d : optionDeclarers_) d(vars);
+        optionsDeclaredIn_ = &vars;
     }
     const std::vector<std::shared_ptr<Generator>>& generators() const { return generators_; }
 
@@ -190,11 +197,16 @@ protected:
     void writes(const Key<T>& key) { writes_.push_back(key.info()); }
     /// Declares an option: a key with a default, read by the element (also counts as reads()).
     /// Call in the constructor; read the value in doUpdate()/doRender() with ctx.vars.get(key).
+    /// `force`: the value is set even if the key already has one (a constructor given explicit
+    /// options means them); otherwise a value already there (shared, or set by the host) wins.
     template <class T>
-    void option(const Key<T>& key, T defaultValue) {
+    void option(const Key<T>& key, T defaultValue, bool force = false) {
         optionKeys_.push_back(key.info());
         reads_.push_back(key.info());
-        optionDeclarers_.push_back([key, defaultValue](SkyVars& v) { v.declare(key, defaultValue); });
+        optionDeclarers_.push_back([key, defaultValue, force](SkyVars& v) {
+            v.declare(key, defaultValue);
+            if (force) v.set(key, defaultValue);
+        });
     }
     /// Adds a generator this element depends on (shared instances are run once per frame).
     void addGenerator(std::shared_ptr<Generator> g);
@@ -206,12 +218,14 @@ private:
     virtual void doResize(int, int) {}
     virtual void doRelease() = 0;
     virtual void doStats(nlohmann::json&) const {}
+    virtual void doValidateOptions(const SkyVars&) const {}
 
     void requireInitialized(const char* what) const;
 
     std::string name_;
     std::vector<KeyInfo> reads_, writes_, optionKeys_;
     std::vector<std::function<void(SkyVars&)>> optionDeclarers_;
+    const SkyVars* optionsDeclaredIn_ = nullptr;
     std::vector<std::shared_ptr<Generator>> generators_;
     bool initialized_ = false;
     bool timingEnabled_ = false;

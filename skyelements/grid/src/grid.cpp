@@ -24,17 +24,23 @@ void GridOptions::validate() const {
     check("luminanceCdM2", luminanceCdM2, 0, 1e10);
 }
 
-Grid::Grid(const GridOptions& options) : SkyElement("grid"), options_(options) {
-    options_.validate();
+Grid::Grid() : Grid(GridOptions{}, false) {}
+
+Grid::Grid(const GridOptions& options) : Grid(options, true) {}
+
+Grid::Grid(const GridOptions& o, bool force) : SkyElement("grid") {
+    o.validate();
+    option(gridkeys::altitudeStep, o.altitudeStepDeg * gridkeys::kDeg, force);
+    option(gridkeys::azimuthStep, o.azimuthStepDeg * gridkeys::kDeg, force);
+    option(gridkeys::lineWidth, o.lineWidthPx, force);
+    option(gridkeys::horizonWidth, o.horizonWidthPx, force);
+    option(gridkeys::luminance, o.luminanceCdM2, force);
+    option(gridkeys::markers, o.markers, force);
     reads(keys::exposureEv100);
 }
 
-void Grid::setOptions(const GridOptions& options) {
-    options.validate();
-    options_ = options;
-}
-
 void Grid::doInit(InitContext& ctx) {
+    declareOptions(ctx.vars);
     ctx.vars.declare(keys::exposureEv100, 15.0);
     programs_ = gl::ProjectionPrograms(gl::ProgramBuilder("Grid")
                                            .fullscreenVertex()
@@ -45,21 +51,23 @@ void Grid::doInit(InitContext& ctx) {
 }
 
 void Grid::doRender(const FrameContext& ctx) {
-    double L = options_.luminanceCdM2;
-    if (L <= 0) L = 0.8 * 1.2 * std::exp2(ctx.vars.get(keys::exposureEv100));  // ~80 % of white
+    const SkyVars& v = ctx.vars;
+    double L = v.get(gridkeys::luminance);
+    if (L <= 0) L = 0.8 * 1.2 * std::exp2(v.get(keys::exposureEv100));  // ~80 % of white
+    const bool markers = v.get(gridkeys::markers);
     const gl::Program& program_ = programs_.get(ctx.camera.projection);
     program_.use();
-    program_.set("u_altStep", float(options_.altitudeStepDeg * M_PI / 180));
-    program_.set("u_azStep", float(options_.azimuthStepDeg * M_PI / 180));
-    program_.set("u_lineWidthPx", float(options_.lineWidthPx));
-    program_.set("u_horizonWidthPx", float(options_.horizonWidthPx));
+    program_.set("u_altStep", float(v.get(gridkeys::altitudeStep)));
+    program_.set("u_azStep", float(v.get(gridkeys::azimuthStep)));
+    program_.set("u_lineWidthPx", float(v.get(gridkeys::lineWidth)));
+    program_.set("u_horizonWidthPx", float(v.get(gridkeys::horizonWidth)));
     program_.set("u_luminance", float(L));
     // Cardinal markers: placed in pixel space so the letters read upright in every projection.
     static constexpr double kAz[4] = {0, M_PI / 2, M_PI, 3 * M_PI / 2};  // N, E, S, W
     glm::vec4 pos[4];
     for (int i = 0; i < 4; ++i) {
         auto p = ctx.camera.pixelOf(directionFromAzAlt(kAz[i], kMarkerAltitudeRad));
-        pos[i] = (p && options_.markers) ? glm::vec4(float(p->x), float(p->y), 1, 0) : glm::vec4(0);
+        pos[i] = (p && markers) ? glm::vec4(float(p->x), float(p->y), 1, 0) : glm::vec4(0);
     }
     glProgramUniform4fv(program_.id(), program_.location("u_markers"), 4, &pos[0].x);
     float scale = std::max(1.0f, std::round(float(std::min(ctx.camera.width, ctx.camera.height)) / 128.0f));
@@ -70,3 +78,9 @@ void Grid::doRender(const FrameContext& ctx) {
 void Grid::doRelease() { programs_.releasePrograms(); }
 
 }  // namespace welkin::elements
+
+WELKIN_ELEMENT_DESCRIPTOR(grid) {
+    static const welkin::ElementDescriptor d{"grid", "altitude/azimuth coordinate grid with the horizon and N/E/S/W markers",
+                                             welkin::Layer::Overlay, false, [] { return std::make_unique<welkin::elements::Grid>(); }};
+    return d;
+}

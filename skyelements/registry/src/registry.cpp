@@ -1,42 +1,54 @@
-#include <welkin/elements/grid.hpp>
-#include <welkin/elements/sky.hpp>
 #include <welkin/elements/registry.hpp>
 #include <welkin/error.hpp>
 
-#include <functional>
+#include <algorithm>
 #include <utility>
 
 namespace welkin::elements {
 
-namespace {
-using Factory = std::function<std::unique_ptr<SkyElement>()>;
-// Recommended compositing order: farthest first.
-const std::vector<std::pair<std::string, Factory>>& factories() {
-    static const std::vector<std::pair<std::string, Factory>> f = {
-        {"sky", [] { return std::make_unique<Sky>(); }},
-        {"grid", [] { return std::make_unique<Grid>(); }},
-    };
-    return f;
+namespace detail {
+std::vector<const ElementDescriptor*> generatedDescriptors();  // generated/element_registry.cpp
 }
-}  // namespace
+
+const std::vector<const ElementDescriptor*>& descriptors() {
+    static const std::vector<const ElementDescriptor*> all = [] {
+        std::vector<const ElementDescriptor*> d = detail::generatedDescriptors();
+        std::stable_sort(d.begin(), d.end(), [](const ElementDescriptor* a, const ElementDescriptor* b) {
+            return a->layer != b->layer ? a->layer < b->layer : a->name < b->name;
+        });
+        for (size_t i = 1; i < d.size(); ++i)
+            if (d[i]->name == d[i - 1]->name) throw Error("element registry: two elements named '" + d[i]->name + "'");
+        return d;
+    }();
+    return all;
+}
+
+const ElementDescriptor* findDescriptor(std::string_view name) {
+    for (const ElementDescriptor* d : descriptors())
+        if (d->name == name) return d;
+    return nullptr;
+}
 
 std::vector<std::string> knownElements() {
     std::vector<std::string> n;
-    for (auto& [name, f] : factories()) n.push_back(name);
+    for (const ElementDescriptor* d : descriptors()) n.push_back(d->name);
     return n;
 }
 
 std::vector<std::string> defaultElements() {
     std::vector<std::string> n;
-    for (auto& [name, f] : factories())
-        if (name != "grid") n.push_back(name);
-    if (n.empty()) n.push_back("grid");
+    for (const ElementDescriptor* d : descriptors())
+        if (d->inDefaultSet) n.push_back(d->name);
     return n;
 }
 
 std::unique_ptr<SkyElement> makeElement(std::string_view name) {
-    for (auto& [n, f] : factories())
-        if (n == name) return f();
+    if (const ElementDescriptor* d = findDescriptor(name)) {
+        std::unique_ptr<SkyElement> e = d->make();
+        if (!e || e->name() != d->name)
+            throw Error("element registry: the factory of '" + d->name + "' made " + (e ? "'" + e->name() + "'" : std::string("nothing")));
+        return e;
+    }
     std::string known;
     for (auto& k : knownElements()) known += (known.empty() ? "" : ", ") + k;
     throw Error("unknown element '" + std::string(name) + "' (known: " + known + ")");

@@ -32,11 +32,15 @@ void SkyOptions::validate() const {
     validateWavelengthCount(wavelengths, "Sky: wavelengths");
 }
 
-Sky::Sky(const SkyOptions& options) : SkyElement("sky"), options_(options) {
+Sky::Sky() : Sky(SkyOptions{}, false) {}
+
+Sky::Sky(const SkyOptions& options) : Sky(options, true) {}
+
+Sky::Sky(const SkyOptions& options, bool force) : SkyElement("sky"), options_(options) {
     options_.validate();
-    option(skykeys::quality, options_.quality);
-    option(skykeys::moonLight, options_.moon);
-    option(skykeys::wavelengths, options_.wavelengths);
+    option(skykeys::quality, options_.quality, force);
+    option(skykeys::moonLight, options_.moon, force);
+    option(skykeys::wavelengths, options_.wavelengths, force);
     reads(keys::sunDirection);
     reads(keys::moonDirection);
     reads(keys::observerHeight);
@@ -53,10 +57,12 @@ SkyOptions optionsFrom(const SkyVars& v) {
     o.quality = v.get(skykeys::quality);
     o.moon = v.get(skykeys::moonLight);
     o.wavelengths = v.get(skykeys::wavelengths);
-    o.validate();
+    validateWavelengthCount(o.wavelengths, "sky.wavelengths");
     return o;
 }
 }  // namespace
+
+void Sky::doValidateOptions(const SkyVars& vars) const { optionsFrom(vars); }
 
 void Sky::doInit(InitContext& ctx) {
     SkyVars& v = ctx.vars;
@@ -214,3 +220,10 @@ void Sky::doStats(nlohmann::json& root) const {
 }
 
 }  // namespace welkin::elements
+
+WELKIN_ELEMENT_DESCRIPTOR(sky) {
+    static const welkin::ElementDescriptor d{
+        "sky", "the atmosphere: Rayleigh, Mie and ozone scattering of the Sun's and Moon's light, every projection",
+        welkin::Layer::Atmosphere, true, [] { return std::make_unique<welkin::elements::Sky>(); }};
+    return d;
+}

@@ -4,7 +4,10 @@
 //   welkin::elements::GridOptions opt;
 //   opt.altitudeStepDeg = 15;                 // circles of equal altitude every 15 deg
 //   processor.add(std::make_unique<welkin::elements::Grid>(opt));
+//   processor.vars().set(welkin::elements::gridkeys::azimuthStep, 0.5);   // later: any option, rad
+//   // command line: welkin render --elements sky,grid --var grid.altitude_step_rad=15deg
 //
+// Options are keys (gridkeys below): GridOptions gives their values when the element is added.
 // Lines are antialiased and drawn with a constant angular width: `lineWidthPx` pixels at the
 // centre of the image (projections stretch them elsewhere, e.g. towards a fisheye's rim); opaque (they hide
 // what lies behind) and emit `luminanceCdM2` (or, if that is 0, a luminance that the current
@@ -15,6 +18,16 @@
 #include <welkin/gl/projection_programs.hpp>
 
 namespace welkin::elements {
+
+namespace gridkeys {
+inline constexpr double kDeg = 0.017453292519943295;
+inline const Key<double> altitudeStep{"grid.altitude_step_rad", Range{1 * kDeg, 90 * kDeg}, "spacing of altitude circles"};
+inline const Key<double> azimuthStep{"grid.azimuth_step_rad", Range{1 * kDeg, 180 * kDeg}, "spacing of azimuth lines"};
+inline const Key<double> lineWidth{"grid.line_width_px", Range{0.5, 20}, "line width at the image centre", "px"};
+inline const Key<double> horizonWidth{"grid.horizon_width_px", Range{0.5, 40}, "horizon line width", "px"};
+inline const Key<double> luminance{"grid.luminance_cd_m2", Range{0, 1e10}, "line luminance; 0 = 80 % of white at the manual exposure"};
+inline const Key<bool> markers{"grid.markers", "draw N, E, S, W at the horizon"};
+}  // namespace gridkeys
 
 struct GridOptions {
     double altitudeStepDeg = 10.0;  ///< spacing of altitude circles, degrees, [1, 90]
@@ -29,20 +42,20 @@ struct GridOptions {
 
 class Grid final : public SkyElement {
 public:
-    explicit Grid(const GridOptions& options = {});
-    const GridOptions& options() const { return options_; }
-    /// Changes the options (validated); takes effect next frame.
-    void setOptions(const GridOptions& options);
+    /// The option keys with GridOptions{}'s defaults (values already in the SkyVars are kept).
+    Grid();
+    /// The option keys set to `options` (validated) when the element is added.
+    explicit Grid(const GridOptions& options);
 
     /// Altitude of the centres of the cardinal markers, radians (they sit just above the horizon).
     static constexpr double kMarkerAltitudeRad = 0.1396263402;  // 8 deg
 
 private:
+    Grid(const GridOptions& options, bool force);
     void doInit(InitContext& ctx) override;
     void doRender(const FrameContext& ctx) override;
     void doRelease() override;
 
-    GridOptions options_;
     gl::ProjectionPrograms programs_;  // one per camera projection
 };
 

@@ -1,7 +1,10 @@
-// Element factory by name, for the command line, JSON scenes and the viewer.
+// The element registry: every element folder of skyelements/, generated at build time from the
+// folders (each declares WELKIN_ELEMENT_DESCRIPTOR(<folder>)). For the command line, JSON scenes,
+// the viewer and hosts that pick elements by name.
 //
-//   auto names = welkin::elements::knownElements();             // {"grid", ...}
+//   for (auto* d : welkin::elements::descriptors()) std::puts(d->name.c_str());  // sky, grid, ...
 //   processor.add(welkin::elements::makeElement("grid"));        // throws listing known names
+//   for (auto& n : welkin::elements::defaultElements()) processor.add(welkin::elements::makeElement(n));
 #pragma once
 #include <welkin/element.hpp>
 
@@ -12,10 +15,15 @@
 
 namespace welkin::elements {
 
-/// Names accepted by makeElement(), in the recommended compositing order.
+/// Every element's descriptor, in the default compositing order: by Layer (background first),
+/// then by name.
+const std::vector<const ElementDescriptor*>& descriptors();
+/// The descriptor named `name`, or nullptr.
+const ElementDescriptor* findDescriptor(std::string_view name);
+/// Names accepted by makeElement(), in the default compositing order.
 std::vector<std::string> knownElements();
-/// The elements rendered when none are named: every known element except overlays (grid),
-/// or {"grid"} while no other element exists.
+/// The elements rendered when none are named (descriptors with inDefaultSet), in the default
+/// compositing order.
 std::vector<std::string> defaultElements();
 /// A new element with default options. Throws welkin::Error "unknown element 'x' (known: a, b)".
 std::unique_ptr<SkyElement> makeElement(std::string_view name);

@@ -54,20 +54,26 @@ struct SkyOptions {
 
 class Sky final : public SkyElement {
 public:
-    explicit Sky(const SkyOptions& options = {});
+    /// Options as keys (sky.quality, sky.moon, sky.wavelengths), declared with SkyOptions{}'s
+    /// defaults: a value already in the SkyVars (another element's, the host's) is kept.
+    Sky();
+    /// The same keys set to `options` (validated) when the element is added.
+    explicit Sky(const SkyOptions& options);
+    /// The options as the last frame used them (the keys' values).
     const SkyOptions& options() const { return options_; }
-    void setOptions(const SkyOptions& options);
     /// The shared generators (valid after init()).
     const generators::SkyLuts& luts() const { return luts_; }
     /// True if the last frame was ray-marched per pixel (space or reference quality).
     bool perPixel() const { return perPixel_; }
 
 private:
+    Sky(const SkyOptions& options, bool force);
     void doInit(InitContext& ctx) override;
     void doUpdate(const FrameContext& ctx) override;
     void doRender(const FrameContext& ctx) override;
     void doRelease() override;
     void doStats(nlohmann::json& root) const override;
+    void doValidateOptions(const SkyVars& vars) const override;
     /// shBands: SkyQuality::shBands (read by the per-pixel march only).
     static gl::ProgramBuilder recipe(bool perPixel, bool moon, bool transmittance, bool baked, bool spectral, int shBands);
 
