@@ -269,7 +269,8 @@ int run(const SkyBenchOptions& o) {
     CsvWriter csv(o.csv, {"preset", "wavelengths", "sun_alt_deg", "all_luts_ms", "sun_luts_ms", "frame_1280x720_ms",
                           "trivial_1280x720_ms", "frame_512x256_ms", "trivial_512x256_ms", "ratio_1280x720", "ratio_512x256",
                           "rms_rel", "max_rel", "mean_dxy"});
-    csv.comment("welkin bench sky, reference " + o.reference + ", projection " + o.projection + ", " + ctx->description());
+    csv.comment("welkin bench sky, reference integrator " + (o.timingOnly ? std::string("not run (--timing-only)") : o.reference) +
+                ", 1280x720 projection " + o.projection + ", " + ctx->description());
     for (auto& r : rows)
         csv.row(r.preset, r.wavelengths, r.sunAlt, r.allLutsMs, r.sunLutsMs, r.frameBig, r.trivialBig, r.frameSmall, r.trivialSmall,
                 r.ratioBig, r.ratioSmall, r.rms, r.maxErr, r.dxy);

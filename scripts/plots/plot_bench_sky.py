@@ -43,6 +43,15 @@ def read_rows(path):
         return rows
 
 
+def nice_log_ticks(lo, hi):
+    """At least 3 round values in [lo, hi] for a log axis: decades, else 1-2-5, else finer."""
+    for mantissas in ((1,), (1, 2, 5), (1, 1.5, 2, 3, 5, 7), (1, 1.2, 1.4, 1.6, 1.8, 2, 2.5, 3, 3.5, 4, 5, 6, 7, 8, 9)):
+        ticks = [m * 10.0**e for e in range(-3, 7) for m in mantissas if lo <= m * 10.0**e <= hi]
+        if len(ticks) >= 3:
+            return ticks
+    return None
+
+
 def label(preset, wavelengths, spectral_runs):
     name = PRESETS.get(int(preset), f"preset {int(preset)}")
     if spectral_runs:
@@ -62,7 +71,7 @@ def main():
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
         from matplotlib.lines import Line2D
-        from matplotlib.ticker import FuncFormatter
+        from matplotlib.ticker import FuncFormatter, NullFormatter
     except ImportError as e:
         print(f"plot_bench_sky.py: matplotlib is missing ({e}); Debian: apt-get install python3-matplotlib", file=sys.stderr)
         return 3
@@ -102,10 +111,14 @@ def main():
             face = "none" if spectral_runs and wl != 3 else colour
             for x, y, alt in pts:
                 ax.scatter(x, y, marker=marker_of[alt], s=46, facecolors=face, edgecolors=colour, linewidths=1.3, zorder=3)
-        ax.set_xscale("log", base=2)
+        ax.set_xscale("log")
         ax.set_yscale("log")
-        # Plain numbers on both log axes (x: 1, 2, 4, ...; y: 0.5, 1, 2, 5, 10, ...).
+        # Plain numbers on both log axes (x: ×2, ×10, ×100 ... or finer on a narrow range; y: 1, 2, 5, 10 ...).
+        ticks = nice_log_ticks(*ax.get_xlim())
+        if ticks:
+            ax.set_xticks(ticks)
         ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _: f"×{v:g}"))
+        ax.xaxis.set_minor_formatter(NullFormatter())
         ax.yaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
         ax.yaxis.set_minor_formatter(FuncFormatter(lambda v, _: f"{v:g}" if f"{v:g}"[0] in "25" else ""))
         ax.axhline(2.0, color="tab:orange", linestyle="--", linewidth=0.9)
