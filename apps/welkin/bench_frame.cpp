@@ -5,6 +5,7 @@
 #include "bench_util.hpp"
 #include "command.hpp"
 
+#include <welkin/csv.hpp>
 #include <welkin/elements/grid.hpp>
 #include <welkin/error.hpp>
 #include <welkin/gl/context.hpp>
@@ -14,7 +15,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <fstream>
 #include <functional>
 #include <vector>
 
@@ -104,10 +104,9 @@ int run(const FrameBenchOptions& o) {
         if (r.what == "trivial pass, RGBA32F") reference = r.ms;
     for (auto& r : rows) std::printf("| %s | %.2f | %.2f |\n", r.what.c_str(), r.ms, r.ms / reference);
     if (!o.csv.empty()) {
-        std::ofstream f(o.csv);
-        if (!f) throw Error("--csv '" + o.csv + "' cannot be written");
-        f << "pass,ms\n";
-        for (auto& r : rows) f << '"' << r.what << "\"," << r.ms << "\n";
+        CsvWriter f(o.csv, {"pass", "ms"});
+        for (auto& r : rows) f.row(r.what, r.ms);
+        f.close();
     }
     return 0;
 }

@@ -3,34 +3,33 @@
 // (CPU-timed with glFinish) beside a trivial fullscreen pass of the same size in the same run,
 // and the error against the brute-force reference integrator (RGB mode: the same model and
 // channels as the real-time path, all scattering orders) over the upper hemisphere outside the
-// solar disk. Writes a CSV and a PNG plot of error against frame time. `--wavelengths 3,15` also
+// solar disk. Writes a CSV, and from it a PNG plot of error against frame time drawn by
+// scripts/plots/plot_bench_sky.py (matplotlib; see plot.hpp). `--wavelengths 3,15` also
 // runs the spectral mode (sky_spectral.hpp) and `--reference spectral` compares with the
 // reference integrator's spectral mode (the atmosphere's 47 wavelengths through the CIE observer).
 #include "bench_util.hpp"
 #include "command.hpp"
+#include "plot.hpp"
 
 #include <welkin/color.hpp>
+#include <welkin/csv.hpp>
 #include <welkin/elements/sky.hpp>
 #include <welkin/elements/sky_offline.hpp>
 #include <welkin/error.hpp>
 #include <welkin/generators/atmosphere.hpp>
+#include <welkin/generators/reference_sky.hpp>
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/gl/context.hpp>
 #include <welkin/gl/shader.hpp>
 #include <welkin/image.hpp>
 #include <welkin/keys.hpp>
 
-#if __has_include(<welkin/generators/reference_sky.hpp>)
-#include <welkin/generators/reference_sky.hpp>
-#define WELKIN_HAVE_REFERENCE 1
-#endif
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <vector>
@@ -86,63 +85,6 @@ struct Row {
     double rms = NAN, maxErr = NAN, dxy = NAN;
 };
 
-// Tiny 5x7 digits for the plot's labels.
-void drawDigit(Image& img, int d, int x0, int y0, glm::vec3 c) {
-    static const int G[10][7] = {{14, 17, 19, 21, 25, 17, 14}, {4, 12, 4, 4, 4, 4, 14},   {14, 17, 1, 2, 4, 8, 31},
-                                 {31, 2, 4, 2, 1, 17, 14},     {2, 6, 10, 18, 31, 2, 2},  {31, 16, 30, 1, 1, 17, 14},
-                                 {6, 8, 16, 30, 17, 17, 14},   {31, 1, 2, 4, 8, 8, 8},    {14, 17, 17, 14, 17, 17, 14},
-                                 {14, 17, 17, 15, 1, 2, 12}};
-    for (int r = 0; r < 7; ++r)
-        for (int col = 0; col < 5; ++col)
-            if ((G[d][r] >> (4 - col)) & 1) {
-                int x = x0 + col, y = y0 + r;
-                if (x >= 0 && y >= 0 && x < img.width && y < img.height)
-                    for (int k = 0; k < 3; ++k) img.at(x, y, k) = c[k];
-            }
-}
-
-void drawNumber(Image& img, int v, int x, int y, glm::vec3 c) {
-    std::string s = std::to_string(v);
-    for (size_t i = 0; i < s.size(); ++i) drawDigit(img, s[i] - '0', x + int(i) * 6, y, c);
-}
-
-// Error (RMS %, y, capped at 20 %) against frame time at 1280x720 relative to the trivial pass
-// (x, log2 scale), for Sun altitudes >= -10 deg (deeper twilight is listed in the CSV only). The
-// reference preset, timed at 512x256 only by default, uses that size's ratio.
-void writePlot(const std::vector<Row>& rows, const std::string& path) {
-    Image img;
-    img.width = 480;
-    img.height = 320;
-    img.pixels.assign(size_t(img.width) * img.height * 3, 1.0f);
-    const int x0 = 50, x1 = 460, y0 = 20, y1 = 290;
-    auto ratioOf = [](const Row& r) { return std::isfinite(r.ratioBig) ? r.ratioBig : r.ratioSmall; };
-    double maxRatio = 2, maxErr = 20;
-    for (auto& r : rows)
-        if (r.sunAlt >= -10) maxRatio = std::max(maxRatio, ratioOf(r));
-    double lx = std::ceil(std::log2(maxRatio));
-    auto px = [&](double ratio) { return x0 + int((x1 - x0) * std::log2(std::max(ratio, 1.0)) / lx); };
-    auto py = [&](double errPct) { return y1 - int((y1 - y0) * std::min(errPct, maxErr) / maxErr); };
-    glm::vec3 axis(0.2f);
-    for (int x = x0; x <= x1; ++x)
-        for (int k = 0; k < 3; ++k) img.at(x, y1, k) = axis[k];
-    for (int y = y0; y <= y1; ++y)
-        for (int k = 0; k < 3; ++k) img.at(x0, y, k) = axis[k];
-    for (int i = 0; i <= int(lx); ++i) drawNumber(img, 1 << i, px(std::exp2(i)) - 3, y1 + 6, axis);  // frame / trivial
-    for (int e = 0; e <= int(maxErr); e += std::max(1, int(maxErr) / 5)) drawNumber(img, e, 20, py(e) - 3, axis);  // RMS %
-    const glm::vec3 colours[4] = {{0.1f, 0.6f, 0.1f}, {0.1f, 0.3f, 0.9f}, {0.9f, 0.5f, 0.0f}, {0.8f, 0.1f, 0.1f}};
-    for (auto& r : rows) {
-        if (!std::isfinite(r.rms) || r.sunAlt < -10) continue;
-        int cx = px(ratioOf(r)), cy = py(100 * r.rms);
-        for (int dy = -3; dy <= 3; ++dy)
-            for (int dx = -3; dx <= 3; ++dx)
-                if (dx * dx + dy * dy <= 9 && cx + dx >= 0 && cx + dx < img.width && cy + dy >= 0 && cy + dy < img.height)
-                    for (int k = 0; k < 3; ++k) img.at(cx + dx, cy + dy, k) = colours[r.preset][k];
-    }
-    // Legend: preset number in its colour.
-    for (int p = 0; p < 4; ++p) drawNumber(img, p, x1 - 40 + 10 * p, y0, colours[p]);
-    writeImage(img, path);
-}
-
 int run(const SkyBenchOptions& o) {
     std::vector<int> presets;
     for (char c : o.presets)
@@ -172,10 +114,15 @@ int run(const SkyBenchOptions& o) {
     }
     if (o.reference != "rgb" && o.reference != "spectral")
         throw Error("--reference '" + o.reference + "' unknown (accepted: rgb, spectral)");
+    // Output directories checked before minutes of measurement, not after.
+    for (const auto& [option, path] : {std::pair{"--csv", o.csv}, std::pair{"--plot", o.plot}}) {
+        const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+        if (!path.empty() && !dir.empty() && !std::filesystem::is_directory(dir))
+            throw Error(std::string(option) + " '" + path + "': no directory '" + dir.string() + "'");
+    }
     Logger log;
     auto ctx = gl::HeadlessContext::create({}, log);
     const atmosphere::Atmosphere atm = atmosphere::Atmosphere::earthClear();
-#ifdef WELKIN_HAVE_REFERENCE
     atmosphere::ReferenceOptions ro;
     ro.mode = o.reference == "rgb" ? atmosphere::SpectralMode::Rgb : atmosphere::SpectralMode::Spectral;
     // Spectral: on the atmosphere's own wavelengths (47 for the Earth), so that the reference has
@@ -188,7 +135,6 @@ int run(const SkyBenchOptions& o) {
     if (!o.timingOnly) refPtr = std::make_unique<atmosphere::ReferenceSky>(atm, ro);
     std::printf("reference integrator (%s, all orders) precomputed in %.1f s\n", o.reference.c_str(),
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-#endif
     const double sunAlts[] = {60, 20, 5, 0, -4, -10, -18};
     const double sunAz = 3.0;
     Camera big, small, probe;
@@ -278,7 +224,6 @@ int run(const SkyBenchOptions& o) {
             } else {
                 row.ratioBig = pairs(big, repeats, row.frameBig, row.trivialBig);
             }
-#ifdef WELKIN_HAVE_REFERENCE
             if (refPtr) {
             const atmosphere::ReferenceSky& ref = *refPtr;
             // Error over the upper hemisphere (probe pixels above 2 deg altitude), outside 2 deg
@@ -303,7 +248,6 @@ int run(const SkyBenchOptions& o) {
             row.maxErr = mx;
             row.dxy = sxy / std::max(n, 1);
             }
-#endif
             std::printf("preset %d wl %2d sun %5.1f: LUTs %8.1f ms (sun-dependent %7.1f), frame 1280x720 %8.1f ms (trivial %6.1f, x%.1f), "
                         "512x256 %7.1f ms (trivial %5.1f, x%.1f)",
                         preset, row.wavelengths, alt, row.allLutsMs, row.sunLutsMs, row.frameBig, row.trivialBig, row.ratioBig,
@@ -329,17 +273,17 @@ int run(const SkyBenchOptions& o) {
         trivial.release();
         r.release();
     }
-    std::ofstream csv(o.csv);
-    if (!csv) throw Error("--csv: cannot write '" + o.csv + "'");
-    csv << "preset,wavelengths,sun_alt_deg,all_luts_ms,sun_luts_ms,frame_1280x720_ms,trivial_1280x720_ms,frame_512x256_ms,"
-           "trivial_512x256_ms,ratio_1280x720,ratio_512x256,rms_rel,max_rel,mean_dxy\n";
+    CsvWriter csv(o.csv, {"preset", "wavelengths", "sun_alt_deg", "all_luts_ms", "sun_luts_ms", "frame_1280x720_ms",
+                          "trivial_1280x720_ms", "frame_512x256_ms", "trivial_512x256_ms", "ratio_1280x720", "ratio_512x256",
+                          "rms_rel", "max_rel", "mean_dxy"});
+    csv.comment("welkin bench sky, reference integrator " + (o.timingOnly ? std::string("not run (--timing-only)") : o.reference) +
+                ", 1280x720 projection " + o.projection + ", " + ctx->description());
     for (auto& r : rows)
-        csv << r.preset << ',' << r.wavelengths << ',' << r.sunAlt << ',' << r.allLutsMs << ',' << r.sunLutsMs << ',' << r.frameBig << ','
-            << r.trivialBig << ',' << r.frameSmall << ',' << r.trivialSmall << ',' << r.ratioBig << ',' << r.ratioSmall << ','
-            << r.rms << ',' << r.maxErr << ','
-            << r.dxy << '\n';
-    writePlot(rows, o.plot);
-    std::printf("wrote %s and %s\n", o.csv.c_str(), o.plot.c_str());
+        csv.row(r.preset, r.wavelengths, r.sunAlt, r.allLutsMs, r.sunLutsMs, r.frameBig, r.trivialBig, r.frameSmall, r.trivialSmall,
+                r.ratioBig, r.ratioSmall, r.rms, r.maxErr, r.dxy);
+    csv.close();
+    std::printf("wrote %s\n", o.csv.c_str());
+    if (!o.plot.empty()) std::printf("%s\n", drawPlot("plot_bench_sky.py", o.csv, o.plot).message.c_str());
     return 0;
 }
 
@@ -347,7 +291,9 @@ static BenchRegistrar reg("sky", "real-time sky: LUT build and frame cost per qu
                           [](CLI::App& sub) -> Action {
                               static SkyBenchOptions o;
                               sub.add_option("--csv", o.csv, "CSV output path");
-                              sub.add_option("--plot", o.plot, "PNG plot of error against frame time");
+                              sub.add_option("--plot", o.plot,
+                                             "PNG plot of error against frame time, drawn from the CSV by scripts/plots/plot_bench_sky.py "
+                                             "(python3 + matplotlib); empty: CSV only");
                               sub.add_option("--presets", o.presets, "comma list of presets 0..3");
                               sub.add_option("--repeats", o.repeats, "timed repetitions per measurement (median)");
                               sub.add_flag("--full", o.full, "also time `reference` at 1280x720 (slow on llvmpipe)");

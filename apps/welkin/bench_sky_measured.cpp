@@ -25,6 +25,7 @@
 
 #include <welkin/camera.hpp>
 #include <welkin/color.hpp>
+#include <welkin/csv.hpp>
 #include <welkin/elements/sky.hpp>
 #include <welkin/elements/sky_offline.hpp>
 #include <welkin/error.hpp>
@@ -41,12 +42,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
+#include <filesystem>
 #include <iostream>
-#include <map>
 #include <memory>
 #include <numbers>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -83,64 +82,27 @@ struct Scan {
     std::vector<Sample> samples;
 };
 
-/// Splits one CSV line (no quoted commas in the columns we read).
-std::vector<std::string> splitCsv(const std::string& line) {
-    std::vector<std::string> out;
-    std::string cur;
-    bool quoted = false;
-    for (char c : line) {
-        if (c == '"') quoted = !quoted;
-        else if (c == ',' && !quoted) out.push_back(cur), cur.clear();
-        else cur += c;
-    }
-    out.push_back(cur);
-    return out;
-}
-
-/// Reads a CSV with a header row into maps column -> value.
-std::vector<std::map<std::string, std::string>> readCsv(const std::string& path) {
-    std::ifstream in(path);
-    if (!in) throw Error("bench sky-measured: cannot open " + path + " (use --data DIR)");
-    std::string line;
-    std::vector<std::string> header;
-    std::vector<std::map<std::string, std::string>> rows;
-    while (std::getline(in, line)) {
-        if (line.empty() || line[0] == '#') continue;
-        if (!line.empty() && line.back() == '\r') line.pop_back();
-        const auto cells = splitCsv(line);
-        if (header.empty()) {
-            header = cells;
-            continue;
-        }
-        std::map<std::string, std::string> row;
-        for (std::size_t i = 0; i < header.size() && i < cells.size(); ++i) row[header[i]] = cells[i];
-        rows.push_back(std::move(row));
-    }
-    return rows;
-}
-
-double num(const std::map<std::string, std::string>& row, const std::string& key) {
-    auto it = row.find(key);
-    if (it == row.end()) throw Error("bench sky-measured: missing column '" + key + "'");
-    return std::stod(it->second);
-}
-
 std::vector<Scan> loadScans(const std::string& dir) {
+    if (!std::filesystem::exists(dir + "/kider2013_scans.csv"))
+        throw Error("bench sky-measured: no kider2013_scans.csv in " + dir + " (use --data DIR)");
     std::vector<Scan> scans;
-    for (const auto& row : readCsv(dir + "/kider2013_scans.csv")) {
+    for (const CsvRow& row : CsvTable::load(dir + "/kider2013_scans.csv")) {
         Scan s;
-        s.local = row.at("timestamp_local");
-        s.file = row.at("csv");
-        s.sunAlt = num(row, "sun_alt_deg");
-        s.sunAzSymmetry = num(row, "sun_az_sky_symmetry_deg");
-        s.sunAzAstro = num(row, "sun_az_deg");
+        s.local = row.text("timestamp_local");
+        s.file = row.text("csv");
+        s.sunAlt = row.number("sun_alt_deg");
+        s.sunAzSymmetry = row.number("sun_az_sky_symmetry_deg");
+        s.sunAzAstro = row.number("sun_az_deg");
+        const CsvTable samples = CsvTable::load(dir + "/" + s.file);
+        const std::size_t az = samples.column("sample_az_deg"), alt = samples.column("sample_alt_deg"),
+                          x = samples.column("X"), y = samples.column("Y"), z = samples.column("Z");
         int index = 0;
-        for (const auto& r : readCsv(dir + "/" + s.file)) {
+        for (const CsvRow& r : samples) {
             Sample m;
             m.index = index++;
-            m.az = num(r, "sample_az_deg");
-            m.alt = num(r, "sample_alt_deg");
-            m.xyz = {num(r, "X"), num(r, "Y"), num(r, "Z")};
+            m.az = r.number(az);
+            m.alt = r.number(alt);
+            m.xyz = {r.number(x), r.number(y), r.number(z)};
             s.samples.push_back(m);
         }
         scans.push_back(std::move(s));
@@ -225,7 +187,7 @@ Predictions predictRealtime(const Atmosphere& atmosphere, const std::vector<Scan
 }
 
 ScanScore score(const std::vector<glm::dvec3>& model, const std::vector<glm::dvec3>* reference, const Scan& scan,
-                std::vector<std::string>* csvRows, const std::string& name) {
+                std::vector<std::vector<std::string>>* csvRows, const std::string& name) {
     const glm::dvec3 sun = sunOf(scan);
     ScanScore s;
     double sum2 = 0, sumRatio = 0, sumDuv = 0, sumRef2 = 0;
@@ -238,11 +200,10 @@ ScanScore score(const std::vector<glm::dvec3>& model, const std::vector<glm::dve
         const double sep = std::acos(std::clamp(glm::dot(v, sun), -1.0, 1.0)) / kDeg;
         const bool scored = m.index != 0 && sep > 10.0;
         if (csvRows) {
-            std::ostringstream o;
-            o << name << ',' << scan.local << ',' << m.index << ',' << m.az << ',' << m.alt << ',' << sep << ','
-              << (scored ? 1 : 0) << ',' << m.xyz.y << ',' << xyz.y << ',' << color::chromaticity(m.xyz).x << ','
-              << color::chromaticity(m.xyz).y << ',' << color::chromaticity(xyz).x << ',' << color::chromaticity(xyz).y;
-            csvRows->push_back(o.str());
+            auto f = [](auto v) { return CsvWriter::format(v); };
+            csvRows->push_back({name, scan.local, f(m.index), f(m.az), f(m.alt), f(sep), f(scored ? 1 : 0), f(m.xyz.y), f(xyz.y),
+                                f(color::chromaticity(m.xyz).x), f(color::chromaticity(m.xyz).y), f(color::chromaticity(xyz).x),
+                                f(color::chromaticity(xyz).y)});
         }
         if (!scored) continue;
         const double rel = (xyz.y - m.xyz.y) / m.xyz.y;
@@ -310,7 +271,7 @@ int run(const Options& o) {
         models.push_back({"welkin-ssa0.8-grass", withSsa(grass, 0.8)});
     }
 
-    std::vector<std::string> csvRows;
+    std::vector<std::vector<std::string>> csvRows;
     nlohmann::json out;
     out["reference_options"] = {{"mode", o.rgb ? "rgb" : "spectral"}, {"quick", o.quick}, {"spectral_samples", ro.spectralSamples}};
     Predictions welkinReference;  // the "welkin" reference rows, for the real-time row's comparison
@@ -403,10 +364,10 @@ int run(const Options& o) {
         out["models"][model.name] = meta;
     }
     if (!o.csv.empty()) {
-        std::ofstream f(o.csv);
-        if (!f) throw Error("bench sky-measured: cannot write " + o.csv);
-        f << "model,scan,sample,az_deg,alt_deg,sun_sep_deg,scored,measured_cd_m2,model_cd_m2,measured_x,measured_y,model_x,model_y\n";
-        for (const auto& r : csvRows) f << r << '\n';
+        CsvWriter f(o.csv, {"model", "scan", "sample", "az_deg", "alt_deg", "sun_sep_deg", "scored", "measured_cd_m2", "model_cd_m2",
+                            "measured_x", "measured_y", "model_x", "model_y"});
+        for (const auto& r : csvRows) f.writeFields(r);
+        f.close();
     }
     if (o.json) std::cout << out.dump(2) << '\n';
     return 0;

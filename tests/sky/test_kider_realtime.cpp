@@ -7,54 +7,25 @@
 #include "gl_test_context.hpp"
 
 #include <welkin/camera.hpp>
+#include <welkin/csv.hpp>
 #include <welkin/elements/sky.hpp>
 #include <welkin/elements/sky_offline.hpp>
 #include <welkin/generators/atmosphere.hpp>
-#include <welkin/keys.hpp>
-
-#if __has_include(<welkin/generators/reference_sky.hpp>)
 #include <welkin/generators/reference_sky.hpp>
-#define WELKIN_HAVE_REFERENCE 1
-#endif
+#include <welkin/keys.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
-#ifdef WELKIN_HAVE_REFERENCE
 using namespace welkin;
 
 namespace {
 
 constexpr double kDeg = M_PI / 180;
 double lum(const glm::dvec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
-
-std::vector<std::string> cells(const std::string& line) {
-    std::vector<std::string> out;
-    std::stringstream ss(line);
-    std::string c;
-    while (std::getline(ss, c, ',')) out.push_back(c);
-    return out;
-}
-
-/// Column `name` of every data row of a Kider CSV (header row first).
-std::vector<double> column(const std::string& path, const std::string& name) {
-    std::ifstream in(path);
-    std::string line;
-    std::getline(in, line);
-    const auto header = cells(line);
-    const auto it = std::find(header.begin(), header.end(), name);
-    REQUIRE(it != header.end());
-    const std::size_t k = std::size_t(it - header.begin());
-    std::vector<double> v;
-    while (std::getline(in, line))
-        if (!line.empty()) v.push_back(std::stod(cells(line).at(k)));
-    return v;
-}
 
 }  // namespace
 
@@ -88,11 +59,12 @@ TEST_CASE("Sky medium against the reference integrator at Kider 2013 directions"
     int n = 0;
     for (const std::string& name : names) {
         const std::string path = dir + "/" + name;
-        const auto az = column(path, "sample_az_deg"), alt = column(path, "sample_alt_deg");
-        const double sunAlt = column(path, "sun_alt_deg").at(0);
+        const CsvTable table = CsvTable::load(path);
+        const auto az = table.numbers("sample_az_deg"), alt = table.numbers("sample_alt_deg");
+        const double sunAlt = table.numbers("sun_alt_deg").at(0);
         // The scans' symmetry azimuth differs from the astronomical one (README), but the
         // comparison here is model against model: any Sun position of the day serves.
-        const glm::dvec3 sun = directionFromAzAlt(column(path, "sun_az_deg").at(0) * kDeg, sunAlt * kDeg);
+        const glm::dvec3 sun = directionFromAzAlt(table.numbers("sun_az_deg").at(0) * kDeg, sunAlt * kDeg);
         vars.set(keys::sunDirection, sun);
         const Image img = r.render(sky, cam);
         for (std::size_t i = 1; i < az.size(); i += 8) {  // 10 of the 80 usable samples
@@ -125,4 +97,3 @@ TEST_CASE("Sky medium against the reference integrator at Kider 2013 directions"
     sky.release();
     r.release();
 }
-#endif

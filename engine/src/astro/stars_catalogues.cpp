@@ -1,6 +1,8 @@
-// Star catalogue loaders: kstars-data stars.dat, Yale Bright Star Catalogue (BSC5), HYG CSV.
+// Star catalogue loaders: kstars-data stars.dat, Yale Bright Star Catalogue (BSC5), HYG CSV
+// (through the shared CSV reader, csv.hpp).
 // Every parse error names the source and the 1-based line: "file:line: message".
 #include <welkin/astro/stars.hpp>
+#include <welkin/csv.hpp>
 #include <welkin/error.hpp>
 
 #include <algorithm>
@@ -12,7 +14,6 @@
 #include <numbers>
 #include <sstream>
 #include <string_view>
-#include <unordered_map>
 
 namespace welkin::astro {
 
@@ -163,94 +164,39 @@ std::vector<Star> parseYaleBrightStarCatalogue(const std::string& text, const st
     return stars;
 }
 
-namespace {
-// Splits one CSV record (RFC 4180 quotes, no embedded newlines).
-std::vector<std::string> splitCsv(std::string_view l, const LineError& fail) {
-    std::vector<std::string> out;
-    std::string cur;
-    bool quoted = false;
-    for (size_t i = 0; i < l.size(); ++i) {
-        char c = l[i];
-        if (quoted) {
-            if (c == '"') {
-                if (i + 1 < l.size() && l[i + 1] == '"') {
-                    cur += '"';
-                    ++i;
-                } else {
-                    quoted = false;
-                }
-            } else {
-                cur += c;
-            }
-        } else if (c == '"') {
-            quoted = true;
-        } else if (c == ',') {
-            out.push_back(std::move(cur));
-            cur.clear();
-        } else {
-            cur += c;
-        }
-    }
-    if (quoted) fail("unterminated quote");
-    out.push_back(std::move(cur));
-    return out;
-}
-}  // namespace
-
 std::vector<Star> parseHygCsv(const std::string& text, const std::string& source, double maxMagnitude) {
+    const CsvTable table = CsvTable::parse(text, source, {.caseInsensitiveColumns = true});
+    if (table.header().empty()) throw Error(source + ": empty HYG file (no header)");
+    if (!table.findColumn("ra") || !table.findColumn("dec"))
+        throw Error(source + ":" + std::to_string(table.headerLine()) + ": header has no 'ra' and 'dec' columns");
+    const std::size_t ra = table.column("ra"), dec = table.column("dec");
+    auto optional = [&](const char* name) { return table.findColumn(name); };
+    const auto proper = optional("proper"), dist = optional("dist"), pmra = optional("pmra"), pmdec = optional("pmdec"),
+               mag = optional("mag"), ci = optional("ci"), hip = optional("hip"), hd = optional("hd"), bf = optional("bf");
     std::vector<Star> stars;
-    std::unordered_map<std::string, size_t> col;
-    size_t nCols = 0;
-    forEachLine(text, [&](std::string_view l, size_t lineNo) {
-        LineError fail{source, lineNo};
-        if (trim(l).empty()) return;
-        if (col.empty()) {
-            std::vector<std::string> header = splitCsv(l, fail);
-            for (size_t i = 0; i < header.size(); ++i) {
-                std::string h(trim(header[i]));
-                std::transform(h.begin(), h.end(), h.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-                col[h] = i;
-            }
-            nCols = header.size();
-            if (!col.count("ra") || !col.count("dec")) fail("header has no 'ra' and 'dec' columns");
-            return;
-        }
-        std::vector<std::string> f = splitCsv(l, fail);
-        if (f.size() != nCols) fail("expected " + std::to_string(nCols) + " fields, found " + std::to_string(f.size()));
-        auto text = [&](const char* name) -> std::string_view {
-            auto it = col.find(name);
-            return it == col.end() ? std::string_view{} : trim(f[it->second]);
+    for (const CsvRow& row : table) {
+        LineError fail{source, row.line()};
+        auto number = [&](const std::optional<std::size_t>& column, double fallback) {
+            return column ? row.numberOr(*column, fallback) : fallback;
         };
-        auto number = [&](const char* name, double fallback, bool required) {
-            std::string_view s = text(name);
-            if (s.empty()) {
-                if (required) fail(std::string("missing ") + name);
-                return fallback;
-            }
-            double v;
-            if (!parseDouble(s, v)) fail(std::string("bad ") + name + " '" + std::string(s) + "'");
-            return v;
-        };
-        const std::string_view proper = text("proper");
-        const double dist = number("dist", 1.0, false);
-        if (proper == "Sol" || dist == 0.0) return;  // the Sun
+        const std::string_view properName = proper ? row.text(*proper) : std::string_view();
+        if (properName == "Sol" || number(dist, 1.0) == 0.0) continue;  // the Sun
         Star s;
-        const double raHours = number("ra", 0, true);
+        const double raHours = row.number(ra);
         if (!(raHours >= 0.0 && raHours <= 24.0)) fail("ra " + std::to_string(raHours) + " h not in [0, 24]");
         s.raJ2000Rad = std::fmod(raHours * 15.0 * kDeg, 2 * std::numbers::pi);
-        s.decJ2000Rad = number("dec", 0, true) * kDeg;
+        s.decJ2000Rad = row.number(dec) * kDeg;
         checkRaDec(s.raJ2000Rad, s.decJ2000Rad, fail);
-        s.pmRaMasPerYear = float(number("pmra", 0, false));
-        s.pmDecMasPerYear = float(number("pmdec", 0, false));
-        s.magnitudeV = float(number("mag", 99, false));
-        s.colorBV = float(number("ci", 0, false));
-        s.hip = int(number("hip", 0, false));
-        s.hd = int(number("hd", 0, false));
-        s.name = std::string(!proper.empty() ? proper : text("bf"));
-        if (s.magnitudeV > maxMagnitude) return;
+        s.pmRaMasPerYear = float(number(pmra, 0));
+        s.pmDecMasPerYear = float(number(pmdec, 0));
+        s.magnitudeV = float(number(mag, 99));
+        s.colorBV = float(number(ci, 0));
+        s.hip = int(number(hip, 0));
+        s.hd = int(number(hd, 0));
+        s.name = std::string(!properName.empty() ? properName : (bf ? row.text(*bf) : std::string_view()));
+        if (s.magnitudeV > maxMagnitude) continue;
         stars.push_back(std::move(s));
-    });
-    if (col.empty()) throw Error(source + ": empty HYG file (no header)");
+    }
     return stars;
 }
 
