@@ -217,9 +217,15 @@ mat3x2 welkin_pixelJacobian(vec3 dirIn) {
 // diameter is 2a * y, and max(2a * x, 1.0) keeps at least one pixel.
 vec2 welkin_pixelScale(vec3 dir) {
     mat3x2 J = welkin_pixelJacobian(dir);
-    vec3 jx = vec3(J[0].x, J[1].x, J[2].x), jy = vec3(J[0].y, J[1].y, J[2].y);
-    // Rows in the tangent plane: |M|_F^2 = |jx|^2 + |jy|^2, |det M| = |(jx x jy) . d|.
-    float F = dot(jx, jx) + dot(jy, jy), D = abs(dot(cross(jx, jy), normalize(dir)));
-    float sMax = 0.5 * (sqrt(F + 2.0 * D) + sqrt(max(F - 2.0 * D, 0.0)));
-    return vec2(sMax > 0.0 ? D / sMax : 0.0, sMax);
+    // The 2x2 map M = J (t1 t2) in a tangent frame at `dir`; with M = (a b; c e) its singular
+    // values are (sqrt((a+e)^2 + (c-b)^2) +- sqrt((a-e)^2 + (c+b)^2)) / 2, the difference of
+    // squares avoided (float: it would lose half the digits of a nearly isotropic scale), and
+    // the smallest taken as |det M| / largest.
+    vec3 d = normalize(dir);
+    vec3 t1 = normalize(cross(abs(d.z) < 0.9 ? vec3(0.0, 0.0, 1.0) : vec3(1.0, 0.0, 0.0), d));
+    vec3 t2 = cross(d, t1);
+    vec2 m1 = J * t1, m2 = J * t2;  // columns of M
+    float a = m1.x, c = m1.y, b = m2.x, e = m2.y;
+    float sMax = 0.5 * (length(vec2(a + e, c - b)) + length(vec2(a - e, c + b)));
+    return vec2(sMax > 0.0 ? abs(a * e - b * c) / sMax : 0.0, sMax);
 }

@@ -275,13 +275,15 @@ std::optional<glm::dvec2> Camera::pixelScale(const glm::dvec3& dIn) const {
     const glm::dvec3 d = checkedUnit(dIn, "Camera::pixelScale()");
     auto J = pixelJacobian(d);
     if (!J) return std::nullopt;
-    // Rows jx, jy lie in the tangent plane; with any right-handed tangent frame (t1, t2, d) the
-    // 2x2 map M has |M|_F^2 = |jx|^2 + |jy|^2 and det M = (jx x jy) . d, so its singular values
-    // are s_max = (sqrt(F + 2|D|) + sqrt(F - 2|D|)) / 2 and s_min = |D| / s_max (no cancellation).
-    const glm::dvec3 jx((*J)[0].x, (*J)[1].x, (*J)[2].x), jy((*J)[0].y, (*J)[1].y, (*J)[2].y);
-    const double F = glm::dot(jx, jx) + glm::dot(jy, jy), D = std::abs(glm::dot(glm::cross(jx, jy), d));
-    const double sMax = (std::sqrt(F + 2 * D) + std::sqrt(std::max(F - 2 * D, 0.0))) / 2;
-    return glm::dvec2(sMax > 0 ? D / sMax : 0.0, sMax);
+    // The 2x2 map M = J (t1 t2) in a tangent frame at d; with M = (a b; c e) its singular values
+    // are (sqrt((a+e)^2 + (c-b)^2) +- sqrt((a-e)^2 + (c+b)^2)) / 2 (no difference of squares),
+    // the smallest taken as |det M| / largest. Mirrors welkin_pixelScale().
+    const glm::dvec3 t1 = glm::normalize(glm::cross(std::abs(d.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0), d));
+    const glm::dvec3 t2 = glm::cross(d, t1);
+    const glm::dvec2 m1 = *J * t1, m2 = *J * t2;
+    const double a = m1.x, c = m1.y, b = m2.x, e = m2.y;
+    const double sMax = (std::hypot(a + e, c - b) + std::hypot(a - e, c + b)) / 2;
+    return glm::dvec2(sMax > 0 ? std::abs(a * e - b * c) / sMax : 0.0, sMax);
 }
 
 CameraBlock makeCameraBlock(const Camera& c, double seconds) {
