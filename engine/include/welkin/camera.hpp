@@ -5,10 +5,11 @@
 //   welkin::Camera cam;
 //   cam.projection = welkin::Projection::Fisheye;
 //   cam.width = cam.height = 512;
-//   auto px = cam.pixelOf(welkin::directionFromAzAlt(glm::radians(90.0), 0.0));  // east horizon
+//   glm::dvec3 east = welkin::directionFromAzAlt(glm::radians(90.0), 0.0);  // east horizon
+//   auto px = cam.pixelOf(east);
 //   // -> (0, 256): east is on the left of an all-sky image seen from below
-//   auto clip = cam.clipFromDirection(dir);   // gl_Position for a sprite at `dir` (nullopt: not visible)
-//   auto ppr = cam.pixelScale(dir);           // (smallest, largest) pixels per radian there
+//   auto clip = cam.clipFromDirection(east);  // gl_Position (nullopt: not visible); pixelFromClip(*clip) == *px
+//   auto ppr = cam.pixelScale(east);          // (2R/pi, R) = (163, 256) pixels per radian there
 //
 // Projections:
 //  - Perspective: looks at (azimuthRad, altitudeRad), vertical field of view verticalFovRad,
@@ -95,7 +96,7 @@ struct Camera {
     std::optional<glm::dvec2> pixelScale(const glm::dvec3& direction) const;
 };
 
-/// The per-frame camera block shared by every element's shaders (std140, binding 0; see
+/// The per-frame camera block shared by every element's shaders (std140, binding gl::binding::kCameraUbo; see
 /// engine/shaders/camera.glsl).
 struct CameraBlock {
     glm::mat4 cameraToWorld;  ///< columns: right, up, forward (perspective)
