@@ -1,6 +1,14 @@
-// The per-frame camera block (welkin::CameraBlock, std140, binding 0) and the view direction of
-// a pixel in the world ENU frame (x east, y north, z up). Mirrors welkin::Camera::directionAt().
-layout(std140, binding = 0) uniform WelkinCamera {
+// The per-frame camera block (welkin::CameraBlock, std140, binding WELKIN_BINDING_CAMERA_UBO) and
+// the camera's projection both ways, in the world ENU frame (x east, y north, z up):
+//  - fragment side: welkin_viewDirection(welkin_pixel(), dir), the direction through a pixel
+//    (mirrors welkin::Camera::directionAt());
+//  - vertex side: gl_Position = welkin_clipFromDirection(dir) puts a vertex on the pixel whose
+//    view direction is `dir` (mirrors welkin::Camera::clipFromDirection()), and
+//    welkin_pixelJacobian() / welkin_pixelScale() give the local pixels per radian there.
+// Pixel coordinates are continuous, origin top-left, y down; the centre of pixel (i, j), where
+// its fragment is shaded, is (i + 0.5, j + 0.5). The viewport must equal the camera's size (the
+// processor sets it).
+layout(std140, binding = WELKIN_BINDING_CAMERA_UBO) uniform WelkinCamera {
     mat4 welkin_cameraToWorld;  // columns: right, up, forward
     vec4 welkin_viewport;       // width, height, 1/width, 1/height (pixels)
     vec4 welkin_projection;     // type (0 perspective, 1 fisheye, 2 equirect, 3 cube), tan(fovY/2), aspect, face
@@ -20,8 +28,10 @@ int welkin_projectionType() {
 #endif
 }
 
+#ifdef WELKIN_FRAGMENT_SHADER
 // Pixel position with the origin at the top-left corner, y downwards (image convention).
 vec2 welkin_pixel() { return vec2(gl_FragCoord.x, welkin_viewport.y - gl_FragCoord.y); }
+#endif
 
 vec3 welkin_directionFromAzAlt(float az, float alt) {
     float c = cos(alt);
@@ -82,4 +92,140 @@ float welkin_pixelAngle() {
     if (type == 1) return WELKIN_PI / min(size.x, size.y);
     if (type == 2) return WELKIN_PI / size.y;
     return 2.0 / size.y;
+}
+
+// ---- Vertex side: from a direction to clip space ----------------------------------------------
+
+// The clip position of a direction that is not visible in the projection (below a fisheye's
+// horizon): w < 0, so the clipper rejects it, and any vertex derived from it by
+// welkin_clipOffset(), whatever the depth-clamp state.
+const vec4 WELKIN_CLIP_INVISIBLE = vec4(0.0, 0.0, 0.0, -1.0);
+
+// Pinhole projections (0 perspective, 3 cube face) as three ENU vectors: clip = (a.d, b.d, f.d,
+// f.d), NDC = (a.d, b.d) / f.d. Mirrors pinholeOf() in engine/src/camera.cpp.
+void welkin_pinhole(out vec3 a, out vec3 b, out vec3 f) {
+    if (welkin_projectionType() == 0) {
+        mat3 m = mat3(welkin_cameraToWorld);
+        float tanY = welkin_projection.y, tanX = tanY * welkin_projection.z;
+        a = m[0] / tanX;
+        b = m[1] / tanY;
+        f = m[2];
+        return;
+    }
+    // Cube face: NDC = (s, -t) in the face coordinates of welkin_viewDirection().
+    int face = int(welkin_projection.w + 0.5);
+    if (face == 0) { a = vec3(0, 1, 0); b = vec3(0, 0, 1); f = vec3(1, 0, 0); }
+    else if (face == 1) { a = vec3(0, -1, 0); b = vec3(0, 0, 1); f = vec3(-1, 0, 0); }
+    else if (face == 2) { a = vec3(1, 0, 0); b = vec3(0, 1, 0); f = vec3(0, 0, 1); }
+    else if (face == 3) { a = vec3(1, 0, 0); b = vec3(0, -1, 0); f = vec3(0, 0, -1); }
+    else if (face == 4) { a = vec3(1, 0, 0); b = vec3(0, 0, 1); f = vec3(0, -1, 0); }
+    else { a = vec3(-1, 0, 0); b = vec3(0, 0, 1); f = vec3(0, 1, 0); }
+}
+
+// gl_Position for a world direction (any non-zero length): its fragment lands on the pixel whose
+// welkin_viewDirection() is `dir`. z = w: the far plane, like the fullscreen pass (drawn behind a
+// host's geometry with GL_LEQUAL). A direction the projection does not show is clipped:
+//  - perspective and cube face (pinhole, linear in `dir`): w = forward.d <= 0 behind the camera
+//    or the face, |x| or |y| > w off the frame or face; a line between two directions is
+//    clipped exactly (it is a straight line in these projections);
+//  - fisheye: WELKIN_CLIP_INVISIBLE below the horizon, else w = 1;
+//  - equirect: every direction is visible, w = 1; x in [-1, 1) from azimuth 0 to 2pi (the seam
+//    at the left and right edges, see welkin_clipFromDirectionWrapped()).
+// Fisheye and equirect are not linear in the direction: subdivide lines (a few pixels per
+// segment) and drop segments with an invisible end or that cross the equirect seam.
+vec4 welkin_clipFromDirection(vec3 dir) {
+    int type = welkin_projectionType();
+    if (type == 0 || type == 3) {
+        vec3 a, b, f;
+        welkin_pinhole(a, b, f);
+        float w = dot(f, dir);
+        return vec4(dot(a, dir), dot(b, dir), w, w);
+    }
+    vec2 size = welkin_viewport.xy;
+    float h = length(dir.xy);
+    if (type == 1) {
+        if (dir.z < 0.0) return WELKIN_CLIP_INVISIBLE;
+        // pixel = size/2 - r (sin az, cos az), r = theta / (pi/2) * R, theta from the zenith.
+        float R = 0.5 * min(size.x, size.y);
+        float r = atan(h, dir.z) / (0.5 * WELKIN_PI) * R;
+        vec2 sc = h > 0.0 ? dir.xy / h : vec2(0.0);
+        return vec4(-2.0 * r * sc.x / size.x, 2.0 * r * sc.y / size.y, 1.0, 1.0);
+    }
+    // Equirect: x = az/pi - 1, y = alt/(pi/2). atan(0, 0) is undefined in GLSL: azimuth 0 at the poles.
+    float az = h > 0.0 ? atan(dir.x, dir.y) : 0.0;
+    if (az < 0.0) az += 2.0 * WELKIN_PI;
+    float alt = atan(dir.z, h);
+    return vec4(az / WELKIN_PI - 1.0, alt / (0.5 * WELKIN_PI), 1.0, 1.0);
+}
+
+// Copy 0 is welkin_clipFromDirection(dir). Copy 1 is, in equirect, its twin across the seam at
+// azimuth 0/2pi (x shifted by -2w in the right half, +2w in the left half), and elsewhere
+// WELKIN_CLIP_INVISIBLE. A sprite that may straddle the seam is drawn whole by drawing both
+// copies, e.g. with 2 instances and copy = gl_InstanceID % 2. Use quads (triangles), not wide
+// GL_POINTS: GL discards a point whose centre is outside the clip volume, so the twin of a point
+// sprite would never be drawn.
+vec4 welkin_clipFromDirectionWrapped(vec3 dir, int copy) {
+    vec4 c = welkin_clipFromDirection(dir);
+    if (copy == 0) return c;
+    if (welkin_projectionType() != 2) return WELKIN_CLIP_INVISIBLE;
+    c.x += c.x >= 0.0 ? -2.0 * c.w : 2.0 * c.w;
+    return c;
+}
+
+// Moves a clip position by `pixels` (x right, y down) on the screen: the corners of a sprite quad.
+vec4 welkin_clipOffset(vec4 clip, vec2 pixels) {
+    return vec4(clip.xy + pixels * vec2(2.0, -2.0) * welkin_viewport.zw * clip.w, clip.zw);
+}
+
+// d(pixel)/d(direction) at a visible direction (3 columns, 2 rows): a small displacement `delta`
+// (radians) of the unit direction, perpendicular to it, moves the pixel (x right, y down) by
+// welkin_pixelJacobian(dir) * delta pixels. Equirect: the horizontal scale W / (2pi cos alt) is
+// capped at cos alt >= 1e-6. Zero for an invisible fisheye direction. Mirrors
+// welkin::Camera::pixelJacobian().
+mat3x2 welkin_pixelJacobian(vec3 dirIn) {
+    vec3 d = normalize(dirIn);
+    vec2 size = welkin_viewport.xy;
+    int type = welkin_projectionType();
+    if (type == 0 || type == 3) {
+        vec3 a, b, f;
+        welkin_pinhole(a, b, f);
+        float fw = dot(f, d);
+        vec3 jx = 0.5 * size.x * (a - dot(a, d) / fw * f) / fw;
+        vec3 jy = -0.5 * size.y * (b - dot(b, d) / fw * f) / fw;
+        return transpose(mat2x3(jx, jy));
+    }
+    float h = length(d.xy);
+    vec2 s = h > 0.0 ? d.xy / h : vec2(0.0, 1.0);  // (sin az, cos az)
+    vec3 eAz = vec3(s.y, -s.x, 0.0);                // unit tangent towards increasing azimuth
+    if (type == 1) {
+        if (d.z < 0.0) return mat3x2(0.0);
+        // Radially k = R/(pi/2) pixels per radian; along the azimuth k theta / sin(theta).
+        float k = 0.5 * min(size.x, size.y) / (0.5 * WELKIN_PI);
+        float theta = atan(h, d.z);
+        float g = h > 1e-4 ? theta / h : 1.0;  // theta / sin(theta); the error below 1e-4 is < 2e-9
+        vec3 eTheta = vec3(d.z * s, -h);         // towards increasing zenith angle
+        return outerProduct(-k * s, eTheta) + outerProduct(-k * g * vec2(s.y, -s.x), eAz);
+    }
+    vec3 eAlt = vec3(-d.z * s, h);
+    return outerProduct(vec2(size.x / (2.0 * WELKIN_PI * max(h, 1e-6)), 0.0), eAz) +
+           outerProduct(vec2(0.0, -size.y / WELKIN_PI), eAlt);
+}
+
+// (smallest, largest) pixels per radian at a visible direction, over the directions of a small
+// displacement (the singular values of welkin_pixelJacobian()). A sprite of angular radius a
+// spans between a * x and a * y pixels from its centre: e.g. a point size that keeps an angular
+// diameter is 2a * y, and max(2a * x, 1.0) keeps at least one pixel.
+vec2 welkin_pixelScale(vec3 dir) {
+    mat3x2 J = welkin_pixelJacobian(dir);
+    // The 2x2 map M = J (t1 t2) in a tangent frame at `dir`; with M = (a b; c e) its singular
+    // values are (sqrt((a+e)^2 + (c-b)^2) +- sqrt((a-e)^2 + (c+b)^2)) / 2, the difference of
+    // squares avoided (float: it would lose half the digits of a nearly isotropic scale), and
+    // the smallest taken as |det M| / largest.
+    vec3 d = normalize(dir);
+    vec3 t1 = normalize(cross(abs(d.z) < 0.9 ? vec3(0.0, 0.0, 1.0) : vec3(1.0, 0.0, 0.0), d));
+    vec3 t2 = cross(d, t1);
+    vec2 m1 = J * t1, m2 = J * t2;  // columns of M
+    float a = m1.x, c = m1.y, b = m2.x, e = m2.y;
+    float sMax = 0.5 * (length(vec2(a + e, c - b)) + length(vec2(a - e, c + b)));
+    return vec2(sMax > 0.0 ? abs(a * e - b * c) / sMax : 0.0, sMax);
 }

@@ -2,7 +2,7 @@
 // over a mip chain gives the weighted log-average; w = 0 outside the camera's image (fisheye) and
 // where nothing emits light (L below 1e-7 cd/m^2, far below the faintest night sky), so an empty
 // background does not drag the exposure down.
-layout(binding = 0) uniform sampler2D u_hdr;
+layout(binding = WELKIN_BINDING_HDR_TEXTURE) uniform sampler2D u_hdr;
 in vec2 v_ndc;
 out vec4 o_logLum;
 void main() {

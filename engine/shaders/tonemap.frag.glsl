@@ -1,7 +1,7 @@
 // Tone mapping: exposure (EV100 or automatic from the log-average luminance), a filmic curve and
 // the sRGB transfer function.
-layout(binding = 0) uniform sampler2D u_hdr;
-layout(binding = 1) uniform sampler2D u_logLum;  // (sum w ln L, sum w) averaged, top mip used
+layout(binding = WELKIN_BINDING_HDR_TEXTURE) uniform sampler2D u_hdr;
+layout(binding = WELKIN_BINDING_LOG_LUM_TEXTURE) uniform sampler2D u_logLum;  // (sum w ln L, sum w) averaged, top mip used
 uniform float u_ev100;         // manual exposure
 uniform int u_auto;            // 1: automatic exposure
 uniform float u_compensation;  // EV added to the automatic exposure

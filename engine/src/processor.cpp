@@ -325,7 +325,7 @@ struct SavedState {
         // restore only live objects.
         glUseProgram(program && glIsProgram(GLuint(program)) ? GLuint(program) : 0);
         glBindVertexArray(vao && glIsVertexArray(GLuint(vao)) ? GLuint(vao) : 0);
-        glBindBufferBase(GL_UNIFORM_BUFFER, 0, ubo0 && glIsBuffer(GLuint(ubo0)) ? GLuint(ubo0) : 0);
+        glBindBufferBase(GL_UNIFORM_BUFFER, gl::binding::kCameraUbo, ubo0 && glIsBuffer(GLuint(ubo0)) ? GLuint(ubo0) : 0);
         glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
         glBlendFuncSeparate(GLenum(blendSrcRgb), GLenum(blendDstRgb), GLenum(blendSrcA), GLenum(blendDstA));
         glBlendEquationSeparate(GLenum(blendEqRgb), GLenum(blendEqA));
@@ -345,7 +345,7 @@ void SkyProcessor::composite(unsigned framebuffer, bool depthTest, bool clearedT
         glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
         if (framebuffer != 0) glDrawBuffer(GL_COLOR_ATTACHMENT0);  // dual-source: one draw buffer
         glViewport(0, 0, camera_.width, camera_.height);
-        cameraUbo_.bindBase(GL_UNIFORM_BUFFER, 0);
+        cameraUbo_.bindBase(GL_UNIFORM_BUFFER, gl::binding::kCameraUbo);
         emptyVao_.bind();
         glEnable(GL_BLEND);
         // dst.rgb = src0.rgb + dst.rgb * src1.rgb (radiance plus attenuated background); alpha kept.
@@ -415,14 +415,14 @@ void SkyProcessor::toneMapInto(unsigned framebuffer) {
     if (!hdr_) throw Error("SkyProcessor::toneMapInto(): no HDR frame yet (call renderFrame() first)");
     auto t0 = std::chrono::steady_clock::now();
     if (options_.timing) glFinish();
-    cameraUbo_.bindBase(GL_UNIFORM_BUFFER, 0);
+    cameraUbo_.bindBase(GL_UNIFORM_BUFFER, gl::binding::kCameraUbo);
     emptyVao_.bind();
     glDisable(GL_BLEND);
     glDisable(GL_DEPTH_TEST);
     if (exposure_.automatic) {
         logLumFbo_.bind();
         glViewport(0, 0, kLogLumSize, kLogLumSize);
-        hdr_.bind(0);
+        hdr_.bind(gl::binding::kHdrTexture);
         hdr_.setFilter(GL_LINEAR);
         logLumProgram_.use();
         glDrawArrays(GL_TRIANGLES, 0, 3);
@@ -432,8 +432,8 @@ void SkyProcessor::toneMapInto(unsigned framebuffer) {
     }
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
     glViewport(0, 0, camera_.width, camera_.height);
-    hdr_.bind(0);
-    logLum_.bind(1);
+    hdr_.bind(gl::binding::kHdrTexture);
+    logLum_.bind(gl::binding::kLogLumTexture);
     toneMap_.use();
     toneMap_.set("u_ev100", float(exposure_.ev100));
     toneMap_.set("u_auto", exposure_.automatic ? 1 : 0);

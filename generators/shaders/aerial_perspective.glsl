@@ -4,8 +4,8 @@
 // (times kLutScale) and the transmittance so far are stored. Twin of cpu::aerialTexel(). Needs
 // atmosphere.glsl (ATM_USE_TRANSMITTANCE, ATM_USE_MULTISCATTERING) before it.
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
-layout(rgba32f, binding = 0) uniform writeonly image3D u_inscatter;
-layout(rgba32f, binding = 1) uniform writeonly image3D u_transmittance;
+layout(rgba32f, binding = WELKIN_BINDING_LUT_IMAGE) uniform writeonly image3D u_inscatter;
+layout(rgba32f, binding = WELKIN_BINDING_SECOND_LUT_IMAGE) uniform writeonly image3D u_transmittance;
 uniform float u_h;
 uniform float u_muS;
 uniform int u_size;        // N

@@ -6,7 +6,7 @@
 // Geometry: h = height above the ground (m), mu = cos(view zenith), muS = cos(light zenith),
 // nu = cos(view-light angle); r^2 - R^2 is always computed as h (2R + h) so rays grazing the
 // ground keep their precision in float.
-layout(std140, binding = 1) uniform WelkinAtmosphere {
+layout(std140, binding = WELKIN_BINDING_ATMOSPHERE_UBO) uniform WelkinAtmosphere {
     vec4 atm_radii;              // bottom radius, top radius, top - bottom (m), Mie phase kind
     vec4 atm_rayleigh;           // scattering rgb (1/m), Mie g
     vec4 atm_mieScattering;      // rgb (1/m), unused
@@ -185,7 +185,7 @@ vec3 atm_segmentFactor(vec3 sigmaT, float dt) {
 
 #ifdef ATM_USE_TRANSMITTANCE
 // The transmittance LUT on texture unit 4 (define ATM_USE_TRANSMITTANCE before this file).
-layout(binding = 4) uniform sampler2D u_atmTransmittance;
+layout(binding = WELKIN_BINDING_TRANSMITTANCE_LUT) uniform sampler2D u_atmTransmittance;
 #define ATM_TRANSMITTANCE_LUT u_atmTransmittance
 vec3 transmittanceFromLut(float h, float mu) {
     return texture(ATM_TRANSMITTANCE_LUT, transmittanceUv(h, mu, vec2(textureSize(ATM_TRANSMITTANCE_LUT, 0)))).rgb;
@@ -205,12 +205,12 @@ vec3 transmittanceToLight(float h, float muS, float angularRadius) {
 
 #if defined(ATM_USE_TRANSMITTANCE) && defined(ATM_USE_MULTISCATTERING)
 // The multiple-scattering LUT on texture unit 5 (define ATM_USE_MULTISCATTERING).
-layout(binding = 5) uniform sampler2D u_atmMultiScattering;
+layout(binding = WELKIN_BINDING_MULTISCATTERING_LUT) uniform sampler2D u_atmMultiScattering;
 #define ATM_MULTISCATTERING_LUT u_atmMultiScattering
 #ifdef ATM_MS_DIRECTIONAL
 // The SH projection of the incident radiance field (layers 0 .. ATM_SH_COEFFICIENTS - 1) on
 // texture unit 8; the next layer, row 0, holds the sky's irradiance on the ground over mu_s.
-layout(binding = 8) uniform sampler2DArray u_atmShLut;
+layout(binding = WELKIN_BINDING_SH_LUT) uniform sampler2DArray u_atmShLut;
 #endif
 // SH bands L of the directional field (SkyQuality::shBands, set by the pass's program).
 #ifndef ATM_SH_BANDS

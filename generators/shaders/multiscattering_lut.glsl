@@ -7,7 +7,7 @@ uniform int u_directions;
 uniform int u_steps;
 uniform ivec2 u_size;  // texels: mu_s, height
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
-layout(MS_IMAGE_FORMAT, binding = 0) uniform writeonly image2D u_psi;
+layout(MS_IMAGE_FORMAT, binding = WELKIN_BINDING_LUT_IMAGE) uniform writeonly image2D u_psi;
 
 void main() {
     ivec2 ij = ivec2(gl_GlobalInvocationID.xy);

@@ -24,7 +24,7 @@ uniform ivec2 u_size;  // texels: mu_s, height
 
 #ifndef SH_GROUND_PASS
 // The ground-irradiance row made by the SH_GROUND_PASS (texture unit 9).
-layout(binding = 9) uniform sampler2D u_groundLut;
+layout(binding = WELKIN_BINDING_SH_GROUND_LUT) uniform sampler2D u_groundLut;
 #endif
 
 // Radiance per lux arriving at (h, muS) from direction v; twin of incidentRadiance() in
@@ -93,9 +93,9 @@ void main() {
 #else
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 #ifdef SH_ITERATION
-layout(SH_IMAGE_FORMAT, binding = 0) uniform restrict image2DArray u_sh;  // added to after the first range
+layout(SH_IMAGE_FORMAT, binding = WELKIN_BINDING_LUT_IMAGE) uniform restrict image2DArray u_sh;  // added to after the first range
 #else
-layout(SH_IMAGE_FORMAT, binding = 0) uniform writeonly image2DArray u_sh;
+layout(SH_IMAGE_FORMAT, binding = WELKIN_BINDING_LUT_IMAGE) uniform writeonly image2DArray u_sh;
 #endif
 void main() {
     ivec2 ij = ivec2(gl_GlobalInvocationID.xy);

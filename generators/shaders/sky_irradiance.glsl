@@ -3,11 +3,11 @@
 // cpuDiffuseIrradiance()), the direct horizontal illuminance of each light through the
 // transmittance LUT, and the zenith radiance. Needs atmosphere.glsl (ATM_USE_TRANSMITTANCE).
 layout(local_size_x = 64) in;
-layout(binding = 0) uniform sampler2D u_sunSmooth;
-layout(binding = 1) uniform sampler2D u_sunMie;
-layout(binding = 2) uniform sampler2D u_moonSmooth;
-layout(binding = 3) uniform sampler2D u_moonMie;
-layout(std430, binding = 0) buffer Result { vec4 o_result[5]; };  // sun diffuse, moon diffuse, sun direct, moon direct, zenith
+layout(binding = WELKIN_BINDING_SUN_VIEW_LUT) uniform sampler2D u_sunSmooth;
+layout(binding = WELKIN_BINDING_SUN_VIEW_MIE_LUT) uniform sampler2D u_sunMie;
+layout(binding = WELKIN_BINDING_MOON_VIEW_LUT) uniform sampler2D u_moonSmooth;
+layout(binding = WELKIN_BINDING_MOON_VIEW_MIE_LUT) uniform sampler2D u_moonMie;
+layout(std430, binding = WELKIN_BINDING_SKY_IRRADIANCE_SSBO) buffer Result { vec4 o_result[5]; };  // sun diffuse, moon diffuse, sun direct, moon direct, zenith
 uniform float u_h;
 uniform vec3 u_sunDir, u_moonDir;  // unit ENU
 uniform vec3 u_sunE, u_moonE;      // lux per channel

@@ -5,11 +5,11 @@
 // COMBINE_3D for volumes and COMBINE_FORMAT (rgba16f or rgba32f) for the destination's format.
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 #ifdef COMBINE_3D
-layout(binding = 0) uniform sampler3D u_src;
-layout(COMBINE_FORMAT, binding = 0) uniform image3D u_dst;
+layout(binding = WELKIN_BINDING_COMBINE_SOURCE) uniform sampler3D u_src;
+layout(COMBINE_FORMAT, binding = WELKIN_BINDING_LUT_IMAGE) uniform image3D u_dst;
 #else
-layout(binding = 0) uniform sampler2D u_src;
-layout(COMBINE_FORMAT, binding = 0) uniform image2D u_dst;
+layout(binding = WELKIN_BINDING_COMBINE_SOURCE) uniform sampler2D u_src;
+layout(COMBINE_FORMAT, binding = WELKIN_BINDING_LUT_IMAGE) uniform image2D u_dst;
 #endif
 uniform mat3 u_toRgb;
 uniform int u_accumulate;  // 0: first triple (overwrite), 1: add

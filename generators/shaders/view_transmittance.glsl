@@ -6,7 +6,7 @@
 // N >= the sky view's height, so a pixel's v (between the sky view's first and last row
 // centres of its half) never blends the two halves. Needs atmosphere.glsl (ATM_USE_TRANSMITTANCE).
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
-layout(rgba32f, binding = 0) uniform writeonly image1D u_viewT;
+layout(rgba32f, binding = WELKIN_BINDING_LUT_IMAGE) uniform writeonly image1D u_viewT;
 uniform float u_h;       // observer height, m, clamped into the atmosphere
 uniform int u_size;      // N texels
 uniform int u_skyViewH;  // the sky view's height (its v -> mu mapping)

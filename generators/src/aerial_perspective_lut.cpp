@@ -71,11 +71,11 @@ void AerialPerspectiveLut::doRun(SkyVars& vars, const Logger&) {
         const gl::Texture3D& in = spectral_ ? inscatterK_ : inscatter_;
         const gl::Texture3D& tr = spectral_ ? transmittanceK_ : transmittance_;
         useTriple(k);
-        glBindTextureUnit(4, (*T)[size_t(k)].id);
-        glBindTextureUnit(5, (*MS)[size_t(k)].id);
-        glBindTextureUnit(8, (*SH)[size_t(k)].id);
-        glBindImageTexture(0, in.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-        glBindImageTexture(1, tr.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glBindTextureUnit(gl::binding::kTransmittanceLut, (*T)[size_t(k)].id);
+        glBindTextureUnit(gl::binding::kMultiScatteringLut, (*MS)[size_t(k)].id);
+        glBindTextureUnit(gl::binding::kShLut, (*SH)[size_t(k)].id);
+        glBindImageTexture(gl::binding::kLutImage, in.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glBindImageTexture(gl::binding::kSecondLutImage, tr.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
         prog_.use();
         prog_.set("u_h", float(h));
         prog_.set("u_muS", float(muS));

@@ -53,8 +53,8 @@ void MultiScatteringLut::doRun(SkyVars& vars, const Logger&) {
     for (int k = 0; k < K; ++k) {
         const gl::Texture2D& target = texture(k);
         useTriple(k);
-        glBindTextureUnit(4, (*T)[size_t(k)].id);
-        glBindImageTexture(0, target.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, fmt);
+        glBindTextureUnit(gl::binding::kTransmittanceLut, (*T)[size_t(k)].id);
+        glBindImageTexture(gl::binding::kLutImage, target.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, fmt);
         prog_.use();
         prog_.set("u_directions", q_.multiScatteringDirections);
         prog_.set("u_steps", q_.multiScatteringSteps);

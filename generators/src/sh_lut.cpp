@@ -123,8 +123,8 @@ void ShLut::doRun(SkyVars& vars, const Logger&) {
     auto list = std::make_shared<std::vector<TextureRef>>();
     for (int k = 0; k < K; ++k) {
         useTriple(k);
-        glBindTextureUnit(4, (*T)[size_t(k)].id);
-        glBindTextureUnit(5, (*MS)[size_t(k)].id);
+        glBindTextureUnit(gl::binding::kTransmittanceLut, (*T)[size_t(k)].id);
+        glBindTextureUnit(gl::binding::kMultiScatteringLut, (*MS)[size_t(k)].id);
         // 1. The sky's irradiance on the ground over mu_s (what lights the ground besides the light).
         groundFbo_.bind();
         glViewport(0, 0, w, 1);
@@ -135,8 +135,8 @@ void ShLut::doRun(SkyVars& vars, const Logger&) {
         fullscreen();
         // 2. The SH layers, with the ground lit by the light and the sky.
         const gl::Texture2DArray& first = first_[size_t(k)];
-        glBindTextureUnit(9, ground_.id());
-        glBindImageTexture(0, first.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, fmt);
+        glBindTextureUnit(gl::binding::kShGroundLut, ground_.id());
+        glBindImageTexture(gl::binding::kLutImage, first.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, fmt);
         prog_.use();
         prog_.set("u_directions", q_.shDirections);
         prog_.set("u_steps", q_.multiScatteringSteps);
@@ -156,8 +156,8 @@ void ShLut::doRun(SkyVars& vars, const Logger&) {
             const int D = q_.shIterationDirections, chunk = std::max(1, kMaxSamples / std::max(q_.shIterationSteps, 1));
             const gl::Texture2DArray& it = iter_[size_t(k)];
             glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
-            glBindTextureUnit(8, first.id());
-            glBindImageTexture(0, it.id(), 0, GL_TRUE, 0, GL_READ_WRITE, fmt);
+            glBindTextureUnit(gl::binding::kShLut, first.id());
+            glBindImageTexture(gl::binding::kLutImage, it.id(), 0, GL_TRUE, 0, GL_READ_WRITE, fmt);
             iterProg_.use();
             iterProg_.set("u_directions", D);
             iterProg_.set("u_steps", q_.shIterationSteps);
@@ -170,7 +170,7 @@ void ShLut::doRun(SkyVars& vars, const Logger&) {
             // The ground's sky irradiance again, from the first pass's field (ground_ is free
             // again: its first-pass values are in the first pass's last layer); the chunks are
             // added by blending.
-            glBindTextureUnit(9, 0);
+            glBindTextureUnit(gl::binding::kShGroundLut, 0);
             groundFbo_.bind();
             glViewport(0, 0, w, 1);
             iterGroundProg_.use();

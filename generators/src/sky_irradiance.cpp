@@ -45,12 +45,12 @@ void SkyIrradiance::doRun(SkyVars& vars, const Logger&) {
     glm::dvec3 moon = unit(vars.getOr(keys::moonDirection, glm::dvec3(0, 0, -1)));
     glm::dvec3 sunE = vars.getOr(lightkeys::sunIlluminance, model_.solarIlluminance);
     glm::dvec3 moonE = vars.getOr(lightkeys::moonIlluminance, glm::dvec3(0.0));
-    glBindTextureUnit(0, vars.get(skykeys::sunViewLut).id);
-    glBindTextureUnit(1, vars.get(skykeys::sunViewMieLut).id);
-    glBindTextureUnit(2, vars.get(skykeys::moonViewLut).id);
-    glBindTextureUnit(3, vars.get(skykeys::moonViewMieLut).id);
-    glBindTextureUnit(4, vars.get(skykeys::transmittanceLut).id);
-    out_.bindBase(GL_SHADER_STORAGE_BUFFER, 0);
+    glBindTextureUnit(gl::binding::kSunViewLut, vars.get(skykeys::sunViewLut).id);
+    glBindTextureUnit(gl::binding::kSunViewMieLut, vars.get(skykeys::sunViewMieLut).id);
+    glBindTextureUnit(gl::binding::kMoonViewLut, vars.get(skykeys::moonViewLut).id);
+    glBindTextureUnit(gl::binding::kMoonViewMieLut, vars.get(skykeys::moonViewMieLut).id);
+    glBindTextureUnit(gl::binding::kTransmittanceLut, vars.get(skykeys::transmittanceLut).id);
+    out_.bindBase(GL_SHADER_STORAGE_BUFFER, gl::binding::kSkyIrradianceSsbo);
     prog_.use();
     prog_.set("u_h", float(h));
     prog_.set("u_sunDir", glm::vec3(sun));

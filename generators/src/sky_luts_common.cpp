@@ -77,14 +77,14 @@ void SkyGenerator::prepare(SkyVars& vars) {
     if (!vao_) vao_ = gl::VertexArray::create();
     AtmosphereBlock block = AtmosphereBlock::from(spectral_ ? spectral_->models[0] : model_, q_.shBands);
     ubo_.update(&block, sizeof block);
-    ubo_.bindBase(GL_UNIFORM_BUFFER, 1);
+    ubo_.bindBase(GL_UNIFORM_BUFFER, gl::binding::kAtmosphereUbo);
 }
 
 void SkyGenerator::useTriple(int k) {
     if (!spectral_) return;
     AtmosphereBlock block = AtmosphereBlock::from(spectral_->models.at(size_t(k)), q_.shBands);
     ubo_.update(&block, sizeof block);
-    ubo_.bindBase(GL_UNIFORM_BUFFER, 1);
+    ubo_.bindBase(GL_UNIFORM_BUFFER, gl::binding::kAtmosphereUbo);
 }
 
 void SkyGenerator::combine(const gl::Texture& src, const gl::Texture& dst, int k) {
@@ -101,8 +101,8 @@ void SkyGenerator::combine(const gl::Texture& src, const gl::Texture& dst, int k
     }
     // Image stores of the previous triple (or the pass's own image writes) before these reads.
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-    glBindTextureUnit(0, src.id());
-    glBindImageTexture(0, dst.id(), 0, is3D ? GL_TRUE : GL_FALSE, 0, GL_READ_WRITE, half ? GL_RGBA16F : GL_RGBA32F);
+    glBindTextureUnit(gl::binding::kCombineSource, src.id());
+    glBindImageTexture(gl::binding::kLutImage, dst.id(), 0, is3D ? GL_TRUE : GL_FALSE, 0, GL_READ_WRITE, half ? GL_RGBA16F : GL_RGBA32F);
     p.use();
     p.set("u_toRgb", glm::mat3(spectral_->toRgb.at(size_t(k))));
     p.set("u_accumulate", k > 0 ? 1 : 0);

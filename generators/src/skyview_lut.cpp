@@ -119,9 +119,9 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
             fb.bind();
             glViewport(0, 0, q_.skyViewW, q_.skyViewH);
             glNamedFramebufferDrawBuffers(fb.id(), 3, bufs);
-            glBindTextureUnit(4, (*T)[size_t(k)].id);
-            glBindTextureUnit(5, (*MS)[size_t(k)].id);
-            glBindTextureUnit(8, (*SH)[size_t(k)].id);
+            glBindTextureUnit(gl::binding::kTransmittanceLut, (*T)[size_t(k)].id);
+            glBindTextureUnit(gl::binding::kMultiScatteringLut, (*MS)[size_t(k)].id);
+            glBindTextureUnit(gl::binding::kShLut, (*SH)[size_t(k)].id);
             prog_.use();
             prog_.set("u_h", float(h_));
             prog_.set("u_muS", float(muS_));
@@ -153,8 +153,8 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
                              .compute("generators/view_transmittance.glsl", embedded::generator_shaders("view_transmittance.glsl"))
                              .build();
         if (spectral_) useTriple(0);
-        glBindTextureUnit(4, vars.get(skykeys::transmittanceLut).id);
-        glBindImageTexture(0, viewT_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glBindTextureUnit(gl::binding::kTransmittanceLut, vars.get(skykeys::transmittanceLut).id);
+        glBindImageTexture(gl::binding::kLutImage, viewT_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
         viewTProg_.use();
         viewTProg_.set("u_h", float(h_));
         viewTProg_.set("u_size", nT);

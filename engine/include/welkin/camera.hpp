@@ -5,8 +5,11 @@
 //   welkin::Camera cam;
 //   cam.projection = welkin::Projection::Fisheye;
 //   cam.width = cam.height = 512;
-//   auto px = cam.pixelOf(welkin::directionFromAzAlt(glm::radians(90.0), 0.0));  // east horizon
+//   glm::dvec3 east = welkin::directionFromAzAlt(glm::radians(90.0), 0.0);  // east horizon
+//   auto px = cam.pixelOf(east);
 //   // -> (0, 256): east is on the left of an all-sky image seen from below
+//   auto clip = cam.clipFromDirection(east);  // gl_Position (nullopt: not visible); pixelFromClip(*clip) == *px
+//   auto ppr = cam.pixelScale(east);          // (2R/pi, R) = (163, 256) pixels per radian there
 //
 // Projections:
 //  - Perspective: looks at (azimuthRad, altitudeRad), vertical field of view verticalFovRad,
@@ -18,6 +21,15 @@
 //    on the top row).
 //  - CubeFace: one face of a cube map in OpenGL face order (+X, -X, +Y, -Y, +Z, -Z) with cube
 //    axes x = east, y = up, z = south; face texel rows as GL stores them (row 0 is t = -1).
+//
+// Both ways: directionAt() maps a pixel to a direction (the fragment side, like GLSL
+// welkin_viewDirection), pixelOf() and clipFromDirection() map a direction to a pixel (the vertex
+// side, like GLSL welkin_clipFromDirection). All three use continuous pixel coordinates: pixel
+// (i, j) covers [i, i+1) x [j, j+1) and its centre, where a fragment is shaded, is (i + 0.5, j + 0.5).
+// A clip position maps to pixelOf() through the viewport transform of a viewport equal to the
+// camera (pixelFromClip()). Perspective and cube faces are pinhole projections, linear in the
+// direction (lines between two directions clip correctly); fisheye and equirect are not (subdivide
+// lines, and split them at the equirect seam).
 #pragma once
 #include <glm/glm.hpp>
 
@@ -57,9 +69,34 @@ struct Camera {
     std::optional<glm::dvec2> pixelOf(const glm::dvec3& direction) const;
     /// Perspective basis as columns (right, up, forward), world ENU.
     glm::dmat3 basis() const;
+
+    /// Clip-space position (gl_Position) of a world direction (any non-zero length): with a
+    /// viewport equal to the camera, its fragment lands on the pixel whose directionAt() is that
+    /// direction, at pixelFromClip(clip) == pixelOf(direction). z = w (the far plane, like the
+    /// fullscreen pass). nullopt exactly when pixelOf() is (not visible). Perspective:
+    /// (right.d / tanX, up.d / tanY, fwd.d, fwd.d), outside [-w, w] off the frame; cube face:
+    /// the same with the face's axes and tan 45 deg; fisheye and equirect: w = 1.
+    /// `copy` 1 (equirect only, else nullopt) is the twin across the seam at azimuth 0/2pi: x
+    /// shifted by -2w if x >= 0, +2w otherwise, so a sprite that straddles the seam is drawn
+    /// whole by drawing both copies. Throws welkin::Error on a zero or non-finite direction or
+    /// copy not in [0, 1].
+    std::optional<glm::dvec4> clipFromDirection(const glm::dvec3& direction, int copy = 0) const;
+    /// Viewport transform for a viewport equal to the camera: ((x/w + 1) W/2, (1 - y/w) H/2),
+    /// pixels, origin top-left, y down. Throws welkin::Error if w <= 0 (clipped away).
+    glm::dvec2 pixelFromClip(const glm::dvec4& clip) const;
+    /// d(pixel)/d(direction) at a visible direction: a small displacement `delta` (radians) of
+    /// the unit direction, perpendicular to it, moves the pixel position (x right, y down) by
+    /// J * delta pixels; J * direction = 0. Equirect: the horizontal scale W / (2pi cos alt) is
+    /// capped at cos alt >= 1e-6 (it is infinite at the poles). nullopt when pixelOf() is.
+    std::optional<glm::dmat3x2> pixelJacobian(const glm::dvec3& direction) const;
+    /// Local pixel scale at a visible direction: (smallest, largest) pixels per radian over the
+    /// directions of displacement (the singular values of pixelJacobian()). A sprite of angular
+    /// radius a covers at least a * x and at most a * y pixels in any direction. nullopt when
+    /// pixelOf() is.
+    std::optional<glm::dvec2> pixelScale(const glm::dvec3& direction) const;
 };
 
-/// The per-frame camera block shared by every element's shaders (std140, binding 0; see
+/// The per-frame camera block shared by every element's shaders (std140, binding gl::binding::kCameraUbo; see
 /// engine/shaders/camera.glsl).
 struct CameraBlock {
     glm::mat4 cameraToWorld;  ///< columns: right, up, forward (perspective)

@@ -1,5 +1,6 @@
 #include <welkin/embedded/engine_shaders.hpp>
 #include <welkin/error.hpp>
+#include <welkin/gl/bindings.hpp>
 #include <welkin/gl/shader.hpp>
 
 #include <cstdio>
@@ -42,14 +43,19 @@ ProgramBuilder& ProgramBuilder::fullscreenVertex() {
     return vertex("engine/fullscreen.vert.glsl", engineShader("fullscreen.vert.glsl"));
 }
 
-std::string ProgramBuilder::header() const {
+std::string ProgramBuilder::header(GLenum stage) const {
     std::string h = "#version 450 core\n";
+    h += stage == GL_VERTEX_SHADER     ? "#define WELKIN_VERTEX_SHADER 1\n"
+         : stage == GL_FRAGMENT_SHADER ? "#define WELKIN_FRAGMENT_SHADER 1\n"
+                                       : "#define WELKIN_COMPUTE_SHADER 1\n";
+    // One table for C++ and GLSL (welkin/gl/bindings.hpp).
+    for (const auto& e : binding::kTable) h += "#define " + std::string(e.glslName) + " " + std::to_string(e.value) + "\n";
     for (const auto& [n, v] : defines_) h += "#define " + n + " " + v + "\n";
     return h;
 }
 
-std::vector<std::string> ProgramBuilder::sources(const std::vector<Chunk>& chunks) const {
-    std::vector<std::string> out{header()};
+std::vector<std::string> ProgramBuilder::sources(GLenum stage, const std::vector<Chunk>& chunks) const {
+    std::vector<std::string> out{header(stage)};
     for (size_t i = 0; i < chunks.size(); ++i) {
         // The chunk index is encoded in the line number itself (chunk k starts at line
         // k * kChunkLines + 1): drivers differ in whether they report the source-string number
@@ -62,7 +68,7 @@ std::vector<std::string> ProgramBuilder::sources(const std::vector<Chunk>& chunk
 std::string ProgramBuilder::assembled(GLenum stage) const {
     const auto& chunks = stage == GL_VERTEX_SHADER ? vertex_ : stage == GL_FRAGMENT_SHADER ? fragment_ : compute_;
     std::string all;
-    for (const auto& s : sources(chunks)) all += s;
+    for (const auto& s : sources(stage, chunks)) all += s;
     return all;
 }
 
@@ -89,7 +95,7 @@ std::string ProgramBuilder::mapLog(const std::string& log, const std::vector<Chu
 }
 
 GLuint ProgramBuilder::compileStage(GLenum stage, const std::vector<Chunk>& chunks) const {
-    auto srcs = sources(chunks);
+    auto srcs = sources(stage, chunks);
     std::vector<const char*> ptrs;
     for (const auto& s : srcs) ptrs.push_back(s.c_str());
     GLuint sh = glCreateShader(stage);

@@ -1,7 +1,7 @@
 // AerialPerspective::apply(): composites the aerial perspective over a host's frame from its
 // depth buffer (dual-source blending: dst = inscatter + dst * T). Needs engine/camera.glsl,
 // engine/composite.glsl, generators/atmosphere.glsl and sky/aerial_perspective.glsl before it.
-layout(binding = 0) uniform sampler2D u_depth;
+layout(binding = WELKIN_BINDING_SCENE_DEPTH) uniform sampler2D u_depth;
 uniform float u_near, u_far;   // the host's perspective projection, metres
 uniform float u_metresPerUnit;
 

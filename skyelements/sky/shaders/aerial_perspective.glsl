@@ -10,8 +10,8 @@
 //   vec3 T;
 //   vec3 inscatter = welkin_aerialPerspective(worldDirEnu, distanceMetres, T);
 //   colour = colour * T + inscatter;     // colour in cd/m^2 (or scale inscatter to your units)
-layout(binding = 6) uniform sampler3D welkin_apInscatter;
-layout(binding = 7) uniform sampler3D welkin_apTransmittance;
+layout(binding = WELKIN_BINDING_AERIAL_INSCATTER_LUT) uniform sampler3D welkin_apInscatter;
+layout(binding = WELKIN_BINDING_AERIAL_TRANSMITTANCE_LUT) uniform sampler3D welkin_apTransmittance;
 uniform vec3 welkin_apSunDir;        // unit ENU
 uniform vec3 welkin_apSunE;          // Sun's illuminance above the atmosphere, lux per channel
 uniform float welkin_apH;            // observer height, m (clamped into the atmosphere)

@@ -1,11 +1,11 @@
 // Sky element: radiance (cd/m^2) and transmittance of the atmosphere along each pixel's ray.
 // Needs engine/camera.glsl, engine/composite.glsl and generators/atmosphere.glsl
 // (ATM_USE_TRANSMITTANCE, and ATM_USE_MULTISCATTERING when SKY_PER_PIXEL) before it.
-layout(binding = 0) uniform sampler2D u_sunSmooth;
-layout(binding = 1) uniform sampler2D u_sunMie;
-layout(binding = 2) uniform sampler2D u_moonSmooth;
-layout(binding = 3) uniform sampler2D u_moonMie;
-layout(binding = 10) uniform sampler1D u_viewTransmittance;  // sky.view_transmittance_lut
+layout(binding = WELKIN_BINDING_SUN_VIEW_LUT) uniform sampler2D u_sunSmooth;
+layout(binding = WELKIN_BINDING_SUN_VIEW_MIE_LUT) uniform sampler2D u_sunMie;
+layout(binding = WELKIN_BINDING_MOON_VIEW_LUT) uniform sampler2D u_moonSmooth;
+layout(binding = WELKIN_BINDING_MOON_VIEW_MIE_LUT) uniform sampler2D u_moonMie;
+layout(binding = WELKIN_BINDING_VIEW_TRANSMITTANCE_LUT) uniform sampler1D u_viewTransmittance;  // sky.view_transmittance_lut
 uniform float u_h;          // observer height above the ground, m (>= 0; may exceed the top)
 uniform vec3 u_sunDir;      // unit ENU
 uniform vec3 u_moonDir;

@@ -25,9 +25,9 @@ void AerialPerspective::bindResources(const SkyVars& vars, const gl::Program& pr
     AtmosphereBlock block = AtmosphereBlock::from(m, q.shBands);
     if (!ubo_) ubo_ = gl::Buffer(sizeof block);
     ubo_.update(&block, sizeof block);
-    ubo_.bindBase(GL_UNIFORM_BUFFER, 1);
-    glBindTextureUnit(6, vars.get(skykeys::aerialInscatter).id);
-    glBindTextureUnit(7, vars.get(skykeys::aerialTransmittance).id);
+    ubo_.bindBase(GL_UNIFORM_BUFFER, gl::binding::kAtmosphereUbo);
+    glBindTextureUnit(gl::binding::kAerialInscatterLut, vars.get(skykeys::aerialInscatter).id);
+    glBindTextureUnit(gl::binding::kAerialTransmittanceLut, vars.get(skykeys::aerialTransmittance).id);
     glm::dvec3 sun = vars.getOr(keys::sunDirection, glm::dvec3(0, 0, 1));
     const double Ht = m.topRadius - m.bottomRadius;
     glProgramUniform3f(program.id(), program.location("welkin_apSunDir"), float(sun.x), float(sun.y), float(sun.z));
@@ -54,9 +54,9 @@ void AerialPerspective::apply(const SkyVars& vars, const Camera& camera, const H
     }
     CameraBlock cb = makeCameraBlock(camera, 0.0);
     cameraUbo_.update(&cb, sizeof cb);
-    cameraUbo_.bindBase(GL_UNIFORM_BUFFER, 0);
+    cameraUbo_.bindBase(GL_UNIFORM_BUFFER, gl::binding::kCameraUbo);
     bindResources(vars, program_);
-    glBindTextureUnit(0, depth.depthTexture);
+    glBindTextureUnit(gl::binding::kSceneDepth, depth.depthTexture);
     program_.use();
     program_.set("u_near", float(depth.nearM));
     program_.set("u_far", float(depth.farM));

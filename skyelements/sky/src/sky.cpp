@@ -134,16 +134,16 @@ void Sky::doRender(const FrameContext& ctx) {
     }
     AtmosphereBlock block = AtmosphereBlock::from(m, q.shBands);
     ubo_.update(&block, sizeof block);
-    ubo_.bindBase(GL_UNIFORM_BUFFER, 1);
+    ubo_.bindBase(GL_UNIFORM_BUFFER, gl::binding::kAtmosphereUbo);
     // With the phase baked in, units 0 and 2 get the total LUTs and 1, 3 are not read.
-    glBindTextureUnit(0, v.get(q.bakedMiePhase ? skykeys::sunViewTotalLut : skykeys::sunViewLut).id);
-    glBindTextureUnit(1, v.get(skykeys::sunViewMieLut).id);
-    glBindTextureUnit(2, v.get(q.bakedMiePhase ? skykeys::moonViewTotalLut : skykeys::moonViewLut).id);
-    glBindTextureUnit(3, v.get(skykeys::moonViewMieLut).id);
-    glBindTextureUnit(10, v.get(skykeys::viewTransmittanceLut).id);
-    glBindTextureUnit(4, v.get(skykeys::transmittanceLut).id);
-    glBindTextureUnit(5, v.get(skykeys::multiScatteringLut).id);
-    glBindTextureUnit(8, v.get(skykeys::shLut).id);
+    glBindTextureUnit(gl::binding::kSunViewLut, v.get(q.bakedMiePhase ? skykeys::sunViewTotalLut : skykeys::sunViewLut).id);
+    glBindTextureUnit(gl::binding::kSunViewMieLut, v.get(skykeys::sunViewMieLut).id);
+    glBindTextureUnit(gl::binding::kMoonViewLut, v.get(q.bakedMiePhase ? skykeys::moonViewTotalLut : skykeys::moonViewLut).id);
+    glBindTextureUnit(gl::binding::kMoonViewMieLut, v.get(skykeys::moonViewMieLut).id);
+    glBindTextureUnit(gl::binding::kViewTransmittanceLut, v.get(skykeys::viewTransmittanceLut).id);
+    glBindTextureUnit(gl::binding::kTransmittanceLut, v.get(skykeys::transmittanceLut).id);
+    glBindTextureUnit(gl::binding::kMultiScatteringLut, v.get(skykeys::multiScatteringLut).id);
+    glBindTextureUnit(gl::binding::kShLut, v.get(skykeys::shLut).id);
     auto unit = [](glm::dvec3 d) { return glm::length(d) > 0 ? glm::normalize(d) : glm::dvec3(0, 0, -1); };
     const glm::dvec3 moonE = options_.moon ? v.getOr(lightkeys::moonIlluminance, glm::dvec3(0.0)) : glm::dvec3(0.0);
     // The Moon's term only while it gives light and is above -20 deg (its LUT is black below).
@@ -191,10 +191,10 @@ void Sky::doRender(const FrameContext& ctx) {
     for (int k = 0; k < sp->triples(); ++k) {
         AtmosphereBlock bk = AtmosphereBlock::from(sp->models[size_t(k)], q.shBands);
         ubo_.update(&bk, sizeof bk);
-        ubo_.bindBase(GL_UNIFORM_BUFFER, 1);
-        glBindTextureUnit(4, T->at(size_t(k)).id);
-        glBindTextureUnit(5, MS->at(size_t(k)).id);
-        glBindTextureUnit(8, SH->at(size_t(k)).id);
+        ubo_.bindBase(GL_UNIFORM_BUFFER, gl::binding::kAtmosphereUbo);
+        glBindTextureUnit(gl::binding::kTransmittanceLut, T->at(size_t(k)).id);
+        glBindTextureUnit(gl::binding::kMultiScatteringLut, MS->at(size_t(k)).id);
+        glBindTextureUnit(gl::binding::kShLut, SH->at(size_t(k)).id);
         setUniforms(ps, sunE, moonE);
         ps.set("u_toRgb", glm::mat3(sp->toRgb[size_t(k)]));
         ctx.drawFullscreen();

@@ -1,4 +1,5 @@
 #include <welkin/elements/sky_offline.hpp>
+#include <welkin/gl/bindings.hpp>
 
 #include <chrono>
 
@@ -35,7 +36,7 @@ void OfflineRenderer::draw(SkyElement& e, const Camera& camera, bool finish) {
     glViewport(0, 0, camera.width, camera.height);
     const float black[4] = {0, 0, 0, 1};
     glClearBufferfv(GL_COLOR, 0, black);
-    cameraUbo_.bindBase(GL_UNIFORM_BUFFER, 0);
+    cameraUbo_.bindBase(GL_UNIFORM_BUFFER, gl::binding::kCameraUbo);
     vao_.bind();
     glEnable(GL_BLEND);
     glBlendFuncSeparate(GL_ONE, GL_SRC1_COLOR, GL_ZERO, GL_ONE);

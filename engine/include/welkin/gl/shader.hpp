@@ -8,10 +8,13 @@
 //       .fragment("grid/grid.frag.glsl", gridText)                      // then the owner's code
 //       .build();                                                      // throws welkin::Error
 //
-// Each stage is assembled as: a generated header (`#version 450 core`, then every define in the
+// Each stage is assembled as: a generated header (`#version 450 core`; the stage's macro,
+// WELKIN_VERTEX_SHADER, WELKIN_FRAGMENT_SHADER or WELKIN_COMPUTE_SHADER; every binding of
+// <welkin/gl/bindings.hpp> as `#define WELKIN_BINDING_<NAME> <value>`; then every define in the
 // order given), then each chunk in the order added, each preceded by `#line <n*100000+1>` so
 // that the driver's messages can be mapped back whatever the driver: "grid/grid.frag.glsl:12: error: ...".
 #pragma once
+#include <welkin/gl/bindings.hpp>  // the table whose names every generated header defines
 #include <welkin/gl/objects.hpp>
 
 #include <string>
@@ -30,6 +33,8 @@ public:
     ProgramBuilder& define(const std::string& name, const std::string& value = "1");
     ProgramBuilder& define(const std::string& name, int value);
     ProgramBuilder& define(const std::string& name, double value);
+    /// A chunk of the vertex stage (e.g. engine/camera.glsl, then your own main() that sets
+    /// gl_Position = welkin_clipFromDirection(dir)); or fullscreenVertex().
     ProgramBuilder& vertex(std::string name, std::string_view text);
     ProgramBuilder& fragment(std::string name, std::string_view text);
     ProgramBuilder& compute(std::string name, std::string_view text);
@@ -50,8 +55,8 @@ private:
     std::vector<std::pair<std::string, std::string>> defines_;
     std::vector<Chunk> vertex_, fragment_, compute_;
 
-    std::string header() const;
-    std::vector<std::string> sources(const std::vector<Chunk>& chunks) const;
+    std::string header(GLenum stage) const;
+    std::vector<std::string> sources(GLenum stage, const std::vector<Chunk>& chunks) const;
     GLuint compileStage(GLenum stage, const std::vector<Chunk>& chunks) const;
     std::string mapLog(const std::string& log, const std::vector<Chunk>& chunks) const;
 };

@@ -1,0 +1,116 @@
+// Texture units, image units and buffer binding points of welkin's shaders: one table shared by
+// C++ and GLSL, so the two cannot disagree. gl::ProgramBuilder's generated header defines
+// `WELKIN_BINDING_<NAME> <value>` for every entry of kTable, and the C++ binds the same constant:
+//
+//   // GLSL (any stage assembled by ProgramBuilder):
+//   layout(binding = WELKIN_BINDING_TRANSMITTANCE_LUT) uniform sampler2D u_atmTransmittance;
+//   // C++:
+//   glBindTextureUnit(welkin::gl::binding::kTransmittanceLut, lut.id());
+//
+// Units of different kinds (texture units, image units, uniform buffers, storage buffers) are
+// separate name spaces in GL. Within one kind, entries that share a value belong to passes that
+// never run together (the tone map's HDR input and a LUT pass's source, say). Your own elements
+// take their bindings from the reserved user ranges (kUser*First..kUser*Last), which the library
+// never uses; docs/writing-an-element.md.
+#pragma once
+#include <array>
+#include <string_view>
+
+namespace welkin::gl::binding {
+
+// Uniform buffers (GL_UNIFORM_BUFFER binding points).
+inline constexpr int kCameraUbo = 0;      ///< welkin::CameraBlock (engine/shaders/camera.glsl), bound by the processor
+inline constexpr int kAtmosphereUbo = 1;  ///< the atmosphere block (generators/shaders/atmosphere.glsl)
+
+// Shader storage buffers (GL_SHADER_STORAGE_BUFFER binding points).
+inline constexpr int kSkyIrradianceSsbo = 0;  ///< SkyIrradiance's result (generators/shaders/sky_irradiance.glsl)
+
+// Texture units: the engine's tone map.
+inline constexpr int kHdrTexture = 0;     ///< the HDR frame read by the tone map and log-luminance passes
+inline constexpr int kLogLumTexture = 1;  ///< the log-luminance mip chain (automatic exposure)
+// Texture units: the sky's LUTs, the same unit wherever a LUT is sampled.
+inline constexpr int kSunViewLut = 0;              ///< sky.sun_view_lut (or its total-phase variant)
+inline constexpr int kSunViewMieLut = 1;           ///< sky.sun_view_mie_lut
+inline constexpr int kMoonViewLut = 2;             ///< sky.moon_view_lut (or its total-phase variant)
+inline constexpr int kMoonViewMieLut = 3;          ///< sky.moon_view_mie_lut
+inline constexpr int kTransmittanceLut = 4;        ///< sky.transmittance_lut
+inline constexpr int kMultiScatteringLut = 5;      ///< sky.multiscattering_lut
+inline constexpr int kAerialInscatterLut = 6;      ///< aerial perspective in-scattering (3-D)
+inline constexpr int kAerialTransmittanceLut = 7;  ///< aerial perspective transmittance (3-D)
+inline constexpr int kShLut = 8;                   ///< sky.sh_lut (spherical-harmonic radiance field)
+inline constexpr int kShGroundLut = 9;             ///< the SH pass's ground-reflection input
+inline constexpr int kViewTransmittanceLut = 10;   ///< sky.view_transmittance_lut (1-D)
+// Texture units: other passes.
+inline constexpr int kSceneDepth = 0;     ///< the host's depth texture (aerial perspective applied to a scene)
+inline constexpr int kCombineSource = 0;  ///< the spectral-combine pass's source LUT
+
+// Image units (glBindImageTexture): what a generator's compute pass writes.
+inline constexpr int kLutImage = 0;        ///< the (first) LUT written or updated by a compute pass
+inline constexpr int kSecondLutImage = 1;  ///< a second output (the aerial perspective transmittance)
+
+// Reserved for user elements: the library never binds these (inclusive ranges). Each fits the
+// minimum GL 4.5 guarantees: 80 combined texture units, 8 image units, 72 uniform-buffer and 8
+// storage-buffer bindings (checked against the context in the [gl] tests).
+inline constexpr int kUserTextureUnitFirst = 16, kUserTextureUnitLast = 31;
+inline constexpr int kUserImageUnitFirst = 4, kUserImageUnitLast = 7;
+inline constexpr int kUserUboFirst = 8, kUserUboLast = 15;
+inline constexpr int kUserSsboFirst = 4, kUserSsboLast = 7;
+
+enum class Kind { TextureUnit, ImageUnit, UniformBuffer, StorageBuffer, UserRange };
+
+struct Entry {
+    std::string_view glslName;  ///< the GLSL macro, WELKIN_BINDING_<NAME>
+    int value;
+    Kind kind;
+};
+
+/// Every binding above, as ProgramBuilder writes it into each stage's generated header.
+inline constexpr std::array kTable = {
+    Entry{"WELKIN_BINDING_CAMERA_UBO", kCameraUbo, Kind::UniformBuffer},
+    Entry{"WELKIN_BINDING_ATMOSPHERE_UBO", kAtmosphereUbo, Kind::UniformBuffer},
+    Entry{"WELKIN_BINDING_SKY_IRRADIANCE_SSBO", kSkyIrradianceSsbo, Kind::StorageBuffer},
+    Entry{"WELKIN_BINDING_HDR_TEXTURE", kHdrTexture, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_LOG_LUM_TEXTURE", kLogLumTexture, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_SUN_VIEW_LUT", kSunViewLut, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_SUN_VIEW_MIE_LUT", kSunViewMieLut, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_MOON_VIEW_LUT", kMoonViewLut, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_MOON_VIEW_MIE_LUT", kMoonViewMieLut, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_TRANSMITTANCE_LUT", kTransmittanceLut, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_MULTISCATTERING_LUT", kMultiScatteringLut, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_AERIAL_INSCATTER_LUT", kAerialInscatterLut, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_AERIAL_TRANSMITTANCE_LUT", kAerialTransmittanceLut, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_SH_LUT", kShLut, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_SH_GROUND_LUT", kShGroundLut, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_VIEW_TRANSMITTANCE_LUT", kViewTransmittanceLut, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_SCENE_DEPTH", kSceneDepth, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_COMBINE_SOURCE", kCombineSource, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_LUT_IMAGE", kLutImage, Kind::ImageUnit},
+    Entry{"WELKIN_BINDING_SECOND_LUT_IMAGE", kSecondLutImage, Kind::ImageUnit},
+    Entry{"WELKIN_BINDING_USER_TEXTURE_UNIT_FIRST", kUserTextureUnitFirst, Kind::UserRange},
+    Entry{"WELKIN_BINDING_USER_TEXTURE_UNIT_LAST", kUserTextureUnitLast, Kind::UserRange},
+    Entry{"WELKIN_BINDING_USER_IMAGE_UNIT_FIRST", kUserImageUnitFirst, Kind::UserRange},
+    Entry{"WELKIN_BINDING_USER_IMAGE_UNIT_LAST", kUserImageUnitLast, Kind::UserRange},
+    Entry{"WELKIN_BINDING_USER_UBO_FIRST", kUserUboFirst, Kind::UserRange},
+    Entry{"WELKIN_BINDING_USER_UBO_LAST", kUserUboLast, Kind::UserRange},
+    Entry{"WELKIN_BINDING_USER_SSBO_FIRST", kUserSsboFirst, Kind::UserRange},
+    Entry{"WELKIN_BINDING_USER_SSBO_LAST", kUserSsboLast, Kind::UserRange},
+};
+
+/// True if every library binding is >= 0 and below its kind's user range.
+constexpr bool libraryBelowUserRanges() {
+    for (const Entry& e : kTable) {
+        int first = 0;
+        switch (e.kind) {
+            case Kind::TextureUnit: first = kUserTextureUnitFirst; break;
+            case Kind::ImageUnit: first = kUserImageUnitFirst; break;
+            case Kind::UniformBuffer: first = kUserUboFirst; break;
+            case Kind::StorageBuffer: first = kUserSsboFirst; break;
+            case Kind::UserRange: continue;
+        }
+        if (e.value < 0 || e.value >= first) return false;
+    }
+    return true;
+}
+static_assert(libraryBelowUserRanges(), "a library binding falls into a user range");
+
+}  // namespace welkin::gl::binding
