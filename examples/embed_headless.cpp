@@ -17,8 +17,9 @@ int main(int argc, char** argv) {
         welkin::Logger log;
         auto context = welkin::gl::HeadlessContext::create({}, log);
         welkin::SkyProcessor sky(welkin::SkyVars::earth(), log);
+        // The default set (the registry's order: background first), then a grid overlay.
         for (const auto& name : welkin::elements::defaultElements()) sky.add(welkin::elements::makeElement(name));
-        if (!sky.find("grid")) sky.add(welkin::elements::makeElement("grid"));  // overlay last
+        sky.add(welkin::elements::makeElement("grid"));
 
         constexpr double deg = std::numbers::pi / 180;
         sky.setObserver({.latitudeRad = 35.9 * deg, .longitudeRad = 14.5 * deg, .heightMeters = 50});

@@ -23,6 +23,28 @@ cmake --build "$build/consumer" -j "$jobs" >/dev/null
 "$build/consumer/welkin_consumer"
 rm -rf "$prefix"
 
+echo "== element template: examples/elements/halo copied into skyelements/, nothing else changed"
+# A new element is one folder: copy the template, reconfigure, build, render it with an option
+# set by --var, run its own test; then remove it again.
+tmpl="$here/skyelements/halo"
+if [ -e "$tmpl" ]; then echo "skyelements/halo already exists" >&2; exit 1; fi
+cleanup_template() { rm -rf "$tmpl"; cmake -S "$here" -B "$build" >/dev/null 2>&1 || true; }
+trap cleanup_template EXIT
+cp -r "$here/examples/elements/halo" "$tmpl"
+if git -C "$here" rev-parse >/dev/null 2>&1; then
+  changed=$(git -C "$here" status --porcelain --untracked-files=all | grep -v "^?? skyelements/halo/" || true)
+  if [ -n "$changed" ] && [ -z "${WELKIN_ALLOW_DIRTY:-}" ]; then echo "template step: files other than skyelements/halo changed:" >&2; echo "$changed" >&2; exit 1; fi
+fi
+cmake -S "$here" -B "$build" >/dev/null
+cmake --build "$build" -j "$jobs" >/dev/null
+"$build/bin/welkin" render --time 2026-06-21T10:00:00Z --lat 48 --lon 2 --elements sky,halo --projection fisheye \
+  --size 128x128 --var halo.radius_rad=22deg --var halo.gain_per_sr=0.05 --out "$build/template-halo.png"
+"$build/bin/welkin" vars --elements halo --json | grep -q '"halo.gain_per_sr"'
+"$build/tests/welkin_tests" "[halo]"
+cleanup_template
+trap - EXIT
+cmake --build "$build" -j "$jobs" >/dev/null
+
 echo "== sanitizers (ASan + UBSan): fast tests"
 san=${WELKIN_SAN_BUILD_DIR:-$build-asan}
 cmake -S "$here" -B "$san" -DCMAKE_BUILD_TYPE=Debug -DWELKIN_SANITIZE=ON -DWELKIN_BUILD_EXAMPLES=OFF >/dev/null
