@@ -29,8 +29,9 @@ TEST_CASE("Halo: a ring at its radius from the Sun, as bright as its gain says",
     auto Y = [&](int x, int y) { return 0.2126 * img.at(x, y, 0) + 0.7152 * img.at(x, y, 1) + 0.0722 * img.at(x, y, 2); };
     // Down the Sun's meridian (azimuth 180 deg = column 360): the crest 22 deg below the Sun, at
     // altitude 38 deg = row (90 - 38) * 2 = 104 (pixel centre 104.5 -> 37.75 deg; one pixel).
-    int best = 0;
-    for (int y = 0; y < 180; ++y)
+    // (The ring also crosses the meridian above the Sun, at 82 deg: search below the Sun only.)
+    int best = 60;
+    for (int y = 60; y < 180; ++y)
         if (Y(360, y) > Y(360, best)) best = y;
     CHECK(std::abs((90.0 - (best + 0.5) * 0.5) - 38.0) <= 0.5);
     // Crest luminance = gain x the Sun's illuminance at the observer (lux), within the Gaussian's
