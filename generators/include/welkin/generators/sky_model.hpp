@@ -52,7 +52,7 @@ struct DensityProfile {
 /// The atmosphere as the real-time passes see it. SI units.
 struct SkyModel {
     double bottomRadius = 6360e3;  ///< ground sphere radius, m
-    double topRadius = 6460e3;     ///< top of the atmosphere, m (> bottomRadius)
+    double topRadius = 6420e3;     ///< top of the atmosphere, m (> bottomRadius); as Atmosphere::earthClear()
     glm::dvec3 rayleighScattering{5.802e-6, 13.558e-6, 33.1e-6};  ///< 1/m at density 1
     DensityProfile rayleighDensity = DensityProfile::exponential(8000.0);
     glm::dvec3 mieScattering{3.996e-6};  ///< 1/m at density 1
