@@ -1,6 +1,8 @@
 #include <welkin/error.hpp>
 #include <welkin/gl/objects.hpp>
 
+#include <epoxy/gl.h>
+
 #include <glm/gtc/type_ptr.hpp>
 
 namespace welkin::gl {

@@ -2,6 +2,8 @@
 #include <welkin/error.hpp>
 #include <welkin/gl/shader.hpp>
 
+#include <epoxy/gl.h>
+
 #include <cstdio>
 #include <regex>
 #include <sstream>

@@ -1,5 +1,7 @@
 #include <welkin/elements/sky_offline.hpp>
 
+#include <epoxy/gl.h>
+
 #include <chrono>
 
 namespace welkin::elements {

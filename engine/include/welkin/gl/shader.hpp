@@ -37,7 +37,7 @@ public:
     ProgramBuilder& fullscreenVertex();
 
     /// The assembled source of a stage (GL_VERTEX_SHADER, ...), as the driver sees it.
-    std::string assembled(GLenum stage) const;
+    std::string assembled(unsigned stage) const;
     /// Compiles and links. Throws welkin::Error whose message names the label, file and line.
     Program build() const;
 
@@ -52,7 +52,7 @@ private:
 
     std::string header() const;
     std::vector<std::string> sources(const std::vector<Chunk>& chunks) const;
-    GLuint compileStage(GLenum stage, const std::vector<Chunk>& chunks) const;
+    unsigned compileStage(unsigned stage, const std::vector<Chunk>& chunks) const;
     std::string mapLog(const std::string& log, const std::vector<Chunk>& chunks) const;
 };
 
