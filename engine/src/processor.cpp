@@ -1,4 +1,5 @@
 #include <welkin/astro/astro_keys.hpp>
+#include <welkin/check.hpp>
 #include <welkin/error.hpp>
 #include <welkin/gl/shader.hpp>
 #include <welkin/keys.hpp>
@@ -10,7 +11,6 @@
 
 #include <cmath>
 #include <algorithm>
-#include <cstdio>
 #include <numbers>
 #include <tuple>
 
@@ -26,19 +26,10 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 void Observer::validate() const {
-    char buf[128];
-    if (!(latitudeRad >= -kPi / 2 && latitudeRad <= kPi / 2)) {
-        std::snprintf(buf, sizeof buf, "Observer: latitude %g deg not in [-90, 90]", latitudeRad * 180 / kPi);
-        throw Error(buf);
-    }
-    if (!(longitudeRad >= -kPi && longitudeRad <= kPi)) {
-        std::snprintf(buf, sizeof buf, "Observer: longitude %g deg not in [-180, 180]", longitudeRad * 180 / kPi);
-        throw Error(buf);
-    }
-    if (!(heightMeters >= -1e4 && heightMeters <= 1e9)) {
-        std::snprintf(buf, sizeof buf, "Observer: height %g m not in [-1e4, 1e9]", heightMeters);
-        throw Error(buf);
-    }
+    const Shown deg{180 / kPi, " deg"};
+    checkRange("Observer", "latitude", latitudeRad, -kPi / 2, kPi / 2, deg);
+    checkRange("Observer", "longitude", longitudeRad, -kPi, kPi, deg);
+    checkRange("Observer", "height", heightMeters, -1e4, 1e9, {1, " m"});
 }
 
 SkyProcessor::SkyProcessor(SkyVars vars, Logger log, ProcessorOptions options)
@@ -94,15 +85,8 @@ void SkyProcessor::setCamera(const Camera& c) {
     }
 }
 void SkyProcessor::setExposure(const Exposure& e) {
-    char buf[128];
-    if (!(e.ev100 >= -20 && e.ev100 <= 30)) {
-        std::snprintf(buf, sizeof buf, "SkyProcessor::setExposure(): ev100 %g not in [-20, 30]", e.ev100);
-        throw Error(buf);
-    }
-    if (!(e.compensationEv >= -10 && e.compensationEv <= 10)) {
-        std::snprintf(buf, sizeof buf, "SkyProcessor::setExposure(): compensationEv %g not in [-10, 10]", e.compensationEv);
-        throw Error(buf);
-    }
+    checkRange("SkyProcessor::setExposure()", "ev100", e.ev100, -20, 30);
+    checkRange("SkyProcessor::setExposure()", "compensationEv", e.compensationEv, -10, 10);
     exposure_ = e;
     vars_.set(keys::exposureEv100, e.ev100);
     vars_.set(keys::exposureAuto, e.automatic);
