@@ -128,6 +128,7 @@ void SkyProcessor::deriveVariables() {
 }
 
 void SkyProcessor::init() {
+    HostStateScope host(hostGuardDepth_);
     if (!glReady_) {
         emptyVao_ = gl::VertexArray::create();
         cameraUbo_ = gl::Buffer(sizeof(CameraBlock));

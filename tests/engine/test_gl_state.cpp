@@ -394,12 +394,28 @@ TEST_CASE("renderInto, renderFrame and toneMapInto leave the host's GL state as 
             requireSame(before, snapshot(fbs));
         }
     }
+    SECTION("init() and update() alone") {
+        p->init();
+        requireSame(before, snapshot(fbs));
+        p->update();
+        requireSame(before, snapshot(fbs));
+    }
     SECTION("renderFrame and toneMapInto the host's framebuffer") {
         p->setExposure({.automatic = true});  // the meter's pass and mip chain too
         p->renderFrame();
         requireSame(before, snapshot(fbs));
         p->toneMapInto(host.fbo.id());
         requireSame(before, snapshot(fbs));
+        // Reading back beside the host's pack buffer and pack row length (3): the image is the
+        // frame, not rows 3 texels apart, and nothing lands in the host's buffer.
+        const Image hdr = p->readHdr();
+        const double ev = p->lastEv100();
+        requireSame(before, snapshot(fbs));
+        Host::resetState();
+        const Image clean = p->readHdr();
+        CHECK(hdr.pixels == clean.pixels);
+        CHECK(ev == p->lastEv100());
+        CHECK(ev > 5.0);  // a daylight meter: EV100 ~ 10-15 (the log-luminance mip chain was read)
     }
     Host::resetState();
 }

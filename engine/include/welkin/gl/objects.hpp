@@ -70,9 +70,11 @@ public:
     void setWrap(unsigned wrap);
     void bind(unsigned unit) const;
     void generateMipmaps();
-    /// Uploads level `level` (whole image) from client memory.
+    /// Uploads level `level` (whole image) from client memory (tightly packed rows: the
+    /// caller's pixel-store parameters and unpack buffer are set aside for the call).
     void upload(unsigned format, unsigned type, const void* data, int level = 0);
-    /// Reads level `level` back as RGBA float (4 floats per texel, rows bottom-up as GL stores).
+    /// Reads level `level` back as RGBA float (4 floats per texel, rows bottom-up as GL stores;
+    /// the caller's pixel-store parameters and pack buffer are set aside for the call).
     std::vector<float> readRgbaFloat(int level = 0) const;
 
 protected:
