@@ -3,6 +3,8 @@
 #include <welkin/gl/context.hpp>
 #include <welkin/log.hpp>
 
+#include <epoxy/gl.h>
+
 namespace welkin::test {
 
 inline Logger& testLogger() {

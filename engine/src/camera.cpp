@@ -1,8 +1,8 @@
 #include <welkin/camera.hpp>
+#include <welkin/check.hpp>
 #include <welkin/error.hpp>
 
 #include <cmath>
-#include <cstdio>
 #include <numbers>
 
 namespace welkin {
@@ -43,17 +43,14 @@ glm::dvec2 azAltFromDirection(const glm::dvec3& d) {
 }
 
 void Camera::validate() const {
-    char buf[128];
-    auto bad = [&](const char* what, double v, const char* range) {
-        std::snprintf(buf, sizeof buf, "Camera: %s %g not in %s", what, v, range);
-        throw Error(buf);
-    };
-    if (width < 1 || width > 16384) bad("width", width, "[1, 16384]");
-    if (height < 1 || height > 16384) bad("height", height, "[1, 16384]");
-    if (!(altitudeRad >= -kHalfPi - 1e-9 && altitudeRad <= kHalfPi + 1e-9)) bad("altitudeRad", altitudeRad, "[-pi/2, pi/2]");
-    if (!(std::abs(azimuthRad) <= 2 * kPi + 1e-9)) bad("azimuthRad", azimuthRad, "[-2pi, 2pi]");
-    if (!(verticalFovRad > 0 && verticalFovRad < kPi)) bad("verticalFovRad", verticalFovRad, "(0, pi)");
-    if (cubeFace < 0 || cubeFace > 5) bad("cubeFace", cubeFace, "[0, 5]");
+    // Angles get 1e-9 rad of slack: a caller converting exactly +-90 deg or +-360 deg may land
+    // just outside.
+    checkRange("Camera", "width", width, 1, 16384);
+    checkRange("Camera", "height", height, 1, 16384);
+    checkRange("Camera", "altitudeRad", altitudeRad, -kHalfPi - 1e-9, kHalfPi + 1e-9);
+    checkRange("Camera", "azimuthRad", azimuthRad, -2 * kPi - 1e-9, 2 * kPi + 1e-9);
+    checkOpenRange("Camera", "verticalFovRad", verticalFovRad, 0, kPi);
+    checkRange("Camera", "cubeFace", cubeFace, 0, 5);
 }
 
 glm::dmat3 Camera::basis() const {

@@ -2,6 +2,8 @@
 #include <welkin/error.hpp>
 #include <welkin/gl/objects.hpp>
 
+#include <epoxy/gl.h>
+
 #include <chrono>
 #include <cmath>
 

@@ -1,47 +1,60 @@
+#include "gl/state_guard.hpp"
+#include "tone_mapper.hpp"
+
 #include <welkin/astro/astro_keys.hpp>
+#include <welkin/check.hpp>
+#include <welkin/gl/bindings.hpp>
 #include <welkin/error.hpp>
-#include <welkin/gl/shader.hpp>
 #include <welkin/keys.hpp>
 #include <welkin/processor.hpp>
 
-#include <nlohmann/json.hpp>
+#include <epoxy/gl.h>
 
 #include <cmath>
 #include <algorithm>
-#include <cstdio>
 #include <numbers>
 #include <map>
 #include <tuple>
+#include <optional>
 
 namespace welkin {
 
 namespace {
 constexpr double kPi = std::numbers::pi;
-constexpr int kLogLumSize = 128;  // log-luminance reduction resolution (power of two)
 
 double msSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
+
+// The host's GL state is saved by the outermost public call that issues GL commands
+// (renderInto() calls update(), ...) and restored when it returns or throws.
+class HostStateScope {
+public:
+    explicit HostStateScope(int& depth, std::vector<unsigned> framebuffers = {}) : depth_(depth) {
+        if (depth_++ == 0) guard_.emplace(std::move(framebuffers));
+    }
+    ~HostStateScope() {
+        guard_.reset();
+        --depth_;
+    }
+    HostStateScope(const HostStateScope&) = delete;
+    HostStateScope& operator=(const HostStateScope&) = delete;
+
+private:
+    int& depth_;
+    std::optional<gl::GlStateGuard> guard_;
+};
 }  // namespace
 
 void Observer::validate() const {
-    char buf[128];
-    if (!(latitudeRad >= -kPi / 2 && latitudeRad <= kPi / 2)) {
-        std::snprintf(buf, sizeof buf, "Observer: latitude %g deg not in [-90, 90]", latitudeRad * 180 / kPi);
-        throw Error(buf);
-    }
-    if (!(longitudeRad >= -kPi && longitudeRad <= kPi)) {
-        std::snprintf(buf, sizeof buf, "Observer: longitude %g deg not in [-180, 180]", longitudeRad * 180 / kPi);
-        throw Error(buf);
-    }
-    if (!(heightMeters >= -1e4 && heightMeters <= 1e9)) {
-        std::snprintf(buf, sizeof buf, "Observer: height %g m not in [-1e4, 1e9]", heightMeters);
-        throw Error(buf);
-    }
+    const Shown deg{180 / kPi, " deg"};
+    checkRange("Observer", "latitude", latitudeRad, -kPi / 2, kPi / 2, deg);
+    checkRange("Observer", "longitude", longitudeRad, -kPi, kPi, deg);
+    checkRange("Observer", "height", heightMeters, -1e4, 1e9, {1, " m"});
 }
 
 SkyProcessor::SkyProcessor(SkyVars vars, Logger log, ProcessorOptions options)
-    : vars_(std::move(vars)), log_(std::move(log)), options_(options) {
+    : vars_(std::move(vars)), log_(std::move(log)), options_(options), toneMapper_(std::make_unique<ToneMapper>()) {
     deriveVariables();
     if (options_.astronomy) addGenerator(std::make_shared<astro::AstronomyGenerator>());
 }
@@ -68,12 +81,9 @@ void SkyProcessor::release() {
     orderValid_ = false;
     hdr_ = {};
     ldr_ = {};
-    logLum_ = {};
     hdrFbo_ = {};
     ldrFbo_ = {};
-    logLumFbo_ = {};
-    toneMap_ = {};
-    logLumProgram_ = {};
+    toneMapper_->release();
     emptyVao_ = {};
     cameraUbo_ = {};
     glReady_ = false;
@@ -110,20 +120,13 @@ void SkyProcessor::setCamera(const Camera& c) {
     if (resized && glReady_) {
         hdr_ = {};  // recreated at the new size by ensureTargets()
         ldr_ = {};
-        logLumValid_ = false;
+        toneMapper_->invalidateMeter();
         for (auto& e : elements_) e->resize(c.width, c.height);
     }
 }
 void SkyProcessor::setExposure(const Exposure& e) {
-    char buf[128];
-    if (!(e.ev100 >= -20 && e.ev100 <= 30)) {
-        std::snprintf(buf, sizeof buf, "SkyProcessor::setExposure(): ev100 %g not in [-20, 30]", e.ev100);
-        throw Error(buf);
-    }
-    if (!(e.compensationEv >= -10 && e.compensationEv <= 10)) {
-        std::snprintf(buf, sizeof buf, "SkyProcessor::setExposure(): compensationEv %g not in [-10, 10]", e.compensationEv);
-        throw Error(buf);
-    }
+    checkRange("SkyProcessor::setExposure()", "ev100", e.ev100, -20, 30);
+    checkRange("SkyProcessor::setExposure()", "compensationEv", e.compensationEv, -10, 10);
     exposure_ = e;
     vars_.set(keys::exposureEv100, e.ev100);
     vars_.set(keys::exposureAuto, e.automatic);
@@ -149,23 +152,11 @@ void SkyProcessor::deriveVariables() {
 }
 
 void SkyProcessor::init() {
+    HostStateScope host(hostGuardDepth_);
     if (!glReady_) {
         emptyVao_ = gl::VertexArray::create();
         cameraUbo_ = gl::Buffer(sizeof(CameraBlock));
-        toneMap_ = gl::ProgramBuilder("SkyProcessor tone map")
-                       .fullscreenVertex()
-                       .fragment("engine/tonemap.frag.glsl", gl::engineShader("tonemap.frag.glsl"))
-                       .build();
-        logLumProgram_ = gl::ProgramBuilder("SkyProcessor log luminance")
-                             .fullscreenVertex()
-                             .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
-                             .fragment("engine/loglum.frag.glsl", gl::engineShader("loglum.frag.glsl"))
-                             .build();
-        int levels = int(std::log2(kLogLumSize)) + 1;
-        logLum_ = gl::Texture2D(kLogLumSize, kLogLumSize, GL_RG32F, levels);
-        logLumFbo_ = gl::Framebuffer::create();
-        logLumFbo_.attach(GL_COLOR_ATTACHMENT0, logLum_);
-        logLumFbo_.checkComplete("SkyProcessor log luminance");
+        toneMapper_->init();
         glReady_ = true;
     }
     InitContext ctx{vars_, log_};
@@ -274,6 +265,7 @@ void SkyProcessor::runGenerators() {
 }
 
 void SkyProcessor::update() {
+    HostStateScope host(hostGuardDepth_);
     init();
     deriveVariables();
     CameraBlock block = makeCameraBlock(camera_, seconds());
@@ -283,62 +275,7 @@ void SkyProcessor::update() {
     for (auto& e : elements_) e->update(ctx);
 }
 
-namespace {
-// GL state that compositing changes, saved from and restored to the host (renderInto()).
-struct SavedState {
-    GLint framebuffer = 0, program = 0, vao = 0, ubo0 = 0, viewport[4] = {};
-    GLint blendSrcRgb = 0, blendDstRgb = 0, blendSrcA = 0, blendDstA = 0, blendEqRgb = 0, blendEqA = 0, depthFunc = 0;
-    GLboolean blend = 0, depthTest = 0, cull = 0, depthMask = 0;
-    std::vector<GLenum> drawBuffers;
-
-    void save() {
-        glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &framebuffer);
-        glGetIntegerv(GL_CURRENT_PROGRAM, &program);
-        glGetIntegerv(GL_VERTEX_ARRAY_BINDING, &vao);
-        glGetIntegeri_v(GL_UNIFORM_BUFFER_BINDING, 0, &ubo0);
-        glGetIntegerv(GL_VIEWPORT, viewport);
-        glGetIntegerv(GL_BLEND_SRC_RGB, &blendSrcRgb);
-        glGetIntegerv(GL_BLEND_DST_RGB, &blendDstRgb);
-        glGetIntegerv(GL_BLEND_SRC_ALPHA, &blendSrcA);
-        glGetIntegerv(GL_BLEND_DST_ALPHA, &blendDstA);
-        glGetIntegerv(GL_BLEND_EQUATION_RGB, &blendEqRgb);
-        glGetIntegerv(GL_BLEND_EQUATION_ALPHA, &blendEqA);
-        glGetIntegerv(GL_DEPTH_FUNC, &depthFunc);
-        blend = glIsEnabled(GL_BLEND);
-        depthTest = glIsEnabled(GL_DEPTH_TEST);
-        cull = glIsEnabled(GL_CULL_FACE);
-        glGetBooleanv(GL_DEPTH_WRITEMASK, &depthMask);
-        if (framebuffer != 0) {
-            GLint n = 0;
-            glGetIntegerv(GL_MAX_DRAW_BUFFERS, &n);
-            for (GLint i = 0; i < n; ++i) {
-                GLint b = 0;
-                glGetIntegerv(GL_DRAW_BUFFER0 + i, &b);
-                drawBuffers.push_back(GLenum(b));
-            }
-        }
-    }
-    void restore() const {
-        glBindFramebuffer(GL_FRAMEBUFFER, GLuint(framebuffer));
-        if (!drawBuffers.empty()) glDrawBuffers(GLsizei(drawBuffers.size()), drawBuffers.data());
-        // Names the host saw may have been deleted since (bindings can still report them):
-        // restore only live objects.
-        glUseProgram(program && glIsProgram(GLuint(program)) ? GLuint(program) : 0);
-        glBindVertexArray(vao && glIsVertexArray(GLuint(vao)) ? GLuint(vao) : 0);
-        glBindBufferBase(GL_UNIFORM_BUFFER, gl::binding::kCameraUbo, ubo0 && glIsBuffer(GLuint(ubo0)) ? GLuint(ubo0) : 0);
-        glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
-        glBlendFuncSeparate(GLenum(blendSrcRgb), GLenum(blendDstRgb), GLenum(blendSrcA), GLenum(blendDstA));
-        glBlendEquationSeparate(GLenum(blendEqRgb), GLenum(blendEqA));
-        glDepthFunc(GLenum(depthFunc));
-        (blend ? glEnable : glDisable)(GL_BLEND);
-        (depthTest ? glEnable : glDisable)(GL_DEPTH_TEST);
-        (cull ? glEnable : glDisable)(GL_CULL_FACE);
-        glDepthMask(depthMask);
-    }
-};
-}  // namespace
-
-void SkyProcessor::composite(unsigned framebuffer, bool depthTest, bool clearedToBlack) {
+void SkyProcessor::composite(unsigned framebuffer, bool depthTest, bool clearedToBlack, const HostDepth* depth) {
     // The compositing state is applied before every element, so an element that binds its own
     // framebuffer or changes blending in doRender() cannot break the ones after it.
     auto apply = [&] {
@@ -359,11 +296,13 @@ void SkyProcessor::composite(unsigned framebuffer, bool depthTest, bool clearedT
         }
         glDepthMask(GL_FALSE);
         glDisable(GL_CULL_FACE);
+        glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     };
     FrameContext ctx = frameContext();
     // Over the processor's own HDR target (cleared to black) the first element has nothing
     // behind it; over a host's framebuffer there may be anything.
     ctx.nothingBehind = clearedToBlack;
+    ctx.depth = depth;
     for (auto& e : elements_) {
         apply();
         e->render(ctx);
@@ -375,6 +314,7 @@ void SkyProcessor::composite(unsigned framebuffer, bool depthTest, bool clearedT
 }
 
 void SkyProcessor::renderFrame() {
+    HostStateScope host(hostGuardDepth_);
     auto t0 = std::chrono::steady_clock::now();
     if (options_.timing) glFinish();
     update();
@@ -382,7 +322,7 @@ void SkyProcessor::renderFrame() {
     hdrFbo_.bind();
     const float black[4] = {0, 0, 0, 1};
     glClearBufferfv(GL_COLOR, 0, black);
-    composite(hdrFbo_.id(), false, true);
+    composite(hdrFbo_.id(), false, true, nullptr);
     toneMapInto(ldrFbo_.id());
     if (options_.timing) glFinish();
     frameMs_ = msSince(t0);
@@ -390,22 +330,33 @@ void SkyProcessor::renderFrame() {
     gl::checkError("SkyProcessor::renderFrame()");
 }
 
+void SkyProcessor::checkDepthTexture(const HostDepth& depth) const {
+    const char* where = "SkyProcessor::renderInto()";
+    if (!glIsTexture(depth.depthTexture))
+        throw Error(std::string(where) + ": HostDepth depthTexture " + std::to_string(depth.depthTexture) + " is not a texture");
+    GLint w = 0, h = 0;
+    glGetTextureLevelParameteriv(depth.depthTexture, 0, GL_TEXTURE_WIDTH, &w);
+    glGetTextureLevelParameteriv(depth.depthTexture, 0, GL_TEXTURE_HEIGHT, &h);
+    if (w != camera_.width || h != camera_.height)
+        throw Error(std::string(where) + ": HostDepth texture " + std::to_string(w) + "x" + std::to_string(h) +
+                    " differs from the camera's " + std::to_string(camera_.width) + "x" + std::to_string(camera_.height));
+}
+
 void SkyProcessor::renderInto(const RenderTarget& target) {
     if (target.width != camera_.width || target.height != camera_.height)
         throw Error("SkyProcessor::renderInto(): target " + std::to_string(target.width) + "x" +
                     std::to_string(target.height) + " differs from the camera's " + std::to_string(camera_.width) + "x" +
                     std::to_string(camera_.height));
-    auto t0 = std::chrono::steady_clock::now();
-    SavedState saved;
-    saved.save();
-    try {
-        update();
-        composite(target.framebuffer, target.depthTest, false);
-    } catch (...) {
-        saved.restore();
-        throw;
+    if (target.depth) {
+        target.depth->validate("SkyProcessor::renderInto()");
+        checkDepthTexture(*target.depth);
     }
-    saved.restore();
+    auto t0 = std::chrono::steady_clock::now();
+    {
+        HostStateScope host(hostGuardDepth_, {target.framebuffer});
+        update();
+        composite(target.framebuffer, target.depthTest, false, target.depth ? &*target.depth : nullptr);
+    }
     frameMs_ = msSince(t0);
     ++frames_;
     gl::checkError("SkyProcessor::renderInto()");
@@ -415,44 +366,16 @@ void SkyProcessor::toneMapInto(unsigned framebuffer) {
     if (!hdr_) throw Error("SkyProcessor::toneMapInto(): no HDR frame yet (call renderFrame() first)");
     auto t0 = std::chrono::steady_clock::now();
     if (options_.timing) glFinish();
-    cameraUbo_.bindBase(GL_UNIFORM_BUFFER, gl::binding::kCameraUbo);
-    emptyVao_.bind();
-    glDisable(GL_BLEND);
-    glDisable(GL_DEPTH_TEST);
-    if (exposure_.automatic) {
-        logLumFbo_.bind();
-        glViewport(0, 0, kLogLumSize, kLogLumSize);
-        hdr_.bind(gl::binding::kHdrTexture);
-        hdr_.setFilter(GL_LINEAR);
-        logLumProgram_.use();
-        glDrawArrays(GL_TRIANGLES, 0, 3);
-        hdr_.setFilter(GL_NEAREST);
-        logLum_.generateMipmaps();
-        logLumValid_ = true;
+    {
+        HostStateScope host(hostGuardDepth_, {framebuffer});
+        toneMapper_->run(hdr_, framebuffer, exposure_, cameraUbo_, emptyVao_);
     }
-    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
-    glViewport(0, 0, camera_.width, camera_.height);
-    hdr_.bind(gl::binding::kHdrTexture);
-    logLum_.bind(gl::binding::kLogLumTexture);
-    toneMap_.use();
-    toneMap_.set("u_ev100", float(exposure_.ev100));
-    toneMap_.set("u_auto", exposure_.automatic ? 1 : 0);
-    toneMap_.set("u_compensation", float(exposure_.compensationEv));
-    toneMap_.set("u_logLumLevel", logLum_.levels() - 1);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
     if (options_.timing) glFinish();
     toneMapMs_ = msSince(t0);
     gl::checkError("SkyProcessor::toneMapInto()");
 }
 
-double SkyProcessor::lastEv100() const {
-    if (!exposure_.automatic || !logLumValid_) return exposure_.ev100;
-    std::vector<float> top = logLum_.readRgbaFloat(logLum_.levels() - 1);
-    // Same arithmetic as welkin_autoEv100() in tonemap.frag.glsl.
-    double logAvg = top[1] > 0 ? top[0] / top[1] : std::log(1e-7);
-    double ev = std::clamp(std::log2(std::exp(logAvg) * 100.0 / 12.5), -20.0, 30.0);
-    return ev - exposure_.compensationEv;
-}
+double SkyProcessor::lastEv100() const { return toneMapper_->lastEv100(exposure_); }
 
 namespace {
 Image readTexture(const gl::Texture2D& t) {
@@ -479,48 +402,6 @@ Image SkyProcessor::readHdr() const {
 Image SkyProcessor::readToneMapped() const {
     if (!ldr_) throw Error("SkyProcessor::readToneMapped(): no frame rendered yet");
     return readTexture(ldr_);
-}
-
-nlohmann::json SkyProcessor::stats() const {
-    using nlohmann::json;
-    json j;
-    j["time"] = time_.toIso();
-    j["observer"] = {{"lat_deg", observer_.latitudeRad * 180 / kPi},
-                     {"lon_deg", observer_.longitudeRad * 180 / kPi},
-                     {"height_m", observer_.heightMeters}};
-    j["camera"] = {{"projection", std::string(toString(camera_.projection))},
-                   {"width", camera_.width},
-                   {"height", camera_.height},
-                   {"az_deg", camera_.azimuthRad * 180 / kPi},
-                   {"alt_deg", camera_.altitudeRad * 180 / kPi},
-                   {"fov_deg", camera_.verticalFovRad * 180 / kPi}};
-    j["exposure"] = {{"automatic", exposure_.automatic}, {"ev100", lastEv100()}};
-    j["timing_includes_gpu"] = options_.timing;
-    // Every generator's cost in the order they run, and their own quantities (astronomy: Sun, Moon).
-    json gensAll = json::array();
-    for (Generator* g : order_) {
-        gensAll.push_back({{"name", g->name()}, {"runs", g->runCount()}, {"last_ms", g->timing().lastMs}, {"total_ms", g->timing().totalMs}});
-        g->stats(j);
-    }
-    j["generators"] = gensAll;
-    json el = json::array();
-    for (auto& e : elements_) {
-        json gens = json::array();
-        for (auto& g : e->generators())
-            gens.push_back({{"name", g->name()}, {"runs", g->runCount()}, {"last_ms", g->timing().lastMs}, {"total_ms", g->timing().totalMs}});
-        el.push_back({{"name", e->name()},
-                      {"init_ms", e->initTiming().lastMs},
-                      {"update_ms", e->updateTiming().lastMs},
-                      {"render_ms", e->renderTiming().lastMs},
-                      {"generators", gens}});
-    }
-    j["elements"] = el;
-    for (auto& e : elements_) e->stats(j);
-    j["frame_ms"] = frameMs_;
-    j["generators_ms"] = generatorsMs_;
-    j["tonemap_ms"] = toneMapMs_;
-    j["frames"] = frames_;
-    return j;
 }
 
 }  // namespace welkin

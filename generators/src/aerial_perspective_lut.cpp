@@ -6,6 +6,8 @@
 #include <welkin/gl/shader.hpp>
 #include <welkin/keys.hpp>
 
+#include <epoxy/gl.h>
+
 #include <algorithm>
 #include <cmath>
 

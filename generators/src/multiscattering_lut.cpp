@@ -5,6 +5,8 @@
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/gl/shader.hpp>
 
+#include <epoxy/gl.h>
+
 namespace welkin::generators {
 
 MultiScatteringLut::MultiScatteringLut() : SkyGenerator("sky.multiscattering") {

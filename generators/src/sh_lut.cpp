@@ -6,6 +6,8 @@
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/gl/shader.hpp>
 
+#include <epoxy/gl.h>
+
 #include <algorithm>
 
 namespace welkin::generators {

@@ -5,6 +5,8 @@
 #include <welkin/gl/shader.hpp>
 #include <welkin/keys.hpp>
 
+#include <epoxy/gl.h>
+
 #include <algorithm>
 
 namespace welkin::generators {

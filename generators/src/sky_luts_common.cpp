@@ -7,6 +7,8 @@
 #include <welkin/gl/shader.hpp>
 #include <welkin/keys.hpp>
 
+#include <epoxy/gl.h>
+
 #include <cmath>
 #include <numbers>
 

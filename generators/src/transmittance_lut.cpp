@@ -4,6 +4,8 @@
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/gl/shader.hpp>
 
+#include <epoxy/gl.h>
+
 namespace welkin::generators {
 
 TransmittanceLut::TransmittanceLut() : SkyGenerator("sky.transmittance") {

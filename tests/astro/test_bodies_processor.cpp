@@ -2,6 +2,8 @@
 #include <welkin/astro/astro_keys.hpp>
 #include <welkin/processor.hpp>
 
+#include <epoxy/gl.h>
+
 #include "gl_test_context.hpp"
 
 #include <catch2/catch.hpp>

@@ -4,6 +4,8 @@
 
 #include "gl_test_context.hpp"
 
+#include <epoxy/gl.h>
+
 #include <welkin/embedded/engine_shaders.hpp>
 #include <welkin/error.hpp>
 #include <welkin/gl/objects.hpp>

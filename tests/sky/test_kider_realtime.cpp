@@ -6,6 +6,8 @@
 
 #include "gl_test_context.hpp"
 
+#include <epoxy/gl.h>
+
 #include <welkin/camera.hpp>
 #include <welkin/csv.hpp>
 #include <welkin/elements/sky.hpp>

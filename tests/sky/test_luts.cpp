@@ -5,6 +5,8 @@
 
 #include "gl_test_context.hpp"
 
+#include <epoxy/gl.h>
+
 #include <welkin/generators/atmosphere.hpp>
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/keys.hpp>

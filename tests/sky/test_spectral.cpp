@@ -6,6 +6,8 @@
 
 #include "gl_test_context.hpp"
 
+#include <epoxy/gl.h>
+
 #include <welkin/color.hpp>
 #include <welkin/elements/sky.hpp>
 #include <welkin/elements/sky_offline.hpp>

@@ -5,6 +5,8 @@
 
 #include "gl_test_context.hpp"
 
+#include <epoxy/gl.h>
+
 #include <welkin/elements/sky.hpp>
 #include <welkin/elements/sky_offline.hpp>
 #include <welkin/generators/atmosphere.hpp>

@@ -18,6 +18,7 @@
 // dst = src.rgb + dst.rgb * T in registration order.
 #pragma once
 #include <welkin/camera.hpp>
+#include <welkin/host_depth.hpp>
 #include <welkin/log.hpp>
 #include <welkin/vars.hpp>
 
@@ -64,6 +65,13 @@ struct FrameContext {
     /// processor's own target, cleared to black. Its transmittance output then multiplies black,
     /// so an element may skip computing it (the Sky does: one texture fetch less per pixel).
     bool nothingBehind = false;
+    /// The host's depth buffer during render() when the host passed one to renderInto()
+    /// (RenderTarget::depth); nullptr otherwise (always in update(), and in renderFrame(), which
+    /// draws into the processor's own target). An element may sample it (it is a depth texture:
+    /// bind it to a unit of its own, read window depth, 1 = nothing drawn) to know the distance to
+    /// the host's geometry, e.g. to attenuate its light by the air in front of it; it must not
+    /// write to it or keep the pointer past render().
+    const HostDepth* depth = nullptr;
     /// Draws the fullscreen triangle (3 vertices, engine/shaders/fullscreen.vert.glsl).
     void drawFullscreen() const;
 };

@@ -15,7 +15,13 @@
 // Embedding in a game loop: render the host scene into an HDR framebuffer with a depth buffer,
 // then call renderInto({.framebuffer = hostFbo, ...}): elements are drawn at the far plane with
 // depth test GL_LEQUAL, so the host's geometry hides the sky. Or call renderFrame() and
-// toneMapInto(0) to present. No global state: two processors in one process are independent
+// toneMapInto(0) to present.
+//
+// A guest in the host's GL: init(), update(), renderFrame(), renderInto() and toneMapInto()
+// leave the host's OpenGL state as they found it (bindings of framebuffers, program, vertex
+// array, textures and samplers on units 0..15, uniform and storage buffers 0..7, image units
+// 0..7; viewport, blend, depth, cull, scissor, colour mask, pixel store ...; the full list is in
+// docs/architecture.md), also when they throw. No global state: two processors in one process are independent
 // (each needs its context current when called, including when it is destroyed: GL names belong
 // to the context that created them).
 //
@@ -26,6 +32,7 @@
 #include <welkin/camera.hpp>
 #include <welkin/element.hpp>
 #include <welkin/gl/objects.hpp>
+#include <welkin/host_depth.hpp>
 #include <welkin/image.hpp>
 #include <welkin/log.hpp>
 #include <welkin/time.hpp>
@@ -40,6 +47,8 @@
 #include <vector>
 
 namespace welkin {
+
+class ToneMapper;
 
 /// Where the observer stands. Geodetic on WGS84.
 struct Observer {
@@ -63,6 +72,10 @@ struct RenderTarget {
     int width = 0;             ///< pixels; must equal the camera's size
     int height = 0;
     bool depthTest = true;     ///< test against the target's depth buffer (sky at the far plane)
+    /// The host's depth as a texture, for elements that need the distance to the host's
+    /// geometry (FrameContext::depth); none by default. Validated by renderInto(): ranges, and a
+    /// live texture of the camera's size.
+    std::optional<HostDepth> depth;
 };
 
 struct ProcessorOptions {
@@ -121,8 +134,7 @@ public:
     void renderFrame();
     /// update(), then composites into a caller's framebuffer (its current contents are the
     /// background; blending is additive-attenuating). Does not tone-map. Only colour attachment 0
-    /// is drawn to. The host's GL state (framebuffer and program bindings, viewport, blend, depth
-    /// and cull state, draw buffers, vertex array, uniform-buffer binding 0) is restored.
+    /// is drawn to. Elements see target.depth in render() (FrameContext::depth).
     void renderInto(const RenderTarget& target);
     /// Tone-maps the last HDR frame into `framebuffer` (0 = default) at the camera's size.
     void toneMapInto(unsigned framebuffer);
@@ -153,7 +165,9 @@ private:
     void runGenerators();
     void orderGenerators();
     /// `clearedToBlack`: the target was just cleared to black (the first element has nothing behind it).
-    void composite(unsigned framebuffer, bool depthTest, bool clearedToBlack);
+    /// `depth`: the host's depth for the elements (FrameContext::depth), or nullptr.
+    void composite(unsigned framebuffer, bool depthTest, bool clearedToBlack, const HostDepth* depth);
+    void checkDepthTexture(const HostDepth& depth) const;
     FrameContext frameContext();
 
     SkyVars vars_;
@@ -168,13 +182,13 @@ private:
     Camera camera_{};
     Exposure exposure_{};
     bool glReady_ = false;
-    bool logLumValid_ = false;  // the log-luminance texture holds the last frame's meter
+    int hostGuardDepth_ = 0;  // nesting of public calls that save and restore the host's GL state
     std::optional<double> animationTime_;
     std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 
-    gl::Texture2D hdr_, ldr_, logLum_;
-    gl::Framebuffer hdrFbo_, ldrFbo_, logLumFbo_;
-    gl::Program toneMap_, logLumProgram_;
+    gl::Texture2D hdr_, ldr_;
+    gl::Framebuffer hdrFbo_, ldrFbo_;
+    std::unique_ptr<ToneMapper> toneMapper_;  // engine/src/tone_mapper.hpp
     gl::VertexArray emptyVao_;
     gl::Buffer cameraUbo_;
     double frameMs_ = 0.0, toneMapMs_ = 0.0, generatorsMs_ = 0.0;

@@ -1,7 +1,12 @@
 #include <welkin/error.hpp>
 #include <welkin/gl/objects.hpp>
 
+#include <epoxy/gl.h>
+
 #include <glm/gtc/type_ptr.hpp>
+
+#include <array>
+#include <utility>
 
 namespace welkin::gl {
 
@@ -84,7 +89,42 @@ void Texture::setWrap(GLenum wrap) {
 void Texture::bind(GLuint unit) const { glBindTextureUnit(unit, id_); }
 void Texture::generateMipmaps() { glGenerateTextureMipmap(id_); }
 
+namespace {
+// Client-memory transfers (upload, read back) with GL's default pixel-store parameters and no
+// pixel buffer bound, whatever the host set; the host's values are put back afterwards.
+class ClientTransfer {
+public:
+    explicit ClientTransfer(bool pack) : pack_(pack) {
+        glGetIntegerv(pack ? GL_PIXEL_PACK_BUFFER_BINDING : GL_PIXEL_UNPACK_BUFFER_BINDING, &buffer_);
+        for (size_t i = 0; i < params().size(); ++i) glGetIntegerv(params()[i].first, &saved_[i]);
+        glBindBuffer(pack ? GL_PIXEL_PACK_BUFFER : GL_PIXEL_UNPACK_BUFFER, 0);
+        for (auto [pname, value] : params()) glPixelStorei(pname, value);
+    }
+    ~ClientTransfer() {
+        const GLuint b = buffer_ && glIsBuffer(GLuint(buffer_)) ? GLuint(buffer_) : 0;
+        glBindBuffer(pack_ ? GL_PIXEL_PACK_BUFFER : GL_PIXEL_UNPACK_BUFFER, b);
+        for (size_t i = 0; i < params().size(); ++i) glPixelStorei(params()[i].first, saved_[i]);
+    }
+    ClientTransfer(const ClientTransfer&) = delete;
+    ClientTransfer& operator=(const ClientTransfer&) = delete;
+
+private:
+    using Params = std::array<std::pair<GLenum, GLint>, 6>;
+    const Params& params() const {
+        static constexpr Params kPack = {{{GL_PACK_ALIGNMENT, 4}, {GL_PACK_ROW_LENGTH, 0}, {GL_PACK_IMAGE_HEIGHT, 0},
+                                          {GL_PACK_SKIP_ROWS, 0}, {GL_PACK_SKIP_PIXELS, 0}, {GL_PACK_SKIP_IMAGES, 0}}};
+        static constexpr Params kUnpack = {{{GL_UNPACK_ALIGNMENT, 4}, {GL_UNPACK_ROW_LENGTH, 0}, {GL_UNPACK_IMAGE_HEIGHT, 0},
+                                            {GL_UNPACK_SKIP_ROWS, 0}, {GL_UNPACK_SKIP_PIXELS, 0}, {GL_UNPACK_SKIP_IMAGES, 0}}};
+        return pack_ ? kPack : kUnpack;
+    }
+    bool pack_;
+    GLint buffer_ = 0;
+    std::array<GLint, 6> saved_{};
+};
+}  // namespace
+
 void Texture::upload(GLenum format, GLenum type, const void* data, int level) {
+    ClientTransfer transfer(false);
     int w = std::max(1, w_ >> level), h = std::max(1, h_ >> level);
     if (target_ == GL_TEXTURE_1D) {
         glTextureSubImage1D(id_, level, 0, w, format, type, data);
@@ -101,6 +141,7 @@ std::vector<float> Texture::readRgbaFloat(int level) const {
     int w = std::max(1, w_ >> level), h = std::max(1, h_ >> level);
     int d = target_ == GL_TEXTURE_3D ? std::max(1, d_ >> level) : d_;
     std::vector<float> out(size_t(w) * h * d * 4);
+    ClientTransfer transfer(true);
     glGetTextureImage(id_, level, GL_RGBA, GL_FLOAT, GLsizei(out.size() * sizeof(float)), out.data());
     checkError("gl::Texture::readRgbaFloat()");
     return out;

@@ -3,6 +3,8 @@
 #include <welkin/gl/bindings.hpp>
 #include <welkin/gl/shader.hpp>
 
+#include <epoxy/gl.h>
+
 #include <cstdio>
 #include <regex>
 #include <sstream>

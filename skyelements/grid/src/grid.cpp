@@ -1,22 +1,17 @@
+#include <welkin/check.hpp>
 #include <welkin/elements/grid.hpp>
 #include <welkin/embedded/grid_shaders.hpp>
-#include <welkin/error.hpp>
 #include <welkin/gl/shader.hpp>
 #include <welkin/keys.hpp>
 
+#include <epoxy/gl.h>
+
 #include <cmath>
-#include <cstdio>
 
 namespace welkin::elements {
 
 void GridOptions::validate() const {
-    auto check = [](const char* name, double v, double lo, double hi) {
-        if (!(v >= lo && v <= hi)) {
-            char buf[128];
-            std::snprintf(buf, sizeof buf, "Grid: %s %g not in [%g, %g]", name, v, lo, hi);
-            throw Error(buf);
-        }
-    };
+    auto check = [](const char* name, double v, double lo, double hi) { checkRange("Grid", name, v, lo, hi); };
     check("altitudeStepDeg", altitudeStepDeg, 1, 90);
     check("azimuthStepDeg", azimuthStepDeg, 1, 180);
     check("lineWidthPx", lineWidthPx, 0.5, 20);

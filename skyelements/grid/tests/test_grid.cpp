@@ -3,6 +3,8 @@
 
 #include "gl_test_context.hpp"
 
+#include <epoxy/gl.h>
+
 #include <welkin/elements/grid.hpp>
 #include <welkin/processor.hpp>
 

@@ -6,6 +6,8 @@
 #include <welkin/gl/shader.hpp>
 #include <welkin/keys.hpp>
 
+#include <epoxy/gl.h>
+
 #include <algorithm>
 
 namespace welkin::elements {
@@ -40,8 +42,7 @@ void AerialPerspective::bindResources(const SkyVars& vars, const gl::Program& pr
 
 void AerialPerspective::apply(const SkyVars& vars, const Camera& camera, const HostDepth& depth, unsigned framebuffer) {
     if (camera.projection != Projection::Perspective) throw Error("AerialPerspective::apply(): camera must be perspective");
-    if (!(depth.nearM > 0 && depth.farM > depth.nearM && depth.metresPerUnit > 0))
-        throw Error("AerialPerspective::apply(): needs 0 < nearM < farM and metresPerUnit > 0");
+    depth.validate("AerialPerspective::apply()");
     if (!program_) {
         auto b = gl::ProgramBuilder("AerialPerspective");
         b.fullscreenVertex()

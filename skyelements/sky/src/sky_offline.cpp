@@ -1,6 +1,8 @@
 #include <welkin/elements/sky_offline.hpp>
 #include <welkin/gl/bindings.hpp>
 
+#include <epoxy/gl.h>
+
 #include <chrono>
 
 namespace welkin::elements {

@@ -9,11 +9,11 @@
 //   fb.checkComplete("TransmittanceLut");                         // throws naming the owner
 //   std::vector<float> px = lut.readRgbaFloat();                  // for tests and CPU twins
 //
-// All constructors need a current GL 4.5 context.
+// All constructors need a current GL 4.5 context. The header includes no GL loader (GL enums
+// and names are `unsigned`, as GLenum and GLuint are): a host using glad, GLEW or its own loader
+// can include it; the GL_* constants in the example come from the caller's loader.
 #pragma once
 #include <welkin/vars.hpp>
-
-#include <epoxy/gl.h>
 
 #include <string>
 #include <string_view>
@@ -26,7 +26,7 @@ namespace welkin::gl {
 /// Throws welkin::Error("<where>: GL error <name>") if glGetError() reports anything.
 void checkError(std::string_view where);
 /// Symbolic name of a GL error code ("GL_INVALID_OPERATION").
-const char* errorName(GLenum error);
+const char* errorName(unsigned error);
 
 /// Base of the owning wrappers: holds the GL name and how to delete it.
 class Object {
@@ -37,14 +37,14 @@ public:
     Object(Object&& o) noexcept : id_(std::exchange(o.id_, 0)) {}
     Object& operator=(Object&& o) noexcept = delete;  // each derived class implements move-assign
 
-    GLuint id() const { return id_; }
+    unsigned id() const { return id_; }
     explicit operator bool() const { return id_ != 0; }
     /// Gives up ownership: returns the name, leaves this object empty, deletes nothing.
-    GLuint release() { return std::exchange(id_, 0); }
+    unsigned release() { return std::exchange(id_, 0); }
 
 protected:
-    explicit Object(GLuint id) : id_(id) {}
-    GLuint id_ = 0;
+    explicit Object(unsigned id) : id_(id) {}
+    unsigned id_ = 0;
 };
 
 /// A texture of any target with immutable storage.
@@ -55,8 +55,8 @@ public:
     Texture(Texture&& o) noexcept;
     Texture& operator=(Texture&& o) noexcept;
 
-    GLenum target() const { return target_; }
-    GLenum internalFormat() const { return format_; }
+    unsigned target() const { return target_; }
+    unsigned internalFormat() const { return format_; }
     int width() const { return w_; }
     int height() const { return h_; }
     /// Depth for 3-D textures, layers for arrays, 6 for cube maps, 1 otherwise.
@@ -65,20 +65,22 @@ public:
     /// Non-owning handle to publish in SkyVars.
     TextureRef ref() const { return {id_, target_, w_, h_, d_}; }
 
-    void setFilter(GLenum minFilter, GLenum magFilter);
-    void setFilter(GLenum filter) { setFilter(filter, filter); }
-    void setWrap(GLenum wrap);
-    void bind(GLuint unit) const;
+    void setFilter(unsigned minFilter, unsigned magFilter);
+    void setFilter(unsigned filter) { setFilter(filter, filter); }
+    void setWrap(unsigned wrap);
+    void bind(unsigned unit) const;
     void generateMipmaps();
-    /// Uploads level `level` (whole image) from client memory.
-    void upload(GLenum format, GLenum type, const void* data, int level = 0);
-    /// Reads level `level` back as RGBA float (4 floats per texel, rows bottom-up as GL stores).
+    /// Uploads level `level` (whole image) from client memory (tightly packed rows: the
+    /// caller's pixel-store parameters and unpack buffer are set aside for the call).
+    void upload(unsigned format, unsigned type, const void* data, int level = 0);
+    /// Reads level `level` back as RGBA float (4 floats per texel, rows bottom-up as GL stores;
+    /// the caller's pixel-store parameters and pack buffer are set aside for the call).
     std::vector<float> readRgbaFloat(int level = 0) const;
 
 protected:
-    Texture(GLenum target, GLenum internalFormat, int w, int h, int d, int levels);
+    Texture(unsigned target, unsigned internalFormat, int w, int h, int d, int levels);
     void destroy();
-    GLenum target_ = 0, format_ = 0;
+    unsigned target_ = 0, format_ = 0;
     int w_ = 0, h_ = 0, d_ = 0, levels_ = 0;
 };
 
@@ -87,34 +89,34 @@ protected:
 class Texture1D : public Texture {
 public:
     Texture1D() = default;
-    Texture1D(int width, GLenum internalFormat, int levels = 1);
+    Texture1D(int width, unsigned internalFormat, int levels = 1);
 };
 class Texture2D : public Texture {
 public:
     Texture2D() = default;
-    Texture2D(int width, int height, GLenum internalFormat, int levels = 1);
+    Texture2D(int width, int height, unsigned internalFormat, int levels = 1);
 };
 class Texture3D : public Texture {
 public:
     Texture3D() = default;
-    Texture3D(int width, int height, int depth, GLenum internalFormat, int levels = 1);
+    Texture3D(int width, int height, int depth, unsigned internalFormat, int levels = 1);
 };
 class TextureCube : public Texture {
 public:
     TextureCube() = default;
-    TextureCube(int size, GLenum internalFormat, int levels = 1);
+    TextureCube(int size, unsigned internalFormat, int levels = 1);
 };
 class Texture2DArray : public Texture {
 public:
     Texture2DArray() = default;
-    Texture2DArray(int width, int height, int layers, GLenum internalFormat, int levels = 1);
+    Texture2DArray(int width, int height, int layers, unsigned internalFormat, int levels = 1);
 };
 
 /// A renderbuffer (depth or colour storage that is never sampled).
 class Renderbuffer : public Object {
 public:
     Renderbuffer() = default;
-    Renderbuffer(int width, int height, GLenum internalFormat);
+    Renderbuffer(int width, int height, unsigned internalFormat);
     ~Renderbuffer();
     Renderbuffer(Renderbuffer&& o) noexcept = default;
     Renderbuffer& operator=(Renderbuffer&& o) noexcept;
@@ -130,14 +132,14 @@ public:
     Framebuffer& operator=(Framebuffer&& o) noexcept;
 
     /// Attaches `level` of a texture; `layer` >= 0 selects one layer/face/slice.
-    void attach(GLenum attachment, const Texture& texture, int level = 0, int layer = -1);
-    void attach(GLenum attachment, const Renderbuffer& rb);
+    void attach(unsigned attachment, const Texture& texture, int level = 0, int layer = -1);
+    void attach(unsigned attachment, const Renderbuffer& rb);
     /// Throws welkin::Error("<owner>: framebuffer incomplete (<status>)").
     void checkComplete(std::string_view owner) const;
     void bind() const;
 
 private:
-    explicit Framebuffer(GLuint id) : Object(id) {}
+    explicit Framebuffer(unsigned id) : Object(id) {}
 };
 
 class Buffer : public Object {
@@ -151,7 +153,7 @@ public:
 
     size_t size() const { return size_; }
     void update(const void* data, size_t bytes, size_t offset = 0);
-    void bindBase(GLenum target, GLuint index) const;
+    void bindBase(unsigned target, unsigned index) const;
 
 private:
     size_t size_ = 0;
@@ -167,14 +169,14 @@ public:
     void bind() const;
 
 private:
-    explicit VertexArray(GLuint id) : Object(id) {}
+    explicit VertexArray(unsigned id) : Object(id) {}
 };
 
 /// A linked program. Build one with welkin::gl::ProgramBuilder (<welkin/gl/shader.hpp>).
 class Program : public Object {
 public:
     Program() = default;
-    explicit Program(GLuint linkedProgram, std::string label) : Object(linkedProgram), label_(std::move(label)) {}
+    explicit Program(unsigned linkedProgram, std::string label) : Object(linkedProgram), label_(std::move(label)) {}
     ~Program();
     Program(Program&& o) noexcept = default;
     Program& operator=(Program&& o) noexcept;
@@ -182,7 +184,7 @@ public:
     const std::string& label() const { return label_; }
     void use() const;
     /// Uniform location, -1 if the uniform is absent or optimised away.
-    GLint location(const char* name) const;
+    int location(const char* name) const;
     void set(const char* name, int v) const;
     void set(const char* name, float v) const;
     void set(const char* name, const glm::vec2& v) const;

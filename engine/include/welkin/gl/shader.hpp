@@ -42,7 +42,7 @@ public:
     ProgramBuilder& fullscreenVertex();
 
     /// The assembled source of a stage (GL_VERTEX_SHADER, ...), as the driver sees it.
-    std::string assembled(GLenum stage) const;
+    std::string assembled(unsigned stage) const;
     /// Compiles and links. Throws welkin::Error whose message names the label, file and line.
     Program build() const;
 
@@ -55,9 +55,9 @@ private:
     std::vector<std::pair<std::string, std::string>> defines_;
     std::vector<Chunk> vertex_, fragment_, compute_;
 
-    std::string header(GLenum stage) const;
-    std::vector<std::string> sources(GLenum stage, const std::vector<Chunk>& chunks) const;
-    GLuint compileStage(GLenum stage, const std::vector<Chunk>& chunks) const;
+    std::string header(unsigned stage) const;
+    std::vector<std::string> sources(unsigned stage, const std::vector<Chunk>& chunks) const;
+    unsigned compileStage(unsigned stage, const std::vector<Chunk>& chunks) const;
     std::string mapLog(const std::string& log, const std::vector<Chunk>& chunks) const;
 };
 

@@ -18,6 +18,7 @@
 #pragma once
 #include <welkin/camera.hpp>
 #include <welkin/gl/objects.hpp>
+#include <welkin/host_depth.hpp>
 #include <welkin/vars.hpp>
 
 #include <string>
@@ -26,14 +27,8 @@
 
 namespace welkin::elements {
 
-/// The host's depth buffer: an OpenGL perspective depth texture (window depth in [0, 1], 1 = far
-/// plane = nothing drawn) of the same size as the camera.
-struct HostDepth {
-    unsigned depthTexture = 0;  ///< GL texture name (GL_DEPTH_COMPONENT*)
-    double nearM = 0.1;         ///< near plane of the host's projection, host units, > 0
-    double farM = 1e5;          ///< far plane, host units, > nearM
-    double metresPerUnit = 1.0; ///< scale of the host's units, > 0
-};
+/// The host's depth buffer (moved into the engine: welkin/host_depth.hpp).
+using HostDepth = welkin::HostDepth;
 
 /// (name, text) of the GLSL chunks to add before a host shader calling welkin_aerialPerspective.
 std::vector<std::pair<std::string, std::string>> aerialPerspectiveGlslChunks();

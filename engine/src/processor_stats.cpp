@@ -1,0 +1,56 @@
+// SkyProcessor::stats(): the --stats JSON (inputs, per element and generator cost).
+#include <welkin/processor.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <numbers>
+
+namespace welkin {
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+}
+
+nlohmann::json SkyProcessor::stats() const {
+    using nlohmann::json;
+    json j;
+    j["time"] = time_.toIso();
+    j["observer"] = {{"lat_deg", observer_.latitudeRad * 180 / kPi},
+                     {"lon_deg", observer_.longitudeRad * 180 / kPi},
+                     {"height_m", observer_.heightMeters}};
+    j["camera"] = {{"projection", std::string(toString(camera_.projection))},
+                   {"width", camera_.width},
+                   {"height", camera_.height},
+                   {"az_deg", camera_.azimuthRad * 180 / kPi},
+                   {"alt_deg", camera_.altitudeRad * 180 / kPi},
+                   {"fov_deg", camera_.verticalFovRad * 180 / kPi}};
+    j["exposure"] = {{"automatic", exposure_.automatic}, {"ev100", lastEv100()}};
+    j["timing_includes_gpu"] = options_.timing;
+    // Every generator's cost in the order they run, and their own quantities (astronomy: Sun, Moon).
+    json gensAll = json::array();
+    for (Generator* g : order_) {
+        gensAll.push_back({{"name", g->name()}, {"runs", g->runCount()}, {"last_ms", g->timing().lastMs}, {"total_ms", g->timing().totalMs}});
+        g->stats(j);
+    }
+    j["generators"] = gensAll;
+    json el = json::array();
+    for (auto& e : elements_) {
+        json gens = json::array();
+        for (auto& g : e->generators())
+            gens.push_back({{"name", g->name()}, {"runs", g->runCount()}, {"last_ms", g->timing().lastMs}, {"total_ms", g->timing().totalMs}});
+        el.push_back({{"name", e->name()},
+                      {"init_ms", e->initTiming().lastMs},
+                      {"update_ms", e->updateTiming().lastMs},
+                      {"render_ms", e->renderTiming().lastMs},
+                      {"generators", gens}});
+    }
+    j["elements"] = el;
+    for (auto& e : elements_) e->stats(j);
+    j["frame_ms"] = frameMs_;
+    j["generators_ms"] = generatorsMs_;
+    j["tonemap_ms"] = toneMapMs_;
+    j["frames"] = frames_;
+    return j;
+}
+
+}  // namespace welkin
