@@ -54,17 +54,35 @@ void Observer::validate() const {
 }
 
 SkyProcessor::SkyProcessor(SkyVars vars, Logger log, ProcessorOptions options)
-    : vars_(std::move(vars)), log_(std::move(log)), options_(options), toneMapper_(std::make_unique<ToneMapper>()) {
+    : ownVars_(std::move(vars)), log_(std::move(log)), options_(options), toneMapper_(std::make_unique<ToneMapper>()) {
     deriveVariables();
     if (options_.astronomy) addGenerator(std::make_shared<astro::AstronomyGenerator>());
+}
+
+SkyProcessor::SkyProcessor(BorrowedVars vars, Logger log, ProcessorOptions options)
+    : vars_(&vars.vars), log_(std::move(log)), options_(options), toneMapper_(std::make_unique<ToneMapper>()) {
+    deriveVariables();
+    if (options_.astronomy) addGenerator(std::make_shared<astro::AstronomyGenerator>());
+}
+
+std::unique_ptr<SkyElement> SkyProcessor::remove(std::string_view name) {
+    for (auto it = elements_.begin(); it != elements_.end(); ++it)
+        if ((*it)->name() == name) {
+            std::unique_ptr<SkyElement> e = std::move(*it);
+            elements_.erase(it);
+            orderValid_ = false;
+            order_.clear();
+            return e;
+        }
+    return nullptr;
 }
 
 void SkyProcessor::addGenerator(std::shared_ptr<Generator> g) {
     if (!g) throw Error("SkyProcessor::addGenerator(): null generator");
     for (auto& existing : generators_)
         if (existing == g) return;
-    SkyVars::DeclarerScope scope(vars_, g->name());
-    g->declareKeys(vars_);
+    SkyVars::DeclarerScope scope(*vars_, g->name());
+    g->declareKeys(*vars_);
     generators_.push_back(std::move(g));
     orderValid_ = false;
 }
@@ -94,8 +112,8 @@ SkyElement& SkyProcessor::add(std::unique_ptr<SkyElement> element) {
     if (find(element->name())) throw Error("SkyProcessor::add(): an element named '" + element->name() + "' is already registered");
     element->setTimingEnabled(options_.timing);
     {
-        SkyVars::DeclarerScope scope(vars_, element->name());
-        element->declareOptions(vars_);
+        SkyVars::DeclarerScope scope(*vars_, element->name());
+        element->declareOptions(*vars_);
     }
     elements_.push_back(std::move(element));
     orderValid_ = false;
@@ -128,8 +146,8 @@ void SkyProcessor::setExposure(const Exposure& e) {
     checkRange("SkyProcessor::setExposure()", "ev100", e.ev100, -20, 30);
     checkRange("SkyProcessor::setExposure()", "compensationEv", e.compensationEv, -10, 10);
     exposure_ = e;
-    vars_.set(keys::exposureEv100, e.ev100);
-    vars_.set(keys::exposureAuto, e.automatic);
+    vars_->set(keys::exposureEv100, e.ev100);
+    vars_->set(keys::exposureAuto, e.automatic);
 }
 
 double SkyProcessor::seconds() const {
@@ -143,12 +161,13 @@ void SkyProcessor::setAnimationTime(std::optional<double> s) {
 }
 
 void SkyProcessor::deriveVariables() {
+    if (!options_.timeAndPlace) return;
     const JulianDate jd = time_.julianDate();
-    vars_.set(keys::timeJdUtc, glm::dvec2(jd.day, jd.fraction));
-    vars_.set(keys::timeIso, time_.toIso());
-    vars_.set(keys::observerLatitude, observer_.latitudeRad);
-    vars_.set(keys::observerLongitude, observer_.longitudeRad);
-    vars_.set(keys::observerHeight, observer_.heightMeters);
+    vars_->set(keys::timeJdUtc, glm::dvec2(jd.day, jd.fraction));
+    vars_->set(keys::timeIso, time_.toIso());
+    vars_->set(keys::observerLatitude, observer_.latitudeRad);
+    vars_->set(keys::observerLongitude, observer_.longitudeRad);
+    vars_->set(keys::observerHeight, observer_.heightMeters);
 }
 
 void SkyProcessor::init() {
@@ -159,11 +178,11 @@ void SkyProcessor::init() {
         toneMapper_->init();
         glReady_ = true;
     }
-    InitContext ctx{vars_, log_};
+    InitContext ctx{*vars_, log_};
     for (auto& e : elements_) {
         if (!e->initialized()) {
-            SkyVars::DeclarerScope scope(vars_, e->name());
-            e->declareOptions(vars_);
+            SkyVars::DeclarerScope scope(*vars_, e->name());
+            e->declareOptions(*vars_);
             e->init(ctx);
             e->resize(camera_.width, camera_.height);
             orderValid_ = false;
@@ -183,8 +202,8 @@ void SkyProcessor::orderGenerators() {
     for (auto& e : elements_)
         for (auto& g : e->generators()) addUnique(g.get());
     for (Generator* g : all) {
-        SkyVars::DeclarerScope scope(vars_, g->name());
-        g->declareKeys(vars_);
+        SkyVars::DeclarerScope scope(*vars_, g->name());
+        g->declareKeys(*vars_);
     }
     // Writers: one per key.
     std::map<std::string, size_t> writer;
@@ -207,7 +226,7 @@ void SkyProcessor::orderGenerators() {
                 if (it->second != i && std::find(deps.begin(), deps.end(), it->second) == deps.end()) deps.push_back(it->second);
                 continue;
             }
-            if (!vars_.contains(ins[k].name) && !all[i]->inputOptions(k).optional)
+            if (!vars_->contains(ins[k].name) && !all[i]->inputOptions(k).optional)
                 throw Error("SkyProcessor::init(): generator '" + all[i]->name() + "' reads key '" + ins[k].name +
                             "', which no element, generator or host declares");
         }
@@ -251,14 +270,14 @@ void SkyProcessor::ensureTargets() {
     ldrFbo_.checkComplete("SkyProcessor LDR target");
 }
 
-FrameContext SkyProcessor::frameContext() { return FrameContext{vars_, log_, camera_, seconds(), &emptyVao_}; }
+FrameContext SkyProcessor::frameContext() { return FrameContext{*vars_, log_, camera_, seconds(), &emptyVao_}; }
 
 void SkyProcessor::runGenerators() {
     // Each generator once per frame, in dependency order (orderGenerators()).
     if (!orderValid_) orderGenerators();
     auto t0 = std::chrono::steady_clock::now();
     for (Generator* g : order_) {
-        g->runIfDue(vars_, log_, options_.timing);
+        g->runIfDue(*vars_, log_, options_.timing);
         gl::checkError(g->name() + "::run()");
     }
     generatorsMs_ = msSince(t0);

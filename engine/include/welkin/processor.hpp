@@ -78,22 +78,31 @@ struct RenderTarget {
     std::optional<HostDepth> depth;
 };
 
+/// A SkyVars the caller owns and keeps, for a processor that renders with it (tests, tools).
+struct BorrowedVars {
+    SkyVars& vars;
+};
+
 struct ProcessorOptions {
     bool timing = false;     ///< bracket every element and generator call with glFinish (for --stats)
     bool astronomy = true;   ///< register the astronomy generator (Sun, Moon, planets, star frame from
                              ///< time and place, astro_keys.hpp); false leaves sun.direction,
                              ///< moon.direction ... to the host
+    bool timeAndPlace = true;  ///< write time.* and observer.* from setTime()/setObserver() every
+                               ///< frame; false: the host writes those keys into the SkyVars itself
 };
 
 class SkyProcessor {
 public:
     explicit SkyProcessor(SkyVars vars = SkyVars::earth(), Logger log = Logger(), ProcessorOptions options = {});
+    /// Renders with the caller's SkyVars (which must outlive the processor).
+    explicit SkyProcessor(BorrowedVars vars, Logger log = Logger(), ProcessorOptions options = {});
     ~SkyProcessor();
     SkyProcessor(const SkyProcessor&) = delete;
     SkyProcessor& operator=(const SkyProcessor&) = delete;
 
-    SkyVars& vars() { return vars_; }
-    const SkyVars& vars() const { return vars_; }
+    SkyVars& vars() { return *vars_; }
+    const SkyVars& vars() const { return *vars_; }
     Logger& logger() { return log_; }
 
     /// Appends an element (composited after the ones already added). Initialised lazily on the
@@ -106,6 +115,9 @@ public:
     const std::vector<std::unique_ptr<SkyElement>>& elements() const { return elements_; }
     /// The element with this name, or nullptr.
     SkyElement* find(std::string_view name) const;
+    /// Takes the element named `name` out of the scene (its GL resources stay: re-add it, or
+    /// release() it with the context current); nullptr if there is none.
+    std::unique_ptr<SkyElement> remove(std::string_view name);
     /// Registers a processor-level generator (world state any element may read: the astronomy,
     /// a host's own weather...). Its keys are declared now (SkyVars::DeclarerScope = its name).
     void addGenerator(std::shared_ptr<Generator> generator);
@@ -153,6 +165,8 @@ public:
     double seconds() const;
     /// Fixes the animation time (seconds, finite), or, with std::nullopt, follows the wall clock.
     void setAnimationTime(std::optional<double> seconds);
+    /// CPU time of the last frame's generators, ms (with glFinish when timing is enabled).
+    double lastGeneratorsMs() const { return generatorsMs_; }
     /// Stats of the last frame: inputs, per element and generator CPU-timed cost (ms).
     nlohmann::json stats() const;
     /// Frees every GL resource of the processor, its elements and generators (also done by the
@@ -170,7 +184,8 @@ private:
     void checkDepthTexture(const HostDepth& depth) const;
     FrameContext frameContext();
 
-    SkyVars vars_;
+    SkyVars ownVars_;
+    SkyVars* vars_ = &ownVars_;
     Logger log_;
     ProcessorOptions options_;
     std::vector<std::unique_ptr<SkyElement>> elements_;
