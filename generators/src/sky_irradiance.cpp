@@ -15,8 +15,8 @@ SkyIrradiance::SkyIrradiance() : SkyGenerator("sky.irradiance") {
     input(skykeys::moonViewLut);
     input(lightkeys::sunIlluminance);
     input(lightkeys::moonIlluminance);
-    input(skykeys::sunCosZenith);
-    input(skykeys::moonCosZenith);
+    input(skykeys::sunCosZenith, {.tolerance = kCosZenithTolerance});
+    input(skykeys::moonCosZenith, {.tolerance = kCosZenithTolerance});
     input(keys::observerHeight);
     output(skykeys::horizontalIlluminance);
     output(skykeys::diffuseIrradiance);
