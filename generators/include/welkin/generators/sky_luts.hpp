@@ -11,10 +11,17 @@
 // Chain and inputs (a generator re-runs when any input's version changed):
 //   TransmittanceLut      <- sky.atmosphere, sky.quality                       (256x64 medium)
 //   MultiScatteringLut    <- sky.atmosphere, sky.quality, sky.transmittance_luts (32x32)
-//   SkyViewLut (Sun)      <- ..., sky.multiscattering_luts, sun.direction, observer.height_m
-//   SkyViewLut (Moon)     <- ..., moon.direction, observer.height_m
-//   AerialPerspectiveLut  <- ..., sun.direction, observer.height_m               (32^3)
-//   SkyIrradiance         <- the sky views, light illuminances, directions
+//   LightZenith           <- sun.direction, moon.direction, lights.moon_illuminance (CPU)
+//   SkyViewLut (Sun)      <- ..., sky.multiscattering_luts, sky.sun_cos_zenith, observer.height_m
+//   SkyViewLut (Moon)     <- ..., sky.moon_cos_zenith, sky.moon_lit, observer.height_m
+//   AerialPerspectiveLut  <- ..., sky.sun_cos_zenith, observer.height_m          (32^3)
+//   SkyIrradiance         <- the sky views, light illuminances, cos zeniths
+// The Sun- and Moon-dependent tables depend on the light's elevation only (cos zenith, change
+// tolerance kCosZenithTolerance; the azimuth from the light is applied per pixel). While the
+// light moves they are built as keyframes at elevations on a grid (SkyQuality::keyframeStepRad),
+// each over several frames into its own texture set, and the shown tables are blended from two
+// complete keyframes each run (LightKeyframes, light_keyframes.hpp): a generator with work left
+// asks to run again (Generator::runAgain()).
 // A generator that rewrites a texture in place republishes its key (SkyVars::publish), which
 // bumps the key's version: its readers (which name the texture key as an input) run again.
 // The sky-view and aerial-perspective values are radiance per lux of the light's illuminance
