@@ -12,6 +12,8 @@
 #include <welkin/gl/shader.hpp>
 #include <welkin/processor.hpp>
 
+#include <epoxy/gl.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>

@@ -23,6 +23,8 @@
 #include <welkin/gl/shader.hpp>
 #include <welkin/image.hpp>
 #include <welkin/keys.hpp>
+#include <welkin/astro/bodies.hpp>
+#include <welkin/astro/events.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -51,6 +53,13 @@ struct SkyBenchOptions {
     std::string reference = "rgb";       // reference integrator mode: rgb | spectral
     bool breakdown = false;  // print each generator's share of a full LUT rebuild
     bool behind = false;     // time the sky as if something (stars) were behind it
+    // --animate: time running (bench_sky_animate below)
+    bool animate = false;
+    int frames = 600;
+    double stepS = 60;          // simulated seconds per frame
+    int sampleEvery = 20;       // error against the reference at every n-th frame
+    double keyframeStepDeg = 0; // 0: the preset's
+    int keyframeChunks = 0;     // 0: the preset's
 };
 
 double Y(const glm::dvec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
@@ -85,6 +94,156 @@ struct Row {
     double rms = NAN, maxErr = NAN, dxy = NAN;
 };
 
+// Luminance error of `img` (probe camera) against the reference with the Sun at `sun`: RMS and
+// max relative error over the upper hemisphere (above 2 deg) outside 2 deg from the Sun.
+#ifdef WELKIN_HAVE_REFERENCE
+std::pair<double, double> probeError(const atmosphere::ReferenceSky& ref, const Image& img, const Camera& probe, const glm::dvec3& sun) {
+    double s2 = 0, mx = 0;
+    int n = 0;
+    for (int y = 0; y < probe.height / 2; ++y)
+        for (int x = 0; x < probe.width; x += 2) {
+            auto d = probe.directionAt({x + 0.5, y + 0.5});
+            if (!d || d->z < std::sin(2 * kDeg) || glm::dot(*d, sun) > std::cos(2 * kDeg)) continue;
+            glm::dvec3 g(img.at(x, y, 0), img.at(x, y, 1), img.at(x, y, 2));
+            glm::dvec3 rf = ref.radiance(0.0, *d, sun);
+            double e = (Y(g) - Y(rf)) / std::max(Y(rf), 1e-30);
+            s2 += e * e;
+            mx = std::max(mx, std::abs(e));
+            ++n;
+        }
+    return {std::sqrt(s2 / std::max(n, 1)), mx};
+}
+#endif
+
+// welkin bench sky --animate: a game loop's sky. Time advances `stepS` per frame from 2 h before
+// sunset (lat 45 N, lon 0, 2026-06-21) and turns back at 2 h after it (and again at 2 h before),
+// `frames` frames at 1280x720. Per frame: the generators' time (what the moving Sun costs) and
+// the draw's (what a static frame costs), both with glFinish. Every `sampleEvery` frames: the
+// animated frame's error against the reference integrator at that instant (so the tables'
+// staleness and interpolation count), beside the error of a second Sky built fresh at that
+// instant (the static figure).
+int runAnimate(const SkyBenchOptions& o, const std::vector<int>& presets) {
+    Logger log;
+    auto ctx = gl::HeadlessContext::create({}, log);
+    const atmosphere::Atmosphere atm = atmosphere::Atmosphere::earthClear();
+#ifdef WELKIN_HAVE_REFERENCE
+    atmosphere::ReferenceOptions ro;
+    ro.mode = atmosphere::SpectralMode::Rgb;
+    ro.threads = 2;
+    std::unique_ptr<atmosphere::ReferenceSky> ref;
+    if (!o.timingOnly) ref = std::make_unique<atmosphere::ReferenceSky>(atm, ro);
+#endif
+    const astro::Site site{45 * kDeg, 0.0, 0.0};
+    const UtcInstant day = UtcInstant::parse("2026-06-21T00:00:00Z");
+    const astro::DayEvents ev = astro::findDayEvents(site, day, astro::Path::Fast);
+    if (!ev.sunset) throw Error("bench sky --animate: no sunset found");
+    const UtcInstant t0 = ev.sunset->plusSeconds(-7200.0);
+    auto sunAt = [&](double s) {
+        return astro::computeBody(astro::Body::Sun, astro::observerFrame(site, astro::timeScales(t0.plusSeconds(s)), astro::Path::Fast)).topo.enu;
+    };
+    Camera big, probe;
+    big.width = 1280, big.height = 720, big.projection = parseProjection(o.projection);
+    probe.width = 64, probe.height = 32, probe.projection = Projection::Equirect;
+    std::ofstream csv(o.csv);
+    if (!csv) throw Error("--csv: cannot write '" + o.csv + "'");
+    csv << "preset,frame,time_s,sun_alt_deg,generators_ms,draw_ms,rms_rel,max_rel,static_rms_rel,static_max_rel\n";
+    struct Summary {
+        int preset;
+        double meanAnim, p95Anim, meanStatic, rmsAnim = NAN, rmsStatic = NAN, maxDiff = NAN;
+        int samples = 0;
+    };
+    std::vector<Summary> sums;
+    for (int preset : presets) {
+        SkyVars vars = SkyVars::earth();
+        vars.set(keys::observerHeight, 0.0);
+        vars.set(keys::moonDirection, glm::dvec3(0, 0, -1));
+        SkyVars fresh = SkyVars::earth();  // the static figure: a second sky built at each sampled instant
+        fresh.set(keys::observerHeight, 0.0);
+        fresh.set(keys::moonDirection, glm::dvec3(0, 0, -1));
+        elements::OfflineRenderer r(vars, log), rf(fresh, log);
+        elements::Sky sky(elements::SkyOptions{.quality = preset, .moon = false, .wavelengths = 3});
+        elements::Sky skyFresh(elements::SkyOptions{.quality = preset, .moon = false, .wavelengths = 3});
+        generators::SkyQuality q = generators::SkyQuality::preset(preset);
+        if (o.keyframeStepDeg > 0) q.keyframeStepRad = o.keyframeStepDeg * kDeg;
+        if (o.keyframeChunks > 0) q.keyframeChunks = o.keyframeChunks;
+        generators::SkyLuts luts = generators::SkyLuts::obtain(vars);
+        for (generators::SkyGenerator* g : {static_cast<generators::SkyGenerator*>(luts.sunView.get()),
+                                            static_cast<generators::SkyGenerator*>(luts.moonView.get()),
+                                            static_cast<generators::SkyGenerator*>(luts.aerial.get())})
+            g->setFixedQuality(q);
+        // Warm-up at the first instant: every program compiled, every LUT built.
+        double s = 0, dir = 1;
+        vars.set(keys::sunDirection, sunAt(s));
+        Camera probeBig = big;
+        probeBig.width = 64, probeBig.height = 36;
+        r.draw(sky, probe, true);
+        r.draw(sky, probeBig, true);
+        r.draw(sky, big, true);
+        std::vector<double> anim, stat;
+        double e2a = 0, e2s = 0, maxDiff = 0;
+        int ns = 0;
+        for (int f = 0; f < o.frames; ++f) {
+            // Bounce between 2 h before and 2 h after sunset.
+            if (s + dir * o.stepS > 4 * 3600.0 + 1e-6 || s + dir * o.stepS < -1e-6) dir = -dir;
+            s += dir * o.stepS;
+            const glm::dvec3 sun = sunAt(s);
+            vars.set(keys::sunDirection, sun);
+            r.draw(sky, big, true);
+            const double genMs = r.generatorsMs(), drawMs = r.drawMs();
+            anim.push_back(genMs + drawMs);
+            stat.push_back(drawMs);
+            double rms = NAN, mx = NAN, srms = NAN, smx = NAN;
+#ifdef WELKIN_HAVE_REFERENCE
+            if (ref && f % o.sampleEvery == o.sampleEvery - 1) {
+                r.runGenerators = false;  // look without advancing the schedule
+                Image img = r.render(sky, probe);
+                r.runGenerators = true;
+                std::tie(rms, mx) = probeError(*ref, img, probe, sun);
+                fresh.set(keys::sunDirection, sun);
+                generators::SkyLuts lf = generators::SkyLuts::obtain(fresh);
+                lf.sunView->resetKeyframes();  // a table at exactly this instant
+                lf.aerial->resetKeyframes();
+                Image imgF = rf.render(skyFresh, probe);
+                std::tie(srms, smx) = probeError(*ref, imgF, probe, sun);
+                const double alt = std::asin(std::clamp(sun.z, -1.0, 1.0)) / kDeg;
+                if (alt >= -10) {  // the static table's own figures are meaningless deeper (docs/sky.md)
+                    e2a += rms * rms;
+                    e2s += srms * srms;
+                    maxDiff = std::max(maxDiff, std::abs(rms - srms));
+                    ++ns;
+                }
+            }
+#endif
+            csv << preset << ',' << f << ',' << s << ',' << std::asin(std::clamp(sun.z, -1.0, 1.0)) / kDeg << ',' << genMs << ',' << drawMs << ',' << rms << ',' << mx << ',' << srms << ',' << smx << '\n';
+        }
+        Summary sm{preset, 0, 0, 0};
+        for (size_t i = 0; i < anim.size(); ++i) sm.meanAnim += anim[i] / anim.size(), sm.meanStatic += stat[i] / stat.size();
+        std::vector<double> sorted = anim;
+        std::sort(sorted.begin(), sorted.end());
+        sm.p95Anim = sorted[size_t(0.95 * (sorted.size() - 1))];
+        if (ns > 0) sm.rmsAnim = std::sqrt(e2a / ns), sm.rmsStatic = std::sqrt(e2s / ns), sm.maxDiff = maxDiff;
+        sm.samples = ns;
+        sums.push_back(sm);
+        int builds = luts.sunView->runCount();
+        std::printf("preset %d: %d frames, %g s per frame: frame %.1f ms mean, %.1f ms p95 (static %.1f ms): x%.2f mean, x%.2f p95; "
+                    "sky-view runs %d; error RMS %.2f%% animated, %.2f%% static (Sun >= -10 deg, %d samples), worst sample difference %.2f points\n",
+                    preset, o.frames, o.stepS, sm.meanAnim, sm.p95Anim, sm.meanStatic, sm.meanAnim / sm.meanStatic, sm.p95Anim / sm.meanStatic,
+                    builds, 100 * sm.rmsAnim, 100 * sm.rmsStatic, ns, 100 * sm.maxDiff);
+        std::fflush(stdout);
+        sky.release();
+        skyFresh.release();
+        r.release();
+        rf.release();
+    }
+    std::printf("\n| preset | mean frame ms (× static) | 95th pct ms (× static) | static frame ms | RMS error animated | RMS error static |\n|---|---|---|---|---|---|\n");
+    static const char* names[] = {"low", "medium", "high", "reference"};
+    for (auto& sm : sums)
+        std::printf("| %s | %.1f (×%.2f) | %.1f (×%.2f) | %.1f | %.2f %% | %.2f %% |\n", names[sm.preset], sm.meanAnim, sm.meanAnim / sm.meanStatic,
+                    sm.p95Anim, sm.p95Anim / sm.meanStatic, sm.meanStatic, 100 * sm.rmsAnim, 100 * sm.rmsStatic);
+    std::printf("wrote %s\n", o.csv.c_str());
+    return 0;
+}
+
 int run(const SkyBenchOptions& o) {
     std::vector<int> presets;
     for (char c : o.presets)
@@ -111,6 +270,12 @@ int run(const SkyBenchOptions& o) {
             }
         }
         if (wavelengths.empty()) throw Error("--wavelengths: empty list");
+    }
+    if (o.animate) {
+        if (o.frames < 1 || o.frames > 100000) throw Error("--frames " + std::to_string(o.frames) + " not in [1, 100000]");
+        if (!(o.stepS > 0 && o.stepS <= 3600)) throw Error("--step " + std::to_string(o.stepS) + " s not in (0, 3600]");
+        if (o.sampleEvery < 1) throw Error("--sample-every " + std::to_string(o.sampleEvery) + " must be >= 1");
+        return runAnimate(o, presets);
     }
     if (o.reference != "rgb" && o.reference != "spectral")
         throw Error("--reference '" + o.reference + "' unknown (accepted: rgb, spectral)");
@@ -195,11 +360,18 @@ int run(const SkyBenchOptions& o) {
             }
             row.allLutsMs = allLuts;
             // Sun-dependent LUTs only (sky view, aerial perspective, irradiance).
-            vars.set(keys::sunDirection, directionFromAzAlt(sunAz, alt * kDeg + 1e-6));
+            // (Their tables forgotten and rebuilt at this elevation: what a jump of the Sun costs.)
+            {
+                generators::SkyLuts l = generators::SkyLuts::obtain(vars);
+                l.sunView->resetKeyframes();
+                l.moonView->resetKeyframes();
+                l.aerial->resetKeyframes();
+                for (Generator* g : {static_cast<Generator*>(l.sunView.get()), static_cast<Generator*>(l.moonView.get()),
+                                     static_cast<Generator*>(l.aerial.get()), static_cast<Generator*>(l.irradiance.get())})
+                    g->invalidate();
+            }
             r.draw(sky, small, true);
             row.sunLutsMs = r.generatorsMs();
-            vars.set(keys::sunDirection, sun);
-            r.draw(sky, small, true);
             // The sky frame and the trivial pass are timed alternately and the ratio is the median
             // of the per-pair ratios: other jobs on the machine then slow both alike.
             auto pairs = [&](const Camera& cam, int n, double& frame, double& triv) {
@@ -304,6 +476,13 @@ static BenchRegistrar reg("sky", "real-time sky: LUT build and frame cost per qu
                                              "reference integrator mode: rgb (same channels as RGB mode) | spectral (the atmosphere's 47 wavelengths, CIE 1931)");
                               sub.add_flag("--behind", o.behind,
                                            "time the sky as if something (stars) were behind it: with its transmittance output");
+                              sub.add_flag("--animate", o.animate,
+                                           "time running: --frames at 1280x720, --step s per frame around sunset; frame cost and error against the reference at sampled frames");
+                              sub.add_option("--frames", o.frames, "--animate: frames to render");
+                              sub.add_option("--step", o.stepS, "--animate: simulated seconds per frame");
+                              sub.add_option("--sample-every", o.sampleEvery, "--animate: error against the reference every n-th frame");
+                              sub.add_option("--keyframe-step", o.keyframeStepDeg, "--animate: keyframe step in elevation, deg (0: the preset's)");
+                              sub.add_option("--keyframe-chunks", o.keyframeChunks, "--animate: frames over which one keyframe is built (0: the preset's)");
                               sub.add_flag("--breakdown", o.breakdown, "print each generator's time in a full LUT rebuild (glFinish around each)");
                               sub.add_option("--projection", o.projection, "projection of the 1280x720 frame (perspective: az 0, alt 20 deg, fov 60 deg)");
                               return [] { return run(o); };

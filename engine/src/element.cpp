@@ -57,10 +57,11 @@ bool Generator::runIfDue(SkyVars& vars, const Logger& log, bool finish) {
 
 void Generator::run(SkyVars& vars, const Logger& log, bool finish) {
     Stopwatch sw(finish);
+    again_ = false;
     doRun(vars, log);  // GL errors are checked by the caller (SkyProcessor), so CPU-only
                        // generators run without a context
     timing_.add(sw.ms());
-    invalidated_ = false;
+    invalidated_ = again_;
     // Record the versions after running: a generator may itself update one of its inputs.
     seen_.resize(inputs_.size());
     seenValues_.resize(inputs_.size());

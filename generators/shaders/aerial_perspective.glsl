@@ -13,9 +13,12 @@ uniform int u_substeps;    // samples per slice
 uniform float u_maxDistance;
 uniform float u_scale;
 uniform float u_angular;
+uniform int u_groupOffset;  // first work group of this dispatch (a table built over several runs)
+uniform int u_groupsX;      // work groups per row of the whole table
 
 void main() {
-    ivec2 ij = ivec2(gl_GlobalInvocationID.xy);
+    int g = int(gl_WorkGroupID.x) + u_groupOffset;
+    ivec2 ij = ivec2(g % u_groupsX, g / u_groupsX) * 8 + ivec2(gl_LocalInvocationID.xy);
     if (ij.x >= u_size || ij.y >= u_size) return;
     float n = float(u_size);
     vec2 ma = skyViewMuAz(u_h, (vec2(ij) + 0.5) / n, vec2(n));

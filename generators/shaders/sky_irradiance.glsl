@@ -7,7 +7,7 @@ layout(binding = WELKIN_BINDING_SUN_VIEW_LUT) uniform sampler2D u_sunSmooth;
 layout(binding = WELKIN_BINDING_SUN_VIEW_MIE_LUT) uniform sampler2D u_sunMie;
 layout(binding = WELKIN_BINDING_MOON_VIEW_LUT) uniform sampler2D u_moonSmooth;
 layout(binding = WELKIN_BINDING_MOON_VIEW_MIE_LUT) uniform sampler2D u_moonMie;
-layout(std430, binding = WELKIN_BINDING_SKY_IRRADIANCE_SSBO) buffer Result { vec4 o_result[5]; };  // sun diffuse, moon diffuse, sun direct, moon direct, zenith
+layout(std430, binding = WELKIN_BINDING_SKY_IRRADIANCE_SSBO) buffer Result { vec4 o_result[6]; };  // sun diffuse, moon diffuse, sun direct, moon direct, zenith (sun), zenith (moon)
 uniform float u_h;
 uniform vec3 u_sunDir, u_moonDir;  // unit ENU
 uniform vec3 u_sunE, u_moonE;      // lux per channel
@@ -48,6 +48,7 @@ void main() {
         o_result[3] = vec4(transmittanceToLight(u_h, u_moonDir.z, 0.0045) * max(u_moonDir.z, 0.0) * u_moonE, 0.0);
         vec3 zs = skyViewSample(u_sunSmooth, u_sunMie, u_h, 1.0, 0.0, u_sunDir.z, u_invScale) * u_sunE;
         vec3 zm = skyViewSample(u_moonSmooth, u_moonMie, u_h, 1.0, 0.0, u_moonDir.z, u_invScale) * u_moonE;
-        o_result[4] = vec4(zs + zm, 0.0);
+        o_result[4] = vec4(zs, 0.0);
+        o_result[5] = vec4(zm, 0.0);
     }
 }

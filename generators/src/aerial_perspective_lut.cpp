@@ -18,7 +18,7 @@ AerialPerspectiveLut::AerialPerspectiveLut() : SkyGenerator("sky.aerial_perspect
     input(skykeys::multiScatteringLuts);
     input(skykeys::shLuts);
     input(keys::observerHeight);
-    input(keys::sunDirection);
+    input(skykeys::sunCosZenith, {.tolerance = kCosZenithTolerance});  // the volume's azimuth is from the Sun
     output(skykeys::aerialInscatter);
     output(skykeys::aerialTransmittance);
 }
@@ -29,19 +29,39 @@ void AerialPerspectiveLut::releaseGl() {
     inscatterK_ = {};
     transmittanceK_ = {};
     prog_ = {};
+    slots_.clear();
+    blendProg_ = {};
+    keyframes_.reset();
     releaseCommon();
 }
 
 void AerialPerspectiveLut::doRun(SkyVars& vars, const Logger&) {
     prepare(vars);
     const int n = q_.aerialSize;
-    if (!inscatter_ || inscatter_.width() != n) {
-        inscatter_ = gl::Texture3D(n, n, n, GL_RGBA32F);
-        transmittance_ = gl::Texture3D(n, n, n, GL_RGBA32F);
-        for (gl::Texture3D* t : {&inscatter_, &transmittance_}) {
-            t->setFilter(GL_LINEAR);
-            t->setWrap(GL_CLAMP_TO_EDGE);
+    auto make = [n](gl::Texture3D& t) {
+        t = gl::Texture3D(n, n, n, GL_RGBA32F);
+        t.setFilter(GL_LINEAR);
+        t.setWrap(GL_CLAMP_TO_EDGE);
+    };
+    // Keyframes as in SkyViewLut (light_keyframes.hpp): the same options and elevations, so both
+    // follow the same schedule.
+    LightKeyframes::Options ko{.stepRad = q_.keyframeStepRad, .chunks = spectral_ ? 1 : std::max(1, q_.keyframeChunks),
+                               .slots = 4, .stillMuS = kCosZenithTolerance};
+    keyframes_.setOptions(ko);
+    const bool resized = !inscatter_ || inscatter_.width() != n;
+    if (resized) {
+        make(inscatter_);
+        make(transmittance_);
+        slots_.clear();
+    }
+    if (int(slots_.size()) != ko.slots) {
+        slots_.clear();
+        slots_.resize(size_t(ko.slots));
+        for (auto& sl : slots_) {
+            make(sl.first);
+            make(sl.second);
         }
+        keyframes_.reset();
     }
     if (!prog_ || progBands_ != q_.shBands) {
         progBands_ = q_.shBands;
@@ -54,45 +74,85 @@ void AerialPerspectiveLut::doRun(SkyVars& vars, const Logger&) {
                     .compute("generators/aerial_perspective.glsl", embedded::generator_shaders("aerial_perspective.glsl"))
                     .build();
     }
+    if (!blendProg_)
+        blendProg_ = gl::ProgramBuilder("AerialPerspectiveLut blend")
+                         .define("AERIAL_BLEND")
+                         .compute("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
+                         .compute("generators/light_blend.glsl", embedded::generator_shaders("light_blend.glsl"))
+                         .build();
     const double Ht = model_.topRadius - model_.bottomRadius;
     const double h = std::clamp(vars.getOr(keys::observerHeight, 0.0), 0.0, Ht);
-    glm::dvec3 dir = vars.getOr(keys::sunDirection, glm::dvec3(0, 0, 1));
-    const double muS = std::clamp(dir.z / std::max(glm::length(dir), 1e-12), -1.0, 1.0);
+    const double muS = std::clamp(vars.get(skykeys::sunCosZenith), -1.0, 1.0);
+    {
+        std::vector<uint64_t> v;
+        for (const KeyInfo& k : inputs())
+            if (k.name != skykeys::sunCosZenith.name()) v.push_back(vars.version(k.name));
+        v.push_back(uint64_t(q_.aerialSteps));
+        v.push_back(uint64_t(std::llround(q_.aerialMaxDistance)));
+        v.push_back(uint64_t(std::llround(q_.keyframeStepRad * 1e9)));
+        if (v != validFor_ || resized) keyframes_.reset();
+        validFor_ = std::move(v);
+    }
     if (spectral_ && (!inscatterK_ || inscatterK_.width() != n)) {
         inscatterK_ = gl::Texture3D(n, n, n, GL_RGBA32F);
         transmittanceK_ = gl::Texture3D(n, n, n, GL_RGBA32F);
     }
-    const skykeys::TextureList T = vars.get(skykeys::transmittanceLuts), MS = vars.get(skykeys::multiScatteringLuts),
-                               SH = vars.get(skykeys::shLuts);
-    const int K = triples();
-    if (int(T->size()) != K || int(MS->size()) != K || int(SH->size()) != K)
-        throw Error("AerialPerspectiveLut: input LUTs for " + std::to_string(T->size()) + " triples, expected " + std::to_string(K));
-    for (int k = 0; k < K; ++k) {
-        // Spectral mode: the triple's volumes go to the scratch pair, then are added to the RGB
-        // pair through its matrix (transmittance too: the solar-weighted transmittance).
-        const gl::Texture3D& in = spectral_ ? inscatterK_ : inscatter_;
-        const gl::Texture3D& tr = spectral_ ? transmittanceK_ : transmittance_;
-        useTriple(k);
-        glBindTextureUnit(gl::binding::kTransmittanceLut, (*T)[size_t(k)].id);
-        glBindTextureUnit(gl::binding::kMultiScatteringLut, (*MS)[size_t(k)].id);
-        glBindTextureUnit(gl::binding::kShLut, (*SH)[size_t(k)].id);
-        glBindImageTexture(gl::binding::kLutImage, in.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-        glBindImageTexture(gl::binding::kSecondLutImage, tr.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-        prog_.use();
-        prog_.set("u_h", float(h));
-        prog_.set("u_muS", float(muS));
-        prog_.set("u_size", n);
-        prog_.set("u_substeps", q_.aerialSteps);
-        prog_.set("u_maxDistance", float(q_.aerialMaxDistance));
-        prog_.set("u_scale", float(kLutScale));
-        prog_.set("u_angular", float(model_.sunAngularRadius));
-        glDispatchCompute((n + 7) / 8, (n + 7) / 8, 1);
-        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-        if (spectral_) {
-            combine(inscatterK_, inscatter_, k);
-            combine(transmittanceK_, transmittance_, k);
+    plan_ = keyframes_.plan(muS);
+    if (plan_.build >= 0) {
+        const skykeys::TextureList T = vars.get(skykeys::transmittanceLuts), MS = vars.get(skykeys::multiScatteringLuts),
+                                   SH = vars.get(skykeys::shLuts);
+        const int K = triples();
+        if (int(T->size()) != K || int(MS->size()) != K || int(SH->size()) != K)
+            throw Error("AerialPerspectiveLut: input LUTs for " + std::to_string(T->size()) + " triples, expected " + std::to_string(K));
+        auto& sl = slots_[size_t(plan_.build)];
+        // This run's work groups of the (n/8)^2 that make the table: chunk c of m covers groups
+        // [c G / m, (c + 1) G / m).
+        const int gx = (n + 7) / 8, G = gx * gx, m = ko.chunks;
+        const int g0 = plan_.chunkBegin * G / m, g1 = plan_.chunkEnd * G / m;
+        for (int k = 0; k < K && g1 > g0; ++k) {
+            // Spectral mode: the triple's volumes go to the scratch pair, then are added to the
+            // slot's pair through its matrix (transmittance too: the solar-weighted transmittance).
+            const gl::Texture3D& in = spectral_ ? inscatterK_ : sl.first;
+            const gl::Texture3D& tr = spectral_ ? transmittanceK_ : sl.second;
+            useTriple(k);
+            glBindTextureUnit(gl::binding::kTransmittanceLut, (*T)[size_t(k)].id);
+            glBindTextureUnit(gl::binding::kMultiScatteringLut, (*MS)[size_t(k)].id);
+            glBindTextureUnit(gl::binding::kShLut, (*SH)[size_t(k)].id);
+            glBindImageTexture(gl::binding::kLutImage, in.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+            glBindImageTexture(gl::binding::kSecondLutImage, tr.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+            prog_.use();
+            prog_.set("u_h", float(h));
+            prog_.set("u_muS", float(plan_.buildMuS));
+            prog_.set("u_size", n);
+            prog_.set("u_substeps", q_.aerialSteps);
+            prog_.set("u_maxDistance", float(q_.aerialMaxDistance));
+            prog_.set("u_scale", float(kLutScale));
+            prog_.set("u_angular", float(model_.sunAngularRadius));
+            prog_.set("u_groupOffset", g0);
+            prog_.set("u_groupsX", gx);
+            glDispatchCompute(GLuint(g1 - g0), 1, 1);
+            glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+            if (spectral_) {
+                combine(inscatterK_, sl.first, k);
+                combine(transmittanceK_, sl.second, k);
+            }
         }
     }
+    // The shown volume from complete slots only.
+    const auto& A = slots_[size_t(plan_.a)];
+    const auto& B = slots_[size_t(plan_.b >= 0 ? plan_.b : plan_.a)];
+    glBindTextureUnit(gl::binding::kBlendA, A.first.id());
+    glBindTextureUnit(gl::binding::kBlendAerialB, B.first.id());
+    glBindTextureUnit(gl::binding::kBlendAerialTrA, A.second.id());
+    glBindImageTexture(gl::binding::kLutImage, inscatter_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(gl::binding::kSecondLutImage, transmittance_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    blendProg_.use();
+    blendProg_.set("u_t", float(plan_.b >= 0 ? plan_.t : 0.0));
+    blendProg_.set("u_muS", float(muS));
+    blendProg_.set("u_size", n);
+    glDispatchCompute(GLuint((n + 7) / 8), GLuint((n + 7) / 8), GLuint(n));
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    if (keyframes_.pending()) runAgain();
     vars.publish(skykeys::aerialInscatter, inscatter_.ref());
     vars.publish(skykeys::aerialTransmittance, transmittance_.ref());
 }

@@ -17,8 +17,8 @@ SkyIrradiance::SkyIrradiance() : SkyGenerator("sky.irradiance") {
     input(skykeys::moonViewLut);
     input(lightkeys::sunIlluminance);
     input(lightkeys::moonIlluminance);
-    input(keys::sunDirection);
-    input(keys::moonDirection);
+    input(skykeys::sunCosZenith, {.tolerance = kCosZenithTolerance});
+    input(skykeys::moonCosZenith, {.tolerance = kCosZenithTolerance});
     input(keys::observerHeight);
     output(skykeys::horizontalIlluminance);
     output(skykeys::diffuseIrradiance);
@@ -39,34 +39,45 @@ void SkyIrradiance::doRun(SkyVars& vars, const Logger&) {
                     .compute("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
                     .compute("generators/sky_irradiance.glsl", embedded::generator_shaders("sky_irradiance.glsl"))
                     .build();
-    if (!out_) out_ = gl::Buffer(sizeof(float) * 20);
+    if (!out_) out_ = gl::Buffer(sizeof(float) * 24);
     const double Ht = model_.topRadius - model_.bottomRadius;
     const double h = std::clamp(vars.getOr(keys::observerHeight, 0.0), 0.0, Ht);
-    auto unit = [](glm::dvec3 d) { return glm::length(d) > 0 ? glm::normalize(d) : glm::dvec3(0, 0, -1); };
-    glm::dvec3 sun = unit(vars.getOr(keys::sunDirection, glm::dvec3(0, 0, 1)));
-    glm::dvec3 moon = unit(vars.getOr(keys::moonDirection, glm::dvec3(0, 0, -1)));
+    const double muSun = std::clamp(vars.get(skykeys::sunCosZenith), -1.0, 1.0);
+    const double muMoon = std::clamp(vars.get(skykeys::moonCosZenith), -1.0, 1.0);
+    // Only the elevations matter (the quadrature runs over the azimuth from each light).
+    auto dirOf = [](double mu) { return glm::vec3(float(std::sqrt(std::max(1.0 - mu * mu, 0.0))), 0.0f, float(mu)); };
     glm::dvec3 sunE = vars.getOr(lightkeys::sunIlluminance, model_.solarIlluminance);
     glm::dvec3 moonE = vars.getOr(lightkeys::moonIlluminance, glm::dvec3(0.0));
-    glBindTextureUnit(gl::binding::kSunViewLut, vars.get(skykeys::sunViewLut).id);
-    glBindTextureUnit(gl::binding::kSunViewMieLut, vars.get(skykeys::sunViewMieLut).id);
-    glBindTextureUnit(gl::binding::kMoonViewLut, vars.get(skykeys::moonViewLut).id);
-    glBindTextureUnit(gl::binding::kMoonViewMieLut, vars.get(skykeys::moonViewMieLut).id);
-    glBindTextureUnit(gl::binding::kTransmittanceLut, vars.get(skykeys::transmittanceLut).id);
-    out_.bindBase(GL_SHADER_STORAGE_BUFFER, gl::binding::kSkyIrradianceSsbo);
-    prog_.use();
-    prog_.set("u_h", float(h));
-    prog_.set("u_sunDir", glm::vec3(sun));
-    prog_.set("u_moonDir", glm::vec3(moon));
-    prog_.set("u_sunE", glm::vec3(sunE));
-    prog_.set("u_moonE", glm::vec3(moonE));
-    prog_.set("u_nz", q_.irradianceZenith);
-    prog_.set("u_na", q_.irradianceAzimuth);
-    prog_.set("u_invScale", float(1.0 / kLutScale));
-    glDispatchCompute(1, 1, 1);
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    float r[20] = {};
-    glGetNamedBufferSubData(out_.id(), 0, sizeof r, r);
-    auto v = [&](int i) { return glm::max(glm::dvec3(r[4 * i], r[4 * i + 1], r[4 * i + 2]), glm::dvec3(0.0)); };
+    // The GPU pass gives values per lux of each light; it runs again only when a table, an
+    // elevation or the height changed, not when only the lights' illuminances did.
+    std::vector<uint64_t> gv;
+    for (const KeyInfo& k : inputs())
+        if (k.name != lightkeys::sunIlluminance.name() && k.name != lightkeys::moonIlluminance.name()) gv.push_back(vars.version(k.name));
+    if (gv != gpuFor_) {
+        gpuFor_ = std::move(gv);
+        glBindTextureUnit(gl::binding::kSunViewLut, vars.get(skykeys::sunViewLut).id);
+        glBindTextureUnit(gl::binding::kSunViewMieLut, vars.get(skykeys::sunViewMieLut).id);
+        glBindTextureUnit(gl::binding::kMoonViewLut, vars.get(skykeys::moonViewLut).id);
+        glBindTextureUnit(gl::binding::kMoonViewMieLut, vars.get(skykeys::moonViewMieLut).id);
+        glBindTextureUnit(gl::binding::kTransmittanceLut, vars.get(skykeys::transmittanceLut).id);
+        out_.bindBase(GL_SHADER_STORAGE_BUFFER, gl::binding::kSkyIrradianceSsbo);
+        prog_.use();
+        prog_.set("u_h", float(h));
+        prog_.set("u_sunDir", dirOf(muSun));
+        prog_.set("u_moonDir", dirOf(muMoon));
+        prog_.set("u_sunE", glm::vec3(1.0f));
+        prog_.set("u_moonE", glm::vec3(1.0f));
+        prog_.set("u_nz", q_.irradianceZenith);
+        prog_.set("u_na", q_.irradianceAzimuth);
+        prog_.set("u_invScale", float(1.0 / kLutScale));
+        glDispatchCompute(1, 1, 1);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glGetNamedBufferSubData(out_.id(), 0, sizeof perLux_, perLux_);
+    }
+    // Rows 0, 2, 4 per lux of the Sun; 1, 3, 5 of the Moon.
+    const float* r = perLux_;
+    auto perLux = [&](int i) { return glm::max(glm::dvec3(r[4 * i], r[4 * i + 1], r[4 * i + 2]), glm::dvec3(0.0)); };
+    auto v = [&](int i) { return i == 4 ? perLux(4) * sunE + perLux(5) * moonE : perLux(i) * (i % 2 == 0 ? sunE : moonE); };
     sunDiffuse_ = v(0);
     moonDiffuse_ = v(1);
     auto Y = [](glm::dvec3 c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; };

@@ -9,6 +9,7 @@
 
 #include <epoxy/gl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -133,6 +134,7 @@ const Key<std::shared_ptr<SkyViewLut>> kGenSunView{"sky.gen.sun_view"};
 const Key<std::shared_ptr<SkyViewLut>> kGenMoonView{"sky.gen.moon_view"};
 const Key<std::shared_ptr<AerialPerspectiveLut>> kGenAerial{"sky.gen.aerial"};
 const Key<std::shared_ptr<SkyIrradiance>> kGenIrradiance{"sky.gen.irradiance"};
+const Key<std::shared_ptr<LightZenith>> kGenLightZenith{"sky.gen.light_zenith"};
 }  // namespace
 
 SkyLuts SkyLuts::obtain(SkyVars& vars) {
@@ -144,6 +146,7 @@ SkyLuts SkyLuts::obtain(SkyVars& vars) {
     l.moonView = vars.obtain<SkyViewLut>(kGenMoonView, [] { return std::make_shared<SkyViewLut>(Light::Moon); });
     l.aerial = vars.obtain<AerialPerspectiveLut>(kGenAerial, [] { return std::make_shared<AerialPerspectiveLut>(); });
     l.irradiance = vars.obtain<SkyIrradiance>(kGenIrradiance, [] { return std::make_shared<SkyIrradiance>(); });
+    l.lightZenith = LightZenith::obtain(vars);
     return l;
 }
 
@@ -151,6 +154,29 @@ void SkyLuts::releaseGl() {
     for (SkyGenerator* g : std::initializer_list<SkyGenerator*>{transmittance.get(), multiScattering.get(), sh.get(), sunView.get(),
                                                                 moonView.get(), aerial.get(), irradiance.get()})
         if (g) g->releaseGl();
+}
+
+LightZenith::LightZenith() : Generator("sky.light_zenith") {
+    input(keys::sunDirection);
+    input(keys::moonDirection);
+    input(lightkeys::moonIlluminance);
+    output(skykeys::sunCosZenith);
+    output(skykeys::moonCosZenith);
+    output(skykeys::moonLit);
+}
+
+std::shared_ptr<LightZenith> LightZenith::obtain(SkyVars& vars) {
+    return vars.obtain<LightZenith>(kGenLightZenith, [] { return std::make_shared<LightZenith>(); });
+}
+
+void LightZenith::doRun(SkyVars& vars, const Logger&) {
+    auto cosZenith = [](glm::dvec3 d, double fallback) {
+        double l = glm::length(d);
+        return l > 0 ? std::clamp(d.z / l, -1.0, 1.0) : fallback;
+    };
+    vars.set(skykeys::sunCosZenith, cosZenith(vars.get(keys::sunDirection), 1.0));
+    vars.set(skykeys::moonCosZenith, cosZenith(vars.get(keys::moonDirection), -1.0));
+    vars.set(skykeys::moonLit, glm::length(vars.get(lightkeys::moonIlluminance)) > 0.0);
 }
 
 glm::dvec3 cpuDiffuseIrradiance(const SkyModel& m, const SkyQuality& q, double h, double muS,

@@ -75,10 +75,12 @@ SkyQuality SkyQuality::preset(int quality) {
         q.aerialSize = 16, q.aerialSteps = 1;
         q.raymarchSteps = 24, q.halfFloat = true, q.shDirections = 64;
         q.irradianceAzimuth = 16, q.irradianceZenith = 8;
+        q.keyframeChunks = 4;
         break;
     case 1:  // medium (default): Hillaire 2020 sizes; sample counts chosen so that rebuilding
              // every LUT costs <= 10 frames while the error stays <= 4 % RMS (docs/sky.md)
         q.transmittanceSteps = 40, q.multiScatteringDirections = 32, q.shDirections = 64;
+        q.keyframeChunks = 12;  // 9 rows of the sky view per part
         break;
     case 2:  // high: larger LUTs and more samples, fp32
         q.transmittanceW = 256, q.transmittanceH = 128, q.transmittanceSteps = 128;
@@ -87,6 +89,7 @@ SkyQuality SkyQuality::preset(int quality) {
         q.aerialSize = 32, q.aerialSteps = 4;
         q.raymarchSteps = 96, q.shIterations = 1, q.shIterationDirections = 128, q.shIterationSteps = 16, q.shBands = 6;
         q.irradianceAzimuth = 64, q.irradianceZenith = 32;
+        q.keyframeChunks = 48;  // 4 rows of the sky view per part
         break;
     case 3:  // reference: every pixel ray-marched with many steps
         q.transmittanceW = 512, q.transmittanceH = 128, q.transmittanceSteps = 256;

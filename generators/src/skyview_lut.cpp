@@ -18,14 +18,15 @@ SkyViewLut::SkyViewLut(Light light) : SkyGenerator(light == Light::Sun ? "sky.su
     input(skykeys::shLuts);
     input(keys::observerHeight);
     if (light == Light::Sun) {
-        input(keys::sunDirection);
+        // The light's elevation only: the table is parameterised by the azimuth from the light.
+        input(skykeys::sunCosZenith, {.tolerance = kCosZenithTolerance});
         output(skykeys::sunViewLut);
         output(skykeys::sunViewMieLut);
         output(skykeys::sunViewTotalLut);
         output(skykeys::viewTransmittanceLut);
     } else {
-        input(keys::moonDirection);
-        input(lightkeys::moonIlluminance);
+        input(skykeys::moonCosZenith, {.tolerance = kCosZenithTolerance});
+        input(skykeys::moonLit);
         output(skykeys::moonViewLut);
         output(skykeys::moonViewMieLut);
         output(skykeys::moonViewTotalLut);
@@ -41,9 +42,13 @@ void SkyViewLut::releaseGl() {
     smoothK_ = {};
     mieK_ = {};
     totalK_ = {};
-    fbo_ = {};
     fboK_ = {};
     prog_ = {};
+    slots_.clear();
+    showFbo_ = {};
+    blendProg_ = {};
+    keyframes_.reset();
+    viewTH_ = -1.0;
     releaseCommon();
 }
 
@@ -54,19 +59,43 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
     if (q_.skyViewH % 2 != 0 || q_.skyViewH < 4)
         throw Error("SkyViewLut: height " + std::to_string(q_.skyViewH) + " texels must be even and >= 4");
     const GLenum fmt = q_.halfFloat ? GL_RGBA16F : GL_RGBA32F;
-    if (!smooth_ || smooth_.width() != q_.skyViewW || smooth_.height() != q_.skyViewH || smooth_.internalFormat() != fmt) {
-        smooth_ = gl::Texture2D(q_.skyViewW, q_.skyViewH, fmt);
-        mie_ = gl::Texture2D(q_.skyViewW, q_.skyViewH, fmt);
-        total_ = gl::Texture2D(q_.skyViewW, q_.skyViewH, fmt);
-        for (gl::Texture2D* t : {&smooth_, &mie_, &total_}) {
-            t->setFilter(GL_LINEAR);
-            t->setWrap(GL_CLAMP_TO_EDGE);
+    auto make = [&](gl::Texture2D& t) {
+        t = gl::Texture2D(q_.skyViewW, q_.skyViewH, fmt);
+        t.setFilter(GL_LINEAR);
+        t.setWrap(GL_CLAMP_TO_EDGE);
+    };
+    auto attach3 = [](gl::Framebuffer& fb, gl::Texture2D& a, gl::Texture2D& b, gl::Texture2D& c, const char* what) {
+        fb = gl::Framebuffer::create();
+        fb.attach(GL_COLOR_ATTACHMENT0, a);
+        fb.attach(GL_COLOR_ATTACHMENT1, b);
+        fb.attach(GL_COLOR_ATTACHMENT2, c);
+        fb.checkComplete(what);
+    };
+    // Keyframes (light_keyframes.hpp): tables at given elevations, each built over several runs
+    // while the light moves; the shown table is blended from two of them (or is one of them).
+    // In spectral mode a table is built whole in one run (each triple's pass is combined into it
+    // over the whole texture).
+    LightKeyframes::Options ko{.stepRad = q_.keyframeStepRad, .chunks = spectral_ ? 1 : std::max(1, q_.keyframeChunks),
+                               .slots = 4, .stillMuS = kCosZenithTolerance};
+    keyframes_.setOptions(ko);
+    const bool resized = !smooth_ || smooth_.width() != q_.skyViewW || smooth_.height() != q_.skyViewH || smooth_.internalFormat() != fmt;
+    if (resized) {
+        make(smooth_);
+        make(mie_);
+        make(total_);
+        attach3(showFbo_, smooth_, mie_, total_, "SkyViewLut");
+        slots_.clear();
+    }
+    if (int(slots_.size()) != ko.slots) {
+        slots_.clear();
+        slots_.resize(size_t(ko.slots));
+        for (Slot& sl : slots_) {
+            make(sl.smooth);
+            make(sl.mie);
+            make(sl.total);
+            attach3(sl.fbo, sl.smooth, sl.mie, sl.total, "SkyViewLut keyframe");
         }
-        fbo_ = gl::Framebuffer::create();
-        fbo_.attach(GL_COLOR_ATTACHMENT0, smooth_);
-        fbo_.attach(GL_COLOR_ATTACHMENT1, mie_);
-        fbo_.attach(GL_COLOR_ATTACHMENT2, total_);
-        fbo_.checkComplete("SkyViewLut");
+        keyframes_.reset();
     }
     if (!prog_ || progBands_ != q_.shBands) {
         progBands_ = q_.shBands;
@@ -80,90 +109,140 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
                     .fragment("generators/skyview_lut.glsl", embedded::generator_shaders("skyview_lut.glsl"))
                     .build();
     }
+    if (!blendProg_)
+        blendProg_ = gl::ProgramBuilder(name() + " blend")
+                         .define("SKY_VIEW_BLEND")
+                         .fullscreenVertex()
+                         .fragment("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
+                         .fragment("generators/light_blend.glsl", embedded::generator_shaders("light_blend.glsl"))
+                         .build();
     const double Ht = model_.topRadius - model_.bottomRadius;
     h_ = std::clamp(vars.getOr(keys::observerHeight, 0.0), 0.0, Ht);
-    const Key<glm::dvec3>& dirKey = light_ == Light::Sun ? keys::sunDirection : keys::moonDirection;
-    glm::dvec3 dir = vars.getOr(dirKey, glm::dvec3(0, 0, 1));
-    muS_ = std::clamp(dir.z / std::max(glm::length(dir), 1e-12), -1.0, 1.0);
+    muS_ = std::clamp(vars.get(light_ == Light::Sun ? skykeys::sunCosZenith : skykeys::moonCosZenith), -1.0, 1.0);
+    // The tables hold for one observer height, atmosphere and quality: any other change of input
+    // (not the light's elevation) forgets them.
+    {
+        std::vector<uint64_t> v;
+        for (const KeyInfo& k : inputs())
+            if (k.name != skykeys::sunCosZenith.name() && k.name != skykeys::moonCosZenith.name()) v.push_back(vars.version(k.name));
+        v.push_back(uint64_t(q_.skyViewSteps));
+        v.push_back(uint64_t(std::llround(q_.keyframeStepRad * 1e9)));
+        if (v != validFor_ || resized) keyframes_.reset();
+        validFor_ = std::move(v);
+    }
     // Spectral mode: each triple's pass goes to the scratch textures, then is added to the RGB
     // ones through the triple's matrix (combine()).
     if (spectral_ && (!smoothK_ || smoothK_.width() != smooth_.width() || smoothK_.height() != smooth_.height() ||
                       smoothK_.internalFormat() != fmt)) {
-        smoothK_ = gl::Texture2D(q_.skyViewW, q_.skyViewH, fmt);
-        mieK_ = gl::Texture2D(q_.skyViewW, q_.skyViewH, fmt);
-        totalK_ = gl::Texture2D(q_.skyViewW, q_.skyViewH, fmt);
-        fboK_ = gl::Framebuffer::create();
-        fboK_.attach(GL_COLOR_ATTACHMENT0, smoothK_);
-        fboK_.attach(GL_COLOR_ATTACHMENT1, mieK_);
-        fboK_.attach(GL_COLOR_ATTACHMENT2, totalK_);
-        fboK_.checkComplete("SkyViewLut (triple)");
+        make(smoothK_);
+        make(mieK_);
+        make(totalK_);
+        attach3(fboK_, smoothK_, mieK_, totalK_, "SkyViewLut (triple)");
     }
     const GLenum bufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
     // The Moon's LUT is skipped (left black) while the Moon gives no light or is far below the
     // horizon (< -20 deg: its scattered light is then below the night sky's airglow by orders of
     // magnitude).
-    bool dark = light_ == Light::Moon &&
-                (glm::length(vars.getOr(lightkeys::moonIlluminance, glm::dvec3(0.0))) <= 0.0 || muS_ < -0.342);
+    bool dark = light_ == Light::Moon && (!vars.get(skykeys::moonLit) || muS_ < -0.342);
     if (dark) {
         const float zero[4] = {0, 0, 0, 1};
-        glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, zero);
-        glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 1, zero);
-        glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 2, zero);
+        glClearNamedFramebufferfv(showFbo_.id(), GL_COLOR, 0, zero);
+        glClearNamedFramebufferfv(showFbo_.id(), GL_COLOR, 1, zero);
+        glClearNamedFramebufferfv(showFbo_.id(), GL_COLOR, 2, zero);
+        keyframes_.reset();  // the next lit run starts from a table at its exact elevation
+        plan_ = {};
     } else {
-        const skykeys::TextureList T = vars.get(skykeys::transmittanceLuts), MS = vars.get(skykeys::multiScatteringLuts),
-                                   SH = vars.get(skykeys::shLuts);
-        const int K = triples();
-        if (int(T->size()) != K || int(MS->size()) != K || int(SH->size()) != K)
-            throw Error("SkyViewLut: input LUTs for " + std::to_string(T->size()) + " triples, expected " + std::to_string(K));
-        for (int k = 0; k < K; ++k) {
-            const gl::Framebuffer& fb = spectral_ ? fboK_ : fbo_;
-            useTriple(k);
-            fb.bind();
-            glViewport(0, 0, q_.skyViewW, q_.skyViewH);
-            glNamedFramebufferDrawBuffers(fb.id(), 3, bufs);
-            glBindTextureUnit(gl::binding::kTransmittanceLut, (*T)[size_t(k)].id);
-            glBindTextureUnit(gl::binding::kMultiScatteringLut, (*MS)[size_t(k)].id);
-            glBindTextureUnit(gl::binding::kShLut, (*SH)[size_t(k)].id);
-            prog_.use();
-            prog_.set("u_h", float(h_));
-            prog_.set("u_muS", float(muS_));
-            prog_.set("u_steps", q_.skyViewSteps);
-            prog_.set("u_size", glm::ivec2(q_.skyViewW, q_.skyViewH));
-            prog_.set("u_scale", float(kLutScale));
-            prog_.set("u_angular", float(light_ == Light::Sun ? model_.sunAngularRadius : 0.0045));
-            fullscreen();
-            if (spectral_) {
-                combine(smoothK_, smooth_, k);
-                combine(mieK_, mie_, k);
-                combine(totalK_, total_, k);
+        plan_ = keyframes_.plan(muS_);
+        if (plan_.build >= 0) {
+            const skykeys::TextureList T = vars.get(skykeys::transmittanceLuts), MS = vars.get(skykeys::multiScatteringLuts),
+                                       SH = vars.get(skykeys::shLuts);
+            const int K = triples();
+            if (int(T->size()) != K || int(MS->size()) != K || int(SH->size()) != K)
+                throw Error("SkyViewLut: input LUTs for " + std::to_string(T->size()) + " triples, expected " + std::to_string(K));
+            Slot& sl = slots_[size_t(plan_.build)];
+            // This run's rows of the table (scissored), chunk c of n: rows [c H / n, (c + 1) H / n).
+            const int n = ko.chunks;
+            const int y0 = plan_.chunkBegin * q_.skyViewH / n, y1 = plan_.chunkEnd * q_.skyViewH / n;
+            glEnable(GL_SCISSOR_TEST);
+            glScissor(0, y0, q_.skyViewW, y1 - y0);
+            for (int k = 0; k < K; ++k) {
+                const gl::Framebuffer& fb = spectral_ ? fboK_ : sl.fbo;
+                useTriple(k);
+                fb.bind();
+                glViewport(0, 0, q_.skyViewW, q_.skyViewH);
+                glNamedFramebufferDrawBuffers(fb.id(), 3, bufs);
+                glBindTextureUnit(gl::binding::kTransmittanceLut, (*T)[size_t(k)].id);
+                glBindTextureUnit(gl::binding::kMultiScatteringLut, (*MS)[size_t(k)].id);
+                glBindTextureUnit(gl::binding::kShLut, (*SH)[size_t(k)].id);
+                prog_.use();
+                prog_.set("u_h", float(h_));
+                prog_.set("u_muS", float(plan_.buildMuS));
+                prog_.set("u_steps", q_.skyViewSteps);
+                prog_.set("u_size", glm::ivec2(q_.skyViewW, q_.skyViewH));
+                prog_.set("u_scale", float(kLutScale));
+                prog_.set("u_angular", float(light_ == Light::Sun ? model_.sunAngularRadius : 0.0045));
+                fullscreen();
+                if (spectral_) {
+                    glDisable(GL_SCISSOR_TEST);
+                    combine(smoothK_, sl.smooth, k);
+                    combine(mieK_, sl.mie, k);
+                    combine(totalK_, sl.total, k);
+                    glEnable(GL_SCISSOR_TEST);
+                }
             }
+            glDisable(GL_SCISSOR_TEST);
         }
+        // The shown table: slot a, or a and b mixed (the Mie phase applied at the current
+        // elevation). Only complete slots are ever read here.
+        const Slot& A = slots_[size_t(plan_.a)];
+        const Slot& B = slots_[size_t(plan_.b >= 0 ? plan_.b : plan_.a)];
+        if (spectral_) useTriple(0);
+        showFbo_.bind();
+        glViewport(0, 0, q_.skyViewW, q_.skyViewH);
+        glNamedFramebufferDrawBuffers(showFbo_.id(), 3, bufs);
+        glBindTextureUnit(gl::binding::kBlendA, A.smooth.id());
+        glBindTextureUnit(gl::binding::kBlendAMie, A.mie.id());
+        glBindTextureUnit(gl::binding::kBlendB, B.smooth.id());
+        glBindTextureUnit(gl::binding::kBlendBMie, B.mie.id());
+        blendProg_.use();
+        blendProg_.set("u_t", float(plan_.b >= 0 ? plan_.t : 0.0));
+        blendProg_.set("u_muS", float(muS_));
+        blendProg_.set("u_h", float(h_));
+        blendProg_.set("u_size", glm::ivec2(q_.skyViewW, q_.skyViewH));
+        fullscreen();
+        if (keyframes_.pending()) runAgain();
     }
     if (light_ == Light::Sun) {
         // The view-transmittance row (view_transmittance.glsl), from the RGB (or, in spectral
-        // mode, solar-weighted combined) transmittance LUT; the geometry is every triple's.
+        // mode, solar-weighted combined) transmittance LUT; the geometry is every triple's. It
+        // does not depend on the Sun: rebuilt only with the height or the transmittance.
         const int nT = 4 * q_.skyViewH;
-        if (!viewT_ || viewT_.width() != nT) {
-            viewT_ = gl::Texture1D(nT, GL_RGBA32F);
-            viewT_.setFilter(GL_LINEAR);
-            viewT_.setWrap(GL_CLAMP_TO_EDGE);
+        const uint64_t tv = vars.version(skykeys::transmittanceLut.name());
+        if (!viewT_ || viewT_.width() != nT || viewTH_ != h_ || viewTVersion_ != tv) {
+            viewTH_ = h_;
+            viewTVersion_ = tv;
+            if (!viewT_ || viewT_.width() != nT) {
+                viewT_ = gl::Texture1D(nT, GL_RGBA32F);
+                viewT_.setFilter(GL_LINEAR);
+                viewT_.setWrap(GL_CLAMP_TO_EDGE);
+            }
+            if (!viewTProg_)
+                viewTProg_ = gl::ProgramBuilder("SkyViewLut transmittance row")
+                                 .define("ATM_USE_TRANSMITTANCE")
+                                 .compute("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
+                                 .compute("generators/view_transmittance.glsl", embedded::generator_shaders("view_transmittance.glsl"))
+                                 .build();
+            if (spectral_) useTriple(0);
+            glBindTextureUnit(gl::binding::kTransmittanceLut, vars.get(skykeys::transmittanceLut).id);
+            glBindImageTexture(gl::binding::kLutImage, viewT_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+            viewTProg_.use();
+            viewTProg_.set("u_h", float(h_));
+            viewTProg_.set("u_size", nT);
+            viewTProg_.set("u_skyViewH", q_.skyViewH);
+            glDispatchCompute(GLuint((nT + 63) / 64), 1, 1);
+            glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+            vars.publish(skykeys::viewTransmittanceLut, viewT_.ref());
         }
-        if (!viewTProg_)
-            viewTProg_ = gl::ProgramBuilder("SkyViewLut transmittance row")
-                             .define("ATM_USE_TRANSMITTANCE")
-                             .compute("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
-                             .compute("generators/view_transmittance.glsl", embedded::generator_shaders("view_transmittance.glsl"))
-                             .build();
-        if (spectral_) useTriple(0);
-        glBindTextureUnit(gl::binding::kTransmittanceLut, vars.get(skykeys::transmittanceLut).id);
-        glBindImageTexture(gl::binding::kLutImage, viewT_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-        viewTProg_.use();
-        viewTProg_.set("u_h", float(h_));
-        viewTProg_.set("u_size", nT);
-        viewTProg_.set("u_skyViewH", q_.skyViewH);
-        glDispatchCompute(GLuint((nT + 63) / 64), 1, 1);
-        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-        vars.publish(skykeys::viewTransmittanceLut, viewT_.ref());
         vars.publish(skykeys::sunViewLut, smooth_.ref());
         vars.publish(skykeys::sunViewMieLut, mie_.ref());
         vars.publish(skykeys::sunViewTotalLut, total_.ref());

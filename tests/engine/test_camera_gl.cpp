@@ -10,6 +10,8 @@
 #include <welkin/gl/projection_programs.hpp>
 #include <welkin/gl/shader.hpp>
 
+#include <epoxy/gl.h>
+
 #include <algorithm>
 #include <cmath>
 #include <optional>

@@ -5,6 +5,8 @@
 
 #include <welkin/image.hpp>
 
+#include <epoxy/gl.h>
+
 #include <nlohmann/json.hpp>
 
 #include <cmath>

@@ -14,6 +14,8 @@
 #include <welkin/keys.hpp>
 #include <welkin/processor.hpp>
 
+#include <epoxy/gl.h>
+
 #include <nlohmann/json.hpp>
 
 #include <cmath>

@@ -57,6 +57,7 @@ struct Rig {
     }
     void runAll() {
         const Logger& log = test::testLogger();
+        luts.lightZenith->runIfDue(vars, log);  // the lights' cos zenith, read by the sky views
         luts.transmittance->runIfDue(vars, log);
         luts.multiScattering->runIfDue(vars, log);
         luts.sh->runIfDue(vars, log);

@@ -128,6 +128,7 @@ struct SpectralRig {
                                 (SkyGenerator*)luts.aerial.get(), (SkyGenerator*)luts.irradiance.get()})
             g->setFixedQuality(q);
         const Logger& log = test::testLogger();
+        luts.lightZenith->runIfDue(vars, log);  // the lights' cos zenith, read by the sky views
         luts.transmittance->runIfDue(vars, log);
         luts.multiScattering->runIfDue(vars, log);
         luts.sh->runIfDue(vars, log);

@@ -134,6 +134,9 @@ protected:
     }
     template <class T>
     void output(const Key<T>& key) { outputs_.push_back(key.info()); }
+    /// From doRun(): the generator has more work pending (a table built over several frames) and
+    /// is due again at the next run whatever its inputs.
+    void runAgain() { again_ = true; }
 
 private:
     virtual void doRun(SkyVars& vars, const Logger& log) = 0;
@@ -146,6 +149,7 @@ private:
     std::vector<uint64_t> seen_;
     std::vector<std::vector<double>> seenValues_;  // for inputs with a tolerance
     bool invalidated_ = false;
+    bool again_ = false;
     Timing timing_;
 };
 

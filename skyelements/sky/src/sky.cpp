@@ -74,6 +74,7 @@ void Sky::doInit(InitContext& ctx) {
     lights->declareKeys(v);
     luts_ = SkyLuts::obtain(v);
     addGenerator(lights);
+    addGenerator(luts_.lightZenith);
     addGenerator(luts_.transmittance);
     addGenerator(luts_.multiScattering);
     addGenerator(luts_.sh);

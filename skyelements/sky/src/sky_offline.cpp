@@ -26,7 +26,8 @@ void OfflineRenderer::draw(SkyElement& e, const Camera& camera, bool finish) {
     }
     if (finish) glFinish();
     auto t0 = clock::now();
-    for (auto& g : e.generators()) g->runIfDue(vars_, log_);
+    if (runGenerators)
+        for (auto& g : e.generators()) g->runIfDue(vars_, log_);
     if (finish) glFinish();
     auto t1 = clock::now();
     FrameContext fc{vars_, log_, camera, 0.0, &vao_};

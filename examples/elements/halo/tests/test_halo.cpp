@@ -9,6 +9,8 @@
 #include <welkin/keys.hpp>
 #include <welkin/processor.hpp>
 
+#include <epoxy/gl.h>
+
 #include <cmath>
 
 using namespace welkin;

@@ -11,10 +11,17 @@
 // Chain and inputs (a generator re-runs when any input's version changed):
 //   TransmittanceLut      <- sky.atmosphere, sky.quality                       (256x64 medium)
 //   MultiScatteringLut    <- sky.atmosphere, sky.quality, sky.transmittance_luts (32x32)
-//   SkyViewLut (Sun)      <- ..., sky.multiscattering_luts, sun.direction, observer.height_m
-//   SkyViewLut (Moon)     <- ..., moon.direction, observer.height_m
-//   AerialPerspectiveLut  <- ..., sun.direction, observer.height_m               (32^3)
-//   SkyIrradiance         <- the sky views, light illuminances, directions
+//   LightZenith           <- sun.direction, moon.direction, lights.moon_illuminance (CPU)
+//   SkyViewLut (Sun)      <- ..., sky.multiscattering_luts, sky.sun_cos_zenith, observer.height_m
+//   SkyViewLut (Moon)     <- ..., sky.moon_cos_zenith, sky.moon_lit, observer.height_m
+//   AerialPerspectiveLut  <- ..., sky.sun_cos_zenith, observer.height_m          (32^3)
+//   SkyIrradiance         <- the sky views, light illuminances, cos zeniths
+// The Sun- and Moon-dependent tables depend on the light's elevation only (cos zenith, change
+// tolerance kCosZenithTolerance; the azimuth from the light is applied per pixel). While the
+// light moves they are built as keyframes at elevations on a grid (SkyQuality::keyframeStepRad),
+// each over several frames into its own texture set, and the shown tables are blended from two
+// complete keyframes each run (LightKeyframes, light_keyframes.hpp): a generator with work left
+// asks to run again (Generator::runAgain()).
 // A generator that rewrites a texture in place republishes its key (SkyVars::publish), which
 // bumps the key's version: its readers (which name the texture key as an input) run again.
 // The sky-view and aerial-perspective values are radiance per lux of the light's illuminance
@@ -30,6 +37,7 @@
 // cost is unchanged and the LUT cost is about N/3 times RGB's.
 #pragma once
 #include <welkin/element.hpp>
+#include <welkin/generators/light_keyframes.hpp>
 #include <welkin/generators/lights.hpp>
 #include <welkin/generators/sky_model.hpp>
 #include <welkin/generators/sky_spectral.hpp>
@@ -78,7 +86,29 @@ inline const Key<glm::dvec3> horizontalIlluminance{"sky.horizontal_illuminance",
 inline const Key<glm::dvec3> diffuseIrradiance{"sky.diffuse_irradiance", Range{0, 1e7}, "diffuse horizontal illuminance per channel, lux"};
 /// Zenith luminance, cd/m^2.
 inline const Key<double> zenithLuminance{"sky.zenith_luminance", Range{0, 1e9}, "zenith luminance, cd/m^2"};
+/// The lights' elevations as the sky's tables see them (LightZenith): the sky views, the aerial
+/// perspective and the irradiance depend on these, not on the full directions (the azimuth from
+/// the light is applied per pixel), so a pure azimuth change rebuilds nothing.
+inline const Key<double> sunCosZenith{"sky.sun_cos_zenith", Range{-1, 1}, "cos zenith of the Sun (sun.direction.z)"};
+inline const Key<double> moonCosZenith{"sky.moon_cos_zenith", Range{-1, 1}, "cos zenith of the Moon (moon.direction.z)"};
+inline const Key<bool> moonLit{"sky.moon_lit", "the Moon lights the sky (illuminance > 0)"};
 }  // namespace skykeys
+
+/// Change tolerance of the sky's tables on the lights' cos zenith: 2e-5 is 0.0011 deg of
+/// elevation at the horizon (where a degree changes the twilight sky by up to ~x2, so at most
+/// ~0.1 % of staleness; the Sun's disk is 0.53 deg wide) and less higher up.
+inline constexpr double kCosZenithTolerance = 2e-5;
+
+/// Publishes the lights' cos zenith (skykeys::sunCosZenith, moonCosZenith) and whether the Moon
+/// gives light (moonLit) from their directions and illuminance; CPU, microseconds. Shared.
+class LightZenith final : public Generator {
+public:
+    LightZenith();
+    static std::shared_ptr<LightZenith> obtain(SkyVars& vars);
+
+private:
+    void doRun(SkyVars& vars, const Logger& log) override;
+};
 
 /// The preset the sky passes use: sky.quality if >= 0, else render.quality (default medium).
 int effectiveQuality(const SkyVars& vars);
@@ -217,16 +247,36 @@ public:
     /// Height and light cos-zenith of the last run (h clamped into the atmosphere).
     double height() const { return h_; }
     double lightMuS() const { return muS_; }
+    /// The tables built at given elevations and shown while the light moves (see
+    /// light_keyframes.hpp), and the last run's plan.
+    const LightKeyframes& keyframes() const { return keyframes_; }
+    const LightKeyframes::Plan& lastPlan() const { return plan_; }
+    /// Forgets every table: the next run builds one at exactly the light's elevation.
+    void resetKeyframes() { keyframes_.reset(); }
     void releaseGl() override;
 
 private:
     void doRun(SkyVars& vars, const Logger& log) override;
     Light light_;
+    /// Shown tables (written by the blend pass); each keyframe slot: smooth, Mie (and total,
+    /// unused) with its framebuffer.
     gl::Texture2D smooth_, mie_, total_;
+    struct Slot {
+        gl::Texture2D smooth, mie, total;
+        gl::Framebuffer fbo;
+    };
+    std::vector<Slot> slots_;
+    gl::Framebuffer showFbo_;
+    gl::Program blendProg_;
+    LightKeyframes keyframes_;
+    LightKeyframes::Plan plan_;
+    std::vector<uint64_t> validFor_;  // input versions the keyframes were built with
+    double viewTH_ = -1.0;
+    uint64_t viewTVersion_ = 0;
     gl::Texture1D viewT_;  // Sun only: transmittance along each latitude (viewTransmittanceLut)
     gl::Program viewTProg_;
     gl::Texture2D smoothK_, mieK_, totalK_;  // spectral mode: one triple's pass, before combine()
-    gl::Framebuffer fbo_, fboK_;
+    gl::Framebuffer fboK_;
     gl::Program prog_;
     int progBands_ = 0;  // SkyQuality::shBands prog_ was compiled for
     double h_ = 0.0, muS_ = 1.0;
@@ -240,11 +290,19 @@ public:
     AerialPerspectiveLut();
     const gl::Texture3D& inscatter() const { return inscatter_; }
     const gl::Texture3D& transmittance() const { return transmittance_; }
+    const LightKeyframes& keyframes() const { return keyframes_; }
+    const LightKeyframes::Plan& lastPlan() const { return plan_; }
+    void resetKeyframes() { keyframes_.reset(); }
     void releaseGl() override;
 
 private:
     void doRun(SkyVars& vars, const Logger& log) override;
-    gl::Texture3D inscatter_, transmittance_;
+    gl::Texture3D inscatter_, transmittance_;  // shown (blend pass)
+    std::vector<std::pair<gl::Texture3D, gl::Texture3D>> slots_;  // keyframes: inscatter, transmittance
+    gl::Program blendProg_;
+    LightKeyframes keyframes_;
+    LightKeyframes::Plan plan_;
+    std::vector<uint64_t> validFor_;
     gl::Texture3D inscatterK_, transmittanceK_;  // spectral mode: one triple's pass
     gl::Program prog_;
     int progBands_ = 0;  // SkyQuality::shBands prog_ was compiled for
@@ -266,6 +324,8 @@ private:
     gl::Program prog_;
     gl::Buffer out_;
     glm::dvec3 sunDiffuse_{0.0}, moonDiffuse_{0.0};
+    float perLux_[24] = {};           // the GPU pass's results per lux of each light
+    std::vector<uint64_t> gpuFor_;    // input versions of the last GPU pass
 };
 
 namespace cpu {
@@ -287,6 +347,7 @@ struct SkyLuts {
     std::shared_ptr<SkyViewLut> sunView, moonView;
     std::shared_ptr<AerialPerspectiveLut> aerial;
     std::shared_ptr<SkyIrradiance> irradiance;
+    std::shared_ptr<LightZenith> lightZenith;
     /// The instances stored in `vars` (created on first request).
     static SkyLuts obtain(SkyVars& vars);
     void releaseGl();

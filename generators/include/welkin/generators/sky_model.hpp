@@ -121,6 +121,11 @@ struct SkyQuality {
     bool bakedMiePhase = true;
     bool perPixel = false;                          ///< ray-march every pixel (reference)
     int irradianceAzimuth = 32, irradianceZenith = 16;  ///< hemisphere quadrature
+    /// While the light moves, the Sun- (Moon-) dependent tables are built at elevations on a grid
+    /// of this step, each over `keyframeChunks` frames, and the tables in between interpolated
+    /// (light_keyframes.hpp; measured in docs/sky.md). rad.
+    double keyframeStepRad = 0.0175;
+    int keyframeChunks = 8;
     /// 0 low, 1 medium, 2 high, 3 reference. Throws welkin::Error outside [0, 3].
     static SkyQuality preset(int quality);
     /// A tiny preset for [gl] tests on llvmpipe.

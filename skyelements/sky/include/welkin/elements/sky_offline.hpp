@@ -30,6 +30,9 @@ public:
     /// false makes the element compute its transmittance output as if something were behind it
     /// (to time that case).
     bool nothingBehind = true;
+    /// false: draw with the tables as they are, without running the element's due generators (to
+    /// look at an animated state without advancing it).
+    bool runGenerators = true;
 
 private:
     SkyVars& vars_;
