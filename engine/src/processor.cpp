@@ -277,6 +277,7 @@ void SkyProcessor::runGenerators() {
     if (!orderValid_) orderGenerators();
     auto t0 = std::chrono::steady_clock::now();
     for (Generator* g : order_) {
+        if (generatorsPaused_) break;
         g->runIfDue(*vars_, log_, options_.timing);
         gl::checkError(g->name() + "::run()");
     }

@@ -165,6 +165,9 @@ public:
     double seconds() const;
     /// Fixes the animation time (seconds, finite), or, with std::nullopt, follows the wall clock.
     void setAnimationTime(std::optional<double> seconds);
+    /// While paused, update() runs no generator: the tables stay as they are (a tool looks at a
+    /// state without advancing it).
+    void setGeneratorsPaused(bool paused) { generatorsPaused_ = paused; }
     /// CPU time of the last frame's generators, ms (with glFinish when timing is enabled).
     double lastGeneratorsMs() const { return generatorsMs_; }
     /// Stats of the last frame: inputs, per element and generator CPU-timed cost (ms).
@@ -192,6 +195,7 @@ private:
     std::vector<std::shared_ptr<Generator>> generators_;  // processor-level
     std::vector<Generator*> order_;
     bool orderValid_ = false;
+    bool generatorsPaused_ = false;
     UtcInstant time_ = UtcInstant::parse("2000-01-01T12:00:00Z");
     Observer observer_{};
     Camera camera_{};

@@ -1,75 +1,71 @@
 #include <welkin/elements/sky_offline.hpp>
-#include <welkin/gl/bindings.hpp>
 
 #include <epoxy/gl.h>
 
-#include <chrono>
-
 namespace welkin::elements {
 
+// The caller's element inside the processor: forwards every call, never releases it.
+class OfflineRenderer::Borrowed final : public SkyElement {
+public:
+    Borrowed(SkyElement& e, const OfflineRenderer& r) : SkyElement(e.name()), e_(e), r_(r) {}
+    SkyElement& target() { return e_; }
+
+private:
+    void doInit(InitContext& ctx) override {
+        if (!e_.initialized()) e_.init(ctx);
+        for (auto& g : e_.generators()) addGenerator(g);
+    }
+    void doUpdate(const FrameContext& ctx) override { e_.update(ctx); }
+    void doRender(const FrameContext& ctx) override {
+        FrameContext c = ctx;
+        c.nothingBehind = ctx.nothingBehind && r_.nothingBehind;
+        e_.render(c);
+    }
+    void doResize(int w, int h) override { e_.resize(w, h); }
+    void doRelease() override {}
+    void doStats(nlohmann::json& root) const override { e_.stats(root); }
+    SkyElement& e_;
+    const OfflineRenderer& r_;
+};
+
+OfflineRenderer::OfflineRenderer(SkyVars& vars, const Logger& log) : vars_(vars), log_(log) {}
+
+OfflineRenderer::~OfflineRenderer() = default;
+
 void OfflineRenderer::draw(SkyElement& e, const Camera& camera, bool finish) {
-    using clock = std::chrono::steady_clock;
-    if (!vao_) {
-        vao_ = gl::VertexArray::create();
-        cameraUbo_ = gl::Buffer(sizeof(CameraBlock));
+    if (!processor_) {
+        // Times with glFinish around every call (the processor's timing option): the figures
+        // then include the GPU work whether or not `finish` is asked.
+        processor_ = std::make_unique<SkyProcessor>(BorrowedVars{vars_}, log_,
+                                                    ProcessorOptions{.timing = true, .astronomy = false, .timeAndPlace = false});
+        processor_->setAnimationTime(0.0);
     }
-    if (!hdr_ || hdr_.width() != camera.width || hdr_.height() != camera.height) {
-        hdr_ = gl::Texture2D(camera.width, camera.height, GL_RGBA32F);
-        fbo_ = gl::Framebuffer::create();
-        fbo_.attach(GL_COLOR_ATTACHMENT0, hdr_);
-        fbo_.checkComplete("OfflineRenderer");
+    if (current_ != &e) {
+        if (proxy_) processor_->remove(proxy_->name());
+        auto p = std::make_unique<Borrowed>(e, *this);
+        proxy_ = p.get();
+        processor_->add(std::move(p));
+        current_ = &e;
     }
-    if (!e.initialized()) {
-        InitContext ic{vars_, log_};
-        e.init(ic);
-        e.resize(camera.width, camera.height);
+    processor_->setCamera(camera);
+    if (!e.initialized() && proxy_->initialized()) {
+        // The caller released its element since: bring the proxy back too.
+        proxy_->release();
     }
+    processor_->setGeneratorsPaused(!runGenerators);
     if (finish) glFinish();
-    auto t0 = clock::now();
-    if (runGenerators)
-        for (auto& g : e.generators()) g->runIfDue(vars_, log_);
-    if (finish) glFinish();
-    auto t1 = clock::now();
-    FrameContext fc{vars_, log_, camera, 0.0, &vao_};
-    fc.nothingBehind = nothingBehind;  // one element over a target cleared to black
-    e.update(fc);
-    CameraBlock block = makeCameraBlock(camera, 0.0);
-    cameraUbo_.update(&block, sizeof block);
-    fbo_.bind();
-    glViewport(0, 0, camera.width, camera.height);
-    const float black[4] = {0, 0, 0, 1};
-    glClearBufferfv(GL_COLOR, 0, black);
-    cameraUbo_.bindBase(GL_UNIFORM_BUFFER, gl::binding::kCameraUbo);
-    vao_.bind();
-    glEnable(GL_BLEND);
-    glBlendFuncSeparate(GL_ONE, GL_SRC1_COLOR, GL_ZERO, GL_ONE);
-    glDisable(GL_DEPTH_TEST);
-    e.render(fc);
-    glDisable(GL_BLEND);
-    if (finish) glFinish();
-    auto t2 = clock::now();
-    generatorsMs_ = std::chrono::duration<double, std::milli>(t1 - t0).count();
-    drawMs_ = std::chrono::duration<double, std::milli>(t2 - t1).count();
+    processor_->renderFrame();
+    generatorsMs_ = processor_->lastGeneratorsMs();
+    drawMs_ = proxy_->updateTiming().lastMs + proxy_->renderTiming().lastMs;
 }
 
 Image OfflineRenderer::render(SkyElement& e, const Camera& camera, bool finish) {
     draw(e, camera, finish);
-    std::vector<float> rgba = hdr_.readRgbaFloat();
-    Image img;
-    img.width = camera.width;
-    img.height = camera.height;
-    img.pixels.resize(size_t(img.width) * img.height * 3);
-    for (int y = 0; y < img.height; ++y)
-        for (int x = 0; x < img.width; ++x)
-            for (int c = 0; c < 3; ++c) img.at(x, y, c) = rgba[(size_t(img.height - 1 - y) * img.width + x) * 4 + c];
-    return img;
+    return processor_->readHdr();
 }
 
 void OfflineRenderer::release() {
-    hdr_ = {};
-    fbo_ = {};
-    cameraUbo_ = {};
-    vao_ = {};
+    if (processor_) processor_->release();
 }
 
 }  // namespace welkin::elements

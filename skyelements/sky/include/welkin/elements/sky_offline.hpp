@@ -1,6 +1,8 @@
 // Renders one element with the SkyVars exactly as given (no astronomy step: the caller sets
 // sun.direction, moon.direction, observer.height_m...), into an RGBA32F target, and reads the
-// HDR radiance back. For tests, benchmarks and tools that scan configurations.
+// HDR radiance back. For tests, benchmarks and tools that scan configurations. It goes through a
+// SkyProcessor (the one compositor) that borrows the caller's SkyVars and the caller's element
+// (which stays the caller's: OfflineRenderer never releases it).
 //
 //   welkin::SkyVars vars = welkin::SkyVars::earth();
 //   vars.set(welkin::keys::sunDirection, welkin::directionFromAzAlt(3.0, 0.1));
@@ -10,14 +12,19 @@
 #pragma once
 #include <welkin/camera.hpp>
 #include <welkin/element.hpp>
-#include <welkin/gl/objects.hpp>
 #include <welkin/image.hpp>
+#include <welkin/processor.hpp>
+
+#include <memory>
 
 namespace welkin::elements {
 
 class OfflineRenderer {
 public:
-    OfflineRenderer(SkyVars& vars, const Logger& log) : vars_(vars), log_(log) {}
+    OfflineRenderer(SkyVars& vars, const Logger& log);
+    ~OfflineRenderer();
+    OfflineRenderer(const OfflineRenderer&) = delete;
+    OfflineRenderer& operator=(const OfflineRenderer&) = delete;
     /// Initialises `e` if needed, runs its due generators, updates and draws it over black.
     /// With `finish`, generator and draw times include the GPU work (glFinish).
     Image render(SkyElement& e, const Camera& camera, bool finish = false);
@@ -25,6 +32,8 @@ public:
     void draw(SkyElement& e, const Camera& camera, bool finish = false);
     double generatorsMs() const { return generatorsMs_; }
     double drawMs() const { return drawMs_; }
+    /// Frees the processor's GL resources and invalidates the element's generators (context
+    /// current); the element itself is the caller's to release.
     void release();
     /// Passed to the element as FrameContext::nothingBehind (the target is cleared to black).
     /// false makes the element compute its transmittance output as if something were behind it
@@ -35,12 +44,12 @@ public:
     bool runGenerators = true;
 
 private:
+    class Borrowed;
     SkyVars& vars_;
     const Logger& log_;
-    gl::Texture2D hdr_;
-    gl::Framebuffer fbo_;
-    gl::Buffer cameraUbo_;
-    gl::VertexArray vao_;
+    std::unique_ptr<SkyProcessor> processor_;
+    SkyElement* current_ = nullptr;
+    Borrowed* proxy_ = nullptr;
     double generatorsMs_ = 0, drawMs_ = 0;
 };
 
