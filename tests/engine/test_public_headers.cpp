@@ -15,9 +15,10 @@ extern const std::vector<std::string> kCompiledPublicHeaders;
 TEST_CASE("The loader-free header check includes every public header", "[cpu][headers]") {
     namespace fs = std::filesystem;
     const fs::path src = WELKIN_SOURCE_DIR;
-    std::vector<fs::path> roots = {src / "engine/include", src / "generators/include"};
-    for (auto& d : fs::directory_iterator(src / "skyelements"))
-        if (fs::is_directory(d.path() / "include")) roots.push_back(d.path() / "include");
+    std::vector<fs::path> roots = {src / "engine/include"};
+    for (const char* layer : {"generators", "skyelements"})
+        for (auto& d : fs::directory_iterator(src / layer))
+            if (fs::is_directory(d.path() / "include")) roots.push_back(d.path() / "include");
     std::vector<std::string> onDisk;
     for (auto& root : roots)
         for (auto& f : fs::recursive_directory_iterator(root))

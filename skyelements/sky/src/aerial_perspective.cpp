@@ -1,5 +1,5 @@
 #include <welkin/elements/aerial_perspective.hpp>
-#include <welkin/embedded/generator_shaders.hpp>
+#include <welkin/embedded/atmosphere_shaders.hpp>
 #include <welkin/embedded/sky_shaders.hpp>
 #include <welkin/error.hpp>
 #include <welkin/generators/sky_luts.hpp>
@@ -15,7 +15,7 @@ namespace welkin::elements {
 using namespace welkin::generators;
 
 std::vector<std::pair<std::string, std::string>> aerialPerspectiveGlslChunks() {
-    return {{"generators/atmosphere.glsl", std::string(embedded::generator_shaders("atmosphere.glsl"))},
+    return {{"generators/atmosphere.glsl", std::string(embedded::atmosphere_shaders("atmosphere.glsl"))},
             {"sky/aerial_perspective.glsl", std::string(embedded::sky_shaders("aerial_perspective.glsl"))}};
 }
 

@@ -1,5 +1,5 @@
 #include <welkin/elements/sky.hpp>
-#include <welkin/embedded/generator_shaders.hpp>
+#include <welkin/embedded/atmosphere_shaders.hpp>
 #include <welkin/embedded/sky_shaders.hpp>
 #include <welkin/error.hpp>
 #include <welkin/generators/atmosphere.hpp>
@@ -106,7 +106,7 @@ gl::ProgramBuilder Sky::recipe(bool perPixel, bool moon, bool transmittance, boo
     b.fullscreenVertex()
         .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
         .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
-        .fragment("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
+        .fragment("generators/atmosphere.glsl", embedded::atmosphere_shaders("atmosphere.glsl"))
         .fragment("sky/sky.frag.glsl", embedded::sky_shaders("sky.frag.glsl"));
     return b;
 }

@@ -20,10 +20,10 @@ namespace welkin::gl::binding {
 
 // Uniform buffers (GL_UNIFORM_BUFFER binding points).
 inline constexpr int kCameraUbo = 0;      ///< welkin::CameraBlock (engine/shaders/camera.glsl), bound by the processor
-inline constexpr int kAtmosphereUbo = 1;  ///< the atmosphere block (generators/shaders/atmosphere.glsl)
+inline constexpr int kAtmosphereUbo = 1;  ///< the atmosphere block (generators/atmosphere/shaders/atmosphere.glsl)
 
 // Shader storage buffers (GL_SHADER_STORAGE_BUFFER binding points).
-inline constexpr int kSkyIrradianceSsbo = 0;  ///< SkyIrradiance's result (generators/shaders/sky_irradiance.glsl)
+inline constexpr int kSkyIrradianceSsbo = 0;  ///< SkyIrradiance's result (generators/atmosphere/shaders/sky_irradiance.glsl)
 
 // Texture units: the engine's tone map.
 inline constexpr int kHdrTexture = 0;     ///< the HDR frame read by the tone map and log-luminance passes
@@ -43,7 +43,7 @@ inline constexpr int kViewTransmittanceLut = 10;   ///< sky.view_transmittance_l
 // Texture units: other passes.
 inline constexpr int kSceneDepth = 0;     ///< the host's depth texture (aerial perspective applied to a scene)
 inline constexpr int kCombineSource = 0;  ///< the spectral-combine pass's source LUT
-// The keyframe blend passes (generators/shaders/light_blend.glsl): the two bracketing tables.
+// The keyframe blend passes (generators/atmosphere/shaders/light_blend.glsl): the two bracketing tables.
 inline constexpr int kBlendA = 0;        ///< table A (sky view: smooth part; aerial: in-scattering)
 inline constexpr int kBlendAMie = 1;     ///< sky view: table A's Mie part
 inline constexpr int kBlendB = 2;        ///< table B (sky view: smooth part)

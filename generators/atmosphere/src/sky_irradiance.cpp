@@ -1,6 +1,6 @@
 // Sky irradiance generator (GPU pass sky_irradiance.glsl; CPU twin cpuDiffuseIrradiance in
 // sky_luts_common.cpp with cpu::skyViewSample).
-#include <welkin/embedded/generator_shaders.hpp>
+#include <welkin/embedded/atmosphere_shaders.hpp>
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/gl/shader.hpp>
 #include <welkin/keys.hpp>
@@ -36,8 +36,8 @@ void SkyIrradiance::doRun(SkyVars& vars, const Logger&) {
     if (!prog_)
         prog_ = gl::ProgramBuilder("SkyIrradiance")
                     .define("ATM_USE_TRANSMITTANCE")
-                    .compute("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
-                    .compute("generators/sky_irradiance.glsl", embedded::generator_shaders("sky_irradiance.glsl"))
+                    .compute("generators/atmosphere.glsl", embedded::atmosphere_shaders("atmosphere.glsl"))
+                    .compute("generators/sky_irradiance.glsl", embedded::atmosphere_shaders("sky_irradiance.glsl"))
                     .build();
     if (!out_) out_ = gl::Buffer(sizeof(float) * 24);
     const double Ht = model_.topRadius - model_.bottomRadius;

@@ -1,6 +1,6 @@
 // Multiple-scattering LUT generator (GPU pass multiscattering_lut.glsl; CPU twin
 // cpu::multiScatteringLut).
-#include <welkin/embedded/generator_shaders.hpp>
+#include <welkin/embedded/atmosphere_shaders.hpp>
 #include <welkin/error.hpp>
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/gl/shader.hpp>
@@ -38,8 +38,8 @@ void MultiScatteringLut::doRun(SkyVars& vars, const Logger&) {
         prog_ = gl::ProgramBuilder("MultiScatteringLut")
                     .define("ATM_USE_TRANSMITTANCE")
                     .define("MS_IMAGE_FORMAT", q_.halfFloat ? "rgba16f" : "rgba32f")
-                    .compute("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
-                    .compute("generators/multiscattering_lut.glsl", embedded::generator_shaders("multiscattering_lut.glsl"))
+                    .compute("generators/atmosphere.glsl", embedded::atmosphere_shaders("atmosphere.glsl"))
+                    .compute("generators/multiscattering_lut.glsl", embedded::atmosphere_shaders("multiscattering_lut.glsl"))
                     .build();
     const int K = triples();
     if (int(T->size()) != K) throw Error("MultiScatteringLut: " + std::to_string(T->size()) + " transmittance LUTs for " + std::to_string(K) + " triples");

@@ -1,7 +1,7 @@
 // The real-time sky model: the atmosphere as the GPU passes see it (SkyModel), the quality
 // presets (SkyQuality), the LUT parameterisations and the double-precision CPU twins of every
 // GPU pass (namespace welkin::generators::cpu). The GLSL twin of this file is
-// generators/shaders/atmosphere.glsl: every function here has a GLSL function of the same name
+// generators/atmosphere/shaders/atmosphere.glsl: every function here has a GLSL function of the same name
 // and the same math (float), so a GPU texel can be checked against its CPU twin.
 //
 //   auto model = welkin::generators::SkyModel::fromVars(vars);        // or SkyModel::earthClear()

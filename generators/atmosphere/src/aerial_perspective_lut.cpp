@@ -1,6 +1,6 @@
 // Aerial perspective volume generator (GPU pass aerial_perspective.glsl; CPU twin
 // cpu::aerialTexel below).
-#include <welkin/embedded/generator_shaders.hpp>
+#include <welkin/embedded/atmosphere_shaders.hpp>
 #include <welkin/error.hpp>
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/gl/shader.hpp>
@@ -70,15 +70,15 @@ void AerialPerspectiveLut::doRun(SkyVars& vars, const Logger&) {
                     .define("ATM_USE_MULTISCATTERING")
                     .define("ATM_MS_DIRECTIONAL")
                     .define("ATM_SH_BANDS", q_.shBands)
-                    .compute("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
-                    .compute("generators/aerial_perspective.glsl", embedded::generator_shaders("aerial_perspective.glsl"))
+                    .compute("generators/atmosphere.glsl", embedded::atmosphere_shaders("atmosphere.glsl"))
+                    .compute("generators/aerial_perspective.glsl", embedded::atmosphere_shaders("aerial_perspective.glsl"))
                     .build();
     }
     if (!blendProg_)
         blendProg_ = gl::ProgramBuilder("AerialPerspectiveLut blend")
                          .define("AERIAL_BLEND")
-                         .compute("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
-                         .compute("generators/light_blend.glsl", embedded::generator_shaders("light_blend.glsl"))
+                         .compute("generators/atmosphere.glsl", embedded::atmosphere_shaders("atmosphere.glsl"))
+                         .compute("generators/light_blend.glsl", embedded::atmosphere_shaders("light_blend.glsl"))
                          .build();
     const double Ht = model_.topRadius - model_.bottomRadius;
     const double h = std::clamp(vars.getOr(keys::observerHeight, 0.0), 0.0, Ht);

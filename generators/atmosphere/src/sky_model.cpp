@@ -1,5 +1,5 @@
 // CPU double-precision twins of the real-time sky passes (see sky_model.hpp and
-// generators/shaders/atmosphere.glsl, which mirrors every function here).
+// generators/atmosphere/shaders/atmosphere.glsl, which mirrors every function here).
 #include <welkin/error.hpp>
 #include <welkin/generators/sky_model.hpp>
 

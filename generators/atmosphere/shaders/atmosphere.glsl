@@ -1,4 +1,4 @@
-// The real-time sky model in GLSL: the float twin of generators/src/sky_model.cpp (same function
+// The real-time sky model in GLSL: the float twin of generators/atmosphere/src/sky_model.cpp (same function
 // names, same math). Include it before any pass of the sky. The atmosphere arrives in a std140
 // uniform block at binding 1 (welkin::generators::AtmosphereBlock); the LUTs as samplers that
 // each pass declares itself.

@@ -1,7 +1,7 @@
 // Directional multiple-scattering LUT generator (GPU passes sh_lut.glsl; CPU twins
 // cpu::groundIrradianceTexel and cpu::shTexel). In spectral mode, one layered texture per
 // wavelength triple.
-#include <welkin/embedded/generator_shaders.hpp>
+#include <welkin/embedded/atmosphere_shaders.hpp>
 #include <welkin/error.hpp>
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/gl/shader.hpp>
@@ -86,8 +86,8 @@ void ShLut::doRun(SkyVars& vars, const Logger&) {
                               .define("ATM_SH_BANDS", q_.shBands)
                               .define("SH_GROUND_PASS")
                               .fullscreenVertex()
-                              .fragment("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
-                              .fragment("generators/sh_lut.glsl", embedded::generator_shaders("sh_lut.glsl"))
+                              .fragment("generators/atmosphere.glsl", embedded::atmosphere_shaders("atmosphere.glsl"))
+                              .fragment("generators/sh_lut.glsl", embedded::atmosphere_shaders("sh_lut.glsl"))
                               .build();
     if (iterations > 0 && !iterProg_)
         iterProg_ = gl::ProgramBuilder("ShLut iteration")
@@ -97,8 +97,8 @@ void ShLut::doRun(SkyVars& vars, const Logger&) {
                         .define("SH_ITERATION")
                         .define("ATM_SH_BANDS", q_.shBands)
                         .define("SH_IMAGE_FORMAT", q_.halfFloat ? "rgba16f" : "rgba32f")
-                        .compute("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
-                        .compute("generators/sh_lut.glsl", embedded::generator_shaders("sh_lut.glsl"))
+                        .compute("generators/atmosphere.glsl", embedded::atmosphere_shaders("atmosphere.glsl"))
+                        .compute("generators/sh_lut.glsl", embedded::atmosphere_shaders("sh_lut.glsl"))
                         .build();
     if (!prog_)
         prog_ = gl::ProgramBuilder("ShLut")
@@ -106,8 +106,8 @@ void ShLut::doRun(SkyVars& vars, const Logger&) {
                     .define("ATM_USE_MULTISCATTERING")
                     .define("ATM_SH_BANDS", q_.shBands)
                     .define("SH_IMAGE_FORMAT", q_.halfFloat ? "rgba16f" : "rgba32f")
-                    .compute("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
-                    .compute("generators/sh_lut.glsl", embedded::generator_shaders("sh_lut.glsl"))
+                    .compute("generators/atmosphere.glsl", embedded::atmosphere_shaders("atmosphere.glsl"))
+                    .compute("generators/sh_lut.glsl", embedded::atmosphere_shaders("sh_lut.glsl"))
                     .build();
     if (!groundProg_)
         groundProg_ = gl::ProgramBuilder("ShLut ground")
@@ -116,8 +116,8 @@ void ShLut::doRun(SkyVars& vars, const Logger&) {
                           .define("SH_GROUND_PASS")
                           .define("ATM_SH_BANDS", q_.shBands)
                           .fullscreenVertex()
-                          .fragment("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
-                          .fragment("generators/sh_lut.glsl", embedded::generator_shaders("sh_lut.glsl"))
+                          .fragment("generators/atmosphere.glsl", embedded::atmosphere_shaders("atmosphere.glsl"))
+                          .fragment("generators/sh_lut.glsl", embedded::atmosphere_shaders("sh_lut.glsl"))
                           .build();
     const skykeys::TextureList T = vars.get(skykeys::transmittanceLuts), MS = vars.get(skykeys::multiScatteringLuts);
     if (int(T->size()) != K || int(MS->size()) != K)

@@ -1,6 +1,6 @@
 // Sky-view LUT generator, one instance per light (GPU pass skyview_lut.glsl; CPU twin
 // cpu::skyViewTexel).
-#include <welkin/embedded/generator_shaders.hpp>
+#include <welkin/embedded/atmosphere_shaders.hpp>
 #include <welkin/error.hpp>
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/gl/shader.hpp>
@@ -105,16 +105,16 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
                     .define("ATM_MS_DIRECTIONAL")
                     .define("ATM_SH_BANDS", q_.shBands)
                     .fullscreenVertex()
-                    .fragment("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
-                    .fragment("generators/skyview_lut.glsl", embedded::generator_shaders("skyview_lut.glsl"))
+                    .fragment("generators/atmosphere.glsl", embedded::atmosphere_shaders("atmosphere.glsl"))
+                    .fragment("generators/skyview_lut.glsl", embedded::atmosphere_shaders("skyview_lut.glsl"))
                     .build();
     }
     if (!blendProg_)
         blendProg_ = gl::ProgramBuilder(name() + " blend")
                          .define("SKY_VIEW_BLEND")
                          .fullscreenVertex()
-                         .fragment("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
-                         .fragment("generators/light_blend.glsl", embedded::generator_shaders("light_blend.glsl"))
+                         .fragment("generators/atmosphere.glsl", embedded::atmosphere_shaders("atmosphere.glsl"))
+                         .fragment("generators/light_blend.glsl", embedded::atmosphere_shaders("light_blend.glsl"))
                          .build();
     const double Ht = model_.topRadius - model_.bottomRadius;
     h_ = std::clamp(vars.getOr(keys::observerHeight, 0.0), 0.0, Ht);
@@ -229,8 +229,8 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
             if (!viewTProg_)
                 viewTProg_ = gl::ProgramBuilder("SkyViewLut transmittance row")
                                  .define("ATM_USE_TRANSMITTANCE")
-                                 .compute("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
-                                 .compute("generators/view_transmittance.glsl", embedded::generator_shaders("view_transmittance.glsl"))
+                                 .compute("generators/atmosphere.glsl", embedded::atmosphere_shaders("atmosphere.glsl"))
+                                 .compute("generators/view_transmittance.glsl", embedded::atmosphere_shaders("view_transmittance.glsl"))
                                  .build();
             if (spectral_) useTriple(0);
             glBindTextureUnit(gl::binding::kTransmittanceLut, vars.get(skykeys::transmittanceLut).id);

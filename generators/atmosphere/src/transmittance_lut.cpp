@@ -1,5 +1,5 @@
 // Transmittance LUT generator (GPU pass transmittance_lut.glsl; CPU twin cpu::transmittanceLut).
-#include <welkin/embedded/generator_shaders.hpp>
+#include <welkin/embedded/atmosphere_shaders.hpp>
 #include <welkin/generators/atmosphere.hpp>
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/gl/shader.hpp>
@@ -35,8 +35,8 @@ void TransmittanceLut::doRun(SkyVars& vars, const Logger&) {
     if (!prog_)
         prog_ = gl::ProgramBuilder("TransmittanceLut")
                     .fullscreenVertex()
-                    .fragment("generators/atmosphere.glsl", embedded::generator_shaders("atmosphere.glsl"))
-                    .fragment("generators/transmittance_lut.glsl", embedded::generator_shaders("transmittance_lut.glsl"))
+                    .fragment("generators/atmosphere.glsl", embedded::atmosphere_shaders("atmosphere.glsl"))
+                    .fragment("generators/transmittance_lut.glsl", embedded::atmosphere_shaders("transmittance_lut.glsl"))
                     .build();
     // Spectral mode: one LUT per wavelength triple (read by the passes after this one), and
     // their solar-weighted combination in tex_ (read by the Sky, the irradiance and the lights).

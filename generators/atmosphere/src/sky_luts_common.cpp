@@ -1,6 +1,6 @@
 // Shared parts of the sky generators: the atmosphere block, quality resolution, the shared
 // instances in SkyVars, and the CPU twin of the irradiance quadrature.
-#include <welkin/embedded/generator_shaders.hpp>
+#include <welkin/embedded/atmosphere_shaders.hpp>
 #include <welkin/error.hpp>
 #include <welkin/generators/atmosphere.hpp>
 #include <welkin/generators/sky_luts.hpp>
@@ -100,7 +100,7 @@ void SkyGenerator::combine(const gl::Texture& src, const gl::Texture& dst, int k
         gl::ProgramBuilder b(std::string("SpectralCombine") + (is3D ? "3D" : "2D") + (half ? "16" : "32"));
         if (is3D) b.define("COMBINE_3D");
         b.define("COMBINE_FORMAT", half ? "rgba16f" : "rgba32f");
-        p = b.compute("generators/spectral_combine.glsl", embedded::generator_shaders("spectral_combine.glsl")).build();
+        p = b.compute("generators/spectral_combine.glsl", embedded::atmosphere_shaders("spectral_combine.glsl")).build();
     }
     // Image stores of the previous triple (or the pass's own image writes) before these reads.
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
