@@ -1,5 +1,6 @@
 #include "scene_options.hpp"
 
+#include <welkin/check.hpp>
 #include <welkin/elements/registry.hpp>
 #include <welkin/error.hpp>
 #include <welkin/keys.hpp>
@@ -13,13 +14,8 @@ namespace welkin::cli {
 namespace {
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-void checkRange(const char* option, double v, double lo, double hi) {
-    if (!(v >= lo && v <= hi)) {
-        char buf[128];
-        std::snprintf(buf, sizeof buf, "%s %g not in [%g, %g]", option, v, lo, hi);
-        throw Error(buf);
-    }
-}
+// The one range check (welkin/check.hpp); an option names itself: "--lat 100 not in [-90, 90]".
+void checkRange(const char* option, double v, double lo, double hi) { welkin::checkRange("", option, v, lo, hi); }
 }  // namespace
 
 void parseSize(const std::string& text, const char* option, int& width, int& height) {
@@ -89,11 +85,7 @@ Camera SceneOptions::camera() const {
     }
     checkRange("--az", azDeg, -360, 360);
     checkRange("--alt", altDeg, -90, 90);
-    if (!(fovDeg > 0 && fovDeg < 180)) {
-        char buf[96];
-        std::snprintf(buf, sizeof buf, "--fov %g not in (0, 180)", fovDeg);
-        throw Error(buf);
-    }
+    welkin::checkOpenRange("", "--fov", fovDeg, 0, 180);
     checkRange("--face", cubeFace, 0, 5);
     c.azimuthRad = azDeg * kDeg;
     c.altitudeRad = altDeg * kDeg;

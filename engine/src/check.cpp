@@ -8,7 +8,8 @@ namespace welkin {
 namespace {
 [[noreturn]] void fail(const char* where, const char* what, double v, double lo, double hi, Shown shown, bool open) {
     char buf[256];
-    std::snprintf(buf, sizeof buf, "%s: %s %g%s not in %c%g, %g%c", where, what, v * shown.scale, shown.unit,
+    // An empty `where` (a command-line option names itself): "--lat 100 not in [-90, 90]".
+    std::snprintf(buf, sizeof buf, "%s%s%s %g%s not in %c%g, %g%c", where, *where ? ": " : "", what, v * shown.scale, shown.unit,
                   open ? '(' : '[', lo * shown.scale, hi * shown.scale, open ? ')' : ']');
     throw Error(buf);
 }

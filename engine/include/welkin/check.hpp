@@ -7,6 +7,7 @@
 //   welkin::checkRange("Observer", "latitude", lat, -pi / 2, pi / 2, {180 / pi, " deg"});
 //       // compared in radians, shown in degrees: "Observer: latitude 114.6 deg not in [-90, 90]"
 //
+// An empty `where` drops the prefix (command-line options: "--lat 100 not in [-90, 90]").
 // NaN is never in range. Numbers are printed with %g (6 significant digits).
 #pragma once
 #include <limits>
