@@ -19,6 +19,9 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <fstream>
+#include <iterator>
+#include <string>
 #include <vector>
 
 using namespace welkin;
@@ -345,4 +348,17 @@ TEST_CASE("welkin render --var and welkin vars", "[gl][cli]") {
     }
     CHECK(sawQuality);
     CHECK(sawLights);
+}
+
+TEST_CASE("docs/keys.md is the current output of welkin vars --markdown", "[gl][cli][docs]") {
+    // The key table in the docs is generated; a key added, renamed or re-ranged without
+    // regenerating it fails here. Regenerate: the table of docs/keys.md = `welkin vars --markdown`.
+    auto r = test::runCli("vars --markdown");
+    REQUIRE(r.status == 0);
+    std::ifstream f(std::string(WELKIN_SOURCE_DIR) + "/docs/keys.md");
+    REQUIRE(f);
+    std::string doc((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    const size_t table = doc.find("| key |");
+    REQUIRE(table != std::string::npos);
+    CHECK(doc.substr(table) == r.output);
 }
