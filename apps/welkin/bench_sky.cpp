@@ -96,9 +96,12 @@ struct Row {
 
 // Luminance error of `img` (probe camera) against the reference with the Sun at `sun`: RMS and
 // max relative error over the upper hemisphere (above 2 deg) outside 2 deg from the Sun.
-#ifdef WELKIN_HAVE_REFERENCE
-std::pair<double, double> probeError(const atmosphere::ReferenceSky& ref, const Image& img, const Camera& probe, const glm::dvec3& sun) {
-    double s2 = 0, mx = 0;
+// Also the mean chromaticity distance (CIE 1931 xy) in `dxy`.
+struct ProbeError {
+    double rms = 0, max = 0, dxy = 0;
+};
+ProbeError probeErrors(const atmosphere::ReferenceSky& ref, const Image& img, const Camera& probe, const glm::dvec3& sun) {
+    double s2 = 0, mx = 0, sxy = 0;
     int n = 0;
     for (int y = 0; y < probe.height / 2; ++y)
         for (int x = 0; x < probe.width; x += 2) {
@@ -109,11 +112,15 @@ std::pair<double, double> probeError(const atmosphere::ReferenceSky& ref, const 
             double e = (Y(g) - Y(rf)) / std::max(Y(rf), 1e-30);
             s2 += e * e;
             mx = std::max(mx, std::abs(e));
+            sxy += glm::length(color::chromaticity(color::linearSrgbToXyz(g)) - color::chromaticity(color::linearSrgbToXyz(rf)));
             ++n;
         }
-    return {std::sqrt(s2 / std::max(n, 1)), mx};
+    return {std::sqrt(s2 / std::max(n, 1)), mx, sxy / std::max(n, 1)};
 }
-#endif
+std::pair<double, double> probeError(const atmosphere::ReferenceSky& ref, const Image& img, const Camera& probe, const glm::dvec3& sun) {
+    const ProbeError e = probeErrors(ref, img, probe, sun);
+    return {e.rms, e.max};
+}
 
 // welkin bench sky --animate: a game loop's sky. Time advances `stepS` per frame from 2 h before
 // sunset (lat 45 N, lon 0, 2026-06-21) and turns back at 2 h after it (and again at 2 h before),
@@ -126,13 +133,11 @@ int runAnimate(const SkyBenchOptions& o, const std::vector<int>& presets) {
     Logger log;
     auto ctx = gl::HeadlessContext::create({}, log);
     const atmosphere::Atmosphere atm = atmosphere::Atmosphere::earthClear();
-#ifdef WELKIN_HAVE_REFERENCE
     atmosphere::ReferenceOptions ro;
     ro.mode = atmosphere::SpectralMode::Rgb;
     ro.threads = 2;
     std::unique_ptr<atmosphere::ReferenceSky> ref;
     if (!o.timingOnly) ref = std::make_unique<atmosphere::ReferenceSky>(atm, ro);
-#endif
     const astro::Site site{45 * kDeg, 0.0, 0.0};
     const UtcInstant day = UtcInstant::parse("2026-06-21T00:00:00Z");
     const astro::DayEvents ev = astro::findDayEvents(site, day, astro::Path::Fast);
@@ -193,7 +198,6 @@ int runAnimate(const SkyBenchOptions& o, const std::vector<int>& presets) {
             anim.push_back(genMs + drawMs);
             stat.push_back(drawMs);
             double rms = NAN, mx = NAN, srms = NAN, smx = NAN;
-#ifdef WELKIN_HAVE_REFERENCE
             if (ref && f % o.sampleEvery == o.sampleEvery - 1) {
                 r.runGenerators = false;  // look without advancing the schedule
                 Image img = r.render(sky, probe);
@@ -213,7 +217,6 @@ int runAnimate(const SkyBenchOptions& o, const std::vector<int>& presets) {
                     ++ns;
                 }
             }
-#endif
             csv << preset << ',' << f << ',' << s << ',' << std::asin(std::clamp(sun.z, -1.0, 1.0)) / kDeg << ',' << genMs << ',' << drawMs << ',' << rms << ',' << mx << ',' << srms << ',' << smx << '\n';
         }
         Summary sm{preset, 0, 0, 0};
@@ -411,24 +414,10 @@ int run(const SkyBenchOptions& o) {
             // Error over the upper hemisphere (probe pixels above 2 deg altitude), outside 2 deg
             // from the Sun's centre (the disk and the aureole's steepest part).
             Image img = r.render(sky, probe);
-            double s2 = 0, mx = 0, sxy = 0;
-            int n = 0;
-            for (int y = 0; y < probe.height / 2; ++y)
-                for (int x = 0; x < probe.width; x += 2) {
-                    auto d = probe.directionAt({x + 0.5, y + 0.5});
-                    if (!d || d->z < std::sin(2 * kDeg) || glm::dot(*d, sun) > std::cos(2 * kDeg)) continue;
-                    glm::dvec3 g(img.at(x, y, 0), img.at(x, y, 1), img.at(x, y, 2));
-                    glm::dvec3 rf = ref.radiance(0.0, *d, sun);
-                    double e = (Y(g) - Y(rf)) / std::max(Y(rf), 1e-30);
-                    s2 += e * e;
-                    mx = std::max(mx, std::abs(e));
-                    sxy += glm::length(color::chromaticity(color::linearSrgbToXyz(g)) -
-                                       color::chromaticity(color::linearSrgbToXyz(rf)));
-                    ++n;
-                }
-            row.rms = std::sqrt(s2 / std::max(n, 1));
-            row.maxErr = mx;
-            row.dxy = sxy / std::max(n, 1);
+            const ProbeError pe = probeErrors(ref, img, probe, sun);
+            row.rms = pe.rms;
+            row.maxErr = pe.max;
+            row.dxy = pe.dxy;
             }
             std::printf("preset %d wl %2d sun %5.1f: LUTs %8.1f ms (sun-dependent %7.1f), frame 1280x720 %8.1f ms (trivial %6.1f, x%.1f), "
                         "512x256 %7.1f ms (trivial %5.1f, x%.1f)",
