@@ -41,9 +41,8 @@ cmake --build "$build" -j "$jobs" >/dev/null
   --size 128x128 --var halo.radius_rad=22deg --var halo.gain_per_sr=0.05 --out "$build/template-halo.png"
 "$build/bin/welkin" vars --elements halo --json | grep -q '"halo.gain_per_sr"'
 "$build/tests/welkin_tests" "[halo]"
-cleanup_template
+cleanup_template  # (the build tree is rebuilt without the template by the next build)
 trap - EXIT
-cmake --build "$build" -j "$jobs" >/dev/null
 
 echo "== sanitizers (ASan + UBSan): fast tests"
 san=${WELKIN_SAN_BUILD_DIR:-$build-asan}
