@@ -39,7 +39,8 @@ cmake -S "$here" -B "$build" >/dev/null
 cmake --build "$build" -j "$jobs" >/dev/null
 "$build/bin/welkin" render --time 2026-06-21T10:00:00Z --lat 48 --lon 2 --elements sky,halo --projection fisheye \
   --size 128x128 --var halo.radius_rad=22deg --var halo.gain_per_sr=0.05 --out "$build/template-halo.png"
-"$build/bin/welkin" vars --elements halo --json | grep -q '"halo.gain_per_sr"'
+"$build/bin/welkin" vars --elements halo --json > "$build/template-vars.json"
+grep -q '"halo.gain_per_sr"' "$build/template-vars.json"
 "$build/tests/welkin_tests" "[halo]"
 cleanup_template  # (the build tree is rebuilt without the template by the next build)
 trap - EXIT
