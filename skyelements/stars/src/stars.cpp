@@ -1,0 +1,243 @@
+// Stars element: catalogue upload, per-frame uniforms, limiting magnitude; the model is described
+// in include/welkin/elements/stars.hpp and docs/stars.md.
+#include <welkin/astro/astro_keys.hpp>
+#include <welkin/astro/bodies.hpp>
+#include <welkin/astro/frames.hpp>
+#include <welkin/color.hpp>
+#include <welkin/elements/stars.hpp>
+#include <welkin/embedded/stars_shaders.hpp>
+#include <welkin/error.hpp>
+#include <welkin/generators/atmosphere.hpp>
+#include <welkin/generators/sky_luts.hpp>
+#include <welkin/generators/sky_model.hpp>
+#include <welkin/gl/bindings.hpp>
+#include <welkin/gl/shader.hpp>
+#include <welkin/keys.hpp>
+
+#include <epoxy/gl.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace welkin::elements {
+
+namespace {
+constexpr int kTableN = 64;                      // STARS_TABLE_N: refraction and extinction samples
+constexpr double kTableLo = -5.0 * std::numbers::pi / 180.0;
+constexpr double kTableSpan = 95.0 * std::numbers::pi / 180.0;
+double tableAltitude(int i) {
+    const double u = double(i) / (kTableN - 1);
+    return kTableLo + kTableSpan * u * u;
+}
+constexpr double kBvLo = -0.4, kBvHi = 2.0, kBvStep = 0.01;  // colour table
+
+std::string lower(std::string s) {
+    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+}
+
+std::vector<astro::Star> loadCatalogue(const std::string& path) {
+    const std::string name = lower(path.substr(path.find_last_of('/') == std::string::npos ? 0 : path.find_last_of('/') + 1));
+    if (name.size() > 4 && name.substr(name.size() - 4) == ".csv") return astro::loadHygCsv(path);
+    if (name == "catalog" || name.find("bsc") != std::string::npos) return astro::loadYaleBrightStarCatalogue(path);
+    return astro::loadKStarsCatalogue(path);
+}
+}  // namespace
+
+double starTemperatureFromBV(double bv) {
+    bv = std::clamp(bv, kBvLo, kBvHi);
+    return 4600.0 * (1.0 / (0.92 * bv + 1.7) + 1.0 / (0.92 * bv + 0.62));
+}
+
+glm::dvec3 blackBodyLinearSrgb(double kelvin) {
+    if (!(kelvin >= 500.0 && kelvin <= 1e6)) throw Error("blackBodyLinearSrgb(): temperature not in [500, 1e6] K");
+    // Planck's law up to a constant factor (normalised below): lambda^-5 / (exp(hc / lambda k T) - 1).
+    constexpr double c2 = 1.438776877e-2;  // hc / k, m K
+    std::vector<double> nm, value;
+    for (int i = 0; i < color::kCmfCount; ++i) {
+        const double l = color::kCmfFirstNm + i * color::kCmfStepNm;
+        const double lm = l * 1e-9;
+        nm.push_back(l);
+        value.push_back(1.0 / (std::pow(l / 500.0, 5.0) * std::expm1(c2 / (lm * kelvin))));
+    }
+    glm::dvec3 rgb = glm::max(color::spectrumToLinearSrgb(nm, value), glm::dvec3(0.0));  // out of gamut: clip
+    return rgb / color::luminance(rgb);
+}
+
+glm::dvec3 starColourFromBV(double bv) { return blackBodyLinearSrgb(starTemperatureFromBV(bv)); }
+
+double limitingMagnitude(double backgroundCdM2) {
+    if (!(backgroundCdM2 >= 0.0)) throw Error("limitingMagnitude(): background luminance not >= 0 cd/m^2");
+    const double B = backgroundCdM2 / 3.183098862e-6;  // nanolamberts (1 nL = 1e-5 / pi cd/m^2)
+    // Schaefer 1990 (Hecht 1947): night (scotopic) branch below 1479 nL, day above.
+    const bool night = B < 1479.0;
+    const double c1 = night ? std::pow(10.0, -9.8) : std::pow(10.0, -8.35);
+    const double c2 = night ? std::pow(10.0, -1.9) : std::pow(10.0, -5.9);
+    const double s = 1.0 + std::sqrt(c2 * B);
+    const double I = c1 * s * s;  // foot-candles
+    return -16.57 - 2.5 * std::log10(I);
+}
+
+double scintillationAmplitude(double altitudeRad, double strength) {
+    const double h = std::max(altitudeRad, 0.0);
+    const double X = 1.0 / (std::sin(h) + 0.50572 * std::pow(h * 180.0 / std::numbers::pi + 6.07995, -1.6364));
+    return std::min(strength * 0.02 * std::pow(X, 1.75), 0.8);
+}
+
+Stars::Stars() : SkyElement("stars") {
+    option(starkeys::catalogue, std::string(astro::kKStarsCatalogue));
+    option(starkeys::magnitudeLimit, 30.0);
+    option(starkeys::adaptiveLimit, true);
+    option(starkeys::backgroundFloor, 1.7e-4);  // 22.0 mag/arcsec^2 (a dark site's zenith)
+    option(starkeys::psfFwhm, 1.0 * starkeys::kArcmin);
+    option(starkeys::psfMinPx, 2.0);
+    option(starkeys::glare, 0.05);
+    option(starkeys::glareMagnitude, 1.5);
+    option(starkeys::scintillation, 1.0);
+    option(starkeys::seed, 1);
+    reads(astro::keys::starFrameRotation);
+    reads(astro::keys::starFrameAberration);
+    reads(astro::keys::starFrameEpochYears);
+    reads(astro::keys::refractionPressure);
+    reads(astro::keys::refractionTemperature);
+    reads(keys::timeJdUtc);
+    reads(generators::skykeys::zenithLuminance);
+}
+
+Stars::Stars(std::vector<astro::Star> stars) : Stars() {
+    own_ = true;
+    given_ = std::move(stars);
+}
+
+void Stars::upload(std::vector<astro::Star> stars) {
+    std::stable_sort(stars.begin(), stars.end(), [](const astro::Star& a, const astro::Star& b) { return a.magnitudeV < b.magnitudeV; });
+    std::vector<glm::dvec3> colours;
+    for (double bv = kBvLo; bv <= kBvHi + 1e-9; bv += kBvStep) colours.push_back(starColourFromBV(bv));
+    std::vector<float> data;
+    data.reserve(stars.size() * 12 + 12);
+    mags_.clear();
+    for (const astro::Star& s : stars) {
+        const glm::dvec3 p = astro::starDirectionJ2000(s), pm = astro::starProperMotion(s);
+        const double x = (std::clamp(double(s.colorBV), kBvLo, kBvHi) - kBvLo) / kBvStep;
+        const size_t i = std::min(size_t(x), colours.size() - 2);
+        const glm::dvec3 c = glm::mix(colours[i], colours[i + 1], x - double(i));
+        const float rec[12] = {float(p.x), float(p.y), float(p.z), s.magnitudeV, float(pm.x), float(pm.y), float(pm.z), 0.f,
+                               float(c.r), float(c.g), float(c.b), 0.f};
+        data.insert(data.end(), rec, rec + 12);
+        mags_.push_back(s.magnitudeV);
+    }
+    if (data.empty()) data.assign(12, 0.f);  // a buffer of size 0 is not allowed
+    buffer_ = gl::Buffer(data.size() * sizeof(float), data.data());
+}
+
+void Stars::doInit(InitContext& ctx) {
+    declareOptions(ctx.vars);
+    if (own_) {
+        upload(std::move(given_));
+        given_.clear();
+    } else {
+        loadedPath_ = ctx.vars.get(starkeys::catalogue);
+        upload(loadCatalogue(loadedPath_));
+    }
+    programs_ = gl::ProjectionPrograms(gl::ProgramBuilder("Stars")
+                                           .define("STARS_TABLE_N", kTableN)
+                                           .vertex("engine/camera.glsl", gl::engineShader("camera.glsl"))
+                                           .vertex("stars/stars.vert.glsl", embedded::stars_shaders("stars.vert.glsl"))
+                                           .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
+                                           .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
+                                           .fragment("stars/stars.frag.glsl", embedded::stars_shaders("stars.frag.glsl")));
+    programs_.get(Projection::Perspective);  // shader errors surface in init()
+}
+
+void Stars::updateExtinction(const SkyVars& v) {
+    // The atmosphere's transmittance towards each table altitude (RGB, CPU), recomputed when the
+    // observer's height or the atmosphere changes.
+    const void* atm = v.has(atmosphere::kAtmosphere) ? v.get(atmosphere::kAtmosphere).get() : nullptr;
+    const double h = v.getOr(keys::observerHeight, 0.0);
+    if (!extinction_.empty() && atm == extinctionAtm_ && h == extinctionKey_[0]) return;
+    const generators::SkyModel m = generators::SkyModel::fromVars(v);
+    const double hc = std::clamp(h, 0.0, m.topRadius - m.bottomRadius);
+    extinction_.assign(3 * kTableN, 1.0f);
+    for (int i = 0; i < kTableN; ++i) {
+        const double mu = std::sin(tableAltitude(i));
+        glm::dvec3 T(1.0);
+        if (hc < m.topRadius - m.bottomRadius) {
+            T = generators::cpu::rayIntersectsGround(m, hc, mu) ? glm::dvec3(0.0) : generators::cpu::transmittanceToTop(m, hc, mu, 128);
+        }
+        for (int k = 0; k < 3; ++k) extinction_[3 * i + k] = float(std::clamp(T[k], 0.0, 1.0));
+    }
+    extinctionAtm_ = atm;
+    extinctionKey_[0] = h;
+}
+
+void Stars::doRender(const FrameContext& ctx) {
+    const SkyVars& v = ctx.vars;
+    if (!own_ && v.get(starkeys::catalogue) != loadedPath_) {
+        loadedPath_ = v.get(starkeys::catalogue);
+        upload(loadCatalogue(loadedPath_));
+    }
+    // Limiting magnitude from the sky background; only the brighter prefix is drawn.
+    const bool sky = v.has(generators::skykeys::zenithLuminance);
+    limit_ = v.get(starkeys::magnitudeLimit);
+    if (v.get(starkeys::adaptiveLimit)) {
+        const double B = (sky ? v.get(generators::skykeys::zenithLuminance) : 0.0) + v.get(starkeys::backgroundFloor);
+        limit_ = std::min(limit_, limitingMagnitude(B));
+    }
+    drawn_ = int(std::upper_bound(mags_.begin(), mags_.end(), float(limit_)) - mags_.begin());
+    if (drawn_ == 0) return;
+
+    const gl::Program& p = programs_.get(ctx.camera.projection);
+    p.use();
+    p.set("u_icrsToEnu", glm::mat3(v.getOr(astro::keys::starFrameRotation, glm::dmat3(1.0))));
+    p.set("u_aberration", glm::vec3(v.getOr(astro::keys::starFrameAberration, glm::dvec3(0.0))));
+    p.set("u_years", float(v.getOr(astro::keys::starFrameEpochYears, 0.0)));
+    const int copies = ctx.camera.projection == Projection::Equirect ? 2 : 1;
+    p.set("u_copies", copies);
+    p.set("u_e0", float(astro::magnitude::illuminanceLux(0.0)));
+    p.set("u_fwhmRad", float(v.get(starkeys::psfFwhm)));
+    p.set("u_minFwhmPx", float(v.get(starkeys::psfMinPx)));
+    p.set("u_glare", float(v.get(starkeys::glare)));
+    p.set("u_glareMag", float(v.get(starkeys::glareMagnitude)));
+    p.set("u_scint", float(v.get(starkeys::scintillation)));
+    const glm::dvec2 jd = v.getOr(keys::timeJdUtc, glm::dvec2(2451545.0, 0.0));
+    const double dayFraction = std::fmod((jd.x - std::floor(jd.x)) + (jd.y - std::floor(jd.y)), 1.0);
+    p.set("u_time", float(std::fmod(dayFraction * 86400.0, 3600.0)));
+    glProgramUniform1ui(p.id(), p.location("u_seed"), unsigned(v.get(starkeys::seed)));
+    // Refraction table at the astronomy's pressure and temperature.
+    const double P = v.getOr(astro::keys::refractionPressure, 1013.25), Tc = v.getOr(astro::keys::refractionTemperature, 10.0);
+    float refr[kTableN];
+    for (int i = 0; i < kTableN; ++i) refr[i] = float(astro::refraction(tableAltitude(i), P, Tc));
+    glProgramUniform1fv(p.id(), p.location("u_refr"), kTableN, refr);
+    // Without a Sky composited over the stars, the atmosphere's extinction is applied here.
+    p.set("u_extinction", sky ? 0 : 1);
+    if (!sky) {
+        updateExtinction(v);
+        glProgramUniform3fv(p.id(), p.location("u_ext"), kTableN, extinction_.data());
+    }
+    buffer_.bindBase(GL_SHADER_STORAGE_BUFFER, gl::binding::kUserSsboFirst);
+    glDrawArraysInstanced(GL_TRIANGLES, 0, 6, copies * drawn_);
+}
+
+void Stars::doRelease() {
+    programs_.releasePrograms();
+    buffer_ = gl::Buffer();
+    mags_.clear();
+    extinction_.clear();
+}
+
+void Stars::doStats(nlohmann::json& root) const {
+    root["stars"]["drawn"] = drawn_;
+    root["stars"]["limiting_magnitude"] = limit_;
+    root["stars"]["catalogue_size"] = int(mags_.size());
+}
+
+}  // namespace welkin::elements
+
+WELKIN_ELEMENT_DESCRIPTOR(stars) {
+    static const welkin::ElementDescriptor d{
+        "stars", "the star catalogue (kstars stars.dat, BSC5 or HYG) at its apparent places, coloured by B-V, twinkling, to the sky's limiting magnitude",
+        welkin::Layer::Background, true, [] { return std::make_unique<welkin::elements::Stars>(); }};
+    return d;
+}
