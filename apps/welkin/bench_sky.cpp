@@ -96,7 +96,6 @@ struct Row {
 
 // Luminance error of `img` (probe camera) against the reference with the Sun at `sun`: RMS and
 // max relative error over the upper hemisphere (above 2 deg) outside 2 deg from the Sun.
-#ifdef WELKIN_HAVE_REFERENCE
 std::pair<double, double> probeError(const atmosphere::ReferenceSky& ref, const Image& img, const Camera& probe, const glm::dvec3& sun) {
     double s2 = 0, mx = 0;
     int n = 0;
@@ -113,7 +112,6 @@ std::pair<double, double> probeError(const atmosphere::ReferenceSky& ref, const 
         }
     return {std::sqrt(s2 / std::max(n, 1)), mx};
 }
-#endif
 
 // welkin bench sky --animate: a game loop's sky. Time advances `stepS` per frame from 2 h before
 // sunset (lat 45 N, lon 0, 2026-06-21) and turns back at 2 h after it (and again at 2 h before),
@@ -126,13 +124,11 @@ int runAnimate(const SkyBenchOptions& o, const std::vector<int>& presets) {
     Logger log;
     auto ctx = gl::HeadlessContext::create({}, log);
     const atmosphere::Atmosphere atm = atmosphere::Atmosphere::earthClear();
-#ifdef WELKIN_HAVE_REFERENCE
     atmosphere::ReferenceOptions ro;
     ro.mode = atmosphere::SpectralMode::Rgb;
     ro.threads = 2;
     std::unique_ptr<atmosphere::ReferenceSky> ref;
     if (!o.timingOnly) ref = std::make_unique<atmosphere::ReferenceSky>(atm, ro);
-#endif
     const astro::Site site{45 * kDeg, 0.0, 0.0};
     const UtcInstant day = UtcInstant::parse("2026-06-21T00:00:00Z");
     const astro::DayEvents ev = astro::findDayEvents(site, day, astro::Path::Fast);
@@ -193,7 +189,6 @@ int runAnimate(const SkyBenchOptions& o, const std::vector<int>& presets) {
             anim.push_back(genMs + drawMs);
             stat.push_back(drawMs);
             double rms = NAN, mx = NAN, srms = NAN, smx = NAN;
-#ifdef WELKIN_HAVE_REFERENCE
             if (ref && f % o.sampleEvery == o.sampleEvery - 1) {
                 r.runGenerators = false;  // look without advancing the schedule
                 Image img = r.render(sky, probe);
@@ -213,7 +208,6 @@ int runAnimate(const SkyBenchOptions& o, const std::vector<int>& presets) {
                     ++ns;
                 }
             }
-#endif
             csv << preset << ',' << f << ',' << s << ',' << std::asin(std::clamp(sun.z, -1.0, 1.0)) / kDeg << ',' << genMs << ',' << drawMs << ',' << rms << ',' << mx << ',' << srms << ',' << smx << '\n';
         }
         Summary sm{preset, 0, 0, 0};
