@@ -48,7 +48,7 @@ void AerialPerspectiveLut::doRun(SkyVars& vars, const Logger&) {
     // follow the same schedule. A keyframe holds the in-scattering only: the transmittance along
     // the view rays does not depend on the light, and every build writes it into the shown one
     // (the same values whatever the elevation; after a reset the first build is whole).
-    LightKeyframes::Options ko{.stepRad = q_.keyframeStepRad, .chunks = spectral_ ? 1 : std::max(1, q_.keyframeChunks),
+    LightKeyframes::Options ko{.stepRad = q_.keyframeStepRad, .coarseStepRad = q_.keyframeCoarseStepRad, .chunks = spectral_ ? 1 : std::max(1, q_.keyframeChunks),
                                .slots = keyframeSlots(q_.keyframeStepRad), .stillMuS = kCosZenithTolerance};
     keyframes_.setOptions(ko);
     const bool resized = !inscatter_ || inscatter_.width() != n;
@@ -85,6 +85,7 @@ void AerialPerspectiveLut::doRun(SkyVars& vars, const Logger&) {
         v.push_back(uint64_t(q_.aerialSteps));
         v.push_back(uint64_t(std::llround(q_.aerialMaxDistance)));
         v.push_back(uint64_t(std::llround(q_.keyframeStepRad * 1e9)));
+        v.push_back(uint64_t(std::llround(q_.keyframeCoarseStepRad * 1e9)));
         if (v != validFor_ || resized) keyframes_.reset();
         validFor_ = std::move(v);
     }

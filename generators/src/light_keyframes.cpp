@@ -19,12 +19,36 @@ void LightKeyframes::setOptions(Options o) {
                       o.stepRad, o.chunks, o.slots, o.stillMuS);
         throw Error(buf);
     }
-    const bool same = o.stepRad == o_.stepRad && o.chunks == o_.chunks && o.slots == o_.slots && run_ > 0;
+    const bool same = o.stepRad == o_.stepRad && o.coarseStepRad == o_.coarseStepRad && o.fineTopRad == o_.fineTopRad &&
+                      o.chunks == o_.chunks && o.slots == o_.slots && run_ > 0;
     o_ = o;
     if (!same) {
+        // The grid: stepRad from -pi/2 up to fineTopRad, then a step growing by half the elevation
+        // gained, up to coarseStepRad; 0 and +-pi/2 are grid points.
+        const double half = 0.5 * std::numbers::pi;
+        std::vector<double> below;
+        for (int j = 1; j * o.stepRad < half - 1e-9; ++j) below.push_back(-j * o.stepRad);
+        below.push_back(-half);
+        nodes_.assign(below.rbegin(), below.rend());
+        for (double e = 0.0; e < half - 1e-9;) {
+            nodes_.push_back(e);
+            const double s = std::clamp(o.stepRad + 0.5 * (e - o.fineTopRad), o.stepRad, std::max(o.stepRad, o.coarseStepRad));
+            e += s;
+        }
+        nodes_.push_back(half);
         slots_.clear();
         reset();
     }
+}
+
+int LightKeyframes::locate(double e) const {
+    auto it = std::upper_bound(nodes_.begin(), nodes_.end(), e);
+    return std::clamp(int(it - nodes_.begin()) - 1, 0, int(nodes_.size()) - 2);
+}
+
+double LightKeyframes::spacing(int k) const {
+    k = std::clamp(k, 0, int(nodes_.size()) - 2);
+    return nodes_[size_t(k) + 1] - nodes_[size_t(k)];
 }
 
 void LightKeyframes::reset() {
@@ -99,9 +123,8 @@ void LightKeyframes::show(Plan& p, double e, double eTol) const {
         p.exact = true;
         return;
     }
-    const double x = e / o_.stepRad;
-    const int k = int(std::floor(x));
-    const double t = x - k;
+    const int k = locate(e);
+    const double t = std::clamp((e - nodes_[size_t(k)]) / spacing(k), 0.0, 1.0);
     const int s1 = findGrid(k, true), s2 = findGrid(k + 1, true);
     if (s1 >= 0 && s2 >= 0) {
         const int s0 = findGrid(k - 1, true), s3 = findGrid(k + 2, true);
@@ -128,7 +151,7 @@ void LightKeyframes::show(Plan& p, double e, double eTol) const {
         else if (n2 < 0 || d < std::abs(slots_[size_t(n2)].e - e)) n2 = i;
     }
     one(n1);
-    if (n2 >= 0 && std::abs(slots_[size_t(n2)].e - e) <= 3.0 * o_.stepRad && slots_[size_t(n2)].e != slots_[size_t(n1)].e) {
+    if (n2 >= 0 && std::abs(slots_[size_t(n2)].e - e) <= 3.0 * spacing(locate(e)) && slots_[size_t(n2)].e != slots_[size_t(n1)].e) {
         const double tt = std::clamp((e - slots_[size_t(n1)].e) / (slots_[size_t(n2)].e - slots_[size_t(n1)].e), -1.0, 2.0);
         p.slot = {n1, n2, -1, -1};
         p.weight = {1.0 - tt, tt, 0.0, 0.0};
@@ -144,7 +167,8 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
     }
     ++run_;
     const double e = std::asin(muS);
-    const double step = o_.stepRad;
+    const int k = locate(e);
+    const double step = spacing(k);  // the grid's local spacing
     // Still: moved no more than the generator's own tolerance since the last run.
     const bool still = haveLast_ && std::abs(muS - std::sin(lastE_)) <= o_.stillMuS;
     if (haveLast_ && !still) dir_ = e > lastE_ ? 1 : -1;
@@ -175,7 +199,6 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
         return p;
     }
 
-    const int k = int(std::floor(e / step));
     const std::array<int, 4> needed = {findGrid(k - 1, false), findGrid(k, false), findGrid(k + 1, false), findGrid(k + 2, false)};
     // What to build: a still light wants its exact table; a moving one the grid tables the cubic
     // needs (nearest its direction of motion first), then the next one ahead.
@@ -188,8 +211,8 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
             const std::array<int, 5> cands = dir_ > 0 ? std::array<int, 5>{k + 1, k, k + 2, k - 1, k + 3}
                                                       : std::array<int, 5>{k, k + 1, k - 1, k + 2, k - 2};
             for (int c : cands)
-                if (std::abs(c * step) <= 0.5 * std::numbers::pi + 1e-9 && findGrid(c, false) < 0) {
-                    target = c * step;
+                if (c >= 0 && c < int(nodes_.size()) && findGrid(c, false) < 0) {
+                    target = nodes_[size_t(c)];
                     grid = c;
                     break;
                 }
@@ -205,12 +228,15 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
     if (building_ >= 0) {
         Slot& b = slots_[size_t(building_)];
         // Chunks per run: enough to be complete before the light, at its last rate, needs the
-        // table (a grid table: when the light is within one step of it, for the cubic); at least
+        // table; at least
         // one; while the light's bracketing pair is incomplete (extrapolating), at least two.
         const int remaining = o_.chunks - b.done;
         int perRun = 1;
         if (rate_ > 0.0) {
-            const double ahead = (b.e - e) * dir_ - (b.grid != kNoGrid ? step : 0.0);
+            // Grid point m is among the cubic's four once the light passes m - 2 (rising) or m + 2.
+            const int last = int(nodes_.size()) - 1;
+            const double needAt = b.grid == kNoGrid ? b.e : nodes_[size_t(std::clamp(b.grid - 2 * dir_, 0, last))];
+            const double ahead = (needAt - e) * dir_;
             const double framesLeft = ahead > 0.0 ? std::floor(ahead / rate_) : 0.0;
             perRun = framesLeft >= 1.0 ? int(std::ceil(remaining / framesLeft)) : 2;
         }

@@ -76,7 +76,7 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
     // while the light moves; the shown table is blended from two of them (or is one of them).
     // In spectral mode a table is built whole in one run (each triple's pass is combined into it
     // over the whole texture).
-    LightKeyframes::Options ko{.stepRad = q_.keyframeStepRad, .chunks = spectral_ ? 1 : std::max(1, q_.keyframeChunks),
+    LightKeyframes::Options ko{.stepRad = q_.keyframeStepRad, .coarseStepRad = q_.keyframeCoarseStepRad, .chunks = spectral_ ? 1 : std::max(1, q_.keyframeChunks),
                                .slots = keyframeSlots(q_.keyframeStepRad), .stillMuS = kCosZenithTolerance};
     keyframes_.setOptions(ko);
     const bool resized = !smooth_ || smooth_.width() != q_.skyViewW || smooth_.height() != q_.skyViewH || smooth_.internalFormat() != fmt;
@@ -118,6 +118,7 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
             if (k.name != skykeys::sunCosZenith.name() && k.name != skykeys::moonCosZenith.name()) v.push_back(vars.version(k.name));
         v.push_back(uint64_t(q_.skyViewSteps));
         v.push_back(uint64_t(std::llround(q_.keyframeStepRad * 1e9)));
+        v.push_back(uint64_t(std::llround(q_.keyframeCoarseStepRad * 1e9)));
         if (v != validFor_ || resized) keyframes_.reset();
         validFor_ = std::move(v);
     }

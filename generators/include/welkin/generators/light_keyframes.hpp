@@ -10,14 +10,14 @@
 //
 // A table is a function of the light's elevation e (and of the observer's height and the
 // atmosphere, whose change calls reset()). Tables are kept in slots: grid tables at elevations
-// k x stepRad (k integer), built once and kept for as long as the atmosphere and height stay (a
+// on a grid (stepRad below fineTopRad, growing to coarseStepRad above), built once and kept for as long as the atmosphere and height stay (a
 // cache over the whole elevation range, filled where the light goes, least recently used evicted
 // beyond `slots`), and exact tables (at the light's own elevation: the first run, a jump, a
 // light at rest). Each table is built over `chunks` runs into its own slot and shown only once
 // complete (double buffering). A run shows:
 //   * a complete exact table at e, alone;
-//   * else, with e in [k, k+1] steps and the grid tables k-1 .. k+2 complete, the uniform
-//     Catmull-Rom cubic through the four (weights of the four tables, summing to 1);
+//   * else, with e between grid points k and k+1 and the grid tables k-1 .. k+2 complete, the
+//     Catmull-Rom cubic through the four (uniform in the grid index; weights summing to 1);
 //   * else, with k and k+1 complete, the linear mix of the two;
 //   * else (the builder is late: the first runs of a motion, or a turn) the two complete tables
 //     nearest e, extrapolated along their trend (at most one spacing beyond either), or one alone.
@@ -39,7 +39,11 @@ namespace welkin::generators {
 class LightKeyframes {
 public:
     struct Options {
-        double stepRad = 0.0175;  ///< grid step in elevation, rad (> 0)
+        double stepRad = 0.0175;  ///< grid step in elevation up to fineTopRad (the twilight and low Sun), rad (> 0)
+        /// Above fineTopRad the step grows by half the elevation gained, up to this (the
+        /// sky changes slowly with a high light); <= stepRad: a uniform grid. rad.
+        double coarseStepRad = 0.0;
+        double fineTopRad = 0.07;  ///< rad
         int chunks = 6;           ///< parts of one table (at least one built per run; more when the light would reach it first), >= 1
         int slots = 64;           ///< tables kept at most (the memory cap), >= 6
         /// A change of cos zenith up to this since the last run counts as a still light (the
@@ -81,6 +85,8 @@ public:
 
     /// Catmull-Rom weights of p0..p3 at t in [0, 1] between p1 and p2 (uniform knots).
     static std::array<double, 4> catmullRom(double t);
+    /// The grid's elevations (ascending, from -pi/2 to pi/2), rad.
+    const std::vector<double>& grid() const { return nodes_; }
 
 private:
     static constexpr int kNoGrid = INT32_MIN;
@@ -94,7 +100,10 @@ private:
     int findGrid(int k, bool completeOnly) const;
     int victim(const std::array<int, 4>& keep, bool exactTable);
     void show(Plan& p, double e, double eTol) const;
+    int locate(double e) const;  // k with nodes_[k] <= e < nodes_[k + 1] (clamped)
+    double spacing(int k) const;  // nodes_[k + 1] - nodes_[k] (clamped)
     Options o_;
+    std::vector<double> nodes_;
     std::vector<Slot> slots_;
     int building_ = -1;
     bool pending_ = false;
