@@ -151,7 +151,9 @@ void LightKeyframes::show(Plan& p, double e, double eTol) const {
         else if (n2 < 0 || d < std::abs(slots_[size_t(n2)].e - e)) n2 = i;
     }
     one(n1);
-    if (n2 >= 0 && std::abs(slots_[size_t(n2)].e - e) <= 3.0 * spacing(locate(e)) && slots_[size_t(n2)].e != slots_[size_t(n1)].e) {
+    // Two tables closer than half a spacing would amplify their differences: the nearest alone.
+    const double sp = spacing(locate(e));
+    if (n2 >= 0 && std::abs(slots_[size_t(n2)].e - e) <= 3.0 * sp && std::abs(slots_[size_t(n2)].e - slots_[size_t(n1)].e) >= 0.5 * sp) {
         const double tt = std::clamp((e - slots_[size_t(n1)].e) / (slots_[size_t(n2)].e - slots_[size_t(n1)].e), -1.0, 2.0);
         p.slot = {n1, n2, -1, -1};
         p.weight = {1.0 - tt, tt, 0.0, 0.0};
@@ -228,8 +230,7 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
     if (building_ >= 0) {
         Slot& b = slots_[size_t(building_)];
         // Chunks per run: enough to be complete before the light, at its last rate, needs the
-        // table; at least
-        // one; while the light's bracketing pair is incomplete (extrapolating), at least two.
+        // table (at least one; two once it is needed already).
         const int remaining = o_.chunks - b.done;
         int perRun = 1;
         if (rate_ > 0.0) {
@@ -240,8 +241,11 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
             const double framesLeft = ahead > 0.0 ? std::floor(ahead / rate_) : 0.0;
             perRun = framesLeft >= 1.0 ? int(std::ceil(remaining / framesLeft)) : 2;
         }
+        // Keeping pace: one grid table per grid spacing the light travels (with a quarter more
+        // for the turns); late (its bracketing pair incomplete): the rest within 4 runs.
+        if (rate_ > 0.0 && !still) perRun = std::max(perRun, int(std::ceil(1.25 * o_.chunks * rate_ / step)));
         const bool late = findGrid(k, true) < 0 || findGrid(k + 1, true) < 0;
-        if (late && !still) perRun = std::max(perRun, 2);
+        if (late && !still) perRun = std::max(perRun, (remaining + 3) / 4);
         perRun = std::clamp(perRun, 1, remaining);
         p.build = building_;
         p.buildMuS = std::sin(b.e);

@@ -312,9 +312,9 @@ TEST_CASE("Sky animation: interpolation rules against fresh tables (diagnostic)"
         }
         return;
     }
-    for (double e : {15.0, 8.4, 5.3, 2.4, -0.2, -3.5, -6.3, -8.9}) {
+    for (double e : {5.3, -3.5, -6.3, -8.9, -11.2}) {
         const auto fresh = table(e);
-        for (double step : {1.0, 1.5, 2.0, 3.0}) {
+        for (double step : {0.5, 1.0, 2.0}) {
             double k = std::floor(e / step), t = e / step - k;
             auto w = LightKeyframes::catmullRom(t);
             const std::pair<std::vector<float>, std::vector<float>>* tb[4] = {&table((k - 1) * step), &table(k * step), &table((k + 1) * step),
