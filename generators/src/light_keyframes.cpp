@@ -23,22 +23,28 @@ void LightKeyframes::setOptions(Options o) {
                       o.chunks == o_.chunks && o.slots == o_.slots && run_ > 0;
     o_ = o;
     if (!same) {
-        // The grid: stepRad from -pi/2 up to fineTopRad, then a step growing by half the elevation
-        // gained, up to coarseStepRad; 0 and +-pi/2 are grid points.
-        const double half = 0.5 * std::numbers::pi;
-        std::vector<double> below;
-        for (int j = 1; j * o.stepRad < half - 1e-9; ++j) below.push_back(-j * o.stepRad);
-        below.push_back(-half);
-        nodes_.assign(below.rbegin(), below.rend());
-        for (double e = 0.0; e < half - 1e-9;) {
-            nodes_.push_back(e);
-            const double s = std::clamp(o.stepRad + 0.5 * (e - o.fineTopRad), o.stepRad, std::max(o.stepRad, o.coarseStepRad));
-            e += s;
-        }
-        nodes_.push_back(half);
+        nodes_ = makeGrid(o);
         slots_.clear();
         reset();
     }
+}
+
+std::vector<double> LightKeyframes::makeGrid(const Options& o) {
+    // stepRad from -pi/2 up to fineTopRad, then a step growing by half the elevation gained, up
+    // to coarseStepRad; 0 and +-pi/2 are grid points.
+    const double half = 0.5 * std::numbers::pi;
+    std::vector<double> below;
+    for (int j = 1; j * o.stepRad < half - 1e-9; ++j) below.push_back(-j * o.stepRad);
+    below.push_back(-half);
+    std::vector<double> nodes(below.rbegin(), below.rend());
+    for (double e = 0.0; e < half - 1e-9;) {
+        nodes.push_back(e);
+        const double s = std::clamp(o.stepRad + 0.5 * (e - o.fineTopRad), o.stepRad, std::max(o.stepRad, o.coarseStepRad));
+        if (half - (e + s) < 0.5 * s) break;  // no point within half a step of the zenith but the zenith
+        e += s;
+    }
+    nodes.push_back(half);
+    return nodes;
 }
 
 int LightKeyframes::locate(double e) const {

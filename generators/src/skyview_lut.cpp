@@ -77,7 +77,7 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
     // In spectral mode a table is built whole in one run (each triple's pass is combined into it
     // over the whole texture).
     LightKeyframes::Options ko{.stepRad = q_.keyframeStepRad, .coarseStepRad = q_.keyframeCoarseStepRad, .chunks = spectral_ ? 1 : std::max(1, q_.keyframeChunks),
-                               .slots = keyframeSlots(q_.keyframeStepRad), .stillMuS = kCosZenithTolerance};
+                               .slots = keyframeSlots(q_), .stillMuS = kCosZenithTolerance};
     keyframes_.setOptions(ko);
     const bool resized = !smooth_ || smooth_.width() != q_.skyViewW || smooth_.height() != q_.skyViewH || smooth_.internalFormat() != fmt;
     if (resized) {

@@ -87,6 +87,8 @@ public:
     static std::array<double, 4> catmullRom(double t);
     /// The grid's elevations (ascending, from -pi/2 to pi/2), rad.
     const std::vector<double>& grid() const { return nodes_; }
+    /// The grid of these options (Options::stepRad, coarseStepRad, fineTopRad).
+    static std::vector<double> makeGrid(const Options& o);
 
 private:
     static constexpr int kNoGrid = INT32_MIN;

@@ -103,9 +103,14 @@ inline const Key<bool> moonLit{"sky.moon_lit", "the Moon lights the sky (illumin
 inline constexpr double kCosZenithTolerance = 2e-5;
 
 /// Keyframe tables kept at most per light-dependent generator (LightKeyframes::Options::slots)
-/// for a grid step in rad (> 0): the grid over Sun elevations -20 deg .. +90 deg (deeper the
-/// Sun's sky is below the night sky's airglow) plus 6 (exact tables, margin), at least 6.
-inline int keyframeSlots(double stepRad) { return std::clamp(int(std::ceil(1.92 / stepRad)) + 6, 6, 256); }
+/// for a quality's grid (SkyQuality::keyframeStepRad, keyframeCoarseStepRad): its grid points
+/// from -20 deg to +90 deg of elevation (deeper, the Sun's sky is below the night sky's airglow)
+/// plus 6 (exact tables, margin); beyond, the least recently used are rebuilt when needed again.
+inline int keyframeSlots(const SkyQuality& q) {
+    int n = 6;
+    for (double e : LightKeyframes::makeGrid({.stepRad = q.keyframeStepRad, .coarseStepRad = q.keyframeCoarseStepRad})) n += e >= -0.3491;
+    return n;
+}
 
 /// Publishes the lights' cos zenith (skykeys::sunCosZenith, moonCosZenith) and whether the Moon
 /// gives light (moonLit) from their directions and illuminance; CPU, microseconds. Shared.
@@ -164,6 +169,10 @@ protected:
     void combine(const gl::Texture& src, const gl::Texture& dst, int k);
     void fullscreen() const;
     SkyModel model_;
+    /// The atmosphere model_ was derived from (immutable, held so its address stays unique): the
+    /// RGB conversion (through the CIE observer) runs only when it changes, not every run.
+    std::shared_ptr<const atmosphere::Atmosphere> modelFor_;
+    bool modelDefault_ = false;
     SkyQuality q_;
     std::optional<SkyQuality> fixed_;
     std::shared_ptr<const SpectralSampling> spectral_;
