@@ -280,8 +280,11 @@ TEST_CASE("Sky animation: keyframed tables against a fresh rebuild, and exact on
     CHECK(worstRel(pixels(rig.luts.aerial->inscatter()), pixels(fresh.luts.aerial->inscatter())) < 1e-4);
 }
 
-// Diagnostic (hidden): interpolation rules in elevation for the sky view against fresh tables at
-// the medium preset, printed per elevation and grid step.
+// Diagnostic (hidden): interpolation rules in elevation for the sky view against fresh tables,
+// printed per elevation and grid step (docs/sky.md "While time runs"). WELKIN_DIAG_PRESET=n: the
+// quality preset (default 1, medium); WELKIN_DIAG_TIME=1: each generator's cost per frame with
+// every grid table built instead; WELKIN_DIAG_SCAN=1: a few texels of fresh tables from -5 to -14
+// deg in 0.25 deg steps instead.
 TEST_CASE("Sky animation: interpolation rules against fresh tables (diagnostic)", "[.diag][gl][sky]") {
     const int preset = std::getenv("WELKIN_DIAG_PRESET") ? std::atoi(std::getenv("WELKIN_DIAG_PRESET")) : 1;
     AnimRig rig(10.0);
@@ -333,9 +336,9 @@ TEST_CASE("Sky animation: interpolation rules against fresh tables (diagnostic)"
         }
         return;
     }
-    for (double e : {5.3, -3.5, -6.3, -8.9, -11.2}) {
+    for (double e : {15.0, 8.4, 5.3, 2.4, -0.2, -3.5, -6.3, -8.9, -11.2}) {
         const auto fresh = table(e);
-        for (double step : {0.5, 1.0, 2.0}) {
+        for (double step : {0.5, 1.0, 1.5, 2.0, 3.0}) {
             double k = std::floor(e / step), t = e / step - k;
             auto w = LightKeyframes::catmullRom(t);
             const std::pair<std::vector<float>, std::vector<float>>* tb[4] = {&table((k - 1) * step), &table(k * step), &table((k + 1) * step),

@@ -1,7 +1,7 @@
 // LightKeyframes: which tables a light-dependent LUT builds, and which it shows, while the light's
 // elevation changes (time running). CPU bookkeeping only; the generators own the textures.
 //
-//   welkin::generators::LightKeyframes kf({.stepRad = 0.035, .chunks = 6, .slots = 64});
+//   welkin::generators::LightKeyframes kf({.stepRad = 0.0175, .coarseStepRad = 0.0524, .chunks = 6, .slots = 64});
 //   auto plan = kf.plan(muS);                  // once per run, muS the light's cos zenith
 //   if (plan.build >= 0)                       // build chunks [chunkBegin, chunkEnd) of the table
 //       buildRows(plan.build, plan.buildMuS, plan.chunkBegin, plan.chunkEnd);  // into slot `build`
