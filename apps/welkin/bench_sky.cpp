@@ -59,6 +59,7 @@ struct SkyBenchOptions {
     double stepS = 60;          // simulated seconds per frame
     int sampleEvery = 20;       // error against the reference at every n-th frame
     double keyframeStepDeg = 0; // 0: the preset's
+    double keyframeCoarseStepDeg = 0; // 0: the preset's
     int keyframeChunks = 0;     // 0: the preset's
 };
 
@@ -170,6 +171,7 @@ int runAnimate(const SkyBenchOptions& o, const std::vector<int>& presets) {
         elements::Sky skyFresh(elements::SkyOptions{.quality = preset, .moon = false, .wavelengths = 3});
         generators::SkyQuality q = generators::SkyQuality::preset(preset);
         if (o.keyframeStepDeg > 0) q.keyframeStepRad = o.keyframeStepDeg * kDeg;
+        if (o.keyframeCoarseStepDeg > 0) q.keyframeCoarseStepRad = o.keyframeCoarseStepDeg * kDeg;
         if (o.keyframeChunks > 0) q.keyframeChunks = o.keyframeChunks;
         generators::SkyLuts luts = generators::SkyLuts::obtain(vars);
         for (generators::SkyGenerator* g : {static_cast<generators::SkyGenerator*>(luts.sunView.get()),
@@ -481,6 +483,7 @@ static BenchRegistrar reg("sky", "real-time sky: LUT build and frame cost per qu
                               sub.add_option("--step", o.stepS, "--animate: simulated seconds per frame");
                               sub.add_option("--sample-every", o.sampleEvery, "--animate: error against the reference every n-th frame");
                               sub.add_option("--keyframe-step", o.keyframeStepDeg, "--animate: keyframe step in elevation, deg (0: the preset's)");
+                              sub.add_option("--keyframe-coarse-step", o.keyframeCoarseStepDeg, "--animate: keyframe step above 4 deg of elevation, deg (0: the preset's)");
                               sub.add_option("--keyframe-chunks", o.keyframeChunks, "--animate: frames over which one keyframe is built (0: the preset's)");
                               sub.add_flag("--breakdown", o.breakdown, "print each generator's time in a full LUT rebuild (glFinish around each)");
                               sub.add_option("--projection", o.projection, "projection of the 1280x720 frame (perspective: az 0, alt 20 deg, fov 60 deg)");

@@ -31,6 +31,7 @@ void AerialPerspectiveLut::releaseGl() {
     prog_ = {};
     slots_.clear();
     blendProg_ = {};
+    toLogProg_ = {};
     keyframes_.reset();
     releaseCommon();
 }
@@ -44,23 +45,17 @@ void AerialPerspectiveLut::doRun(SkyVars& vars, const Logger&) {
         t.setWrap(GL_CLAMP_TO_EDGE);
     };
     // Keyframes as in SkyViewLut (light_keyframes.hpp): the same options and elevations, so both
-    // follow the same schedule.
-    LightKeyframes::Options ko{.stepRad = q_.keyframeStepRad, .chunks = spectral_ ? 1 : std::max(1, q_.keyframeChunks),
-                               .slots = 4, .stillMuS = kCosZenithTolerance};
+    // follow the same schedule. A keyframe holds the in-scattering only: the transmittance along
+    // the view rays does not depend on the light, and every build writes it into the shown one
+    // (the same values whatever the elevation; after a reset the first build is whole).
+    LightKeyframes::Options ko{.stepRad = q_.keyframeStepRad, .coarseStepRad = q_.keyframeCoarseStepRad, .chunks = spectral_ ? 1 : std::max(1, q_.keyframeChunks),
+                               .slots = keyframeSlots(q_), .stillMuS = kCosZenithTolerance};
     keyframes_.setOptions(ko);
     const bool resized = !inscatter_ || inscatter_.width() != n;
     if (resized) {
         make(inscatter_);
         make(transmittance_);
         slots_.clear();
-    }
-    if (int(slots_.size()) != ko.slots) {
-        slots_.clear();
-        slots_.resize(size_t(ko.slots));
-        for (auto& sl : slots_) {
-            make(sl.first);
-            make(sl.second);
-        }
         keyframes_.reset();
     }
     if (!prog_ || progBands_ != q_.shBands) {
@@ -90,6 +85,7 @@ void AerialPerspectiveLut::doRun(SkyVars& vars, const Logger&) {
         v.push_back(uint64_t(q_.aerialSteps));
         v.push_back(uint64_t(std::llround(q_.aerialMaxDistance)));
         v.push_back(uint64_t(std::llround(q_.keyframeStepRad * 1e9)));
+        v.push_back(uint64_t(std::llround(q_.keyframeCoarseStepRad * 1e9)));
         if (v != validFor_ || resized) keyframes_.reset();
         validFor_ = std::move(v);
     }
@@ -98,6 +94,10 @@ void AerialPerspectiveLut::doRun(SkyVars& vars, const Logger&) {
         transmittanceK_ = gl::Texture3D(n, n, n, GL_RGBA32F);
     }
     plan_ = keyframes_.plan(muS);
+    while (int(slots_.size()) < keyframes_.slotCount()) {
+        make(slots_.emplace_back());
+        slots_.back().setFilter(GL_NEAREST);
+    }
     if (plan_.build >= 0) {
         const skykeys::TextureList T = vars.get(skykeys::transmittanceLuts), MS = vars.get(skykeys::multiScatteringLuts),
                                    SH = vars.get(skykeys::shLuts);
@@ -112,8 +112,8 @@ void AerialPerspectiveLut::doRun(SkyVars& vars, const Logger&) {
         for (int k = 0; k < K && g1 > g0; ++k) {
             // Spectral mode: the triple's volumes go to the scratch pair, then are added to the
             // slot's pair through its matrix (transmittance too: the solar-weighted transmittance).
-            const gl::Texture3D& in = spectral_ ? inscatterK_ : sl.first;
-            const gl::Texture3D& tr = spectral_ ? transmittanceK_ : sl.second;
+            const gl::Texture3D& in = spectral_ ? inscatterK_ : sl;
+            const gl::Texture3D& tr = spectral_ ? transmittanceK_ : transmittance_;
             useTriple(k);
             glBindTextureUnit(gl::binding::kTransmittanceLut, (*T)[size_t(k)].id);
             glBindTextureUnit(gl::binding::kMultiScatteringLut, (*MS)[size_t(k)].id);
@@ -133,21 +133,36 @@ void AerialPerspectiveLut::doRun(SkyVars& vars, const Logger&) {
             glDispatchCompute(GLuint(g1 - g0), 1, 1);
             glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
             if (spectral_) {
-                combine(inscatterK_, sl.first, k);
-                combine(transmittanceK_, sl.second, k);
+                combine(inscatterK_, sl, k);
+                combine(transmittanceK_, transmittance_, k);
             }
         }
     }
-    // The shown volume from complete slots only.
-    const auto& A = slots_[size_t(plan_.a)];
-    const auto& B = slots_[size_t(plan_.b >= 0 ? plan_.b : plan_.a)];
-    glBindTextureUnit(gl::binding::kBlendA, A.first.id());
-    glBindTextureUnit(gl::binding::kBlendAerialB, B.first.id());
-    glBindTextureUnit(gl::binding::kBlendAerialTrA, A.second.id());
+    if (plan_.build >= 0 && plan_.chunkEnd == ko.chunks) {
+        // Complete: to log radiance, in place, for the blend.
+        if (!toLogProg_)
+            toLogProg_ = gl::ProgramBuilder("AerialPerspectiveLut keyframe to log")
+                             .define("KEYFRAME_TO_LOG")
+                             .define("KEYFRAME_3D")
+                             .compute("generators/light_blend.glsl", embedded::atmosphere_shaders("light_blend.glsl"))
+                             .build();
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        toLogProg_.use();
+        glUniform3i(glGetUniformLocation(toLogProg_.id(), "u_size"), n, n, n);
+        glBindImageTexture(gl::binding::kLutImage, slots_[size_t(plan_.build)].id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA32F);
+        glDispatchCompute(GLuint((n + 7) / 8), GLuint((n + 7) / 8), GLuint(n));
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    }
+    // The shown volume from complete slots only (unused inputs repeat the first, weight 0).
+    const int units[4] = {gl::binding::kBlendA, gl::binding::kBlendAerialB, gl::binding::kBlendAerialC, gl::binding::kBlendAerialD};
+    glm::vec4 w(0.0f);
+    for (int i = 0; i < 4; ++i) {
+        glBindTextureUnit(GLuint(units[i]), slots_[size_t(i < plan_.count ? plan_.slot[size_t(i)] : plan_.slot[0])].id());
+        w[i] = i < plan_.count ? float(plan_.weight[size_t(i)]) : 0.0f;
+    }
     glBindImageTexture(gl::binding::kLutImage, inscatter_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glBindImageTexture(gl::binding::kSecondLutImage, transmittance_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     blendProg_.use();
-    blendProg_.set("u_t", float(plan_.b >= 0 ? plan_.t : 0.0));
+    blendProg_.set("u_w", w);
     blendProg_.set("u_muS", float(muS));
     blendProg_.set("u_size", n);
     glDispatchCompute(GLuint((n + 7) / 8), GLuint((n + 7) / 8), GLuint(n));

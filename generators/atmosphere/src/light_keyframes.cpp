@@ -13,19 +13,52 @@ LightKeyframes::LightKeyframes() : LightKeyframes(Options{}) {}
 LightKeyframes::LightKeyframes(Options o) { setOptions(o); }
 
 void LightKeyframes::setOptions(Options o) {
-    if (!(o.stepRad > 0.0) || o.chunks < 1 || o.slots < 3 || !(o.stillMuS >= 0.0)) {
+    if (!(o.stepRad > 0.0) || o.chunks < 1 || o.slots < 6 || !(o.stillMuS >= 0.0)) {
         char buf[160];
-        std::snprintf(buf, sizeof buf, "LightKeyframes: step %g rad, %d chunks, %d slots, still %g: need step > 0, chunks >= 1, slots >= 3, still >= 0",
+        std::snprintf(buf, sizeof buf, "LightKeyframes: step %g rad, %d chunks, %d slots, still %g: need step > 0, chunks >= 1, slots >= 6, still >= 0",
                       o.stepRad, o.chunks, o.slots, o.stillMuS);
         throw Error(buf);
     }
-    bool same = o.stepRad == o_.stepRad && o.chunks == o_.chunks && o.slots == o_.slots && !slots_.empty();
+    const bool same = o.stepRad == o_.stepRad && o.coarseStepRad == o_.coarseStepRad && o.fineTopRad == o_.fineTopRad &&
+                      o.chunks == o_.chunks && o.slots == o_.slots && run_ > 0;
     o_ = o;
-    if (!same) reset();
+    if (!same) {
+        nodes_ = makeGrid(o);
+        slots_.clear();
+        reset();
+    }
+}
+
+std::vector<double> LightKeyframes::makeGrid(const Options& o) {
+    // stepRad from -pi/2 up to fineTopRad, then a step growing by half the elevation gained, up
+    // to coarseStepRad; 0 and +-pi/2 are grid points.
+    const double half = 0.5 * std::numbers::pi;
+    std::vector<double> below;
+    for (int j = 1; j * o.stepRad < half - 1e-9; ++j) below.push_back(-j * o.stepRad);
+    below.push_back(-half);
+    std::vector<double> nodes(below.rbegin(), below.rend());
+    for (double e = 0.0; e < half - 1e-9;) {
+        nodes.push_back(e);
+        const double s = std::clamp(o.stepRad + 0.5 * (e - o.fineTopRad), o.stepRad, std::max(o.stepRad, o.coarseStepRad));
+        if (half - (e + s) < 0.5 * s) break;  // no point within half a step of the zenith but the zenith
+        e += s;
+    }
+    nodes.push_back(half);
+    return nodes;
+}
+
+int LightKeyframes::locate(double e) const {
+    auto it = std::upper_bound(nodes_.begin(), nodes_.end(), e);
+    return std::clamp(int(it - nodes_.begin()) - 1, 0, int(nodes_.size()) - 2);
+}
+
+double LightKeyframes::spacing(int k) const {
+    k = std::clamp(k, 0, int(nodes_.size()) - 2);
+    return nodes_[size_t(k) + 1] - nodes_[size_t(k)];
 }
 
 void LightKeyframes::reset() {
-    slots_.assign(size_t(o_.slots), Slot{});
+    for (Slot& s : slots_) s = Slot{};
     building_ = -1;
     pending_ = false;
     haveLast_ = false;
@@ -33,6 +66,17 @@ void LightKeyframes::reset() {
 }
 
 double LightKeyframes::slotMuS(int i) const { return std::sin(slots_.at(size_t(i)).e); }
+
+int LightKeyframes::gridTables() const {
+    int n = 0;
+    for (const Slot& s : slots_) n += s.grid != kNoGrid && s.done == o_.chunks;
+    return n;
+}
+
+std::array<double, 4> LightKeyframes::catmullRom(double t) {
+    const double t2 = t * t, t3 = t2 * t;
+    return {0.5 * (-t3 + 2.0 * t2 - t), 0.5 * (3.0 * t3 - 5.0 * t2 + 2.0), 0.5 * (-3.0 * t3 + 4.0 * t2 + t), 0.5 * (t3 - t2)};
+}
 
 int LightKeyframes::find(double e, double tol, bool completeOnly) const {
     int best = -1;
@@ -46,15 +90,81 @@ int LightKeyframes::find(double e, double tol, bool completeOnly) const {
     return best;
 }
 
-int LightKeyframes::victim(int keepA, int keepB) const {
-    int v = -1;
+int LightKeyframes::findGrid(int k, bool completeOnly) const {
     for (int i = 0; i < int(slots_.size()); ++i) {
-        if (i == keepA || i == keepB || i == building_) continue;
         const Slot& s = slots_[size_t(i)];
-        if (s.done < 0) return i;
-        if (v < 0 || s.used < slots_[size_t(v)].used) v = i;
+        if (s.grid == k && s.done >= 0 && (!completeOnly || s.done == o_.chunks)) return i;
     }
+    return -1;
+}
+
+int LightKeyframes::victim(const std::array<int, 4>& keep, bool exactTable) {
+    auto kept = [&](int i) { return i == building_ || std::find(keep.begin(), keep.end(), i) != keep.end(); };
+    for (int i = 0; i < int(slots_.size()); ++i)
+        if (!kept(i) && slots_[size_t(i)].done < 0) return i;
+    // An exact table replaces another exact table (they are transient: a light at rest, a jump)
+    // before it takes a new slot; a grid table takes a new slot while under the cap.
+    int v = -1;
+    if (exactTable)
+        for (int i = 0; i < int(slots_.size()); ++i)
+            if (!kept(i) && slots_[size_t(i)].grid == kNoGrid && (v < 0 || slots_[size_t(i)].used < slots_[size_t(v)].used)) v = i;
+    if (v >= 0) return v;
+    if (int(slots_.size()) < o_.slots) {
+        slots_.push_back(Slot{});
+        return int(slots_.size()) - 1;
+    }
+    for (int i = 0; i < int(slots_.size()); ++i)
+        if (!kept(i) && (v < 0 || slots_[size_t(i)].used < slots_[size_t(v)].used)) v = i;
     return v;
+}
+
+void LightKeyframes::show(Plan& p, double e, double eTol) const {
+    auto one = [&](int s) {
+        p.slot = {s, -1, -1, -1};
+        p.weight = {1.0, 0.0, 0.0, 0.0};
+        p.count = 1;
+    };
+    if (int x = find(e, eTol, true); x >= 0) {
+        one(x);
+        p.exact = true;
+        return;
+    }
+    const int k = locate(e);
+    const double t = std::clamp((e - nodes_[size_t(k)]) / spacing(k), 0.0, 1.0);
+    const int s1 = findGrid(k, true), s2 = findGrid(k + 1, true);
+    if (s1 >= 0 && s2 >= 0) {
+        const int s0 = findGrid(k - 1, true), s3 = findGrid(k + 2, true);
+        if (s0 >= 0 && s3 >= 0) {
+            p.slot = {s0, s1, s2, s3};
+            p.weight = catmullRom(t);
+            p.count = 4;
+            p.cubic = true;
+        } else {
+            p.slot = {s1, s2, -1, -1};
+            p.weight = {1.0 - t, t, 0.0, 0.0};
+            p.count = 2;
+        }
+        return;
+    }
+    // The builder is late: the two complete tables nearest e, extrapolated along their trend (at
+    // most one spacing beyond either).
+    int n1 = -1, n2 = -1;
+    for (int i = 0; i < int(slots_.size()); ++i) {
+        const Slot& s = slots_[size_t(i)];
+        if (s.done != o_.chunks) continue;
+        const double d = std::abs(s.e - e);
+        if (n1 < 0 || d < std::abs(slots_[size_t(n1)].e - e)) n2 = n1, n1 = i;
+        else if (n2 < 0 || d < std::abs(slots_[size_t(n2)].e - e)) n2 = i;
+    }
+    one(n1);
+    // Two tables closer than half a spacing would amplify their differences: the nearest alone.
+    const double sp = spacing(locate(e));
+    if (n2 >= 0 && std::abs(slots_[size_t(n2)].e - e) <= 3.0 * sp && std::abs(slots_[size_t(n2)].e - slots_[size_t(n1)].e) >= 0.5 * sp) {
+        const double tt = std::clamp((e - slots_[size_t(n1)].e) / (slots_[size_t(n2)].e - slots_[size_t(n1)].e), -1.0, 2.0);
+        p.slot = {n1, n2, -1, -1};
+        p.weight = {1.0 - tt, tt, 0.0, 0.0};
+        p.count = 2;
+    }
 }
 
 LightKeyframes::Plan LightKeyframes::plan(double muS) {
@@ -65,7 +175,8 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
     }
     ++run_;
     const double e = std::asin(muS);
-    const double step = o_.stepRad;
+    const int k = locate(e);
+    const double step = spacing(k);  // the grid's local spacing
     // Still: moved no more than the generator's own tolerance since the last run.
     const bool still = haveLast_ && std::abs(muS - std::sin(lastE_)) <= o_.stillMuS;
     if (haveLast_ && !still) dir_ = e > lastE_ ? 1 : -1;
@@ -75,7 +186,6 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
     // An elevation change up to stillMuS (in e, at the horizon where it is largest) counts as none.
     const double eTol = std::max(1e-12, std::asin(std::min(o_.stillMuS, 1.0)));
     Plan p;
-    auto cosZ = [](double el) { return std::sin(el); };
 
     // First run, a jump, or after reset(): a table at exactly e, built now.
     if (find(e, 2.0 * step, true) < 0) {
@@ -83,79 +193,68 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
             slots_[size_t(building_)].done = -1;  // far from the light now: abandoned
             building_ = -1;
         }
-        int s = victim(-1, -1);
-        slots_[size_t(s)] = Slot{e, o_.chunks, run_};
+        const int s = victim({-1, -1, -1, -1}, true);
+        slots_[size_t(s)] = Slot{e, kNoGrid, o_.chunks, run_};
         p.build = s;
-        p.buildMuS = cosZ(e);
+        p.buildMuS = muS;
         p.chunkBegin = 0;
         p.chunkEnd = o_.chunks;
-        p.a = s;
+        p.slot = {s, -1, -1, -1};
+        p.weight = {1.0, 0.0, 0.0, 0.0};
+        p.count = 1;
         p.exact = true;
         pending_ = building_ >= 0;
         return p;
     }
 
-    // The complete slots that bracket e (before this run's build).
-    auto bracket = [&](int& lo, int& hi) {
-        lo = hi = -1;
-        for (int i = 0; i < int(slots_.size()); ++i) {
-            const Slot& s = slots_[size_t(i)];
-            if (s.done != o_.chunks) continue;
-            if (s.e <= e + eTol && (lo < 0 || s.e > slots_[size_t(lo)].e)) lo = i;
-            if (s.e >= e - eTol && (hi < 0 || s.e < slots_[size_t(hi)].e)) hi = i;
-        }
-    };
-    int lo, hi;
-    bracket(lo, hi);
-    const bool late = !(lo >= 0 && hi >= 0 && slots_[size_t(hi)].e - slots_[size_t(lo)].e <= 2.5 * step);
-
-    // What to build: a still light wants its exact table; a moving one the grid ahead of it.
+    const std::array<int, 4> needed = {findGrid(k - 1, false), findGrid(k, false), findGrid(k + 1, false), findGrid(k + 2, false)};
+    // What to build: a still light wants its exact table; a moving one the grid tables the cubic
+    // needs (nearest its direction of motion first), then the next one ahead.
     if (building_ < 0) {
         double target = NAN;
+        int grid = kNoGrid;
         if (still || dir_ == 0) {
             if (find(e, eTol, true) < 0) target = e;
         } else {
-            const double g0 = std::floor(e / step) * step;
-            const double ahead = dir_ > 0 ? g0 + step : g0, behind = dir_ > 0 ? g0 : g0 + step;
-            const double cands[3] = {ahead, behind, ahead + dir_ * step};
-            // A grid point is covered by a table within a quarter step of it, or (the one behind)
-            // by any table between it and the light.
-            auto covered = [&](double g) {
-                if (find(g, 0.25 * step, false) >= 0) return true;
-                if (g != behind) return false;
-                for (const Slot& sl : slots_)
-                    if (sl.done >= 0 && (sl.e - g) * (e - sl.e) >= 0.0) return true;
-                return false;
-            };
-            for (double g : cands)
-                if (std::abs(g) <= 0.5 * std::numbers::pi + 1e-9 && !covered(g)) {
-                    target = std::clamp(g, -0.5 * std::numbers::pi, 0.5 * std::numbers::pi);
+            const std::array<int, 5> cands = dir_ > 0 ? std::array<int, 5>{k + 1, k, k + 2, k - 1, k + 3}
+                                                      : std::array<int, 5>{k, k + 1, k - 1, k + 2, k - 2};
+            for (int c : cands)
+                if (c >= 0 && c < int(nodes_.size()) && findGrid(c, false) < 0) {
+                    target = nodes_[size_t(c)];
+                    grid = c;
                     break;
                 }
         }
         if (std::isfinite(target)) {
-            int s = victim(lo, hi);
+            const int s = victim(needed, grid == kNoGrid);
             if (s >= 0) {
-                slots_[size_t(s)] = Slot{target, 0, run_};
+                slots_[size_t(s)] = Slot{target, grid, 0, run_};
                 building_ = s;
             }
         }
     }
     if (building_ >= 0) {
         Slot& b = slots_[size_t(building_)];
-        // Chunks per run: enough to finish before the light, at its last rate, reaches the table's
-        // elevation (at least one); behind the light (extrapolating), twice that.
+        // Chunks per run: enough to be complete before the light, at its last rate, needs the
+        // table (at least one; two once it is needed already).
         const int remaining = o_.chunks - b.done;
         int perRun = 1;
         if (rate_ > 0.0) {
-            const double ahead = (b.e - e) * dir_;
+            // Grid point m is among the cubic's four once the light passes m - 2 (rising) or m + 2.
+            const int last = int(nodes_.size()) - 1;
+            const double needAt = b.grid == kNoGrid ? b.e : nodes_[size_t(std::clamp(b.grid - 2 * dir_, 0, last))];
+            const double ahead = (needAt - e) * dir_;
             const double framesLeft = ahead > 0.0 ? std::floor(ahead / rate_) : 0.0;
             perRun = framesLeft >= 1.0 ? int(std::ceil(remaining / framesLeft)) : 2;
         }
-        if (late) perRun = std::max(perRun, 2);
+        // Keeping pace: one grid table per grid spacing the light travels (with a quarter more
+        // for the turns); late (its bracketing pair incomplete): the rest within 4 runs.
+        if (rate_ > 0.0 && !still) perRun = std::max(perRun, int(std::ceil(1.25 * o_.chunks * rate_ / step)));
+        const bool late = findGrid(k, true) < 0 || findGrid(k + 1, true) < 0;
+        if (late && !still) perRun = std::max(perRun, (remaining + 3) / 4);
         perRun = std::clamp(perRun, 1, remaining);
         p.build = building_;
-        p.buildMuS = cosZ(b.e);
+        p.buildMuS = std::sin(b.e);
         p.chunkBegin = b.done;
         p.chunkEnd = std::min(b.done + perRun, o_.chunks);
         b.done = p.chunkEnd;
@@ -164,35 +263,8 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
     }
 
     // What to show (this run's completed build included).
-    if (int x = find(e, eTol, true); x >= 0) {
-        p.a = x;
-        p.exact = true;
-    } else {
-        bracket(lo, hi);
-        if (lo >= 0 && hi >= 0 && slots_[size_t(hi)].e - slots_[size_t(lo)].e <= 2.5 * step) {
-            p.a = lo;
-            p.b = hi;
-            p.t = (e - slots_[size_t(lo)].e) / (slots_[size_t(hi)].e - slots_[size_t(lo)].e);
-        } else {
-            // The two complete slots nearest e, extrapolated along their trend (at most one
-            // spacing beyond either).
-            int n1 = -1, n2 = -1;
-            for (int i = 0; i < int(slots_.size()); ++i) {
-                const Slot& s = slots_[size_t(i)];
-                if (s.done != o_.chunks) continue;
-                double d = std::abs(s.e - e);
-                if (n1 < 0 || d < std::abs(slots_[size_t(n1)].e - e)) n2 = n1, n1 = i;
-                else if (n2 < 0 || d < std::abs(slots_[size_t(n2)].e - e)) n2 = i;
-            }
-            p.a = n1;
-            if (n2 >= 0 && std::abs(slots_[size_t(n2)].e - e) <= 3.0 * step && slots_[size_t(n2)].e != slots_[size_t(n1)].e) {
-                p.b = n2;
-                p.t = std::clamp((e - slots_[size_t(n1)].e) / (slots_[size_t(n2)].e - slots_[size_t(n1)].e), -1.0, 2.0);
-            }
-        }
-    }
-    slots_[size_t(p.a)].used = run_;
-    if (p.b >= 0) slots_[size_t(p.b)].used = run_;
+    show(p, e, eTol);
+    for (int i = 0; i < p.count; ++i) slots_[size_t(p.slot[size_t(i)])].used = run_;
     pending_ = building_ >= 0 || !p.exact;
     return p;
 }

@@ -58,8 +58,16 @@ void SkyGenerator::doDeclare(SkyVars& vars) {
 }
 
 void SkyGenerator::prepare(SkyVars& vars) {
-    model_ = SkyModel::fromVars(vars);
-    model_.validate();
+    {
+        std::shared_ptr<const atmosphere::Atmosphere> a;
+        if (vars.has(atmosphere::kAtmosphere)) a = vars.get(atmosphere::kAtmosphere);
+        if (!a ? !modelDefault_ : a != modelFor_) {
+            model_ = SkyModel::fromVars(vars);
+            model_.validate();
+            modelFor_ = a;
+            modelDefault_ = !a;
+        }
+    }
     int preset = effectiveQuality(vars);
     q_ = fixed_ ? *fixed_ : SkyQuality::preset(preset);
     validateWavelengthCount(vars.getOr(skykeys::wavelengths, 0), "sky.wavelengths");

@@ -47,6 +47,7 @@ void SkyViewLut::releaseGl() {
     slots_.clear();
     showFbo_ = {};
     blendProg_ = {};
+    toLogProg_ = {};
     keyframes_.reset();
     viewTH_ = -1.0;
     releaseCommon();
@@ -75,8 +76,8 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
     // while the light moves; the shown table is blended from two of them (or is one of them).
     // In spectral mode a table is built whole in one run (each triple's pass is combined into it
     // over the whole texture).
-    LightKeyframes::Options ko{.stepRad = q_.keyframeStepRad, .chunks = spectral_ ? 1 : std::max(1, q_.keyframeChunks),
-                               .slots = 4, .stillMuS = kCosZenithTolerance};
+    LightKeyframes::Options ko{.stepRad = q_.keyframeStepRad, .coarseStepRad = q_.keyframeCoarseStepRad, .chunks = spectral_ ? 1 : std::max(1, q_.keyframeChunks),
+                               .slots = keyframeSlots(q_), .stillMuS = kCosZenithTolerance};
     keyframes_.setOptions(ko);
     const bool resized = !smooth_ || smooth_.width() != q_.skyViewW || smooth_.height() != q_.skyViewH || smooth_.internalFormat() != fmt;
     if (resized) {
@@ -85,16 +86,6 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
         make(total_);
         attach3(showFbo_, smooth_, mie_, total_, "SkyViewLut");
         slots_.clear();
-    }
-    if (int(slots_.size()) != ko.slots) {
-        slots_.clear();
-        slots_.resize(size_t(ko.slots));
-        for (Slot& sl : slots_) {
-            make(sl.smooth);
-            make(sl.mie);
-            make(sl.total);
-            attach3(sl.fbo, sl.smooth, sl.mie, sl.total, "SkyViewLut keyframe");
-        }
         keyframes_.reset();
     }
     if (!prog_ || progBands_ != q_.shBands) {
@@ -127,6 +118,7 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
             if (k.name != skykeys::sunCosZenith.name() && k.name != skykeys::moonCosZenith.name()) v.push_back(vars.version(k.name));
         v.push_back(uint64_t(q_.skyViewSteps));
         v.push_back(uint64_t(std::llround(q_.keyframeStepRad * 1e9)));
+        v.push_back(uint64_t(std::llround(q_.keyframeCoarseStepRad * 1e9)));
         if (v != validFor_ || resized) keyframes_.reset();
         validFor_ = std::move(v);
     }
@@ -152,7 +144,22 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
         keyframes_.reset();  // the next lit run starts from a table at its exact elevation
         plan_ = {};
     } else {
-        plan_ = keyframes_.plan(muS_);
+            plan_ = keyframes_.plan(muS_);
+        // Textures for the slots the schedule uses (allocated as it grows; a keyframe holds the
+        // smooth and Mie parts, the pass's third output, the total, is not kept).
+        while (int(slots_.size()) < keyframes_.slotCount()) {
+            // fp32 whatever the preset: a keyframe holds log radiance once complete.
+            Slot& sl = slots_.emplace_back();
+            for (gl::Texture2D* t : {&sl.smooth, &sl.mie}) {
+                *t = gl::Texture2D(q_.skyViewW, q_.skyViewH, GL_RGBA32F);
+                t->setFilter(GL_NEAREST);
+                t->setWrap(GL_CLAMP_TO_EDGE);
+            }
+            sl.fbo = gl::Framebuffer::create();
+            sl.fbo.attach(GL_COLOR_ATTACHMENT0, sl.smooth);
+            sl.fbo.attach(GL_COLOR_ATTACHMENT1, sl.mie);
+            sl.fbo.checkComplete("SkyViewLut keyframe");
+        }
         if (plan_.build >= 0) {
             const skykeys::TextureList T = vars.get(skykeys::transmittanceLuts), MS = vars.get(skykeys::multiScatteringLuts),
                                        SH = vars.get(skykeys::shLuts);
@@ -170,7 +177,8 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
                 useTriple(k);
                 fb.bind();
                 glViewport(0, 0, q_.skyViewW, q_.skyViewH);
-                glNamedFramebufferDrawBuffers(fb.id(), 3, bufs);
+                const GLenum slotBufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_NONE};
+                glNamedFramebufferDrawBuffers(fb.id(), 3, spectral_ ? bufs : slotBufs);
                 glBindTextureUnit(gl::binding::kTransmittanceLut, (*T)[size_t(k)].id);
                 glBindTextureUnit(gl::binding::kMultiScatteringLut, (*MS)[size_t(k)].id);
                 glBindTextureUnit(gl::binding::kShLut, (*SH)[size_t(k)].id);
@@ -186,26 +194,47 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
                     glDisable(GL_SCISSOR_TEST);
                     combine(smoothK_, sl.smooth, k);
                     combine(mieK_, sl.mie, k);
-                    combine(totalK_, sl.total, k);
                     glEnable(GL_SCISSOR_TEST);
                 }
             }
             glDisable(GL_SCISSOR_TEST);
+            if (plan_.chunkEnd == ko.chunks) {
+                // Complete: to log radiance, in place, for the blend.
+                if (!toLogProg_)
+                    toLogProg_ = gl::ProgramBuilder(name() + " keyframe to log")
+                                     .define("KEYFRAME_TO_LOG")
+                                     .compute("generators/light_blend.glsl", embedded::atmosphere_shaders("light_blend.glsl"))
+                                     .build();
+                glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+                toLogProg_.use();
+                glUniform3i(glGetUniformLocation(toLogProg_.id(), "u_size"), q_.skyViewW, q_.skyViewH, 1);
+                for (const gl::Texture2D* t : {&sl.smooth, &sl.mie}) {
+                    glBindImageTexture(gl::binding::kLutImage, t->id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+                    glDispatchCompute(GLuint((q_.skyViewW + 7) / 8), GLuint((q_.skyViewH + 7) / 8), 1);
+                }
+                glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+            }
         }
-        // The shown table: slot a, or a and b mixed (the Mie phase applied at the current
-        // elevation). Only complete slots are ever read here.
-        const Slot& A = slots_[size_t(plan_.a)];
-        const Slot& B = slots_[size_t(plan_.b >= 0 ? plan_.b : plan_.a)];
+        // The shown table: the plan's slots mixed with its weights (the Mie phase applied at the
+        // current elevation). Only complete slots are ever read here; unused inputs repeat the
+        // first slot with weight 0.
         if (spectral_) useTriple(0);
         showFbo_.bind();
         glViewport(0, 0, q_.skyViewW, q_.skyViewH);
         glNamedFramebufferDrawBuffers(showFbo_.id(), 3, bufs);
-        glBindTextureUnit(gl::binding::kBlendA, A.smooth.id());
-        glBindTextureUnit(gl::binding::kBlendAMie, A.mie.id());
-        glBindTextureUnit(gl::binding::kBlendB, B.smooth.id());
-        glBindTextureUnit(gl::binding::kBlendBMie, B.mie.id());
+        const int units[4][2] = {{gl::binding::kBlendA, gl::binding::kBlendAMie},
+                                 {gl::binding::kBlendB, gl::binding::kBlendBMie},
+                                 {gl::binding::kBlendC, gl::binding::kBlendCMie},
+                                 {gl::binding::kBlendD, gl::binding::kBlendDMie}};
+        glm::vec4 w(0.0f);
+        for (int i = 0; i < 4; ++i) {
+            const Slot& S = slots_[size_t(i < plan_.count ? plan_.slot[size_t(i)] : plan_.slot[0])];
+            glBindTextureUnit(GLuint(units[i][0]), S.smooth.id());
+            glBindTextureUnit(GLuint(units[i][1]), S.mie.id());
+            w[i] = i < plan_.count ? float(plan_.weight[size_t(i)]) : 0.0f;
+        }
         blendProg_.use();
-        blendProg_.set("u_t", float(plan_.b >= 0 ? plan_.t : 0.0));
+        blendProg_.set("u_w", w);
         blendProg_.set("u_muS", float(muS_));
         blendProg_.set("u_h", float(h_));
         blendProg_.set("u_size", glm::ivec2(q_.skyViewW, q_.skyViewH));

@@ -43,13 +43,19 @@ inline constexpr int kViewTransmittanceLut = 10;   ///< sky.view_transmittance_l
 // Texture units: other passes.
 inline constexpr int kSceneDepth = 0;     ///< the host's depth texture (aerial perspective applied to a scene)
 inline constexpr int kCombineSource = 0;  ///< the spectral-combine pass's source LUT
-// The keyframe blend passes (generators/atmosphere/shaders/light_blend.glsl): the two bracketing tables.
+// The keyframe blend passes (generators/atmosphere/shaders/light_blend.glsl): up to four tables at
+// consecutive elevations (A..D), mixed with weights in elevation.
 inline constexpr int kBlendA = 0;        ///< table A (sky view: smooth part; aerial: in-scattering)
 inline constexpr int kBlendAMie = 1;     ///< sky view: table A's Mie part
 inline constexpr int kBlendB = 2;        ///< table B (sky view: smooth part)
 inline constexpr int kBlendBMie = 3;     ///< sky view: table B's Mie part
+inline constexpr int kBlendC = 4;        ///< table C (sky view: smooth part)
+inline constexpr int kBlendCMie = 5;     ///< sky view: table C's Mie part
+inline constexpr int kBlendD = 6;        ///< table D (sky view: smooth part)
+inline constexpr int kBlendDMie = 7;     ///< sky view: table D's Mie part
 inline constexpr int kBlendAerialB = 1;  ///< aerial: table B's in-scattering
-inline constexpr int kBlendAerialTrA = 2;  ///< aerial: table A's transmittance
+inline constexpr int kBlendAerialC = 2;  ///< aerial: table C's in-scattering
+inline constexpr int kBlendAerialD = 3;  ///< aerial: table D's in-scattering
 
 // Image units (glBindImageTexture): what a generator's compute pass writes.
 inline constexpr int kLutImage = 0;        ///< the (first) LUT written or updated by a compute pass
@@ -95,8 +101,13 @@ inline constexpr std::array kTable = {
     Entry{"WELKIN_BINDING_BLEND_A_MIE", kBlendAMie, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_BLEND_B", kBlendB, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_BLEND_B_MIE", kBlendBMie, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_BLEND_C", kBlendC, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_BLEND_C_MIE", kBlendCMie, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_BLEND_D", kBlendD, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_BLEND_D_MIE", kBlendDMie, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_BLEND_AERIAL_B", kBlendAerialB, Kind::TextureUnit},
-    Entry{"WELKIN_BINDING_BLEND_AERIAL_TR_A", kBlendAerialTrA, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_BLEND_AERIAL_C", kBlendAerialC, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_BLEND_AERIAL_D", kBlendAerialD, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_LUT_IMAGE", kLutImage, Kind::ImageUnit},
     Entry{"WELKIN_BINDING_SECOND_LUT_IMAGE", kSecondLutImage, Kind::ImageUnit},
     Entry{"WELKIN_BINDING_USER_TEXTURE_UNIT_FIRST", kUserTextureUnitFirst, Kind::UserRange},

@@ -1,26 +1,36 @@
 // LightKeyframes: which tables a light-dependent LUT builds, and which it shows, while the light's
 // elevation changes (time running). CPU bookkeeping only; the generators own the textures.
 //
-//   welkin::generators::LightKeyframes kf({.stepRad = 0.0175, .chunks = 6});
+//   welkin::generators::LightKeyframes kf({.stepRad = 0.0175, .coarseStepRad = 0.0524, .chunks = 6, .slots = 64});
 //   auto plan = kf.plan(muS);                  // once per run, muS the light's cos zenith
 //   if (plan.build >= 0)                       // build chunks [chunkBegin, chunkEnd) of the table
-//       buildRows(plan.build, plan.buildMuS, plan.chunkBegin, plan.chunkEnd);  // at buildMuS
-//   show(plan.a, plan.b, plan.t);              // mix(slot a, slot b, t); b < 0: slot a alone
+//       buildRows(plan.build, plan.buildMuS, plan.chunkBegin, plan.chunkEnd);  // into slot `build`
+//   show(plan.slot, plan.weight, plan.count);  // sum of weight[i] x slot[i] (in log radiance)
 //   if (kf.pending()) runAgain();              // more to do next frame even if muS stays
 //
 // A table is a function of the light's elevation e (and of the observer's height and the
-// atmosphere, whose change calls reset()). Tables are kept in a few slots at elevations on a grid
-// of `stepRad` (plus exact ones, see below), each built over `chunks` runs into its own slot
-// (double buffering: a slot is shown only once complete). A run shows the two complete slots
-// that bracket e, interpolated in e (t in [0, 1]), or, while the next one is still being built,
-// extrapolated from the two nearest (t in [-1, 2]). Which slot is built next: the grid point
-// ahead of the light in its direction of motion, then the one behind, then the second ahead.
-// When the light stops (a run whose cos zenith is within Options::stillMuS of the last run's) a
-// table at exactly e is built
-// (over `chunks` runs), so a still sky converges to the exact table; when no complete slot lies
-// within 2 steps of e (the first run, a jump, after reset()) one is built at exactly e at once.
+// atmosphere, whose change calls reset()). Tables are kept in slots: grid tables at elevations
+// on a grid (stepRad below fineTopRad, growing to coarseStepRad above), built once and kept for as long as the atmosphere and height stay (a
+// cache over the whole elevation range, filled where the light goes, least recently used evicted
+// beyond `slots`), and exact tables (at the light's own elevation: the first run, a jump, a
+// light at rest). Each table is built over `chunks` runs into its own slot and shown only once
+// complete (double buffering). A run shows:
+//   * a complete exact table at e, alone;
+//   * else, with e between grid points k and k+1 and the grid tables k-1 .. k+2 complete, the
+//     Catmull-Rom cubic through the four (uniform in the grid index; weights summing to 1);
+//   * else, with k and k+1 complete, the linear mix of the two;
+//   * else (the builder is late: the first runs of a motion, or a turn) the two complete tables
+//     nearest e, extrapolated along their trend (at most one spacing beyond either), or one alone.
+// What is built next while the light moves: the missing grid tables of the four the cubic needs,
+// nearest the light's direction of motion first, then the next one ahead; each at enough chunks
+// per run to be complete before the light needs it (at its last rate). A still light (a run whose
+// cos zenith is within Options::stillMuS of the last run's) has a table at exactly e built, so a
+// still sky converges to the exact table. When no complete table lies within 2 steps of e (the
+// first run, a jump, after reset()) one is built at exactly e at once.
 #pragma once
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -29,28 +39,36 @@ namespace welkin::generators {
 class LightKeyframes {
 public:
     struct Options {
-        double stepRad = 0.0175;  ///< grid step in elevation, rad (> 0)
+        double stepRad = 0.0175;  ///< grid step in elevation up to fineTopRad (the twilight and low Sun), rad (> 0)
+        /// Above fineTopRad the step grows by half the elevation gained, up to this (the
+        /// sky changes slowly with a high light); <= stepRad: a uniform grid. rad.
+        double coarseStepRad = 0.0;
+        double fineTopRad = 0.07;  ///< rad
         int chunks = 6;           ///< parts of one table (at least one built per run; more when the light would reach it first), >= 1
-        int slots = 4;            ///< tables kept, >= 3
+        int slots = 64;           ///< tables kept at most (the memory cap), >= 6
         /// A change of cos zenith up to this since the last run counts as a still light (the
         /// generator's input tolerance: it already accepts that much staleness), >= 0.
         double stillMuS = 0.0;
     };
     struct Plan {
-        int a = -1, b = -1;  ///< slots shown: mix(a, b, t); b < 0: a alone
-        double t = 0.0;
-        int build = -1;      ///< slot to build into this run (-1: none)
+        /// Slots shown: sum of weight[i] x table slot[i], i < count (count in [1, 4], weights sum to 1).
+        std::array<int, 4> slot{-1, -1, -1, -1};
+        std::array<double, 4> weight{0, 0, 0, 0};
+        int count = 0;
+        int build = -1;      ///< slot to build into this run (-1: none); may be a new one (== slotCount() - 1)
         double buildMuS = 0.0;
         int chunkBegin = 0, chunkEnd = 0;  ///< chunks of the table to build now, [begin, end) of Options::chunks
         bool exact = false;  ///< what is shown is a table at exactly this run's elevation
+        bool cubic = false;  ///< shown through the Catmull-Rom cubic of four grid tables
     };
 
     LightKeyframes();
     explicit LightKeyframes(Options o);
     const Options& options() const { return o_; }
-    /// Changes the options (a different step or chunk count empties every slot).
+    /// Changes the options (a different step, chunk or slot count empties every slot).
     void setOptions(Options o);
-    /// Forgets every table (the observer's height, the atmosphere or the quality changed).
+    /// Forgets every table (the observer's height, the atmosphere or the quality changed). The
+    /// slots stay allocated (their textures are reused).
     void reset();
     /// Plans one run at the light's cos zenith `muS` in [-1, 1]. The chunks it returns count as
     /// built: build them in this run before showing.
@@ -59,18 +77,35 @@ public:
     bool pending() const { return pending_; }
     /// Cos zenith of slot i's table, and whether it is complete.
     double slotMuS(int i) const;
-    bool complete(int i) const { return slots_.at(size_t(i)).done == o_.chunks; }
+    bool complete(int i) const { return slots_.at(std::size_t(i)).done == o_.chunks; }
+    /// Slots in use so far (grows up to Options::slots; the generators allocate textures to match).
     int slotCount() const { return int(slots_.size()); }
+    /// Complete grid tables held.
+    int gridTables() const;
+
+    /// Catmull-Rom weights of p0..p3 at t in [0, 1] between p1 and p2 (uniform knots).
+    static std::array<double, 4> catmullRom(double t);
+    /// The grid's elevations (ascending, from -pi/2 to pi/2), rad.
+    const std::vector<double>& grid() const { return nodes_; }
+    /// The grid of these options (Options::stepRad, coarseStepRad, fineTopRad).
+    static std::vector<double> makeGrid(const Options& o);
 
 private:
+    static constexpr int kNoGrid = INT32_MIN;
     struct Slot {
-        double e = 0.0;      // elevation, rad
-        int done = -1;       // chunks built; -1 empty
-        uint64_t used = 0;   // last run that showed or built it
+        double e = 0.0;       // elevation, rad
+        int grid = kNoGrid;   // grid index k (e = k step) or kNoGrid for an exact table
+        int done = -1;        // chunks built; -1 empty
+        uint64_t used = 0;    // last run that showed or built it
     };
     int find(double e, double tol, bool completeOnly) const;
-    int victim(int keepA, int keepB) const;
+    int findGrid(int k, bool completeOnly) const;
+    int victim(const std::array<int, 4>& keep, bool exactTable);
+    void show(Plan& p, double e, double eTol) const;
+    int locate(double e) const;  // k with nodes_[k] <= e < nodes_[k + 1] (clamped)
+    double spacing(int k) const;  // nodes_[k + 1] - nodes_[k] (clamped)
     Options o_;
+    std::vector<double> nodes_;
     std::vector<Slot> slots_;
     int building_ = -1;
     bool pending_ = false;

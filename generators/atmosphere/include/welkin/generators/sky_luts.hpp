@@ -19,8 +19,9 @@
 // The Sun- and Moon-dependent tables depend on the light's elevation only (cos zenith, change
 // tolerance kCosZenithTolerance; the azimuth from the light is applied per pixel). While the
 // light moves they are built as keyframes at elevations on a grid (SkyQuality::keyframeStepRad),
-// each over several frames into its own texture set, and the shown tables are blended from two
-// complete keyframes each run (LightKeyframes, light_keyframes.hpp): a generator with work left
+// each over several frames into its own texture set and kept (a cache over the elevations the
+// light visits), and the shown tables are blended from up to four complete keyframes each run
+// (Catmull-Rom in elevation, LightKeyframes, light_keyframes.hpp): a generator with work left
 // asks to run again (Generator::runAgain()).
 // A generator that rewrites a texture in place republishes its key (SkyVars::publish), which
 // bumps the key's version: its readers (which name the texture key as an input) run again.
@@ -43,6 +44,8 @@
 #include <welkin/generators/sky_spectral.hpp>
 #include <welkin/gl/objects.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -98,6 +101,16 @@ inline const Key<bool> moonLit{"sky.moon_lit", "the Moon lights the sky (illumin
 /// elevation at the horizon (where a degree changes the twilight sky by up to ~x2, so at most
 /// ~0.1 % of staleness; the Sun's disk is 0.53 deg wide) and less higher up.
 inline constexpr double kCosZenithTolerance = 2e-5;
+
+/// Keyframe tables kept at most per light-dependent generator (LightKeyframes::Options::slots)
+/// for a quality's grid (SkyQuality::keyframeStepRad, keyframeCoarseStepRad): its grid points
+/// from -20 deg to +90 deg of elevation (deeper, the Sun's sky is below the night sky's airglow)
+/// plus 6 (exact tables, margin); beyond, the least recently used are rebuilt when needed again.
+inline int keyframeSlots(const SkyQuality& q) {
+    int n = 6;
+    for (double e : LightKeyframes::makeGrid({.stepRad = q.keyframeStepRad, .coarseStepRad = q.keyframeCoarseStepRad})) n += e >= -0.3491;
+    return n;
+}
 
 /// Publishes the lights' cos zenith (skykeys::sunCosZenith, moonCosZenith) and whether the Moon
 /// gives light (moonLit) from their directions and illuminance; CPU, microseconds. Shared.
@@ -156,6 +169,10 @@ protected:
     void combine(const gl::Texture& src, const gl::Texture& dst, int k);
     void fullscreen() const;
     SkyModel model_;
+    /// The atmosphere model_ was derived from (immutable, held so its address stays unique): the
+    /// RGB conversion (through the CIE observer) runs only when it changes, not every run.
+    std::shared_ptr<const atmosphere::Atmosphere> modelFor_;
+    bool modelDefault_ = false;
     SkyQuality q_;
     std::optional<SkyQuality> fixed_;
     std::shared_ptr<const SpectralSampling> spectral_;
@@ -258,16 +275,17 @@ public:
 private:
     void doRun(SkyVars& vars, const Logger& log) override;
     Light light_;
-    /// Shown tables (written by the blend pass); each keyframe slot: smooth, Mie (and total,
-    /// unused) with its framebuffer.
+    /// Shown tables (written by the blend pass); each keyframe slot: smooth and Mie with its
+    /// framebuffer.
     gl::Texture2D smooth_, mie_, total_;
     struct Slot {
-        gl::Texture2D smooth, mie, total;
+        gl::Texture2D smooth, mie;
         gl::Framebuffer fbo;
     };
     std::vector<Slot> slots_;
     gl::Framebuffer showFbo_;
     gl::Program blendProg_;
+    gl::Program toLogProg_;  // a complete keyframe to log radiance (light_blend.glsl)
     LightKeyframes keyframes_;
     LightKeyframes::Plan plan_;
     std::vector<uint64_t> validFor_;  // input versions the keyframes were built with
@@ -298,8 +316,9 @@ public:
 private:
     void doRun(SkyVars& vars, const Logger& log) override;
     gl::Texture3D inscatter_, transmittance_;  // shown (blend pass)
-    std::vector<std::pair<gl::Texture3D, gl::Texture3D>> slots_;  // keyframes: inscatter, transmittance
+    std::vector<gl::Texture3D> slots_;  // keyframes: log in-scattering (the transmittance is the shown one's)
     gl::Program blendProg_;
+    gl::Program toLogProg_;
     LightKeyframes keyframes_;
     LightKeyframes::Plan plan_;
     std::vector<uint64_t> validFor_;

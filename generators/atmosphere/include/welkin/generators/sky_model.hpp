@@ -122,9 +122,11 @@ struct SkyQuality {
     bool perPixel = false;                          ///< ray-march every pixel (reference)
     int irradianceAzimuth = 32, irradianceZenith = 16;  ///< hemisphere quadrature
     /// While the light moves, the Sun- (Moon-) dependent tables are built at elevations on a grid
-    /// of this step, each over `keyframeChunks` frames, and the tables in between interpolated
-    /// (light_keyframes.hpp; measured in docs/sky.md). rad.
+    /// (this step up to 4 deg of elevation, growing above to keyframeCoarseStepRad), each over
+    /// `keyframeChunks` frames and kept, and the tables in between interpolated (Catmull-Rom in
+    /// log radiance; light_keyframes.hpp; measured in docs/sky.md). rad.
     double keyframeStepRad = 0.0175;
+    double keyframeCoarseStepRad = 0.0524;  ///< rad (3 deg)
     int keyframeChunks = 8;
     /// 0 low, 1 medium, 2 high, 3 reference. Throws welkin::Error outside [0, 3].
     static SkyQuality preset(int quality);
