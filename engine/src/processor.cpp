@@ -323,9 +323,11 @@ void SkyProcessor::composite(unsigned framebuffer, bool depthTest, bool clearedT
     // behind it; over a host's framebuffer there may be anything.
     ctx.nothingBehind = clearedToBlack;
     ctx.depth = depth;
-    for (auto& e : elements_) {
+    for (size_t i = 0; i < elements_.size(); ++i) {
+        ctx.attenuatedLater = false;
+        for (size_t j = i + 1; j < elements_.size(); ++j) ctx.attenuatedLater = ctx.attenuatedLater || elements_[j]->attenuatesBehind();
         apply();
-        e->render(ctx);
+        elements_[i]->render(ctx);
         ctx.nothingBehind = false;
     }
     glDisable(GL_BLEND);

@@ -362,3 +362,29 @@ TEST_CASE("docs/keys.md is the current output of welkin vars --markdown", "[gl][
     REQUIRE(table != std::string::npos);
     CHECK(doc.substr(table) == r.output);
 }
+
+TEST_CASE("FrameContext::attenuatedLater follows the compositing order", "[gl][processor]") {
+    // An element learns whether one composited after it attenuates what is behind it (the Sky):
+    // stars drawn before the Sky leave extinction to it, stars drawn after it do not.
+    struct Probe final : SkyElement {
+        explicit Probe(std::string n, bool attenuates) : SkyElement(std::move(n)) { setAttenuatesBehind(attenuates); }
+        bool seen = false;
+        void doInit(InitContext&) override {}
+        void doRender(const FrameContext& ctx) override { seen = ctx.attenuatedLater; }
+        void doRelease() override {}
+    };
+    test::glContext();
+    SkyProcessor p = cpuProcessor();
+    Camera cam;
+    cam.width = cam.height = 2;
+    p.setCamera(cam);
+    auto& a = static_cast<Probe&>(p.add(std::make_unique<Probe>("behind", false)));
+    auto& sky = static_cast<Probe&>(p.add(std::make_unique<Probe>("air", true)));
+    auto& c = static_cast<Probe&>(p.add(std::make_unique<Probe>("front", false)));
+    p.renderFrame();
+    CHECK(a.seen);
+    CHECK_FALSE(sky.seen);
+    CHECK_FALSE(c.seen);
+    CHECK(elements::makeElement("sky")->attenuatesBehind());
+    CHECK_FALSE(elements::makeElement("grid")->attenuatesBehind());
+}

@@ -65,6 +65,10 @@ struct FrameContext {
     /// processor's own target, cleared to black. Its transmittance output then multiplies black,
     /// so an element may skip computing it (the Sky does: one texture fetch less per pixel).
     bool nothingBehind = false;
+    /// True when an element composited after this one attenuates what is behind it (declared
+    /// with SkyElement::attenuatesBehind(), e.g. the Sky): light drawn now will be reddened and
+    /// dimmed by it, so this element must not apply the atmosphere's extinction itself.
+    bool attenuatedLater = false;
     /// The host's depth buffer during render() when the host passed one to renderInto()
     /// (RenderTarget::depth); nullptr otherwise (always in update(), and in renderFrame(), which
     /// draws into the processor's own target). An element may sample it (it is a depth texture:
@@ -173,6 +177,10 @@ public:
     /// Frees GL resources; the element can be initialised again.
     void release();
 
+    /// True if the element's transmittance output attenuates what is behind it by the
+    /// atmosphere's extinction (the Sky): elements before it then leave extinction to it
+    /// (FrameContext::attenuatedLater).
+    bool attenuatesBehind() const { return attenuatesBehind_; }
     const std::vector<KeyInfo>& readKeys() const { return reads_; }
     const std::vector<KeyInfo>& writeKeys() const { return writes_; }
     /// The element's options: keys it declares with defaults (settable by the host, by
@@ -207,6 +215,9 @@ protected:
     void reads(const Key<T>& key) { reads_.push_back(key.info()); }
     template <class T>
     void writes(const Key<T>& key) { writes_.push_back(key.info()); }
+    /// Declares (in the constructor) that the element attenuates what is behind it by the
+    /// atmosphere's extinction; see FrameContext::attenuatedLater.
+    void setAttenuatesBehind(bool on) { attenuatesBehind_ = on; }
     /// Declares an option: a key with a default, read by the element (also counts as reads()).
     /// Call in the constructor; read the value in doUpdate()/doRender() with ctx.vars.get(key).
     /// `force`: the value is set even if the key already has one (a constructor given explicit
@@ -238,6 +249,7 @@ private:
     std::vector<KeyInfo> reads_, writes_, optionKeys_;
     std::vector<std::function<void(SkyVars&)>> optionDeclarers_;
     const SkyVars* optionsDeclaredIn_ = nullptr;
+    bool attenuatesBehind_ = false;
     std::vector<std::shared_ptr<Generator>> generators_;
     bool initialized_ = false;
     bool timingEnabled_ = false;

@@ -43,6 +43,7 @@ Sky::Sky(const SkyOptions& options, bool force) : SkyElement("sky"), options_(op
     option(skykeys::quality, options_.quality, force);
     option(skykeys::moonLight, options_.moon, force);
     option(skykeys::wavelengths, options_.wavelengths, force);
+    setAttenuatesBehind(true);  // its transmittance output: stars and planets drawn before it
     reads(keys::sunDirection);
     reads(keys::moonDirection);
     reads(keys::observerHeight);

@@ -178,8 +178,12 @@ void Stars::doRender(const FrameContext& ctx) {
         loadedPath_ = v.get(starkeys::catalogue);
         upload(loadCatalogue(loadedPath_));
     }
-    // Limiting magnitude from the sky background; only the brighter prefix is drawn.
+    // Limiting magnitude from the sky background (the Sky's zenith luminance when a Sky runs);
+    // only the brighter prefix is drawn.
     const bool sky = v.has(generators::skykeys::zenithLuminance);
+    // Extinction: left to an element composited after the stars that attenuates them (the Sky),
+    // else applied here (FrameContext::attenuatedLater, set by the processor from the order).
+    const bool attenuatedLater = ctx.attenuatedLater;
     limit_ = v.get(starkeys::magnitudeLimit);
     if (v.get(starkeys::adaptiveLimit)) {
         const double B = (sky ? v.get(generators::skykeys::zenithLuminance) : 0.0) + v.get(starkeys::backgroundFloor);
@@ -211,8 +215,8 @@ void Stars::doRender(const FrameContext& ctx) {
     for (int i = 0; i < kTableN; ++i) refr[i] = float(astro::refraction(tableAltitude(i), P, Tc));
     glProgramUniform1fv(p.id(), p.location("u_refr"), kTableN, refr);
     // Without a Sky composited over the stars, the atmosphere's extinction is applied here.
-    p.set("u_extinction", sky ? 0 : 1);
-    if (!sky) {
+    p.set("u_extinction", attenuatedLater ? 0 : 1);
+    if (!attenuatedLater) {
         updateExtinction(v);
         glProgramUniform3fv(p.id(), p.location("u_ext"), kTableN, extinction_.data());
     }

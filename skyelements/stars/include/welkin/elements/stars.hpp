@@ -15,8 +15,8 @@
 //    the epoch for proper motion (astro::starEnu is the CPU twin), then refraction from a table of
 //    astro::refraction() at the astronomy's pressure and temperature.
 //  - Brightness: illuminance E = 2.54e-6 lx x 10^(-0.4 V) above the air
-//    (astro::magnitude::illuminanceLux). With a Sky composited over the stars (sky.zenith_luminance
-//    is published) the Sky's per-pixel transmittance attenuates them, once; without one, the
+//    (astro::magnitude::illuminanceLux). With an element composited after the stars that attenuates
+//    what is behind it (the Sky; FrameContext::attenuatedLater) it attenuates them, once; without one, the
 //    element applies the atmosphere's transmittance towards each star itself (a table of
 //    altitude, RGB, from the CPU transmittance of the shared atmosphere model; 0 below the ground).
 //  - Colour: B-V -> effective temperature (Ballesteros 2012, EPL 97, 34008) -> Planck spectrum ->
