@@ -1,6 +1,8 @@
 // Projections on the CPU: the documented conventions, written out independently of camera.cpp.
 #include <catch2/catch.hpp>
 
+#include "camera_cases.hpp"
+
 #include <welkin/camera.hpp>
 #include <welkin/error.hpp>
 
@@ -122,25 +124,7 @@ std::vector<Camera> allCameras() {
     persp(60, -100, 90, 48, 64);
     persp(179, 300, 5, 64, 48);
     persp(179, 45, -90, 40, 40);
-    for (auto [w, h] : {std::pair{48, 48}, std::pair{64, 40}}) {
-        Camera c;
-        c.projection = Projection::Fisheye;
-        c.width = w;
-        c.height = h;
-        out.push_back(c);
-    }
-    Camera e;
-    e.projection = Projection::Equirect;
-    e.width = 72;
-    e.height = 36;
-    out.push_back(e);
-    for (int f = 0; f < 6; ++f) {
-        Camera c;
-        c.projection = Projection::CubeFace;
-        c.cubeFace = f;
-        c.width = c.height = 32;
-        out.push_back(c);
-    }
+    test::appendNonPerspectiveCameras(out);
     return out;
 }
 

@@ -2,6 +2,8 @@
 // the fragment side (welkin_viewDirection) and the C++ twins, and the bindings table.
 #include <catch2/catch.hpp>
 
+#include "camera_cases.hpp"
+
 #include "gl_test_context.hpp"
 
 #include <welkin/camera.hpp>
@@ -157,25 +159,7 @@ std::vector<Camera> cameras() {
     persp(60, 10, -20);
     persp(60, 135, 90);
     persp(179, 300, 5);
-    for (auto [w, h] : {std::pair{48, 48}, std::pair{64, 40}}) {
-        Camera c;
-        c.projection = Projection::Fisheye;
-        c.width = w;
-        c.height = h;
-        out.push_back(c);
-    }
-    Camera e;
-    e.projection = Projection::Equirect;
-    e.width = 72;
-    e.height = 36;
-    out.push_back(e);
-    for (int f = 0; f < 6; ++f) {
-        Camera c;
-        c.projection = Projection::CubeFace;
-        c.cubeFace = f;
-        c.width = c.height = 32;
-        out.push_back(c);
-    }
+    test::appendNonPerspectiveCameras(out);
     return out;
 }
 }  // namespace

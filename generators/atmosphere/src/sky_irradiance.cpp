@@ -17,6 +17,7 @@ SkyIrradiance::SkyIrradiance() : SkyGenerator("sky.irradiance") {
     input(skykeys::moonViewLut);
     input(lightkeys::sunIlluminance);
     input(lightkeys::moonIlluminance);
+    input(skykeys::moonLit, {.optional = true});
     input(skykeys::sunCosZenith, {.tolerance = kCosZenithTolerance});
     input(skykeys::moonCosZenith, {.tolerance = kCosZenithTolerance});
     input(keys::observerHeight);
@@ -47,7 +48,7 @@ void SkyIrradiance::doRun(SkyVars& vars, const Logger&) {
     // Only the elevations matter (the quadrature runs over the azimuth from each light).
     auto dirOf = [](double mu) { return glm::vec3(float(std::sqrt(std::max(1.0 - mu * mu, 0.0))), 0.0f, float(mu)); };
     glm::dvec3 sunE = vars.getOr(lightkeys::sunIlluminance, model_.solarIlluminance);
-    glm::dvec3 moonE = vars.getOr(lightkeys::moonIlluminance, glm::dvec3(0.0));
+    glm::dvec3 moonE = vars.getOr(skykeys::moonLit, true) ? vars.getOr(lightkeys::moonIlluminance, glm::dvec3(0.0)) : glm::dvec3(0.0);
     // The GPU pass gives values per lux of each light; it runs again only when a table, an
     // elevation or the height changed, not when only the lights' illuminances did.
     std::vector<uint64_t> gv;

@@ -168,6 +168,7 @@ LightZenith::LightZenith() : Generator("sky.light_zenith") {
     input(keys::sunDirection);
     input(keys::moonDirection);
     input(lightkeys::moonIlluminance);
+    input(skykeys::moonLight, {.optional = true});  // the Sky's option: false = Sun only
     output(skykeys::sunCosZenith);
     output(skykeys::moonCosZenith);
     output(skykeys::moonLit);
@@ -184,7 +185,9 @@ void LightZenith::doRun(SkyVars& vars, const Logger&) {
     };
     vars.set(skykeys::sunCosZenith, cosZenith(vars.get(keys::sunDirection), 1.0));
     vars.set(skykeys::moonCosZenith, cosZenith(vars.get(keys::moonDirection), -1.0));
-    vars.set(skykeys::moonLit, glm::length(vars.get(lightkeys::moonIlluminance)) > 0.0);
+    // The Moon lights the sky only while it gives light and the Sky's sky.moon option is on
+    // (off: its sky-view table is not built, its light is left out of the irradiance).
+    vars.set(skykeys::moonLit, vars.getOr(skykeys::moonLight, true) && glm::length(vars.get(lightkeys::moonIlluminance)) > 0.0);
 }
 
 glm::dvec3 cpuDiffuseIrradiance(const SkyModel& m, const SkyQuality& q, double h, double muS,

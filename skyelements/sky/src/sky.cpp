@@ -72,7 +72,6 @@ void Sky::doInit(InitContext& ctx) {
     declareOptions(v);
     options_ = optionsFrom(v);
     auto lights = generators::AtmosphereLights::obtain(v);
-    lights->declareKeys(v);
     luts_ = SkyLuts::obtain(v);
     addGenerator(lights);
     addGenerator(luts_.lightZenith);
