@@ -230,6 +230,14 @@ int runAnimate(const SkyBenchOptions& o, const std::vector<int>& presets) {
         sm.samples = ns;
         sums.push_back(sm);
         int builds = luts.sunView->runCount();
+        if (o.breakdown) {  // where the generators' time went over the whole run (glFinish around each)
+            std::printf("preset %d generators over %d frames:", preset, o.frames);
+            for (Generator* g : std::initializer_list<Generator*>{luts.transmittance.get(), luts.multiScattering.get(), luts.sh.get(),
+                                                                  luts.sunView.get(), luts.moonView.get(), luts.aerial.get(),
+                                                                  luts.irradiance.get(), luts.lightZenith.get()})
+                if (g) std::printf(" %s %.1f ms/frame (%d runs)", g->name().c_str(), g->timing().totalMs / o.frames, g->runCount());
+            std::printf("\n");
+        }
         std::printf("preset %d: %d frames, %g s per frame: frame %.1f ms mean, %.1f ms p95 (static %.1f ms): x%.2f mean, x%.2f p95; "
                     "sky-view runs %d; error RMS %.2f%% animated, %.2f%% static (Sun >= -10 deg, %d samples), worst sample difference %.2f points\n",
                     preset, o.frames, o.stepS, sm.meanAnim, sm.p95Anim, sm.meanStatic, sm.meanAnim / sm.meanStatic, sm.p95Anim / sm.meanStatic,
