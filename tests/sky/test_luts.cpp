@@ -34,7 +34,11 @@ double relErr(const glm::dvec3& gpu, const glm::dvec3& cpu, double floor) {
 }
 
 struct Rig {
-    SkyVars vars = SkyVars::earth();
+    SkyVars vars = [] {
+        SkyVars v = SkyVars::earth();
+        v.set(generators::skykeys::aerialVolume, true);  // these tests look at the aerial volume too
+        return v;
+    }();
     SkyLuts luts;
     SkyQuality q = SkyQuality::tiny();
     SkyModel m;

@@ -75,7 +75,8 @@ struct SkyRig {
     SkyVars vars = SkyVars::earth();
     elements::OfflineRenderer r{vars, test::testLogger()};
     elements::Sky sky;
-    explicit SkyRig(int quality = 1, bool moon = true) : sky(elements::SkyOptions{.quality = quality, .moon = moon}) {
+    explicit SkyRig(int quality = 1, bool moon = true, bool aerial = false)
+        : sky(elements::SkyOptions{.quality = quality, .moon = moon, .aerialPerspective = aerial}) {
         test::glContext();
         vars.set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(atmosphere::Atmosphere::earthClear()));
         vars.set(keys::moonDirection, glm::dvec3(0, 0, -1));
@@ -280,7 +281,12 @@ TEST_CASE("Sky: aerial perspective over a host's depth buffer", "[gl][sky]") {
     // A host frame of 1000 cd/m^2 everywhere; its depth buffer empty (far plane) on the left half
     // and at 20 km along each pixel's ray on the right half. After apply(): left unchanged, right
     // = 1000 T + L with T and L from the CPU march of the same 20 km segment.
-    SkyRig rig(1, false);
+    {  // Without sky.aerial_volume the volume is not built, and apply() says how to ask for it.
+        SkyRig plain(1, false);
+        plain.render(20.0, 200.0);
+        CHECK_FALSE(plain.vars.has(generators::skykeys::aerialInscatter));
+    }
+    SkyRig rig(1, false, true);
     rig.render(20.0, 200.0);  // runs the generators (aerial volume)
     Camera cam;
     cam.projection = Projection::Perspective;

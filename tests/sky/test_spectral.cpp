@@ -109,7 +109,11 @@ TEST_CASE("Sky spectral: wavelength counts and conversion weights", "[cpu][sky]"
 
 namespace {
 struct SpectralRig {
-    SkyVars vars = SkyVars::earth();
+    SkyVars vars = [] {
+        SkyVars v = SkyVars::earth();
+        v.set(generators::skykeys::aerialVolume, true);  // these tests look at the aerial volume too
+        return v;
+    }();
     SkyLuts luts;
     SkyQuality q = SkyQuality::tiny();
     explicit SpectralRig(int wavelengths, double sunAltDeg, double h) {
@@ -245,7 +249,11 @@ TEST_CASE("Sky spectral: GPU passes match their CPU double twins per triple and 
 
 namespace {
 struct ElementRig {
-    SkyVars vars = SkyVars::earth();
+    SkyVars vars = [] {
+        SkyVars v = SkyVars::earth();
+        v.set(generators::skykeys::aerialVolume, true);  // these tests look at the aerial volume too
+        return v;
+    }();
     elements::OfflineRenderer r{vars, test::testLogger()};
     elements::Sky sky;
     ElementRig(int quality, int wavelengths) : sky(elements::SkyOptions{.quality = quality, .moon = false, .wavelengths = wavelengths}) {
@@ -400,7 +408,11 @@ TEST_CASE("Sky spectral: finite, non-negative outputs over extreme configuration
     // at the zenith, on the horizon and at -18 deg. (Before the out-of-gamut clamp, the bench hit
     // a negative blue Sun transmittance with the Sun on the horizon and 6 wavelengths.)
     test::glContext();
-    SkyVars vars = SkyVars::earth();
+    SkyVars vars = [] {
+        SkyVars v = SkyVars::earth();
+        v.set(generators::skykeys::aerialVolume, true);  // these tests look at the aerial volume too
+        return v;
+    }();
     elements::OfflineRenderer proc(vars, test::testLogger());
     elements::Sky sky(elements::SkyOptions{.quality = 0, .moon = false, .wavelengths = 6});
     Camera cam;

@@ -68,6 +68,7 @@ TEST_CASE("Sky stability: finite, non-negative outputs over extreme configuratio
         if (l == LogLevel::Warning) warnings.emplace_back(m);
     });
     SkyVars vars = SkyVars::earth();
+    vars.set(generators::skykeys::aerialVolume, true);  // these tests look at the aerial volume too
     elements::OfflineRenderer proc(vars, log);
     SkyLuts luts = SkyLuts::obtain(vars);
     for (SkyGenerator* g : {(SkyGenerator*)luts.transmittance.get(), (SkyGenerator*)luts.multiScattering.get(),
@@ -127,6 +128,7 @@ TEST_CASE("Sky stability: no band at the horizon, day and twilight", "[gl][sky]"
     // (no sky-view LUT). A band would show as rows departing from the march.
     test::glContext();
     SkyVars vars = SkyVars::earth();
+    vars.set(generators::skykeys::aerialVolume, true);  // these tests look at the aerial volume too
     vars.set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(atmosphere::Atmosphere::earthClear()));
     elements::OfflineRenderer proc(vars, test::testLogger());
     elements::Sky sky(elements::SkyOptions{.quality = 1, .moon = false});

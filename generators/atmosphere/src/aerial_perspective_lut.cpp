@@ -19,6 +19,7 @@ AerialPerspectiveLut::AerialPerspectiveLut() : SkyGenerator("sky.aerial_perspect
     input(skykeys::shLuts);
     input(keys::observerHeight);
     input(skykeys::sunCosZenith, {.tolerance = kCosZenithTolerance});  // the volume's azimuth is from the Sun
+    input(skykeys::aerialVolume, {.optional = true});  // the Sky's option: nothing is built while false
     output(skykeys::aerialInscatter);
     output(skykeys::aerialTransmittance);
 }
@@ -33,10 +34,13 @@ void AerialPerspectiveLut::releaseGl() {
     blendProg_ = {};
     toLogProg_ = {};
     keyframes_.reset();
+    shownOnce_ = false;
     releaseCommon();
 }
 
 void AerialPerspectiveLut::doRun(SkyVars& vars, const Logger&) {
+    // Pay only for what is used: no volume unless asked for (a host's geometry to fog).
+    if (!vars.getOr(skykeys::aerialVolume, false)) return;
     prepare(vars);
     const int n = q_.aerialSize;
     auto make = [n](gl::Texture3D& t) {
@@ -49,7 +53,8 @@ void AerialPerspectiveLut::doRun(SkyVars& vars, const Logger&) {
     // the view rays does not depend on the light, and every build writes it into the shown one
     // (the same values whatever the elevation; after a reset the first build is whole).
     LightKeyframes::Options ko{.stepRad = q_.keyframeStepRad, .coarseStepRad = q_.keyframeCoarseStepRad, .chunks = spectral_ ? 1 : std::max(1, q_.keyframeChunks),
-                               .slots = keyframeSlots(q_), .stillMuS = kCosZenithTolerance};
+                               .slots = keyframeSlots(q_), .stillMuS = kCosZenithTolerance, .stillRuns = kKeyframeStillRuns,
+                               .prefill = q_.keyframePrefill};
     keyframes_.setOptions(ko);
     const bool resized = !inscatter_ || inscatter_.width() != n;
     if (resized) {
@@ -94,21 +99,22 @@ void AerialPerspectiveLut::doRun(SkyVars& vars, const Logger&) {
         transmittanceK_ = gl::Texture3D(n, n, n, GL_RGBA32F);
     }
     plan_ = keyframes_.plan(muS);
-    while (int(slots_.size()) < keyframes_.slotCount()) {
-        make(slots_.emplace_back());
-        slots_.back().setFilter(GL_NEAREST);
-    }
-    if (plan_.build >= 0) {
+    auto allocateSlots = [&] {
+        while (int(slots_.size()) < keyframes_.slotCount()) {
+            make(slots_.emplace_back());
+            slots_.back().setFilter(GL_NEAREST);
+        }
+    };
+    // Work groups [g0, g1) of the (n/8)^2 that make slot `s`'s table at cos zenith `muS`;
+    // `complete`: the table is whole now, converted in place to log radiance for the blend.
+    auto buildGroups = [&](int s, double buildMuS, int g0, int g1, bool complete) {
         const skykeys::TextureList T = vars.get(skykeys::transmittanceLuts), MS = vars.get(skykeys::multiScatteringLuts),
                                    SH = vars.get(skykeys::shLuts);
         const int K = triples();
         if (int(T->size()) != K || int(MS->size()) != K || int(SH->size()) != K)
             throw Error("AerialPerspectiveLut: input LUTs for " + std::to_string(T->size()) + " triples, expected " + std::to_string(K));
-        auto& sl = slots_[size_t(plan_.build)];
-        // This run's work groups of the (n/8)^2 that make the table: chunk c of m covers groups
-        // [c G / m, (c + 1) G / m).
-        const int gx = (n + 7) / 8, G = gx * gx, m = ko.chunks;
-        const int g0 = plan_.chunkBegin * G / m, g1 = plan_.chunkEnd * G / m;
+        auto& sl = slots_[size_t(s)];
+        const int gx = (n + 7) / 8;
         for (int k = 0; k < K && g1 > g0; ++k) {
             // Spectral mode: the triple's volumes go to the scratch pair, then are added to the
             // slot's pair through its matrix (transmittance too: the solar-weighted transmittance).
@@ -122,7 +128,7 @@ void AerialPerspectiveLut::doRun(SkyVars& vars, const Logger&) {
             glBindImageTexture(gl::binding::kSecondLutImage, tr.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
             prog_.use();
             prog_.set("u_h", float(h));
-            prog_.set("u_muS", float(plan_.buildMuS));
+            prog_.set("u_muS", float(buildMuS));
             prog_.set("u_size", n);
             prog_.set("u_substeps", q_.aerialSteps);
             prog_.set("u_maxDistance", float(q_.aerialMaxDistance));
@@ -137,22 +143,39 @@ void AerialPerspectiveLut::doRun(SkyVars& vars, const Logger&) {
                 combine(transmittanceK_, transmittance_, k);
             }
         }
+        if (complete) {
+            if (!toLogProg_)
+                toLogProg_ = gl::ProgramBuilder("AerialPerspectiveLut keyframe to log")
+                                 .define("KEYFRAME_TO_LOG")
+                                 .define("KEYFRAME_3D")
+                                 .compute("generators/light_blend.glsl", embedded::atmosphere_shaders("light_blend.glsl"))
+                                 .build();
+            glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+            toLogProg_.use();
+            glUniform3i(glGetUniformLocation(toLogProg_.id(), "u_size"), n, n, n);
+            glBindImageTexture(gl::binding::kLutImage, sl.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA32F);
+            glDispatchCompute(GLuint((n + 7) / 8), GLuint((n + 7) / 8), GLuint(n));
+            glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        }
+    };
+    allocateSlots();
+    const int G = ((n + 7) / 8) * ((n + 7) / 8);
+    if (plan_.build >= 0) {
+        // This run's work groups: chunk c of m covers groups [c G / m, (c + 1) G / m).
+        const int m = ko.chunks;
+        buildGroups(plan_.build, plan_.buildMuS, plan_.chunkBegin * G / m, plan_.chunkEnd * G / m, plan_.chunkEnd == m);
     }
-    if (plan_.build >= 0 && plan_.chunkEnd == ko.chunks) {
-        // Complete: to log radiance, in place, for the blend.
-        if (!toLogProg_)
-            toLogProg_ = gl::ProgramBuilder("AerialPerspectiveLut keyframe to log")
-                             .define("KEYFRAME_TO_LOG")
-                             .define("KEYFRAME_3D")
-                             .compute("generators/light_blend.glsl", embedded::atmosphere_shaders("light_blend.glsl"))
-                             .build();
-        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-        toLogProg_.use();
-        glUniform3i(glGetUniformLocation(toLogProg_.id(), "u_size"), n, n, n);
-        glBindImageTexture(gl::binding::kLutImage, slots_[size_t(plan_.build)].id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA32F);
-        glDispatchCompute(GLuint((n + 7) / 8), GLuint((n + 7) / 8), GLuint(n));
-        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    // Prefill (SkyQuality::keyframePrefill): the grid tables queued when the light first moved.
+    for (LightKeyframes::Prefill pf = keyframes_.nextPrefill(); pf.slot >= 0; pf = keyframes_.nextPrefill()) {
+        allocateSlots();
+        buildGroups(pf.slot, pf.muS, 0, G, true);
     }
+    // Unchanged since the last mix (a run that only counts the light's rest): kept as it is.
+    if (plan_.unchanged && shownOnce_) {
+        if (keyframes_.pending()) runAgain();
+        return;
+    }
+    shownOnce_ = true;
     // The shown volume from complete slots only (unused inputs repeat the first, weight 0).
     const int units[4] = {gl::binding::kBlendA, gl::binding::kBlendAerialB, gl::binding::kBlendAerialC, gl::binding::kBlendAerialD};
     glm::vec4 w(0.0f);

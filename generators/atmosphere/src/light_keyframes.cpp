@@ -13,10 +13,11 @@ LightKeyframes::LightKeyframes() : LightKeyframes(Options{}) {}
 LightKeyframes::LightKeyframes(Options o) { setOptions(o); }
 
 void LightKeyframes::setOptions(Options o) {
-    if (!(o.stepRad > 0.0) || o.chunks < 1 || o.slots < 6 || !(o.stillMuS >= 0.0)) {
-        char buf[160];
-        std::snprintf(buf, sizeof buf, "LightKeyframes: step %g rad, %d chunks, %d slots, still %g: need step > 0, chunks >= 1, slots >= 6, still >= 0",
-                      o.stepRad, o.chunks, o.slots, o.stillMuS);
+    if (!(o.stepRad > 0.0) || o.chunks < 1 || o.slots < 6 || !(o.stillMuS >= 0.0) || o.stillRuns < 1) {
+        char buf[200];
+        std::snprintf(buf, sizeof buf,
+                      "LightKeyframes: step %g rad, %d chunks, %d slots, still %g, still runs %d: need step > 0, chunks >= 1, slots >= 6, still >= 0, still runs >= 1",
+                      o.stepRad, o.chunks, o.slots, o.stillMuS, o.stillRuns);
         throw Error(buf);
     }
     const bool same = o.stepRad == o_.stepRad && o.coarseStepRad == o_.coarseStepRad && o.fineTopRad == o_.fineTopRad &&
@@ -63,6 +64,24 @@ void LightKeyframes::reset() {
     pending_ = false;
     haveLast_ = false;
     dir_ = 0;
+    anchorRuns_ = 0;
+    lastPlan_ = Plan{};
+    prefilled_ = false;
+    prefillQueue_.clear();
+    runsSinceReset_ = 0;
+}
+
+LightKeyframes::Prefill LightKeyframes::nextPrefill() {
+    while (!prefillQueue_.empty()) {
+        const int k = prefillQueue_.back();
+        prefillQueue_.pop_back();
+        if (findGrid(k, false) >= 0) continue;  // built or being built meanwhile
+        const int s = victim({-1, -1, -1, -1}, false);
+        if (s < 0) return {};
+        slots_[size_t(s)] = Slot{nodes_[size_t(k)], k, o_.chunks, run_};
+        return {s, std::sin(nodes_[size_t(k)])};
+    }
+    return {};
 }
 
 double LightKeyframes::slotMuS(int i) const { return std::sin(slots_.at(size_t(i)).e); }
@@ -177,12 +196,37 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
     const double e = std::asin(muS);
     const int k = locate(e);
     const double step = spacing(k);  // the grid's local spacing
-    // Still: moved no more than the generator's own tolerance since the last run.
-    const bool still = haveLast_ && std::abs(muS - std::sin(lastE_)) <= o_.stillMuS;
-    if (haveLast_ && !still) dir_ = e > lastE_ ? 1 : -1;
-    rate_ = haveLast_ && !still ? std::abs(e - lastE_) : 0.0;
+    // Moved: more than the generator's own tolerance since the last run. At rest: within it of
+    // one elevation for stillRuns runs.
+    // A light drifting by less than that per run still leaves its anchor elevation: that gives
+    // the direction of motion too.
+    const bool moved = !haveLast_ || std::abs(muS - std::sin(lastE_)) > o_.stillMuS;
+    if (haveLast_ && moved) dir_ = e > lastE_ ? 1 : -1;
+    rate_ = haveLast_ ? std::abs(e - lastE_) : 0.0;
     lastE_ = e;
     haveLast_ = true;
+    if (anchorRuns_ > 0 && std::abs(muS - std::sin(anchorE_)) <= o_.stillMuS) {
+        ++anchorRuns_;
+    } else {
+        if (anchorRuns_ > 0 && !moved) dir_ = e > anchorE_ ? 1 : -1;
+        anchorE_ = e;
+        anchorRuns_ = 1;
+    }
+    const bool still = anchorRuns_ > o_.stillRuns;
+    // The light moves for the first time since the reset: every grid table from prefillLowRad
+    // up, nearest the light first (as many as the slots hold beside the 4 the cubic needs).
+    // (A jump of more than two grid steps, a new time, is not time running: no prefill.)
+    ++runsSinceReset_;
+    if (o_.prefill && !prefilled_ && runsSinceReset_ > 1 && anchorRuns_ == 1 && rate_ <= 2.0 * step) {
+        prefilled_ = true;
+        std::vector<int> ks;
+        for (int i = 0; i < int(nodes_.size()); ++i)
+            if (nodes_[size_t(i)] >= o_.prefillLowRad - 1e-9) ks.push_back(i);
+        std::stable_sort(ks.begin(), ks.end(), [&](int a, int b) { return std::abs(nodes_[size_t(a)] - e) > std::abs(nodes_[size_t(b)] - e); });
+        const size_t cap = size_t(std::max(0, o_.slots - 6));
+        if (ks.size() > cap) ks.erase(ks.begin(), ks.begin() + std::ptrdiff_t(ks.size() - cap));
+        prefillQueue_ = std::move(ks);  // popped from the back: nearest first
+    }
     // An elevation change up to stillMuS (in e, at the horizon where it is largest) counts as none.
     const double eTol = std::max(1e-12, std::asin(std::min(o_.stillMuS, 1.0)));
     Plan p;
@@ -204,6 +248,8 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
         p.count = 1;
         p.exact = true;
         pending_ = building_ >= 0;
+        lastPlan_ = p;
+        shownE_ = e;
         return p;
     }
 
@@ -249,7 +295,7 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
         }
         // Keeping pace: one grid table per grid spacing the light travels (with a quarter more
         // for the turns); late (its bracketing pair incomplete): the rest within 4 runs.
-        if (rate_ > 0.0 && !still) perRun = std::max(perRun, int(std::ceil(1.25 * o_.chunks * rate_ / step)));
+        if (rate_ > 0.0) perRun = std::max(perRun, int(std::ceil(1.25 * o_.chunks * rate_ / step)));
         const bool late = findGrid(k, true) < 0 || findGrid(k + 1, true) < 0;
         if (late && !still) perRun = std::max(perRun, (remaining + 3) / 4);
         perRun = std::clamp(perRun, 1, remaining);
@@ -265,7 +311,18 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
     // What to show (this run's completed build included).
     show(p, e, eTol);
     for (int i = 0; i < p.count; ++i) slots_[size_t(p.slot[size_t(i)])].used = run_;
+    // Work remains while a table is half built, or while a light not shown exactly may yet come
+    // to rest (the runs that count its stillness: cheap, Plan::unchanged).
     pending_ = building_ >= 0 || !p.exact;
+    // Unchanged: the same tables, nothing built, and the light within stillMuS of the elevation
+    // last mixed (the staleness the generator's input tolerance accepts anyway).
+    if (p.build < 0 && lastPlan_.count == p.count && std::abs(muS - std::sin(shownE_)) <= o_.stillMuS) {
+        bool same = true;
+        for (int i = 0; i < p.count; ++i) same = same && p.slot[size_t(i)] == lastPlan_.slot[size_t(i)];
+        p.unchanged = same;
+    }
+    if (!p.unchanged) shownE_ = e;
+    lastPlan_ = p;
     return p;
 }
 

@@ -69,6 +69,7 @@ SkyQuality SkyQuality::preset(int quality) {
     SkyQuality q;
     switch (quality) {
     case 0:  // low: small LUTs, few samples, fp16
+        q.keyframePrefill = true;
         q.transmittanceW = 128, q.transmittanceH = 32, q.transmittanceSteps = 24;
         q.multiScatteringMuS = 32, q.multiScatteringSize = 8, q.multiScatteringDirections = 32, q.multiScatteringSteps = 12;
         q.skyViewW = 96, q.skyViewH = 54, q.skyViewSteps = 16;
@@ -81,6 +82,7 @@ SkyQuality SkyQuality::preset(int quality) {
              // every LUT costs <= 10 frames while the error stays <= 4 % RMS (docs/sky.md)
         q.transmittanceSteps = 40, q.multiScatteringDirections = 32, q.shDirections = 64;
         q.keyframeChunks = 12;  // 9 rows of the sky view per part
+        q.keyframePrefill = true;
         break;
     case 2:  // high: larger LUTs and more samples, fp32
         q.transmittanceW = 256, q.transmittanceH = 128, q.transmittanceSteps = 128;
@@ -90,6 +92,7 @@ SkyQuality SkyQuality::preset(int quality) {
         q.raymarchSteps = 96, q.shIterations = 1, q.shIterationDirections = 128, q.shIterationSteps = 16, q.shBands = 6;
         q.irradianceAzimuth = 64, q.irradianceZenith = 32;
         q.keyframeChunks = 48;  // 4 rows of the sky view per part
+        q.keyframePrefill = true;
         break;
     case 3:  // reference: every pixel ray-marched with many steps
         q.transmittanceW = 512, q.transmittanceH = 128, q.transmittanceSteps = 256;

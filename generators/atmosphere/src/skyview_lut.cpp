@@ -46,6 +46,7 @@ void SkyViewLut::releaseGl() {
     prog_ = {};
     slots_.clear();
     showFbo_ = {};
+    shownOnce_ = false;
     blendProg_ = {};
     toLogProg_ = {};
     keyframes_.reset();
@@ -77,7 +78,8 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
     // In spectral mode a table is built whole in one run (each triple's pass is combined into it
     // over the whole texture).
     LightKeyframes::Options ko{.stepRad = q_.keyframeStepRad, .coarseStepRad = q_.keyframeCoarseStepRad, .chunks = spectral_ ? 1 : std::max(1, q_.keyframeChunks),
-                               .slots = keyframeSlots(q_), .stillMuS = kCosZenithTolerance};
+                               .slots = keyframeSlots(q_), .stillMuS = kCosZenithTolerance, .stillRuns = kKeyframeStillRuns,
+                               .prefill = q_.keyframePrefill};
     keyframes_.setOptions(ko);
     const bool resized = !smooth_ || smooth_.width() != q_.skyViewW || smooth_.height() != q_.skyViewH || smooth_.internalFormat() != fmt;
     if (resized) {
@@ -143,33 +145,35 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
         glClearNamedFramebufferfv(showFbo_.id(), GL_COLOR, 2, zero);
         keyframes_.reset();  // the next lit run starts from a table at its exact elevation
         plan_ = {};
+        shownOnce_ = false;
     } else {
-            plan_ = keyframes_.plan(muS_);
-        // Textures for the slots the schedule uses (allocated as it grows; a keyframe holds the
-        // smooth and Mie parts, the pass's third output, the total, is not kept).
-        while (int(slots_.size()) < keyframes_.slotCount()) {
-            // fp32 whatever the preset: a keyframe holds log radiance once complete.
-            Slot& sl = slots_.emplace_back();
-            for (gl::Texture2D* t : {&sl.smooth, &sl.mie}) {
-                *t = gl::Texture2D(q_.skyViewW, q_.skyViewH, GL_RGBA32F);
-                t->setFilter(GL_NEAREST);
-                t->setWrap(GL_CLAMP_TO_EDGE);
+        plan_ = keyframes_.plan(muS_);
+        auto allocateSlots = [&] {
+            // Textures for the slots the schedule uses (allocated as it grows; a keyframe holds
+            // the smooth and Mie parts, the pass's third output, the total, is not kept).
+            while (int(slots_.size()) < keyframes_.slotCount()) {
+                // fp32 whatever the preset: a keyframe holds log radiance once complete.
+                Slot& sl = slots_.emplace_back();
+                for (gl::Texture2D* t : {&sl.smooth, &sl.mie}) {
+                    *t = gl::Texture2D(q_.skyViewW, q_.skyViewH, GL_RGBA32F);
+                    t->setFilter(GL_NEAREST);
+                    t->setWrap(GL_CLAMP_TO_EDGE);
+                }
+                sl.fbo = gl::Framebuffer::create();
+                sl.fbo.attach(GL_COLOR_ATTACHMENT0, sl.smooth);
+                sl.fbo.attach(GL_COLOR_ATTACHMENT1, sl.mie);
+                sl.fbo.checkComplete("SkyViewLut keyframe");
             }
-            sl.fbo = gl::Framebuffer::create();
-            sl.fbo.attach(GL_COLOR_ATTACHMENT0, sl.smooth);
-            sl.fbo.attach(GL_COLOR_ATTACHMENT1, sl.mie);
-            sl.fbo.checkComplete("SkyViewLut keyframe");
-        }
-        if (plan_.build >= 0) {
+        };
+        // Rows [y0, y1) of slot `s`'s table at cos zenith `muS`; `complete`: the table is whole
+        // now, converted in place to log radiance for the blend.
+        auto buildRows = [&](int s, double muS, int y0, int y1, bool complete) {
             const skykeys::TextureList T = vars.get(skykeys::transmittanceLuts), MS = vars.get(skykeys::multiScatteringLuts),
                                        SH = vars.get(skykeys::shLuts);
             const int K = triples();
             if (int(T->size()) != K || int(MS->size()) != K || int(SH->size()) != K)
                 throw Error("SkyViewLut: input LUTs for " + std::to_string(T->size()) + " triples, expected " + std::to_string(K));
-            Slot& sl = slots_[size_t(plan_.build)];
-            // This run's rows of the table (scissored), chunk c of n: rows [c H / n, (c + 1) H / n).
-            const int n = ko.chunks;
-            const int y0 = plan_.chunkBegin * q_.skyViewH / n, y1 = plan_.chunkEnd * q_.skyViewH / n;
+            Slot& sl = slots_[size_t(s)];
             glEnable(GL_SCISSOR_TEST);
             glScissor(0, y0, q_.skyViewW, y1 - y0);
             for (int k = 0; k < K; ++k) {
@@ -184,7 +188,7 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
                 glBindTextureUnit(gl::binding::kShLut, (*SH)[size_t(k)].id);
                 prog_.use();
                 prog_.set("u_h", float(h_));
-                prog_.set("u_muS", float(plan_.buildMuS));
+                prog_.set("u_muS", float(muS));
                 prog_.set("u_steps", q_.skyViewSteps);
                 prog_.set("u_size", glm::ivec2(q_.skyViewW, q_.skyViewH));
                 prog_.set("u_scale", float(kLutScale));
@@ -198,7 +202,7 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
                 }
             }
             glDisable(GL_SCISSOR_TEST);
-            if (plan_.chunkEnd == ko.chunks) {
+            if (complete) {
                 // Complete: to log radiance, in place, for the blend.
                 if (!toLogProg_)
                     toLogProg_ = gl::ProgramBuilder(name() + " keyframe to log")
@@ -214,10 +218,28 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
                 }
                 glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
             }
+        };
+        allocateSlots();
+        if (plan_.build >= 0) {
+            // This run's rows of the table (scissored), chunk c of n: rows [c H / n, (c + 1) H / n).
+            const int n = ko.chunks;
+            buildRows(plan_.build, plan_.buildMuS, plan_.chunkBegin * q_.skyViewH / n, plan_.chunkEnd * q_.skyViewH / n, plan_.chunkEnd == n);
+        }
+        // Prefill (SkyQuality::keyframePrefill): the grid tables queued when the light first
+        // moved, each built whole now.
+        for (LightKeyframes::Prefill pf = keyframes_.nextPrefill(); pf.slot >= 0; pf = keyframes_.nextPrefill()) {
+            allocateSlots();
+            buildRows(pf.slot, pf.muS, 0, q_.skyViewH, true);
         }
         // The shown table: the plan's slots mixed with its weights (the Mie phase applied at the
         // current elevation). Only complete slots are ever read here; unused inputs repeat the
-        // first slot with weight 0.
+        // first slot with weight 0. Unchanged since the last mix (a run that only counts the
+        // light's rest): kept as it is, not republished.
+        if (plan_.unchanged && shownOnce_) {
+            if (keyframes_.pending()) runAgain();
+            return;
+        }
+        shownOnce_ = true;
         if (spectral_) useTriple(0);
         showFbo_.bind();
         glViewport(0, 0, q_.skyViewW, q_.skyViewH);

@@ -20,6 +20,9 @@ std::vector<std::pair<std::string, std::string>> aerialPerspectiveGlslChunks() {
 }
 
 void AerialPerspective::bindResources(const SkyVars& vars, const gl::Program& program) {
+    if (!vars.getOr(skykeys::aerialVolume, false))
+        throw Error("AerialPerspective: the Sky does not build the aerial-perspective volume: set sky.aerial_volume = true "
+                    "(SkyOptions::aerialPerspective, --var sky.aerial_volume=true)");
     if (!vars.has(skykeys::aerialInscatter))
         throw Error("AerialPerspective: the sky's aerial-perspective volume does not exist yet (render a frame with the Sky element first)");
     SkyModel m = SkyModel::fromVars(vars);

@@ -43,6 +43,7 @@ Sky::Sky(const SkyOptions& options, bool force) : SkyElement("sky"), options_(op
     option(skykeys::quality, options_.quality, force);
     option(skykeys::moonLight, options_.moon, force);
     option(skykeys::wavelengths, options_.wavelengths, force);
+    option(skykeys::aerialVolume, options_.aerialPerspective, force);
     setAttenuatesBehind(true);  // its transmittance output: stars and planets drawn before it
     reads(keys::sunDirection);
     reads(keys::moonDirection);
@@ -60,6 +61,7 @@ SkyOptions optionsFrom(const SkyVars& v) {
     o.quality = v.get(skykeys::quality);
     o.moon = v.get(skykeys::moonLight);
     o.wavelengths = v.get(skykeys::wavelengths);
+    o.aerialPerspective = v.get(skykeys::aerialVolume);
     validateWavelengthCount(o.wavelengths, "sky.wavelengths");
     return o;
 }

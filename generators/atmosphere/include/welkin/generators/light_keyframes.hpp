@@ -24,8 +24,8 @@
 // What is built next while the light moves: the missing grid tables of the four the cubic needs,
 // nearest the light's direction of motion first, then the next one ahead; each at enough chunks
 // per run to be complete before the light needs it (at its last rate). A still light (a run whose
-// cos zenith is within Options::stillMuS of the last run's) has a table at exactly e built, so a
-// still sky converges to the exact table. When no complete table lies within 2 steps of e (the
+// cos zenith has stayed within Options::stillMuS of one elevation for Options::stillRuns runs) has
+// a table at exactly e built, so a still sky converges to the exact table. When no complete table lies within 2 steps of e (the
 // first run, a jump, after reset()) one is built at exactly e at once.
 #pragma once
 
@@ -49,6 +49,23 @@ public:
         /// A change of cos zenith up to this since the last run counts as a still light (the
         /// generator's input tolerance: it already accepts that much staleness), >= 0.
         double stillMuS = 0.0;
+        /// A light counts as at rest (its exact table is built) once it has stayed within
+        /// stillMuS of one elevation for this many runs, >= 1. A slowly drifting light (time
+        /// running at 1 s/s moves the Sun's cos zenith by up to 7e-5 per second) is not at rest:
+        /// it is shown through the grid tables, and building exact tables it drifts away from
+        /// would cost a table build every few hundred milliseconds for nothing.
+        int stillRuns = 1;
+        /// The first run in which the light moves (after a reset) queues every grid table from
+        /// prefillLowRad up to the zenith, to be built whole at once (nextPrefill()): a one-time
+        /// cost (docs/sky.md), after which time running costs only the per-frame mix. Off: the
+        /// grid tables are built along the light's path, a few chunks per run.
+        bool prefill = false;
+        double prefillLowRad = -0.3490658503988659;  ///< rad (-20 deg: below, the Sun's scattered light is negligible)
+    };
+    /// A grid table to build whole now (Options::prefill).
+    struct Prefill {
+        int slot = -1;  ///< -1: none left
+        double muS = 0.0;
     };
     struct Plan {
         /// Slots shown: sum of weight[i] x table slot[i], i < count (count in [1, 4], weights sum to 1).
@@ -60,6 +77,9 @@ public:
         int chunkBegin = 0, chunkEnd = 0;  ///< chunks of the table to build now, [begin, end) of Options::chunks
         bool exact = false;  ///< what is shown is a table at exactly this run's elevation
         bool cubic = false;  ///< shown through the Catmull-Rom cubic of four grid tables
+        /// What is shown equals the previous run's (same tables and weights, no build): the
+        /// generator may keep its shown table instead of mixing it again.
+        bool unchanged = false;
     };
 
     LightKeyframes();
@@ -75,6 +95,9 @@ public:
     Plan plan(double muS);
     /// Work remains (a table half built, or a still light not yet shown exactly).
     bool pending() const { return pending_; }
+    /// The next queued prefill table (Options::prefill), counted as built: build all of it before
+    /// the next plan(). Call until it returns slot -1.
+    Prefill nextPrefill();
     /// Cos zenith of slot i's table, and whether it is complete.
     double slotMuS(int i) const;
     bool complete(int i) const { return slots_.at(std::size_t(i)).done == o_.chunks; }
@@ -113,6 +136,13 @@ private:
     double lastE_ = 0.0;
     int dir_ = 0;  // -1, 0, +1: direction of the last motion
     double rate_ = 0.0;  // elevation change of the last run, rad
+    double anchorE_ = 0.0;  // elevation the light has stayed near (within stillMuS) ...
+    int anchorRuns_ = 0;    // ... for this many runs
+    Plan lastPlan_;         // the previous run's plan (Plan::unchanged)
+    double shownE_ = 0.0;   // elevation of the last mixed (not unchanged) plan
+    bool prefilled_ = false;         // the prefill was queued since the last reset
+    int runsSinceReset_ = 0;
+    std::vector<int> prefillQueue_;  // grid indices still to build whole
     uint64_t run_ = 0;
 };
 

@@ -62,6 +62,9 @@ namespace skykeys {
 inline const Key<int> quality{"sky.quality", Range{-1, 3}, "sky quality preset: -1 follows render.quality, 0 low, 1 medium, 2 high, 3 reference"};
 /// The Moon as a second light of the sky (an option of the Sky element).
 inline const Key<bool> moonLight{"sky.moon", "the Moon lights the sky (false: Sun only)"};
+/// The Sky's option: the aerial-perspective volume is built (for a host's geometry:
+/// elements::AerialPerspective) only while this is true.
+inline const Key<bool> aerialVolume{"sky.aerial_volume", "build the aerial-perspective volume for the host's geometry (AerialPerspective)"};
 inline const Key<TextureRef> transmittanceLut{"sky.transmittance_lut", "transmittance LUT (RGB, to the top of the atmosphere)"};
 /// One texture per wavelength triple (RGB mode: one), for the passes after them; in spectral
 /// mode sky.transmittance_lut is the combined one and sky.multiscattering_lut / sky.sh_lut are
@@ -101,6 +104,10 @@ inline const Key<bool> moonLit{"sky.moon_lit", "the Moon lights the sky (illumin
 /// elevation at the horizon (where a degree changes the twilight sky by up to ~x2, so at most
 /// ~0.1 % of staleness; the Sun's disk is 0.53 deg wide) and less higher up.
 inline constexpr double kCosZenithTolerance = 2e-5;
+/// Runs a light must stay within kCosZenithTolerance of one elevation before its exact table is
+/// built (LightKeyframes::Options::stillRuns): a third of a second at 60 frames per second, so a
+/// Sun drifting at 1 s/s (up to 7e-5 in cos zenith per second) is shown through the grid tables.
+inline constexpr int kKeyframeStillRuns = 20;
 
 /// Keyframe tables kept at most per light-dependent generator (LightKeyframes::Options::slots)
 /// for a quality's grid (SkyQuality::keyframeStepRad, keyframeCoarseStepRad): its grid points
@@ -288,6 +295,7 @@ private:
     gl::Program toLogProg_;  // a complete keyframe to log radiance (light_blend.glsl)
     LightKeyframes keyframes_;
     LightKeyframes::Plan plan_;
+    bool shownOnce_ = false;  // the shown table holds a mix (Plan::unchanged may keep it)
     std::vector<uint64_t> validFor_;  // input versions the keyframes were built with
     double viewTH_ = -1.0;
     uint64_t viewTVersion_ = 0;
@@ -321,6 +329,7 @@ private:
     gl::Program toLogProg_;
     LightKeyframes keyframes_;
     LightKeyframes::Plan plan_;
+    bool shownOnce_ = false;
     std::vector<uint64_t> validFor_;
     gl::Texture3D inscatterK_, transmittanceK_;  // spectral mode: one triple's pass
     gl::Program prog_;

@@ -128,6 +128,10 @@ struct SkyQuality {
     double keyframeStepRad = 0.0175;
     double keyframeCoarseStepRad = 0.0524;  ///< rad (3 deg)
     int keyframeChunks = 8;
+    /// The first time the light moves, build every grid table from -20 deg up at once (a
+    /// one-time cost: docs/sky.md "While time runs"), so time running then costs only the
+    /// per-frame mix. The presets set it; off, the grid tables are built along the light's path.
+    bool keyframePrefill = false;
     /// 0 low, 1 medium, 2 high, 3 reference. Throws welkin::Error outside [0, 3].
     static SkyQuality preset(int quality);
     /// A tiny preset for [gl] tests on llvmpipe.

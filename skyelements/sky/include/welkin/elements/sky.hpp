@@ -47,6 +47,11 @@ struct SkyOptions {
     /// mode and the same per frame on the LUT path; per pixel (reference, space) the march runs
     /// N/3 times (plus a transmittance pass).
     int wavelengths = 0;
+    /// Build the aerial-perspective volume (sky.aerial_volume) for the host's geometry
+    /// (AerialPerspective::apply / bindResources). Off by default: the sky itself does not use
+    /// it, and a scene without geometry to fog should not pay for it (about 1 ms per frame while
+    /// the Sun moves at `medium` on llvmpipe, plus its keyframe builds).
+    bool aerialPerspective = false;
     /// Throws welkin::Error naming the member and its range.
     void validate() const;
 };
