@@ -41,6 +41,8 @@ constexpr double kMwCloudL = 2.0 * kDeg, kMwCloudB = -4.0 * kDeg, kMwCloudRadius
 constexpr double kMwCloudMag = 20.5, kMwFloorMag = 23.0, kMwGamma = 0.5;
 constexpr double kMwStorageScale = 1e4;  // cd/m^2 -> texture value (fp16 keeps 1e-4 cd/m^2 normal)
 
+constexpr int kZodiTexW = 256, kZodiTexH = 128;  // baked zodiacal light: 1.4 deg texels (the table's grid is 5-15 deg)
+constexpr double kZodiRebakeRad = 0.1 * kDeg;       // re-baked when the Sun's longitude moved more (2.4 h)
 constexpr int kTableN = 64;  // NIGHT_TABLE_N: extinction samples over altitude (as the Stars')
 constexpr double kTableLo = -5.0 * kDeg, kTableSpan = 95.0 * kDeg;
 double tableAltitude(int i) {
@@ -268,13 +270,32 @@ void NightSky::loadMilkyWay(const std::string& path, const Logger& log) {
     mwLoaded_ = true;
 }
 
+void NightSky::bakeZodiacal(double sunLon) {
+    // The table over the panorama's mapping for this solar longitude (texel centres).
+    std::vector<float> t(size_t(kZodiTexW) * kZodiTexH);
+    for (int y = 0; y < kZodiTexH; ++y) {
+        const double dec = kPi / 2 - (y + 0.5) / kZodiTexH * kPi;
+        for (int x = 0; x < kZodiTexW; ++x) {
+            const double ra = 0.5 * kPi - (x + 0.5) / kZodiTexW * 2.0 * kPi;
+            t[size_t(y) * kZodiTexW + x] = float(zodiacalAt({std::cos(dec) * std::cos(ra), std::cos(dec) * std::sin(ra), std::sin(dec)}, sunLon));
+        }
+    }
+    if (zodiTexture_.id() == 0) {
+        zodiTexture_ = gl::Texture2D(kZodiTexW, kZodiTexH, GL_R32F);
+        zodiTexture_.setFilter(GL_LINEAR);
+        glTextureParameteri(zodiTexture_.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+        glTextureParameteri(zodiTexture_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    }
+    zodiTexture_.upload(GL_RED, GL_FLOAT, t.data());
+    zodiLon_ = sunLon;
+}
+
 void NightSky::doInit(InitContext& ctx) {
     declareOptions(ctx.vars);
     ctx.vars.declare(nightkeys::background, surfaceBrightnessCdM2(nightkeys::kDarkSkyZenithMag));
     loadMilkyWay(ctx.vars.get(nightkeys::milkyWayTexture), ctx.log);
     programs_ = gl::ProjectionPrograms(gl::ProgramBuilder("NightSky")
                                            .define("NIGHT_TABLE_N", kTableN)
-                                           .define("NIGHT_ZODI_N", kZodiRows * kZodiCols)
                                            .fullscreenVertex()
                                            .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
                                            .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
@@ -289,6 +310,7 @@ void NightSky::doUpdate(const FrameContext& ctx) {
     const glm::dmat3 R = v.getOr(astro::keys::starFrameRotation, glm::dmat3(1.0));
     const glm::dvec3 zenithIcrs = glm::transpose(R) * glm::dvec3(0, 0, 1);
     const double sunLon = sunEclipticLongitude(R, v.getOr(keys::sunDirection, glm::dvec3(0, 0, -1)));
+    if (!(std::abs(std::remainder(sunLon - zodiLon_, 2.0 * kPi)) < kZodiRebakeRad)) bakeZodiacal(sunLon);
     zenith_.airglow = surfaceBrightnessCdM2(v.get(nightkeys::airglowZenithMag));
     zenith_.zodiacal = v.get(nightkeys::zodiacalScale) * zodiacalUnitCdM2() * zodiacalAt(zenithIcrs, sunLon);
     const double mwScale = v.get(nightkeys::milkyWayScale);
@@ -328,8 +350,6 @@ void NightSky::doRender(const FrameContext& ctx) {
     p.use();
     const glm::dmat3 R = v.getOr(astro::keys::starFrameRotation, glm::dmat3(1.0));
     p.set("u_enuToIcrs", glm::mat3(glm::transpose(R)));
-    p.set("u_icrsToEcl", glm::mat3(icrsToEcliptic()));
-    p.set("u_sunEclLon", float(sunEclipticLongitude(R, v.getOr(keys::sunDirection, glm::dvec3(0, 0, -1)))));
     auto r2 = [](double h) {
         const double r = kEarthRadiusM / (kEarthRadiusM + h);
         return float(r * r);
@@ -339,7 +359,7 @@ void NightSky::doRender(const FrameContext& ctx) {
     p.set("u_lp", glm::vec3(zenith_.lightPollution * lightPollutionColour()));
     p.set("u_lpR2", r2(kLightPollutionLayerM));
     p.set("u_zodi", glm::vec3(v.get(nightkeys::zodiacalScale) * zodiacalUnitCdM2() * solarColour()));
-    glProgramUniform1fv(p.id(), p.location("u_zodiTable"), kZodiRows * kZodiCols, zodiacalFilled().data());
+    zodiTexture_.bind(gl::binding::kUserTextureUnitFirst + 1);
     const double mwScale = v.get(nightkeys::milkyWayScale);
     p.set("u_mwFloor", glm::vec3(mwScale * milkyWayFloorCdM2() * mwColour_));
     p.set("u_mwScale", float(mwLoaded_ ? mwScale / kMwStorageScale : 0.0));
@@ -356,6 +376,8 @@ void NightSky::doRender(const FrameContext& ctx) {
 void NightSky::doRelease() {
     programs_.releasePrograms();
     mwTexture_ = gl::Texture2D();
+    zodiTexture_ = gl::Texture2D();
+    zodiLon_ = std::nan("");
     mwCpu_.clear();
     mwLoaded_ = false;
     mwPath_.clear();

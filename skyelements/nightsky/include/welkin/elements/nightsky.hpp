@@ -40,6 +40,7 @@
 
 #include <glm/glm.hpp>
 
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
@@ -108,9 +109,12 @@ private:
     void doStats(nlohmann::json& root) const override;
     void loadMilkyWay(const std::string& path, const Logger& log);
     void updateExtinction(const SkyVars& v);
+    void bakeZodiacal(double sunEclipticLongitudeRad);
 
     gl::ProjectionPrograms programs_;
     gl::Texture2D mwTexture_;
+    gl::Texture2D zodiTexture_;  // Table 17 units over the panorama's mapping
+    double zodiLon_ = std::nan("");  // the Sun's ecliptic longitude it was baked for, rad
     std::string mwPath_;
     bool mwLoaded_ = false;
     double mwGain_ = 0;
