@@ -394,6 +394,8 @@ void NightSky::doStats(nlohmann::json& root) const {
     j["background_cd_m2"] = total;
     j["zenith_mag_arcsec2"] = total > 0 ? surfaceBrightnessMag(total) : 99.0;
     j["milky_way_loaded"] = mwLoaded_;
+    j["milky_way_gain_cd_m2"] = mwGain_;  // cd/m^2 = gain x Y^0.5 + floor
+    j["zodiacal_unit_cd_m2"] = zodiacalUnitCdM2();
 }
 
 }  // namespace welkin::elements

@@ -26,7 +26,8 @@
 //    of Leinert et al. 1998, solar minimum), times van Rhijn's factor 1 / sqrt(1 - (R / (R + h))^2 sin^2 z) (vanRhijn()).
 //  - Zodiacal light: Leinert et al. 1998 Table 17 (1e-8 W m^-2 sr^-1 um^-1 at 500 nm) over
 //    (|ecliptic longitude - the Sun's|, |ecliptic latitude|), bilinear; J2000 ecliptic
-//    (obliquity 23.4392911 deg); the Sun's colour (zodiacalBrightness()).
+//    (obliquity 23.4392911 deg); the Sun's colour (zodiacalTable(), zodiacalUnitCdM2()); baked on
+//    the CPU into a 256 x 128 texture over the panorama's mapping when the Sun's longitude moves.
 //  - Light pollution: nightsky.bortle 1..9 sets the total zenith brightness of the class
 //    (bortleZenithMag()); the artificial part is that minus the dark-sky reference
 //    kDarkSkyZenithMag, brighter towards the horizon by van Rhijn's factor for an 8 km layer
