@@ -2,10 +2,10 @@
 // fullscreen pass. Needs engine/camera.glsl and engine/composite.glsl before it. Emits radiance
 // (cd/m^2, linear sRGB), hides nothing (transmittance 1). The model and its CPU twins:
 // skyelements/nightsky/include/welkin/elements/nightsky.hpp.
-layout(binding = WELKIN_BINDING_USER_TEXTURE_UNIT_FIRST) uniform sampler2D u_mwTex;  // calibrated x 1e4
+layout(binding = WELKIN_BINDING_MILKY_WAY_TEXTURE) uniform sampler2D u_mwTex;  // calibrated x 1e4
 // Zodiacal light in Table 17 units over the same J2000 equirectangular mapping (baked on the CPU
 // from the table for the Sun's ecliptic longitude: smooth, 256 x 128 texels).
-layout(binding = WELKIN_BINDING_USER_TEXTURE_UNIT_FIRST + 1) uniform sampler2D u_zodiTex;
+layout(binding = WELKIN_BINDING_ZODIACAL_TEXTURE) uniform sampler2D u_zodiTex;
 
 uniform mat3 u_enuToIcrs;     // transpose of stars.frame_icrs_to_enu
 uniform vec3 u_airglow;       // airglow at the zenith, cd/m^2 per channel

@@ -359,12 +359,12 @@ void NightSky::doRender(const FrameContext& ctx) {
     p.set("u_lp", glm::vec3(zenith_.lightPollution * lightPollutionColour()));
     p.set("u_lpR2", r2(kLightPollutionLayerM));
     p.set("u_zodi", glm::vec3(v.get(nightkeys::zodiacalScale) * zodiacalUnitCdM2() * solarColour()));
-    zodiTexture_.bind(gl::binding::kUserTextureUnitFirst + 1);
+    zodiTexture_.bind(gl::binding::kZodiacalTexture);
     const double mwScale = v.get(nightkeys::milkyWayScale);
     p.set("u_mwFloor", glm::vec3(mwScale * milkyWayFloorCdM2() * mwColour_));
     p.set("u_mwScale", float(mwLoaded_ ? mwScale / kMwStorageScale : 0.0));
     p.set("u_texelsPerRad", float(mwW_ / (2.0 * kPi)));
-    if (mwLoaded_) mwTexture_.bind(gl::binding::kUserTextureUnitFirst);
+    if (mwLoaded_) mwTexture_.bind(gl::binding::kMilkyWayTexture);
     p.set("u_extinction", ctx.attenuatedLater ? 0 : 1);
     if (!ctx.attenuatedLater) {
         updateExtinction(v);
