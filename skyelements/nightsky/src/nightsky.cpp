@@ -9,6 +9,7 @@
 #include <welkin/embedded/nightsky_shaders.hpp>
 #include <welkin/error.hpp>
 #include <welkin/generators/atmosphere.hpp>
+#include <welkin/generators/sky_luts.hpp>
 #include <welkin/generators/sky_model.hpp>
 #include <welkin/gl/bindings.hpp>
 #include <welkin/gl/shader.hpp>
@@ -39,7 +40,11 @@ constexpr double kAirglowLineShare = 0.5;                  // OI 557.7 nm share 
 // where the panorama is black), L = gain Y^gamma + floor.
 constexpr double kMwCloudL = 2.0 * kDeg, kMwCloudB = -4.0 * kDeg, kMwCloudRadius = 3.0 * kDeg;
 constexpr double kMwCloudMag = 20.5, kMwFloorMag = 23.0, kMwGamma = 0.5;
-constexpr double kMwStorageScale = 1e4;  // cd/m^2 -> texture value (fp16 keeps 1e-4 cd/m^2 normal)
+constexpr double kMwStorageScale = 1e4;
+// Not drawn when the Sky's zenith is this many times brighter than the night sky's (daylight,
+// bright twilight): the pass would change pixels by less than 1e-5 relative (6e-5 at the horizon,
+// van Rhijn's 6 at most for the airglow), below the float target's visible precision.
+constexpr double kSkipRatio = 1e5;  // cd/m^2 -> texture value (fp16 keeps 1e-4 cd/m^2 normal)
 
 constexpr int kZodiTexW = 256, kZodiTexH = 128;  // baked zodiacal light: 1.4 deg texels (the table's grid is 5-15 deg)
 constexpr double kZodiRebakeRad = 0.1 * kDeg;       // re-baked when the Sun's longitude moved more (2.4 h)
@@ -202,6 +207,7 @@ NightSky::NightSky() : SkyElement("nightsky") {
     reads(astro::keys::starFrameRotation);
     reads(keys::sunDirection);
     reads(keys::observerHeight);
+    reads(generators::skykeys::zenithLuminance);
     writes(nightkeys::background);
 }
 
@@ -346,6 +352,9 @@ void NightSky::updateExtinction(const SkyVars& v) {
 
 void NightSky::doRender(const FrameContext& ctx) {
     const SkyVars& v = ctx.vars;
+    const double background = zenith_.airglow + zenith_.zodiacal + zenith_.milkyWay + zenith_.lightPollution;
+    drawn_ = !(v.has(generators::skykeys::zenithLuminance) && v.get(generators::skykeys::zenithLuminance) > kSkipRatio * background);
+    if (!drawn_) return;
     const gl::Program& p = programs_.get(ctx.camera.projection);
     p.use();
     const glm::dmat3 R = v.getOr(astro::keys::starFrameRotation, glm::dmat3(1.0));
@@ -394,6 +403,7 @@ void NightSky::doStats(nlohmann::json& root) const {
     j["background_cd_m2"] = total;
     j["zenith_mag_arcsec2"] = total > 0 ? surfaceBrightnessMag(total) : 99.0;
     j["milky_way_loaded"] = mwLoaded_;
+    j["drawn"] = drawn_;
     j["milky_way_gain_cd_m2"] = mwGain_;  // cd/m^2 = gain x Y^0.5 + floor
     j["zodiacal_unit_cd_m2"] = zodiacalUnitCdM2();
 }

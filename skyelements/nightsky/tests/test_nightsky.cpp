@@ -10,6 +10,7 @@
 #include <welkin/elements/nightsky.hpp>
 #include <welkin/elements/registry.hpp>
 #include <welkin/elements/stars.hpp>
+#include <welkin/generators/sky_luts.hpp>
 #include <welkin/generators/sky_model.hpp>
 #include <welkin/image.hpp>
 #include <welkin/keys.hpp>
@@ -321,6 +322,28 @@ TEST_CASE("NightSky: zodiacal light at the zenith matches its CPU twin; Stars ke
     p.add(std::make_unique<Stars>(std::vector<astro::Star>{s}));
     p.renderFrame();
     CHECK(p.stats()["stars"]["limiting_magnitude"].get<double>() == Approx(limitingMagnitude(surfaceBrightnessCdM2(22.0))).margin(1e-9));
+}
+
+TEST_CASE("NightSky: skipped in daylight, drawn at night, under the Sky", "[gl][nightsky]") {
+    test::glContext();
+    SkyProcessor p(SkyVars::earth(), Logger(), ProcessorOptions{.astronomy = false});
+    Camera cam;
+    cam.projection = Projection::Fisheye;
+    cam.width = cam.height = 31;
+    p.setCamera(cam);
+    p.add(makeElement("nightsky"));
+    p.add(makeElement("sky"));
+    for (double sunAlt : {30.0, -4.0, -18.0}) {
+        p.vars().set(keys::sunDirection, glm::dvec3(0.0, -std::cos(sunAlt * kDeg), std::sin(sunAlt * kDeg)));
+        p.renderFrame();
+        const nlohmann::json j = p.stats();
+        const double ratio = p.vars().get(generators::skykeys::zenithLuminance) / j["nightsky"]["background_cd_m2"].get<double>();
+        INFO("Sun at " << sunAlt << " deg: sky zenith / night sky " << ratio);
+        // Daylight (~1e3-1e4 cd/m^2 against 2e-4: ratio ~1e7) skips; astronomical night draws.
+        CHECK(j["nightsky"]["drawn"].get<bool>() == (ratio <= 1e5));
+        if (sunAlt > 0) CHECK_FALSE(j["nightsky"]["drawn"].get<bool>());
+        if (sunAlt < -17) CHECK(j["nightsky"]["drawn"].get<bool>());
+    }
 }
 
 TEST_CASE("NightSky: every pixel finite at FOV 0.5 and 180 deg, 1x1 to 2048x2048", "[gl][nightsky]") {

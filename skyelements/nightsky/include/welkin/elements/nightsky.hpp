@@ -32,6 +32,8 @@
 //    (bortleZenithMag()); the artificial part is that minus the dark-sky reference
 //    kDarkSkyZenithMag, brighter towards the horizon by van Rhijn's factor for an 8 km layer
 //    (the air's scale height), in the colour of a 3000 K black body (sodium and warm LEDs).
+//  - Cost: the pass is skipped when a Sky's zenith luminance exceeds 1e5 x the night sky's (its
+//    pixels would change by < 1e-5 relative).
 //  - Published: nightsky.background_cd_m2, the zenith luminance of all four terms; Stars adds it
 //    to the Sky's zenith luminance for its limiting magnitude (instead of its own floor).
 #pragma once
@@ -101,6 +103,8 @@ public:
     /// Zenith luminance of each term above the air in the last update, cd/m^2.
     struct Zenith { double airglow = 0, zodiacal = 0, milkyWay = 0, lightPollution = 0; };
     const Zenith& zenith() const { return zenith_; }
+    /// The last frame drew the pass (false when a Sky's zenith is over 1e5 x brighter: daylight).
+    bool drawn() const { return drawn_; }
 
 private:
     void doInit(InitContext& ctx) override;
@@ -126,6 +130,7 @@ private:
     const void* extinctionAtm_ = nullptr;
     double extinctionHeight_ = -1;
     Zenith zenith_;
+    bool drawn_ = false;
 };
 
 }  // namespace welkin::elements
