@@ -4,6 +4,7 @@
 
 #include "gl_test_context.hpp"
 
+#include <welkin/astro/astro_keys.hpp>
 #include <welkin/astro/bodies.hpp>
 #include <welkin/astro/stars.hpp>
 #include <welkin/color.hpp>
@@ -208,6 +209,50 @@ TEST_CASE("NightSky: the Milky Way's calibration and the catalogue stars inside 
     CHECK(share < 0.10);   // measured 5.5 %
     CHECK(share > 0.0);    // the region does hold naked-eye stars
     CHECK(sharePoles < 0.25);  // measured 14 %: the floor is where the double count is largest
+}
+
+TEST_CASE("NightSky: the Milky Way's anchor comes out of the GPU at 20.5 mag/arcsec^2", "[gl][nightsky]") {
+    if (!std::filesystem::exists(kPanorama)) {
+        WARN("no " << kPanorama << " (Debian: stellarium-data): the Milky Way is not checked");
+        return;
+    }
+    test::glContext();
+    // The star frame (set by hand, no astronomy) puts the Large Sagittarius Star Cloud (l = 2, b =
+    // -4 deg) at the zenith; the mean over the 3-deg disc, per channel divided by the air's
+    // transmittance, is the calibration's anchor: frame, texture mapping, mipmaps and gain end to end.
+    SkyProcessor p(SkyVars::earth(), Logger(), ProcessorOptions{.astronomy = false});
+    const glm::dvec3 c = glm::transpose(icrsToGalactic()) * glm::dvec3(std::cos(-4 * kDeg) * std::cos(2 * kDeg), std::cos(-4 * kDeg) * std::sin(2 * kDeg), std::sin(-4 * kDeg));
+    const glm::dvec3 e1 = glm::normalize(glm::cross(glm::dvec3(0, 0, 1), c)), e2 = glm::cross(c, e1);
+    const glm::dmat3 R = glm::transpose(glm::dmat3(e1, e2, c));  // rows e1, e2, c: R c = zenith
+    p.vars().declare(astro::keys::starFrameRotation, R);
+    Camera cam;
+    cam.projection = Projection::Perspective;
+    cam.altitudeRad = 90 * kDeg;
+    cam.verticalFovRad = 8 * kDeg;
+    cam.width = cam.height = 256;  // 0.03 deg pixels: the panorama's finest level (0.18 deg texels)
+    p.setCamera(cam);
+    p.add(makeElement("nightsky"));
+    p.vars().set(nightkeys::airglowZenithMag, 30.0);  // 1e-4 of the anchor
+    p.vars().set(nightkeys::zodiacalScale, 0.0);
+    p.renderFrame();
+    const Image img = p.readHdr();
+    const auto m = generators::SkyModel::fromVars(p.vars());
+    glm::dvec3 sum(0.0);
+    int n = 0;
+    for (int y = 0; y < 256; ++y)
+        for (int x = 0; x < 256; ++x) {
+            const glm::dvec3 d = *cam.directionAt({x + 0.5, y + 0.5});
+            if (glm::dot(d, glm::dvec3(0, 0, 1)) < std::cos(3 * kDeg)) continue;
+            const glm::dvec3 T = generators::cpu::transmittanceToTop(m, 0.0, d.z, 256);
+            for (int k = 0; k < 3; ++k) sum[k] += img.at(x, y, k) / T[k];
+            ++n;
+        }
+    REQUIRE(n > 10000);
+    const double L = color::luminance(sum / double(n));
+    INFO("star cloud above the air: " << L << " cd/m^2 = " << surfaceBrightnessMag(L) << " mag/arcsec^2");
+    // 3 %: the calibration averages texel centres (cos-dec weighted) where the image averages
+    // pixels through bilinear filtering; the extinction table's interpolation; fp16 storage.
+    CHECK(L == Approx(surfaceBrightnessCdM2(20.5)).epsilon(0.03));
 }
 
 TEST_CASE("NightSky: airglow at the zenith equals its key; van Rhijn's gradient at 80 deg", "[gl][nightsky]") {
