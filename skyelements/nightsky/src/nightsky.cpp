@@ -231,6 +231,13 @@ void NightSky::loadMilkyWay(const std::string& path, const Logger& log) {
     const glm::dmat3 toGal = icrsToGalactic();
     const glm::dvec3 cloud(std::cos(kMwCloudB) * std::cos(kMwCloudL), std::cos(kMwCloudB) * std::sin(kMwCloudL), std::sin(kMwCloudB));
     const double cosR = std::cos(kMwCloudRadius);
+    // 8-bit sources decode exactly through a table (OpenImageIO gives k / 255); others per value.
+    double decode[256];
+    for (int k = 0; k < 256; ++k) decode[k] = srgbToLinear(k / 255.0);
+    auto linear = [&](float v) {
+        const double c = std::clamp(double(v), 0.0, 1.0), k = std::round(c * 255.0);
+        return std::abs(c * 255.0 - k) < 1e-4 ? decode[int(k)] : srgbToLinear(c);
+    };
     double cloudSum = 0, cloudW = 0;
     glm::dvec3 colourSum(0.0);
     for (int y = 0; y < H; ++y) {
@@ -238,7 +245,7 @@ void NightSky::loadMilkyWay(const std::string& path, const Logger& log) {
         for (int x = 0; x < W; ++x) {
             const size_t i = size_t(y) * W + x;
             glm::dvec3 c;
-            for (int k = 0; k < 3; ++k) c[k] = srgbToLinear(std::clamp(double(img.pixels[i * img.channels + k]), 0.0, 1.0));
+            for (int k = 0; k < 3; ++k) c[k] = linear(img.pixels[i * img.channels + k]);
             const double Yi = color::luminance(c);
             Y[i] = float(Yi);
             for (int k = 0; k < 3; ++k) rgb[3 * i + k] = float(c[k]);

@@ -391,6 +391,24 @@ TEST_CASE("NightSky: skipped in daylight, drawn at night, under the Sky", "[gl][
     }
 }
 
+TEST_CASE("NightSky: without the panorama the Milky Way is its floor", "[gl][nightsky]") {
+    test::glContext();
+    SkyProcessor p(SkyVars::earth(), Logger(), ProcessorOptions{.astronomy = false});
+    Camera cam;
+    cam.width = cam.height = 8;
+    p.setCamera(cam);
+    p.add(makeElement("nightsky"));
+    p.vars().set(nightkeys::milkyWayTexture, std::string("/nonexistent/milkyway.png"));
+    p.vars().set(nightkeys::zodiacalScale, 0.0);
+    p.renderFrame();
+    const nlohmann::json j = p.stats();
+    CHECK_FALSE(j["nightsky"]["milky_way_loaded"].get<bool>());
+    // The zenith's Milky Way is the 23.0 mag/arcsec^2 floor exactly (no texture term).
+    CHECK(j["nightsky"]["milky_way_zenith_cd_m2"].get<double>() == Approx(surfaceBrightnessCdM2(23.0)).epsilon(1e-12));
+    const Image img = p.readHdr();
+    for (float v : img.pixels) CHECK(std::isfinite(v));
+}
+
 TEST_CASE("NightSky: every pixel finite at FOV 0.5 and 180 deg, 1x1 to 2048x2048", "[gl][nightsky]") {
     test::glContext();
     // 2048 rather than 4096: a 4096^2 float read-back is 256 MB on llvmpipe; the shader has no
