@@ -18,12 +18,13 @@
 //  - Milky Way: the panorama /usr/share/stellarium/textures/milkyway.png is in J2000 equatorial
 //    coordinates (not galactic): column u = frac((90 deg - RA) / 360 deg), row from the top
 //    v = (90 deg - Dec) / 180 deg (milkyWayTexCoord()). sRGB -> linear, luminance Y; calibrated
-//    L = k Y^0.5 + L_floor with L(mean over the Large Sagittarius Star Cloud) = 20.5 mag/arcsec^2 and
+//    L = k Y^0.5 + L_floor (the exponent a judgement: the panorama is contrast-stretched), L(mean over the Large Sagittarius Star Cloud) = 20.5 mag/arcsec^2 and
 //    L_floor = 23.0 mag/arcsec^2 (the diffuse galactic light and faint starlight at the galactic
 //    poles, where the texture is black). ENU -> ICRS by the transpose of stars.frame_icrs_to_enu.
 //  - Airglow: a thin emitting shell at nightsky.airglow_height_m (90 km); zenith brightness
 //    nightsky.airglow_zenith_mag_arcsec2 (22.38 = 145 S10, the airglow share of the dark-sky budget
-//    of Leinert et al. 1998, solar minimum), times van Rhijn's factor 1 / sqrt(1 - (R / (R + h))^2 sin^2 z) (vanRhijn()).
+//    of Leinert et al. 1998, solar minimum), times van Rhijn's factor
+//    1 / sqrt(1 - (R / (R + h))^2 sin^2 z) (vanRhijn()); greenish (OI 557.7 nm and a continuum).
 //  - Zodiacal light: Leinert et al. 1998 Table 17 (1e-8 W m^-2 sr^-1 um^-1 at 500 nm) over
 //    (|ecliptic longitude - the Sun's|, |ecliptic latitude|), bilinear; J2000 ecliptic
 //    (obliquity 23.4392911 deg); the Sun's colour (zodiacalTable(), zodiacalUnitCdM2()); baked on
