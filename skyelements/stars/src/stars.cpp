@@ -4,6 +4,7 @@
 #include <welkin/astro/bodies.hpp>
 #include <welkin/astro/frames.hpp>
 #include <welkin/color.hpp>
+#include <welkin/elements/nightsky.hpp>
 #include <welkin/elements/stars.hpp>
 #include <welkin/embedded/stars_shaders.hpp>
 #include <welkin/error.hpp>
@@ -90,7 +91,7 @@ Stars::Stars() : SkyElement("stars") {
     option(starkeys::catalogue, std::string(astro::kKStarsCatalogue));
     option(starkeys::magnitudeLimit, 30.0);
     option(starkeys::adaptiveLimit, true);
-    option(starkeys::backgroundFloor, 1.7e-4);  // 22.0 mag/arcsec^2 (a dark site's zenith)
+    option(starkeys::backgroundFloor, surfaceBrightnessCdM2(nightkeys::kDarkSkyZenithMag));  // 1.7e-4: 22.0 mag/arcsec^2
     option(starkeys::psfFwhm, 1.0 * starkeys::kArcmin);
     option(starkeys::psfMinPx, 2.0);
     option(starkeys::glare, 0.05);
@@ -104,6 +105,7 @@ Stars::Stars() : SkyElement("stars") {
     reads(astro::keys::refractionTemperature);
     reads(keys::timeJdUtc);
     reads(generators::skykeys::zenithLuminance);
+    reads(nightkeys::background);
 }
 
 Stars::Stars(std::vector<astro::Star> stars) : Stars() {
@@ -186,7 +188,10 @@ void Stars::doRender(const FrameContext& ctx) {
     const bool attenuatedLater = ctx.attenuatedLater;
     limit_ = v.get(starkeys::magnitudeLimit);
     if (v.get(starkeys::adaptiveLimit)) {
-        const double B = (sky ? v.get(generators::skykeys::zenithLuminance) : 0.0) + v.get(starkeys::backgroundFloor);
+        // The night sky's own background: the NightSky element's (natural and artificial) when it
+        // runs, else the dark-sky floor.
+        const double night = v.has(nightkeys::background) ? v.get(nightkeys::background) : v.get(starkeys::backgroundFloor);
+        const double B = (sky ? v.get(generators::skykeys::zenithLuminance) : 0.0) + night;
         limit_ = std::min(limit_, limitingMagnitude(B));
     }
     drawn_ = int(std::upper_bound(mags_.begin(), mags_.end(), float(limit_)) - mags_.begin());

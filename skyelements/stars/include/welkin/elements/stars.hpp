@@ -31,7 +31,9 @@
 //    Young's X^1.75 growth), capped at 0.8.
 //  - Limiting magnitude: Schaefer (1990, PASP 102, 212; after Hecht 1947) threshold illuminance
 //    I = C1 (1 + sqrt(C2 B))^2 ft-cd for the background B (nL) = sky.zenith_luminance (if a Sky
-//    publishes it) + stars.background_floor_cd_m2 (the natural night sky), m = -16.57 - 2.5 log10 I;
+//    publishes it) + the night sky: nightsky.background_cd_m2 (if the NightSky element publishes
+//    it: airglow, zodiacal light, Milky Way, light pollution) or else stars.background_floor_cd_m2
+//    (default the dark-sky reference nightkeys::kDarkSkyZenithMag), m = -16.57 - 2.5 log10 I;
 //    capped by stars.magnitude_limit. Stars fainter than it are not drawn: the catalogue is sorted
 //    by magnitude and only the prefix brighter than the limit is instanced (cost nothing).
 #pragma once
@@ -53,7 +55,7 @@ inline constexpr double kArcmin = 2.908882086657216e-4;  // rad
 inline const Key<std::string> catalogue{"stars.catalogue", "star catalogue file: kstars stars.dat, BSC5 catalog (name 'catalog' or containing 'bsc'), or HYG *.csv"};
 inline const Key<double> magnitudeLimit{"stars.magnitude_limit", Range{-30, 30}, "hard cap on the faintest magnitude drawn (the sky's limit applies too)", "mag"};
 inline const Key<bool> adaptiveLimit{"stars.adaptive_limit", "the limiting magnitude follows the sky background (false: only stars.magnitude_limit)"};
-inline const Key<double> backgroundFloor{"stars.background_floor_cd_m2", Range{0, 1}, "natural night-sky luminance added to the Sky's zenith luminance for the limiting magnitude (airglow, zodiacal light)"};
+inline const Key<double> backgroundFloor{"stars.background_floor_cd_m2", Range{0, 1}, "natural night-sky luminance added to the Sky's zenith luminance for the limiting magnitude when no NightSky element publishes nightsky.background_cd_m2"};
 inline const Key<double> psfFwhm{"stars.psf_fwhm_rad", Range{0, 0.01}, "angular FWHM of the stars' point-spread function (seeing, the eye's acuity)"};
 inline const Key<double> psfMinPx{"stars.psf_min_px", Range{1.41421356, 64}, "smallest FWHM of a star on the screen (anti-aliasing)", "px"};
 inline const Key<double> glare{"stars.glare", Range{0, 0.5}, "fraction of a bright star's flux in its glare halo", "1"};

@@ -1,0 +1,137 @@
+// Night sky: the diffuse light of a moonless night behind the stars: the Milky Way (the
+// stellarium-data panorama, calibrated in cd/m^2), airglow, zodiacal light and light pollution
+// (Bortle class), which also hides faint stars.
+//
+//   processor.add(welkin::elements::makeElement("nightsky"));   // Background, before the stars
+//   processor.add(welkin::elements::makeElement("stars"));      // reads nightsky.background_cd_m2
+//   processor.add(welkin::elements::makeElement("sky"));        // its transmittance dims them all
+//   processor.vars().set(welkin::elements::nightkeys::bortle, 7);          // a suburban sky
+//   // command line: welkin render --var nightsky.bortle=9 --var nightsky.airglow_zenith_mag_arcsec2=21.5
+//
+// Model (docs/nightsky.md has the sources, the numbers and the measured cost). Every term is a
+// luminance in cd/m^2 (linear sRGB whose Y is the luminance) above the air, then attenuated once:
+// by the Sky composited later (FrameContext::attenuatedLater), or here by the atmosphere's
+// transmittance towards each altitude when nothing attenuates it later.
+//  - Surface brightness m (V mag/arcsec^2) -> luminance: L = E0 / (1 arcsec^2 in sr) x 10^(-0.4 m)
+//    = 1.0807e5 cd/m^2 x 10^(-0.4 m), E0 = 2.54e-6 lx the illuminance of V = 0
+//    (astro::magnitude::illuminanceLux): surfaceBrightnessCdM2().
+//  - Milky Way: the panorama /usr/share/stellarium/textures/milkyway.png is in J2000 equatorial
+//    coordinates (not galactic): column u = frac((90 deg - RA) / 360 deg), row from the top
+//    v = (90 deg - Dec) / 180 deg (milkyWayTexCoord()). sRGB -> linear, luminance Y; calibrated
+//    L = k Y^0.5 + L_floor (the exponent a judgement: the panorama is contrast-stretched), L(mean over the Large Sagittarius Star Cloud) = 20.5 mag/arcsec^2 and
+//    L_floor = 23.0 mag/arcsec^2 (the diffuse galactic light and faint starlight at the galactic
+//    poles, where the texture is black). ENU -> ICRS by the transpose of stars.frame_icrs_to_enu.
+//  - Airglow: a thin emitting shell at nightsky.airglow_height_m (90 km); zenith brightness
+//    nightsky.airglow_zenith_mag_arcsec2 (22.38 = 145 S10, the airglow share of the dark-sky budget
+//    of Leinert et al. 1998, solar minimum), times van Rhijn's factor
+//    1 / sqrt(1 - (R / (R + h))^2 sin^2 z) (vanRhijn()); greenish (OI 557.7 nm and a continuum).
+//  - Zodiacal light: Leinert et al. 1998 Table 17 (1e-8 W m^-2 sr^-1 um^-1 at 500 nm) over
+//    (|ecliptic longitude - the Sun's|, |ecliptic latitude|), bilinear; J2000 ecliptic
+//    (obliquity 23.4392911 deg); the Sun's colour (zodiacalTable(), zodiacalUnitCdM2()); baked on
+//    the CPU into a 256 x 128 texture over the panorama's mapping when the Sun's longitude moves.
+//  - Light pollution: nightsky.bortle 1..9 sets the total zenith brightness of the class
+//    (bortleZenithMag()); the artificial part is that minus the dark-sky reference
+//    kDarkSkyZenithMag, brighter towards the horizon by van Rhijn's factor for an 8 km layer
+//    (the air's scale height), in the colour of a 3000 K black body (sodium and warm LEDs).
+//  - Cost: the pass is skipped when a Sky's zenith luminance exceeds 1e5 x the night sky's (its
+//    pixels would change by < 1e-5 relative).
+//  - Published: nightsky.background_cd_m2, the zenith luminance of all four terms; Stars adds it
+//    to the Sky's zenith luminance for its limiting magnitude (instead of its own floor).
+#pragma once
+#include <welkin/element.hpp>
+#include <welkin/gl/objects.hpp>
+#include <welkin/gl/projection_programs.hpp>
+
+#include <glm/glm.hpp>
+
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace welkin::elements {
+
+namespace nightkeys {
+/// The dark-sky reference, V mag/arcsec^2 at the zenith: the natural night sky of a dark site at
+/// solar minimum (Leinert et al. 1998: ~220 S10 = 21.9; Benn & Ellison 1998, La Palma: 21.9). The
+/// one source of truth for Stars' default background floor and for Bortle class 1.
+inline constexpr double kDarkSkyZenithMag = 22.0;
+inline const Key<std::string> milkyWayTexture{"nightsky.milky_way_texture", "Milky Way panorama (stellarium-data milkyway.png, J2000 equirectangular); missing: the Milky Way is only its uniform floor"};
+inline const Key<double> milkyWayScale{"nightsky.milky_way_scale", Range{0, 100}, "factor on the calibrated Milky Way (0 off)", "1"};
+inline const Key<double> airglowZenithMag{"nightsky.airglow_zenith_mag_arcsec2", Range{14, 30}, "airglow surface brightness at the zenith, V (22.4 solar minimum, ~21.7 maximum)", "mag/arcsec2"};
+inline const Key<double> airglowHeight{"nightsky.airglow_height_m", Range{1e4, 5e5}, "height of the airglow's emitting layer (van Rhijn's factor)"};
+inline const Key<double> zodiacalScale{"nightsky.zodiacal_scale", Range{0, 100}, "factor on the zodiacal light of Leinert 1998 Table 17 (0 off)", "1"};
+inline const Key<int> bortle{"nightsky.bortle", Range{1, 9}, "light pollution, Bortle class (1 a pristine sky, 9 an inner city)"};
+/// Written by the element every frame (not an option).
+inline const Key<double> background{"nightsky.background_cd_m2", Range{0, 1e4}, "the night sky's luminance at the zenith above the air (airglow, zodiacal light, Milky Way, light pollution); Stars' limiting magnitude adds it"};
+}  // namespace nightkeys
+
+/// V surface brightness (mag/arcsec^2) -> luminance, cd/m^2: 1.0807e5 x 10^(-0.4 m).
+double surfaceBrightnessCdM2(double magPerArcsec2);
+/// Luminance (cd/m^2, > 0) -> V surface brightness, mag/arcsec^2.
+double surfaceBrightnessMag(double cdM2);
+/// Van Rhijn's factor: brightness of a thin emitting shell at height h (m, > 0) seen at zenith
+/// angle z (rad, [0, pi/2]) over its zenith brightness, Earth radius 6371 km.
+double vanRhijn(double zenithAngleRad, double layerHeightM);
+/// Total zenith brightness of a Bortle class (1..9), V mag/arcsec^2 (the table in docs/nightsky.md).
+double bortleZenithMag(int bortleClass);
+/// Zodiacal light, Leinert et al. 1998 Table 17 (bilinear), in 1e-8 W m^-2 sr^-1 um^-1 at 500 nm:
+/// `dLambdaRad` the ecliptic longitude from the Sun (any value; folded to [0, pi]), `betaRad` the
+/// ecliptic latitude ([-pi/2, pi/2]). Cells the paper leaves empty (within 15 deg of the Sun)
+/// take the nearest tabulated latitude.
+double zodiacalTable(double dLambdaRad, double betaRad);
+/// Luminance (cd/m^2) of one Table 17 unit of sunlight-coloured light (from the ASTM G-173 solar
+/// spectrum: 683 lm/W x integral S(l) y(l) dl / S(500 nm) x 1e-8 W m^-2 sr^-1 um^-1).
+double zodiacalUnitCdM2();
+/// ICRS (J2000) -> galactic rotation (IAU 1958 system in ICRS axes: Hipparcos Catalogue, ESA 1997,
+/// vol. 1, sect. 1.5.3, eq. 1.5.11). Rows are the galactic x (to the centre), y (l = 90), z (NGP).
+glm::dmat3 icrsToGalactic();
+/// ICRS -> J2000 ecliptic (rotation by the obliquity 23.4392911 deg about x).
+glm::dmat3 icrsToEcliptic();
+/// Texture coordinate in the Milky Way panorama (u right, v down from the top row, [0, 1)) of an
+/// ICRS unit direction.
+glm::dvec2 milkyWayTexCoord(const glm::dvec3& icrs);
+
+class NightSky final : public SkyElement {
+public:
+    NightSky();
+
+    /// The Milky Way panorama was found and loaded (after init).
+    bool milkyWayLoaded() const { return mwLoaded_; }
+    /// The calibration: cd/m^2 = gain x Y^0.5 + floor (Y the texture's linear luminance).
+    double milkyWayGain() const { return mwGain_; }
+    double milkyWayFloorCdM2() const;
+    /// Zenith luminance of each term above the air in the last update, cd/m^2.
+    struct Zenith { double airglow = 0, zodiacal = 0, milkyWay = 0, lightPollution = 0; };
+    const Zenith& zenith() const { return zenith_; }
+    /// The last frame drew the pass (false when a Sky's zenith is over 1e5 x brighter: daylight).
+    bool drawn() const { return drawn_; }
+
+private:
+    void doInit(InitContext& ctx) override;
+    void doUpdate(const FrameContext& ctx) override;
+    void doRender(const FrameContext& ctx) override;
+    void doRelease() override;
+    void doStats(nlohmann::json& root) const override;
+    void loadMilkyWay(const std::string& path, const Logger& log);
+    void updateExtinction(const SkyVars& v);
+    void bakeZodiacal(double sunEclipticLongitudeRad);
+
+    gl::ProjectionPrograms programs_;
+    gl::Texture2D mwTexture_;
+    gl::Texture2D zodiTexture_;  // Table 17 units over the panorama's mapping
+    double zodiLon_ = std::nan("");  // the Sun's ecliptic longitude it was baked for, rad
+    std::string mwPath_;
+    bool mwLoaded_ = false;
+    double mwGain_ = 0;
+    std::vector<float> mwCpu_;  // calibrated luminance (before the floor), CPU twin of the texture
+    int mwW_ = 0, mwH_ = 0;
+    glm::dvec3 mwColour_{1.0};  // mean colour of the panorama, luminance 1 (the floor's colour)
+    std::vector<float> extinction_;
+    const void* extinctionAtm_ = nullptr;
+    double extinctionHeight_ = -1;
+    Zenith zenith_;
+    bool drawn_ = false;
+};
+
+}  // namespace welkin::elements

@@ -1,0 +1,54 @@
+// NightSky: the diffuse night sky (Milky Way, airglow, zodiacal light, light pollution), one
+// fullscreen pass. Needs engine/camera.glsl and engine/composite.glsl before it. Emits radiance
+// (cd/m^2, linear sRGB), hides nothing (transmittance 1). The model and its CPU twins:
+// skyelements/nightsky/include/welkin/elements/nightsky.hpp.
+layout(binding = WELKIN_BINDING_MILKY_WAY_TEXTURE) uniform sampler2D u_mwTex;  // calibrated x 1e4
+// Zodiacal light in Table 17 units over the same J2000 equirectangular mapping (baked on the CPU
+// from the table for the Sun's ecliptic longitude: smooth, 256 x 128 texels).
+layout(binding = WELKIN_BINDING_ZODIACAL_TEXTURE) uniform sampler2D u_zodiTex;
+
+uniform mat3 u_enuToIcrs;     // transpose of stars.frame_icrs_to_enu
+uniform vec3 u_airglow;       // airglow at the zenith, cd/m^2 per channel
+uniform float u_airglowR2;    // (R / (R + h))^2 of the airglow layer
+uniform vec3 u_lp;            // light pollution at the zenith, cd/m^2 per channel
+uniform float u_lpR2;         // (R / (R + h))^2 of the light-pollution layer
+uniform vec3 u_zodi;          // colour x cd/m^2 per Table 17 unit x nightsky.zodiacal_scale
+uniform vec3 u_mwFloor;       // uniform Milky Way floor, cd/m^2 per channel
+uniform float u_mwScale;      // nightsky.milky_way_scale x 1e-4 (the texture's storage scale); 0 off
+uniform float u_texelsPerRad; // panorama width / 2 pi
+uniform int u_extinction;     // 1: apply u_ext (nothing attenuates this element later)
+uniform vec3 u_ext[NIGHT_TABLE_N];  // transmittance at altitude -5 deg + 95 deg u^2, u = i / (N - 1)
+
+const float kTableLo = -0.0872664626;  // -5 deg
+const float kTableSpan = 1.6580627894; // 95 deg
+
+vec3 night_extinction(float h) {
+    if (h < kTableLo) return vec3(0.0);
+    float x = sqrt(clamp((h - kTableLo) / kTableSpan, 0.0, 1.0)) * float(NIGHT_TABLE_N - 1);
+    int i = min(int(x), NIGHT_TABLE_N - 2);
+    return mix(u_ext[i], u_ext[i + 1], x - float(i));
+}
+
+// Van Rhijn's factor of a thin shell: 1 / sqrt(1 - r2 sin^2 z), sin^2 z = 1 - d.z^2.
+float night_vanRhijn(float cz, float r2) { return inversesqrt(max(1.0 - r2 * (1.0 - cz * cz), 1e-6)); }
+
+void main() {
+    vec3 dir;
+    if (!welkin_viewDirection(welkin_pixel(), dir)) discard;  // outside a fisheye's circle
+    vec3 L = u_airglow * night_vanRhijn(dir.z, u_airglowR2) + u_lp * night_vanRhijn(dir.z, u_lpR2);
+    // Panorama coordinates, J2000 equatorial: u = (90 deg - RA) / 360 deg, v = (90 deg - Dec) /
+    // 180 deg from the top row (uploaded first, so t = v).
+    vec3 icrs = normalize(u_enuToIcrs * dir);
+    vec2 uv = vec2(fract((0.5 * WELKIN_PI - atan(icrs.y, icrs.x)) / (2.0 * WELKIN_PI)), acos(clamp(icrs.z, -1.0, 1.0)) / WELKIN_PI);
+    L += u_zodi * textureLod(u_zodiTex, uv, 0.0).r;
+    if (u_mwScale > 0.0) {
+        // The level of detail from the pixel's angular size (smallest scale: no aliasing), so the
+        // seam and the poles need no derivatives.
+        vec2 s = welkin_pixelScale(dir);
+        float lod = s.x > 0.0 ? max(log2(u_texelsPerRad / s.x), 0.0) : 0.0;
+        L += u_mwScale * textureLod(u_mwTex, uv, lod).rgb;
+    }
+    L += u_mwFloor;
+    if (u_extinction == 1) L *= night_extinction(asin(clamp(dir.z, -1.0, 1.0)));
+    welkin_output(L, vec3(1.0));
+}

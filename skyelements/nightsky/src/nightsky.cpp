@@ -1,0 +1,425 @@
+// NightSky element: the Milky Way's calibration, the CPU twins of the four terms, the published
+// background and the per-frame uniforms; the model is described in
+// include/welkin/elements/nightsky.hpp and docs/nightsky.md.
+#include <welkin/astro/astro_keys.hpp>
+#include <welkin/astro/bodies.hpp>
+#include <welkin/color.hpp>
+#include <welkin/elements/nightsky.hpp>
+#include <welkin/elements/stars.hpp>
+#include <welkin/embedded/nightsky_shaders.hpp>
+#include <welkin/error.hpp>
+#include <welkin/generators/atmosphere.hpp>
+#include <welkin/generators/sky_luts.hpp>
+#include <welkin/generators/sky_model.hpp>
+#include <welkin/gl/bindings.hpp>
+#include <welkin/gl/shader.hpp>
+#include <welkin/image.hpp>
+#include <welkin/keys.hpp>
+
+#include <epoxy/gl.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+
+namespace welkin::elements {
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+constexpr double kDeg = kPi / 180.0;
+constexpr double kEarthRadiusM = 6371e3;
+constexpr double kArcsec2Sr = (kPi / (180.0 * 3600.0)) * (kPi / (180.0 * 3600.0));  // 2.3504e-11 sr
+constexpr double kObliquityJ2000Rad = 23.4392911 * kDeg;  // IAU 1980 value at J2000 (84381.448")
+constexpr double kLightPollutionLayerM = 8000.0;           // the air's scale height
+constexpr double kLightPollutionKelvin = 3000.0;           // sodium and warm-white LED light
+constexpr double kAirglowLineShare = 0.5;                  // OI 557.7 nm share of the V luminance
+// Milky Way calibration (docs/nightsky.md): the Large Sagittarius Star Cloud (galactic l = 2 deg,
+// b = -4 deg, a 3-deg disc) at 20.5 V mag/arcsec^2, the galactic poles at 23.0 (a uniform floor,
+// where the panorama is black), L = gain Y^gamma + floor.
+constexpr double kMwCloudL = 2.0 * kDeg, kMwCloudB = -4.0 * kDeg, kMwCloudRadius = 3.0 * kDeg;
+constexpr double kMwCloudMag = 20.5, kMwFloorMag = 23.0, kMwGamma = 0.5;
+constexpr double kMwStorageScale = 1e4;
+// Not drawn when the Sky's zenith is this many times brighter than the night sky's (daylight,
+// bright twilight): the pass would change pixels by less than 1e-5 relative (6e-5 at the horizon,
+// van Rhijn's 6 at most for the airglow), below the float target's visible precision.
+constexpr double kSkipRatio = 1e5;  // cd/m^2 -> texture value (fp16 keeps 1e-4 cd/m^2 normal)
+
+constexpr int kZodiTexW = 256, kZodiTexH = 128;  // baked zodiacal light: 1.4 deg texels (the table's grid is 5-15 deg)
+constexpr double kZodiRebakeRad = 0.1 * kDeg;       // re-baked when the Sun's longitude moved more (2.4 h)
+constexpr int kTableN = 64;  // NIGHT_TABLE_N: extinction samples over altitude (as the Stars')
+constexpr double kTableLo = -5.0 * kDeg, kTableSpan = 95.0 * kDeg;
+double tableAltitude(int i) {
+    const double u = double(i) / (kTableN - 1);
+    return kTableLo + kTableSpan * u * u;
+}
+
+// Leinert et al. 1998 (A&AS 127, 1), Table 17: zodiacal light at 500 nm in 1e-8 W m^-2 sr^-1
+// um^-1, rows |lambda - lambda_sun| = 0, 5, ..., 45, 60, 75, ..., 180 deg, columns |beta| = 0, 5,
+// ..., 30, 45, 60, 75, 90 deg. 0 marks the cells the paper leaves empty (near the Sun).
+constexpr int kZodiRows = 19, kZodiCols = 11;
+constexpr float kZodi[kZodiRows][kZodiCols] = {
+    {0, 0, 0, 3140, 1610, 985, 640, 275, 150, 100, 77},
+    {0, 0, 0, 2940, 1540, 945, 625, 271, 150, 100, 77},
+    {0, 0, 4740, 2470, 1370, 865, 590, 264, 148, 100, 77},
+    {11500, 6780, 3440, 1860, 1110, 755, 525, 251, 146, 100, 77},
+    {6400, 4480, 2410, 1410, 910, 635, 454, 237, 141, 99, 77},
+    {3840, 2830, 1730, 1100, 749, 545, 410, 223, 136, 97, 77},
+    {2480, 1870, 1220, 845, 615, 467, 365, 207, 131, 95, 77},
+    {1650, 1270, 910, 680, 510, 397, 320, 193, 125, 93, 77},
+    {1180, 940, 700, 530, 416, 338, 282, 179, 120, 92, 77},
+    {910, 730, 555, 442, 356, 292, 250, 166, 116, 90, 77},
+    {505, 442, 352, 292, 243, 209, 183, 134, 104, 86, 77},
+    {338, 317, 269, 227, 196, 172, 151, 116, 93, 82, 77},
+    {259, 251, 225, 193, 166, 147, 132, 104, 86, 79, 77},
+    {212, 210, 197, 170, 150, 133, 119, 96, 82, 77, 77},
+    {188, 186, 177, 154, 138, 125, 113, 90, 77, 74, 77},
+    {179, 178, 166, 147, 134, 122, 110, 90, 77, 73, 77},
+    {179, 178, 165, 148, 137, 127, 116, 96, 79, 72, 77},
+    {196, 192, 179, 165, 151, 141, 131, 104, 82, 72, 77},
+    {230, 212, 195, 178, 163, 148, 134, 105, 83, 72, 77},
+};
+
+// The table with its empty cells filled by the nearest tabulated latitude of the same row.
+const std::vector<float>& zodiacalFilled() {
+    static const std::vector<float> t = [] {
+        std::vector<float> out(kZodiRows * kZodiCols);
+        for (int i = 0; i < kZodiRows; ++i) {
+            int first = 0;
+            while (kZodi[i][first] == 0) ++first;
+            for (int j = 0; j < kZodiCols; ++j) out[i * kZodiCols + j] = kZodi[i][std::max(j, first)];
+        }
+        return out;
+    }();
+    return t;
+}
+
+double rowCoord(double dlDeg) { return dlDeg < 45.0 ? dlDeg / 5.0 : 9.0 + (dlDeg - 45.0) / 15.0; }
+double colCoord(double bDeg) { return bDeg < 30.0 ? bDeg / 5.0 : 6.0 + (bDeg - 30.0) / 15.0; }
+
+double srgbToLinear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
+
+glm::dvec3 normalisedLuminance(glm::dvec3 rgb) {
+    rgb = glm::max(rgb, glm::dvec3(0.0));
+    return rgb / color::luminance(rgb);
+}
+
+// The airglow's colour: the OI 557.7 nm line carrying kAirglowLineShare of the luminance, an
+// equal-energy continuum the rest (clipped to the sRGB gamut), luminance 1.
+glm::dvec3 airglowColour() {
+    const glm::dvec3 line = color::xyzToLinearSrgb(color::cie1931(557.7) / color::cie1931(557.7).y);
+    const glm::dvec3 white = color::xyzToLinearSrgb(glm::dvec3(1.0));
+    return normalisedLuminance(kAirglowLineShare * line + (1.0 - kAirglowLineShare) * white);
+}
+
+// Sun's colour (ASTM G-173 through CIE 1931), luminance 1.
+glm::dvec3 solarColour() { return normalisedLuminance(color::solarIlluminanceSrgb()); }
+
+glm::dvec3 lightPollutionColour() { return blackBodyLinearSrgb(kLightPollutionKelvin); }
+
+double sunEclipticLongitude(const glm::dmat3& icrsToEnu, const glm::dvec3& sunEnu) {
+    const glm::dvec3 e = icrsToEcliptic() * (glm::transpose(icrsToEnu) * sunEnu);
+    return std::atan2(e.y, e.x);
+}
+
+double zodiacalAt(const glm::dvec3& icrs, double sunLon) {
+    const glm::dvec3 e = icrsToEcliptic() * icrs;
+    return zodiacalTable(std::atan2(e.y, e.x) - sunLon, std::asin(std::clamp(e.z, -1.0, 1.0)));
+}
+}  // namespace
+
+double surfaceBrightnessCdM2(double m) {
+    if (!std::isfinite(m)) throw Error("surfaceBrightnessCdM2(): magnitude not finite");
+    return astro::magnitude::illuminanceLux(0.0) / kArcsec2Sr * std::pow(10.0, -0.4 * m);
+}
+
+double surfaceBrightnessMag(double cdM2) {
+    if (!(cdM2 > 0.0)) throw Error("surfaceBrightnessMag(): luminance not > 0 cd/m^2");
+    return -2.5 * std::log10(cdM2 * kArcsec2Sr / astro::magnitude::illuminanceLux(0.0));
+}
+
+double vanRhijn(double z, double h) {
+    if (!(z >= 0.0 && z <= kPi / 2 + 1e-12)) throw Error("vanRhijn(): zenith angle not in [0, pi/2] rad");
+    if (!(h > 0.0)) throw Error("vanRhijn(): layer height not > 0 m");
+    const double r = kEarthRadiusM / (kEarthRadiusM + h), s = std::sin(z);
+    return 1.0 / std::sqrt(1.0 - r * r * s * s);
+}
+
+double bortleZenithMag(int c) {
+    // Total zenith V brightness per class: class midpoints of the sky-quality ranges usually given
+    // with Bortle's scale (Bortle 2001, Sky & Telescope 101 (2), 126); class 1 is the dark-sky
+    // reference, class 9 "brighter than 18".
+    static constexpr double kMag[9] = {nightkeys::kDarkSkyZenithMag, 21.9, 21.7, 21.1, 20.0, 19.2, 18.7, 18.2, 17.5};
+    if (c < 1 || c > 9) throw Error("bortleZenithMag(): class " + std::to_string(c) + " not in [1, 9]");
+    return kMag[c - 1];
+}
+
+double zodiacalTable(double dLambda, double beta) {
+    if (!(std::abs(beta) <= kPi / 2 + 1e-9)) throw Error("zodiacalTable(): ecliptic latitude not in [-pi/2, pi/2] rad");
+    const double dl = std::abs(std::remainder(dLambda, 2.0 * kPi)) / kDeg;  // [0, 180]
+    const double r = std::clamp(rowCoord(dl), 0.0, double(kZodiRows - 1));
+    const double c = std::clamp(colCoord(std::abs(beta) / kDeg), 0.0, double(kZodiCols - 1));
+    const int i = std::min(int(r), kZodiRows - 2), j = std::min(int(c), kZodiCols - 2);
+    const auto& t = zodiacalFilled();
+    auto at = [&](int a, int b) { return double(t[a * kZodiCols + b]); };
+    const double fr = r - i, fc = c - j;
+    const double a = at(i, j) + (at(i, j + 1) - at(i, j)) * fc;
+    const double b = at(i + 1, j) + (at(i + 1, j + 1) - at(i + 1, j)) * fc;
+    return a + (b - a) * fr;
+}
+
+double zodiacalUnitCdM2() {
+    // Radiance R(l) = S(l) x 1e-11 / S(500 nm) W m^-2 sr^-1 nm^-1 (1e-8 per um at 500 nm), so
+    // L = 683 integral R y dl = (the Sun's illuminance, lux) x 1e-11 / S(500 nm).
+    static const double unit = color::luminance(color::solarIlluminanceSrgb()) * 1e-11 / color::solarIrradianceAstmG173(500.0);
+    return unit;
+}
+
+glm::dmat3 icrsToGalactic() {
+    // Hipparcos Catalogue (ESA 1997) vol. 1 eq. 1.5.11: the IAU 1958 galactic system in ICRS axes
+    // (NGP at RA 192.85948 deg, Dec 27.12825 deg; l of the north celestial pole 122.93192 deg).
+    // glm is column-major: the rows below are written as the columns of the transpose.
+    const glm::dmat3 rows(-0.0548755604, -0.8734370902, -0.4838350155,   //
+                          0.4941094279, -0.4448296300, 0.7469822445,     //
+                          -0.8676661490, -0.1980763734, 0.4559837762);
+    return glm::transpose(rows);
+}
+
+glm::dmat3 icrsToEcliptic() {
+    const double c = std::cos(kObliquityJ2000Rad), s = std::sin(kObliquityJ2000Rad);
+    // x' = x, y' = c y + s z, z' = -s y + c z (columns of glm's column-major constructor).
+    return glm::dmat3(1, 0, 0, 0, c, -s, 0, s, c);
+}
+
+glm::dvec2 milkyWayTexCoord(const glm::dvec3& p) {
+    const double u = (0.5 * kPi - std::atan2(p.y, p.x)) / (2.0 * kPi);
+    return {u - std::floor(u), std::acos(std::clamp(p.z, -1.0, 1.0)) / kPi};
+}
+
+NightSky::NightSky() : SkyElement("nightsky") {
+    option(nightkeys::milkyWayTexture, std::string("/usr/share/stellarium/textures/milkyway.png"));
+    option(nightkeys::milkyWayScale, 1.0);
+    option(nightkeys::airglowZenithMag, 22.38);  // 145 S10 (Leinert et al. 1998)
+    option(nightkeys::airglowHeight, 90e3);
+    option(nightkeys::zodiacalScale, 1.0);
+    option(nightkeys::bortle, 1);
+    reads(astro::keys::starFrameRotation);
+    reads(keys::sunDirection);
+    reads(keys::observerHeight);
+    reads(generators::skykeys::zenithLuminance);
+    writes(nightkeys::background);
+}
+
+double NightSky::milkyWayFloorCdM2() const { return surfaceBrightnessCdM2(kMwFloorMag); }
+
+void NightSky::loadMilkyWay(const std::string& path, const Logger& log) {
+    mwPath_ = path;
+    mwLoaded_ = false;
+    mwCpu_.clear();
+    mwTexture_ = gl::Texture2D();
+    if (path.empty() || !std::filesystem::exists(path)) {
+        log.warn("nightsky: Milky Way panorama '" + path + "' not found (stellarium-data); only its uniform floor is drawn");
+        return;
+    }
+    Image img = readImage(path);
+    if (img.channels < 3 || img.width < 2 || img.height < 2) throw Error("nightsky: '" + path + "' is not an RGB image");
+    const int W = img.width, H = img.height;
+    // sRGB -> linear, luminance; the calibration region and the mean colour (solid-angle weighted).
+    std::vector<float> Y(size_t(W) * H);
+    std::vector<float> rgb(size_t(W) * H * 3);
+    const glm::dmat3 toGal = icrsToGalactic();
+    const glm::dvec3 cloud(std::cos(kMwCloudB) * std::cos(kMwCloudL), std::cos(kMwCloudB) * std::sin(kMwCloudL), std::sin(kMwCloudB));
+    const double cosR = std::cos(kMwCloudRadius);
+    // 8-bit sources decode exactly through a table (OpenImageIO gives k / 255); others per value.
+    double decode[256];
+    for (int k = 0; k < 256; ++k) decode[k] = srgbToLinear(k / 255.0);
+    auto linear = [&](float v) {
+        const double c = std::clamp(double(v), 0.0, 1.0), k = std::round(c * 255.0);
+        return std::abs(c * 255.0 - k) < 1e-4 ? decode[int(k)] : srgbToLinear(c);
+    };
+    double cloudSum = 0, cloudW = 0;
+    glm::dvec3 colourSum(0.0);
+    for (int y = 0; y < H; ++y) {
+        const double dec = kPi / 2 - (y + 0.5) / H * kPi, w = std::cos(dec);
+        for (int x = 0; x < W; ++x) {
+            const size_t i = size_t(y) * W + x;
+            glm::dvec3 c;
+            for (int k = 0; k < 3; ++k) c[k] = linear(img.pixels[i * img.channels + k]);
+            const double Yi = color::luminance(c);
+            Y[i] = float(Yi);
+            for (int k = 0; k < 3; ++k) rgb[3 * i + k] = float(c[k]);
+            colourSum += w * c;
+            const double ra = 0.5 * kPi - (x + 0.5) / W * 2.0 * kPi;
+            const glm::dvec3 p(std::cos(dec) * std::cos(ra), std::cos(dec) * std::sin(ra), std::sin(dec));
+            if (glm::dot(toGal * p, cloud) > cosR) {
+                cloudSum += w * std::pow(Yi, kMwGamma);
+                cloudW += w;
+            }
+        }
+    }
+    if (!(cloudSum > 0.0)) throw Error("nightsky: '" + path + "' is black over the Sagittarius star cloud (not the J2000 Milky Way panorama?)");
+    mwGain_ = (surfaceBrightnessCdM2(kMwCloudMag) - surfaceBrightnessCdM2(kMwFloorMag)) / (cloudSum / cloudW);
+    mwColour_ = normalisedLuminance(colourSum);
+    // Calibrated radiance (before the floor): rgb x gain Y^(gamma - 1), stored x kMwStorageScale.
+    std::vector<float> tex(size_t(W) * H * 4);
+    mwCpu_.assign(size_t(W) * H, 0.f);
+    for (size_t i = 0; i < Y.size(); ++i) {
+        const double f = Y[i] > 0.f ? mwGain_ * std::pow(double(Y[i]), kMwGamma - 1.0) : 0.0;
+        for (int k = 0; k < 3; ++k) tex[4 * i + k] = float(rgb[3 * i + k] * f * kMwStorageScale);
+        tex[4 * i + 3] = 1.f;
+        mwCpu_[i] = float(Y[i] * f);
+    }
+    int levels = 1;
+    while ((std::max(W, H) >> levels) > 0) ++levels;
+    mwTexture_ = gl::Texture2D(W, H, GL_RGBA16F, levels);
+    mwTexture_.upload(GL_RGBA, GL_FLOAT, tex.data());
+    mwTexture_.generateMipmaps();
+    mwTexture_.setFilter(GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR);
+    glTextureParameteri(mwTexture_.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTextureParameteri(mwTexture_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    mwW_ = W;
+    mwH_ = H;
+    mwLoaded_ = true;
+}
+
+void NightSky::bakeZodiacal(double sunLon) {
+    // The table over the panorama's mapping for this solar longitude (texel centres).
+    std::vector<float> t(size_t(kZodiTexW) * kZodiTexH);
+    for (int y = 0; y < kZodiTexH; ++y) {
+        const double dec = kPi / 2 - (y + 0.5) / kZodiTexH * kPi;
+        for (int x = 0; x < kZodiTexW; ++x) {
+            const double ra = 0.5 * kPi - (x + 0.5) / kZodiTexW * 2.0 * kPi;
+            t[size_t(y) * kZodiTexW + x] = float(zodiacalAt({std::cos(dec) * std::cos(ra), std::cos(dec) * std::sin(ra), std::sin(dec)}, sunLon));
+        }
+    }
+    if (zodiTexture_.id() == 0) {
+        zodiTexture_ = gl::Texture2D(kZodiTexW, kZodiTexH, GL_R32F);
+        zodiTexture_.setFilter(GL_LINEAR);
+        glTextureParameteri(zodiTexture_.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+        glTextureParameteri(zodiTexture_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    }
+    zodiTexture_.upload(GL_RED, GL_FLOAT, t.data());
+    zodiLon_ = sunLon;
+}
+
+void NightSky::doInit(InitContext& ctx) {
+    declareOptions(ctx.vars);
+    ctx.vars.declare(nightkeys::background, surfaceBrightnessCdM2(nightkeys::kDarkSkyZenithMag));
+    loadMilkyWay(ctx.vars.get(nightkeys::milkyWayTexture), ctx.log);
+    programs_ = gl::ProjectionPrograms(gl::ProgramBuilder("NightSky")
+                                           .define("NIGHT_TABLE_N", kTableN)
+                                           .fullscreenVertex()
+                                           .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
+                                           .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
+                                           .fragment("nightsky/nightsky.frag.glsl", embedded::nightsky_shaders("nightsky.frag.glsl")));
+    programs_.get(Projection::Perspective);  // shader errors surface in init()
+}
+
+void NightSky::doUpdate(const FrameContext& ctx) {
+    SkyVars& v = ctx.vars;
+    if (v.get(nightkeys::milkyWayTexture) != mwPath_) loadMilkyWay(v.get(nightkeys::milkyWayTexture), ctx.log);
+    // The four terms at the zenith (CPU twins of the shader), published for the stars.
+    const glm::dmat3 R = v.getOr(astro::keys::starFrameRotation, glm::dmat3(1.0));
+    const glm::dvec3 zenithIcrs = glm::transpose(R) * glm::dvec3(0, 0, 1);
+    const double sunLon = sunEclipticLongitude(R, v.getOr(keys::sunDirection, glm::dvec3(0, 0, -1)));
+    if (!(std::abs(std::remainder(sunLon - zodiLon_, 2.0 * kPi)) < kZodiRebakeRad)) bakeZodiacal(sunLon);
+    zenith_.airglow = surfaceBrightnessCdM2(v.get(nightkeys::airglowZenithMag));
+    zenith_.zodiacal = v.get(nightkeys::zodiacalScale) * zodiacalUnitCdM2() * zodiacalAt(zenithIcrs, sunLon);
+    const double mwScale = v.get(nightkeys::milkyWayScale);
+    zenith_.milkyWay = mwScale * milkyWayFloorCdM2();
+    if (mwLoaded_) {
+        const glm::dvec2 uv = milkyWayTexCoord(zenithIcrs);
+        const int x = std::min(int(uv.x * mwW_), mwW_ - 1), y = std::min(int(uv.y * mwH_), mwH_ - 1);
+        zenith_.milkyWay += mwScale * mwCpu_[size_t(y) * mwW_ + x];
+    }
+    zenith_.lightPollution = std::max(surfaceBrightnessCdM2(bortleZenithMag(v.get(nightkeys::bortle))) - surfaceBrightnessCdM2(nightkeys::kDarkSkyZenithMag), 0.0);
+    v.set(nightkeys::background, zenith_.airglow + zenith_.zodiacal + zenith_.milkyWay + zenith_.lightPollution);
+}
+
+void NightSky::updateExtinction(const SkyVars& v) {
+    // The atmosphere's transmittance towards each table altitude (as the Stars' table), when the
+    // observer's height or the atmosphere changed.
+    const void* atm = v.has(atmosphere::kAtmosphere) ? v.get(atmosphere::kAtmosphere).get() : nullptr;
+    const double h = v.getOr(keys::observerHeight, 0.0);
+    if (!extinction_.empty() && atm == extinctionAtm_ && h == extinctionHeight_) return;
+    const generators::SkyModel m = generators::SkyModel::fromVars(v);
+    const double hc = std::clamp(h, 0.0, m.topRadius - m.bottomRadius);
+    extinction_.assign(3 * kTableN, 1.0f);
+    for (int i = 0; i < kTableN; ++i) {
+        const double mu = std::sin(tableAltitude(i));
+        glm::dvec3 T(1.0);
+        if (hc < m.topRadius - m.bottomRadius)
+            T = generators::cpu::rayIntersectsGround(m, hc, mu) ? glm::dvec3(0.0) : generators::cpu::transmittanceToTop(m, hc, mu, 128);
+        for (int k = 0; k < 3; ++k) extinction_[3 * i + k] = float(std::clamp(T[k], 0.0, 1.0));
+    }
+    extinctionAtm_ = atm;
+    extinctionHeight_ = h;
+}
+
+void NightSky::doRender(const FrameContext& ctx) {
+    const SkyVars& v = ctx.vars;
+    const double background = zenith_.airglow + zenith_.zodiacal + zenith_.milkyWay + zenith_.lightPollution;
+    drawn_ = !(v.has(generators::skykeys::zenithLuminance) && v.get(generators::skykeys::zenithLuminance) > kSkipRatio * background);
+    if (!drawn_) return;
+    const gl::Program& p = programs_.get(ctx.camera.projection);
+    p.use();
+    const glm::dmat3 R = v.getOr(astro::keys::starFrameRotation, glm::dmat3(1.0));
+    p.set("u_enuToIcrs", glm::mat3(glm::transpose(R)));
+    auto r2 = [](double h) {
+        const double r = kEarthRadiusM / (kEarthRadiusM + h);
+        return float(r * r);
+    };
+    p.set("u_airglow", glm::vec3(zenith_.airglow * airglowColour()));
+    p.set("u_airglowR2", r2(v.get(nightkeys::airglowHeight)));
+    p.set("u_lp", glm::vec3(zenith_.lightPollution * lightPollutionColour()));
+    p.set("u_lpR2", r2(kLightPollutionLayerM));
+    p.set("u_zodi", glm::vec3(v.get(nightkeys::zodiacalScale) * zodiacalUnitCdM2() * solarColour()));
+    zodiTexture_.bind(gl::binding::kZodiacalTexture);
+    const double mwScale = v.get(nightkeys::milkyWayScale);
+    p.set("u_mwFloor", glm::vec3(mwScale * milkyWayFloorCdM2() * mwColour_));
+    p.set("u_mwScale", float(mwLoaded_ ? mwScale / kMwStorageScale : 0.0));
+    p.set("u_texelsPerRad", float(mwW_ / (2.0 * kPi)));
+    if (mwLoaded_) mwTexture_.bind(gl::binding::kMilkyWayTexture);
+    p.set("u_extinction", ctx.attenuatedLater ? 0 : 1);
+    if (!ctx.attenuatedLater) {
+        updateExtinction(v);
+        glProgramUniform3fv(p.id(), p.location("u_ext"), kTableN, extinction_.data());
+    }
+    ctx.drawFullscreen();
+}
+
+void NightSky::doRelease() {
+    programs_.releasePrograms();
+    mwTexture_ = gl::Texture2D();
+    zodiTexture_ = gl::Texture2D();
+    zodiLon_ = std::nan("");
+    mwCpu_.clear();
+    mwLoaded_ = false;
+    mwPath_.clear();
+    extinction_.clear();
+}
+
+void NightSky::doStats(nlohmann::json& root) const {
+    auto& j = root["nightsky"];
+    j["airglow_zenith_cd_m2"] = zenith_.airglow;
+    j["zodiacal_zenith_cd_m2"] = zenith_.zodiacal;
+    j["milky_way_zenith_cd_m2"] = zenith_.milkyWay;
+    j["light_pollution_zenith_cd_m2"] = zenith_.lightPollution;
+    const double total = zenith_.airglow + zenith_.zodiacal + zenith_.milkyWay + zenith_.lightPollution;
+    j["background_cd_m2"] = total;
+    j["zenith_mag_arcsec2"] = total > 0 ? surfaceBrightnessMag(total) : 99.0;
+    j["milky_way_loaded"] = mwLoaded_;
+    j["drawn"] = drawn_;
+    j["milky_way_gain_cd_m2"] = mwGain_;  // cd/m^2 = gain x Y^0.5 + floor
+    j["zodiacal_unit_cd_m2"] = zodiacalUnitCdM2();
+}
+
+}  // namespace welkin::elements
+
+WELKIN_ELEMENT_DESCRIPTOR(nightsky) {
+    static const welkin::ElementDescriptor d{
+        "nightsky", "the diffuse night sky: the Milky Way (stellarium-data panorama, calibrated), airglow, zodiacal light, light pollution (Bortle class)",
+        welkin::Layer::Background, true, [] { return std::make_unique<welkin::elements::NightSky>(); }};
+    return d;
+}
