@@ -43,6 +43,7 @@ inline constexpr int kViewTransmittanceLut = 10;   ///< sky.view_transmittance_l
 // Texture units: other passes.
 inline constexpr int kSceneDepth = 0;     ///< the host's depth texture (aerial perspective applied to a scene)
 inline constexpr int kCombineSource = 0;  ///< the spectral-combine pass's source LUT
+inline constexpr int kTextAtlas = 0;      ///< gl::Font's glyph atlas (welkin/gl/text.hpp), bound by TextBatch::draw()
 // The keyframe blend passes (generators/atmosphere/shaders/light_blend.glsl): up to four tables at
 // consecutive elevations (A..D), mixed with weights in elevation.
 inline constexpr int kBlendA = 0;        ///< table A (sky view: smooth part; aerial: in-scattering)
@@ -97,6 +98,7 @@ inline constexpr std::array kTable = {
     Entry{"WELKIN_BINDING_VIEW_TRANSMITTANCE_LUT", kViewTransmittanceLut, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_SCENE_DEPTH", kSceneDepth, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_COMBINE_SOURCE", kCombineSource, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_TEXT_ATLAS", kTextAtlas, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_BLEND_A", kBlendA, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_BLEND_A_MIE", kBlendAMie, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_BLEND_B", kBlendB, Kind::TextureUnit},
