@@ -202,7 +202,11 @@ void Constellations::load(const SkyVars& v) {
     const std::string key = lf + "\n" + nf + "\n" + culture;
     if (key == loadedKey_) return;
     // Every star of the figures is brighter than magnitude 7 (the faintest Western one is ~6.1).
-    const std::vector<astro::Star> stars = astro::loadKStarsCatalogue(astro::kKStarsCatalogue, 7.0);
+    std::vector<astro::Star> stars = astro::loadKStarsCatalogue(astro::kKStarsCatalogue, 7.0);
+    // namedstars.dat (read by the loader) gives the HD numbers of the ~1600 named stars; the
+    // figures also use unnamed ones, whose HD numbers are in unnamedstars.dat (same format).
+    const std::string unnamed = std::string(astro::kKStarsCatalogue).substr(0, std::string(astro::kKStarsCatalogue).rfind('/') + 1) + "unnamedstars.dat";
+    if (std::ifstream(unnamed).good()) astro::attachKStarsHdNumbers(stars, unnamed);
     segments_ = resolveConstellationSegments(loadConstellationLines(lf, culture), stars, &unresolved_);
     labels_ = loadConstellationNames(nf, culture);
     // Great-circle arcs cut into pieces of at most kArcStepRad (slerp between the ends).
