@@ -184,7 +184,9 @@ void TextBatch::add(const Font& font, const glm::vec4& clip, std::string_view ut
     const glm::vec3 radiance = Y > 0 ? glm::vec3(c / Y) * style.luminanceCdM2 : glm::vec3(0.0f);
     // The pen's origin on the baseline, in pixels from the anchor (y down).
     const float boxH = e.ascender - e.descender;
-    glm::vec2 pen(-style.align.x * e.advance + style.offsetPx.x, e.ascender - style.align.y * boxH + style.offsetPx.y);
+    // Rounded to a whole pixel (the shader snaps the anchor too): glyphs drawn at the atlas' size
+    // then map texel to pixel.
+    glm::vec2 pen = glm::round(glm::vec2(-style.align.x * e.advance + style.offsetPx.x, e.ascender - style.align.y * boxH + style.offsetPx.y));
     const glm::vec2 atlasSize(font.atlas().width(), font.atlas().height());
     for (char32_t u : decodeUtf8(utf8)) {
         const Glyph& g = font.glyph(u);

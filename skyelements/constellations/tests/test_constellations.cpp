@@ -103,9 +103,8 @@ TEST_CASE("Constellations: clines.dat and cnames.dat parse as the files are writ
         return;
     }
     const auto figures = loadConstellationLines(kConstellationLinesFile, "Western");
-    // The Western culture of kstars-data 3.6: 89 commented figures (Serpens twice? no: one
-    // "Serpens" comment per part is not used; the count is the file's "# Name" lines with lines
-    // after them) and 659 "D" records, each one segment (counted independently with awk).
+    // The Western culture of kstars-data: 89 "# Name" figures with lines (Serpens in two) and 659
+    // "D" records, each one segment (both counted independently with grep/awk on the file).
     size_t segments = 0;
     for (const auto& f : figures)
         for (const auto& poly : f.polylines) segments += poly.size() - 1;
@@ -241,11 +240,16 @@ TEST_CASE("Text: glyph metrics, and a drawn string's box matches its layout", "[
                 }
             }
         REQUIRE(x1 > x0);
-        // Full coverage inside the strokes emits the style's luminance (white: luminance 1).
-        CHECK(peak == Approx(100.0).epsilon(0.02));
+        // Full coverage inside the strokes emits the style's luminance (white: luminance 1): at the
+        // atlas' own size exactly, to the R8 atlas' 1/255 step; scaled down, a mip texel averages
+        // a stroke with its edge, so the peak may fall a little short (never above).
+        if (size == 48.0f) CHECK(peak == Approx(100.0).epsilon(0.005));
+        CHECK(peak <= 100.0 * 1.0001);
+        CHECK(peak > 85.0);
         // The predicted box: anchor (160, 48), centred on the advance x ascender..descender box.
         const gl::TextExtent m = probePtr->font.measure(text, size);
-        const glm::vec2 pen(160.0f - 0.5f * m.advance, 48.0f + m.ascender - 0.5f * (m.ascender - m.descender));
+        // The pen's origin is put on a whole pixel (TextBatch::add()).
+        const glm::vec2 pen = glm::vec2(160.0f, 48.0f) + glm::round(glm::vec2(-0.5f * m.advance, m.ascender - 0.5f * (m.ascender - m.descender)));
         const glm::vec2 lo = pen + m.inkMin, hi = pen + m.inkMax;
         INFO("size " << size << ": drawn [" << x0 << ", " << x1 << "] x [" << y0 << ", " << y1 << "], layout [" << lo.x << ", " << hi.x
                      << "] x [" << lo.y << ", " << hi.y << "]");

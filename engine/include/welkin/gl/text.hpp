@@ -9,7 +9,7 @@
 //   labels.draw(font);                                       // into the bound HDR target, then cleared
 //
 // Sizes are pixels of the output image; a string's layout (measure()) is in those pixels, x right,
-// y down, from the pen's origin on the baseline. The atlas holds printable ASCII and Latin-1
+// y down, from the pen's origin on the baseline; add() puts that origin on a whole pixel. The atlas holds printable ASCII and Latin-1
 // (U+0020..U+007E, U+00A0..U+00FF) rasterised at FontOptions::rasterPx with mipmaps; a string is
 // UTF-8 and a code point outside the atlas is drawn as '?'. Quads are drawn with the camera block
 // bound (the processor binds it during render()) and the composite blend of an element: radiance
