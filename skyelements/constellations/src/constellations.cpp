@@ -17,7 +17,9 @@
 #include <fstream>
 #include <numbers>
 #include <sstream>
+#include <filesystem>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace welkin::elements {
 
@@ -170,6 +172,27 @@ std::vector<ConstellationSegment> resolveConstellationSegments(const std::vector
     return out;
 }
 
+std::vector<astro::Star> loadConstellationStars(const std::string& catalogue) {
+    // Every star of the figures is brighter than magnitude 7 (the faintest Western one is ~6.1).
+    std::vector<astro::Star> stars = astro::loadKStarsCatalogue(catalogue, 7.0);
+    // namedstars.dat (read by the loader) gives the HD numbers of the ~1600 named stars; the
+    // figures also use unnamed ones, whose HD numbers are in unnamedstars.dat (same format).
+    const std::filesystem::path dir = std::filesystem::path(catalogue).parent_path();
+    const std::filesystem::path unnamed = dir / "unnamedstars.dat";
+    if (std::filesystem::exists(unnamed)) astro::attachKStarsHdNumbers(stars, unnamed.string());
+    // A few close doubles do not match (stars.dat and the binary files reduce them differently):
+    // their binary records, at the records' own J2000 places, stand in for them.
+    std::unordered_set<int> have;
+    for (const astro::Star& s : stars)
+        if (s.hd > 0) have.insert(s.hd);
+    for (const char* f : {"namedstars.dat", "unnamedstars.dat"}) {
+        if (!std::filesystem::exists(dir / f)) continue;
+        for (astro::Star& r : astro::loadKStarsBinaryStars((dir / f).string()))
+            if (r.hd > 0 && have.insert(r.hd).second) stars.push_back(std::move(r));
+    }
+    return stars;
+}
+
 Constellations::Constellations() : SkyElement("constellations") {
     option(constellationkeys::linesFile, std::string(kConstellationLinesFile));
     option(constellationkeys::namesFile, std::string(kConstellationNamesFile));
@@ -202,11 +225,7 @@ void Constellations::load(const SkyVars& v) {
     const std::string key = lf + "\n" + nf + "\n" + culture;
     if (key == loadedKey_) return;
     // Every star of the figures is brighter than magnitude 7 (the faintest Western one is ~6.1).
-    std::vector<astro::Star> stars = astro::loadKStarsCatalogue(astro::kKStarsCatalogue, 7.0);
-    // namedstars.dat (read by the loader) gives the HD numbers of the ~1600 named stars; the
-    // figures also use unnamed ones, whose HD numbers are in unnamedstars.dat (same format).
-    const std::string unnamed = std::string(astro::kKStarsCatalogue).substr(0, std::string(astro::kKStarsCatalogue).rfind('/') + 1) + "unnamedstars.dat";
-    if (std::ifstream(unnamed).good()) astro::attachKStarsHdNumbers(stars, unnamed);
+    const std::vector<astro::Star> stars = loadConstellationStars();
     segments_ = resolveConstellationSegments(loadConstellationLines(lf, culture), stars, &unresolved_);
     labels_ = loadConstellationNames(nf, culture);
     // Great-circle arcs cut into pieces of at most kArcStepRad (slerp between the ends).

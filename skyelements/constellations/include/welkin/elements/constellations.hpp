@@ -10,8 +10,9 @@
 // Model (docs/constellations.md has the sources, the cost and the tests):
 //  - Lines: clines.dat lists, per sky culture ("C Western"), polylines of stars by HD number
 //    ("M hd" moves, "D hd" draws). Each HD number is resolved against the star catalogue
-//    (astro::loadKStarsCatalogue + attachKStarsHdNumbers: kstars' namedstars.dat holds the HD
-//    numbers); an unresolved star ends its polyline there. Each segment is a great-circle arc
+//    (loadConstellationStars(): astro::loadKStarsCatalogue + attachKStarsHdNumbers, kstars'
+//    namedstars.dat and unnamedstars.dat hold the HD numbers); an unresolved star ends its
+//    polyline there. Each segment is a great-circle arc
 //    between the two J2000 (ICRS) star directions, cut on the CPU once into pieces of at most
 //    kArcStepRad so it curves as it should in a fisheye or equirect image.
 //  - Place: per frame the astronomy's stars.frame_icrs_to_enu rotation and the refraction
@@ -83,6 +84,10 @@ std::vector<ConstellationLabel> parseConstellationNames(const std::string& text,
 /// The two files read from disk (throws naming the file if it cannot be read).
 std::vector<ConstellationFigure> loadConstellationLines(const std::string& path, const std::string& culture);
 std::vector<ConstellationLabel> loadConstellationNames(const std::string& path, const std::string& culture);
+/// The stars the figures are resolved against: the kstars catalogue to V 7 with HD numbers from
+/// namedstars.dat and unnamedstars.dat (beside it), plus the binary files' records whose HD number
+/// no catalogue star received (close doubles the two reductions place > 6" apart).
+std::vector<astro::Star> loadConstellationStars(const std::string& catalogue = astro::kKStarsCatalogue);
 /// Segments (pairs of ICRS unit directions) of the figures with each HD number resolved against
 /// `stars` (their `hd`); `unresolved` counts the HD numbers not found.
 struct ConstellationSegment {
