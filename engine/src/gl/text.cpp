@@ -169,13 +169,27 @@ TextExtent Font::measure(std::string_view utf8, float pixelSize) const {
 TextBatch::~TextBatch() = default;
 
 void TextBatch::add(const Font& font, const glm::vec4& clip, std::string_view utf8, const TextStyle& style) {
+    if (!(clip.w > 0.0f) || !std::isfinite(clip.x) || !std::isfinite(clip.y)) {
+        push(font, glm::vec4(0.0f), "", style);  // checks the style all the same
+        return;
+    }
+    push(font, clip, utf8, style);
+}
+
+void TextBatch::addAt(const Font& font, const glm::vec3& d, std::string_view utf8, const TextStyle& style) {
+    if (!(std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.z)) || glm::dot(d, d) == 0.0f)
+        throw Error("TextBatch::addAt(): direction is zero or not finite");
+    push(font, glm::vec4(d, 0.0f), utf8, style);  // w = 0: a direction, projected in the vertex shader
+}
+
+void TextBatch::push(const Font& font, const glm::vec4& clip, std::string_view utf8, const TextStyle& style) {
     if (!(style.pixelSize > 0.0f && style.pixelSize <= 1024.0f))
         throw Error("TextBatch::add(): pixelSize " + std::to_string(style.pixelSize) + " not in (0, 1024]");
     if (!(style.luminanceCdM2 >= 0.0f && std::isfinite(style.luminanceCdM2)))
         throw Error("TextBatch::add(): luminanceCdM2 " + std::to_string(style.luminanceCdM2) + " not >= 0");
     if (!(style.align.x >= 0.0f && style.align.x <= 1.0f && style.align.y >= 0.0f && style.align.y <= 1.0f))
         throw Error("TextBatch::add(): align not in [0, 1]^2");
-    if (!(clip.w > 0.0f) || !std::isfinite(clip.x) || !std::isfinite(clip.y)) return;
+    if (utf8.empty()) return;
     const TextExtent e = font.measure(utf8, style.pixelSize);
     const float s = style.pixelSize / float(font.rasterPx());
     // Radiance: the colour scaled to luminance 1, times the luminance.

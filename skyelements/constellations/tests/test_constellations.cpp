@@ -25,6 +25,7 @@
 #include <filesystem>
 #include <fstream>
 #include <numbers>
+#include <optional>
 
 using namespace welkin;
 using namespace welkin::elements;
@@ -79,11 +80,13 @@ class TextProbe final : public SkyElement {
 public:
     TextProbe(std::string text, gl::TextStyle style) : SkyElement("text_probe"), text_(std::move(text)), style_(style) {}
     gl::Font font;
+    std::optional<glm::vec3> direction;  // anchor on the GPU (addAt) instead of the image centre
 
 private:
     void doInit(InitContext&) override { font = gl::Font::load(); }
     void doRender(const FrameContext& ctx) override {
-        batch_.add(font, glm::vec4(0, 0, 1, 1), text_, style_);  // the image centre
+        if (direction) batch_.addAt(font, *direction, text_, style_);
+        else batch_.add(font, glm::vec4(0, 0, 1, 1), text_, style_);  // the image centre
         batch_.draw(font);
         if (ctx.emptyVao) ctx.emptyVao->bind();
     }
@@ -221,6 +224,15 @@ TEST_CASE("Text: glyph metrics, and a drawn string's box matches its layout", "[
     CHECK(e.advance == Approx(sum).epsilon(1e-6));
     CHECK(e.inkMax.x <= e.advance + 1.0f);
     CHECK_THROWS_WITH(font.measure("x", 0), Catch::Contains("pixelSize 0.000000 not in (0, 1024]"));
+    {
+        gl::TextBatch b;
+        CHECK_THROWS_WITH(b.add(font, glm::vec4(0, 0, 1, 1), "x", {.pixelSize = 2000}), Catch::Contains("TextBatch::add(): pixelSize 2000"));
+        CHECK_THROWS_WITH(b.addAt(font, glm::vec3(0), "x"), Catch::Contains("TextBatch::addAt(): direction is zero or not finite"));
+        b.add(font, glm::vec4(0, 0, 1, -1), "behind");  // w < 0: not visible, nothing queued
+        CHECK(b.quads() == 0);
+        b.add(font, glm::vec4(0, 0, 1, 1), "a b");  // a space has no quad
+        CHECK(b.quads() == 2);
+    }
 
     for (float size : {48.0f, 20.0f}) {  // the atlas' own size, and scaled down through the mipmaps
         const std::string text = "Hyades Wg";
@@ -272,6 +284,20 @@ TEST_CASE("Text: glyph metrics, and a drawn string's box matches its layout", "[
         CHECK(std::abs(x1 - hi.x) <= 1.0f);
         CHECK(std::abs(y0 - lo.y) <= 1.0f);
         CHECK(std::abs(y1 - hi.y) <= 1.0f);
+        // The same string anchored by a direction projected on the GPU (addAt): the camera's
+        // forward direction lands on the image centre, so the same pixels to float rounding.
+        {
+            SkyProcessor q(SkyVars::earth(), Logger(), ProcessorOptions{.astronomy = false});
+            q.setCamera(cam);
+            auto gpu = std::make_unique<TextProbe>(text, style);
+            gpu->direction = glm::vec3(cam.basis()[2]);
+            q.add(std::move(gpu));
+            q.renderFrame();
+            const Image img2 = q.readHdr();
+            double maxDiff = 0;
+            for (size_t i = 0; i < img.pixels.size(); ++i) maxDiff = std::max(maxDiff, double(std::abs(img.pixels[i] - img2.pixels[i])));
+            CHECK(maxDiff < 1e-3);  // 1e-5 of the luminance: identical coverage
+        }
         // And the string's drawn width against its advance: advance minus the first glyph's left
         // bearing and the last one's right side bearing.
         const float s = size / em;

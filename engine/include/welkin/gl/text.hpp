@@ -6,6 +6,7 @@
 //   // in an element's doRender(ctx), anchored where a direction lands (C++ twin of welkin_clipFromDirection):
 //   if (auto clip = ctx.camera.clipFromDirection(dir))
 //       labels.add(font, glm::vec4(*clip), "Cygnus", {.pixelSize = 16, .luminanceCdM2 = 2e-3});
+//   labels.addAt(font, glm::vec3(dir), "Vega", {});           // or: the GPU projects the direction
 //   labels.draw(font);                                       // into the bound HDR target, then cleared
 //
 // Sizes are pixels of the output image; a string's layout (measure()) is in those pixels, x right,
@@ -108,6 +109,10 @@ public:
     /// is skipped. Throws welkin::Error for a style out of range ("TextBatch::add(): pixelSize 0
     /// not in (0, 1024]").
     void add(const Font& font, const glm::vec4& clip, std::string_view utf8, const TextStyle& style = {});
+    /// Adds a string anchored where a world (ENU) direction lands: the GPU computes the anchor with
+    /// welkin_clipFromDirection() for the camera of the draw (a direction the projection does not
+    /// show draws nothing). Throws like add() and for a zero or non-finite direction.
+    void addAt(const Font& font, const glm::vec3& directionEnu, std::string_view utf8, const TextStyle& style = {});
     /// Glyph quads waiting to be drawn.
     int quads() const { return int(vertices_.size() / kFloatsPerQuad); }
     /// Draws every string into the bound framebuffer with the current blend state and clears the
@@ -116,6 +121,7 @@ public:
     void clear() { vertices_.clear(); }
 
 private:
+    void push(const Font& font, const glm::vec4& anchor, std::string_view utf8, const TextStyle& style);
     static constexpr size_t kFloatsPerQuad = 16;  // anchor (4), pixel box (4), uv box (4), radiance (3), pad
     std::vector<float> vertices_;
     Buffer buffer_;
