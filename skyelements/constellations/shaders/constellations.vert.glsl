@@ -8,6 +8,7 @@ layout(location = 1) in vec4 a_p1;
 uniform mat3 u_icrsToEnu;  // ICRS -> observer ENU, this frame
 uniform int u_copies;      // 2 in equirect (the seam twin), else 1
 uniform float u_widthPx;   // line width, px
+uniform int u_clipHorizon; // 1: keep only the part above the apparent horizon (always in a fisheye)
 // Refraction (rad) at geometric altitude h = -5 deg + 95 deg * u^2, u = i / (N - 1) (the Stars
 // element's table).
 uniform float u_refr[CONSTELLATIONS_TABLE_N];
@@ -37,8 +38,8 @@ void main() {
     gl_Position = WELKIN_CLIP_INVISIBLE;
     v_across = 0.0;
     v_halfWidth = 0.5 * u_widthPx;
-    if (type == 1) {
-        // Fisheye: the part above the horizon (a piece is short: the chord's crossing is the arc's).
+    if (type == 1 || u_clipHorizon == 1) {
+        // The part above the horizon (a piece is short: the chord's crossing is the arc's).
         if (d0.z < 0.0 && d1.z < 0.0) return;
         if (d0.z < 0.0) d0 = vec3(normalize(mix(d0, d1, d0.z / (d0.z - d1.z)).xy), 0.0);
         if (d1.z < 0.0) d1 = vec3(normalize(mix(d1, d0, d1.z / (d1.z - d0.z)).xy), 0.0);

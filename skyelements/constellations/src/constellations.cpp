@@ -198,6 +198,7 @@ Constellations::Constellations() : SkyElement("constellations") {
     option(constellationkeys::namesFile, std::string(kConstellationNamesFile));
     option(constellationkeys::culture, std::string("Western"));
     option(constellationkeys::lines, true);
+    option(constellationkeys::belowHorizon, false);
     option(constellationkeys::labels, std::string("name"));
     option(constellationkeys::lineWidth, 1.5);
     // 1e-3 cd/m^2: ~6x a dark site's night sky (1.7e-4 cd/m^2): visible at the exposures that
@@ -295,6 +296,7 @@ void Constellations::doRender(const FrameContext& ctx) {
         const int copies = ctx.camera.projection == Projection::Equirect ? 2 : 1;
         p.set("u_copies", copies);
         p.set("u_widthPx", float(v.get(constellationkeys::lineWidth)));
+        p.set("u_clipHorizon", v.get(constellationkeys::belowHorizon) ? 0 : 1);
         p.set("u_radiance", scaled(v.get(constellationkeys::lineColour), L));
         float refr[kTableN];
         for (int i = 0; i < kTableN; ++i) refr[i] = float(astro::refraction(tableAltitude(i), P, Tc));
@@ -323,7 +325,7 @@ void Constellations::doRender(const FrameContext& ctx) {
             const double horiz = std::hypot(d.x, d.y);
             const glm::dvec2 sc = horiz > 0 ? glm::dvec2(d.x, d.y) / horiz : glm::dvec2(0, 1);
             const auto clip = ctx.camera.clipFromDirection(glm::dvec3(sc * std::cos(hApp), std::sin(hApp)));
-            if (!clip) continue;
+            if (!clip || (hApp < 0.0 && !v.get(constellationkeys::belowHorizon))) continue;
             // Perspective: skip anchors off the frame (a label there would be half drawn at best).
             if (std::abs(clip->x) > clip->w * 1.2 || std::abs(clip->y) > clip->w * 1.2) continue;
             text_.add(font_, glm::vec4(*clip), s, style);

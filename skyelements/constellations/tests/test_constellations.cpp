@@ -308,13 +308,26 @@ TEST_CASE("Text: glyph metrics, and a drawn string's box matches its layout", "[
     }
 }
 
-TEST_CASE("Constellations: lines pass within 1 px of their stars (Malta, 1024 fisheye)", "[gl][constellations]") {
+TEST_CASE("Constellations: lines pass within 1 px of their stars (Malta, 1024 fisheye and perspective)", "[gl][constellations]") {
     if (!haveKStars() || !haveFont()) {
         WARN("kstars-data or DejaVu Sans is not installed" ": test skipped");
         return;
     }
     test::glContext();
-    const Camera cam = fisheye(1024);
+    // The issue's 1024-px fisheye, and a 50-deg perspective view centred on Cygnus (pinhole: the
+    // arcs are straight lines, drawn through the near-plane clipping path).
+    Camera persp;
+    persp.projection = Projection::Perspective;
+    persp.width = 1024;
+    persp.height = 768;
+    persp.verticalFovRad = 50 * kDeg;
+    {
+        const glm::dvec2 azAlt = azAltFromDirection(maltaSky().apparent(astro::directionFromRaDec(305.557 * kDeg, 40.257 * kDeg)));  // gamma Cyg
+        persp.azimuthRad = azAlt.x;
+        persp.altitudeRad = azAlt.y;
+    }
+    for (const Camera& cam : {fisheye(1024), persp}) {
+    INFO(toString(cam.projection));
     SkyProcessor p;
     atMalta(p, cam);
     p.add(makeElement("constellations"));
@@ -373,6 +386,7 @@ TEST_CASE("Constellations: lines pass within 1 px of their stars (Malta, 1024 fi
     nlohmann::json j = p.stats();
     CHECK(j["constellations"]["segments"].get<int>() == 656);  // as the [cpu] resolution test
     CHECK(j["constellations"]["unresolved_stars"].get<int>() == 2);
+    }
 }
 
 TEST_CASE("Constellations: a label is drawn centred on its figure's position", "[gl][constellations]") {
@@ -560,6 +574,19 @@ TEST_CASE("Constellations: the equirect seam and options", "[gl][constellations]
         }
     }
     CHECK(longest < 200);  // the longest near-horizontal arc of a figure spans < 100 deg (< 200 px)
+    // Below the horizon nothing by default (but a line's width and end caps, 1.75 px = 0.9 deg
+    // here: rows from 184, altitude < -2 deg, are checked); with constellations.below_horizon the
+    // southern figures appear there.
+    auto below = [](const Image& im) {
+        double sum = 0;
+        for (int y = im.height / 2 + 4; y < im.height; ++y)
+            for (int x = 0; x < im.width; ++x) sum += lum(im, x, y);
+        return sum;
+    };
+    CHECK(below(img) == 0.0);
+    p.vars().set(constellationkeys::belowHorizon, true);
+    p.renderFrame();
+    CHECK(below(p.readHdr()) > 100.0);  // hundreds of lit pixels (luminance 1 each)
     CHECK_THROWS_WITH((p.vars().set(constellationkeys::labels, std::string("both")), p.renderFrame()),
                       Catch::Contains("constellations.labels: 'both' is not one of name, abbreviation, none"));
 }

@@ -21,8 +21,9 @@
 //    years for the figures' stars; < 1" for most of them since J2000) and annual aberration
 //    (< 20.5") are left out: both are far below a line's width.
 //  - Drawing: each piece is a screen-space quad of constellations.line_width_px (antialiased),
-//    split at the equirect seam (drawn twice, once per side), clipped at a fisheye's horizon
-//    and a perspective camera's near plane; radiance constellations.line_colour x
+//    split at the equirect seam (drawn twice, once per side), clipped at the apparent horizon
+//    (always in a fisheye; elsewhere unless constellations.below_horizon) and a perspective
+//    camera's near plane; radiance constellations.line_colour x
 //    constellations.line_luminance_cd_m2, transmittance 1 - coverage.
 //  - Names: cnames.dat gives each figure's label position (J2000 RA/Dec), abbreviation and name
 //    (Latin, upper case in the file; drawn title-cased: "Ursa Major"); drawn centred on that
@@ -46,6 +47,7 @@ inline const Key<std::string> linesFile{"constellations.lines_file", "kstars cli
 inline const Key<std::string> namesFile{"constellations.names_file", "kstars cnames.dat: figures' label positions and names"};
 inline const Key<std::string> culture{"constellations.culture", "sky culture of clines.dat/cnames.dat (Western, Chinese, Norse, ...)"};
 inline const Key<bool> lines{"constellations.lines", "draw the figures' lines"};
+inline const Key<bool> belowHorizon{"constellations.below_horizon", "draw lines and names below the (apparent) horizon too"};
 inline const Key<std::string> labels{"constellations.labels", "figure labels: name (Latin), abbreviation, or none"};
 inline const Key<double> lineWidth{"constellations.line_width_px", Range{0.5, 20}, "line width", "px"};
 inline const Key<double> lineLuminance{"constellations.line_luminance_cd_m2", Range{0, 1e10}, "line luminance; 0 = 60 % of white at the manual exposure"};
