@@ -133,11 +133,15 @@ Font Font::load(const FontOptions& options) {
     return f;
 }
 
-bool Font::has(char32_t u) const { return std::find(codes_.begin(), codes_.end(), u) != codes_.end(); }
+bool Font::has(char32_t u) const { return std::binary_search(codes_.begin(), codes_.end(), u); }
 
 const Glyph& Font::glyph(char32_t u) const {
-    auto it = std::find(codes_.begin(), codes_.end(), u);
-    if (it == codes_.end()) it = std::find(codes_.begin(), codes_.end(), U'?');
+    auto find = [&](char32_t c) {  // codes_ is ascending (atlasCodes() order)
+        auto it = std::lower_bound(codes_.begin(), codes_.end(), c);
+        return it != codes_.end() && *it == c ? it : codes_.end();
+    };
+    auto it = find(u);
+    if (it == codes_.end()) it = find(U'?');
     if (it == codes_.end()) throw Error("Font::glyph(): the font is not loaded");
     return glyphs_[size_t(it - codes_.begin())];
 }
