@@ -10,14 +10,15 @@
 //   labels.draw(font);                                       // into the bound HDR target, then cleared
 //
 // Sizes are pixels of the output image; a string's layout (measure()) is in those pixels, x right,
-// y down, from the pen's origin on the baseline; add() puts that origin on a whole pixel. The atlas holds printable ASCII and Latin-1
-// (U+0020..U+007E, U+00A0..U+00FF) rasterised at FontOptions::rasterPx with mipmaps; a string is
+// y down, from the pen's origin on the baseline; add() puts that origin on a whole pixel. The
+// atlas holds printable ASCII and Latin-1 (U+0020..U+007E, U+00A0..U+00FF) rasterised at
+// FontOptions::rasterPx with mipmaps; a string is
 // UTF-8 and a code point outside the atlas is drawn as '?'. Quads are drawn with the camera block
 // bound (the processor binds it during render()) and the composite blend of an element: radiance
 // colour x luminance x coverage, transmittance 1 - coverage (a label hides what is behind it).
 // Default luminance 2e-3 cd/m^2: about 10x the natural night sky at a dark site (1.7e-4 cd/m^2,
 // 22 mag/arcsec^2), so a label reads against a moonless sky at the exposures that show the stars
-// (EV100 -9 maps it to ~70 % of white) and, like ink on a chart, disappears against a twilight or
+// (EV100 -9 puts it at 85 % of the linear white point 1.2 x 2^EV cd/m^2) and, like ink on a chart, disappears against a twilight or
 // day sky unless the host raises it (a label is a radiance in the HDR frame, exposed like the rest).
 #pragma once
 #include <welkin/gl/objects.hpp>
@@ -116,7 +117,9 @@ public:
     /// Glyph quads waiting to be drawn.
     int quads() const { return int(vertices_.size() / kFloatsPerQuad); }
     /// Draws every string into the bound framebuffer with the current blend state and clears the
-    /// batch. The font must be the one given to add().
+    /// batch. The font must be the one given to add(). Leaves its own program, vertex array and
+    /// atlas (unit binding::kTextAtlas) bound: an element that then draws attribute-less binds
+    /// FrameContext::emptyVao again (the processor restores the host's state after the frame).
     void draw(const Font& font);
     void clear() { vertices_.clear(); }
 
