@@ -173,7 +173,8 @@ std::vector<ConstellationSegment> resolveConstellationSegments(const std::vector
 }
 
 std::vector<astro::Star> loadConstellationStars(const std::string& catalogue) {
-    // Every star of the figures is brighter than magnitude 7 (the faintest Western one is ~6.1).
+    // The figures' stars are naked-eye stars: the catalogue to V 7 (any fainter one of another
+    // culture is found among the binary records below).
     std::vector<astro::Star> stars = astro::loadKStarsCatalogue(catalogue, 7.0);
     // namedstars.dat (read by the loader) gives the HD numbers of the ~1600 named stars; the
     // figures also use unnamed ones, whose HD numbers are in unnamedstars.dat (same format).
@@ -225,7 +226,6 @@ void Constellations::load(const SkyVars& v) {
     const std::string culture = v.get(constellationkeys::culture);
     const std::string key = lf + "\n" + nf + "\n" + culture;
     if (key == loadedKey_) return;
-    // Every star of the figures is brighter than magnitude 7 (the faintest Western one is ~6.1).
     const std::vector<astro::Star> stars = loadConstellationStars();
     segments_ = resolveConstellationSegments(loadConstellationLines(lf, culture), stars, &unresolved_);
     labels_ = loadConstellationNames(nf, culture);

@@ -156,6 +156,26 @@ TEST_CASE("Constellations: clines.dat and cnames.dat parse as the files are writ
     CHECK_THROWS_WITH(loadConstellationLines("/nonexistent/clines.dat", "Western"), Catch::Contains("cannot read '/nonexistent/clines.dat'"));
 }
 
+TEST_CASE("Constellations: every sky culture of the files parses", "[cpu][constellations]") {
+    if (!haveKStars()) {
+        WARN("kstars-data is not installed" ": test skipped");
+        return;
+    }
+    // The cultures listed by the files' own "C <name>" lines; each has figures and names.
+    std::ifstream in(kConstellationLinesFile);
+    std::string line;
+    std::vector<std::string> cultures;
+    while (std::getline(in, line))
+        if (line.rfind("C ", 0) == 0) cultures.push_back(line.substr(2));
+    REQUIRE(cultures.size() >= 10);
+    for (const std::string& c : cultures) {
+        INFO(c);
+        const auto figures = loadConstellationLines(kConstellationLinesFile, c);
+        CHECK(!figures.empty());
+        CHECK(!loadConstellationNames(kConstellationNamesFile, c).empty());
+    }
+}
+
 TEST_CASE("Constellations: the figures' stars resolve against the catalogue", "[cpu][constellations]") {
     if (!haveKStars()) {
         WARN("kstars-data is not installed" ": test skipped");
