@@ -200,7 +200,7 @@ std::vector<Star> parseHygCsv(const std::string& text, const std::string& source
     return stars;
 }
 
-int attachKStarsHdNumbers(std::vector<Star>& stars, const std::string& path) {
+std::vector<Star> loadKStarsBinaryStars(const std::string& path) {
     const std::string bin = readFile(path);
     auto fail = [&](const std::string& what) -> void { throw Error(path + ": " + what); };
     auto u8 = [&](size_t off) -> unsigned {
@@ -228,51 +228,61 @@ int attachKStarsHdNumbers(std::vector<Star>& stars, const std::string& path) {
     size_t o = 129 + 16 * nFields;
     const size_t nTrixels = u32(o);
     o += 4;
+    std::vector<Star> out;
+    for (size_t t = 0; t < nTrixels; ++t) {
+        const size_t e = o + 12 * t;
+        const size_t offset = u32(e + 4), count = u32(e + 8);
+        for (size_t r = 0; r < count; ++r) {
+            const size_t rec = offset + 32 * r;
+            // Positions are at the Hipparcos epoch J1991.25: carried to J2000.0 with their own
+            // proper motion (mu_alpha*, mu_delta in 0.1 mas/yr).
+            Star h;
+            h.raJ2000Rad = i32(rec) / 1e6 * 15.0 * kDeg;
+            h.decJ2000Rad = i32(rec + 4) / 1e5 * kDeg;
+            h.pmRaMasPerYear = float(i32(rec + 8) / 10.0);
+            h.pmDecMasPerYear = float(i32(rec + 12) / 10.0);
+            h.hd = std::max(0, int(i32(rec + 20)));
+            h.magnitudeV = float(i16(rec + 24) / 100.0);
+            h.colorBV = float(i16(rec + 26) / 100.0);
+            const glm::dvec3 p = glm::normalize(starDirectionJ2000(h) + 8.75 * starProperMotion(h));
+            raDecFromDirection(p, h.raJ2000Rad, h.decJ2000Rad);
+            out.push_back(std::move(h));
+        }
+    }
+    return out;
+}
 
+int attachKStarsHdNumbers(std::vector<Star>& stars, const std::string& path) {
+    const std::vector<Star> records = loadKStarsBinaryStars(path);
     // Candidates sorted by declination for a window search.
     std::vector<size_t> order(stars.size());
     for (size_t i = 0; i < order.size(); ++i) order[i] = i;
     std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return stars[a].decJ2000Rad < stars[b].decJ2000Rad; });
     const double tol = 6.0 / 3600.0 * kDeg;  // the two reductions differ by up to ~5"
     int attached = 0;
-    for (size_t t = 0; t < nTrixels; ++t) {
-        const size_t e = o + 12 * t;
-        const size_t offset = u32(e + 4), count = u32(e + 8);
-        for (size_t r = 0; r < count; ++r) {
-            const size_t rec = offset + 32 * r;
-            // Positions are at the Hipparcos epoch J1991.25: carry them to J2000.0 with their own
-            // proper motion (mu_alpha*, mu_delta in 0.1 mas/yr) before matching.
-            Star h;
-            h.raJ2000Rad = i32(rec) / 1e6 * 15.0 * kDeg;
-            h.decJ2000Rad = i32(rec + 4) / 1e5 * kDeg;
-            h.pmRaMasPerYear = float(i32(rec + 8) / 10.0);
-            h.pmDecMasPerYear = float(i32(rec + 12) / 10.0);
-            const int hd = i32(rec + 20);
-            const double mag = i16(rec + 24) / 100.0;
-            if (hd <= 0) continue;
-            const glm::dvec3 p = glm::normalize(starDirectionJ2000(h) + 8.75 * starProperMotion(h));
-            double ra, dec;
-            raDecFromDirection(p, ra, dec);
-            auto lo = std::lower_bound(order.begin(), order.end(), dec - tol,
-                                       [&](size_t i, double d) { return stars[i].decJ2000Rad < d; });
-            // The nearest star within the radius whose magnitude agrees (variables such as Mira
-            // and the two reductions differ by up to ~0.7 mag).
-            Star* best = nullptr;
-            double bestSep = tol;
-            for (auto it = lo; it != order.end() && stars[*it].decJ2000Rad <= dec + tol; ++it) {
-                Star& s = stars[*it];
-                if (std::abs(s.magnitudeV - mag) > 1.0) continue;
-                const glm::dvec3 q = starDirectionJ2000(s);
-                const double sep = std::atan2(glm::length(glm::cross(p, q)), glm::dot(p, q));
-                if (sep <= bestSep) {
-                    bestSep = sep;
-                    best = &s;
-                }
+    for (const Star& h : records) {
+        if (h.hd <= 0) continue;
+        const glm::dvec3 p = starDirectionJ2000(h);
+        const double dec = h.decJ2000Rad;
+        auto lo = std::lower_bound(order.begin(), order.end(), dec - tol,
+                                   [&](size_t i, double d) { return stars[i].decJ2000Rad < d; });
+        // The nearest star within the radius whose magnitude agrees (variables such as Mira
+        // and the two reductions differ by up to ~0.7 mag).
+        Star* best = nullptr;
+        double bestSep = tol;
+        for (auto it = lo; it != order.end() && stars[*it].decJ2000Rad <= dec + tol; ++it) {
+            Star& s = stars[*it];
+            if (std::abs(s.magnitudeV - h.magnitudeV) > 1.0) continue;
+            const glm::dvec3 q = starDirectionJ2000(s);
+            const double sep = std::atan2(glm::length(glm::cross(p, q)), glm::dot(p, q));
+            if (sep <= bestSep) {
+                bestSep = sep;
+                best = &s;
             }
-            if (best) {
-                if (best->hd == 0) ++attached;
-                best->hd = hd;
-            }
+        }
+        if (best) {
+            if (best->hd == 0) ++attached;
+            best->hd = h.hd;
         }
     }
     return attached;

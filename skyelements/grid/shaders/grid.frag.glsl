@@ -1,5 +1,6 @@
 // Grid element: altitude circles and azimuth lines (angular spacing), the horizon emphasised,
-// and N/E/S/W glyphs. Needs engine/camera.glsl and engine/composite.glsl before it.
+// and N/E/S/W glyphs; and/or declination circles and hour circles (J2000). Needs
+// engine/camera.glsl and engine/composite.glsl before it.
 uniform float u_altStep;         // radians
 uniform float u_azStep;          // radians
 uniform float u_lineWidthPx;     // pixels
@@ -7,6 +8,12 @@ uniform float u_horizonWidthPx;  // pixels
 uniform float u_luminance;       // cd/m^2 of a fully covered pixel
 uniform vec4 u_markers[4];       // N, E, S, W: pixel position (x, y), visible flag
 uniform float u_glyphScale;      // pixels per glyph cell
+uniform int u_frame;             // bit 0: horizontal grid, bit 1: equatorial grid
+uniform mat3 u_enuToIcrs;        // observer ENU -> ICRS (J2000)
+uniform float u_raStep;          // radians
+uniform float u_decStep;         // radians
+// Refraction (rad) at apparent altitude h = -5 deg + 95 deg * u^2, u = i / (N - 1).
+uniform float u_refrApparent[GRID_TABLE_N];
 
 // 5x7 bitmaps, one row per 5 bits (top row first): N, E, S, W.
 const int GLYPHS[28] = int[28](
@@ -51,8 +58,31 @@ void main() {
     // The horizon, wider and warmer.
     float cHor = lineCoverage(abs(alt), u_horizonWidthPx * px);
 
+    if ((u_frame & 1) == 0) cAlt = cAz = cHor = 0.0;
     float cover = max(max(cAlt, cAz), cHor);
     vec3 colour = mix(vec3(0.55, 0.7, 1.0), vec3(1.0, 0.8, 0.45), cHor / max(cover, 1e-6));
+
+    if ((u_frame & 2) != 0) {
+        // Equatorial: the geometric direction (refraction taken off), then ICRS RA/Dec.
+        float x = sqrt(clamp((alt + 0.0872664626) / 1.6580627894, 0.0, 1.0)) * float(GRID_TABLE_N - 1);
+        int i = min(int(x), GRID_TABLE_N - 2);
+        float altGeo = alt - mix(u_refrApparent[i], u_refrApparent[i + 1], x - float(i));
+        float h = length(dir.xy);
+        vec2 sc = h > 0.0 ? dir.xy / h : vec2(0.0, 1.0);
+        vec3 q = u_enuToIcrs * vec3(sc * cos(altGeo), sin(altGeo));
+        float dec = asin(clamp(q.z, -1.0, 1.0));
+        float ra = atan(q.y, q.x);
+        float cDec = lineCoverage(abs(dec - u_decStep * round(dec / u_decStep)), u_lineWidthPx * px);
+        float cosDec = cos(dec);
+        float dRa = abs(ra - u_raStep * round(ra / u_raStep)) * cosDec;
+        float nearPoleEq = step(0.5 * WELKIN_PI - u_decStep + 1e-4, abs(dec));
+        float cRa = lineCoverage(dRa, u_lineWidthPx * px) * (1.0 - nearPoleEq);
+        float cEq = max(cDec, cRa);
+        if (cEq > 0.0) {
+            colour = mix(colour, vec3(0.45, 1.0, 0.7), cEq / max(max(cover, cEq), 1e-6));
+            cover = max(cover, cEq);
+        }
+    }
 
     for (int i = 0; i < 4; ++i) {
         if (u_markers[i].z < 0.5) continue;

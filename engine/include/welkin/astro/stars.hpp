@@ -60,6 +60,11 @@ std::vector<Star> loadKStarsCatalogue(const std::string& path = kKStarsCatalogue
 /// received an HD number. Throws welkin::Error naming the file for a truncated or foreign file.
 int attachKStarsHdNumbers(std::vector<Star>& stars, const std::string& namedStarsPath = kKStarsNamedStars);
 
+/// Every record of a kstars binary star file (namedstars.dat, unnamedstars.dat; the format above)
+/// as a Star at J2000.0 (carried from J1991.25 by its proper motion): position, proper motion,
+/// magnitude, B-V and HD number (0 when absent); no name. Same errors as attachKStarsHdNumbers.
+std::vector<Star> loadKStarsBinaryStars(const std::string& path);
+
 /// Yale Bright Star Catalogue, 5th revised edition (Hoffleit & Warren 1991, CDS V/50 `catalog`),
 /// fixed-width 197-byte records: HR 1-4, Name 5-14, HD 26-31, RA J2000 76-83 (hh mm ss.s),
 /// Dec J2000 84-90 (+dd mm ss), Vmag 103-107, B-V 110-114, pmRA 149-154 and pmDE 155-160 (arcsec/yr,

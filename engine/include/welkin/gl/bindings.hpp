@@ -45,6 +45,7 @@ inline constexpr int kSceneDepth = 0;     ///< the host's depth texture (aerial 
 inline constexpr int kCombineSource = 0;  ///< the spectral-combine pass's source LUT
 inline constexpr int kMilkyWayTexture = 0;  ///< the night sky's Milky Way panorama (skyelements/nightsky)
 inline constexpr int kZodiacalTexture = 1;  ///< the night sky's baked zodiacal light (skyelements/nightsky)
+inline constexpr int kTextAtlas = 0;      ///< gl::Font's glyph atlas (welkin/gl/text.hpp), bound by TextBatch::draw()
 // The keyframe blend passes (generators/atmosphere/shaders/light_blend.glsl): up to four tables at
 // consecutive elevations (A..D), mixed with weights in elevation.
 inline constexpr int kBlendA = 0;        ///< table A (sky view: smooth part; aerial: in-scattering)
@@ -101,6 +102,7 @@ inline constexpr std::array kTable = {
     Entry{"WELKIN_BINDING_COMBINE_SOURCE", kCombineSource, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_MILKY_WAY_TEXTURE", kMilkyWayTexture, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_ZODIACAL_TEXTURE", kZodiacalTexture, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_TEXT_ATLAS", kTextAtlas, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_BLEND_A", kBlendA, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_BLEND_A_MIE", kBlendAMie, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_BLEND_B", kBlendB, Kind::TextureUnit},

@@ -1,4 +1,5 @@
-// Grid: an altitude/azimuth coordinate grid with the horizon emphasised and N/E/S/W markers.
+// Grid: an altitude/azimuth coordinate grid with the horizon emphasised and N/E/S/W markers,
+// and/or an equatorial (right ascension / declination, J2000) grid (grid.frame).
 // It is also the worked example of writing an element (docs/writing-an-element.md).
 //
 //   welkin::elements::GridOptions opt;
@@ -6,16 +7,26 @@
 //   processor.add(std::make_unique<welkin::elements::Grid>(opt));
 //   processor.vars().set(welkin::elements::gridkeys::azimuthStep, 0.5);   // later: any option, rad
 //   // command line: welkin render --elements sky,grid --var grid.altitude_step_rad=15deg
+//   //               welkin render --elements grid --var grid.frame=both --var grid.ra_step_rad=30deg
 //
 // Options are keys (gridkeys below): GridOptions gives their values when the element is added.
 // Lines are antialiased and drawn with a constant angular width: `lineWidthPx` pixels at the
 // centre of the image (projections stretch them elsewhere, e.g. towards a fisheye's rim); opaque (they hide
 // what lies behind) and emit `luminanceCdM2` (or, if that is 0, a luminance that the current
 // manual exposure renders at 80 % of white, so the grid stays visible at any exposure).
+// The equatorial grid (grid.frame equatorial or both) draws circles of equal declination every
+// grid.dec_step_rad and hour circles every grid.ra_step_rad (15 deg = 1 h) in the ICRS/J2000
+// frame of the star catalogues, placed by the astronomy's stars.frame_icrs_to_enu rotation (so its
+// lines pass through the stars' J2000 coordinates; the pole of date is ~0.36 deg from the J2000
+// pole in 2026) and lifted by the same refraction as the stars (astro::refraction at the
+// astronomy's pressure and temperature). Hour circles stop at the last declination circle before
+// each pole. Without the astronomy (no stars.frame_icrs_to_enu) ICRS is taken as ENU.
 #pragma once
 #include <welkin/element.hpp>
 #include <welkin/gl/objects.hpp>
 #include <welkin/gl/projection_programs.hpp>
+
+#include <string>
 
 namespace welkin::elements {
 
@@ -27,6 +38,9 @@ inline const Key<double> lineWidth{"grid.line_width_px", Range{0.5, 20}, "line w
 inline const Key<double> horizonWidth{"grid.horizon_width_px", Range{0.5, 40}, "horizon line width", "px"};
 inline const Key<double> luminance{"grid.luminance_cd_m2", Range{0, 1e10}, "line luminance; 0 = 80 % of white at the manual exposure"};
 inline const Key<bool> markers{"grid.markers", "draw N, E, S, W at the horizon"};
+inline const Key<std::string> frame{"grid.frame", "which grid: horizontal (altitude/azimuth), equatorial (RA/Dec, J2000) or both"};
+inline const Key<double> raStep{"grid.ra_step_rad", Range{1 * kDeg, 180 * kDeg}, "spacing of hour circles (equatorial; 15 deg = 1 h)"};
+inline const Key<double> decStep{"grid.dec_step_rad", Range{1 * kDeg, 90 * kDeg}, "spacing of declination circles (equatorial)"};
 }  // namespace gridkeys
 
 struct GridOptions {
@@ -36,6 +50,9 @@ struct GridOptions {
     double horizonWidthPx = 3.0;    ///< horizon line width, pixels, [0.5, 40]
     double luminanceCdM2 = 0.0;     ///< line luminance, cd/m^2, [0, 1e10]; 0 = follow exposure
     bool markers = true;            ///< draw N, E, S, W at the horizon
+    std::string frame = "horizontal";  ///< "horizontal", "equatorial" or "both"
+    double raStepDeg = 15.0;        ///< spacing of hour circles, degrees, [1, 180] (15 = 1 h)
+    double decStepDeg = 10.0;       ///< spacing of declination circles, degrees, [1, 90]
     /// Throws welkin::Error naming the member and its range.
     void validate() const;
 };
@@ -55,6 +72,7 @@ private:
     void doInit(InitContext& ctx) override;
     void doRender(const FrameContext& ctx) override;
     void doRelease() override;
+    void doValidateOptions(const SkyVars& vars) const override;
 
     gl::ProjectionPrograms programs_;  // one per camera projection
 };
