@@ -43,6 +43,8 @@ inline constexpr int kViewTransmittanceLut = 10;   ///< sky.view_transmittance_l
 // Texture units: other passes.
 inline constexpr int kSceneDepth = 0;     ///< the host's depth texture (aerial perspective applied to a scene)
 inline constexpr int kCombineSource = 0;  ///< the spectral-combine pass's source LUT
+inline constexpr int kMoonAlbedoTexture = 0;  ///< the Planet element's Moon albedo map
+inline constexpr int kMoonNormalTexture = 1;  ///< the Planet element's Moon normal map
 // The keyframe blend passes (generators/atmosphere/shaders/light_blend.glsl): up to four tables at
 // consecutive elevations (A..D), mixed with weights in elevation.
 inline constexpr int kBlendA = 0;        ///< table A (sky view: smooth part; aerial: in-scattering)
@@ -97,6 +99,8 @@ inline constexpr std::array kTable = {
     Entry{"WELKIN_BINDING_VIEW_TRANSMITTANCE_LUT", kViewTransmittanceLut, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_SCENE_DEPTH", kSceneDepth, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_COMBINE_SOURCE", kCombineSource, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_MOON_ALBEDO_TEXTURE", kMoonAlbedoTexture, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_MOON_NORMAL_TEXTURE", kMoonNormalTexture, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_BLEND_A", kBlendA, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_BLEND_A_MIE", kBlendAMie, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_BLEND_B", kBlendB, Kind::TextureUnit},
