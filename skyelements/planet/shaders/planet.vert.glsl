@@ -20,15 +20,15 @@ void main() {
         gl_Position = WELKIN_CLIP_INVISIBLE;
         return;
     }
-    float half;
+    float halfPx;
     if (u_kind == 3) {
-        half = 4.0 * u_psfSigma;
+        halfPx = 4.0 * u_psfSigma;
         v_flux = u_flux * (s.x * s.y);  // divided by the pixel's solid angle 1 / (s.x s.y) sr
     } else {
-        half = asin(min(u_sinRadius, 1.0)) * s.y * 1.05 + 2.0;
+        halfPx = asin(min(u_sinRadius, 1.0)) * s.y * 1.05 + 2.0;
         v_flux = u_flux;
     }
     v_pixelAngle = 1.0 / s.x;
-    v_offset = half * corner[gl_VertexID];
+    v_offset = halfPx * corner[gl_VertexID];
     gl_Position = welkin_clipOffset(clip, v_offset);
 }
