@@ -274,6 +274,7 @@ void Planet::loadMoonMaps(const std::string& albedoPath, const std::string& norm
     loadedAlbedo_ = albedoPath;
     loadedNormals_ = normalPath;
     maps_ = MoonMaps{};
+    integralValid_ = false;
     constexpr int kCpuW = 512, kCpuH = 256;  // the CPU integral's map
     // Albedo: the map's 8-bit values taken as linear relative albedo (the map is contrast-stretched
     // already: maria / highlands ~ 0.4-0.5 as measured; decoding sRGB would exaggerate it ~2x).
@@ -364,6 +365,10 @@ void Planet::doInit(InitContext& ctx) {
                                            .fragment("planet/planet.frag.glsl", embedded::planet_shaders("planet.frag.glsl")));
     programs_.get(Projection::Perspective);  // shader errors surface in init()
     mapsLoaded_ = false;
+    // The Moon's maps (~0.3 s for the 4k JPEG) at init, not in the first frame.
+    const std::vector<astro::Body> bodies = own_ ? *own_ : parseBodies(ctx.vars.get(planetkeys::bodies));
+    if (std::find(bodies.begin(), bodies.end(), astro::Body::Moon) != bodies.end())
+        loadMoonMaps(ctx.vars.get(planetkeys::moonTexture), ctx.vars.get(planetkeys::moonNormals), ctx.log);
 }
 
 glm::dvec3 Planet::transmittanceTowards(const SkyVars& v, double altitudeRad) const {
@@ -453,7 +458,21 @@ void Planet::doRender(const FrameContext& ctx) {
         const glm::dvec3 T = later ? glm::dvec3(1.0) : v.get(lk::moonTransmittance);
         const glm::dvec3 E = v.get(lk::moonIlluminance) * T;
         const MoonGeometry g = moonGeometry(v, f);
-        const double integral = moonDiskIntegral(g, maps_, 96);
+        // The integral depends only on the Sun's and the observer's directions in the Moon's
+        // frame and the apparent radius: recomputed when one moves by more than 1e-4 rad (its
+        // relative change is then < 1e-4).
+        const glm::dmat3 toSel = glm::transpose(g.axes);
+        const double key[7] = {(toSel * g.sunFromMoon).x, (toSel * g.sunFromMoon).y, (toSel * g.sunFromMoon).z,
+                               (toSel * -g.centre).x, (toSel * -g.centre).y, (toSel * -g.centre).z, g.angularRadius};
+        bool same = integralValid_;
+        for (int i = 0; i < 6; ++i) same = same && std::abs(key[i] - integralKey_[i]) < 1e-4;
+        same = same && std::abs(key[6] / integralKey_[6] - 1.0) < 1e-4;
+        if (!same) {
+            integral_ = moonDiskIntegral(g, maps_, 96);
+            std::copy(key, key + 7, integralKey_);
+            integralValid_ = true;
+        }
+        const double integral = integral_;
         const glm::dvec3 K = integral > 0.0 ? E / integral : glm::dvec3(0.0);  // cd/m^2 per unit A B LS
         moonScale_ = color::luminance(K);
         // Earthshine: K x (E_earth / E_sun) x B(0) S(0) (the Earth is behind the observer).
@@ -472,7 +491,19 @@ void Planet::doRender(const FrameContext& ctx) {
         const double unit = 1e6;
         const glm::dvec3 earthCentre(0.0, 0.0, -(kEarthRadiusM + v.getOr(keys::observerHeight, 0.0)));
         const double Dm = v.getOr(ak::moonDistance, 3.844e8);
-        p.set("u_eclipse", v.get(planetkeys::eclipse) ? 1 : 0);
+        // The shadow is evaluated per pixel only when the Moon's disk reaches into the penumbra
+        // (the Moon's centre within penumbra radius + Moon radius + 1 % of the shadow's axis).
+        bool nearShadow = false;
+        if (v.get(planetkeys::eclipse)) {
+            const glm::dvec3 Mg = Dm * g.centre - earthCentre, Sg = sunPos - earthCentre;
+            const glm::dvec3 axis = -glm::normalize(Sg);
+            const double along = glm::dot(Mg, axis);
+            const double off = glm::length(Mg - along * axis);
+            const double Rs = astro::bodyRadiusMeters(astro::Body::Sun), Re = kEarthShadowEnlargement * kEarthRadiusM;
+            const double penumbra = Re + along * (Rs + Re) / glm::length(Sg);
+            nearShadow = along > 0.0 && off < 1.01 * (penumbra + astro::bodyRadiusMeters(astro::Body::Moon) * f);
+        }
+        p.set("u_eclipse", nearShadow ? 1 : 0);
         p.set("u_earthCentre", glm::vec3(earthCentre / unit));
         p.set("u_sunPos", glm::vec3(sunPos / unit));
         p.set("u_moonDist", float(Dm / unit));

@@ -145,6 +145,8 @@ private:
     double moonScale_ = 0;
     double moonIlluminanceLux_ = 0;
     bool moonDrawn_ = false;
+    double integral_ = 0, integralKey_[7] = {};
+    bool integralValid_ = false;
 };
 
 }  // namespace welkin::elements
