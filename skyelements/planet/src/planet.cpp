@@ -258,6 +258,12 @@ Planet::Planet() : SkyElement("planet") {
     reads(generators::lightkeys::sunTransmittance);
     reads(generators::lightkeys::moonIlluminance);
     reads(generators::lightkeys::moonTransmittance);
+    for (astro::Body b : astro::kAllBodies) {
+        if (b == astro::Body::Sun || b == astro::Body::Moon) continue;
+        reads(astro::keys::planetDirection(b));
+        reads(astro::keys::planetMagnitude(b));
+        reads(astro::keys::planetAngularDiameter(b));
+    }
 }
 
 Planet::Planet(std::vector<astro::Body> bodies) : Planet() { own_ = std::move(bodies); }
