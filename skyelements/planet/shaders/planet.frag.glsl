@@ -3,7 +3,7 @@
 // engine/composite.glsl before it. Disks are opaque (transmittance 1 - coverage); the PSF is
 // transparent. The model and its sources: skyelements/planet/include/welkin/elements/planet.hpp.
 layout(binding = WELKIN_BINDING_MOON_ALBEDO_TEXTURE) uniform sampler2D u_albedo;  // R: relative albedo
-layout(binding = WELKIN_BINDING_MOON_NORMAL_TEXTURE) uniform sampler2D u_normals; // tangent (east, north, up)
+layout(binding = WELKIN_BINDING_MOON_NORMAL_TEXTURE) uniform sampler2D u_normals; // tangent (east, south, up)
 
 uniform vec3 u_centre;
 uniform float u_sinRadius;
@@ -75,7 +75,7 @@ vec3 planet_moon(vec3 d, vec3 n) {
     float sl = sin(lon), cl = cos(lon), sp = sin(lat), cp = cos(lat);
     vec3 tE = u_moonAxes * vec3(-sl, cl, 0.0);
     vec3 tN = u_moonAxes * vec3(-sp * cl, -sp * sl, cp);
-    vec3 m = normalize(t.x * tE + t.y * tN + t.z * n);
+    vec3 m = normalize(t.x * tE - t.y * tN + t.z * n);  // the map's G points south
     float ce = max(dot(m, -d), 0.0);
     float ci = dot(m, u_light);
     vec3 L = vec3(0.0);

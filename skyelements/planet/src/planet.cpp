@@ -227,7 +227,7 @@ double moonDiskIntegral(const MoonGeometry& g, const MoonMaps& maps, int n) {
                 const glm::dvec3 t = maps.normalAt(lon, lat);
                 const glm::dvec3 tE = g.axes * glm::dvec3(-std::sin(lon), std::cos(lon), 0.0);
                 const glm::dvec3 tN = g.axes * glm::dvec3(-std::sin(lat) * std::cos(lon), -std::sin(lat) * std::sin(lon), std::cos(lat));
-                nrm = glm::normalize(t.x * tE + t.y * tN + t.z * nrm);
+                nrm = glm::normalize(t.x * tE - t.y * tN + t.z * nrm);  // the map's G points south
             }
             const double ci = glm::dot(nrm, g.sunFromMoon), ce = std::max(glm::dot(nrm, -d), 0.0);
             if (ci <= 0.0) continue;

@@ -19,7 +19,8 @@
 //    333, 338: a fit to the measured centre-to-limb profiles of Pierce & Slaughter 1977 and
 //    Neckel & Labs 1994), per sRGB channel at 612 / 549 / 465 nm; I(1) = mean (a + 2) / 2.
 //  - Moon: the albedo (moon_4k.jpg) and normal (moon_normals.png) maps of stellarium-data,
-//    equirectangular, selenographic longitude 0 at the centre, east to the right, north up;
+//    equirectangular, selenographic longitude 0 at the centre, east to the right, north up (the
+//    normals in tangent space: R east, G south, B up);
 //    oriented by the libration (the sub-Earth point (l, b)) and the axis' position angle P turned
 //    into the local vertical by the parallactic angle q. Lit by the Sun seen from the Moon (from
 //    the Sun's and Moon's directions and distances) with Hapke's 1966 Lommel-Seeliger law and
@@ -102,7 +103,8 @@ MoonGeometry moonGeometry(const SkyVars& vars, double sizeFactor = 1.0);
 double verticalPositionAngle(const glm::dvec3& centre, const glm::dvec3& dir);
 
 /// An albedo and normal map as the CPU integral samples them (equirect, longitude 0 at the
-/// centre): albedo in [0, 1], normals as tangent-space (east, north, up) vectors. Empty = uniform.
+/// centre): albedo in [0, 1], normals as the map's tangent-space (east, south, up) vectors.
+/// Empty = uniform.
 struct MoonMaps {
     int width = 0, height = 0;
     std::vector<float> albedo;      ///< width x height, top row north
