@@ -237,7 +237,14 @@ double moonDiskIntegral(const MoonGeometry& g, const MoonMaps& maps, int n) {
     return sum;
 }
 
-Planet::Planet() : SkyElement("planet") {
+Planet::Planet() : Planet(std::string("planet")) {}
+
+Planet::Planet(std::vector<astro::Body> bodies, std::string name) : Planet(std::move(name)) {
+    if (this->name().empty()) throw Error("Planet(): empty element name");
+    own_ = std::move(bodies);
+}
+
+Planet::Planet(std::string name) : SkyElement(std::move(name)) {
     option(planetkeys::bodies, std::string("all"));
     option(planetkeys::sizeFactor, 1.0);
     option(planetkeys::earthshine, true);
@@ -266,7 +273,6 @@ Planet::Planet() : SkyElement("planet") {
     }
 }
 
-Planet::Planet(std::vector<astro::Body> bodies) : Planet() { own_ = std::move(bodies); }
 
 void Planet::doValidateOptions(const SkyVars& v) const {
     try {
@@ -537,7 +543,7 @@ void Planet::doRelease() {
 void Planet::doStats(nlohmann::json& root) const {
     // moon.illuminated_fraction is the astronomy's (already in the stats).
     root["moon"]["illuminance_lux"] = moonIlluminanceLux_;
-    root["planet"]["drawn"] = drawn_;
+    root[name()]["drawn"] = drawn_;
 }
 
 }  // namespace welkin::elements

@@ -336,3 +336,39 @@ TEST_CASE("Planet: every pixel finite at FOV 0.5 and 180 deg, 1x1 to 2048x2048",
         }
     }
 }
+
+TEST_CASE("Planet: one instance per body, and the bodies option", "[gl][planet]") {
+    test::glContext();
+    SkyProcessor p(SkyVars::earth(), Logger());
+    auto sun = std::make_unique<Planet>(std::vector{astro::Body::Sun}, "sun_disk");
+    auto rest = std::make_unique<Planet>(std::vector{astro::Body::Moon, astro::Body::Jupiter}, "moon_and_jupiter");
+    Planet* a = sun.get();
+    Planet* b = rest.get();
+    p.add(std::move(sun));
+    p.add(std::move(rest));
+    CHECK_THROWS_WITH(p.add(std::make_unique<Planet>(std::vector{astro::Body::Mars}, "sun_disk")), Catch::Contains("already registered"));
+    Camera cam;
+    cam.projection = Projection::Equirect;  // everything is in view
+    cam.width = 256;
+    cam.height = 128;
+    p.setCamera(cam);
+    p.setObserver({.latitudeRad = 35.9 * kDeg, .longitudeRad = 14.5 * kDeg, .heightMeters = 0});
+    p.setTime(UtcInstant::parse("2026-03-26T19:00:00Z"));  // the Moon 75 deg up, Jupiter up, the Sun down
+    p.renderFrame();
+    // Below the horizon (no Sky: zero transmittance) a body is skipped; count the ones up.
+    const SkyVars& v = p.vars();
+    int up = (v.get(keys::moonDirection).z > 0) + (v.get(ak::planetDirection(astro::Body::Jupiter)).z > 0);
+    CHECK(up == 2);
+    CHECK(a->drawn() == (v.get(keys::sunDirection).z > 0 ? 1 : 0));
+    CHECK(b->drawn() == up);
+    nlohmann::json j = p.stats();
+    CHECK(j["moon_and_jupiter"]["drawn"].get<int>() == up);
+    // The option's parser: names, 'all', 'none'; an unknown name is an error naming the key.
+    auto planet = std::make_unique<Planet>();
+    SkyVars w = SkyVars::earth();
+    planet->declareOptions(w);
+    w.set(planetkeys::bodies, std::string("Sun, moon,jupiter"));
+    CHECK_NOTHROW(planet->validateOptions(w));
+    w.set(planetkeys::bodies, std::string("sun,pluto"));
+    CHECK_THROWS_WITH(planet->validateOptions(w), Catch::StartsWith("planet.bodies: "));
+}

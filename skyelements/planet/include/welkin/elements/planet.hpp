@@ -5,7 +5,8 @@
 //   processor.add(welkin::elements::makeElement("sky"));      // its transmittance reddens them once
 //   processor.vars().set(welkin::elements::planetkeys::sizeFactor, 3.0);   // artistic, Moon + planets
 //   // command line: welkin render --var planet.bodies=moon,jupiter --var planet.earthshine=false
-//   // one body from C++: std::make_unique<welkin::elements::Planet>(std::vector{welkin::astro::Body::Moon})
+//   // one body from C++ (element names are unique in a processor):
+//   processor.add(std::make_unique<welkin::elements::Planet>(std::vector{welkin::astro::Body::Moon}, "moon"));
 //
 // Model (docs/planet.md has the sources, the tests and the cost):
 //  - Each body is a screen quad around its apparent direction (welkin_clipFromDirection); the
@@ -120,8 +121,10 @@ class Planet final : public SkyElement {
 public:
     /// The bodies named by planet.bodies.
     Planet();
-    /// These bodies only (planet.bodies is then ignored), e.g. one instance per body.
-    explicit Planet(std::vector<astro::Body> bodies);
+    /// These bodies only (planet.bodies is then ignored), e.g. one instance per body, each with
+    /// its own element name (a processor's element names are unique); the other options
+    /// (planet.size_factor, ...) are shared keys.
+    explicit Planet(std::vector<astro::Body> bodies, std::string name = "planet");
 
     /// Bodies drawn by the last frame (disk or PSF).
     int drawn() const { return drawn_; }
@@ -129,6 +132,7 @@ public:
     double moonScale() const { return moonScale_; }
 
 private:
+    explicit Planet(std::string name);
     void doInit(InitContext& ctx) override;
     void doRender(const FrameContext& ctx) override;
     void doRelease() override;
