@@ -372,3 +372,41 @@ TEST_CASE("Planet: one instance per body, and the bodies option", "[gl][planet]"
     w.set(planetkeys::bodies, std::string("sun,pluto"));
     CHECK_THROWS_WITH(planet->validateOptions(w), Catch::StartsWith("planet.bodies: "));
 }
+
+TEST_CASE("Planet: the equirect seam draws a body whole", "[gl][planet]") {
+    if (!haveMoonMaps()) {
+        WARN("stellarium-data's Moon maps are missing (apt install stellarium-data): test skipped");
+        return;
+    }
+    // From 35 S the Moon (dec +26) culminates due north, on the seam at azimuth 0, near 19:00 UTC
+    // at longitude 1.9 E (LAST = its RA, 111 deg).
+    for (double factor : {1.0, 10.0}) {  // a PSF (1.5 px), then a 15 px disk across the seam
+        INFO("size factor " << factor);
+        test::glContext();
+        SkyProcessor p(SkyVars::earth(), Logger());
+        p.add(std::make_unique<Planet>(std::vector{astro::Body::Moon}));
+        p.vars().set(planetkeys::earthshine, false);
+        p.vars().set(planetkeys::sizeFactor, factor);
+        Camera cam;
+        cam.projection = Projection::Equirect;
+        cam.width = 1024;
+        cam.height = 512;
+        p.setCamera(cam);
+        p.setObserver({.latitudeRad = -35 * kDeg, .longitudeRad = 1.9 * kDeg, .heightMeters = 0});
+        p.setTime(UtcInstant::parse("2026-03-26T19:00:00Z"));
+        p.renderFrame();
+        const SkyVars& v = p.vars();
+        const glm::dvec3 d = v.get(keys::moonDirection);
+        const double az = std::atan2(d.x, d.y);
+        REQUIRE(std::abs(az) < 0.3 * kDeg);  // on the seam (within its radius x the size factor)
+        const glm::dvec3 E = v.get(lk::moonIlluminance) * v.get(lk::moonTransmittance);
+        const Image img = p.readHdr();
+        // Both halves hold light, and the total is the Moon's (3 %, as the close-up's).
+        double left = 0, right = 0;
+        for (int y = 0; y < img.height; ++y)
+            for (int x = 0; x < 8; ++x) left += lum(img, x, y), right += lum(img, img.width - 1 - x, y);
+        CHECK(left > 0.0);
+        CHECK(right > 0.0);
+        CHECK(color::luminance(integrate(img, cam)) == Approx(color::luminance(E)).epsilon(0.03));
+    }
+}
