@@ -414,13 +414,26 @@ void Planet::doRender(const FrameContext& ctx) {
     p.set("u_copies", copies);
     p.set("u_psfSigma", float(kPsfFwhmPx / 2.35482));
 
+    // Pixels per radian (smallest, largest) at a body's centre; on a cube face also for a centre
+    // on a neighbouring face in front of this one (at least the face centre's W / 2).
+    auto scaleAt = [&](const glm::dvec3& dir) -> std::optional<glm::dvec2> {
+        auto s = cam.pixelScale(dir);
+        if (!s && cam.projection == Projection::CubeFace) {
+            const auto forward = cam.directionAt({0.5 * cam.width, 0.5 * cam.height});
+            if (forward && glm::dot(*forward, dir) > 0.0) s = glm::dvec2(0.5 * cam.width);
+        }
+        return s;
+    };
     // Draws one body: a disk of apparent radius `radius` (rad) around `dir` when it spans at least
     // `minPx` pixels, else the PSF of illuminance `E` (lux per channel).
     auto draw = [&](int kind, const glm::dvec3& dir, double radius, double minPx, const glm::dvec3& flux, const glm::dvec3& E) {
         // A body whose centre the projection does not show (behind a pinhole camera, below a
-        // fisheye's horizon) is not drawn: its quad is placed around the centre.
-        const auto s = cam.pixelScale(dir);
-        if (!s || !cam.clipFromDirection(dir)) return false;
+        // fisheye's horizon) is not drawn: its quad is placed around the centre. On a cube face
+        // a body centred on a neighbouring face (in front of this one) is drawn too, so a disk
+        // across a face's edge is whole over the cube; its scale there is at least the face
+        // centre's, W / 2 px per radian.
+        const auto s = scaleAt(dir);
+        if (!s) return false;
         const double scale = std::sqrt(s->x * s->y);
         const bool psf = kind == kKindPsf || 2.0 * radius * scale < minPx;
         p.set("u_kind", psf ? kKindPsf : kind);
@@ -523,7 +536,7 @@ void Planet::doRender(const FrameContext& ctx) {
         p.set("u_earthRadius", float(kEarthShadowEnlargement * kEarthRadiusM / unit));
         p.set("u_sunRadius", float(astro::bodyRadiusMeters(astro::Body::Sun) / unit));
         p.set("u_umbraColour", glm::vec3(kUmbraColour / color::luminance(kUmbraColour)));
-        const auto s = cam.pixelScale(g.centre);
+        const auto s = scaleAt(g.centre);
         const double rPx = s ? g.angularRadius * std::sqrt(s->x * s->y) : 1.0;
         p.set("u_albedoLod", float(std::max(std::log2(albedoTex_.width() / (2 * kPi * std::max(rPx, 1e-3))), 0.0)));
         p.set("u_normalLod", float(std::max(std::log2(normalTex_.width() / (2 * kPi * std::max(rPx, 1e-3))), 0.0)));
