@@ -270,6 +270,13 @@ TEST_CASE("Planet: the Sun's limb darkening and its mean radiance", "[gl][planet
         const glm::dvec3 I = at(px);
         for (int c = 0; c < 3; ++c) CHECK(I[c] / I0[c] == Approx(std::pow(mu, a[c])).epsilon(0.01));
     }
+    // Unresolved (a 256 px fisheye: the disk 0.75 px across): the PSF's integral is the disk's
+    // flux, mean x pi alpha^2, within 1 % (the Gaussian's 4-sigma truncation leaves 0.03 %).
+    s.cam.projection = Projection::Fisheye;
+    s.p->setCamera(s.cam);
+    s.p->renderFrame();
+    const glm::dvec3 psf = integrate(s.p->readHdr(), s.cam);
+    for (int c = 0; c < 3; ++c) CHECK(psf[c] == Approx(mean[c] * std::numbers::pi * alpha * alpha).epsilon(0.01));
 }
 
 TEST_CASE("Planet: a planet's flux is its magnitude's illuminance x transmittance, resolved or not", "[gl][planet]") {
