@@ -338,7 +338,7 @@ void Planet::loadMoonMaps(const std::string& albedoPath, const std::string& norm
             for (int y = 0; y < nh; ++y)
                 for (int x = 0; x < nw; ++x)
                     for (int c = 0; c < 3; ++c) nrm[(size_t(y) * nw + x) * 3 + c] = 2.f * img.at(x, y, c) - 1.f;
-            if (!maps_.albedo.empty() || true) {
+            {
                 // The CPU integral's normals at its own grid (nearest texel of the full map).
                 const int cw = maps_.width ? maps_.width : kCpuW, ch = maps_.height ? maps_.height : kCpuH;
                 if (maps_.albedo.empty()) {

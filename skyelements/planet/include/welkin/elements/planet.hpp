@@ -11,9 +11,9 @@
 // Model (docs/planet.md has the sources, the tests and the cost):
 //  - Each body is a screen quad around its apparent direction (welkin_clipFromDirection); the
 //    fragment shader casts the pixel's view direction at the body's sphere, supersampling (4 x 4)
-//    the pixels within one pixel of the limb, so the disk's integral is exact to a fraction of a
-//    pixel whatever the projection. A disk under planet.psf_disk_px pixels across (2 for the Sun
-//    and the Moon, 3 for the planets) is drawn instead as the Stars' Gaussian PSF (FWHM 2 px)
+//    the pixels within 1.5 pixels of the limb, so the disk's integral is exact to a fraction of
+//    a pixel whatever the projection. A disk under 2 pixels across (the Sun, the Moon; 3 for the
+//    planets) is drawn instead as the Stars' Gaussian PSF (FWHM 2 px)
 //    whose integral is the body's illuminance, so the flux is right resolved or not.
 //  - Sun: mean radiance lights.sun_disk_radiance (unreddened, cd/m^2) with the limb darkening
 //    I(mu)/I(1) = mu^a(lambda), a = -0.023 + 0.292 / lambda[um] (Hestroffer & Magnan 1998, A&A
