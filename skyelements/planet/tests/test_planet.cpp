@@ -458,3 +458,39 @@ TEST_CASE("Planet: a Moon across cube faces' edges is whole over the cube", "[gl
     // 3 %: the calibration's, as the close-up's (measured 0.5 %).
     CHECK(color::luminance(total) == Approx(color::luminance(E)).epsilon(0.03));
 }
+
+TEST_CASE("Planet: earthshine follows the Earth's phase seen from the Moon", "[gl][planet]") {
+    if (!haveMoonMaps()) {
+        WARN("stellarium-data's Moon maps are missing (apt install stellarium-data): test skipped");
+        return;
+    }
+    // The night side's centre (crescents: the disk's centre is dark) against the model: the
+    // calibration scale x earthshineRatio(phase) x B(0) S(0) (= 2) x albedo x the Lommel-Seeliger
+    // term (1/2 where the Earth and the observer are one direction).
+    double previous = 0;
+    for (const char* iso : {"2026-03-22T12:00:00Z", "2026-03-21T06:00:00Z"}) {  // crescents, thinner second
+        INFO(iso);
+        auto owned = std::make_unique<Planet>();
+        Planet* planet = owned.get();
+        Scene s = scene(iso, bestLongitude(iso, keys::moonDirection), keys::moonDirection, 0.7, 256, std::move(owned));
+        s.p->renderFrame();
+        const SkyVars& v = s.p->vars();
+        REQUIRE(v.get(ak::moonIlluminatedFraction) < 0.3);
+        const MoonGeometry g = moonGeometry(v);
+        const glm::dvec3 sub = glm::transpose(g.axes) * -g.centre;
+        const double A = planet->moonMaps().albedoAt(std::atan2(sub.y, sub.x), std::asin(sub.z));
+        const double expect = planet->moonScale() * earthshineRatio(g.phaseRad, g.earthMoonDistanceM) * 2.0 * A * 0.5;
+        const Image img = s.p->readHdr();
+        const glm::dvec2 c0 = *s.cam.pixelOf(g.centre);
+        double sum = 0;
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) sum += lum(img, int(c0.x) + dx, int(c0.y) + dy);
+        // 10 %: the image samples the 4096 x 2048 albedo map (3 x 3 pixels, ~1/60 of the radius),
+        // the model the 512 x 256 copy at one point; the normal map tilts the surface a little.
+        CHECK(sum / 9 == Approx(expect).epsilon(0.10));
+        // Thinner crescent, fuller Earth: brighter earthshine relative to the sunlit scale.
+        const double relative = sum / 9 / planet->moonScale();
+        CHECK(relative > previous);
+        previous = relative;
+    }
+}

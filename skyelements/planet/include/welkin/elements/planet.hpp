@@ -130,6 +130,8 @@ public:
     int drawn() const { return drawn_; }
     /// The Moon's calibration of the last frame: radiance = scale x albedo x shading (cd/m^2).
     double moonScale() const { return moonScale_; }
+    /// The maps as the calibration integral samples them (after init, if the Moon is drawn).
+    const MoonMaps& moonMaps() const { return maps_; }
 
 private:
     explicit Planet(std::string name);
