@@ -12,6 +12,7 @@ uniform float u_psfSigma;
 uniform vec3 u_limb;          // Sun: limb-darkening exponents per channel
 uniform vec3 u_light;         // Moon, planet: unit direction from the body to the Sun
 uniform mat3 u_moonAxes;      // selenographic axes in ENU (lon 0, lon 90 E, north pole)
+uniform mat3 u_worldToSel;    // its transpose
 uniform float u_hapke;        // B(g) S(g) at the Moon's phase angle
 uniform vec3 u_earthshine;    // earthshine radiance per unit albedo x Lommel-Seeliger term
 uniform float u_albedoLod, u_normalLod;
@@ -66,15 +67,18 @@ vec3 planet_eclipse(vec3 n) {
 }
 
 vec3 planet_moon(vec3 d, vec3 n) {
-    vec3 sel = transpose(u_moonAxes) * n;
-    float lon = atan(sel.y, sel.x), lat = asin(clamp(sel.z, -1.0, 1.0));
+    vec3 sel = u_worldToSel * n;
+    float h = length(sel.xy);
+    float lon = atan(sel.y, sel.x), lat = atan(sel.z, h);
     vec2 uv = vec2(0.5 + lon / (2.0 * WELKIN_PI), 0.5 - lat / WELKIN_PI);
     // The maps' rows are top (north) first as uploaded: t = 0 is the first row.
     float A = textureLod(u_albedo, uv, u_albedoLod).r;
     vec3 t = textureLod(u_normals, uv, u_normalLod).xyz;
-    float sl = sin(lon), cl = cos(lon), sp = sin(lat), cp = cos(lat);
-    vec3 tE = u_moonAxes * vec3(-sl, cl, 0.0);
-    vec3 tN = u_moonAxes * vec3(-sp * cl, -sp * sl, cp);
+    // East and north tangents without trigonometry: (-sin lon, cos lon, 0) and
+    // (-sin lat cos lon, -sin lat sin lon, cos lat) from the selenographic normal itself.
+    vec2 cs = h > 1e-6 ? sel.xy / h : vec2(1.0, 0.0);  // (cos lon, sin lon)
+    vec3 tE = u_moonAxes * vec3(-cs.y, cs.x, 0.0);
+    vec3 tN = u_moonAxes * vec3(-sel.z * cs, h);
     vec3 m = normalize(t.x * tE - t.y * tN + t.z * n);  // the map's G points south
     float ce = max(dot(m, -d), 0.0);
     float ci = dot(m, u_light);

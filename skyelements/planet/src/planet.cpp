@@ -508,6 +508,7 @@ void Planet::doRender(const FrameContext& ctx) {
             es = K * earthshineRatio(g.phaseRad, g.earthMoonDistanceM) * hapkePhase(0.0) * (kEarthshineColour / color::luminance(kEarthshineColour));
         }
         p.set("u_moonAxes", glm::mat3(g.axes));
+        p.set("u_worldToSel", glm::mat3(glm::transpose(g.axes)));
         p.set("u_light", glm::vec3(g.sunFromMoon));
         p.set("u_hapke", float(hapkePhase(std::clamp(g.phaseRad, 0.0, kPi))));
         p.set("u_earthshine", glm::vec3(es));
