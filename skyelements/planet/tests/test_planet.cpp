@@ -494,3 +494,24 @@ TEST_CASE("Planet: earthshine follows the Earth's phase seen from the Moon", "[g
         previous = relative;
     }
 }
+
+TEST_CASE("Planet: without the astronomy, the Sun from a host's sun.direction", "[gl][planet]") {
+    // A host that sets sun.direction itself (ProcessorOptions::astronomy = false): the Sun is
+    // drawn there at the atmosphere's default radius; bodies without keys are skipped.
+    test::glContext();
+    SkyProcessor p(SkyVars::earth(), Logger(), ProcessorOptions{.astronomy = false});
+    p.add(std::make_unique<Planet>());
+    const glm::dvec3 sun = glm::normalize(glm::dvec3(0.0, 1.0, 1.0));  // north, 45 deg up
+    p.vars().set(keys::sunDirection, sun);
+    Camera cam;
+    cam.azimuthRad = 0;
+    cam.altitudeRad = 45 * kDeg;
+    cam.verticalFovRad = 2 * kDeg;
+    cam.width = cam.height = 64;
+    p.setCamera(cam);
+    REQUIRE_NOTHROW(p.renderFrame());
+    const Image img = p.readHdr();
+    const glm::dvec2 c = *cam.pixelOf(sun);
+    CHECK(lum(img, int(c.x), int(c.y)) > 1e8);  // the disk's centre: ~1e9 cd/m^2 through the air
+    CHECK(lum(img, 2, 2) == 0.0);
+}
