@@ -46,6 +46,8 @@ inline constexpr int kCombineSource = 0;  ///< the spectral-combine pass's sourc
 inline constexpr int kMilkyWayTexture = 0;  ///< the night sky's Milky Way panorama (skyelements/nightsky)
 inline constexpr int kZodiacalTexture = 1;  ///< the night sky's baked zodiacal light (skyelements/nightsky)
 inline constexpr int kTextAtlas = 0;      ///< gl::Font's glyph atlas (welkin/gl/text.hpp), bound by TextBatch::draw()
+inline constexpr int kMoonAlbedoTexture = 0;  ///< the Planet element's Moon albedo map
+inline constexpr int kMoonNormalTexture = 1;  ///< the Planet element's Moon normal map
 // The keyframe blend passes (generators/atmosphere/shaders/light_blend.glsl): up to four tables at
 // consecutive elevations (A..D), mixed with weights in elevation.
 inline constexpr int kBlendA = 0;        ///< table A (sky view: smooth part; aerial: in-scattering)
@@ -103,6 +105,8 @@ inline constexpr std::array kTable = {
     Entry{"WELKIN_BINDING_MILKY_WAY_TEXTURE", kMilkyWayTexture, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_ZODIACAL_TEXTURE", kZodiacalTexture, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_TEXT_ATLAS", kTextAtlas, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_MOON_ALBEDO_TEXTURE", kMoonAlbedoTexture, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_MOON_NORMAL_TEXTURE", kMoonNormalTexture, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_BLEND_A", kBlendA, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_BLEND_A_MIE", kBlendAMie, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_BLEND_B", kBlendB, Kind::TextureUnit},

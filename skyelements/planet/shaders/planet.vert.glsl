@@ -1,0 +1,34 @@
+// Planet: one screen quad around a body (and, in equirect, its twin across the seam). Needs
+// engine/camera.glsl before it. A disk's quad covers its apparent radius at the largest local
+// pixel scale plus 2 px; a PSF's covers 4 sigma of the Gaussian. See planet.frag.glsl.
+uniform vec3 u_centre;      // unit direction to the body's centre, ENU
+uniform float u_sinRadius;  // sin of the apparent angular radius as drawn
+uniform int u_kind;         // 0 Sun, 1 Moon, 2 planet disk, 3 PSF
+uniform int u_copies;       // 2 in equirect (the seam twin), else 1
+uniform float u_psfSigma;   // PSF sigma, px
+uniform vec3 u_flux;        // disk: radiance scale (cd/m^2); PSF: illuminance (lux), per channel
+
+out vec2 v_offset;            // pixels from the body's centre (x right, y down)
+flat out vec3 v_flux;         // disk: u_flux; PSF: illuminance / pixel solid angle
+flat out float v_pixelAngle;  // the largest angle a pixel spans near the body, rad
+
+void main() {
+    const vec2 corner[6] = vec2[6](vec2(-1, -1), vec2(1, -1), vec2(1, 1), vec2(-1, -1), vec2(1, 1), vec2(-1, 1));
+    vec4 clip = welkin_clipFromDirectionWrapped(u_centre, gl_InstanceID % u_copies);
+    vec2 s = welkin_pixelScale(u_centre);  // (smallest, largest) px per radian
+    if (clip.w <= 0.0 || s.x <= 0.0) {
+        gl_Position = WELKIN_CLIP_INVISIBLE;
+        return;
+    }
+    float halfPx;
+    if (u_kind == 3) {
+        halfPx = 4.0 * u_psfSigma;
+        v_flux = u_flux * (s.x * s.y);  // divided by the pixel's solid angle 1 / (s.x s.y) sr
+    } else {
+        halfPx = asin(min(u_sinRadius, 1.0)) * s.y * 1.05 + 2.0;
+        v_flux = u_flux;
+    }
+    v_pixelAngle = 1.0 / s.x;
+    v_offset = halfPx * corner[gl_VertexID];
+    gl_Position = welkin_clipOffset(clip, v_offset);
+}
