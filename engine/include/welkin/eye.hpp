@@ -3,7 +3,7 @@
 //   sky.vars().set(welkin::keys::exposureAuto, true);        // or sky.setExposure({.automatic = true})
 //   sky.vars().set(welkin::eye::keys::rodTime, 30.0);        // dark adaptation time constant, s
 //   sky.vars().set(welkin::eye::keys::curve, 1);             // Hable's filmic curve
-//   double ev = welkin::eye::steadyEv100(1e-3, 2.6e-3);      // a moonlit sky: ~ -3 EV100
+//   double ev = welkin::eye::steadyEv100(1e-3, 2.6e-3);      // a moonlit sky: -2.8 EV100 (a camera: -7)
 //
 // The model (every function below is the CPU twin of what the tone map does on the GPU):
 //  * Sensitivity: Ferwerda, Pattanaik, Shirley & Greenberg 1996's threshold-versus-intensity
