@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
+#include <string>
 
 namespace welkin::eye {
 
@@ -15,6 +17,12 @@ constexpr double kCameraKey = 12.5 / (1.2 * 100.0);
 // Cones in their Weber range: log10 t = log10 La - 1.255, so K / t = kCameraKey / La with
 // K = kCameraKey * 10^-1.255.
 const double kTvi = kCameraKey * std::pow(10.0, -1.255);
+
+std::string shown(double v) {
+    std::ostringstream o;
+    o << v;
+    return o.str();
+}
 
 double smoothstep(double a, double b, double x) {
     double t = std::clamp((x - a) / (b - a), 0.0, 1.0);
@@ -39,7 +47,7 @@ void declareKeys(SkyVars& v) {
 }
 
 double coneThresholdLog10(double La) {
-    if (!(La > 0)) throw Error("eye::coneThresholdLog10(): adaptation luminance " + std::to_string(La) + " not > 0");
+    if (!(La > 0)) throw Error("eye::coneThresholdLog10(): adaptation luminance " + shown(La) + " not > 0");
     const double l = std::log10(La);
     if (l <= -2.6) return -0.72;
     if (l >= 1.9) return l - 1.255;
@@ -47,7 +55,7 @@ double coneThresholdLog10(double La) {
 }
 
 double rodThresholdLog10(double Las) {
-    if (!(Las > 0)) throw Error("eye::rodThresholdLog10(): adaptation luminance " + std::to_string(Las) + " not > 0");
+    if (!(Las > 0)) throw Error("eye::rodThresholdLog10(): adaptation luminance " + shown(Las) + " not > 0");
     const double l = std::log10(Las);
     if (l <= -3.94) return -2.86;
     if (l >= -1.44) return l - 0.395;
@@ -63,7 +71,9 @@ double scotopicLuminance(const glm::dvec3& rgb) {
 double scotopicPerPhotopicWhite() { return scotopicLuminance(glm::dvec3(1.0)); }
 
 Adaptation adapt(Adaptation s, Adaptation target, double dt, double coneTime, double rodTime) {
-    if (!(dt >= 0)) throw Error("eye::adapt(): dt " + std::to_string(dt) + " not >= 0");
+    if (!(dt >= 0)) throw Error("eye::adapt(): dt " + shown(dt) + " not >= 0");
+    for (double L : {s.cone, s.rod, target.cone, target.rod})
+        if (!(L > 0) || !std::isfinite(L)) throw Error("eye::adapt(): luminance " + shown(L) + " not a finite value > 0");
     auto step = [dt](double from, double to, double tau) {
         if (tau <= 0) return to;
         if (dt == 0) return from;

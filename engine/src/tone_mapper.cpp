@@ -99,6 +99,9 @@ void ToneMapper::run(gl::Texture2D& hdr, unsigned framebuffer, const ToneSetting
             std::vector<float> top = logLum_.readRgbaFloat(logLum_.levels() - 1);
             eye::Adaptation target{s.adaptationMin, s.adaptationMin};
             if (top[1] > 0) target = {std::exp(double(top[0]) / top[1]), std::exp(double(top[2]) / top[1])};
+            // A frame with NaN or infinite pixels meters nothing: keep the eye where it was.
+            if (!std::isfinite(target.cone) || !std::isfinite(target.rod))
+                target = stateValid_ ? state_ : eye::Adaptation{s.adaptationMin, s.adaptationMin};
             target.cone = std::clamp(target.cone, s.adaptationMin, s.adaptationMax);
             target.rod = std::clamp(target.rod, s.adaptationMin, s.adaptationMax);
             if (!stateValid_ || !dt || *dt <= 0)

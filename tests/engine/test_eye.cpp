@@ -77,7 +77,7 @@ TEST_CASE("Eye: Ferwerda's threshold curves, the Larson scotopic luminance", "[c
     CHECK(eye::rodThresholdLog10(1.0) == Approx(-0.395).margin(1e-12));
     CHECK(eye::coneThresholdLog10(1e-4) == -0.72);
     CHECK(eye::rodThresholdLog10(1e-6) == -2.86);
-    CHECK_THROWS_WITH(eye::coneThresholdLog10(0.0), Catch::Contains("not > 0"));
+    CHECK_THROWS_WITH(eye::coneThresholdLog10(0.0), "eye::coneThresholdLog10(): adaptation luminance 0 not > 0");
     // V' of the D65 white by hand from its XYZ (0.95047, 1, 1.08883): 1.33 (1 + 2.08883 / 0.95047)
     // - 1.68 = 2.5729; 1e-3: the sRGB matrix's four-digit rounding.
     CHECK(eye::scotopicPerPhotopicWhite() == Approx(2.5729).epsilon(1e-3));
@@ -135,7 +135,8 @@ TEST_CASE("Eye: temporal adaptation reaches 63 % of a step after one time consta
     // tau = 0 jumps; dt = 0 stays.
     CHECK(eye::adapt(day, night, 0.01, 0, 0).rod == night.rod);
     CHECK(eye::adapt(day, night, 0.0, tc, tr).cone == day.cone);
-    CHECK_THROWS_WITH(eye::adapt(day, night, -1, tc, tr), Catch::Contains("not >= 0"));
+    CHECK_THROWS_WITH(eye::adapt(day, night, -1, tc, tr), "eye::adapt(): dt -1 not >= 0");
+    CHECK_THROWS_WITH(eye::adapt(day, {0, 1}, 1, tc, tr), "eye::adapt(): luminance 0 not a finite value > 0");
 }
 
 TEST_CASE("Eye: the mesopic weight and colour (CPU twin)", "[cpu][eye]") {
@@ -266,7 +267,8 @@ TEST_CASE("Eye: the keys are the settings (--var), the camera model stays availa
     test::glContext();
     SkyProcessor p(SkyVars::earth(), Logger(), ProcessorOptions{.astronomy = false});
     p.setCamera(smallCamera());
-    p.emplace<Field>(glm::vec3(1e-4f));
+    auto& field = p.emplace<Field>(glm::vec3(1e-4f));
+    p.setAnimationTime(0.0);  // still renders: every frame the steady state
     p.vars().setFromString("exposure.auto", "true");  // as `welkin render --var exposure.auto=true`
     p.renderFrame();
     const double evEye = p.lastEv100();
@@ -278,6 +280,15 @@ TEST_CASE("Eye: the keys are the settings (--var), the camera model stays availa
     p.vars().setFromString("exposure.compensation_ev", "2");
     p.renderFrame();
     CHECK(p.lastEv100() == Approx(std::log2(1e-4 * 100 / 12.5) - 2).margin(1e-4));
+    // A frame of NaN: the exposure and the eye stay finite (GLSL leaves NaN comparisons to the
+    // driver: the meter either skips the pixels, as unlit ones, or returns NaN, and the eye
+    // then stays where it was).
+    const double adaptedBefore = p.adaptationLuminance().x;
+    field.setRadiance(glm::vec3(std::nanf("")));
+    p.renderFrame();
+    CHECK(std::isfinite(p.lastEv100()));
+    const double a = p.adaptationLuminance().x;
+    CHECK((a == eye::Defaults::adaptationMin || a == adaptedBefore));
     CHECK_THROWS_WITH(p.vars().setFromString("exposure.curve", "4"), Catch::Contains("not in [0, 3]"));
     CHECK_THROWS_WITH(p.vars().setFromString("eye.rod_time_s", "-1"), Catch::Contains("not in [0, 3600]"));
 }

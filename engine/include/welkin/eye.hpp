@@ -87,7 +87,7 @@ struct Adaptation {
 
 /// Exponential approach in log luminance: after `dt` seconds the log of `state` has moved
 /// 1 - exp(-dt / tau) of the way to the target's. Cones with `coneTime`; rods with `rodTime`
-/// when darkening, `coneTime` when brightening. tau = 0 jumps. dt >= 0.
+/// when darkening, `coneTime` when brightening. tau = 0 jumps. dt >= 0; luminances finite, > 0.
 Adaptation adapt(Adaptation state, Adaptation target, double dt, double coneTime, double rodTime);
 
 /// The scale from scene luminance (cd/m^2) to the display value before the curve, for the
