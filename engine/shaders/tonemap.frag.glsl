@@ -1,9 +1,11 @@
 // Tone mapping (docs/eye.md; the CPU twin is welkin/eye.hpp): the per-pixel mesopic colour (the
 // rods' desaturated, blue-shifted percept below the photopic range), the exposure (manual, or
-// the eye's adaptation computed on the CPU from the meter), a display curve and the sRGB
-// transfer function.
+// the eye's adaptation state written by adapt.frag.glsl), a display curve and the sRGB transfer
+// function.
 layout(binding = WELKIN_BINDING_HDR_TEXTURE) uniform sampler2D u_hdr;
-uniform float u_exposure;        // scene cd/m^2 -> display value before the curve
+layout(binding = WELKIN_BINDING_EYE_STATE_TEXTURE) uniform sampler2D u_state;  // adapt.frag.glsl's (cone, rod, exposure, 1)
+uniform int u_auto;              // 1: the exposure of u_state
+uniform float u_exposure;        // manual: scene cd/m^2 -> display value before the curve
 uniform int u_curve;             // 0 ACES fit, 1 Hable, 2 Reinhard on luminance, 3 none (clip)
 uniform int u_mesopic;           // 1: per-pixel mesopic colour
 uniform float u_log10Scotopic;   // log10 of eye.scotopic_cd_m2: rods only below
@@ -48,5 +50,6 @@ vec3 welkin_srgbEncode(vec3 c) {
 void main() {
     vec3 L = texelFetch(u_hdr, ivec2(gl_FragCoord.xy), 0).rgb;  // same size as the target
     if (u_mesopic != 0) L = welkin_mesopic(L);
-    o_color = vec4(welkin_srgbEncode(welkin_curve(L * u_exposure)), 1.0);
+    float exposure = u_auto != 0 ? texelFetch(u_state, ivec2(0), 0).z : u_exposure;
+    o_color = vec4(welkin_srgbEncode(welkin_curve(L * exposure)), 1.0);
 }

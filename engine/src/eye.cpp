@@ -91,6 +91,8 @@ double eyeExposure(const Adaptation& a) {
     return std::max(cones, rods);
 }
 
+double eyeExposureScale() { return kTvi; }
+
 double cameraExposure(double La) { return exposureFromEv100(std::clamp(std::log2(La * 100.0 / 12.5), -20.0, 30.0)); }
 
 double ev100FromExposure(double exposure) { return -std::log2(1.2 * exposure); }

@@ -54,6 +54,17 @@ void ToneMapper::init() {
                          .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
                          .fragment("engine/loglum.frag.glsl", gl::engineShader("loglum.frag.glsl"))
                          .build();
+    adaptProgram_ = gl::ProgramBuilder("SkyProcessor eye adaptation")
+                        .fullscreenVertex()
+                        .fragment("engine/adapt.frag.glsl", gl::engineShader("adapt.frag.glsl"))
+                        .build();
+    for (int i = 0; i < 2; ++i) {
+        state_[i] = gl::Texture2D(1, 1, GL_RGBA32F);
+        state_[i].setFilter(GL_NEAREST);
+        stateFbo_[i] = gl::Framebuffer::create();
+        stateFbo_[i].attach(GL_COLOR_ATTACHMENT0, state_[i]);
+        stateFbo_[i].checkComplete("SkyProcessor eye state");
+    }
     const int levels = int(std::log2(kLogLumSize)) + 1;
     logLum_ = gl::Texture2D(kLogLumSize, kLogLumSize, GL_RGBA32F, levels);
     logLumFbo_ = gl::Framebuffer::create();
@@ -68,6 +79,11 @@ void ToneMapper::release() {
     logLumFbo_ = {};
     toneMap_ = {};
     logLumProgram_ = {};
+    adaptProgram_ = {};
+    for (int i = 0; i < 2; ++i) {
+        state_[i] = {};
+        stateFbo_[i] = {};
+    }
     meterValid_ = false;
     stateValid_ = false;
 }
@@ -90,41 +106,64 @@ void ToneMapper::run(gl::Texture2D& hdr, unsigned framebuffer, const ToneSetting
     vao.bind();
     glDisable(GL_BLEND);
     glDisable(GL_DEPTH_TEST);
-    double exposure = eye::exposureFromEv100(s.ev100);
+    lastAutomatic_ = s.automatic;
+    lastManualEv100_ = s.ev100;
     if (s.automatic) {
-        if (dt || !stateValid_ || !meterValid_) {
-            meter(hdr);
-            // The weighted log-averages (sum w ln Y, sum w, sum w ln V') / N: one texel read back
-            // (the CPU waits for the meter's pass; the adaptation model stays in one place, eye.cpp).
-            std::vector<float> top = logLum_.readRgbaFloat(logLum_.levels() - 1);
-            eye::Adaptation target{s.adaptationMin, s.adaptationMin};
-            if (top[1] > 0) target = {std::exp(double(top[0]) / top[1]), std::exp(double(top[2]) / top[1])};
-            // A frame with NaN or infinite pixels meters nothing: keep the eye where it was.
-            if (!std::isfinite(target.cone) || !std::isfinite(target.rod))
-                target = stateValid_ ? state_ : eye::Adaptation{s.adaptationMin, s.adaptationMin};
-            target.cone = std::clamp(target.cone, s.adaptationMin, s.adaptationMax);
-            target.rod = std::clamp(target.rod, s.adaptationMin, s.adaptationMax);
-            if (!stateValid_ || !dt || *dt <= 0)
-                state_ = target;  // a still render, or the first frame: the steady state
-            else
-                state_ = eye::adapt(state_, target, *dt, s.coneTime, s.rodTime);
-            stateValid_ = true;
-        }
-        exposure = (s.eye ? eye::eyeExposure(state_) : eye::cameraExposure(state_.cone)) * std::exp2(s.compensationEv);
+        // A new frame is metered; a second tone map of it only re-derives the exposure from the
+        // state (dt = 0), so changed settings apply.
+        if (dt || !stateValid_ || !meterValid_) meter(hdr);
+        const bool steady = !stateValid_ || (dt && *dt <= 0);
+        const int next = 1 - current_;
+        stateFbo_[next].bind();
+        glViewport(0, 0, 1, 1);
+        logLum_.bind(gl::binding::kLogLumTexture);
+        state_[current_].bind(gl::binding::kEyeStateTexture);
+        adaptProgram_.use();
+        adaptProgram_.set("u_logLumLevel", logLum_.levels() - 1);
+        adaptProgram_.set("u_steady", steady ? 1 : 0);
+        adaptProgram_.set("u_dt", float(dt && *dt > 0 ? *dt : 0.0));
+        adaptProgram_.set("u_coneTime", float(s.coneTime));
+        adaptProgram_.set("u_rodTime", float(s.rodTime));
+        adaptProgram_.set("u_min", float(s.adaptationMin));
+        adaptProgram_.set("u_max", float(s.adaptationMax));
+        adaptProgram_.set("u_eye", s.eye ? 1 : 0);
+        adaptProgram_.set("u_compensation", float(s.compensationEv));
+        adaptProgram_.set("u_kTvi", float(eye::eyeExposureScale()));
+        adaptProgram_.set("u_kappa", float(eye::scotopicPerPhotopicWhite()));
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+        current_ = next;
+        stateValid_ = true;
     }
-    lastEv100_ = eye::ev100FromExposure(exposure);
 
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
     glViewport(0, 0, hdr.width(), hdr.height());
     hdr.bind(gl::binding::kHdrTexture);
+    state_[current_].bind(gl::binding::kEyeStateTexture);
     toneMap_.use();
-    toneMap_.set("u_exposure", float(exposure));
+    toneMap_.set("u_auto", s.automatic ? 1 : 0);
+    toneMap_.set("u_exposure", float(eye::exposureFromEv100(s.ev100)));
     toneMap_.set("u_curve", s.curve);
     toneMap_.set("u_mesopic", s.mesopic ? 1 : 0);
     toneMap_.set("u_log10Scotopic", float(std::log10(s.scotopicBelow)));
     toneMap_.set("u_log10Photopic", float(std::log10(s.photopicAbove)));
     toneMap_.set("u_rodColor", glm::vec3(eye::rodColor(s.rodXy) / eye::scotopicPerPhotopicWhite()));
     glDrawArrays(GL_TRIANGLES, 0, 3);
+}
+
+glm::vec4 ToneMapper::readState() const {
+    if (!stateValid_) return glm::vec4(1.0f, 1.0f, float(eye::exposureFromEv100(lastManualEv100_)), 1.0f);
+    std::vector<float> t = state_[current_].readRgbaFloat();
+    return {t[0], t[1], t[2], t[3]};
+}
+
+double ToneMapper::lastEv100() const {
+    if (!lastAutomatic_) return lastManualEv100_;
+    return eye::ev100FromExposure(readState().z);
+}
+
+eye::Adaptation ToneMapper::adaptation() const {
+    const glm::vec4 s = readState();
+    return {s.x, s.y};
 }
 
 }  // namespace welkin

@@ -1,8 +1,9 @@
 // ToneMapper (engine-private): the SkyProcessor's tone map (docs/eye.md). Exposure: manual EV100,
 // or automatic by the eye's adaptation (welkin/eye.hpp: Ferwerda's TVI, cone and rod states
 // adapting over time) or a camera's log-average, metered on the GPU into a 128x128 RGBA32F mip
-// chain of (w ln Y, w, w ln V'); then the per-pixel mesopic colour, the display curve and the
-// sRGB transfer function (engine/shaders/tonemap.frag.glsl, loglum.frag.glsl).
+// chain of (w ln Y, w, w ln V'); the adaptation state is a 1x1 texture updated on the GPU
+// (adapt.frag.glsl, ping-pong: nothing is read back per frame); then the per-pixel mesopic
+// colour, the display curve and the sRGB transfer function (tonemap.frag.glsl, loglum.frag.glsl).
 //
 //   ToneMapper tm;
 //   tm.init();                                                      // needs a current context
@@ -52,21 +53,25 @@ public:
     void invalidateMeter() { meterValid_ = false; }
     /// Forgets the adaptation state: the next automatic frame starts in the steady state.
     void resetAdaptation() { stateValid_ = false; }
-    /// EV100 of the last run (manual or the adapted exposure).
-    double lastEv100() const { return lastEv100_; }
-    /// The adaptation state of the last automatic run (cd/m^2, scotopic cd/m^2).
-    const eye::Adaptation& adaptation() const { return state_; }
+    /// EV100 of the last run (manual, or the adapted exposure: reads the state's texel back).
+    double lastEv100() const;
+    /// The adaptation state of the last automatic run (cd/m^2, scotopic cd/m^2; reads it back).
+    eye::Adaptation adaptation() const;
 
 private:
     void meter(gl::Texture2D& hdr);
+    glm::vec4 readState() const;
 
     gl::Texture2D logLum_;
     gl::Framebuffer logLumFbo_;
-    gl::Program toneMap_, logLumProgram_;
+    gl::Texture2D state_[2];  // (cone, rod, exposure, 1); state_[current_] is the latest
+    gl::Framebuffer stateFbo_[2];
+    int current_ = 0;
+    gl::Program toneMap_, logLumProgram_, adaptProgram_;
     bool meterValid_ = false;  // logLum_ holds the last frame's meter
-    bool stateValid_ = false;  // state_ holds an adaptation
-    eye::Adaptation state_;
-    double lastEv100_ = 15.0;
+    bool stateValid_ = false;  // state_[current_] holds an adaptation
+    bool lastAutomatic_ = false;
+    double lastManualEv100_ = 15.0;
 };
 
 }  // namespace welkin

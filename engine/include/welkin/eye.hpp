@@ -94,6 +94,8 @@ Adaptation adapt(Adaptation state, Adaptation target, double dt, double coneTime
 /// adapted eye: max(K / t_cone(cone), K (V'/Y)_white / t_rod(rod)), K chosen so that cones in
 /// their Weber range give the camera's 12.5 / (1.2 * 100 * La) (the log-average at 0.104).
 double eyeExposure(const Adaptation& a);
+/// K of eyeExposure(): 12.5 / (1.2 * 100) * 10^-1.255.
+double eyeExposureScale();
 /// A camera's automatic exposure for log-average luminance `La`: 0.104 / La (EV100 in [-20, 30]).
 double cameraExposure(double La);
 /// EV100 equivalent of an exposure scale (manual exposure is 1 / (1.2 * 2^EV100)).
