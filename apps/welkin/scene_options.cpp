@@ -52,7 +52,9 @@ void SceneOptions::addTo(CLI::App& app, bool required) {
     app.add_option("--face", cubeFace, "cube face 0..5 (+X,-X,+Y,-Y,+Z,-Z; x east, y up, z south) for --projection cube")
         ->capture_default_str();
     app.add_option("--size", size, "image size WIDTHxHEIGHT, each in [1, 16384]")->capture_default_str();
-    app.add_option("--exposure", exposure, "EV100 in [-20, 30], or auto")->capture_default_str();
+    app.add_option("--exposure", exposure,
+                   "EV100 in [-20, 30], or auto (the eye's adaptation to the scene, docs/eye.md; eye.* and exposure.* keys "
+                   "tune it)")->capture_default_str();
     app.add_option("--quality", quality, "low | medium | high | reference")->capture_default_str();
     app.add_option("--var", vars,
                    "KEY=VALUE: set any SkyVars key (an element's option, the atmosphere's, the astronomy's), checked against "

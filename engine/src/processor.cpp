@@ -5,6 +5,7 @@
 #include <welkin/check.hpp>
 #include <welkin/gl/bindings.hpp>
 #include <welkin/error.hpp>
+#include <welkin/eye.hpp>
 #include <welkin/keys.hpp>
 #include <welkin/processor.hpp>
 
@@ -56,12 +57,14 @@ void Observer::validate() const {
 SkyProcessor::SkyProcessor(SkyVars vars, Logger log, ProcessorOptions options)
     : ownVars_(std::move(vars)), log_(std::move(log)), options_(options), toneMapper_(std::make_unique<ToneMapper>()) {
     deriveVariables();
+    declareToneMapKeys();
     if (options_.astronomy) addGenerator(std::make_shared<astro::AstronomyGenerator>());
 }
 
 SkyProcessor::SkyProcessor(BorrowedVars vars, Logger log, ProcessorOptions options)
     : vars_(&vars.vars), log_(std::move(log)), options_(options), toneMapper_(std::make_unique<ToneMapper>()) {
     deriveVariables();
+    declareToneMapKeys();
     if (options_.astronomy) addGenerator(std::make_shared<astro::AstronomyGenerator>());
 }
 
@@ -88,6 +91,11 @@ void SkyProcessor::addGenerator(std::shared_ptr<Generator> g) {
 }
 
 SkyProcessor::~SkyProcessor() { release(); }
+
+void SkyProcessor::declareToneMapKeys() {
+    SkyVars::DeclarerScope scope(*vars_, "tone map");
+    eye::declareKeys(*vars_);
+}
 
 void SkyProcessor::release() {
     for (auto& e : elements_) e->release();
@@ -148,6 +156,12 @@ void SkyProcessor::setExposure(const Exposure& e) {
     exposure_ = e;
     vars_->set(keys::exposureEv100, e.ev100);
     vars_->set(keys::exposureAuto, e.automatic);
+    vars_->set(eye::keys::compensation, e.compensationEv);
+}
+
+void SkyProcessor::resetAdaptation() {
+    toneMapper_->resetAdaptation();
+    lastFrameSeconds_.reset();
 }
 
 double SkyProcessor::seconds() const {
@@ -345,7 +359,7 @@ void SkyProcessor::renderFrame() {
     const float black[4] = {0, 0, 0, 1};
     glClearBufferfv(GL_COLOR, 0, black);
     composite(hdrFbo_.id(), false, true, nullptr);
-    toneMapInto(ldrFbo_.id());
+    toneMap(ldrFbo_.id(), true);
     if (options_.timing) glFinish();
     frameMs_ = msSince(t0);
     ++frames_;
@@ -384,20 +398,38 @@ void SkyProcessor::renderInto(const RenderTarget& target) {
     gl::checkError("SkyProcessor::renderInto()");
 }
 
-void SkyProcessor::toneMapInto(unsigned framebuffer) {
+void SkyProcessor::toneMapInto(unsigned framebuffer) { toneMap(framebuffer, false); }
+
+void SkyProcessor::toneMap(unsigned framebuffer, bool newFrame) {
     if (!hdr_) throw Error("SkyProcessor::toneMapInto(): no HDR frame yet (call renderFrame() first)");
+    // The exposure.* and eye.* keys are the settings (setExposure() writes them; --var too).
+    const ToneSettings settings = ToneSettings::fromVars(*vars_);
+    exposure_ = {settings.automatic, settings.ev100, settings.compensationEv};
+    // A new frame advances the eye's adaptation by the animation time since the last one; the
+    // same instant again (a still render) is the steady state; a second tone map of a frame keeps it.
+    std::optional<double> dt;
+    if (newFrame) {
+        const double now = seconds();
+        dt = lastFrameSeconds_ ? now - *lastFrameSeconds_ : 0.0;
+        lastFrameSeconds_ = now;
+    }
     auto t0 = std::chrono::steady_clock::now();
     if (options_.timing) glFinish();
     {
         HostStateScope host(hostGuardDepth_, {framebuffer});
-        toneMapper_->run(hdr_, framebuffer, exposure_, cameraUbo_, emptyVao_);
+        toneMapper_->run(hdr_, framebuffer, settings, cameraUbo_, emptyVao_, dt);
     }
     if (options_.timing) glFinish();
     toneMapMs_ = msSince(t0);
     gl::checkError("SkyProcessor::toneMapInto()");
 }
 
-double SkyProcessor::lastEv100() const { return toneMapper_->lastEv100(exposure_); }
+double SkyProcessor::lastEv100() const { return exposure_.automatic ? toneMapper_->lastEv100() : exposure_.ev100; }
+
+glm::dvec2 SkyProcessor::adaptationLuminance() const {
+    const eye::Adaptation& a = toneMapper_->adaptation();
+    return {a.cone, a.rod};
+}
 
 namespace {
 Image readTexture(const gl::Texture2D& t) {

@@ -25,6 +25,11 @@ nlohmann::json SkyProcessor::stats() const {
                    {"alt_deg", camera_.altitudeRad * 180 / kPi},
                    {"fov_deg", camera_.verticalFovRad * 180 / kPi}};
     j["exposure"] = {{"automatic", exposure_.automatic}, {"ev100", lastEv100()}};
+    if (exposure_.automatic) {
+        const glm::dvec2 a = adaptationLuminance();
+        j["exposure"]["adaptation_cd_m2"] = a.x;           // the cones' adaptation luminance
+        j["exposure"]["scotopic_adaptation_cd_m2"] = a.y;  // the rods' (scotopic cd/m^2)
+    }
     j["timing_includes_gpu"] = options_.timing;
     // Every generator's cost in the order they run, and their own quantities (astronomy: Sun, Moon).
     json gensAll = json::array();

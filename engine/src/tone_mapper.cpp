@@ -1,19 +1,47 @@
 #include "tone_mapper.hpp"
 
 #include <welkin/gl/bindings.hpp>
-
 #include <welkin/gl/shader.hpp>
+#include <welkin/keys.hpp>
 
 #include <epoxy/gl.h>
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <vector>
 
 namespace welkin {
 
 namespace {
 constexpr int kLogLumSize = 128;  // log-luminance reduction resolution (power of two)
+}
+
+ToneSettings ToneSettings::fromVars(const SkyVars& v) {
+    ToneSettings s;
+    s.automatic = v.get(keys::exposureAuto);
+    s.ev100 = v.get(keys::exposureEv100);
+    s.compensationEv = v.get(eye::keys::compensation);
+    s.curve = v.get(eye::keys::curve);
+    s.eye = v.get(eye::keys::adaptation);
+    s.adaptationMin = v.get(eye::keys::adaptationMin);
+    s.adaptationMax = v.get(eye::keys::adaptationMax);
+    s.coneTime = v.get(eye::keys::coneTime);
+    s.rodTime = v.get(eye::keys::rodTime);
+    s.mesopic = v.get(eye::keys::mesopic);
+    s.scotopicBelow = v.get(eye::keys::scotopicBelow);
+    s.photopicAbove = v.get(eye::keys::photopicAbove);
+    s.rodXy = v.get(eye::keys::rodChromaticity);
+    auto ordered = [](const char* a, double lo, const char* b, double hi) {
+        if (lo < hi) return;
+        std::ostringstream m;
+        m << "SkyProcessor: " << a << " " << lo << " not below " << b << " " << hi;
+        throw Error(m.str());
+    };
+    ordered("eye.adaptation_min_cd_m2", s.adaptationMin, "eye.adaptation_max_cd_m2", s.adaptationMax);
+    ordered("eye.scotopic_cd_m2", s.scotopicBelow, "eye.photopic_cd_m2", s.photopicAbove);
+    if (s.rodXy.x + s.rodXy.y >= 1.0) throw Error("SkyProcessor: eye.rod_chromaticity x + y not below 1");
+    return s;
 }
 
 void ToneMapper::init() {
@@ -26,12 +54,24 @@ void ToneMapper::init() {
                          .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
                          .fragment("engine/loglum.frag.glsl", gl::engineShader("loglum.frag.glsl"))
                          .build();
+    adaptProgram_ = gl::ProgramBuilder("SkyProcessor eye adaptation")
+                        .fullscreenVertex()
+                        .fragment("engine/adapt.frag.glsl", gl::engineShader("adapt.frag.glsl"))
+                        .build();
+    for (int i = 0; i < 2; ++i) {
+        state_[i] = gl::Texture2D(1, 1, GL_RGBA32F);
+        state_[i].setFilter(GL_NEAREST);
+        stateFbo_[i] = gl::Framebuffer::create();
+        stateFbo_[i].attach(GL_COLOR_ATTACHMENT0, state_[i]);
+        stateFbo_[i].checkComplete("SkyProcessor eye state");
+    }
     const int levels = int(std::log2(kLogLumSize)) + 1;
-    logLum_ = gl::Texture2D(kLogLumSize, kLogLumSize, GL_RG32F, levels);
+    logLum_ = gl::Texture2D(kLogLumSize, kLogLumSize, GL_RGBA32F, levels);
     logLumFbo_ = gl::Framebuffer::create();
     logLumFbo_.attach(GL_COLOR_ATTACHMENT0, logLum_);
     logLumFbo_.checkComplete("SkyProcessor log luminance");
     meterValid_ = false;
+    stateValid_ = false;
 }
 
 void ToneMapper::release() {
@@ -39,45 +79,91 @@ void ToneMapper::release() {
     logLumFbo_ = {};
     toneMap_ = {};
     logLumProgram_ = {};
+    adaptProgram_ = {};
+    for (int i = 0; i < 2; ++i) {
+        state_[i] = {};
+        stateFbo_[i] = {};
+    }
     meterValid_ = false;
+    stateValid_ = false;
 }
 
-void ToneMapper::run(gl::Texture2D& hdr, unsigned framebuffer, const Exposure& exposure, const gl::Buffer& cameraUbo,
-                     const gl::VertexArray& vao) {
+void ToneMapper::meter(gl::Texture2D& hdr) {
+    logLumFbo_.bind();
+    glViewport(0, 0, kLogLumSize, kLogLumSize);
+    hdr.bind(gl::binding::kHdrTexture);
+    hdr.setFilter(GL_LINEAR);  // each meter fetch averages 2x2 texels
+    logLumProgram_.use();
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    hdr.setFilter(GL_NEAREST);
+    logLum_.generateMipmaps();
+    meterValid_ = true;
+}
+
+void ToneMapper::run(gl::Texture2D& hdr, unsigned framebuffer, const ToneSettings& s, const gl::Buffer& cameraUbo,
+                     const gl::VertexArray& vao, std::optional<double> dt) {
     cameraUbo.bindBase(GL_UNIFORM_BUFFER, gl::binding::kCameraUbo);
     vao.bind();
     glDisable(GL_BLEND);
     glDisable(GL_DEPTH_TEST);
-    if (exposure.automatic) {
-        logLumFbo_.bind();
-        glViewport(0, 0, kLogLumSize, kLogLumSize);
-        hdr.bind(gl::binding::kHdrTexture);
-        hdr.setFilter(GL_LINEAR);  // each meter fetch averages 2x2 texels
-        logLumProgram_.use();
+    lastAutomatic_ = s.automatic;
+    lastManualEv100_ = s.ev100;
+    if (s.automatic) {
+        // A new frame is metered; a second tone map of it only re-derives the exposure from the
+        // state (dt = 0), so changed settings apply.
+        if (dt || !stateValid_ || !meterValid_) meter(hdr);
+        const bool steady = !stateValid_ || (dt && *dt <= 0);
+        const int next = 1 - current_;
+        stateFbo_[next].bind();
+        glViewport(0, 0, 1, 1);
+        logLum_.bind(gl::binding::kLogLumTexture);
+        state_[current_].bind(gl::binding::kEyeStateTexture);
+        adaptProgram_.use();
+        adaptProgram_.set("u_logLumLevel", logLum_.levels() - 1);
+        adaptProgram_.set("u_steady", steady ? 1 : 0);
+        adaptProgram_.set("u_dt", float(dt && *dt > 0 ? *dt : 0.0));
+        adaptProgram_.set("u_coneTime", float(s.coneTime));
+        adaptProgram_.set("u_rodTime", float(s.rodTime));
+        adaptProgram_.set("u_min", float(s.adaptationMin));
+        adaptProgram_.set("u_max", float(s.adaptationMax));
+        adaptProgram_.set("u_eye", s.eye ? 1 : 0);
+        adaptProgram_.set("u_compensation", float(s.compensationEv));
+        adaptProgram_.set("u_kTvi", float(eye::eyeExposureScale()));
+        adaptProgram_.set("u_kappa", float(eye::scotopicPerPhotopicWhite()));
         glDrawArrays(GL_TRIANGLES, 0, 3);
-        hdr.setFilter(GL_NEAREST);
-        logLum_.generateMipmaps();
-        meterValid_ = true;
+        current_ = next;
+        stateValid_ = true;
     }
+
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
     glViewport(0, 0, hdr.width(), hdr.height());
     hdr.bind(gl::binding::kHdrTexture);
-    logLum_.bind(gl::binding::kLogLumTexture);
+    state_[current_].bind(gl::binding::kEyeStateTexture);
     toneMap_.use();
-    toneMap_.set("u_ev100", float(exposure.ev100));
-    toneMap_.set("u_auto", exposure.automatic ? 1 : 0);
-    toneMap_.set("u_compensation", float(exposure.compensationEv));
-    toneMap_.set("u_logLumLevel", logLum_.levels() - 1);
+    toneMap_.set("u_auto", s.automatic ? 1 : 0);
+    toneMap_.set("u_exposure", float(eye::exposureFromEv100(s.ev100)));
+    toneMap_.set("u_curve", s.curve);
+    toneMap_.set("u_mesopic", s.mesopic ? 1 : 0);
+    toneMap_.set("u_log10Scotopic", float(std::log10(s.scotopicBelow)));
+    toneMap_.set("u_log10Photopic", float(std::log10(s.photopicAbove)));
+    toneMap_.set("u_rodColor", glm::vec3(eye::rodColor(s.rodXy) / eye::scotopicPerPhotopicWhite()));
     glDrawArrays(GL_TRIANGLES, 0, 3);
 }
 
-double ToneMapper::lastEv100(const Exposure& exposure) const {
-    if (!exposure.automatic || !meterValid_) return exposure.ev100;
-    std::vector<float> top = logLum_.readRgbaFloat(logLum_.levels() - 1);
-    // Same arithmetic as welkin_autoEv100() in tonemap.frag.glsl.
-    double logAvg = top[1] > 0 ? top[0] / top[1] : std::log(1e-7);
-    double ev = std::clamp(std::log2(std::exp(logAvg) * 100.0 / 12.5), -20.0, 30.0);
-    return ev - exposure.compensationEv;
+glm::vec4 ToneMapper::readState() const {
+    if (!stateValid_) return glm::vec4(1.0f, 1.0f, float(eye::exposureFromEv100(lastManualEv100_)), 1.0f);
+    std::vector<float> t = state_[current_].readRgbaFloat();
+    return {t[0], t[1], t[2], t[3]};
+}
+
+double ToneMapper::lastEv100() const {
+    if (!lastAutomatic_) return lastManualEv100_;
+    return eye::ev100FromExposure(readState().z);
+}
+
+eye::Adaptation ToneMapper::adaptation() const {
+    const glm::vec4 s = readState();
+    return {s.x, s.y};
 }
 
 }  // namespace welkin

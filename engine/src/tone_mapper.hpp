@@ -1,17 +1,38 @@
-// ToneMapper (engine-private): the SkyProcessor's tone map. Exposure (manual EV100, or automatic
-// from the log-average luminance of the frame, metered on the GPU into a 128x128 RG32F mip
-// chain), Narkowicz's filmic curve and the sRGB transfer function (engine/shaders/tonemap.frag.glsl,
-// loglum.frag.glsl).
+// ToneMapper (engine-private): the SkyProcessor's tone map (docs/eye.md). Exposure: manual EV100,
+// or automatic by the eye's adaptation (welkin/eye.hpp: Ferwerda's TVI, cone and rod states
+// adapting over time) or a camera's log-average, metered on the GPU into a 128x128 RGBA32F mip
+// chain of (w ln Y, w, w ln V'); the adaptation state is a 1x1 texture updated on the GPU
+// (adapt.frag.glsl, ping-pong: nothing is read back per frame); then the per-pixel mesopic
+// colour, the display curve and the sRGB transfer function (tonemap.frag.glsl, loglum.frag.glsl).
 //
 //   ToneMapper tm;
-//   tm.init();                                                 // needs a current context
-//   tm.run(hdr, fbo, exposure, cameraUbo, vao);                // draws into fbo at hdr's size
-//   double ev = tm.lastEv100(exposure);
+//   tm.init();                                                      // needs a current context
+//   tm.run(hdr, fbo, settings, cameraUbo, vao, dt);                 // draws into fbo at hdr's size
+//   double ev = tm.lastEv100();
 #pragma once
+#include <welkin/eye.hpp>
 #include <welkin/gl/objects.hpp>
 #include <welkin/processor.hpp>
 
+#include <optional>
+
 namespace welkin {
+
+/// Everything the tone map reads, gathered from the exposure.* and eye.* keys (eye.hpp).
+struct ToneSettings {
+    bool automatic = false;
+    double ev100 = 15.0;
+    double compensationEv = 0.0;
+    int curve = 0;
+    bool eye = true;
+    double adaptationMin = eye::Defaults::adaptationMin, adaptationMax = eye::Defaults::adaptationMax;
+    double coneTime = eye::Defaults::coneTime, rodTime = eye::Defaults::rodTime;
+    bool mesopic = true;
+    double scotopicBelow = eye::Defaults::scotopicBelow, photopicAbove = eye::Defaults::photopicAbove;
+    glm::dvec2 rodXy{eye::Defaults::rodX, eye::Defaults::rodY};
+    /// Reads the keys; throws one line if the limits are out of order.
+    static ToneSettings fromVars(const SkyVars& vars);
+};
 
 class ToneMapper {
 public:
@@ -22,19 +43,35 @@ public:
 
     /// Tone-maps `hdr` (RGBA32F, cd/m^2) into `framebuffer` (0 = default) over a viewport of
     /// hdr's size. The camera block (weights of the automatic meter by solid angle) must be in
-    /// `cameraUbo`; draws with `vao` (no attributes). Changes GL state: the caller guards it.
-    void run(gl::Texture2D& hdr, unsigned framebuffer, const Exposure& exposure, const gl::Buffer& cameraUbo,
-             const gl::VertexArray& vao);
+    /// `cameraUbo`; draws with `vao` (no attributes). `dt`: seconds since the previous frame for
+    /// the temporal adaptation (<= 0: the steady state, as a still render); nullopt: this is not
+    /// a new frame (a second tone map of it), the adaptation state is kept. Changes GL state:
+    /// the caller guards it.
+    void run(gl::Texture2D& hdr, unsigned framebuffer, const ToneSettings& settings, const gl::Buffer& cameraUbo,
+             const gl::VertexArray& vao, std::optional<double> dt);
     /// The meter of the last run no longer describes the frame (the target was resized).
     void invalidateMeter() { meterValid_ = false; }
-    /// EV100 of the last run: `exposure.ev100` if manual, else the metered value (reads 1 texel).
-    double lastEv100(const Exposure& exposure) const;
+    /// Forgets the adaptation state: the next automatic frame starts in the steady state.
+    void resetAdaptation() { stateValid_ = false; }
+    /// EV100 of the last run (manual, or the adapted exposure: reads the state's texel back).
+    double lastEv100() const;
+    /// The adaptation state of the last automatic run (cd/m^2, scotopic cd/m^2; reads it back).
+    eye::Adaptation adaptation() const;
 
 private:
+    void meter(gl::Texture2D& hdr);
+    glm::vec4 readState() const;
+
     gl::Texture2D logLum_;
     gl::Framebuffer logLumFbo_;
-    gl::Program toneMap_, logLumProgram_;
+    gl::Texture2D state_[2];  // (cone, rod, exposure, 1); state_[current_] is the latest
+    gl::Framebuffer stateFbo_[2];
+    int current_ = 0;
+    gl::Program toneMap_, logLumProgram_, adaptProgram_;
     bool meterValid_ = false;  // logLum_ holds the last frame's meter
+    bool stateValid_ = false;  // state_[current_] holds an adaptation
+    bool lastAutomatic_ = false;
+    double lastManualEv100_ = 15.0;
 };
 
 }  // namespace welkin

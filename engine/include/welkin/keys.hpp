@@ -37,7 +37,7 @@ inline const Key<glm::dvec3> moonDirection{"moon.direction", Range{-1, 1}, "unit
 inline const Key<int> quality{"render.quality", Range{0, 3}, "quality preset: 0 low, 1 medium, 2 high, 3 reference"};
 /// Manual exposure, EV100, [-20, 30] (used when exposureAuto is false).
 inline const Key<double> exposureEv100{"exposure.ev100", Range{-20, 30}, "exposure value at ISO 100"};
-/// Automatic exposure from the scene's log-average luminance.
-inline const Key<bool> exposureAuto{"exposure.auto", "automatic exposure from log-average luminance"};
+/// Automatic exposure: the eye's adaptation to the scene (eye.adaptation, welkin/eye.hpp) or a camera's log-average.
+inline const Key<bool> exposureAuto{"exposure.auto", "automatic exposure: the eye's adaptation (eye.*) or a camera's log-average"};
 
 }  // namespace welkin::keys

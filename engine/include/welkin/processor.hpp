@@ -59,9 +59,11 @@ struct Observer {
     void validate() const;
 };
 
-/// Tone-mapping exposure.
+/// Tone-mapping exposure; written into the keys exposure.auto, exposure.ev100,
+/// exposure.compensation_ev (the keys are what the tone map reads; the eye's own parameters are
+/// the eye.* keys, welkin/eye.hpp and docs/eye.md).
 struct Exposure {
-    bool automatic = false;       ///< from the log-average luminance of the frame
+    bool automatic = false;       ///< adapt to the frame: the eye's model (eye.adaptation) or a camera's log-average
     double ev100 = 15.0;          ///< manual exposure value at ISO 100, [-20, 30]
     double compensationEv = 0.0;  ///< added brightness for automatic exposure, EV, [-10, 10]
 };
@@ -157,8 +159,14 @@ public:
     Image readHdr() const;
     /// Reads the tone-mapped frame back: RGB float in [0, 1] (sRGB-encoded), top row first.
     Image readToneMapped() const;
-    /// EV100 used by the last tone map (reads 1 texel back when automatic).
+    /// EV100 used by the last tone map (automatic: the adapted exposure, welkin/eye.hpp).
     double lastEv100() const;
+    /// The eye's adaptation luminances after the last automatic tone map: (cones, cd/m^2; rods,
+    /// scotopic cd/m^2). Each renderFrame() advances them by the animation time since the
+    /// previous one (seconds(); none passed: the steady state, as a still render).
+    glm::dvec2 adaptationLuminance() const;
+    /// Forgets the adaptation: the next frame starts in the steady state (a cut in an animation).
+    void resetAdaptation();
 
     /// Animation time passed to elements: seconds since construction, or the fixed value given
     /// to setAnimationTime() (offline renders use 0 so that output is deterministic).
@@ -185,6 +193,9 @@ private:
     /// `depth`: the host's depth for the elements (FrameContext::depth), or nullptr.
     void composite(unsigned framebuffer, bool depthTest, bool clearedToBlack, const HostDepth* depth);
     void checkDepthTexture(const HostDepth& depth) const;
+    void declareToneMapKeys();
+    /// `newFrame`: the frame renderFrame() just composited (advances the eye's adaptation).
+    void toneMap(unsigned framebuffer, bool newFrame);
     FrameContext frameContext();
 
     SkyVars ownVars_;
@@ -203,6 +214,7 @@ private:
     bool glReady_ = false;
     int hostGuardDepth_ = 0;  // nesting of public calls that save and restore the host's GL state
     std::optional<double> animationTime_;
+    std::optional<double> lastFrameSeconds_;  // seconds() at the last renderFrame()'s tone map
     std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 
     gl::Texture2D hdr_, ldr_;

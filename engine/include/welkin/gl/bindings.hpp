@@ -28,6 +28,7 @@ inline constexpr int kSkyIrradianceSsbo = 0;  ///< SkyIrradiance's result (gener
 // Texture units: the engine's tone map.
 inline constexpr int kHdrTexture = 0;     ///< the HDR frame read by the tone map and log-luminance passes
 inline constexpr int kLogLumTexture = 1;  ///< the log-luminance mip chain (automatic exposure)
+inline constexpr int kEyeStateTexture = 2;  ///< the eye's adaptation state, 1x1 (engine/shaders/adapt.frag.glsl)
 // Texture units: the sky's LUTs, the same unit wherever a LUT is sampled.
 inline constexpr int kSunViewLut = 0;              ///< sky.sun_view_lut (or its total-phase variant)
 inline constexpr int kSunViewMieLut = 1;           ///< sky.sun_view_mie_lut
@@ -89,6 +90,7 @@ inline constexpr std::array kTable = {
     Entry{"WELKIN_BINDING_SKY_IRRADIANCE_SSBO", kSkyIrradianceSsbo, Kind::StorageBuffer},
     Entry{"WELKIN_BINDING_HDR_TEXTURE", kHdrTexture, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_LOG_LUM_TEXTURE", kLogLumTexture, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_EYE_STATE_TEXTURE", kEyeStateTexture, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_SUN_VIEW_LUT", kSunViewLut, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_SUN_VIEW_MIE_LUT", kSunViewMieLut, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_MOON_VIEW_LUT", kMoonViewLut, Kind::TextureUnit},

@@ -1,0 +1,120 @@
+// The eye: how welkin's tone map adapts to the scene like a human observer (docs/eye.md).
+//
+//   sky.vars().set(welkin::keys::exposureAuto, true);        // or sky.setExposure({.automatic = true})
+//   sky.vars().set(welkin::eye::keys::rodTime, 30.0);        // dark adaptation time constant, s
+//   sky.vars().set(welkin::eye::keys::curve, 1);             // Hable's filmic curve
+//   double ev = welkin::eye::steadyEv100(1e-3, 2.6e-3);      // a moonlit sky: -2.8 EV100 (a camera: -7)
+//
+// The model (every function below is the CPU twin of what the tone map does on the GPU):
+//  * Sensitivity: Ferwerda, Pattanaik, Shirley & Greenberg 1996's threshold-versus-intensity
+//    curves for cones (photopic luminance) and rods (scotopic luminance). The exposure is set as
+//    their "just noticeable difference" matching prescribes (Ward 1994; Ferwerda 1996): the scale
+//    is inversely proportional to the threshold of the more sensitive system, anchored so that in
+//    daylight (cones in their Weber range) it equals a camera's log-average exposure. Below the
+//    Weber ranges the thresholds stop falling as fast as the luminance, so a darker scene
+//    displays darker: a moonless night is darker than a moonlit one, darker than twilight.
+//  * Adaptation luminance: the log-average of the frame (photopic, and scotopic for the rods),
+//    kept within [eye.adaptation_min_cd_m2, eye.adaptation_max_cd_m2].
+//  * Time: the cone and rod adaptation states approach their targets exponentially in log
+//    luminance (Pattanaik, Tumblin, Yee & Greenberg 2000; Durand & Dorsey 2000); cones with
+//    eye.cone_time_s, rods with eye.rod_time_s when the scene darkens (dark adaptation) and
+//    with the cones' constant when it brightens (light adaptation is fast).
+//  * Colour: per pixel, below eye.photopic_cd_m2 down to eye.scotopic_cd_m2 the colour blends
+//    (smoothstep in log10 luminance) into the rod percept, the scotopic luminance V' (Larson,
+//    Rushmeier & Piatko 1997) shown in the rod hue eye.rod_chromaticity (blue shift, Jensen et
+//    al. 2001): monochrome and bluish in scotopic light, unchanged in photopic light.
+//  * Curve: exposure.curve, the ACES fit (Narkowicz 2015, default), Hable's filmic curve (2010),
+//    Reinhard's L/(1+L) on luminance (hue-preserving), or none (clip).
+#pragma once
+#include <welkin/vars.hpp>
+
+#include <glm/glm.hpp>
+
+namespace welkin::eye {
+
+namespace keys {
+/// Added brightness for automatic exposure, EV, [-10, 10].
+inline const Key<double> compensation{"exposure.compensation_ev", Range{-10, 10}, "added brightness for automatic exposure, EV", "EV"};
+/// Display curve: 0 ACES fit (Narkowicz), 1 Hable filmic, 2 Reinhard on luminance, 3 none (clip).
+inline const Key<int> curve{"exposure.curve", Range{0, 3}, "display curve: 0 ACES fit, 1 Hable filmic, 2 Reinhard (luminance), 3 none"};
+/// Automatic exposure follows the eye (TVI model); false: a camera's log-average exposure.
+inline const Key<bool> adaptation{"eye.adaptation", "automatic exposure follows the eye's sensitivity (Ferwerda 1996 TVI); false: camera"};
+/// Lowest adaptation luminance, cd/m^2 (absolute threshold of the dark-adapted eye ~1e-6).
+inline const Key<double> adaptationMin{"eye.adaptation_min_cd_m2", Range{1e-8, 1e8}, "lowest adaptation luminance"};
+/// Highest adaptation luminance, cd/m^2.
+inline const Key<double> adaptationMax{"eye.adaptation_max_cd_m2", Range{1e-8, 1e8}, "highest adaptation luminance"};
+/// Time constant of the cones (and of any light adaptation), s, [0, 3600]; 0: instantaneous.
+inline const Key<double> coneTime{"eye.cone_time_s", Range{0, 3600}, "cone adaptation time constant (and light adaptation)"};
+/// Time constant of the rods' dark adaptation, s, [0, 3600]; 0: instantaneous.
+inline const Key<double> rodTime{"eye.rod_time_s", Range{0, 3600}, "rod dark-adaptation time constant"};
+/// Per-pixel photopic -> mesopic -> scotopic colour (loss of saturation, blue shift).
+inline const Key<bool> mesopic{"eye.mesopic", "per-pixel mesopic/scotopic colour: desaturation and blue shift"};
+/// Below this luminance a pixel is seen by rods only, cd/m^2.
+inline const Key<double> scotopicBelow{"eye.scotopic_cd_m2", Range{1e-8, 1e8}, "fully scotopic below this luminance"};
+/// Above this luminance a pixel is seen by cones only, cd/m^2.
+inline const Key<double> photopicAbove{"eye.photopic_cd_m2", Range{1e-8, 1e8}, "fully photopic above this luminance"};
+/// CIE xy chromaticity of the rod percept (the blue shift).
+inline const Key<glm::dvec2> rodChromaticity{"eye.rod_chromaticity", Range{0.01, 0.9}, "CIE xy of the rod percept (blue shift)"};
+}  // namespace keys
+
+/// The keys' defaults (docs/eye.md gives their sources).
+struct Defaults {
+    static constexpr double adaptationMin = 1e-6, adaptationMax = 1e6;
+    static constexpr double coneTime = 0.4, rodTime = 120.0;
+    static constexpr double scotopicBelow = 1e-3, photopicAbove = 3.0;
+    static constexpr double rodX = 0.25, rodY = 0.25;
+};
+
+/// Declares the keys above (and exposure.ev100 / exposure.auto) with their defaults.
+void declareKeys(SkyVars& vars);
+
+/// Ferwerda 1996: log10 of the cone (photopic) threshold, cd/m^2, at adaptation luminance `La` (> 0).
+double coneThresholdLog10(double La);
+/// Ferwerda 1996: log10 of the rod (scotopic) threshold, scotopic cd/m^2, at scotopic `Las` (> 0).
+double rodThresholdLog10(double Las);
+
+/// Scotopic luminance V' (scotopic cd/m^2) of a linear sRGB colour (Y in cd/m^2), Larson et al.
+/// 1997: V' = Y (1.33 (1 + (Y + Z) / X) - 1.68), >= 0.
+double scotopicLuminance(const glm::dvec3& linearSrgb);
+/// V' / Y of the sRGB (D65) white: scotopic over photopic luminance of a grey (~2.57).
+double scotopicPerPhotopicWhite();
+
+/// The adaptation state: cone (photopic) and rod (scotopic) luminances, cd/m^2 and scotopic cd/m^2.
+struct Adaptation {
+    double cone = 1.0;
+    double rod = 1.0;
+};
+
+/// Exponential approach in log luminance: after `dt` seconds the log of `state` has moved
+/// 1 - exp(-dt / tau) of the way to the target's. Cones with `coneTime`; rods with `rodTime`
+/// when darkening, `coneTime` when brightening. tau = 0 jumps. dt >= 0; luminances finite, > 0.
+Adaptation adapt(Adaptation state, Adaptation target, double dt, double coneTime, double rodTime);
+
+/// The scale from scene luminance (cd/m^2) to the display value before the curve, for the
+/// adapted eye: max(K / t_cone(cone), K (V'/Y)_white / t_rod(rod)), K chosen so that cones in
+/// their Weber range give the camera's 12.5 / (1.2 * 100 * La) (the log-average at 0.104).
+double eyeExposure(const Adaptation& a);
+/// K of eyeExposure(): 12.5 / (1.2 * 100) * 10^-1.255.
+double eyeExposureScale();
+/// A camera's automatic exposure for log-average luminance `La`: 0.104 / La (EV100 in [-20, 30]).
+double cameraExposure(double La);
+/// EV100 equivalent of an exposure scale (manual exposure is 1 / (1.2 * 2^EV100)).
+double ev100FromExposure(double exposure);
+double exposureFromEv100(double ev100);
+/// The steady state's EV100 for a scene of log-average photopic `La` and scotopic `Las`.
+double steadyEv100(double La, double Las);
+
+/// Rod weight of a pixel of luminance `Y`: 1 at or below `scotopicBelow`, 0 at or above
+/// `photopicAbove`, smoothstep in log10 Y between.
+double rodWeight(double Y, double scotopicBelow, double photopicAbove);
+/// Linear sRGB of the rod percept per unit photopic-equivalent luminance (Y = 1), from CIE xy.
+glm::dvec3 rodColor(glm::dvec2 xy);
+/// The perceived colour of a pixel before exposure: mix(rgb, rodColor * V' / (V'/Y)_white, w).
+glm::dvec3 mesopicColor(const glm::dvec3& linearSrgb, double scotopicBelow, double photopicAbove, glm::dvec2 rodXy);
+
+/// The display curves, per channel on exposed values (>= 0) -> [0, 1] linear.
+glm::dvec3 acesFit(glm::dvec3 x);
+glm::dvec3 hable(glm::dvec3 x);
+glm::dvec3 reinhardLuminance(glm::dvec3 x);
+
+}  // namespace welkin::eye

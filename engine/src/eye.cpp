@@ -1,0 +1,137 @@
+#include <welkin/color.hpp>
+#include <welkin/error.hpp>
+#include <welkin/eye.hpp>
+#include <welkin/keys.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <string>
+
+namespace welkin::eye {
+
+namespace {
+// The camera's calibration: the log-average maps to 12.5 / (1.2 * 100) = 0.104 before the curve
+// (reflected-light meter constant K = 12.5, ISO 100, saturation-based exposure 1 / (1.2 * 2^EV)).
+constexpr double kCameraKey = 12.5 / (1.2 * 100.0);
+// Cones in their Weber range: log10 t = log10 La - 1.255, so K / t = kCameraKey / La with
+// K = kCameraKey * 10^-1.255.
+const double kTvi = kCameraKey * std::pow(10.0, -1.255);
+
+std::string shown(double v) {
+    std::ostringstream o;
+    o << v;
+    return o.str();
+}
+
+double smoothstep(double a, double b, double x) {
+    double t = std::clamp((x - a) / (b - a), 0.0, 1.0);
+    return t * t * (3 - 2 * t);
+}
+}  // namespace
+
+void declareKeys(SkyVars& v) {
+    v.declare(welkin::keys::exposureEv100, 15.0);
+    v.declare(welkin::keys::exposureAuto, false);
+    v.declare(keys::compensation, 0.0);
+    v.declare(keys::curve, 0);
+    v.declare(keys::adaptation, true);
+    v.declare(keys::adaptationMin, Defaults::adaptationMin);
+    v.declare(keys::adaptationMax, Defaults::adaptationMax);
+    v.declare(keys::coneTime, Defaults::coneTime);
+    v.declare(keys::rodTime, Defaults::rodTime);
+    v.declare(keys::mesopic, true);
+    v.declare(keys::scotopicBelow, Defaults::scotopicBelow);
+    v.declare(keys::photopicAbove, Defaults::photopicAbove);
+    v.declare(keys::rodChromaticity, glm::dvec2(Defaults::rodX, Defaults::rodY));
+}
+
+double coneThresholdLog10(double La) {
+    if (!(La > 0)) throw Error("eye::coneThresholdLog10(): adaptation luminance " + shown(La) + " not > 0");
+    const double l = std::log10(La);
+    if (l <= -2.6) return -0.72;
+    if (l >= 1.9) return l - 1.255;
+    return std::pow(0.249 * l + 0.65, 2.7) - 0.72;
+}
+
+double rodThresholdLog10(double Las) {
+    if (!(Las > 0)) throw Error("eye::rodThresholdLog10(): adaptation luminance " + shown(Las) + " not > 0");
+    const double l = std::log10(Las);
+    if (l <= -3.94) return -2.86;
+    if (l >= -1.44) return l - 0.395;
+    return std::pow(0.405 * l + 1.6, 2.18) - 2.86;
+}
+
+double scotopicLuminance(const glm::dvec3& rgb) {
+    const glm::dvec3 xyz = color::linearSrgbToXyz(rgb);
+    if (!(xyz.x > 0) || !(xyz.y > 0)) return 0.0;
+    return std::max(0.0, xyz.y * (1.33 * (1.0 + (xyz.y + xyz.z) / xyz.x) - 1.68));
+}
+
+double scotopicPerPhotopicWhite() { return scotopicLuminance(glm::dvec3(1.0)); }
+
+Adaptation adapt(Adaptation s, Adaptation target, double dt, double coneTime, double rodTime) {
+    if (!(dt >= 0)) throw Error("eye::adapt(): dt " + shown(dt) + " not >= 0");
+    for (double L : {s.cone, s.rod, target.cone, target.rod})
+        if (!(L > 0) || !std::isfinite(L)) throw Error("eye::adapt(): luminance " + shown(L) + " not a finite value > 0");
+    auto step = [dt](double from, double to, double tau) {
+        if (tau <= 0) return to;
+        if (dt == 0) return from;
+        const double f = 1.0 - std::exp(-dt / tau);
+        return std::exp(std::log(from) + (std::log(to) - std::log(from)) * f);
+    };
+    s.cone = step(s.cone, target.cone, coneTime);
+    s.rod = step(s.rod, target.rod, target.rod > s.rod ? coneTime : rodTime);
+    return s;
+}
+
+double eyeExposure(const Adaptation& a) {
+    const double cones = kTvi / std::pow(10.0, coneThresholdLog10(a.cone));
+    const double rods = kTvi * scotopicPerPhotopicWhite() / std::pow(10.0, rodThresholdLog10(a.rod));
+    return std::max(cones, rods);
+}
+
+double eyeExposureScale() { return kTvi; }
+
+double cameraExposure(double La) { return exposureFromEv100(std::clamp(std::log2(La * 100.0 / 12.5), -20.0, 30.0)); }
+
+double ev100FromExposure(double exposure) { return -std::log2(1.2 * exposure); }
+double exposureFromEv100(double ev100) { return 1.0 / (1.2 * std::exp2(ev100)); }
+
+double steadyEv100(double La, double Las) { return ev100FromExposure(eyeExposure({La, Las})); }
+
+double rodWeight(double Y, double lo, double hi) {
+    if (!(Y > 0)) return 1.0;
+    return 1.0 - smoothstep(std::log10(lo), std::log10(hi), std::log10(Y));
+}
+
+glm::dvec3 rodColor(glm::dvec2 xy) {
+    const glm::dvec3 rgb = color::xyzToLinearSrgb(glm::dvec3(xy.x / xy.y, 1.0, (1.0 - xy.x - xy.y) / xy.y));
+    return rgb / color::luminance(rgb);  // Y = 1 by the luminance row the shaders use (the matrices round to ~2e-6)
+}
+
+glm::dvec3 mesopicColor(const glm::dvec3& rgb, double lo, double hi, glm::dvec2 rodXy) {
+    const double w = rodWeight(color::luminance(rgb), lo, hi);
+    const glm::dvec3 rods = rodColor(rodXy) * (scotopicLuminance(rgb) / scotopicPerPhotopicWhite());
+    return rgb * (1.0 - w) + rods * w;
+}
+
+glm::dvec3 acesFit(glm::dvec3 x) {
+    x *= 0.6;
+    return glm::clamp((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), 0.0, 1.0);
+}
+
+glm::dvec3 hable(glm::dvec3 x) {
+    auto f = [](glm::dvec3 v) {
+        const double A = 0.15, B = 0.50, C = 0.10, D = 0.20, E = 0.02, F = 0.30;
+        return (v * (A * v + C * B) + D * E) / (v * (A * v + B) + D * F) - E / F;
+    };
+    return glm::clamp(f(2.0 * x) / f(glm::dvec3(11.2)), 0.0, 1.0);
+}
+
+glm::dvec3 reinhardLuminance(glm::dvec3 x) {
+    const double Y = color::luminance(x);
+    return glm::clamp(x / (1.0 + Y), 0.0, 1.0);
+}
+
+}  // namespace welkin::eye

@@ -1,0 +1,326 @@
+// The eye (welkin/eye.hpp, docs/eye.md): the TVI model, the temporal adaptation, the mesopic
+// colour and the tone map that applies them, fed with uniform fields of known luminance.
+#include <catch2/catch.hpp>
+
+#include "gl_test_context.hpp"
+
+#include <welkin/color.hpp>
+#include <welkin/eye.hpp>
+#include <welkin/gl/shader.hpp>
+#include <welkin/keys.hpp>
+#include <welkin/processor.hpp>
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+using namespace welkin;
+
+namespace {
+// A uniform field of radiance L (linear sRGB, cd/m^2) over the whole image.
+class Field final : public SkyElement {
+public:
+    explicit Field(glm::vec3 radiance) : SkyElement("field"), radiance_(radiance) {}
+    void setRadiance(glm::vec3 r) { radiance_ = r; }
+
+private:
+    void doInit(InitContext&) override {
+        program_ = gl::ProgramBuilder("Field")
+                       .fullscreenVertex()
+                       .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
+                       .fragment("field.frag", "uniform vec3 u_L; void main() { welkin_output(u_L, vec3(0.0)); }")
+                       .build();
+    }
+    void doRender(const FrameContext& ctx) override {
+        program_.set("u_L", radiance_);
+        program_.use();
+        ctx.drawFullscreen();
+    }
+    void doRelease() override { program_ = {}; }
+    glm::vec3 radiance_;
+    gl::Program program_;
+};
+
+Camera smallCamera() {
+    Camera c;  // perspective: every pixel weighs in the meter
+    c.width = 16;
+    c.height = 16;
+    return c;
+}
+
+double srgbDecode(double v) { return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4); }
+
+// Mean of the decoded (linear) tone-mapped image.
+glm::dvec3 meanDisplayed(const SkyProcessor& p) {
+    Image img = p.readToneMapped();
+    glm::dvec3 s(0.0);
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x)
+            for (int c = 0; c < 3; ++c) s[c] += srgbDecode(img.at(x, y, c));
+    return s / double(img.width * img.height);
+}
+
+const glm::dvec3 kOrange(1.0, 0.35, 0.08);  // a saturated colour, far from both white and the rod hue
+}  // namespace
+
+TEST_CASE("Eye: Ferwerda's threshold curves, the Larson scotopic luminance", "[cpu][eye]") {
+    // The fit's pieces meet: Ferwerda 1996's published coefficients join within 0.013 log units
+    // (the rods' upper knee: (0.405 * -1.44 + 1.6)^2.18 - 2.86 = -1.823 against -1.835).
+    for (double l : {-2.6, 1.9}) CHECK(eye::coneThresholdLog10(std::pow(10.0, l - 1e-9)) == Approx(eye::coneThresholdLog10(std::pow(10.0, l + 1e-9))).margin(0.013));
+    for (double l : {-3.94, -1.44}) CHECK(eye::rodThresholdLog10(std::pow(10.0, l - 1e-9)) == Approx(eye::rodThresholdLog10(std::pow(10.0, l + 1e-9))).margin(0.013));
+    // Weber ranges (threshold proportional to the luminance) and the absolute floors.
+    CHECK(eye::coneThresholdLog10(1e3) == Approx(3 - 1.255).margin(1e-12));
+    CHECK(eye::rodThresholdLog10(1.0) == Approx(-0.395).margin(1e-12));
+    CHECK(eye::coneThresholdLog10(1e-4) == -0.72);
+    CHECK(eye::rodThresholdLog10(1e-6) == -2.86);
+    CHECK_THROWS_WITH(eye::coneThresholdLog10(0.0), "eye::coneThresholdLog10(): adaptation luminance 0 not > 0");
+    // V' of the D65 white by hand from its XYZ (0.95047, 1, 1.08883): 1.33 (1 + 2.08883 / 0.95047)
+    // - 1.68 = 2.5729; 1e-3: the sRGB matrix's four-digit rounding.
+    CHECK(eye::scotopicPerPhotopicWhite() == Approx(2.5729).epsilon(1e-3));
+    // Purkinje: a red light looks darker to the rods than a blue one of equal luminance.
+    const glm::dvec3 red(1, 0, 0), blue(0, 0, 1);
+    CHECK(eye::scotopicLuminance(red) / color::luminance(red) < eye::scotopicLuminance(blue) / color::luminance(blue));
+    CHECK(eye::scotopicLuminance(glm::dvec3(0.0)) == 0.0);
+}
+
+TEST_CASE("Eye: darker scenes display darker, daylight exposes as a camera", "[cpu][eye]") {
+    const double kappa = eye::scotopicPerPhotopicWhite();
+    // The display value of the adaptation luminance itself (before the curve) for a grey scene.
+    auto displayed = [&](double L) { return eye::eyeExposure({L, kappa * L}) * L; };
+    // Daylight: cones in their Weber range give the camera's log-average exposure (1e-12:
+    // the same arithmetic in two orders).
+    for (double L : {100.0, 5e3, 1e5}) CHECK(eye::eyeExposure({L, kappa * L}) == Approx(eye::cameraExposure(L)).epsilon(1e-12));
+    // Monotonic from below the absolute threshold to daylight: a darker scene is never shown brighter.
+    double prev = 0;
+    for (double l = -7; l <= 6; l += 0.05) {
+        const double d = displayed(std::pow(10.0, l));
+        INFO("log10 L = " << l);
+        CHECK(d >= prev * (1 - 1e-12));
+        prev = d;
+    }
+    // The ladder of the task: moonless night (~1e-4), moonlit (~1e-3 .. 1e-2), civil twilight
+    // (~1), day; each rung at least a stop above the one below.
+    CHECK(displayed(1e-3) > 2 * displayed(1e-4));
+    CHECK(displayed(1.0) > 2 * displayed(1e-3));
+    CHECK(displayed(1e3) > 2 * displayed(1.0));
+    // The eye stops adapting below the rods' floor: the exposure is constant there.
+    CHECK(eye::eyeExposure({1e-6, 1e-6}) == Approx(eye::eyeExposure({1e-7, 1e-7})).epsilon(1e-12));
+    // EV100 round trip.
+    CHECK(eye::ev100FromExposure(eye::exposureFromEv100(-3.25)) == Approx(-3.25).margin(1e-12));
+}
+
+TEST_CASE("Eye: temporal adaptation reaches 63 % of a step after one time constant", "[cpu][eye]") {
+    const double tc = 0.4, tr = 120;
+    const double f = 1 - std::exp(-1.0);  // 63.2 %
+    auto part = [](double from, double to, double now) { return std::log(now / from) / std::log(to / from); };
+    // Darkening (day -> night): cones with their constant, rods with theirs.
+    eye::Adaptation day{1e3, 2.5e3}, night{1e-3, 2.5e-3};
+    eye::Adaptation a = eye::adapt(day, night, tc, tc, tr);
+    CHECK(part(day.cone, night.cone, a.cone) == Approx(f).margin(1e-12));
+    a = eye::adapt(day, night, tr, tc, tr);
+    CHECK(part(day.rod, night.rod, a.rod) == Approx(f).margin(1e-12));
+    // Brightening: light adaptation is fast for both.
+    a = eye::adapt(night, day, tc, tc, tr);
+    CHECK(part(night.cone, day.cone, a.cone) == Approx(f).margin(1e-12));
+    CHECK(part(night.rod, day.rod, a.rod) == Approx(f).margin(1e-12));
+    // Ten steps of tau/10 equal one step of tau (frame-rate independent; 1e-9: rounding over
+    // the ten exponentials).
+    eye::Adaptation s = day;
+    for (int i = 0; i < 10; ++i) s = eye::adapt(s, night, tc / 10, tc, tr);
+    CHECK(s.cone == Approx(eye::adapt(day, night, tc, tc, tr).cone).epsilon(1e-9));
+    // tau = 0 jumps; dt = 0 stays.
+    CHECK(eye::adapt(day, night, 0.01, 0, 0).rod == night.rod);
+    CHECK(eye::adapt(day, night, 0.0, tc, tr).cone == day.cone);
+    CHECK_THROWS_WITH(eye::adapt(day, night, -1, tc, tr), "eye::adapt(): dt -1 not >= 0");
+    CHECK_THROWS_WITH(eye::adapt(day, {0, 1}, 1, tc, tr), "eye::adapt(): luminance 0 not a finite value > 0");
+}
+
+TEST_CASE("Eye: the mesopic weight and colour (CPU twin)", "[cpu][eye]") {
+    const double lo = 1e-3, hi = 3;
+    CHECK(eye::rodWeight(1e-5, lo, hi) == 1.0);
+    CHECK(eye::rodWeight(lo, lo, hi) == 1.0);
+    CHECK(eye::rodWeight(hi, lo, hi) == 0.0);
+    CHECK(eye::rodWeight(100, lo, hi) == 0.0);
+    CHECK(eye::rodWeight(std::sqrt(lo * hi), lo, hi) == Approx(0.5).margin(1e-12));  // smoothstep's midpoint in log
+    // Photopic: unchanged; scotopic: the rod hue at V' / (V'/Y)_white.
+    const glm::dvec2 rod(0.25, 0.25);
+    CHECK(eye::mesopicColor(kOrange * 10.0, lo, hi, rod) == kOrange * 10.0);
+    const glm::dvec3 s = eye::mesopicColor(kOrange * 1e-4, lo, hi, rod);
+    const glm::dvec2 xy = color::chromaticity(color::linearSrgbToXyz(s));
+    CHECK(xy.x == Approx(0.25).margin(1e-9));
+    CHECK(xy.y == Approx(0.25).margin(1e-9));
+    CHECK(color::luminance(s) == Approx(eye::scotopicLuminance(kOrange * 1e-4) / eye::scotopicPerPhotopicWhite()).epsilon(1e-9));
+    // A grey keeps its luminance through the transition (V'/Y of the white is the normalisation).
+    CHECK(color::luminance(eye::mesopicColor(glm::dvec3(1e-4), lo, hi, rod)) == Approx(1e-4).epsilon(1e-9));
+}
+
+TEST_CASE("Eye: the scotopic shift engages below and disengages above the specified luminances", "[gl][eye]") {
+    test::glContext();
+    SkyProcessor p(SkyVars::earth(), Logger(), ProcessorOptions{.astronomy = false});
+    p.setCamera(smallCamera());
+    auto& field = p.emplace<Field>(glm::vec3(kOrange));
+    p.vars().set(eye::keys::curve, 3);  // no curve: the displayed value is the exposed colour, clipped
+    const glm::dvec2 rodXy = p.vars().get(eye::keys::rodChromaticity);
+    const glm::dvec2 orangeXy = color::chromaticity(color::linearSrgbToXyz(kOrange));
+    struct Case {
+        double Y;
+        double rodShare;  // expected position between the orange's chromaticity (0) and the rod hue (1)
+    } cases[] = {{30, 0}, {3.0, 0}, {0.5, -1}, {0.05, -1}, {1e-3, 1}, {1e-4, 1}, {1e-5, 1}};
+    for (auto c : cases) {
+        const glm::dvec3 L = kOrange * (c.Y / color::luminance(kOrange));
+        field.setRadiance(glm::vec3(L));
+        // Manual exposure: the field's brightest channel at 0.8 on the display, unclipped.
+        const glm::dvec3 perceived = eye::mesopicColor(L, 1e-3, 3.0, rodXy);
+        const double peak = std::max({perceived.r, perceived.g, perceived.b});
+        p.setExposure({.ev100 = eye::ev100FromExposure(0.8 / peak)});
+        p.renderFrame();
+        const glm::dvec3 shown = meanDisplayed(p);
+        const glm::dvec3 want = perceived * eye::exposureFromEv100(p.lastEv100());
+        INFO("Y = " << c.Y << " cd/m^2: shown " << shown.r << " " << shown.g << " " << shown.b << ", CPU twin " << want.r << " "
+                    << want.g << " " << want.b);
+        // GPU against the CPU twin: 8-bit output, 1/255 in sRGB is <= 0.5 % in linear near 0.5;
+        // 1 % with the float shader's rounding.
+        for (int k = 0; k < 3; ++k) CHECK(shown[k] == Approx(want[k]).epsilon(0.01).margin(2e-3));
+        const glm::dvec2 xy = color::chromaticity(color::linearSrgbToXyz(shown));
+        const double share = glm::length(xy - orangeXy) / glm::length(rodXy - orangeXy);
+        // 0.02 of the orange-to-rod distance (~0.43 in xy): the 8-bit quantisation of the colour.
+        if (c.rodShare >= 0) CHECK(share == Approx(c.rodShare).margin(0.02));
+        else {  // mesopic: part way, and more so at the lower luminance
+            CHECK(share > 0.05);
+            CHECK(share < 0.95);
+        }
+    }
+    // Off: the scotopic field keeps its colour.
+    p.vars().set(eye::keys::mesopic, false);
+    field.setRadiance(glm::vec3(kOrange * 1e-4));
+    p.setExposure({.ev100 = eye::ev100FromExposure(0.8 / 1e-4)});
+    p.renderFrame();
+    const glm::dvec2 xy = color::chromaticity(color::linearSrgbToXyz(meanDisplayed(p)));
+    CHECK(glm::length(xy - orangeXy) < 0.01);  // 8-bit quantisation of a saturated colour
+    // Limits out of order: one line at the next frame.
+    p.vars().set(eye::keys::scotopicBelow, 5.0);
+    CHECK_THROWS_WITH(p.renderFrame(), "SkyProcessor: eye.scotopic_cd_m2 5 not below eye.photopic_cd_m2 3");
+}
+
+TEST_CASE("Eye: the adaptation follows the frames' animation time; a still render is the steady state", "[gl][eye]") {
+    test::glContext();
+    const double Lday = 2e3, Lnight = 2e-3;
+    // The still render of the night field (animation time fixed: every frame the steady state).
+    auto still = [&](double L) {
+        SkyProcessor p(SkyVars::earth(), Logger(), ProcessorOptions{.astronomy = false});
+        p.setCamera(smallCamera());
+        p.emplace<Field>(glm::vec3(L));
+        p.setExposure({.automatic = true});
+        p.setAnimationTime(0.0);
+        p.renderFrame();
+        return std::pair{p.lastEv100(), p.adaptationLuminance()};
+    };
+    auto [evNight, aNight] = still(Lnight);
+    // The meter of a uniform grey field is the field (float log-average: 1e-5).
+    CHECK(aNight.x == Approx(Lnight).epsilon(1e-5));
+    CHECK(aNight.y == Approx(Lnight * eye::scotopicPerPhotopicWhite()).epsilon(1e-3));  // V' in the shader's 4-digit matrix
+    // The GPU's state (float, adapt.frag.glsl) against the CPU twin in double: 1e-4 EV.
+    CHECK(evNight == Approx(eye::steadyEv100(aNight.x, aNight.y)).epsilon(0).margin(1e-4));
+    CHECK(still(Lday).first > evNight + 5);  // daylight exposes far less
+
+    // Day, then night in an animation: 63 % of the way in log after one time constant.
+    SkyProcessor p(SkyVars::earth(), Logger(), ProcessorOptions{.astronomy = false});
+    p.setCamera(smallCamera());
+    auto& field = p.emplace<Field>(glm::vec3(Lday));
+    p.setExposure({.automatic = true});
+    const double tc = 0.5, tr = 4.0;
+    p.vars().set(eye::keys::coneTime, tc);
+    p.vars().set(eye::keys::rodTime, tr);
+    p.setAnimationTime(10.0);
+    p.renderFrame();  // the first frame: steady state in daylight
+    const glm::dvec2 a0 = p.adaptationLuminance();
+    field.setRadiance(glm::vec3(Lnight));
+    p.setAnimationTime(10.0 + tc);
+    p.renderFrame();
+    glm::dvec2 a = p.adaptationLuminance();
+    // 1e-4: the float meter's log-average.
+    CHECK(std::log(a.x / a0.x) / std::log(aNight.x / a0.x) == Approx(1 - std::exp(-1.0)).margin(1e-4));
+    CHECK(std::log(a.y / a0.y) / std::log(aNight.y / a0.y) == Approx(1 - std::exp(-tc / tr)).margin(1e-4));
+    {  // a second tone map of the same frame (into the host's framebuffer) does not advance the eye
+        gl::Texture2D target(16, 16, GL_RGBA8);
+        gl::Framebuffer fbo = gl::Framebuffer::create();
+        fbo.attach(GL_COLOR_ATTACHMENT0, target);
+        p.toneMapInto(fbo.id());
+        CHECK(p.adaptationLuminance() == a);
+    }
+    // Long after (30 rod time constants, e^-30): the still render's exposure.
+    p.setAnimationTime(10.0 + tc + 30 * tr);
+    p.renderFrame();
+    CHECK(p.lastEv100() == Approx(evNight).epsilon(0).margin(1e-4));  // float state, e^-30 of the step left
+    // A cut: the steady state at once.
+    field.setRadiance(glm::vec3(Lday));
+    p.resetAdaptation();
+    p.setAnimationTime(1000.0);
+    p.renderFrame();
+    CHECK(p.lastEv100() == Approx(still(Lday).first).epsilon(0).margin(1e-6));  // the same GPU arithmetic
+}
+
+TEST_CASE("Eye: the keys are the settings (--var), the camera model stays available", "[gl][eye]") {
+    test::glContext();
+    SkyProcessor p(SkyVars::earth(), Logger(), ProcessorOptions{.astronomy = false});
+    p.setCamera(smallCamera());
+    auto& field = p.emplace<Field>(glm::vec3(1e-4f));
+    p.setAnimationTime(0.0);  // still renders: every frame the steady state
+    p.vars().setFromString("exposure.auto", "true");  // as `welkin render --var exposure.auto=true`
+    p.renderFrame();
+    const double evEye = p.lastEv100();
+    // GPU float state against the CPU twin: 1e-4 EV.
+    CHECK(evEye == Approx(eye::steadyEv100(p.adaptationLuminance().x, p.adaptationLuminance().y)).epsilon(0).margin(1e-4));
+    p.vars().setFromString("eye.adaptation", "false");  // a camera: the log-average to 0.104 whatever the light
+    p.renderFrame();
+    CHECK(p.lastEv100() == Approx(std::log2(1e-4 * 100 / 12.5)).margin(1e-4));  // float meter
+    CHECK(p.lastEv100() < evEye - 5);  // the camera lifts the night by more than 5 stops
+    p.vars().setFromString("exposure.compensation_ev", "2");
+    p.renderFrame();
+    CHECK(p.lastEv100() == Approx(std::log2(1e-4 * 100 / 12.5) - 2).margin(1e-4));
+    // A frame of NaN: the exposure and the eye stay finite (GLSL leaves NaN comparisons to the
+    // driver: the meter either skips the pixels, as unlit ones, or returns NaN, and the eye
+    // then stays where it was).
+    const double adaptedBefore = p.adaptationLuminance().x;
+    field.setRadiance(glm::vec3(std::nanf("")));
+    p.renderFrame();
+    CHECK(std::isfinite(p.lastEv100()));
+    const double a = p.adaptationLuminance().x;
+    // 1e-6: the state is float.
+    CHECK((a == Approx(eye::Defaults::adaptationMin).epsilon(1e-6) || a == Approx(adaptedBefore).epsilon(1e-6)));
+    CHECK_THROWS_WITH(p.vars().setFromString("exposure.curve", "4"), Catch::Contains("not in [0, 3]"));
+    CHECK_THROWS_WITH(p.vars().setFromString("eye.rod_time_s", "-1"), Catch::Contains("not in [0, 3600]"));
+}
+
+TEST_CASE("Eye diagnostics: cost of the mesopic colour in the tone map", "[.diag][eye]") {
+    // Not a test: prints the median time of toneMapInto() at 1280x720 with eye.mesopic off and
+    // on, interleaved so both see the same machine load (docs/eye.md quotes it).
+    test::glContext();
+    SkyProcessor p(SkyVars::earth(), Logger(), ProcessorOptions{.astronomy = false});
+    Camera cam;
+    cam.width = 1280;
+    cam.height = 720;
+    p.setCamera(cam);
+    p.emplace<Field>(glm::vec3(0.05f, 0.04f, 0.03f));
+    p.setExposure({.automatic = true});
+    p.renderFrame();
+    gl::Texture2D target(cam.width, cam.height, GL_RGBA8);
+    gl::Framebuffer fbo = gl::Framebuffer::create();
+    fbo.attach(GL_COLOR_ATTACHMENT0, target);
+    std::vector<double> ms[2];
+    for (int i = 0; i < 15; ++i)
+        for (int m = 0; m < 2; ++m) {
+            p.vars().set(eye::keys::mesopic, m == 1);
+            glFinish();
+            auto t0 = std::chrono::steady_clock::now();
+            p.toneMapInto(fbo.id());
+            glFinish();
+            ms[m].push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+        }
+    for (auto& v : ms) std::sort(v.begin(), v.end());
+    std::printf("tone map 1280x720, median of 15: mesopic off %.2f ms, on %.2f ms\n", ms[0][7], ms[1][7]);
+}
