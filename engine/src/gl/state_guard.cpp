@@ -1,10 +1,16 @@
 #include "state_guard.hpp"
 
+#include <welkin/gl/bindings.hpp>
+
 #include <epoxy/gl.h>
 
 #include <algorithm>
 
 namespace welkin::gl {
+
+static_assert(GlStateGuard::kUnits > binding::kUserTextureUnitLast && GlStateGuard::kBufferBindings > binding::kUserUboLast &&
+                  GlStateGuard::kSsboBindings > binding::kUserSsboLast && GlStateGuard::kImageUnits > binding::kUserImageUnitLast,
+              "the GL state guard must cover the user binding ranges");
 
 namespace {
 // Every texture target of GL 4.5, with its binding query (textures_[unit][i]).
@@ -127,8 +133,9 @@ void GlStateGuard::save(const std::vector<unsigned>& framebuffers) {
     for (int i = 0; i < kBufferBindings; ++i) {
         const GLuint u = GLuint(i);
         ubos_[size_t(i)] = {getInt(GL_UNIFORM_BUFFER_BINDING, u), getInt64(GL_UNIFORM_BUFFER_START, u), getInt64(GL_UNIFORM_BUFFER_SIZE, u)};
-        ssbos_[size_t(i)] = {getInt(GL_SHADER_STORAGE_BUFFER_BINDING, u), getInt64(GL_SHADER_STORAGE_BUFFER_START, u),
-                             getInt64(GL_SHADER_STORAGE_BUFFER_SIZE, u)};
+        if (i < kSsboBindings)
+            ssbos_[size_t(i)] = {getInt(GL_SHADER_STORAGE_BUFFER_BINDING, u), getInt64(GL_SHADER_STORAGE_BUFFER_START, u),
+                                 getInt64(GL_SHADER_STORAGE_BUFFER_SIZE, u)};
     }
     genericUbo_ = getInt(GL_UNIFORM_BUFFER_BINDING);
     genericSsbo_ = getInt(GL_SHADER_STORAGE_BUFFER_BINDING);
@@ -214,7 +221,7 @@ void GlStateGuard::restore() const {
     };
     for (int i = 0; i < kBufferBindings; ++i) {
         rebind(GL_UNIFORM_BUFFER, GLuint(i), ubos_[size_t(i)]);
-        rebind(GL_SHADER_STORAGE_BUFFER, GLuint(i), ssbos_[size_t(i)]);
+        if (i < kSsboBindings) rebind(GL_SHADER_STORAGE_BUFFER, GLuint(i), ssbos_[size_t(i)]);
     }
     // glBindBufferBase/Range also set the generic binding: restore it last.
     glBindBuffer(GL_UNIFORM_BUFFER, liveBuffer(genericUbo_));

@@ -30,9 +30,12 @@ namespace welkin::gl {
 
 class GlStateGuard {
 public:
-    static constexpr int kUnits = 16;           ///< texture units guarded; welkin binds 0..10
-    static constexpr int kBufferBindings = 8;   ///< UBO / SSBO indices guarded; welkin uses 0, 1
-    static constexpr int kImageUnits = 8;       ///< image units guarded; welkin uses 0, 1
+    // Every unit and index welkin's own passes use and the user ranges of gl/bindings.hpp (a
+    // user's element binds there: the guard restores those too).
+    static constexpr int kUnits = 32;           ///< texture units guarded (user range 16..31)
+    static constexpr int kBufferBindings = 16;  ///< UBO indices guarded (user range 8..15); SSBO: the first 8
+    static constexpr int kSsboBindings = 8;     ///< SSBO indices guarded (user range 4..7; GL 4.5 guarantees 8)
+    static constexpr int kImageUnits = 8;       ///< image units guarded (user range 4..7)
     static constexpr int kDrawBuffers = 8;      ///< per-draw-buffer state guarded (at most)
 
     /// Saves the state; `framebuffers`: host framebuffer objects whose draw buffers welkin may
