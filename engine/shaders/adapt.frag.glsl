@@ -12,6 +12,7 @@ uniform float u_rodTime;      // eye.rod_time_s
 uniform float u_min, u_max;   // eye.adaptation_min_cd_m2, eye.adaptation_max_cd_m2
 uniform int u_eye;            // eye.adaptation: the eye's TVI model; 0: a camera's log-average
 uniform float u_compensation; // exposure.compensation_ev
+uniform float u_strength;     // eye.strength: log-mix of the camera's exposure (0) and the eye's (1)
 uniform float u_kTvi;         // 0.104 * 10^-1.255
 uniform float u_kappa;        // V'/Y of the sRGB white
 in vec2 v_ndc;
@@ -53,7 +54,8 @@ void main() {
     if (u_eye != 0) {
         float cones = u_kTvi / exp2(welkin_coneThresholdLog10(s.x) * log2(10.0));
         float rods = u_kTvi * u_kappa / exp2(welkin_rodThresholdLog10(s.y) * log2(10.0));
-        exposure = max(cones, rods);
+        float camera = 1.0 / (1.2 * exp2(clamp(log2(s.x * 100.0 / 12.5), -20.0, 30.0)));
+        exposure = exp(mix(log(camera), log(max(cones, rods)), u_strength));
     } else {
         // A camera: the log-average to 12.5 / (1.2 * 100), EV100 kept in [-20, 30].
         float ev = clamp(log2(s.x * 100.0 / 12.5), -20.0, 30.0);

@@ -40,6 +40,7 @@ void declareKeys(SkyVars& v) {
     v.declare(keys::adaptationMax, Defaults::adaptationMax);
     v.declare(keys::coneTime, Defaults::coneTime);
     v.declare(keys::rodTime, Defaults::rodTime);
+    v.declare(keys::strength, Defaults::strength);
     v.declare(keys::mesopic, true);
     v.declare(keys::scotopicBelow, Defaults::scotopicBelow);
     v.declare(keys::photopicAbove, Defaults::photopicAbove);
@@ -91,6 +92,11 @@ double eyeExposure(const Adaptation& a) {
     return std::max(cones, rods);
 }
 
+double eyeExposure(const Adaptation& a, double strength) {
+    if (!(strength >= 0.0 && strength <= 1.0)) throw Error("eye::eyeExposure(): strength " + shown(strength) + " not in [0, 1]");
+    return std::exp((1.0 - strength) * std::log(cameraExposure(a.cone)) + strength * std::log(eyeExposure(a)));
+}
+
 double eyeExposureScale() { return kTvi; }
 
 double cameraExposure(double La) { return exposureFromEv100(std::clamp(std::log2(La * 100.0 / 12.5), -20.0, 30.0)); }
@@ -98,7 +104,7 @@ double cameraExposure(double La) { return exposureFromEv100(std::clamp(std::log2
 double ev100FromExposure(double exposure) { return -std::log2(1.2 * exposure); }
 double exposureFromEv100(double ev100) { return 1.0 / (1.2 * std::exp2(ev100)); }
 
-double steadyEv100(double La, double Las) { return ev100FromExposure(eyeExposure({La, Las})); }
+double steadyEv100(double La, double Las, double strength) { return ev100FromExposure(eyeExposure({La, Las}, strength)); }
 
 double rodWeight(double Y, double lo, double hi) {
     if (!(Y > 0)) return 1.0;

@@ -28,6 +28,7 @@ ToneSettings ToneSettings::fromVars(const SkyVars& v) {
     s.adaptationMax = v.get(eye::keys::adaptationMax);
     s.coneTime = v.get(eye::keys::coneTime);
     s.rodTime = v.get(eye::keys::rodTime);
+    s.strength = v.get(eye::keys::strength);
     s.mesopic = v.get(eye::keys::mesopic);
     s.scotopicBelow = v.get(eye::keys::scotopicBelow);
     s.photopicAbove = v.get(eye::keys::photopicAbove);
@@ -127,6 +128,7 @@ void ToneMapper::run(gl::Texture2D& hdr, unsigned framebuffer, const ToneSetting
         adaptProgram_.set("u_min", float(s.adaptationMin));
         adaptProgram_.set("u_max", float(s.adaptationMax));
         adaptProgram_.set("u_eye", s.eye ? 1 : 0);
+        adaptProgram_.set("u_strength", float(s.strength));
         adaptProgram_.set("u_compensation", float(s.compensationEv));
         adaptProgram_.set("u_kTvi", float(eye::eyeExposureScale()));
         adaptProgram_.set("u_kappa", float(eye::scotopicPerPhotopicWhite()));

@@ -27,6 +27,7 @@ struct ToneSettings {
     bool eye = true;
     double adaptationMin = eye::Defaults::adaptationMin, adaptationMax = eye::Defaults::adaptationMax;
     double coneTime = eye::Defaults::coneTime, rodTime = eye::Defaults::rodTime;
+    double strength = eye::Defaults::strength;
     bool mesopic = true;
     double scotopicBelow = eye::Defaults::scotopicBelow, photopicAbove = eye::Defaults::photopicAbove;
     glm::dvec2 rodXy{eye::Defaults::rodX, eye::Defaults::rodY};

@@ -47,6 +47,11 @@ inline const Key<double> adaptationMax{"eye.adaptation_max_cd_m2", Range{1e-8, 1
 inline const Key<double> coneTime{"eye.cone_time_s", Range{0, 3600}, "cone adaptation time constant (and light adaptation)"};
 /// Time constant of the rods' dark adaptation, s, [0, 3600]; 0: instantaneous.
 inline const Key<double> rodTime{"eye.rod_time_s", Range{0, 3600}, "rod dark-adaptation time constant"};
+/// How much of the eye's darkening at low light the display shows, [0, 1]: the exposure is
+/// camera^(1 - s) x eye^s (in log, a mix of the camera's log-average exposure, which shows every
+/// scene at mid-grey, and the TVI model's). 1: Ferwerda's full threshold matching, for a display
+/// viewed in a lit room (a moonless night nearly black); 0: a camera. Daylight is the same for all.
+inline const Key<double> strength{"eye.strength", Range{0, 1}, "share of the eye's low-light darkening shown (0 camera, 1 Ferwerda's full TVI matching)"};
 /// Per-pixel photopic -> mesopic -> scotopic colour (loss of saturation, blue shift).
 inline const Key<bool> mesopic{"eye.mesopic", "per-pixel mesopic/scotopic colour: desaturation and blue shift"};
 /// Below this luminance a pixel is seen by rods only, cd/m^2.
@@ -63,6 +68,9 @@ struct Defaults {
     static constexpr double coneTime = 0.4, rodTime = 120.0;
     static constexpr double scotopicBelow = 1e-3, photopicAbove = 3.0;
     static constexpr double rodX = 0.25, rodY = 0.25;
+    /// 0.6: a moonless night ~4 stops darker than day on the display (6.6 at 1), dark but with its
+    /// Milky Way and faint stars above the display curve's toe; the order of scenes is kept.
+    static constexpr double strength = 0.6;
 };
 
 /// Declares the keys above (and exposure.ev100 / exposure.auto) with their defaults.
@@ -94,6 +102,9 @@ Adaptation adapt(Adaptation state, Adaptation target, double dt, double coneTime
 /// adapted eye: max(K / t_cone(cone), K (V'/Y)_white / t_rod(rod)), K chosen so that cones in
 /// their Weber range give the camera's 12.5 / (1.2 * 100 * La) (the log-average at 0.104).
 double eyeExposure(const Adaptation& a);
+/// The tone map's automatic exposure: cameraExposure(a.cone)^(1 - strength) x eyeExposure(a)^strength,
+/// strength in [0, 1] (eye.strength).
+double eyeExposure(const Adaptation& a, double strength);
 /// K of eyeExposure(): 12.5 / (1.2 * 100) * 10^-1.255.
 double eyeExposureScale();
 /// A camera's automatic exposure for log-average luminance `La`: 0.104 / La (EV100 in [-20, 30]).
@@ -102,7 +113,7 @@ double cameraExposure(double La);
 double ev100FromExposure(double exposure);
 double exposureFromEv100(double ev100);
 /// The steady state's EV100 for a scene of log-average photopic `La` and scotopic `Las`.
-double steadyEv100(double La, double Las);
+double steadyEv100(double La, double Las, double strength = Defaults::strength);
 
 /// Rod weight of a pixel of luminance `Y`: 1 at or below `scotopicBelow`, 0 at or above
 /// `photopicAbove`, smoothstep in log10 Y between.
