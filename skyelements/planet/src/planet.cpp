@@ -1,6 +1,7 @@
 // Planet element: per-frame geometry, the Moon's calibration (a CPU integral of the shader's
 // model), the maps; the model is described in include/welkin/elements/planet.hpp and docs/planet.md.
 #include <welkin/astro/astro_keys.hpp>
+#include <cctype>
 #include <welkin/astro/frames.hpp>
 #include <welkin/color.hpp>
 #include <welkin/elements/planet.hpp>
@@ -249,10 +250,14 @@ Planet::Planet(std::string name) : SkyElement(std::move(name)) {
     option(planetkeys::sizeFactor, 1.0);
     option(planetkeys::earthshine, true);
     option(planetkeys::eclipse, true);
+    option(planetkeys::labels, false);
+    option(planetkeys::labelSize, 0.0);
+    option(planetkeys::labelLuminance, 2e-3);
     option(planetkeys::moonTexture, std::string(kMoonTexturePath));
     option(planetkeys::moonNormals, std::string(kMoonNormalsPath));
     reads(keys::sunDirection);
     reads(keys::moonDirection);
+    reads(keys::exposureEv100);
     reads(astro::keys::sunDistance);
     reads(astro::keys::sunAngularRadius);
     reads(astro::keys::moonDistance);
@@ -397,7 +402,16 @@ void Planet::doRender(const FrameContext& ctx) {
     namespace ak = astro::keys;
     const SkyVars& v = ctx.vars;
     drawn_ = 0;
+    labelsDrawn_ = 0;
     moonDrawn_ = false;
+    // Labels: collected while drawing (direction, name, disk radius in px), drawn last.
+    struct Label {
+        glm::dvec3 dir;
+        std::string name;
+        double radiusPx;
+    };
+    std::vector<Label> labels;
+    const bool wantLabels = v.get(planetkeys::labels);
     moonIlluminanceLux_ = v.has(lk::moonIlluminance) ? color::luminance(v.get(lk::moonIlluminance) * v.get(lk::moonTransmittance)) : 0.0;
     const std::vector<astro::Body> bodies = own_ ? *own_ : parseBodies(v.get(planetkeys::bodies));
     if (bodies.empty()) return;
@@ -426,7 +440,8 @@ void Planet::doRender(const FrameContext& ctx) {
     };
     // Draws one body: a disk of apparent radius `radius` (rad) around `dir` when it spans at least
     // `minPx` pixels, else the PSF of illuminance `E` (lux per channel).
-    auto draw = [&](int kind, const glm::dvec3& dir, double radius, double minPx, const glm::dvec3& flux, const glm::dvec3& E) {
+    auto draw = [&](int kind, const glm::dvec3& dir, double radius, double minPx, const glm::dvec3& flux, const glm::dvec3& E,
+                    const char* name) {
         // A body whose centre the projection does not show (behind a pinhole camera, below a
         // fisheye's horizon) is not drawn: its quad is placed around the centre. On a cube face
         // a body centred on a neighbouring face (in front of this one) is drawn too, so a disk
@@ -442,6 +457,7 @@ void Planet::doRender(const FrameContext& ctx) {
         p.set("u_flux", glm::vec3(psf ? E : flux));
         glDrawArraysInstanced(GL_TRIANGLES, 0, 6, copies);
         ++drawn_;
+        if (wantLabels) labels.push_back({dir, name, psf ? 0.5 * kPsfFwhmPx : radius * scale});
         return true;
     };
 
@@ -453,7 +469,7 @@ void Planet::doRender(const FrameContext& ctx) {
         const glm::dvec3 a = sunLimbExponents();
         p.set("u_limb", glm::vec3(a));
         if (mean != glm::dvec3(0.0) || later)
-            draw(kKindSun, glm::normalize(v.get(keys::sunDirection)), alpha, 2.0, mean * (a + 2.0) / 2.0, mean * kPi * alpha * alpha);
+            draw(kKindSun, glm::normalize(v.get(keys::sunDirection)), alpha, 2.0, mean * (a + 2.0) / 2.0, mean * kPi * alpha * alpha, "Sun");
     }
 
     // The planets.
@@ -475,7 +491,7 @@ void Planet::doRender(const FrameContext& ctx) {
         const double omega = 2 * kPi * (1 - std::cos(radius));
         const glm::dvec3 L0 = E / (omega * (2.0 / 3.0) * std::max(lambertPhase(phase), 1e-6));
         p.set("u_light", glm::vec3(light));
-        draw(kKindDisk, dir, radius, 3.0, L0, E);
+        draw(kKindDisk, dir, radius, 3.0, L0, E, astro::bodyName(b));
     }
 
     // The Moon: calibrated so that its disk integral is lights.moon_illuminance.
@@ -543,7 +559,28 @@ void Planet::doRender(const FrameContext& ctx) {
         p.set("u_normalLod", float(std::max(std::log2(normalTex_.width() / (2 * kPi * std::max(rPx, 1e-3))), 0.0)));
         albedoTex_.bind(gl::binding::kMoonAlbedoTexture);
         normalTex_.bind(gl::binding::kMoonNormalTexture);
-        if (E != glm::dvec3(0.0) || later) moonDrawn_ = draw(kKindMoon, g.centre, g.angularRadius, 2.0, K, E);
+        if (E != glm::dvec3(0.0) || later) moonDrawn_ = draw(kKindMoon, g.centre, g.angularRadius, 2.0, K, E, "Moon");
+    }
+
+    // Labels: right of each body drawn, past its disk (or its point image), vertically centred.
+    if (wantLabels && !labels.empty()) {
+        if (!font_) font_ = gl::Font::load();
+        double L = v.get(planetkeys::labelLuminance);
+        if (L <= 0) L = 0.8 * 1.2 * std::exp2(v.get(keys::exposureEv100));  // 0.8 of the manual exposure's white
+        gl::TextStyle style;
+        style.pixelSize = float(v.get(planetkeys::labelSize));
+        if (style.pixelSize <= 0) style.pixelSize = std::max(11.0f, float(std::min(cam.width, cam.height)) / 64.0f);
+        style.colour = glm::vec3(1.0f, 0.93f, 0.75f);
+        style.luminanceCdM2 = float(L);
+        style.align = {0.0f, 0.5f};
+        for (const Label& l : labels) {
+            style.offsetPx = {float(l.radiusPx) + 0.4f * style.pixelSize, 0.0f};
+            std::string name = l.name;
+            if (!name.empty()) name[0] = char(std::toupper(static_cast<unsigned char>(name[0])));
+            labelBatch_.addAt(font_, glm::vec3(l.dir), name, style);
+            ++labelsDrawn_;
+        }
+        labelBatch_.draw(font_);
     }
 }
 
@@ -552,12 +589,15 @@ void Planet::doRelease() {
     albedoTex_ = gl::Texture2D();
     normalTex_ = gl::Texture2D();
     mapsLoaded_ = false;
+    labelBatch_ = gl::TextBatch();
+    font_ = gl::Font();
 }
 
 void Planet::doStats(nlohmann::json& root) const {
     // moon.illuminated_fraction is the astronomy's (already in the stats).
     root["moon"]["illuminance_lux"] = moonIlluminanceLux_;
     root[name()]["drawn"] = drawn_;
+    root[name()]["labels"] = labelsDrawn_;
 }
 
 }  // namespace welkin::elements

@@ -515,3 +515,40 @@ TEST_CASE("Planet: without the astronomy, the Sun from a host's sun.direction", 
     CHECK(lum(img, int(c.x), int(c.y)) > 1e8);  // the disk's centre: ~1e9 cd/m^2 through the air
     CHECK(lum(img, 2, 2) == 0.0);
 }
+
+TEST_CASE("Planet: labels beside the bodies (planet.labels)", "[gl][planet]") {
+    if (!std::filesystem::exists(gl::kDefaultFontPath)) {
+        WARN("no font at " << gl::kDefaultFontPath << " (fonts-dejavu-core): skipped");
+        return;
+    }
+    // Jupiter centred in a 10 deg, 256 px view: with labels, "Jupiter" is written to its right at
+    // the label luminance; nothing changes to its left, and without labels nothing is written.
+    const char* iso = "2026-01-10T00:00:00Z";
+    const double lon = bestLongitude(iso, ak::planetDirection(astro::Body::Jupiter));
+    auto render = [&](bool labels) {
+        Scene s = scene(iso, lon, ak::planetDirection(astro::Body::Jupiter), 10.0, 256);
+        s.p->vars().set(planetkeys::bodies, std::string("jupiter"));
+        s.p->vars().set(planetkeys::labels, labels);
+        s.p->vars().set(planetkeys::labelSize, 16.0);
+        s.p->vars().set(planetkeys::labelLuminance, 1.0);  // far above Jupiter's PSF wings at 20 px
+        s.p->renderFrame();
+        return std::pair{s.p->readHdr(), s.p->stats()};
+    };
+    auto [off, statsOff] = render(false);
+    auto [on, statsOn] = render(true);
+    CHECK(statsOn["planet"]["labels"] == 1);
+    CHECK(statsOff["planet"]["labels"] == 0);
+    // Right of the planet (the centre is pixel 128): a band 8..80 px to the right, +-10 px high,
+    // holds the text: its brightest pixel near the label luminance (glyph stems cover whole
+    // pixels at 16 px: > 0.5 of it), none of it there without labels.
+    double rightOn = 0, rightOff = 0, leftDiff = 0;
+    for (int y = 118; y < 138; ++y)
+        for (int x = 0; x < 256; ++x) {
+            const double a = lum(on, x, y), b = lum(off, x, y);
+            if (x >= 136 && x < 208) rightOn = std::max(rightOn, a), rightOff = std::max(rightOff, b);
+            if (x < 120) leftDiff = std::max(leftDiff, std::abs(a - b));
+        }
+    CHECK(rightOn > 0.5);
+    CHECK(rightOff < 1e-3);  // Jupiter's PSF (2 px FWHM) is nothing 8 px away
+    CHECK(leftDiff == 0.0);
+}

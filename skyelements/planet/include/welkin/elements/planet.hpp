@@ -50,6 +50,7 @@
 #include <welkin/astro/bodies.hpp>
 #include <welkin/element.hpp>
 #include <welkin/gl/objects.hpp>
+#include <welkin/gl/text.hpp>
 #include <welkin/gl/projection_programs.hpp>
 
 #include <glm/glm.hpp>
@@ -66,6 +67,13 @@ inline const Key<double> sizeFactor{"planet.size_factor", Range{0.1, 100}, "arti
 inline const Key<bool> earthshine{"planet.earthshine", "the Moon's night side is lit by the Earth"};
 inline const Key<bool> eclipse{"planet.eclipse", "the Earth's shadow on the Moon (lunar eclipses)"};
 inline const Key<std::string> moonTexture{"planet.moon_texture", "the Moon's albedo map: equirectangular, longitude 0 at the centre ('' = uniform grey)"};
+/// Names beside the bodies drawn (an education overlay: the engine's text, welkin/gl/text.hpp).
+inline const Key<bool> labels{"planet.labels", "names beside the bodies drawn"};
+/// Label size, px (0: the image's shorter side / 64, at least 11 px).
+inline const Key<double> labelSize{"planet.label_size_px", Range{0, 256}, "label em height, px (0: shorter image side / 64, >= 11)", "px"};
+/// Label luminance, cd/m^2 (default 2e-3: ~10x a dark site's night sky, read at night, lost in a
+/// day sky like ink on a chart; 0: 0.8 of the manual exposure's white, exposure.ev100).
+inline const Key<double> labelLuminance{"planet.label_luminance_cd_m2", Range{0, 1e9}, "label luminance (0: 0.8 of the manual exposure's white)", "cd/m^2"};
 inline const Key<std::string> moonNormals{"planet.moon_normals", "the Moon's tangent-space normal map, same layout ('' = a smooth sphere)"};
 }  // namespace planetkeys
 
@@ -155,6 +163,9 @@ private:
     bool moonDrawn_ = false;
     double integral_ = 0, integralKey_[7] = {};
     bool integralValid_ = false;
+    gl::Font font_;  // loaded on the first frame with planet.labels
+    gl::TextBatch labelBatch_;
+    int labelsDrawn_ = 0;
 };
 
 }  // namespace welkin::elements
