@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include "gl_test_context.hpp"
+#include "uniform_field.hpp"
 
 #include <welkin/color.hpp>
 #include <welkin/eye.hpp>
@@ -21,29 +22,7 @@
 using namespace welkin;
 
 namespace {
-// A uniform field of radiance L (linear sRGB, cd/m^2) over the whole image.
-class Field final : public SkyElement {
-public:
-    explicit Field(glm::vec3 radiance) : SkyElement("field"), radiance_(radiance) {}
-    void setRadiance(glm::vec3 r) { radiance_ = r; }
-
-private:
-    void doInit(InitContext&) override {
-        program_ = gl::ProgramBuilder("Field")
-                       .fullscreenVertex()
-                       .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
-                       .fragment("field.frag", "uniform vec3 u_L; void main() { welkin_output(u_L, vec3(0.0)); }")
-                       .build();
-    }
-    void doRender(const FrameContext& ctx) override {
-        program_.set("u_L", radiance_);
-        program_.use();
-        ctx.drawFullscreen();
-    }
-    void doRelease() override { program_ = {}; }
-    glm::vec3 radiance_;
-    gl::Program program_;
-};
+using Field = test::UniformField;
 
 Camera smallCamera() {
     Camera c;  // perspective: every pixel weighs in the meter

@@ -4,6 +4,7 @@
 #include <welkin/astro/bodies.hpp>
 
 #include "gl_test_context.hpp"
+#include "uniform_field.hpp"
 
 #include <epoxy/gl.h>
 
@@ -370,31 +371,6 @@ TEST_CASE("Sky diagnostics: where the real-time model departs from the reference
 }
 #endif
 
-namespace {
-// A constant background (like stars): radiance B everywhere, opaque.
-class Backdrop final : public SkyElement {
-public:
-    explicit Backdrop(glm::vec3 radiance) : SkyElement("backdrop"), radiance_(radiance) {}
-
-private:
-    void doInit(InitContext&) override {
-        program_ = gl::ProgramBuilder("Backdrop")
-                       .fullscreenVertex()
-                       .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
-                       .fragment("backdrop.frag", "uniform vec3 u_L; void main() { welkin_output(u_L, vec3(0.0)); }")
-                       .build();
-    }
-    void doRender(const FrameContext& ctx) override {
-        program_.set("u_L", radiance_);
-        program_.use();
-        ctx.drawFullscreen();
-    }
-    void doRelease() override { program_ = {}; }
-    glm::vec3 radiance_;
-    gl::Program program_;
-};
-}  // namespace
-
 TEST_CASE("Sky: what is behind the sky is attenuated by the ray's transmittance", "[gl][sky]") {
     test::glContext();
     // The same sky alone (first element: the variant without the transmittance output) and over
@@ -441,7 +417,7 @@ TEST_CASE("Sky: what is behind the sky is attenuated by the ray's transmittance"
             p.vars().set(keys::moonDirection, glm::dvec3(0, 0, -1));
             p.setObserver({.latitudeRad = 0.8, .longitudeRad = 0.0, .heightMeters = h});
             p.setCamera(*cam);
-            if (backdrop) p.add(std::make_unique<Backdrop>(B));
+            if (backdrop) p.add(std::make_unique<test::UniformField>(B, "backdrop"));
             p.add(std::make_unique<elements::Sky>(elements::SkyOptions{.quality = 1, .wavelengths = wavelengths}));
             p.renderFrame();
             return p.readHdr();

@@ -1,0 +1,39 @@
+// A test element: a uniform field of radiance (linear sRGB, cd/m^2) over the whole image, opaque
+// (transmittance 0), for tests that need a known scene or something behind the sky.
+//
+//   p.emplace<test::UniformField>(glm::vec3(1e-4f));           // a dark night's worth of light
+//   p.add(std::make_unique<test::UniformField>(L, "backdrop")); // under another name
+#pragma once
+#include <welkin/element.hpp>
+#include <welkin/gl/shader.hpp>
+
+#include <glm/glm.hpp>
+
+#include <string>
+
+namespace welkin::test {
+
+class UniformField final : public SkyElement {
+public:
+    explicit UniformField(glm::vec3 radiance, std::string name = "field") : SkyElement(std::move(name)), radiance_(radiance) {}
+    void setRadiance(glm::vec3 r) { radiance_ = r; }
+
+private:
+    void doInit(InitContext&) override {
+        program_ = gl::ProgramBuilder("UniformField")
+                       .fullscreenVertex()
+                       .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
+                       .fragment("field.frag", "uniform vec3 u_L; void main() { welkin_output(u_L, vec3(0.0)); }")
+                       .build();
+    }
+    void doRender(const FrameContext& ctx) override {
+        program_.set("u_L", radiance_);
+        program_.use();
+        ctx.drawFullscreen();
+    }
+    void doRelease() override { program_ = {}; }
+    glm::vec3 radiance_;
+    gl::Program program_;
+};
+
+}  // namespace welkin::test
