@@ -7,8 +7,12 @@
 // (sky view, SKY_VIEW_BLEND: outputs smooth, Mie without phase and the total with the Mie phase
 // at the texel's angle to the light at the *current* elevation) or compute pass (aerial
 // perspective volume, AERIAL_BLEND). Needs atmosphere.glsl before it.
-// The keyframes hold log(max(radiance, 1e-30)) (KEYFRAME_TO_LOG below, once per complete table),
-// so a run costs four fetches and one exponential per channel.
+// The 3-D (aerial) keyframes hold log(max(radiance, 1e-30)) (KEYFRAME_TO_LOG below, once per
+// complete table). The sky-view keyframes hold the six log radiances of a texel (smooth and Mie,
+// RGB) packed at 21 bits each into one RGBA32UI texel (KEYFRAME_PACK, once per complete table;
+// log radiance in [KF_LOG_MIN, KF_LOG_MAX] in steps of 4.8e-5, a relative step of 4.8e-5 in the
+// radiance), so a blend run costs one fetch per table and one exponential per channel: the fetches
+// are what the pass spends its time on (two per table before: 1.8 against 0.9 ms at `high`).
 uniform vec4 u_w;
 uniform float u_muS;  // current cos zenith of the light
 
@@ -20,6 +24,46 @@ vec3 keyframeMix(vec3 a, vec3 b, vec3 c, vec3 d) {
     vec3 lin = max(u_w.x * exp(a) + u_w.y * exp(b) + u_w.z * exp(c) + u_w.w * exp(d), vec3(0.0));
     return mix(lin, lg, vec3(greaterThan(min(min(a, b), min(c, d)), vec3(logTiny))));
 }
+
+const float KF_LOG_MIN = -70.0;  // log(1e-30): the floor of every keyframe
+const float KF_LOG_MAX = 30.0;   // log(1e13): above any radiance per lux x kLutScale (1e4)
+const float KF_STEPS = 2097151.0;  // 2^21 - 1
+
+// Six log radiances from one packed texel: x, y, z hold a, c, e in their low 21 bits and the low
+// 11 bits of b, d, f in their top 11; w holds the top 10 bits of b, d, f.
+void keyframeUnpack(uvec4 w, out vec3 smoothLog, out vec3 mieLog) {
+    const uint m21 = 0x1FFFFFu, m10 = 0x3FFu;
+    uint a = w.x & m21, c = w.y & m21, e = w.z & m21;
+    uint b = (w.x >> 21) | ((w.w & m10) << 11);
+    uint d = (w.y >> 21) | (((w.w >> 10) & m10) << 11);
+    uint f = (w.z >> 21) | (((w.w >> 20) & m10) << 11);
+    const float k = (KF_LOG_MAX - KF_LOG_MIN) / KF_STEPS;
+    smoothLog = vec3(float(a), float(b), float(c)) * k + KF_LOG_MIN;
+    mieLog = vec3(float(d), float(e), float(f)) * k + KF_LOG_MIN;
+}
+
+#ifdef KEYFRAME_PACK
+// A complete sky-view keyframe (radiance, fp32 smooth and Mie) into its packed texture.
+layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+layout(binding = WELKIN_BINDING_BLEND_A) uniform sampler2D u_srcSmooth;
+layout(binding = WELKIN_BINDING_BLEND_A_MIE) uniform sampler2D u_srcMie;
+layout(rgba32ui, binding = WELKIN_BINDING_LUT_IMAGE) uniform writeonly uimage2D u_packed;
+uniform ivec2 u_size;
+
+uint keyframeQuantise(float radiance) {
+    float l = log(max(radiance, 1e-30));
+    return uint(clamp(floor((l - KF_LOG_MIN) / (KF_LOG_MAX - KF_LOG_MIN) * KF_STEPS + 0.5), 0.0, KF_STEPS));
+}
+
+void main() {
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(p, u_size))) return;
+    vec3 s = texelFetch(u_srcSmooth, p, 0).rgb, m = texelFetch(u_srcMie, p, 0).rgb;
+    uint a = keyframeQuantise(s.r), b = keyframeQuantise(s.g), c = keyframeQuantise(s.b);
+    uint d = keyframeQuantise(m.r), e = keyframeQuantise(m.g), f = keyframeQuantise(m.b);
+    imageStore(u_packed, p, uvec4(a | (b << 21), c | (d << 21), e | (f << 21), (b >> 11) | ((d >> 11) << 10) | ((f >> 11) << 20)));
+}
+#endif
 
 #ifdef KEYFRAME_TO_LOG
 // In place: a complete keyframe's radiance to its logarithm (rgb; alpha kept).
@@ -45,14 +89,10 @@ void main() {
 #endif
 
 #ifdef SKY_VIEW_BLEND
-layout(binding = WELKIN_BINDING_BLEND_A) uniform sampler2D u_smoothA;
-layout(binding = WELKIN_BINDING_BLEND_A_MIE) uniform sampler2D u_mieA;
-layout(binding = WELKIN_BINDING_BLEND_B) uniform sampler2D u_smoothB;
-layout(binding = WELKIN_BINDING_BLEND_B_MIE) uniform sampler2D u_mieB;
-layout(binding = WELKIN_BINDING_BLEND_C) uniform sampler2D u_smoothC;
-layout(binding = WELKIN_BINDING_BLEND_C_MIE) uniform sampler2D u_mieC;
-layout(binding = WELKIN_BINDING_BLEND_D) uniform sampler2D u_smoothD;
-layout(binding = WELKIN_BINDING_BLEND_D_MIE) uniform sampler2D u_mieD;
+layout(binding = WELKIN_BINDING_BLEND_A) uniform usampler2D u_packedA;
+layout(binding = WELKIN_BINDING_BLEND_B) uniform usampler2D u_packedB;
+layout(binding = WELKIN_BINDING_BLEND_C) uniform usampler2D u_packedC;
+layout(binding = WELKIN_BINDING_BLEND_D) uniform usampler2D u_packedD;
 uniform float u_h;
 uniform ivec2 u_size;
 layout(location = 0) out vec4 o_smooth;
@@ -61,10 +101,13 @@ layout(location = 2) out vec4 o_total;
 
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
-    vec3 s = keyframeMix(texelFetch(u_smoothA, p, 0).rgb, texelFetch(u_smoothB, p, 0).rgb, texelFetch(u_smoothC, p, 0).rgb,
-                         texelFetch(u_smoothD, p, 0).rgb);
-    vec3 m = keyframeMix(texelFetch(u_mieA, p, 0).rgb, texelFetch(u_mieB, p, 0).rgb, texelFetch(u_mieC, p, 0).rgb,
-                         texelFetch(u_mieD, p, 0).rgb);
+    vec3 sA, mA, sB, mB, sC, mC, sD, mD;
+    keyframeUnpack(texelFetch(u_packedA, p, 0), sA, mA);
+    keyframeUnpack(texelFetch(u_packedB, p, 0), sB, mB);
+    keyframeUnpack(texelFetch(u_packedC, p, 0), sC, mC);
+    keyframeUnpack(texelFetch(u_packedD, p, 0), sD, mD);
+    vec3 s = keyframeMix(sA, sB, sC, sD);
+    vec3 m = keyframeMix(mA, mB, mC, mD);
     vec2 size = vec2(u_size);
     vec2 ma = skyViewMuAz(u_h, gl_FragCoord.xy / size, size);
     float mu = ma.x, az = ma.y;

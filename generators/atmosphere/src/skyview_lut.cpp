@@ -45,6 +45,8 @@ void SkyViewLut::releaseGl() {
     fboK_ = {};
     prog_ = {};
     slots_.clear();
+    chunkScratch_ = {};
+    wholeScratch_ = {};
     showFbo_ = {};
     shownOnce_ = false;
     blendProg_ = {};
@@ -149,35 +151,41 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
     } else {
         plan_ = keyframes_.plan(muS_);
         auto allocateSlots = [&] {
-            // Textures for the slots the schedule uses (allocated as it grows; a keyframe holds
-            // the smooth and Mie parts, the pass's third output, the total, is not kept).
+            // A packed texture for each slot the schedule uses (allocated as it grows).
             while (int(slots_.size()) < keyframes_.slotCount()) {
-                // fp32 whatever the preset: a keyframe holds log radiance once complete.
                 Slot& sl = slots_.emplace_back();
-                for (gl::Texture2D* t : {&sl.smooth, &sl.mie}) {
+                sl.packed = gl::Texture2D(q_.skyViewW, q_.skyViewH, GL_RGBA32UI);
+                sl.packed.setFilter(GL_NEAREST);
+                sl.packed.setWrap(GL_CLAMP_TO_EDGE);
+            }
+        };
+        auto scratch = [&](Scratch& sc) -> Scratch& {
+            if (!sc.smooth || sc.smooth.width() != q_.skyViewW || sc.smooth.height() != q_.skyViewH) {
+                for (gl::Texture2D* t : {&sc.smooth, &sc.mie}) {
                     *t = gl::Texture2D(q_.skyViewW, q_.skyViewH, GL_RGBA32F);
                     t->setFilter(GL_NEAREST);
                     t->setWrap(GL_CLAMP_TO_EDGE);
                 }
-                sl.fbo = gl::Framebuffer::create();
-                sl.fbo.attach(GL_COLOR_ATTACHMENT0, sl.smooth);
-                sl.fbo.attach(GL_COLOR_ATTACHMENT1, sl.mie);
-                sl.fbo.checkComplete("SkyViewLut keyframe");
+                sc.fbo = gl::Framebuffer::create();
+                sc.fbo.attach(GL_COLOR_ATTACHMENT0, sc.smooth);
+                sc.fbo.attach(GL_COLOR_ATTACHMENT1, sc.mie);
+                sc.fbo.checkComplete("SkyViewLut keyframe");
             }
+            return sc;
         };
-        // Rows [y0, y1) of slot `s`'s table at cos zenith `muS`; `complete`: the table is whole
-        // now, converted in place to log radiance for the blend.
-        auto buildRows = [&](int s, double muS, int y0, int y1, bool complete) {
+        // Rows [y0, y1) of slot `s`'s table at cos zenith `muS`, into the scratch of its kind
+        // (whole: built in this run); `complete`: the table is whole now, packed into the slot.
+        auto buildRows = [&](int s, double muS, int y0, int y1, bool complete, bool whole) {
             const skykeys::TextureList T = vars.get(skykeys::transmittanceLuts), MS = vars.get(skykeys::multiScatteringLuts),
                                        SH = vars.get(skykeys::shLuts);
             const int K = triples();
             if (int(T->size()) != K || int(MS->size()) != K || int(SH->size()) != K)
                 throw Error("SkyViewLut: input LUTs for " + std::to_string(T->size()) + " triples, expected " + std::to_string(K));
-            Slot& sl = slots_[size_t(s)];
+            Scratch& sc = scratch(whole ? wholeScratch_ : chunkScratch_);
             glEnable(GL_SCISSOR_TEST);
             glScissor(0, y0, q_.skyViewW, y1 - y0);
             for (int k = 0; k < K; ++k) {
-                const gl::Framebuffer& fb = spectral_ ? fboK_ : sl.fbo;
+                const gl::Framebuffer& fb = spectral_ ? fboK_ : sc.fbo;
                 useTriple(k);
                 fb.bind();
                 glViewport(0, 0, q_.skyViewW, q_.skyViewH);
@@ -196,26 +204,26 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
                 fullscreen();
                 if (spectral_) {
                     glDisable(GL_SCISSOR_TEST);
-                    combine(smoothK_, sl.smooth, k);
-                    combine(mieK_, sl.mie, k);
+                    combine(smoothK_, sc.smooth, k);
+                    combine(mieK_, sc.mie, k);
                     glEnable(GL_SCISSOR_TEST);
                 }
             }
             glDisable(GL_SCISSOR_TEST);
             if (complete) {
-                // Complete: to log radiance, in place, for the blend.
+                // Complete: log radiance packed into the slot, for the blend.
                 if (!toLogProg_)
-                    toLogProg_ = gl::ProgramBuilder(name() + " keyframe to log")
-                                     .define("KEYFRAME_TO_LOG")
+                    toLogProg_ = gl::ProgramBuilder(name() + " keyframe pack")
+                                     .define("KEYFRAME_PACK")
                                      .compute("generators/light_blend.glsl", embedded::atmosphere_shaders("light_blend.glsl"))
                                      .build();
-                glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+                glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
                 toLogProg_.use();
-                glUniform3i(glGetUniformLocation(toLogProg_.id(), "u_size"), q_.skyViewW, q_.skyViewH, 1);
-                for (const gl::Texture2D* t : {&sl.smooth, &sl.mie}) {
-                    glBindImageTexture(gl::binding::kLutImage, t->id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
-                    glDispatchCompute(GLuint((q_.skyViewW + 7) / 8), GLuint((q_.skyViewH + 7) / 8), 1);
-                }
+                glUniform2i(glGetUniformLocation(toLogProg_.id(), "u_size"), q_.skyViewW, q_.skyViewH);
+                glBindTextureUnit(gl::binding::kBlendA, sc.smooth.id());
+                glBindTextureUnit(gl::binding::kBlendAMie, sc.mie.id());
+                glBindImageTexture(gl::binding::kLutImage, slots_[size_t(s)].packed.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32UI);
+                glDispatchCompute(GLuint((q_.skyViewW + 7) / 8), GLuint((q_.skyViewH + 7) / 8), 1);
                 glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
             }
         };
@@ -223,13 +231,14 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
         if (plan_.build >= 0) {
             // This run's rows of the table (scissored), chunk c of n: rows [c H / n, (c + 1) H / n).
             const int n = ko.chunks;
-            buildRows(plan_.build, plan_.buildMuS, plan_.chunkBegin * q_.skyViewH / n, plan_.chunkEnd * q_.skyViewH / n, plan_.chunkEnd == n);
+            buildRows(plan_.build, plan_.buildMuS, plan_.chunkBegin * q_.skyViewH / n, plan_.chunkEnd * q_.skyViewH / n, plan_.chunkEnd == n,
+                      plan_.chunkBegin == 0 && plan_.chunkEnd == n);
         }
         // Prefill (SkyQuality::keyframePrefill): the grid tables queued when the light first
         // moved, each built whole now.
         for (LightKeyframes::Prefill pf = keyframes_.nextPrefill(); pf.slot >= 0; pf = keyframes_.nextPrefill()) {
             allocateSlots();
-            buildRows(pf.slot, pf.muS, 0, q_.skyViewH, true);
+            buildRows(pf.slot, pf.muS, 0, q_.skyViewH, true, true);
         }
         // The shown table: the plan's slots mixed with its weights (the Mie phase applied at the
         // current elevation). Only complete slots are ever read here; unused inputs repeat the
@@ -244,15 +253,11 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
         showFbo_.bind();
         glViewport(0, 0, q_.skyViewW, q_.skyViewH);
         glNamedFramebufferDrawBuffers(showFbo_.id(), 3, bufs);
-        const int units[4][2] = {{gl::binding::kBlendA, gl::binding::kBlendAMie},
-                                 {gl::binding::kBlendB, gl::binding::kBlendBMie},
-                                 {gl::binding::kBlendC, gl::binding::kBlendCMie},
-                                 {gl::binding::kBlendD, gl::binding::kBlendDMie}};
+        const int units[4] = {gl::binding::kBlendA, gl::binding::kBlendB, gl::binding::kBlendC, gl::binding::kBlendD};
         glm::vec4 w(0.0f);
         for (int i = 0; i < 4; ++i) {
             const Slot& S = slots_[size_t(i < plan_.count ? plan_.slot[size_t(i)] : plan_.slot[0])];
-            glBindTextureUnit(GLuint(units[i][0]), S.smooth.id());
-            glBindTextureUnit(GLuint(units[i][1]), S.mie.id());
+            glBindTextureUnit(GLuint(units[i]), S.packed.id());
             w[i] = i < plan_.count ? float(plan_.weight[size_t(i)]) : 0.0f;
         }
         blendProg_.use();

@@ -285,14 +285,22 @@ private:
     /// Shown tables (written by the blend pass); each keyframe slot: smooth and Mie with its
     /// framebuffer.
     gl::Texture2D smooth_, mie_, total_;
+    // A keyframe: the six log radiances of a texel (smooth and Mie, RGB) packed at 21 bits each
+    // into one RGBA32UI texel (light_blend.glsl), so the blend fetches one texel per table.
     struct Slot {
+        gl::Texture2D packed;
+    };
+    // Where a keyframe is built (radiance, fp32) before it is packed: one for the table built
+    // over several runs, one for tables built whole in one run (a jump, the prefill).
+    struct Scratch {
         gl::Texture2D smooth, mie;
         gl::Framebuffer fbo;
     };
     std::vector<Slot> slots_;
+    Scratch chunkScratch_, wholeScratch_;
     gl::Framebuffer showFbo_;
     gl::Program blendProg_;
-    gl::Program toLogProg_;  // a complete keyframe to log radiance (light_blend.glsl)
+    gl::Program toLogProg_;  // a complete keyframe packed (light_blend.glsl, KEYFRAME_PACK)
     LightKeyframes keyframes_;
     LightKeyframes::Plan plan_;
     bool shownOnce_ = false;  // the shown table holds a mix (Plan::unchanged may keep it)
