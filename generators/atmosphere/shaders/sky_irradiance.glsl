@@ -1,4 +1,5 @@
-// Sky irradiance pass (compute, one workgroup): diffuse horizontal illuminance at the observer
+// Sky irradiance pass (compute, SKY_IRRADIANCE_GROUPS workgroups, each summing its share of the
+// samples; the CPU adds the groups' partial sums): diffuse horizontal illuminance at the observer
 // from the Sun's and the Moon's sky-view LUTs (midpoint rule in cos^2 zenith and azimuth, as
 // cpuDiffuseIrradiance()), the direct horizontal illuminance of each light through the
 // transmittance LUT, and the zenith radiance. Needs atmosphere.glsl (ATM_USE_TRANSMITTANCE).
@@ -7,7 +8,9 @@ layout(binding = WELKIN_BINDING_SUN_VIEW_LUT) uniform sampler2D u_sunSmooth;
 layout(binding = WELKIN_BINDING_SUN_VIEW_MIE_LUT) uniform sampler2D u_sunMie;
 layout(binding = WELKIN_BINDING_MOON_VIEW_LUT) uniform sampler2D u_moonSmooth;
 layout(binding = WELKIN_BINDING_MOON_VIEW_MIE_LUT) uniform sampler2D u_moonMie;
-layout(std430, binding = WELKIN_BINDING_SKY_IRRADIANCE_SSBO) buffer Result { vec4 o_result[6]; };  // sun diffuse, moon diffuse, sun direct, moon direct, zenith (sun), zenith (moon)
+// o_result: sun diffuse, moon diffuse (group 0's share), sun direct, moon direct, zenith (sun),
+// zenith (moon); o_partial[2 g], [2 g + 1]: group g's sun and moon diffuse sums (g >= 1).
+layout(std430, binding = WELKIN_BINDING_SKY_IRRADIANCE_SSBO) buffer Result { vec4 o_result[6]; vec4 o_partial[2 * SKY_IRRADIANCE_GROUPS]; };
 uniform float u_h;
 uniform vec3 u_sunDir, u_moonDir;  // unit ENU
 uniform vec3 u_sunE, u_moonE;      // lux per channel
@@ -22,7 +25,8 @@ void main() {
     float sinS = sqrt(max(1.0 - u_sunDir.z * u_sunDir.z, 0.0));
     float sinM = sqrt(max(1.0 - u_moonDir.z * u_moonDir.z, 0.0));
     int total = u_nz * u_na;
-    for (int k = int(id); k < total; k += 64) {
+    uint group = gl_WorkGroupID.x;
+    for (int k = int(group * 64u + id); k < total; k += 64 * SKY_IRRADIANCE_GROUPS) {
         int i = k / u_na, j = k % u_na;
         float x = (float(i) + 0.5) / float(u_nz);
         float mu = sqrt(x), sinV = sqrt(max(1.0 - x, 0.0));
@@ -42,8 +46,11 @@ void main() {
             b += s_moon[i];
         }
         float w = ATM_PI / float(u_nz * u_na);
-        o_result[0] = vec4(a * w * u_sunE, 0.0);
-        o_result[1] = vec4(b * w * u_moonE, 0.0);
+        o_partial[2u * group] = vec4(a * w * u_sunE, 0.0);
+        o_partial[2u * group + 1u] = vec4(b * w * u_moonE, 0.0);
+        if (group != 0u) return;
+        o_result[0] = vec4(0.0);  // the sums are the CPU's (o_partial)
+        o_result[1] = vec4(0.0);
         o_result[2] = vec4(transmittanceToLight(u_h, u_sunDir.z, atm_solarIlluminance.w) * max(u_sunDir.z, 0.0) * u_sunE, 0.0);
         o_result[3] = vec4(transmittanceToLight(u_h, u_moonDir.z, 0.0045) * max(u_moonDir.z, 0.0) * u_moonE, 0.0);
         vec3 zs = skyViewSample(u_sunSmooth, u_sunMie, u_h, 1.0, 0.0, u_sunDir.z, u_invScale) * u_sunE;

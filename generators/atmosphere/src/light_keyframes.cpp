@@ -226,6 +226,11 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
         const size_t cap = size_t(std::max(0, o_.slots - 6));
         if (ks.size() > cap) ks.erase(ks.begin(), ks.begin() + std::ptrdiff_t(ks.size() - cap));
         prefillQueue_ = std::move(ks);  // popped from the back: nearest first
+        // A grid table half built along the path is built whole with the others instead.
+        if (building_ >= 0 && slots_[size_t(building_)].grid != kNoGrid && slots_[size_t(building_)].e >= o_.prefillLowRad - 1e-9) {
+            slots_[size_t(building_)].done = -1;
+            building_ = -1;
+        }
     }
     // An elevation change up to stillMuS (in e, at the horizon where it is largest) counts as none.
     const double eTol = std::max(1e-12, std::asin(std::min(o_.stillMuS, 1.0)));
@@ -256,7 +261,7 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
     const std::array<int, 4> needed = {findGrid(k - 1, false), findGrid(k, false), findGrid(k + 1, false), findGrid(k + 2, false)};
     // What to build: a still light wants its exact table; a moving one the grid tables the cubic
     // needs (nearest its direction of motion first), then the next one ahead.
-    if (building_ < 0) {
+    if (building_ < 0 && prefillQueue_.empty()) {  // (a queued prefill builds the grid this run)
         double target = NAN;
         int grid = kNoGrid;
         if (still || dir_ == 0) {

@@ -11,6 +11,12 @@
 
 namespace welkin::generators {
 
+namespace {
+// Workgroups of the irradiance pass: the samples shared among them, so llvmpipe's threads (and a
+// GPU's units) all work; 8 x 64 invocations.
+constexpr int kGroups = 8;
+}  // namespace
+
 SkyIrradiance::SkyIrradiance() : SkyGenerator("sky.irradiance") {
     input(skykeys::transmittanceLuts);
     input(skykeys::sunViewLut);
@@ -37,10 +43,11 @@ void SkyIrradiance::doRun(SkyVars& vars, const Logger&) {
     if (!prog_)
         prog_ = gl::ProgramBuilder("SkyIrradiance")
                     .define("ATM_USE_TRANSMITTANCE")
+                    .define("SKY_IRRADIANCE_GROUPS", kGroups)
                     .compute("generators/atmosphere.glsl", embedded::atmosphere_shaders("atmosphere.glsl"))
                     .compute("generators/sky_irradiance.glsl", embedded::atmosphere_shaders("sky_irradiance.glsl"))
                     .build();
-    if (!out_) out_ = gl::Buffer(sizeof(float) * 24);
+    if (!out_) out_ = gl::Buffer(sizeof(float) * 4 * (6 + 2 * kGroups));
     const double Ht = model_.topRadius - model_.bottomRadius;
     const double h = std::clamp(vars.getOr(keys::observerHeight, 0.0), 0.0, Ht);
     const double muSun = std::clamp(vars.get(skykeys::sunCosZenith), -1.0, 1.0);
@@ -71,9 +78,14 @@ void SkyIrradiance::doRun(SkyVars& vars, const Logger&) {
         prog_.set("u_nz", q_.irradianceZenith);
         prog_.set("u_na", q_.irradianceAzimuth);
         prog_.set("u_invScale", float(1.0 / kLutScale));
-        glDispatchCompute(1, 1, 1);
+        glDispatchCompute(kGroups, 1, 1);
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-        glGetNamedBufferSubData(out_.id(), 0, sizeof perLux_, perLux_);
+        float all[4 * (6 + 2 * kGroups)];
+        glGetNamedBufferSubData(out_.id(), 0, sizeof all, all);
+        std::copy(all, all + 24, perLux_);
+        for (int g = 0; g < kGroups; ++g)  // the diffuse sums: the groups' partial sums
+            for (int i = 0; i < 2; ++i)
+                for (int c = 0; c < 3; ++c) perLux_[4 * i + c] += all[4 * (6 + 2 * g + i) + c];
     }
     // Rows 0, 2, 4 per lux of the Sun; 1, 3, 5 of the Moon.
     const float* r = perLux_;
