@@ -1,5 +1,7 @@
 // Aerial perspective over a host's scene, from the Sky element's aerial-perspective volume.
 //
+//   // The Sky builds the volume only when asked (a scene pays only for what it uses):
+//   processor.vars().set(welkin::generators::skykeys::aerialVolume, true);  // or --var sky.aerial_volume=true
 //   // C++: composite over the host's HDR framebuffer (cd/m^2) using its depth texture.
 //   welkin::elements::AerialPerspective ap;                    // needs a current context
 //   ap.apply(processor.vars(), camera, {.depthTexture = hostDepth, .nearM = 0.1, .farM = 5e4},
