@@ -23,6 +23,7 @@
 #include <welkin/processor.hpp>
 
 #include <epoxy/gl.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -30,6 +31,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -85,15 +87,26 @@ struct Scene {
     std::string what;       // description of the elements
     std::string catalogue;  // "9k", "full", "-"
     bool timeRuns = false;  // advance the time 1 s per frame (the astronomy and tables follow)
+    bool instrumented = false;  // ProcessorOptions::timing: glFinish around every element and generator
     std::unique_ptr<SkyProcessor> processor;
     UtcInstant start = UtcInstant::parse("2000-01-01T12:00:00Z");
     std::vector<double> ms, ratio;
+    std::map<std::string, std::vector<double>> parts;  // instrumented: element / generators / tone map, ms
+
+    void recordParts() {
+        const nlohmann::json j = processor->stats();
+        for (const auto& e : j["elements"])
+            parts[e["name"].get<std::string>()].push_back(e["update_ms"].get<double>() + e["render_ms"].get<double>());
+        parts["(generators)"].push_back(j["generators_ms"].get<double>());
+        parts["(tone map)"].push_back(j["tonemap_ms"].get<double>());
+    }
 };
 
 struct Row {
     std::string camera, when, what, catalogue;
     double ms, trivialMs, ratio, sunAltDeg, limitMag;
     int starsDrawn;
+    double starsMs = NAN;  // the Stars element's update + render (instrumented rows)
 };
 
 double median(std::vector<double> v) {
@@ -140,13 +153,15 @@ int run(const NightBenchOptions& o) {
                 o.smallCatalogueMag, nightNames.c_str(), ctx->description().c_str());
 
     std::vector<Row> rows;
+    std::vector<std::string> breakdowns;  // per camera: the night scene's parts, ms
     for (const Camera& cam : cameras) {
         std::vector<Scene> scenes;
         auto make = [&](std::string when, std::string what, std::string catalogue, const UtcInstant& t,
-                        const std::function<void(SkyProcessor&)>& build, bool timeRuns = false) {
+                        const std::function<void(SkyProcessor&)>& build, bool timeRuns = false, bool instrumented = false) {
             Scene s;
             s.when = std::move(when), s.what = std::move(what), s.catalogue = std::move(catalogue), s.timeRuns = timeRuns;
-            s.processor = std::make_unique<SkyProcessor>(SkyVars::earth(), log);
+            s.instrumented = instrumented;
+            s.processor = std::make_unique<SkyProcessor>(SkyVars::earth(), log, ProcessorOptions{.timing = instrumented});
             s.start = t;
             SkyProcessor& p = *s.processor;
             p.setObserver(observer);
@@ -173,10 +188,10 @@ int run(const NightBenchOptions& o) {
         auto skyAlone = [](SkyProcessor& p) { p.add(elements::makeElement("sky")); };
         for (const auto& [when, t] : {std::pair{std::string("day"), day}, std::pair{std::string("night"), night}}) {
             make(when, "sky", "-", t, skyAlone);
-            make(when, "stars + sky", "9k", t, starsAndSky(true, true));
-            make(when, "stars + sky", "full", t, starsAndSky(false, true));
+            make(when, "stars + sky", "9k", t, starsAndSky(true, true), false, true);
+            make(when, "stars + sky", "full", t, starsAndSky(false, true), false, true);
         }
-        make("night", "stars + sky, no culling (every star drawn)", "full", night, starsAndSky(false, false));
+        make("night", "stars + sky, no culling (every star drawn)", "full", night, starsAndSky(false, false), false, true);
         make("night", "default scene (" + [] {
             std::string s;
             for (auto& n : elements::defaultElements()) s += (s.empty() ? "" : ",") + n;
@@ -188,6 +203,9 @@ int run(const NightBenchOptions& o) {
             for (auto& n : nightScene) p.add(elements::makeElement(n));
         };
         make("night", "default scene + constellations", "full", night, everything);
+        // Its twin with glFinish around every element: where the time goes (and what the
+        // instrumentation itself costs, against the row above).
+        make("night", "default scene + constellations, instrumented", "full", night, everything, false, true);
         make("night", "default scene + constellations, time running (+1 s a frame)", "full", night, everything, true);
 
         TrivialPass trivial(cam.width, cam.height);
@@ -203,6 +221,7 @@ int run(const NightBenchOptions& o) {
                 const double f = medianMs(1, [&] { s.processor->renderFrame(); });
                 s.ms.push_back(f);
                 s.ratio.push_back(f / t);
+                if (s.instrumented) s.recordParts();
             }
         }
         const std::string camName = std::string(toString(cam.projection)) + " " + std::to_string(cam.width) + "x" + std::to_string(cam.height);
@@ -214,6 +233,16 @@ int run(const NightBenchOptions& o) {
                 row.starsDrawn = st->drawn();
                 row.limitMag = st->limitingMagnitudeUsed();
             }
+            if (s.parts.count("stars")) row.starsMs = median(s.parts["stars"]);
+            if (s.what == "default scene + constellations, instrumented") {
+                std::string b;
+                for (auto& [name, v] : s.parts) {
+                    char x[96];
+                    std::snprintf(x, sizeof x, "%s%s %.1f", b.empty() ? "" : ", ", name.c_str(), median(v));
+                    b += x;
+                }
+                breakdowns.push_back(camName + ": " + b);
+            }
             rows.push_back(row);
             s.processor->release();
         }
@@ -221,7 +250,8 @@ int run(const NightBenchOptions& o) {
 
     std::printf("\nmedian of %d frames (renderFrame: update, composite, automatic tone map; glFinish), each after a trivial pass\n\n",
                 o.repeats);
-    std::printf("| camera | Sun | elements | catalogue | stars drawn (limit) | ms | x trivial pass |\n|---|---|---|---|---|---|---|\n");
+    std::printf("| camera | Sun | elements | catalogue | stars drawn (limit) | frame ms | x trivial pass | stars ms |\n"
+                "|---|---|---|---|---|---|---|---|\n");
     for (const Row& r : rows) {
         std::string drawn = "-";
         if (r.starsDrawn >= 0) {
@@ -229,13 +259,17 @@ int run(const NightBenchOptions& o) {
             std::snprintf(b, sizeof b, "%d (%.2f)", r.starsDrawn, r.limitMag);
             drawn = b;
         }
-        std::printf("| %s | %s %+.0f deg | %s | %s | %s | %.1f | %.1f |\n", r.camera.c_str(), r.when.c_str(), r.sunAltDeg, r.what.c_str(),
-                    r.catalogue.c_str(), drawn.c_str(), r.ms, r.ratio);
+        char starsMs[32] = "-";
+        if (std::isfinite(r.starsMs)) std::snprintf(starsMs, sizeof starsMs, "%.1f", r.starsMs);
+        std::printf("| %s | %s %+.0f deg | %s | %s | %s | %.1f | %.1f | %s |\n", r.camera.c_str(), r.when.c_str(), r.sunAltDeg,
+                    r.what.c_str(), r.catalogue.c_str(), drawn.c_str(), r.ms, r.ratio, starsMs);
     }
     std::printf("| trivial pass (RGBA32F), per camera: ");
     for (const Row& r : rows)
         if (r.what == "sky" && r.when == "day") std::printf("%s %.2f ms; ", r.camera.c_str(), r.trivialMs);
-    std::printf("| | | | | |\n\n");
+    std::printf("\n\n");
+    for (const std::string& b : breakdowns) std::printf("night scene, instrumented frame, ms: %s\n", b.c_str());
+    std::printf("\n");
 
     // Targets (issue 10 item 6).
     auto find = [&](const std::string& cam, const std::string& when, const std::string& what, const std::string& cat) -> const Row* {
@@ -249,17 +283,18 @@ int run(const NightBenchOptions& o) {
         if (std::find(camNames.begin(), camNames.end(), r.camera) == camNames.end()) camNames.push_back(r.camera);
     for (const std::string& cam : camNames)
         for (const char* when : {"day", "night"}) {
-            const Row *a = find(cam, when, "stars + sky", "9k"), *b = find(cam, when, "stars + sky", "full"), *s = find(cam, when, "sky", "-");
-            if (!a || !b || !s) continue;
-            // Frame ratio (x trivial pass, per-pair medians) and the stars' own share (frame - sky
-            // alone, which is noisy when both are small against the sky).
+            const Row *a = find(cam, when, "stars + sky", "9k"), *b = find(cam, when, "stars + sky", "full");
+            if (!a || !b) continue;
+            // Both the frame (x trivial pass, per-pair medians) and the Stars element's own time
+            // (glFinish around it), which the Sky's cost does not dilute.
             const double frameRatio = b->ratio / a->ratio;
-            const double starsA = a->ratio - s->ratio, starsB = b->ratio - s->ratio;
-            const bool met = frameRatio <= 2.0;
+            const double starsRatio = b->starsMs / a->starsMs;
+            // By day both draw nothing and take well under a millisecond: their ratio is noise, so
+            // the stars' own ratio is judged only when the small catalogue costs >= 1 ms.
+            const bool met = frameRatio <= 2.0 && (a->starsMs < 1.0 || starsRatio <= 2.0);
             allMet = allMet && met;
-            std::printf("target, %s, %s: full catalogue frame <= 2x the %zu-star one: %.2fx (%s); the stars' own share "
-                        "(frame - sky alone) %.2f vs %.2f trivial passes\n",
-                        cam.c_str(), when, small.size(), frameRatio, met ? "met" : "NOT met", starsB, starsA);
+            std::printf("target, %s, %s: full catalogue <= 2x the %zu-star one: frame %.2fx, the stars alone %.2fx (%.2f vs %.2f ms): %s\n",
+                        cam.c_str(), when, small.size(), frameRatio, starsRatio, b->starsMs, a->starsMs, met ? "met" : "NOT met");
         }
     for (const std::string& cam : camNames)
         if (const Row* r = find(cam, "night", "default scene + constellations", "full")) {
@@ -267,18 +302,20 @@ int run(const NightBenchOptions& o) {
             const char* verdict = r->ms <= 1000.0 / 17 ? "met (faster than Stellarium's best, 17 fps)"
                                   : r->ms <= 1000.0 / 8 ? "met against 8 fps, not against 17 fps"
                                                          : "NOT met";
-            if (r->ms > 1000.0 / 8) allMet = false;
-            std::printf("target, %s: night frame with everything on %.1f ms (%.1f fps) vs Stellarium 59-125 ms (8-17 fps): %s\n",
-                        cam.c_str(), r->ms, 1000.0 / r->ms, verdict);
+            // The target is stated for 1280x720; other cameras are printed for information.
+            const bool judged = cam.find("1280x720") != std::string::npos;
+            if (judged && r->ms > 1000.0 / 8) allMet = false;
+            std::printf("%s, %s: night frame with everything on %.1f ms (%.1f fps) vs Stellarium 59-125 ms (8-17 fps): %s\n",
+                        judged ? "target" : "for information (the target is at 1280x720)", cam.c_str(), r->ms, 1000.0 / r->ms, verdict);
         }
     std::printf("targets: %s\n", allMet ? "all met" : "some NOT met");
 
     if (!o.csv.empty()) {
         CsvWriter f(o.csv, {"camera", "when", "sun_alt_deg", "elements", "catalogue", "stars_drawn", "limiting_magnitude", "frame_ms",
-                            "trivial_ms", "ratio_trivial"});
+                            "trivial_ms", "ratio_trivial", "stars_ms"});
         f.comment("welkin bench night, median of " + std::to_string(o.repeats) + " frames, " + ctx->description());
         for (const Row& r : rows)
-            f.row(r.camera, r.when, r.sunAltDeg, r.what, r.catalogue, r.starsDrawn, r.limitMag, r.ms, r.trivialMs, r.ratio);
+            f.row(r.camera, r.when, r.sunAltDeg, r.what, r.catalogue, r.starsDrawn, r.limitMag, r.ms, r.trivialMs, r.ratio, r.starsMs);
         f.close();
         std::printf("wrote %s\n", o.csv.c_str());
     }
