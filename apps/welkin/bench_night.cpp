@@ -136,7 +136,14 @@ int run(const NightBenchOptions& o) {
         }
         cameras.push_back(c);
     }
-    const UtcInstant day = UtcInstant::parse(o.dayTime), night = UtcInstant::parse(o.nightTime);
+    auto instant = [](const char* option, const std::string& text) {
+        try {
+            return UtcInstant::parse(text);
+        } catch (const Error& e) {
+            throw Error(std::string(option) + " " + e.what());
+        }
+    };
+    const UtcInstant day = instant("--day-time", o.dayTime), night = instant("--night-time", o.nightTime);
     const Observer observer{.latitudeRad = o.latDeg * kDeg, .longitudeRad = o.lonDeg * kDeg, .heightMeters = 0};
     observer.validate();
     if (!std::filesystem::exists(astro::kKStarsCatalogue))
