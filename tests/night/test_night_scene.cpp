@@ -42,8 +42,8 @@ struct ChannelCounts {
 // Counts the RGB channel values of an RGBA32F texture (alpha ignored, as Image/readHdr does):
 // non-finite (exponent all ones: NaN or infinity), negative (sign set, not -0), positive (> 0).
 ChannelCounts classifyOnGpu(const gl::Texture& texture, int width, int height) {
-    static gl::Program program = gl::ProgramBuilder("finite check")
-                                     .compute("finite_check.comp", R"(
+    gl::Program program = gl::ProgramBuilder("finite check")
+                              .compute("finite_check.comp", R"(
 layout(local_size_x = 16, local_size_y = 16) in;
 layout(binding = 0, rgba32f) readonly uniform image2D img;
 layout(std430, binding = 0) buffer Counts { uint nonFinite; uint negative; uint positive; };
@@ -63,7 +63,7 @@ void main() {
     if (pos > 0u) atomicAdd(positive, pos);
 }
 )")
-                                     .build();
+                              .build();
     const std::array<unsigned, 3> zero{0, 0, 0};
     gl::Buffer counts(sizeof zero, zero.data());
     counts.bindBase(GL_SHADER_STORAGE_BUFFER, 0);
