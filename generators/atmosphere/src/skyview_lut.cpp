@@ -45,6 +45,7 @@ void SkyViewLut::releaseGl() {
     fboK_ = {};
     prog_ = {};
     slots_.clear();
+    darkShown_ = false;
     chunkScratch_ = {};
     wholeScratch_ = {};
     showFbo_ = {};
@@ -136,19 +137,26 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
         attach3(fboK_, smoothK_, mieK_, totalK_, "SkyViewLut (triple)");
     }
     const GLenum bufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
-    // The Moon's LUT is skipped (left black) while the Moon gives no light or is far below the
-    // horizon (< -20 deg: its scattered light is then below the night sky's airglow by orders of
-    // magnitude).
-    bool dark = light_ == Light::Moon && (!vars.get(skykeys::moonLit) || muS_ < -0.342);
+    // A light's LUT is skipped (left black) while it is far below the horizon (< -20 deg: past
+    // astronomical twilight its scattered light is below the natural night sky's 2e-4 cd/m^2 by
+    // orders of magnitude), and the Moon's while it gives no light. Black once, then nothing to
+    // do but publish until the light comes back. The Sun's grid tables are kept for its return (the Moon's
+    // are forgotten: it comes back at another phase).
+    const bool dark = muS_ < kDarkBelowCosZenith || (light_ == Light::Moon && !vars.get(skykeys::moonLit));
+    if (resized) darkShown_ = false;
     if (dark) {
-        const float zero[4] = {0, 0, 0, 1};
-        glClearNamedFramebufferfv(showFbo_.id(), GL_COLOR, 0, zero);
-        glClearNamedFramebufferfv(showFbo_.id(), GL_COLOR, 1, zero);
-        glClearNamedFramebufferfv(showFbo_.id(), GL_COLOR, 2, zero);
-        keyframes_.reset();  // the next lit run starts from a table at its exact elevation
+        if (!darkShown_) {
+            const float zero[4] = {0, 0, 0, 1};
+            glClearNamedFramebufferfv(showFbo_.id(), GL_COLOR, 0, zero);
+            glClearNamedFramebufferfv(showFbo_.id(), GL_COLOR, 1, zero);
+            glClearNamedFramebufferfv(showFbo_.id(), GL_COLOR, 2, zero);
+        }
+        darkShown_ = true;
+        if (light_ == Light::Moon) keyframes_.reset();  // the next lit run starts from a table at its exact elevation
         plan_ = {};
         shownOnce_ = false;
     } else {
+        darkShown_ = false;
         plan_ = keyframes_.plan(muS_);
         auto allocateSlots = [&] {
             // A packed texture for each slot the schedule uses (allocated as it grows).

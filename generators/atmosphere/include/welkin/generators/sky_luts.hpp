@@ -104,6 +104,8 @@ inline const Key<bool> moonLit{"sky.moon_lit", "the Moon lights the sky (illumin
 /// elevation at the horizon (where a degree changes the twilight sky by up to ~x2, so at most
 /// ~0.1 % of staleness; the Sun's disk is 0.53 deg wide) and less higher up.
 inline constexpr double kCosZenithTolerance = 2e-5;
+/// Below this cos zenith (-20 deg of elevation) a light's sky-view tables are black (SkyViewLut).
+inline constexpr double kDarkBelowCosZenith = -0.342;
 /// Runs a light must stay within kCosZenithTolerance of one elevation before its exact table is
 /// built (LightKeyframes::Options::stillRuns): a third of a second at 60 frames per second, so a
 /// Sun drifting at 1 s/s (up to 7e-5 in cos zenith per second) is shown through the grid tables.
@@ -304,6 +306,7 @@ private:
     LightKeyframes keyframes_;
     LightKeyframes::Plan plan_;
     bool shownOnce_ = false;  // the shown table holds a mix (Plan::unchanged may keep it)
+    bool darkShown_ = false;  // the shown table is black (the light far below the horizon)
     std::vector<uint64_t> validFor_;  // input versions the keyframes were built with
     double viewTH_ = -1.0;
     uint64_t viewTVersion_ = 0;
