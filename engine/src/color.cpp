@@ -2,9 +2,11 @@
 #include <welkin/color.hpp>
 #include <welkin/error.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <string>
+#include <vector>
 
 namespace welkin::color {
 namespace {
@@ -259,5 +261,27 @@ glm::dvec3 solarIlluminanceSrgb() {
     }();
     return rgb;
 }
+
+double starTemperatureFromBV(double bv) {
+    bv = std::clamp(bv, -0.4, 2.0);
+    return 4600.0 * (1.0 / (0.92 * bv + 1.7) + 1.0 / (0.92 * bv + 0.62));
+}
+
+glm::dvec3 blackBodyLinearSrgb(double kelvin) {
+    if (!(kelvin >= 500.0 && kelvin <= 1e6)) throw Error("blackBodyLinearSrgb(): temperature not in [500, 1e6] K");
+    // Planck's law up to a constant factor (normalised below): lambda^-5 / (exp(hc / lambda k T) - 1).
+    constexpr double c2 = 1.438776877e-2;  // hc / k, m K
+    std::vector<double> nm, value;
+    for (int i = 0; i < kCmfCount; ++i) {
+        const double l = kCmfFirstNm + i * kCmfStepNm;
+        const double lm = l * 1e-9;
+        nm.push_back(l);
+        value.push_back(1.0 / (std::pow(l / 500.0, 5.0) * std::expm1(c2 / (lm * kelvin))));
+    }
+    glm::dvec3 rgb = glm::max(spectrumToLinearSrgb(nm, value), glm::dvec3(0.0));  // out of gamut: clip
+    return rgb / luminance(rgb);
+}
+
+glm::dvec3 starColourFromBV(double bv) { return blackBodyLinearSrgb(starTemperatureFromBV(bv)); }
 
 }  // namespace welkin::color

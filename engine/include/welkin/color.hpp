@@ -79,4 +79,13 @@ const std::vector<double>& solarIrradianceAstmG173Bins();
 /// The extraterrestrial Sun (1 AU) as linear sRGB whose luminance is its illuminance, lux.
 glm::dvec3 solarIlluminanceSrgb();
 
+/// Linear sRGB of a black body at `kelvin` (Planck through CIE 1931), normalised to luminance 1;
+/// out-of-gamut channels clipped at 0. Throws outside [500, 1e6] K.
+glm::dvec3 blackBodyLinearSrgb(double kelvin);
+/// B-V colour index -> effective temperature, K (Ballesteros 2012, EPL 97, 34008):
+/// T = 4600 (1 / (0.92 bv + 1.7) + 1 / (0.92 bv + 0.62)); bv clamped to [-0.4, 2.0].
+double starTemperatureFromBV(double bv);
+/// Linear sRGB of a star (or planet) of colour index `bv`, luminance 1: the two functions above.
+glm::dvec3 starColourFromBV(double bv);
+
 }  // namespace welkin::color

@@ -39,5 +39,9 @@ inline const Key<int> quality{"render.quality", Range{0, 3}, "quality preset: 0 
 inline const Key<double> exposureEv100{"exposure.ev100", Range{-20, 30}, "exposure value at ISO 100"};
 /// Automatic exposure: the eye's adaptation to the scene (eye.adaptation, welkin/eye.hpp) or a camera's log-average.
 inline const Key<bool> exposureAuto{"exposure.auto", "automatic exposure: the eye's adaptation (eye.*) or a camera's log-average"};
+/// The diffuse night sky's luminance at the zenith above the air, cd/m^2 (airglow, zodiacal
+/// light, Milky Way, light pollution): written by an element that draws it (nightsky), read by
+/// any that depends on the sky's darkness (the Stars' limiting magnitude).
+inline const Key<double> nightBackground{"nightsky.background_cd_m2", Range{0, 1e4}, "the night sky's luminance at the zenith above the air (airglow, zodiacal light, Milky Way, light pollution); Stars' limiting magnitude adds it"};
 
 }  // namespace welkin::keys

@@ -339,6 +339,20 @@ double sun(double delta) { return -26.74 + 5.0 * std::log10(delta); }
 
 double illuminanceLux(double m) { return std::pow(10.0, -0.4 * (m + 13.99)); }
 
+namespace {
+constexpr double kArcsec2Sr = (std::numbers::pi / (180.0 * 3600.0)) * (std::numbers::pi / (180.0 * 3600.0));  // 2.3504e-11 sr
+}
+
+double surfaceBrightnessCdM2(double m) {
+    if (!std::isfinite(m)) throw Error("surfaceBrightnessCdM2(): magnitude not finite");
+    return illuminanceLux(0.0) / kArcsec2Sr * std::pow(10.0, -0.4 * m);
+}
+
+double surfaceBrightnessMag(double cdM2) {
+    if (!(cdM2 > 0.0)) throw Error("surfaceBrightnessMag(): luminance not > 0 cd/m^2");
+    return -2.5 * std::log10(cdM2 * kArcsec2Sr / illuminanceLux(0.0));
+}
+
 double moon(double r, double delta, double a) {
     a = std::fabs(a);
     return 0.21 + 5.0 * std::log10(r * delta) + 0.026 * a + 4e-9 * a * a * a * a;

@@ -5,7 +5,6 @@
 #include <welkin/astro/bodies.hpp>
 #include <welkin/color.hpp>
 #include <welkin/elements/nightsky.hpp>
-#include <welkin/elements/stars.hpp>
 #include <welkin/embedded/nightsky_shaders.hpp>
 #include <welkin/error.hpp>
 #include <welkin/generators/atmosphere.hpp>
@@ -30,7 +29,6 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180.0;
 constexpr double kEarthRadiusM = 6371e3;
-constexpr double kArcsec2Sr = (kPi / (180.0 * 3600.0)) * (kPi / (180.0 * 3600.0));  // 2.3504e-11 sr
 constexpr double kObliquityJ2000Rad = 23.4392911 * kDeg;  // IAU 1980 value at J2000 (84381.448")
 constexpr double kLightPollutionLayerM = 8000.0;           // the air's scale height
 constexpr double kLightPollutionKelvin = 3000.0;           // sodium and warm-white LED light
@@ -116,7 +114,7 @@ glm::dvec3 airglowColour() {
 // Sun's colour (ASTM G-173 through CIE 1931), luminance 1.
 glm::dvec3 solarColour() { return normalisedLuminance(color::solarIlluminanceSrgb()); }
 
-glm::dvec3 lightPollutionColour() { return blackBodyLinearSrgb(kLightPollutionKelvin); }
+glm::dvec3 lightPollutionColour() { return color::blackBodyLinearSrgb(kLightPollutionKelvin); }
 
 double sunEclipticLongitude(const glm::dmat3& icrsToEnu, const glm::dvec3& sunEnu) {
     const glm::dvec3 e = icrsToEcliptic() * (glm::transpose(icrsToEnu) * sunEnu);
@@ -128,16 +126,6 @@ double zodiacalAt(const glm::dvec3& icrs, double sunLon) {
     return zodiacalTable(std::atan2(e.y, e.x) - sunLon, std::asin(std::clamp(e.z, -1.0, 1.0)));
 }
 }  // namespace
-
-double surfaceBrightnessCdM2(double m) {
-    if (!std::isfinite(m)) throw Error("surfaceBrightnessCdM2(): magnitude not finite");
-    return astro::magnitude::illuminanceLux(0.0) / kArcsec2Sr * std::pow(10.0, -0.4 * m);
-}
-
-double surfaceBrightnessMag(double cdM2) {
-    if (!(cdM2 > 0.0)) throw Error("surfaceBrightnessMag(): luminance not > 0 cd/m^2");
-    return -2.5 * std::log10(cdM2 * kArcsec2Sr / astro::magnitude::illuminanceLux(0.0));
-}
 
 double vanRhijn(double z, double h) {
     if (!(z >= 0.0 && z <= kPi / 2 + 1e-12)) throw Error("vanRhijn(): zenith angle not in [0, pi/2] rad");

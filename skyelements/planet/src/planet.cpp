@@ -5,7 +5,6 @@
 #include <welkin/astro/frames.hpp>
 #include <welkin/color.hpp>
 #include <welkin/elements/planet.hpp>
-#include <welkin/elements/stars.hpp>
 #include <welkin/embedded/planet_shaders.hpp>
 #include <welkin/error.hpp>
 #include <welkin/generators/atmosphere.hpp>
@@ -481,7 +480,7 @@ void Planet::doRender(const FrameContext& ctx) {
         const double m = v.get(ak::planetMagnitude(b));
         const glm::dvec3 T = later ? glm::dvec3(1.0) : transmittanceTowards(v, std::asin(std::clamp(dir.z, -1.0, 1.0)));
         if (T == glm::dvec3(0.0)) continue;
-        const glm::dvec3 E = astro::magnitude::illuminanceLux(m) * starColourFromBV(kPlanetBV[int(b) - int(astro::Body::Mercury)]) * T;
+        const glm::dvec3 E = astro::magnitude::illuminanceLux(m) * color::starColourFromBV(kPlanetBV[int(b) - int(astro::Body::Mercury)]) * T;
         const double radius = std::min(0.5 * v.getOr(ak::planetAngularDiameter(b), 0.0) * f, 1.4);
         // Lambert sphere lit from the Sun: L = L0 max(n.s, 0), L0 = E / (Omega (2/3) Phi(a)).
         const double dist = astro::bodyRadiusMeters(b) / std::max(std::tan(0.5 * v.getOr(ak::planetAngularDiameter(b), 1e-9)), 1e-12);

@@ -4,7 +4,6 @@
 #include <welkin/astro/bodies.hpp>
 #include <welkin/astro/frames.hpp>
 #include <welkin/color.hpp>
-#include <welkin/elements/nightsky.hpp>
 #include <welkin/elements/stars.hpp>
 #include <welkin/embedded/stars_shaders.hpp>
 #include <welkin/error.hpp>
@@ -47,28 +46,6 @@ std::vector<astro::Star> loadCatalogue(const std::string& path) {
 }
 }  // namespace
 
-double starTemperatureFromBV(double bv) {
-    bv = std::clamp(bv, kBvLo, kBvHi);
-    return 4600.0 * (1.0 / (0.92 * bv + 1.7) + 1.0 / (0.92 * bv + 0.62));
-}
-
-glm::dvec3 blackBodyLinearSrgb(double kelvin) {
-    if (!(kelvin >= 500.0 && kelvin <= 1e6)) throw Error("blackBodyLinearSrgb(): temperature not in [500, 1e6] K");
-    // Planck's law up to a constant factor (normalised below): lambda^-5 / (exp(hc / lambda k T) - 1).
-    constexpr double c2 = 1.438776877e-2;  // hc / k, m K
-    std::vector<double> nm, value;
-    for (int i = 0; i < color::kCmfCount; ++i) {
-        const double l = color::kCmfFirstNm + i * color::kCmfStepNm;
-        const double lm = l * 1e-9;
-        nm.push_back(l);
-        value.push_back(1.0 / (std::pow(l / 500.0, 5.0) * std::expm1(c2 / (lm * kelvin))));
-    }
-    glm::dvec3 rgb = glm::max(color::spectrumToLinearSrgb(nm, value), glm::dvec3(0.0));  // out of gamut: clip
-    return rgb / color::luminance(rgb);
-}
-
-glm::dvec3 starColourFromBV(double bv) { return blackBodyLinearSrgb(starTemperatureFromBV(bv)); }
-
 double limitingMagnitude(double backgroundCdM2) {
     if (!(backgroundCdM2 >= 0.0)) throw Error("limitingMagnitude(): background luminance not >= 0 cd/m^2");
     const double B = backgroundCdM2 / 3.183098862e-6;  // nanolamberts (1 nL = 1e-5 / pi cd/m^2)
@@ -91,7 +68,7 @@ Stars::Stars() : SkyElement("stars") {
     option(starkeys::catalogue, std::string(astro::kKStarsCatalogue));
     option(starkeys::magnitudeLimit, 30.0);
     option(starkeys::adaptiveLimit, true);
-    option(starkeys::backgroundFloor, surfaceBrightnessCdM2(nightkeys::kDarkSkyZenithMag));  // 1.7e-4: 22.0 mag/arcsec^2
+    option(starkeys::backgroundFloor, astro::magnitude::surfaceBrightnessCdM2(astro::magnitude::kDarkSkyZenithMag));  // 1.7e-4: 22.0 mag/arcsec^2
     option(starkeys::psfFwhm, 1.0 * starkeys::kArcmin);
     option(starkeys::psfMinPx, 2.0);
     option(starkeys::glare, 0.05);
@@ -105,7 +82,7 @@ Stars::Stars() : SkyElement("stars") {
     reads(astro::keys::refractionTemperature);
     reads(keys::timeJdUtc);
     reads(generators::skykeys::zenithLuminance);
-    reads(nightkeys::background);
+    reads(keys::nightBackground);
 }
 
 Stars::Stars(std::vector<astro::Star> stars) : Stars() {
@@ -190,7 +167,7 @@ void Stars::doRender(const FrameContext& ctx) {
     if (v.get(starkeys::adaptiveLimit)) {
         // The night sky's own background: the NightSky element's (natural and artificial) when it
         // runs, else the dark-sky floor.
-        const double night = v.has(nightkeys::background) ? v.get(nightkeys::background) : v.get(starkeys::backgroundFloor);
+        const double night = v.has(keys::nightBackground) ? v.get(keys::nightBackground) : v.get(starkeys::backgroundFloor);
         const double B = (sky ? v.get(generators::skykeys::zenithLuminance) : 0.0) + night;
         limit_ = std::min(limit_, limitingMagnitude(B));
     }

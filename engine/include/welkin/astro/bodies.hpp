@@ -103,6 +103,15 @@ double sun(double delta);
 /// Illuminance outside the atmosphere of a source of visual magnitude `m`, lux:
 /// 2.54e-6 x 10^(-0.4 m) (the V = 0 zero point: 10^(-0.4 x 13.99) lux; Allen, 4th ed., 15.1).
 double illuminanceLux(double m);
+/// Luminance of a surface brightness `magPerArcsec2` (V mag/arcsec^2, finite), cd/m^2: the
+/// illuminance of that magnitude per arcsec^2 (2.3504e-11 sr); 22.0 gives 1.71e-4 cd/m^2.
+double surfaceBrightnessCdM2(double magPerArcsec2);
+/// Its inverse: V mag/arcsec^2 of a luminance `cdM2` (> 0).
+double surfaceBrightnessMag(double cdM2);
+/// The natural night sky's zenith at a dark site, V mag/arcsec^2 (airglow, zodiacal light and
+/// starlight together; Leinert et al. 1998): the Stars' default background floor and Bortle
+/// class 1 of the night sky.
+inline constexpr double kDarkSkyZenithMag = 22.0;
 }  // namespace magnitude
 
 }  // namespace welkin::astro

@@ -38,7 +38,9 @@
 //  - Published: nightsky.background_cd_m2, the zenith luminance of all four terms; Stars adds it
 //    to the Sky's zenith luminance for its limiting magnitude (instead of its own floor).
 #pragma once
+#include <welkin/astro/bodies.hpp>
 #include <welkin/element.hpp>
+#include <welkin/keys.hpp>
 #include <welkin/gl/objects.hpp>
 #include <welkin/gl/projection_programs.hpp>
 
@@ -52,24 +54,23 @@
 namespace welkin::elements {
 
 namespace nightkeys {
-/// The dark-sky reference, V mag/arcsec^2 at the zenith: the natural night sky of a dark site at
-/// solar minimum (Leinert et al. 1998: ~220 S10 = 21.9; Benn & Ellison 1998, La Palma: 21.9). The
-/// one source of truth for Stars' default background floor and for Bortle class 1.
-inline constexpr double kDarkSkyZenithMag = 22.0;
+/// The dark-sky reference, V mag/arcsec^2 at the zenith (astro::magnitude::kDarkSkyZenithMag: the
+/// natural night sky of a dark site at solar minimum, Leinert et al. 1998: ~220 S10 = 21.9; Benn &
+/// Ellison 1998, La Palma: 21.9): Stars' default background floor and Bortle class 1.
+inline constexpr double kDarkSkyZenithMag = astro::magnitude::kDarkSkyZenithMag;
 inline const Key<std::string> milkyWayTexture{"nightsky.milky_way_texture", "Milky Way panorama (stellarium-data milkyway.png, J2000 equirectangular); missing: the Milky Way is only its uniform floor"};
 inline const Key<double> milkyWayScale{"nightsky.milky_way_scale", Range{0, 100}, "factor on the calibrated Milky Way (0 off)", "1"};
 inline const Key<double> airglowZenithMag{"nightsky.airglow_zenith_mag_arcsec2", Range{14, 30}, "airglow surface brightness at the zenith, V (22.4 solar minimum, ~21.7 maximum)", "mag/arcsec2"};
 inline const Key<double> airglowHeight{"nightsky.airglow_height_m", Range{1e4, 5e5}, "height of the airglow's emitting layer (van Rhijn's factor)"};
 inline const Key<double> zodiacalScale{"nightsky.zodiacal_scale", Range{0, 100}, "factor on the zodiacal light of Leinert 1998 Table 17 (0 off)", "1"};
 inline const Key<int> bortle{"nightsky.bortle", Range{1, 9}, "light pollution, Bortle class (1 a pristine sky, 9 an inner city)"};
-/// Written by the element every frame (not an option).
-inline const Key<double> background{"nightsky.background_cd_m2", Range{0, 1e4}, "the night sky's luminance at the zenith above the air (airglow, zodiacal light, Milky Way, light pollution); Stars' limiting magnitude adds it"};
+/// Written by the element every frame (not an option): the engine's shared key.
+inline const Key<double>& background = welkin::keys::nightBackground;
 }  // namespace nightkeys
 
-/// V surface brightness (mag/arcsec^2) -> luminance, cd/m^2: 1.0807e5 x 10^(-0.4 m).
-double surfaceBrightnessCdM2(double magPerArcsec2);
-/// Luminance (cd/m^2, > 0) -> V surface brightness, mag/arcsec^2.
-double surfaceBrightnessMag(double cdM2);
+/// V surface brightness <-> luminance: the engine's (astro::magnitude, welkin/astro/bodies.hpp).
+using astro::magnitude::surfaceBrightnessCdM2;
+using astro::magnitude::surfaceBrightnessMag;
 /// Van Rhijn's factor: brightness of a thin emitting shell at height h (m, > 0) seen at zenith
 /// angle z (rad, [0, pi/2]) over its zenith brightness, Earth radius 6371 km.
 double vanRhijn(double zenithAngleRad, double layerHeightM);

@@ -33,11 +33,12 @@
 //    I = C1 (1 + sqrt(C2 B))^2 ft-cd for the background B (nL) = sky.zenith_luminance (if a Sky
 //    publishes it) + the night sky: nightsky.background_cd_m2 (if the NightSky element publishes
 //    it: airglow, zodiacal light, Milky Way, light pollution) or else stars.background_floor_cd_m2
-//    (default the dark-sky reference nightkeys::kDarkSkyZenithMag), m = -16.57 - 2.5 log10 I;
+//    (default the dark-sky reference astro::magnitude::kDarkSkyZenithMag), m = -16.57 - 2.5 log10 I;
 //    capped by stars.magnitude_limit. Stars fainter than it are not drawn: the catalogue is sorted
 //    by magnitude and only the prefix brighter than the limit is instanced (cost nothing).
 #pragma once
 #include <welkin/astro/stars.hpp>
+#include <welkin/color.hpp>
 #include <welkin/element.hpp>
 #include <welkin/gl/objects.hpp>
 #include <welkin/gl/projection_programs.hpp>
@@ -64,13 +65,10 @@ inline const Key<double> scintillation{"stars.scintillation", Range{0, 20}, "sci
 inline const Key<int> seed{"stars.seed", Range{0, 1 << 30}, "seed of the scintillation noise"};
 }  // namespace starkeys
 
-/// B-V colour index -> effective temperature, K (Ballesteros 2012): T = 4600 (1 / (0.92 bv + 1.7)
-/// + 1 / (0.92 bv + 0.62)); bv clamped to [-0.4, 2.0].
-double starTemperatureFromBV(double bv);
-/// Linear sRGB of a black body at `kelvin` (Planck through CIE 1931), normalised to luminance 1.
-glm::dvec3 blackBodyLinearSrgb(double kelvin);
-/// Linear sRGB of a star of colour index `bv`, luminance 1 (the two functions above).
-glm::dvec3 starColourFromBV(double bv);
+// A star's colour from B-V is the engine's colour science (welkin/color.hpp).
+using color::blackBodyLinearSrgb;
+using color::starColourFromBV;
+using color::starTemperatureFromBV;
 /// Naked-eye limiting magnitude against a background luminance (cd/m^2, >= 0): Schaefer 1990.
 double limitingMagnitude(double backgroundCdM2);
 /// Scintillation amplitude (relative flux, [0, 0.8]) at an apparent altitude (rad) for strength s.
