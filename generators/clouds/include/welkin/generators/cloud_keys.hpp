@@ -1,0 +1,69 @@
+// The clouds' shared SkyVars keys: one declaration for the cloud generators (noise, weather map,
+// cloud-path LUT, shadow map), the Clouds element and any element that reads the clouds (the
+// Rainbow reads the rain). Names follow SevenSky's Clouds variables (Papp 2018, fig. 6.6):
+// VOLUMETRIC_CLOUDS_FROM/TO -> clouds.bottom_m/top_m, Coverage -> clouds.coverage,
+// AltoCoverage -> clouds.cirrus_coverage, DetailScale -> clouds.detail_scale, Scattering ->
+// clouds.scattering_per_m, RainDensity -> clouds.rain_density, CloudOffset -> clouds.weather_offset_m,
+// WEATHER_MAP / NOISE_DETAIL_MAP / HIGH_ALTITUDE_CLOUD_MAP / CLOUD_PATH_LUT -> the texture keys.
+//
+//   vars.set(welkin::generators::cloudkeys::bottom, 1500.0);          // m above the ground
+//   vars.set(welkin::generators::cloudkeys::coverage, 0.6);           // [0, 1]
+//   welkin::TextureRef w = vars.get(welkin::generators::cloudkeys::weatherMap);
+//   welkin::generators::validateCloudLayer(vars);                      // throws on bottom >= top
+//
+// World frame: ENU at the observer (x east, y north, z up), metres. Heights are above the ground
+// (the planet's sphere, lightkeys::planetRadius), not above the observer.
+//
+// The weather map (clouds.weather_map, 2-D, RGBA, linear, GL_REPEAT in both directions) covers
+// a square of clouds.weather_extent_m on a side, tiled without seams over the whole planet's
+// tangent plane. A ground point at ENU (x, y) metres reads it at
+//     uv = (vec2(x, y) + clouds.weather_offset_m) / clouds.weather_extent_m      (repeat)
+// Channels (SevenSky's R, G, B plus rain):
+//     R  cloud density W_density in [0, 1] (0: no cloud)
+//     G  W_H^bottom in [0, 1]: where the cloud's base sits, as a fraction of the layer
+//        (0 = clouds.bottom_m, 1 = clouds.top_m)
+//     B  W_H^top in [0, 1]: where its top sits (same fraction; B >= G where R > 0)
+//     A  rain density of the cloud in [0, 1] (0: dry); the rain rate under it is
+//        A * clouds.rain_density * kRainRateAtFullDensityMmH, falling from the cloud's base
+#pragma once
+#include <welkin/vars.hpp>
+
+namespace welkin::generators {
+
+namespace cloudkeys {
+// --- The cumulus layer (a spherical shell) ------------------------------------------------------
+inline const Key<double> bottom{"clouds.bottom_m", Range{0, 2e4}, "base of the volumetric cloud layer above the ground (SevenSky VOLUMETRIC_CLOUDS_FROM)"};
+inline const Key<double> top{"clouds.top_m", Range{1e2, 2.5e4}, "top of the volumetric cloud layer above the ground (SevenSky VOLUMETRIC_CLOUDS_TO); > clouds.bottom_m"};
+inline const Key<double> coverage{"clouds.coverage", Range{0, 1}, "volumetric cloud coverage: 0 clear, 1 the weather map's density (SevenSky Coverage, eq. 5.4)"};
+inline const Key<double> detailScale{"clouds.detail_scale", Range{0, 4}, "strength of the erosion by the detail noise (SevenSky DetailScale)"};
+inline const Key<double> scattering{"clouds.scattering_per_m", Range{0, 1}, "scattering coefficient of cloud at density 1 (SevenSky Scattering); single-scattering albedo ~1", "1/m"};
+// --- Cirrus ---------------------------------------------------------------------------------------
+inline const Key<double> cirrusCoverage{"clouds.cirrus_coverage", Range{0, 1}, "high-altitude cirrus coverage (SevenSky AltoCoverage)"};
+inline const Key<double> cirrusHeight{"clouds.cirrus_height_m", Range{4e3, 2e4}, "height of the cirrus layer above the ground"};
+// --- Rain -------------------------------------------------------------------------------------------
+inline const Key<double> rainDensity{"clouds.rain_density", Range{0, 1}, "rain from the raining clouds of the weather map (SevenSky RainDensity): rate = weather A x this x 20 mm/h; 0 dry"};
+// --- Weather map and its motion -----------------------------------------------------------------
+inline const Key<TextureRef> weatherMap{"clouds.weather_map", "weather map: R density, G base, B top (fractions of the layer), A rain density; repeat"};
+inline const Key<double> weatherExtent{"clouds.weather_extent_m", Range{1e3, 1e6}, "side of the square the weather map covers (it repeats)"};
+inline const Key<glm::dvec2> weatherOffset{"clouds.weather_offset_m", Range{-1e12, 1e12}, "the weather map's offset: uv = (ENU xy + offset) / extent (SevenSky CloudOffset)"};
+inline const Key<std::string> weatherFile{"clouds.weather_map_file", "an artist's weather map image (OpenImageIO; RGBA as clouds.weather_map); empty: generated"};
+inline const Key<int> seed{"clouds.seed", Range{0, 2147483647}, "seed of the generated weather map and noise"};
+inline const Key<glm::dvec2> wind{"clouds.wind_m_s", Range{-200, 200}, "constant wind (east, north) moving the clouds", "m/s"};
+// --- Noise and LUT textures ---------------------------------------------------------------------
+inline const Key<TextureRef> noiseBase{"clouds.noise_base", "3-D tileable base noise: R Perlin-Worley, GBA Worley fBm at 2x, 4x, 8x (128^3 default)"};
+inline const Key<TextureRef> noiseDetail{"clouds.noise_detail", "3-D tileable detail noise: RGB Worley fBm at three frequencies (32^3 default)"};
+inline const Key<TextureRef> curlNoise{"clouds.curl_noise", "2-D tileable curl noise for the cirrus (SevenSky HIGH_ALTITUDE_CLOUD_MAP)"};
+inline const Key<TextureRef> pathLut{"clouds.path_lut", "cloud-path LUT: entry and exit distances of the cloud shell by view zenith and altitude (SevenSky CLOUD_PATH_LUT)"};
+inline const Key<TextureRef> shadowMap{"clouds.shadow_map", "transmittance of the light through the clouds over the ground around the observer"};
+}  // namespace cloudkeys
+
+/// Rain rate under a weather-map cloud of rain density 1 when clouds.rain_density is 1, mm/h:
+/// a heavy shower (rain rates: light < 2.5, moderate 2.5-10, heavy 10-50 mm/h; AMS glossary).
+inline constexpr double kRainRateAtFullDensityMmH = 20.0;
+
+/// Checks the combination of the layer's keys (when declared): clouds.bottom_m + 100 m <=
+/// clouds.top_m < clouds.cirrus_height_m. Throws welkin::Error with a one-line message naming
+/// both keys and their values.
+void validateCloudLayer(const SkyVars& vars);
+
+}  // namespace welkin::generators
