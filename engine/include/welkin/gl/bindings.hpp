@@ -21,6 +21,7 @@ namespace welkin::gl::binding {
 // Uniform buffers (GL_UNIFORM_BUFFER binding points).
 inline constexpr int kCameraUbo = 0;      ///< welkin::CameraBlock (engine/shaders/camera.glsl), bound by the processor
 inline constexpr int kAtmosphereUbo = 1;  ///< the atmosphere block (generators/atmosphere/shaders/atmosphere.glsl)
+inline constexpr int kCloudUbo = 2;       ///< the cloud layer's block (generators/clouds: the density function's parameters)
 
 // Shader storage buffers (GL_SHADER_STORAGE_BUFFER binding points).
 inline constexpr int kSkyIrradianceSsbo = 0;  ///< SkyIrradiance's result (generators/atmosphere/shaders/sky_irradiance.glsl)
@@ -41,7 +42,17 @@ inline constexpr int kAerialTransmittanceLut = 7;  ///< aerial perspective trans
 inline constexpr int kShLut = 8;                   ///< sky.sh_lut (spherical-harmonic radiance field)
 inline constexpr int kShGroundLut = 9;             ///< the SH pass's ground-reflection input
 inline constexpr int kViewTransmittanceLut = 10;   ///< sky.view_transmittance_lut (1-D)
+// Texture units: the clouds (generators/clouds, skyelements/clouds and their readers, e.g. the
+// Rainbow), sampled together with the sky's LUTs above.
+inline constexpr int kCloudWeatherMap = 11;   ///< clouds.weather_map
+inline constexpr int kCloudNoiseBase = 12;    ///< clouds.noise_base (3-D)
+inline constexpr int kCloudNoiseDetail = 13;  ///< clouds.noise_detail (3-D)
+inline constexpr int kCloudCurlNoise = 14;    ///< clouds.curl_noise
+inline constexpr int kCloudPathLut = 15;      ///< clouds.path_lut
+inline constexpr int kCloudShadowMap = 9;     ///< clouds.shadow_map (shares 9 with the SH pass's ground input: never together)
 // Texture units: other passes.
+inline constexpr int kMiePhaseLut = 0;        ///< generators/optics: the 1-D phase LUT for the current drops (Rainbow; no sky view there)
+inline constexpr int kMiePhaseTable = 1;      ///< generators/optics: the 2-D phase table (angle x drop radius)
 inline constexpr int kSceneDepth = 0;     ///< the host's depth texture (aerial perspective applied to a scene)
 inline constexpr int kCombineSource = 0;  ///< the spectral-combine pass's source LUT
 inline constexpr int kMilkyWayTexture = 0;  ///< the night sky's Milky Way panorama (skyelements/nightsky)
@@ -87,6 +98,7 @@ struct Entry {
 inline constexpr std::array kTable = {
     Entry{"WELKIN_BINDING_CAMERA_UBO", kCameraUbo, Kind::UniformBuffer},
     Entry{"WELKIN_BINDING_ATMOSPHERE_UBO", kAtmosphereUbo, Kind::UniformBuffer},
+    Entry{"WELKIN_BINDING_CLOUD_UBO", kCloudUbo, Kind::UniformBuffer},
     Entry{"WELKIN_BINDING_SKY_IRRADIANCE_SSBO", kSkyIrradianceSsbo, Kind::StorageBuffer},
     Entry{"WELKIN_BINDING_HDR_TEXTURE", kHdrTexture, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_LOG_LUM_TEXTURE", kLogLumTexture, Kind::TextureUnit},
@@ -102,6 +114,14 @@ inline constexpr std::array kTable = {
     Entry{"WELKIN_BINDING_SH_LUT", kShLut, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_SH_GROUND_LUT", kShGroundLut, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_VIEW_TRANSMITTANCE_LUT", kViewTransmittanceLut, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_CLOUD_WEATHER_MAP", kCloudWeatherMap, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_CLOUD_NOISE_BASE", kCloudNoiseBase, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_CLOUD_NOISE_DETAIL", kCloudNoiseDetail, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_CLOUD_CURL_NOISE", kCloudCurlNoise, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_CLOUD_PATH_LUT", kCloudPathLut, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_CLOUD_SHADOW_MAP", kCloudShadowMap, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_MIE_PHASE_LUT", kMiePhaseLut, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_MIE_PHASE_TABLE", kMiePhaseTable, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_SCENE_DEPTH", kSceneDepth, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_COMBINE_SOURCE", kCombineSource, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_MILKY_WAY_TEXTURE", kMilkyWayTexture, Kind::TextureUnit},
