@@ -46,7 +46,7 @@ std::string join(const std::set<std::string>& s) {
 
 int run(const VarsOptions& o) {
     Logger log;
-    std::vector<std::string> names = o.elements.empty() ? elements::knownElements() : elements::parseElementList(o.elements);
+    std::vector<std::string> names = o.elements.empty() ? elements::knownElements() : elements::expandElementList(o.elements);
     auto ctx = gl::HeadlessContext::create({}, log);
     std::map<std::string, Row> rows;
     {

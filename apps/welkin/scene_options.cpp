@@ -43,7 +43,7 @@ void SceneOptions::addTo(CLI::App& app, bool required) {
     app.add_option("--height", heightM, "observer height above the ellipsoid, metres [-10000, 1e9]")->capture_default_str();
     std::string known;
     for (auto& k : elements::knownElements()) known += (known.empty() ? "" : ",") + k;
-    app.add_option("--elements", elements, "comma list of elements, composited in this order (known: " + known + ")")
+    app.add_option("--elements", elements, "comma list of elements, composited in this order; 'default' stands for the default set (known: " + known + ")")
         ->each([this](const std::string&) { elementsGiven = true; });
     app.add_option("--projection", projection, "perspective | fisheye | equirect | cube")->capture_default_str();
     app.add_option("--az", azDeg, "view azimuth, degrees from north through east (perspective)")->capture_default_str();
@@ -120,7 +120,7 @@ int SceneOptions::qualityLevel() const {
 }
 
 std::vector<std::string> SceneOptions::elementNames() const {
-    std::vector<std::string> names = elementsGiven ? elements::parseElementList(elements) : elements::defaultElements();
+    std::vector<std::string> names = elementsGiven ? elements::expandElementList(elements) : elements::defaultElements();
     for (auto& n : names) elements::makeElement(n);  // throws for an unknown name, listing the known ones
     return names;
 }

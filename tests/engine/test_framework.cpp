@@ -240,6 +240,14 @@ TEST_CASE("Element registry: generated from the folders, ordered by layer", "[cp
     CHECK(std::find(defaults.begin(), defaults.end(), "sky") != defaults.end());
     CHECK(elements::makeElement("grid")->name() == "grid");
     CHECK_THROWS_WITH(elements::makeElement("nope"), Catch::StartsWith("unknown element 'nope' (known: "));
+    // A scene's list: 'default' expands in place to the default set.
+    std::vector<std::string> expanded = elements::expandElementList("default, grid");
+    std::vector<std::string> expected = defaults;
+    expected.push_back("grid");
+    CHECK(expanded == expected);
+    CHECK(elements::expandElementList("grid,default").front() == "grid");
+    CHECK_THROWS_WITH(elements::expandElementList("sky,default"), "element list 'sky,default' names 'sky' twice");
+    CHECK_THROWS_WITH(elements::expandElementList("default,nope"), Catch::StartsWith("unknown element 'nope' (known: "));
     // Options are keys declared when the element is added.
     SkyProcessor p = cpuProcessor();
     p.add(elements::makeElement("grid"));

@@ -69,4 +69,20 @@ std::vector<std::string> parseElementList(std::string_view list) {
     return out;
 }
 
+std::vector<std::string> expandElementList(std::string_view list) {
+    std::vector<std::string> out;
+    for (std::string& item : parseElementList(list)) {
+        if (item == "default") {
+            for (std::string& n : defaultElements()) out.push_back(std::move(n));
+        } else {
+            makeElement(item);  // throws for an unknown name, listing the known ones
+            out.push_back(std::move(item));
+        }
+    }
+    for (size_t i = 0; i < out.size(); ++i)
+        for (size_t j = i + 1; j < out.size(); ++j)
+            if (out[i] == out[j]) throw Error("element list '" + std::string(list) + "' names '" + out[i] + "' twice");
+    return out;
+}
+
 }  // namespace welkin::elements

@@ -5,6 +5,7 @@
 //   for (auto* d : welkin::elements::descriptors()) std::puts(d->name.c_str());  // sky, grid, ...
 //   processor.add(welkin::elements::makeElement("grid"));        // throws listing known names
 //   for (auto& n : welkin::elements::defaultElements()) processor.add(welkin::elements::makeElement(n));
+//   for (auto& n : welkin::elements::expandElementList("default,grid")) ...   // the default set + a grid
 #pragma once
 #include <welkin/element.hpp>
 
@@ -29,5 +30,10 @@ std::vector<std::string> defaultElements();
 std::unique_ptr<SkyElement> makeElement(std::string_view name);
 /// Splits a comma list ("stars,sky,grid"), trimming spaces; empty items are an error.
 std::vector<std::string> parseElementList(std::string_view list);
+/// A scene's element list: parseElementList() with the item `default` replaced by
+/// defaultElements(), in place ("default,clouds,rainbow": the default scene, then clouds, then a
+/// rainbow over them). Throws welkin::Error for a name listed twice (two instances of one element
+/// would declare the same options twice) or an unknown name (listing the known ones).
+std::vector<std::string> expandElementList(std::string_view list);
 
 }  // namespace welkin::elements
