@@ -1,0 +1,167 @@
+// welkin bench rainbow: the cost of the Rainbow (issue 12 item 5). (1) The exact-Mie 2-D table's
+// build time for each quality (built afresh, not read from the disk cache; threads: all cores)
+// and the 1-D table of the default drops from it (what a change of drop size costs). (2) The
+// rainbow pass per frame at 800x450 and 1280x720 (perspective, 100 deg, towards the anti-solar
+// point; a 5 mm/h shower of 0.5 mm drops, Sun 10 deg up): the element's render time (processor
+// instrumented: glFinish around it), timed alternately with a trivial fullscreen pass of the same
+// size; "x trivial" is the median of per-pair ratios, so other jobs on the machine slow both
+// alike. (3) The same with no rain (the element skips its draw). Target: pass <= 2x trivial.
+#include "bench_util.hpp"
+#include "command.hpp"
+
+#include <welkin/csv.hpp>
+#include <welkin/elements/rainbow.hpp>
+#include <welkin/error.hpp>
+#include <welkin/generators/mie_tables.hpp>
+#include <welkin/gl/context.hpp>
+#include <welkin/gl/objects.hpp>
+#include <welkin/gl/shader.hpp>
+#include <welkin/keys.hpp>
+#include <welkin/processor.hpp>
+
+#include <epoxy/gl.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace welkin::cli {
+namespace {
+
+constexpr double kDeg = M_PI / 180;
+
+struct RainbowBenchOptions {
+    int repeats = 10;
+    std::string csv = "bench_rainbow.csv";
+    std::string qualities = "low,default";
+};
+
+class TrivialPass {
+public:
+    TrivialPass(int w, int h) : w_(w), h_(h), target_(w, h, GL_RGBA32F) {
+        vao_ = gl::VertexArray::create();
+        prog_ = gl::ProgramBuilder("trivial")
+                    .fullscreenVertex()
+                    .fragment("trivial.frag", "out vec4 o; void main() { o = vec4(gl_FragCoord.xy * 1e-3, 1.0, 1.0); }")
+                    .build();
+        fbo_ = gl::Framebuffer::create();
+        fbo_.attach(GL_COLOR_ATTACHMENT0, target_);
+        fbo_.checkComplete("bench rainbow");
+    }
+    void draw() {
+        fbo_.bind();
+        glViewport(0, 0, w_, h_);
+        vao_.bind();
+        prog_.use();
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+    }
+
+private:
+    int w_, h_;
+    gl::Texture2D target_;
+    gl::VertexArray vao_;
+    gl::Program prog_;
+    gl::Framebuffer fbo_;
+};
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? NAN : v[v.size() / 2];
+}
+
+std::vector<std::string> split(const std::string& s) {
+    std::vector<std::string> out;
+    std::stringstream ss(s);
+    for (std::string item; std::getline(ss, item, ',');)
+        if (!item.empty()) out.push_back(item);
+    return out;
+}
+
+int run(const RainbowBenchOptions& o) {
+    if (o.repeats < 1 || o.repeats > 1000) throw Error("--repeats " + std::to_string(o.repeats) + " not in [1, 1000]");
+    Logger log;
+    auto ctx = gl::HeadlessContext::create({}, log);
+    std::unique_ptr<CsvWriter> f;
+    if (!o.csv.empty()) f = std::make_unique<CsvWriter>(o.csv, std::vector<std::string>{"what", "quality_or_size", "ms", "trivial_ms", "ratio_trivial"});
+    if (f) f->comment("welkin bench rainbow, median of " + std::to_string(o.repeats) + " frames, " + ctx->description());
+    std::printf("welkin bench rainbow (%s)\n\n| what | quality / size | ms | trivial ms | x trivial |\n|---|---|---|---|---|\n",
+                ctx->description().c_str());
+    auto emit = [&](const std::string& what, const std::string& q, double ms, double triv, double ratio) {
+        std::printf("| %s | %s | %.3f | %.3f | %.2f |\n", what.c_str(), q.c_str(), ms, triv, ratio);
+        if (f) f->row(what, q, ms, triv, ratio);
+    };
+    // (1) Tables.
+    for (const std::string& name : split(o.qualities)) {
+        const auto q = generators::MieTable::quality(name);
+        const generators::MieTable t = generators::MieTable::build(q);
+        emit("2-D Mie table build", name + " (" + std::to_string(q.wavelengths) + " wl, " + std::to_string(q.radii) + " radii, " +
+                                        std::to_string(q.angles) + " angles)",
+             t.buildSeconds * 1e3, NAN, NAN);
+        const auto d = generators::DropDistribution::gamma(0.5e-3, 0.02, 5.0);
+        const double ms = medianMs(o.repeats, [&] { (void)generators::integrate(t, d, generators::SunDisk::Uniform); });
+        emit("1-D table of 0.5 mm drops", name, ms, NAN, NAN);
+    }
+    // (2), (3) Per frame.
+    bool met = true;
+    for (auto [w, h] : {std::pair{800, 450}, std::pair{1280, 720}}) {
+        for (double rate : {5.0, 0.0}) {
+            SkyProcessor p(SkyVars::earth(), log, ProcessorOptions{.timing = true, .astronomy = false});
+            Camera cam;
+            cam.projection = Projection::Perspective;
+            cam.azimuthRad = 0.0;
+            cam.altitudeRad = 20 * kDeg;
+            cam.verticalFovRad = 100 * kDeg;
+            cam.width = w;
+            cam.height = h;
+            p.setCamera(cam);
+            p.setExposure({.ev100 = 12});
+            auto e = std::make_unique<elements::Rainbow>();
+            elements::Rainbow* bow = e.get();
+            p.add(std::move(e));
+            p.vars().set(keys::sunDirection, directionFromAzAlt(M_PI, 10 * kDeg));
+            p.vars().set(generators::rainkeys::rate, rate);
+            p.renderFrame();  // tables, programs
+            TrivialPass trivial(w, h);
+            std::vector<double> ms, tms, ratio;
+            for (int i = 0; i < o.repeats; ++i) {
+                p.renderFrame();
+                const nlohmann::json j = p.stats();
+                double renderMs = 0;
+                for (const auto& el : j["elements"])
+                    if (el["name"] == "rainbow") renderMs = el["render_ms"].get<double>();
+                const double t = medianMs(1, [&] { trivial.draw(); });
+                ms.push_back(renderMs);
+                tms.push_back(t);
+                ratio.push_back(renderMs / t);
+            }
+            const std::string size = std::to_string(w) + "x" + std::to_string(h);
+            const double r = median(ratio);
+            emit(rate > 0 ? "rainbow pass, 5 mm/h shower" : "rainbow pass, no rain (skipped)", size + (bow->drewLastFrame() ? "" : ", not drawn"),
+                 median(ms), median(tms), r);
+            if (rate > 0 && r > 2.0) met = false;
+        }
+    }
+    std::printf("\ntarget: rainbow pass <= 2x the trivial pass: %s\n", met ? "met" : "NOT met");
+    if (f) {
+        f->close();
+        std::printf("wrote %s\n", o.csv.c_str());
+    }
+    return 0;
+}
+
+BenchRegistrar reg("rainbow", "Mie table build times, the rainbow pass's cost against a trivial pass, and with no rain", [](CLI::App& sub) {
+    auto* o = new RainbowBenchOptions();
+    sub.add_option("--repeats", o->repeats, "timed frames per row (median reported), [1, 1000]")->capture_default_str();
+    sub.add_option("--csv", o->csv, "write the rows as CSV (empty: none)")->capture_default_str();
+    sub.add_option("--qualities", o->qualities, "comma list of table qualities to build: low, default, high")->capture_default_str();
+    return [o]() { return run(*o); };
+});
+
+}  // namespace
+}  // namespace welkin::cli

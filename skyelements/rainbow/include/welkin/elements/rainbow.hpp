@@ -1,0 +1,63 @@
+// Rainbow: the primary and secondary bows, Alexander's dark band, supernumeraries, fogbows and
+// the glory, from the exact Lorenz-Mie phase function of the drops (generators/optics), where
+// rain actually is: a user's rain curtain and, when the Clouds element runs, the rain under its
+// clouds (the weather map's channel A). docs/rainbow.md.
+//
+//   processor.add(welkin::elements::makeElement("rainbow"));               // Layer Foreground
+//   processor.vars().set(welkin::generators::rainkeys::rate, 5.0);           // mm/h
+//   processor.vars().set(welkin::generators::rainkeys::dropRadius, 0.5e-3);  // m
+//   // command line: welkin render --elements sky,rainbow --var rain.rate_mm_h=5
+//   //                 --var rain.drop_radius_m=0.0005 --out bow.png
+//
+// The curtain: the sector of a cylindrical shell around the observer, horizontal distance
+// [rain.distance_m, + rain.depth_m], height [0, rain.height_m], azimuth within
+// rain.half_width_rad of the anti-solar azimuth. Radiance (cd/m^2) along the view ray: single
+// scattering of the light (the Sun; the Moon when the Sun is below the horizon: moonbows) with
+// the 1-D phase LUT, attenuated by the rain in front and along the light's path inside the
+// curtain (closed form, docs/rainbow.md); transmittance exp(-b_ext s) of what is behind.
+// Observer above the rain (observer.height_m > rain.height_m, rain.distance_m = 0): a fog layer
+// below, with the glory around the anti-solar point.
+// Nothing is drawn (no GL call) when no rain is declared (rain.rate_mm_h = 0 and no clouds'
+// rain) or when the light is too high for any bow: see Rainbow::bowPossible().
+#pragma once
+#include <welkin/element.hpp>
+#include <welkin/generators/rain_keys.hpp>
+#include <welkin/gl/projection_programs.hpp>
+
+#include <memory>
+
+namespace welkin::elements {
+
+namespace rainbowkeys {
+inline constexpr double kDeg = 0.017453292519943295;
+inline const Key<double> distance{"rain.distance_m", Range{0, 1e5}, "horizontal distance from the observer to the near face of the rain curtain"};
+inline const Key<double> depth{"rain.depth_m", Range{1, 1e5}, "horizontal depth of the rain curtain"};
+inline const Key<double> height{"rain.height_m", Range{1, 2e4}, "top of the rain curtain above the ground (the cloud base)"};
+inline const Key<double> halfWidth{"rain.half_width_rad", Range{1 * kDeg, 180 * kDeg}, "azimuthal half-width of the curtain around the anti-solar azimuth"};
+}  // namespace rainbowkeys
+
+class Rainbow final : public SkyElement {
+public:
+    Rainbow();
+    /// The drawing rule: true if any bow (or the glory) of the light at elevation `lightElevation`
+    /// (rad) can fall on rain. The outer edge of the secondary bow lies 54 deg from the anti-solar
+    /// point (51 deg + its width and the Sun's radius), so with the lowest rain direction at
+    /// elevation -atan(h / d) (observer height h above the ground, curtain at distance d; -0 on
+    /// flat ground) a bow is possible iff 54 deg - lightElevation >= that lowest elevation. On flat
+    /// ground: the primary needs the light below 42 deg (the table takes care of that), any bow
+    /// below 54 deg.
+    static bool bowPossible(double lightElevation, double observerHeightM, double curtainDistanceM);
+    /// True if the last render() issued its draw (false: skipped, nothing to see).
+    bool drewLastFrame() const { return drew_; }
+
+private:
+    void doInit(InitContext& ctx) override;
+    void doRender(const FrameContext& ctx) override;
+    void doRelease() override;
+
+    std::shared_ptr<generators::MiePhaseGenerator> mie_;
+    gl::ProjectionPrograms programs_, cloudPrograms_;
+    bool drew_ = false;
+};
+
+}  // namespace welkin::elements

@@ -1,0 +1,108 @@
+// The Rainbow: single scattering of the Sun's (or Moon's) light by rain drops along the view ray,
+// with the drops' Mie phase function (rain.phase_lut), composited as radiance + transmittance.
+// Needs engine/camera.glsl, engine/composite.glsl and optics/mie_angle.glsl before it.
+layout(binding = WELKIN_BINDING_MIE_PHASE_LUT) uniform sampler1D u_phase;  // rgb: 1/sr per channel
+uniform vec3 u_light;        // unit vector to the light, world ENU
+uniform vec3 u_E;            // light's illuminance at the rain, lux per channel
+uniform vec3 u_sca;          // curtain: scattering coefficient, 1/m per channel
+uniform vec3 u_ext;          // curtain: extinction coefficient, 1/m per channel
+uniform float u_dist;        // curtain: horizontal distance of its near face, m
+uniform float u_depth;       // curtain: horizontal depth, m
+uniform float u_height;      // curtain: top above the ground, m
+uniform vec2 u_axis;         // curtain: horizontal unit vector to its middle (the anti-light azimuth)
+uniform float u_cosHalfWidth;// curtain: cos of its azimuthal half-width
+uniform float u_obsHeight;   // observer above the ground, m
+#ifdef WELKIN_RAINBOW_CLOUDS
+layout(binding = WELKIN_BINDING_CLOUD_WEATHER_MAP) uniform sampler2D u_weather;  // A: rain density
+uniform float u_weatherExtent;   // m
+uniform vec2 u_weatherOffset;    // m
+uniform float u_cloudBottom, u_cloudTop;  // m above the ground
+uniform float u_rainRateScale;   // mm/h at weather A = 1 (clouds.rain_density x 20)
+uniform vec3 u_scaPerWater, u_extPerWater;  // 1/m per kg/m^3 of liquid water
+uniform float u_marchMax;        // m: farthest rain sample
+#endif
+
+// Optical depth along the light from a point at height z and horizontal distance rho into the
+// curtain: out through its top or back through its near face, whichever is shorter (the light
+// comes from the observer's side of the curtain).
+float lightPath(float z, float rho, float sinEl, float cosEl) {
+    float up = (u_height - z) / max(sinEl, 1e-3);
+    float face = (rho - u_dist) / max(cosEl, 1e-3);
+    return max(min(up, face), 0.0);
+}
+
+void main() {
+    vec3 dir;
+    if (!welkin_viewDirection(welkin_pixel(), dir)) discard;
+    float cosTheta = clamp(dot(dir, u_light), -1.0, 1.0);
+    // Scattering angle between the light's travel (-u_light) and the scattered ray (-dir) toward the
+    // observer: cos = dot(-u_light, -dir); pi at the anti-solar point.
+    float theta = acos(cosTheta);
+    vec3 phase = texture(u_phase, welkin_mieUFromAngle(theta)).rgb;
+    float sinEl = max(u_light.z, 0.0), cosEl = sqrt(max(1.0 - u_light.z * u_light.z, 0.0));
+    vec3 radiance = vec3(0.0), transmittance = vec3(1.0);
+
+    // (a) The curtain: a sector of a cylindrical shell around the observer.
+    float h = length(dir.xy);
+    bool inSector = h > 1e-6 ? dot(dir.xy / h, u_axis) >= u_cosHalfWidth : u_dist <= 0.0;
+    if (inSector && max(u_sca.r, max(u_sca.g, u_sca.b)) > 0.0) {
+        float t0 = h > 1e-6 ? u_dist / h : 0.0;
+        float t1 = h > 1e-6 ? (u_dist + u_depth) / h : 1e7;
+        // Heights in [0, u_height] along z(t) = u_obsHeight + t dir.z.
+        if (abs(dir.z) > 1e-7) {
+            float ta = (0.0 - u_obsHeight) / dir.z, tb = (u_height - u_obsHeight) / dir.z;
+            t0 = max(t0, min(ta, tb));
+            t1 = min(t1, max(ta, tb));
+        } else if (u_obsHeight < 0.0 || u_obsHeight > u_height) {
+            t1 = t0;
+        }
+        t0 = max(t0, 0.0);
+        float s = t1 - t0;
+        if (s > 0.0) {
+            // The light's optical depth is linear in t on each branch of lightPath: take the branch
+            // at the segment's middle, l(t) = l0 + dl (t - t0); then
+            //   L = E p b_sca int_0^s exp(-b_ext (t' + l0 + dl t')) dt'
+            //     = E p b_sca exp(-b_ext l0) (1 - exp(-b_ext (1 + dl) s)) / (b_ext (1 + dl)).
+            float tm = 0.5 * (t0 + t1);
+            float zm = u_obsHeight + tm * dir.z, rm = tm * h;
+            float up = (u_height - zm) / max(sinEl, 1e-3), face = (rm - u_dist) / max(cosEl, 1e-3);
+            float dl = up < face ? -dir.z / max(sinEl, 1e-3) : h / max(cosEl, 1e-3);
+            float l0 = lightPath(u_obsHeight + t0 * dir.z, t0 * h, sinEl, cosEl);
+            dl = max(dl, -0.999);
+            vec3 k = u_ext * (1.0 + dl);
+            vec3 integral = (1.0 - exp(-k * s)) / max(k, vec3(1e-12));
+            radiance += u_E * phase * u_sca * exp(-u_ext * l0) * integral;
+            transmittance *= exp(-u_ext * s);
+        }
+    }
+
+#ifdef WELKIN_RAINBOW_CLOUDS
+    // (b) Rain under the clouds of the weather map: A x rate scale, from the cloud's base to the
+    // ground. 32 steps to u_marchMax (or the ray's exit from below the layer's top).
+    {
+        float tEnd = u_marchMax;
+        if (dir.z > 1e-4) tEnd = min(tEnd, (u_cloudTop - u_obsHeight) / dir.z);
+        if (dir.z < -1e-4) tEnd = min(tEnd, -u_obsHeight / dir.z);
+        const int N = 32;
+        float dt = max(tEnd, 0.0) / float(N);
+        for (int i = 0; i < N; ++i) {
+            float t = (float(i) + 0.5) * dt;
+            vec3 p = vec3(t * dir.xy, u_obsHeight + t * dir.z);
+            vec4 w = texture(u_weather, (p.xy + u_weatherOffset) / u_weatherExtent);
+            float base = u_cloudBottom + w.g * (u_cloudTop - u_cloudBottom);
+            float rate = w.a * u_rainRateScale;
+            if (rate <= 0.0 || p.z > base || p.z < 0.0) continue;
+            float water = 0.0889e-3 * pow(rate, 0.84);   // kg/m^3, Marshall-Palmer (mie_tables.hpp)
+            vec3 bs = u_scaPerWater * water, be = u_extPerWater * water;
+            // Light through the rain on its way to the point: down the column from the cloud's base,
+            // or in from the side of the shower, taken as 1 km away (a shower cell's radius; the
+            // weather map is not marched towards the light).
+            vec3 sun = exp(-be * min((base - p.z) / max(sinEl, 0.05), 1000.0));
+            vec3 stepT = exp(-be * dt);
+            radiance += transmittance * u_E * phase * bs * sun * (1.0 - stepT) / max(be, vec3(1e-12));
+            transmittance *= stepT;
+        }
+    }
+#endif
+    welkin_output(radiance, transmittance);
+}

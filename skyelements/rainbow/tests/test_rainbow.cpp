@@ -1,0 +1,157 @@
+// The Rainbow element: the bow where the tables put it, nothing drawn without rain or with the
+// Sun too high, the clouds' rain from a weather map, finite non-negative deterministic images.
+#include <catch2/catch.hpp>
+
+#include "gl_test_context.hpp"
+
+#include <welkin/elements/rainbow.hpp>
+#include <welkin/generators/cloud_keys.hpp>
+#include <welkin/generators/lights.hpp>
+#include <welkin/gl/objects.hpp>
+#include <welkin/keys.hpp>
+#include <welkin/processor.hpp>
+
+#include <epoxy/gl.h>
+
+#include <cmath>
+
+using namespace welkin;
+namespace rk = welkin::generators::rainkeys;
+
+namespace {
+constexpr double kDeg = M_PI / 180.0;
+
+struct Scene {
+    SkyProcessor p{SkyVars::earth(), Logger(), ProcessorOptions{.astronomy = false}};
+    elements::Rainbow* bow = nullptr;
+    Camera cam;
+    explicit Scene(double sunAltDeg) {
+        cam.projection = Projection::Perspective;
+        cam.azimuthRad = 0.0;            // north: the anti-solar azimuth of a southern Sun
+        cam.altitudeRad = 25.0 * kDeg;
+        cam.verticalFovRad = 100.0 * kDeg;
+        cam.width = 96;
+        cam.height = 96;
+        p.setCamera(cam);
+        p.setExposure({.ev100 = 12});
+        auto e = std::make_unique<elements::Rainbow>();
+        bow = e.get();
+        p.add(std::move(e));
+        p.vars().set(rk::tableQuality, std::string("low"));  // built once, then read from the disk cache
+        p.vars().set(keys::sunDirection, directionFromAzAlt(M_PI, sunAltDeg * kDeg));
+        // An optically thick curtain (tau >> 1 on every ray through it): the radiance then varies
+        // with the direction only through the phase function and the slowly varying light path,
+        // so the brightest pixel is the bow's.
+        p.vars().set(elements::rainbowkeys::distance, 500.0);
+        p.vars().set(elements::rainbowkeys::depth, 5e4);
+        p.vars().set(elements::rainbowkeys::height, 2e4);
+    }
+    Image render() {
+        p.renderFrame();
+        return p.readHdr();
+    }
+    // Luminance-weighted maximum over the pixels of the angle from the anti-solar point (deg) of
+    // the brightest pixel between 35 and 47 deg from it.
+    double brightestAngle(const Image& img, glm::dvec3 antisolar) const {
+        double best = -1, bestA = 0;
+        for (int y = 0; y < img.height; ++y)
+            for (int x = 0; x < img.width; ++x) {
+                auto d = cam.directionAt({x + 0.5, y + 0.5});
+                if (!d) continue;
+                const double a = std::acos(std::clamp(glm::dot(*d, antisolar), -1.0, 1.0)) / kDeg;
+                if (a < 35 || a > 47) continue;
+                const double Y = 0.2126 * img.at(x, y, 0) + 0.7152 * img.at(x, y, 1) + 0.0722 * img.at(x, y, 2);
+                if (Y > best) {
+                    best = Y;
+                    bestA = a;
+                }
+            }
+        return bestA;
+    }
+};
+
+bool finiteNonNegative(const Image& img) {
+    for (float v : img.pixels)
+        if (!std::isfinite(v) || v < 0.0f) return false;
+    return true;
+}
+double peak(const Image& img) {
+    double m = 0;
+    for (float v : img.pixels) m = std::max(m, double(v));
+    return m;
+}
+}  // namespace
+
+TEST_CASE("Rainbow: no rain, no bow, no draw", "[gl][rainbow]") {
+    test::glContext();
+    Scene s(20.0);
+    const Image img = s.render();
+    CHECK_FALSE(s.bow->drewLastFrame());
+    CHECK(peak(img) == 0.0);
+}
+
+TEST_CASE("Rainbow: a shower at sunset has its primary 42 deg from the anti-solar point", "[gl][rainbow]") {
+    test::glContext();
+    Scene s(10.0);
+    s.p.vars().set(rk::rate, 5.0);
+    s.p.vars().set(rk::dropRadius, 0.5e-3);
+    const Image img = s.render();
+    CHECK(s.bow->drewLastFrame());
+    CHECK(finiteNonNegative(img));
+    CHECK(peak(img) > 100.0);  // a bow of hundreds of cd/m^2 under a low Sun (1e5 lx x 0.3 reddened)
+    const glm::dvec3 antisolar = -directionFromAzAlt(M_PI, 10.0 * kDeg);
+    // 96 px over 100 deg: ~1.05 deg per pixel, so the 42 +- 0.5 deg widens by one pixel.
+    CHECK(s.brightestAngle(img, antisolar) == Approx(42.0).margin(1.6));
+    // Same inputs, same image (bit for bit).
+    const Image again = s.render();
+    CHECK(again.pixels == img.pixels);
+}
+
+TEST_CASE("Rainbow: the Sun above every bow draws nothing", "[gl][rainbow]") {
+    test::glContext();
+    Scene s(60.0);
+    s.p.vars().set(rk::rate, 5.0);
+    const Image img = s.render();
+    CHECK_FALSE(s.bow->drewLastFrame());
+    CHECK(peak(img) == 0.0);
+    CHECK_FALSE(elements::Rainbow::bowPossible(55.0 * kDeg, 0.0, 2000.0));
+    CHECK(elements::Rainbow::bowPossible(41.0 * kDeg, 0.0, 2000.0));
+    CHECK(elements::Rainbow::bowPossible(60.0 * kDeg, 2000.0, 0.0));  // above a fog layer: the glory
+}
+
+TEST_CASE("Rainbow: the rain under the clouds of a weather map", "[gl][rainbow]") {
+    test::glContext();
+    Scene s(10.0);
+    // A 4x4 weather map following cloud_keys.hpp: R density 1, G base at the layer's bottom,
+    // B top 1, A rain density 1 (rain everywhere under the layer).
+    gl::Texture2D weather(4, 4, GL_RGBA32F);
+    std::vector<float> px(4 * 4 * 4);
+    for (std::size_t i = 0; i < 16; ++i) {
+        px[4 * i + 0] = 1.0f;
+        px[4 * i + 1] = 0.0f;
+        px[4 * i + 2] = 1.0f;
+        px[4 * i + 3] = 1.0f;
+    }
+    weather.upload(GL_RGBA, GL_FLOAT, px.data());
+    weather.setWrap(GL_REPEAT);
+    weather.setFilter(GL_LINEAR);
+    namespace ck = welkin::generators::cloudkeys;
+    SkyVars& v = s.p.vars();
+    v.declare(ck::weatherMap, weather.ref());
+    v.declare(ck::weatherExtent, 1e4);
+    v.declare(ck::weatherOffset, glm::dvec2(0.0));
+    v.declare(ck::bottom, 8000.0);  // high base: optically thick rain on every ray (see Scene)
+    v.declare(ck::top, 1e4);
+    v.declare(ck::rainDensity, 0.25);  // 5 mm/h
+    const Image img = s.render();
+    CHECK(s.bow->drewLastFrame());  // rain.rate_mm_h is 0: the bow comes from the clouds' rain
+    CHECK(finiteNonNegative(img));
+    CHECK(peak(img) > 100.0);
+    const glm::dvec3 antisolar = -directionFromAzAlt(M_PI, 10.0 * kDeg);
+    CHECK(s.brightestAngle(img, antisolar) == Approx(42.0).margin(1.6));
+    // Dry clouds: nothing.
+    v.set(ck::rainDensity, 0.0);
+    const Image dry = s.render();
+    CHECK_FALSE(s.bow->drewLastFrame());
+    CHECK(peak(dry) == 0.0);
+}
