@@ -34,16 +34,15 @@ float lightPath(float z, float rho, float sinEl, float cosEl) {
 void main() {
     vec3 dir;
     if (!welkin_viewDirection(welkin_pixel(), dir)) discard;
-    float cosTheta = clamp(dot(dir, u_light), -1.0, 1.0);
-    // Scattering angle between the light's travel (-u_light) and the scattered ray (-dir) toward the
-    // observer: cos = dot(-u_light, -dir); pi at the anti-solar point.
-    float theta = acos(cosTheta);
-    vec3 phase = texture(u_phase, welkin_mieUFromAngle(theta)).rgb;
     float sinEl = max(u_light.z, 0.0), cosEl = sqrt(max(1.0 - u_light.z * u_light.z, 0.0));
     vec3 radiance = vec3(0.0), transmittance = vec3(1.0);
+    float s = 0.0;  // length of the view ray in the curtain, m
 
     // (a) The curtain: a sector of a cylindrical shell around the observer.
     float h = length(dir.xy);
+    // Segment first; the phase lookup (acos, texture) only where some rain is: a ray missing the
+    // curtain (the ground, the sky above it, outside its sector) is discarded (no blend either).
+    vec3 phase = vec3(0.0);
     bool inSector = h > 1e-6 ? dot(dir.xy / h, u_axis) >= u_cosHalfWidth : u_dist <= 0.0;
     if (inSector && max(u_sca.r, max(u_sca.g, u_sca.b)) > 0.0) {
         float t0 = h > 1e-6 ? u_dist / h : 0.0;
@@ -57,8 +56,12 @@ void main() {
             t1 = t0;
         }
         t0 = max(t0, 0.0);
-        float s = t1 - t0;
+        s = t1 - t0;
         if (s > 0.0) {
+            // Scattering angle between the light's travel (-u_light) and the scattered ray (-dir)
+            // toward the observer: cos = dot(-u_light, -dir); pi at the anti-solar point.
+            float cosTheta = clamp(dot(dir, u_light), -1.0, 1.0);
+            phase = texture(u_phase, welkin_mieUFromAngle(acos(cosTheta))).rgb;
             // The light's optical depth is linear in t on each branch of lightPath: take the branch
             // at the segment's middle, l(t) = l0 + dl (t - t0); then
             //   L = E p b_sca int_0^s exp(-b_ext (t' + l0 + dl t')) dt'
@@ -76,7 +79,13 @@ void main() {
         }
     }
 
-#ifdef WELKIN_RAINBOW_CLOUDS
+#ifndef WELKIN_RAINBOW_CLOUDS
+    if (!(s > 0.0)) discard;
+#else
+    if (!(s > 0.0)) {
+        float cosTheta = clamp(dot(dir, u_light), -1.0, 1.0);
+        phase = texture(u_phase, welkin_mieUFromAngle(acos(cosTheta))).rgb;
+    }
     // (b) Rain under the clouds of the weather map: A x rate scale, from the cloud's base to the
     // ground. 32 steps to u_marchMax (or the ray's exit from below the layer's top).
     {
