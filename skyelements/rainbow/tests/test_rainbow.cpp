@@ -4,6 +4,7 @@
 
 #include "gl_test_context.hpp"
 
+#include <welkin/astro/astro_keys.hpp>
 #include <welkin/elements/rainbow.hpp>
 #include <welkin/generators/cloud_keys.hpp>
 #include <welkin/generators/lights.hpp>
@@ -154,4 +155,20 @@ TEST_CASE("Rainbow: the rain under the clouds of a weather map", "[gl][rainbow]"
     const Image dry = s.render();
     CHECK_FALSE(s.bow->drewLastFrame());
     CHECK(peak(dry) == 0.0);
+}
+
+TEST_CASE("Rainbow: a moonbow when the Sun is down", "[gl][rainbow]") {
+    test::glContext();
+    Scene s(-20.0);  // night
+    SkyVars& v = s.p.vars();
+    v.set(rk::rate, 5.0);
+    v.set(keys::moonDirection, directionFromAzAlt(M_PI, 10.0 * kDeg));  // full Moon low in the south
+    v.set(astro::keys::moonPhaseAngle, 0.0);
+    const Image img = s.render();
+    CHECK(s.bow->drewLastFrame());
+    CHECK(finiteNonNegative(img));
+    // The full Moon gives ~0.1-0.3 lx at 10 deg: the moonbow is ~1e-6 of the day's bow (< 1 cd/m^2).
+    CHECK(peak(img) > 0.0);
+    CHECK(peak(img) < 1.0);
+    CHECK(s.brightestAngle(img, -directionFromAzAlt(M_PI, 10.0 * kDeg)) == Approx(42.0).margin(1.6));
 }
