@@ -19,6 +19,8 @@
 #include <mutex>
 #include <thread>
 
+#include <unistd.h>
+
 namespace welkin::generators {
 
 namespace {
@@ -269,7 +271,9 @@ bool readCache(const std::string& path, MieTable& t) {
 void writeCache(const std::string& path, const MieTable& t) {
     std::error_code ec;
     std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
-    const std::string tmp = path + ".tmp" + std::to_string(std::hash<std::thread::id>{}(std::this_thread::get_id()));
+    // A temporary name unique to this process and thread, renamed over the final name when complete.
+    const std::string tmp = path + ".tmp" + std::to_string(::getpid()) + "-" +
+                            std::to_string(std::hash<std::thread::id>{}(std::this_thread::get_id()));
     {
         std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
         if (!out) return;

@@ -48,7 +48,7 @@ public:
     double phase(double mu) const;
     /// Phase function at many mu at once (same values as phase(); faster).
     void phases(const std::vector<double>& mu, std::vector<double>& out) const;
-    /// (|S1|^2 + |S2|^2) / 2 at mu: the unnormalised intensity (x^2 Qsca / 2 times phase * 2 pi ...).
+    /// (|S1|^2 + |S2|^2) / 2 at mu, dimensionless: phase(mu) = intensity(mu) / (pi x^2 Qsca).
     double intensity(double mu) const;
 
     const std::vector<std::complex<double>>& a() const { return a_; }
