@@ -1,6 +1,7 @@
 #include <welkin/elements/rainbow.hpp>
 #include <welkin/embedded/optics_shaders.hpp>
 #include <welkin/embedded/rainbow_shaders.hpp>
+#include <welkin/error.hpp>
 #include <welkin/generators/cloud_keys.hpp>
 #include <welkin/generators/lights.hpp>
 #include <welkin/gl/bindings.hpp>
@@ -43,6 +44,14 @@ Rainbow::Rainbow() : SkyElement("rainbow") {
 bool Rainbow::bowPossible(double lightElevation, double observerHeightM, double curtainDistanceM) {
     const double lowest = -std::atan2(std::max(observerHeightM, 0.0), std::max(curtainDistanceM, 0.0));
     return 54.0 * rainbowkeys::kDeg - lightElevation >= lowest;
+}
+
+void Rainbow::doValidateOptions(const SkyVars& vars) const {
+    // Before any GL work: the string keys' values (one-line errors naming the key).
+    (void)generators::dropDistributionFromVars(vars);
+    const std::string q = vars.get(rk::tableQuality);
+    if (q != "low" && q != "default" && q != "high")
+        throw Error("rain.table_quality: '" + q + "' is not one of low, default, high");
 }
 
 void Rainbow::doInit(InitContext& ctx) {

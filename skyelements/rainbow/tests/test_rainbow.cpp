@@ -172,3 +172,15 @@ TEST_CASE("Rainbow: a moonbow when the Sun is down", "[gl][rainbow]") {
     CHECK(peak(img) < 1.0);
     CHECK(s.brightestAngle(img, -directionFromAzAlt(M_PI, 10.0 * kDeg)) == Approx(42.0).margin(1.6));
 }
+
+TEST_CASE("Rainbow: bad options are one-line errors before any GL work", "[cpu][rainbow]") {
+    SkyVars v = SkyVars::earth();
+    elements::Rainbow r;
+    r.declareOptions(v);
+    CHECK_NOTHROW(r.validateOptions(v));
+    v.set(rk::tableQuality, std::string("ultra"));
+    CHECK_THROWS_WITH(r.validateOptions(v), "rain.table_quality: 'ultra' is not one of low, default, high");
+    v.set(rk::tableQuality, std::string("low"));
+    v.set(rk::distribution, std::string("lognormal"));
+    CHECK_THROWS_WITH(r.validateOptions(v), "rain.distribution: 'lognormal' is not one of gamma, marshall_palmer");
+}

@@ -52,6 +52,7 @@ public:
 
 private:
     void doInit(InitContext& ctx) override;
+    void doValidateOptions(const SkyVars& vars) const override;
     void doRender(const FrameContext& ctx) override;
     void doRelease() override;
 
