@@ -163,3 +163,17 @@ TEST_CASE("Rainbow tables: the fogbow of 10 um drops is wide and nearly white", 
     CHECK(fogChroma < 0.02);
     CHECK(rainChroma > 0.03);
 }
+
+TEST_CASE("Rainbow tables: the glory of 10 um drops around the anti-solar point", "[cpu][rainbow]") {
+    // The glory: backscatter enhanced far above the smooth phase a few degrees away (measured 5x;
+    // require 3x), with coloured rings whose red lies outside their blue (as for every
+    // diffraction ring: the ring radius grows with the wavelength).
+    const MiePhase1D fog = bowTable(10e-6, 9, 0.02);
+    auto at = [&](double fromAntisolarDeg) { return fog.phaseAt(M_PI - fromAntisolarDeg * kDeg); };
+    double away = 0;
+    for (double a = 5.0; a <= 10.0; a += 0.5) away += lum(at(a)) / 11.0;
+    CHECK(lum(at(0.0)) > 3.0 * away);
+    auto R = [&](double th) { return fog.phaseAt(th).r; };
+    auto B = [&](double th) { return fog.phaseAt(th).b; };
+    CHECK(argmaxFromAntisolar(R, 0.6, 3.0) > argmaxFromAntisolar(B, 0.6, 3.0));
+}
