@@ -27,7 +27,8 @@ uniform float u_marchMax;        // m: farthest rain sample
 // comes from the observer's side of the curtain).
 float lightPath(float z, float rho, float sinEl, float cosEl) {
     float up = (u_height - z) / max(sinEl, 1e-3);
-    float face = (rho - u_dist) / max(cosEl, 1e-3);
+    // No near face when the rain reaches the observer's vertical (u_dist = 0: a layer, not a curtain).
+    float face = u_dist > 0.0 ? (rho - u_dist) / max(cosEl, 1e-3) : 1e30;
     return max(min(up, face), 0.0);
 }
 
@@ -68,7 +69,8 @@ void main() {
             //     = E p b_sca exp(-b_ext l0) (1 - exp(-b_ext (1 + dl) s)) / (b_ext (1 + dl)).
             float tm = 0.5 * (t0 + t1);
             float zm = u_obsHeight + tm * dir.z, rm = tm * h;
-            float up = (u_height - zm) / max(sinEl, 1e-3), face = (rm - u_dist) / max(cosEl, 1e-3);
+            float up = (u_height - zm) / max(sinEl, 1e-3);
+            float face = u_dist > 0.0 ? (rm - u_dist) / max(cosEl, 1e-3) : 1e30;
             float dl = up < face ? -dir.z / max(sinEl, 1e-3) : h / max(cosEl, 1e-3);
             float l0 = lightPath(u_obsHeight + t0 * dir.z, t0 * h, sinEl, cosEl);
             dl = max(dl, -0.999);
