@@ -81,7 +81,7 @@ struct MieTable {
         int wavelengths = 32;  ///< in [380, 780] nm, >= 30 for the issue's spectral resolution
         int radii = 48;        ///< log-spaced over [rMin, rMax]
         int angles = 512;      ///< texels of the angle mapping
-        int subRadii = 1;      ///< radii per bin averaged (removes the ripple of period ~pi/x)
+        int subRadii = 1;      ///< radii per bin averaged (at least; up to 16 for small drops, see build())
         double rMinM = 5e-6, rMaxM = 2e-3;
     };
     /// "low" (32 wavelengths, 24 radii, 256 angles), "default" (32, 48, 512), "high" (40, 96 with 2
