@@ -12,6 +12,7 @@ uniform float u_height;      // curtain: top above the ground, m
 uniform vec2 u_axis;         // curtain: horizontal unit vector to its middle (the anti-light azimuth)
 uniform float u_cosHalfWidth;// curtain: cos of its azimuthal half-width
 uniform float u_obsHeight;   // observer above the ground, m
+uniform vec3 u_skyE;         // the sky's diffuse horizontal illuminance, lux (0 without a Sky)
 #ifdef WELKIN_RAINBOW_CLOUDS
 layout(binding = WELKIN_BINDING_CLOUD_WEATHER_MAP) uniform sampler2D u_weather;  // A: rain density
 uniform float u_weatherExtent;   // m
@@ -78,6 +79,10 @@ void main() {
             vec3 integral = (1.0 - exp(-k * s)) / max(k, vec3(1e-12));
             radiance += u_E * phase * u_sca * exp(-u_ext * l0) * integral;
             transmittance *= exp(-u_ext * s);
+            // Skylight scattered once: a uniform sky of radiance E_d / pi over the upper hemisphere
+            // seen through a phase function that puts half its weight there gives the source
+            // b_sca E_d / (2 pi); along the ray, times (1 - T) / b_ext.
+            radiance += u_skyE * (0.5 / 3.14159265) * (u_sca / max(u_ext, vec3(1e-12))) * (1.0 - transmittance);
         }
     }
 
@@ -110,7 +115,8 @@ void main() {
             // weather map is not marched towards the light).
             vec3 sun = exp(-be * min((base - p.z) / max(sinEl, 0.05), 1000.0));
             vec3 stepT = exp(-be * dt);
-            radiance += transmittance * u_E * phase * bs * sun * (1.0 - stepT) / max(be, vec3(1e-12));
+            radiance += transmittance * (u_E * phase * sun + u_skyE * (0.5 / 3.14159265)) * bs * (1.0 - stepT) /
+                        max(be, vec3(1e-12));
             transmittance *= stepT;
         }
     }

@@ -4,6 +4,7 @@
 #include <welkin/error.hpp>
 #include <welkin/generators/cloud_keys.hpp>
 #include <welkin/generators/lights.hpp>
+#include <welkin/generators/sky_luts.hpp>
 #include <welkin/gl/bindings.hpp>
 #include <welkin/gl/shader.hpp>
 #include <welkin/keys.hpp>
@@ -39,6 +40,7 @@ Rainbow::Rainbow() : SkyElement("rainbow") {
     reads(rk::phaseLut);
     reads(rk::scattering);
     reads(rk::extinction);
+    reads(generators::skykeys::diffuseIrradiance);
 }
 
 bool Rainbow::bowPossible(double lightElevation, double observerHeightM, double curtainDistanceM) {
@@ -110,6 +112,9 @@ void Rainbow::doRender(const FrameContext& ctx) {
     p.set("u_axis", glm::vec2(axis));
     p.set("u_cosHalfWidth", float(std::cos(v.get(rainbowkeys::halfWidth))));
     p.set("u_obsHeight", float(h0));
+    // The Sky's diffuse illuminance when a Sky runs (optional: 0 otherwise).
+    const glm::dvec3 skyE = v.has(generators::skykeys::diffuseIrradiance) ? v.get(generators::skykeys::diffuseIrradiance) : glm::dvec3(0.0);
+    p.set("u_skyE", glm::vec3(skyE));
     if (clouds) {
         const TextureRef w = v.get(weatherMap);
         glBindTextureUnit(gl::binding::kCloudWeatherMap, w.id);
