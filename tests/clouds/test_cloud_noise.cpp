@@ -6,6 +6,10 @@
 
 #include <welkin/generators/cloud_keys.hpp>
 #include <welkin/generators/cloud_noise.hpp>
+#include <welkin/generators/cloud_path_lut.hpp>
+#include <welkin/generators/weather_map.hpp>
+
+#include <chrono>
 
 #include <cmath>
 
@@ -122,4 +126,49 @@ TEST_CASE("Cloud noise: same seed same textures, another seed differs", "[gl][cl
     CHECK(differs(a.base, c.base) > 0.5);
     CHECK(differs(a.detail, c.detail) > 0.5);
     CHECK(differs(a.curl, c.curl) > 0.5);
+}
+
+TEST_CASE("Cloud generators at their default sizes: cost, and sane contents", "[gl][clouds][slow]") {
+    test::glContext();
+    SkyVars vars;
+    vars.declare(cloudkeys::seed, 1);
+    CloudNoise noise;
+    noise.run(vars, test::testLogger(), true);
+    WARN("CloudNoise 128^3 + 32^3 + 256^2 on this machine: " << noise.lastRunSeconds() << " s");
+    const cpu::Image base = test::toImage(noise.base());
+    // Worley fBm of one feature point per cell: F1 distances average ~0.55 cells in 3-D (the mean
+    // nearest-neighbour distance of a unit-density Poisson process, 0.554; Worley 1996), so the
+    // inverted channels average ~0.45-0.6 (the fBm mixes octaves with the same mean); a broken
+    // pass (all zeros, all ones, NaN) falls far outside.
+    for (int c = 1; c < 4; ++c) {
+        double mean = 0;
+        for (size_t i = size_t(c); i < base.rgba.size(); i += 4) mean += base.rgba[i];
+        mean /= double(base.rgba.size() / 4);
+        INFO("base channel " << c << " mean " << mean);
+        CHECK(mean > 0.35);
+        CHECK(mean < 0.7);
+    }
+    CHECK(noise.base().levels() == 8);  // 128 -> 1: mipmapped
+
+    using Clock = std::chrono::steady_clock;
+    vars.declare(cloudkeys::bottom, 2000.0);
+    vars.declare(cloudkeys::top, 3000.0);
+    CloudPathLut lut;
+    auto t0 = Clock::now();
+    lut.run(vars, test::testLogger(), true);
+    WARN("CloudPathLut 256 x 96: " << std::chrono::duration<double>(Clock::now() - t0).count() << " s");
+    WeatherMap wm;
+    wm.declareKeys(vars);
+    t0 = Clock::now();
+    wm.run(vars, test::testLogger(), true);
+    WARN("WeatherMap 512^2, 48 clouds: " << std::chrono::duration<double>(Clock::now() - t0).count() << " s");
+    // The default generation covers a fair part of the map (broken cumulus, not overcast, not
+    // clear): 5-60 % of the texels at density > 0.2.
+    const cpu::Image w = test::toImage(wm.texture());
+    size_t cloudy = 0;
+    for (size_t i = 0; i < w.rgba.size(); i += 4) cloudy += w.rgba[i] > 0.2f;
+    const double frac = double(cloudy) / double(w.rgba.size() / 4);
+    INFO("cloudy fraction " << frac);
+    CHECK(frac > 0.05);
+    CHECK(frac < 0.6);
 }
