@@ -47,10 +47,11 @@
 namespace welkin::generators {
 
 /// Default periods of the noise tiles when the keys are undeclared, m. The base tile spans a few
-/// cumulus (its Perlin-Worley cells, 4 per tile edge, are ~2 km); the detail tile a few hundred m
-/// of cauliflower edges (Schneider 2015 uses the same ratio of ~1:8 between the two).
-inline constexpr double kDefaultNoiseBasePeriodM = 8000.0;
-inline constexpr double kDefaultNoiseDetailPeriodM = 1000.0;
+/// cumulus (its Perlin-Worley cells, 4 per tile edge, are 1 km: the turrets of a 1-6 km wide
+/// cloud); the detail tile's Worley cells (2-8 per 500 m) are the 60-250 m cauliflower edges
+/// (Schneider 2015 uses the same ~1:8 ratio between the two).
+inline constexpr double kDefaultNoiseBasePeriodM = 4000.0;
+inline constexpr double kDefaultNoiseDetailPeriodM = 500.0;
 inline constexpr double kDefaultCurlPeriodM = 40000.0;
 
 /// The cloud layer's parameters, std140 (all vec4: no padding surprises). Mirror of the GLSL

@@ -106,10 +106,12 @@ namespace cpu {
 /// The shapes a seed makes (the generator's own list at its first run).
 std::vector<CloudShape> generateClouds(uint32_t seed, int count, double sizeMin, double sizeMax, double extent);
 /// One shape's contribution (R density, G 1 - base, B top, A rain; before the max blend) at map
-/// position `m` (m), the shape drawn at centre + `tileOffset`; R = 0 outside it.
+/// position `m` (m) of the shape drawn at `centre`; 0 outside it. Density and rain fade over the
+/// noisy edge; G and B are weighted by the fade too (the cloud thins towards its rim: domes;
+/// weatherTexel() resolves top < base to their mean).
 glm::dvec4 shapeTexel(const CloudShape& s, glm::dvec2 m, glm::dvec2 centre);
 /// The map's texel (i, j) as the GPU draws it (max over shapes and the 9 tile offsets, G flipped
-/// back to the base fraction), `size` texels over `extent` m.
+/// back to the base fraction, top < base resolved to their mean), `size` texels over `extent` m.
 glm::dvec4 weatherTexel(const std::vector<CloudShape>& shapes, int i, int j, int size, double extent);
 /// Velocity of an image flow field at map position m (bilinear, repeat; R east, G north encoded
 /// 0.5 + 0.5 v, times `scale` m/s). The image's top row is the map's north edge.
