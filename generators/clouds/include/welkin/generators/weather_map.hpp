@@ -15,8 +15,8 @@
 // Map coordinates: metres in [0, extent)^2 of one tile, m = world ENU (x, y) + offset (mod extent).
 // Defaults: extent 40 km (512 texels: 78 m each, 8 texels across the smallest default cloud of
 // 600 m semi-axis; the tile repeats ~4 times out to the 160 km horizon distance of a 2 km layer,
-// and the noise shapes hide it), 48 clouds of 600-3000 m semi-axes (coverage of ~25 % of the map
-// at density >= 0.5, broken cumulus).
+// and the noise shapes hide it), 48 clouds of 600-3000 m semi-axes (~10 % of the map at density
+// > 0.2 with seed 1: scattered cumulus; raise clouds.cloud_count for more).
 #pragma once
 #include <welkin/element.hpp>
 #include <welkin/gl/objects.hpp>
