@@ -210,3 +210,18 @@ TEST_CASE("Weather map: a flow image advects the clouds; a bad one fails in one 
     CHECK_THROWS_WITH(bad.run(vars, test::testLogger(), true), Catch::Contains("clouds.flow_file") && Catch::Contains("needs 2"));
     fs::remove_all(dir);
 }
+
+TEST_CASE("Weather map: a clock tick without motion does not republish the map", "[gl][clouds]") {
+    test::glContext();
+    SkyVars vars = makeVars(2, 4);
+    WeatherMap wm(kSize);
+    wm.run(vars, test::testLogger(), true);
+    const uint64_t v0 = vars.version(cloudkeys::weatherMap), o0 = vars.version(cloudkeys::weatherOffset);
+    vars.set(keys::timeJdUtc, glm::dvec2(2461000.0, 0.26));
+    wm.run(vars, test::testLogger(), true);
+    CHECK(vars.version(cloudkeys::weatherMap) == v0);   // no flow, no edit: same map
+    CHECK(vars.version(cloudkeys::weatherOffset) == o0);  // no wind: same offset
+    wm.move(0, {100.0, 0.0});
+    wm.run(vars, test::testLogger(), true);
+    CHECK(vars.version(cloudkeys::weatherMap) > v0);  // an edit redraws and republishes
+}

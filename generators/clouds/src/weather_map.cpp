@@ -257,15 +257,16 @@ void WeatherMap::doRun(SkyVars& vars, const Logger&) {
     const double t = ((jd.x - jd0_.x) + (jd.y - jd0_.y)) * 86400.0;
     elapsed_ = t;
     const glm::dvec2 wind = vars.getOr(cloudkeys::wind, glm::dvec2(0.0));
-    vars.publish(cloudkeys::weatherOffset, offset0_ - wind * t);
+    // set(), not publish(): readers of the offset run again only when it moved.
+    vars.set(cloudkeys::weatherOffset, offset0_ - wind * t);
 
     if (!artist.empty()) {
         if (artist != artistPath_ || !tex_) {
             loadArtist(artist);
             artistPath_ = artist;
+            vars.publish(cloudkeys::weatherMap, tex_.ref());
         }
         lastT_ = t;
-        vars.publish(cloudkeys::weatherMap, tex_.ref());
         return;
     }
     if (!artistPath_.empty()) {  // back from an artist's map to the generated one
@@ -314,8 +315,12 @@ void WeatherMap::doRun(SkyVars& vars, const Logger&) {
     }
     advect(lastT_, t, extent);
     lastT_ = t;
-    if (dirty_ || !tex_) render(extent);
-    vars.publish(cloudkeys::weatherMap, tex_.ref());
+    // Republished only when drawn: the map's readers (shadow map...) do not re-run every frame
+    // the clock advances.
+    if (dirty_ || !tex_) {
+        render(extent);
+        vars.publish(cloudkeys::weatherMap, tex_.ref());
+    }
 }
 
 namespace cpu {
