@@ -1,5 +1,6 @@
 // CPU twin of shaders/cloud_density.glsl (double precision, the same formulas) and the
 // CloudLayerBlock's construction from the keys.
+#include <welkin/check.hpp>
 #include <welkin/error.hpp>
 #include <welkin/generators/cloud_density.hpp>
 #include <welkin/generators/cloud_keys.hpp>
@@ -26,6 +27,21 @@ CloudLayerBlock CloudLayerBlock::make(double planetRadius, double bottom, double
                                       double scatteringPerM, double cirrusHeight, double cirrusCoverage, double weatherExtent,
                                       glm::dvec2 weatherOffset, glm::dvec3 noiseScroll, double basePeriod, double detailPeriod,
                                       double curlPeriod) {
+    const char* w = "CloudLayerBlock::make()";
+    checkRange(w, "planetRadius (m)", planetRadius, 1e3, 1e9);
+    checkRange(w, "bottom (m)", bottom, 0.0, 2e4);
+    checkRange(w, "top (m)", top, bottom + 100.0, 2.5e4);
+    checkRange(w, "coverage", coverage, 0.0, 1.0);
+    checkRange(w, "detailScale", detailScale, 0.0, 4.0);
+    checkRange(w, "scatteringPerM (1/m)", scatteringPerM, 0.0, 1.0);
+    checkRange(w, "cirrusHeight (m)", cirrusHeight, top, 2e4);
+    checkRange(w, "cirrusCoverage", cirrusCoverage, 0.0, 1.0);
+    checkRange(w, "weatherExtent (m)", weatherExtent, 1e3, 1e6);
+    checkRange(w, "basePeriod (m)", basePeriod, 5e2, 1e5);
+    checkRange(w, "detailPeriod (m)", detailPeriod, 5e1, 2e4);
+    checkRange(w, "curlPeriod (m)", curlPeriod, 1e3, 1e6);
+    for (int i = 0; i < 2; ++i) checkRange(w, "weatherOffset (m)", weatherOffset[i], -1e12, 1e12);
+    for (int i = 0; i < 3; ++i) checkRange(w, "noiseScroll (m)", noiseScroll[i], -1e12, 1e12);
     CloudLayerBlock b{};
     b.radii[0] = float(planetRadius);
     b.radii[1] = float(planetRadius + bottom);
