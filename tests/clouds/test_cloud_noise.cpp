@@ -149,6 +149,16 @@ TEST_CASE("Cloud generators at their default sizes: cost, and sane contents", "[
         CHECK(mean < 0.7);
     }
     CHECK(noise.base().levels() == 8);  // 128 -> 1: mipmapped
+    // The curl's scale (1/8) keeps |v| < 1: under 1 % of the texels clamped (R or G at 0 or 1).
+    const cpu::Image curl = test::toImage(noise.curl());
+    size_t clamped = 0;
+    for (size_t i = 0; i < curl.rgba.size(); i += 4)
+        clamped += curl.rgba[i] <= 0.f || curl.rgba[i] >= 1.f || curl.rgba[i + 1] <= 0.f || curl.rgba[i + 1] >= 1.f;
+    float lo = 1.f, hi = 0.f;
+    for (size_t i = 0; i < curl.rgba.size(); i += 4) lo = std::min(lo, curl.rgba[i]), hi = std::max(hi, curl.rgba[i]);
+    INFO("clamped curl texels " << clamped << ", R in [" << lo << ", " << hi << "]");
+    CHECK(double(clamped) < 0.01 * double(curl.rgba.size() / 4));
+    CHECK(hi - lo > 0.3);  // and uses the 8 bits: |v| reaches ~0.6 (measured R in [0.22, 0.79])
 
     using Clock = std::chrono::steady_clock;
     vars.declare(cloudkeys::bottom, 2000.0);
