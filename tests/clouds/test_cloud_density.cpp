@@ -279,6 +279,10 @@ TEST_CASE("CloudLayerBlock::from reads the keys and checks the layer", "[cpu][cl
     CHECK(b.radii[2] - b.radii[0] == Approx(4000.0).margin(0.5));
     CHECK(b.weather[0] == Approx(2500.0).margin(1e-3));  // 1e9 is a whole number of 10 km tiles
     CHECK(b.weather[1] == Approx(7500.0).margin(1e-3));  // -2500 wraps into [0, extent)
+    CHECK(b.cirrus[0] == Approx(std::fmod(1e9 + 2500.0, kDefaultCurlPeriodM)).margin(1e-3));  // no cirrus key: the weather's
+    vars.declare(cloudkeys::cirrusOffset, glm::dvec2(-1000.0, 500.0));
+    CHECK(CloudLayerBlock::from(vars).cirrus[0] == Approx(kDefaultCurlPeriodM - 1000.0).margin(1e-3));
+    CHECK(CloudLayerBlock::from(vars).cirrus[1] == Approx(500.0).margin(1e-3));
     // Bad explicit values: one line naming the argument and its range; NaN is never in range.
     CHECK_THROWS_WITH(CloudLayerBlock::make(6360e3, 2000, 3000, 1.3, 1, 0.05, 9000, 0.3, 4e4, {}, {}),
                       "CloudLayerBlock::make(): coverage 1.3 not in [0, 1]");

@@ -129,6 +129,13 @@ TEST_CASE("Weather map: wind moves the offset, same seed same map, another seed 
     const glm::dvec2 off = a.get(cloudkeys::weatherOffset);
     CHECK(off.x == Approx(-6000.0).margin(1e-3));  // 10 m/s x 600 s (time in double days: ~1e-5 s)
     CHECK(off.y == Approx(3000.0).margin(1e-3));
+    // The cirrus follows the same wind unless it has its own.
+    CHECK(a.get(cloudkeys::cirrusOffset).x == Approx(-6000.0).margin(1e-3));
+    a.set(cloudkeys::cirrusWind, glm::dvec2(30.0, 0.0));
+    wa.run(a, test::testLogger(), true);
+    CHECK(a.get(cloudkeys::cirrusOffset).x == Approx(-18000.0).margin(1e-3));
+    CHECK(a.get(cloudkeys::cirrusOffset).y == Approx(0.0).margin(1e-3));
+    CHECK(a.get(cloudkeys::weatherOffset).x == Approx(-6000.0).margin(1e-3));
 }
 
 TEST_CASE("Weather map: an artist's image round-trips, bad files fail in one line", "[gl][clouds]") {

@@ -26,7 +26,7 @@ double smooth(double e0, double e1, double x) {
 CloudLayerBlock CloudLayerBlock::make(double planetRadius, double bottom, double top, double coverage, double detailScale,
                                       double scatteringPerM, double cirrusHeight, double cirrusCoverage, double weatherExtent,
                                       glm::dvec2 weatherOffset, glm::dvec3 noiseScroll, double basePeriod, double detailPeriod,
-                                      double curlPeriod) {
+                                      double curlPeriod, std::optional<glm::dvec2> cirrusOffset) {
     const char* w = "CloudLayerBlock::make()";
     checkRange(w, "planetRadius (m)", planetRadius, 1e3, 1e9);
     checkRange(w, "bottom (m)", bottom, 0.0, 2e4);
@@ -42,6 +42,8 @@ CloudLayerBlock CloudLayerBlock::make(double planetRadius, double bottom, double
     checkRange(w, "curlPeriod (m)", curlPeriod, 1e3, 1e6);
     for (int i = 0; i < 2; ++i) checkRange(w, "weatherOffset (m)", weatherOffset[i], -1e12, 1e12);
     for (int i = 0; i < 3; ++i) checkRange(w, "noiseScroll (m)", noiseScroll[i], -1e12, 1e12);
+    const glm::dvec2 co = cirrusOffset.value_or(weatherOffset);
+    for (int i = 0; i < 2; ++i) checkRange(w, "cirrusOffset (m)", co[i], -1e12, 1e12);
     CloudLayerBlock b{};
     b.radii[0] = float(planetRadius);
     b.radii[1] = float(planetRadius + bottom);
@@ -63,6 +65,8 @@ CloudLayerBlock CloudLayerBlock::make(double planetRadius, double bottom, double
         b.scrollBase[i] = float(wrapMod(noiseScroll[i], basePeriod));
         b.scrollDetail[i] = float(wrapMod(noiseScroll[i], detailPeriod));
     }
+    b.cirrus[0] = float(wrapMod(co.x, curlPeriod));
+    b.cirrus[1] = float(wrapMod(co.y, curlPeriod));
     return b;
 }
 
@@ -74,7 +78,8 @@ CloudLayerBlock CloudLayerBlock::from(const SkyVars& vars) {
                 vars.getOr(cloudkeys::cirrusHeight, 9000.0), vars.getOr(cloudkeys::cirrusCoverage, 0.3),
                 vars.getOr(cloudkeys::weatherExtent, 40000.0), off, glm::dvec3(off, 0.0),
                 vars.getOr(cloudkeys::noiseBasePeriod, kDefaultNoiseBasePeriodM),
-                vars.getOr(cloudkeys::noiseDetailPeriod, kDefaultNoiseDetailPeriodM), vars.getOr(cloudkeys::curlPeriod, kDefaultCurlPeriodM));
+                vars.getOr(cloudkeys::noiseDetailPeriod, kDefaultNoiseDetailPeriodM), vars.getOr(cloudkeys::curlPeriod, kDefaultCurlPeriodM),
+                vars.getOr(cloudkeys::cirrusOffset, off));
 }
 
 namespace cpu {
@@ -200,7 +205,7 @@ double cirrusDensity(const CloudLayerBlock& b, const Image& curl, glm::dvec2 xy)
     if (cc <= 0.0) return 0.0;
     // The curl noise's RG (a divergence-free field, encoded 0.5 + 0.5 v) advects the lookup of
     // its B (the fBm potential): streaky, sheared fibres (SevenSky's high-altitude map, Papp 6.3).
-    const glm::dvec2 uv = (xy + glm::dvec2(b.weather[0], b.weather[1])) / double(b.noise[2]);
+    const glm::dvec2 uv = (xy + glm::dvec2(b.cirrus[0], b.cirrus[1])) / double(b.noise[2]);
     const glm::dvec4 c = curl.sample2D(uv);
     const glm::dvec2 warp = (glm::dvec2(c.r, c.g) * 2.0 - 1.0) * 0.05;
     const double n = curl.sample2D(uv + warp).b;

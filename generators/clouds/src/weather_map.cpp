@@ -58,11 +58,13 @@ WeatherMap::WeatherMap(int size) : Generator("clouds.weather_map"), size_(size) 
     input(cloudkeys::weatherExtent, {.optional = true});
     input(cloudkeys::weatherFile, {.optional = true});
     input(cloudkeys::wind, {.optional = true});
+    input(cloudkeys::cirrusWind, {.optional = true});
     input(cloudkeys::flowFile);
     input(cloudkeys::flowScale);
     input(keys::timeJdUtc, {.optional = true});
     output(cloudkeys::weatherMap);
     output(cloudkeys::weatherOffset);
+    output(cloudkeys::cirrusOffset);
 }
 
 std::shared_ptr<WeatherMap> WeatherMap::obtain(SkyVars& vars) {
@@ -252,6 +254,7 @@ void WeatherMap::doRun(SkyVars& vars, const Logger&) {
         started_ = true;
         jd0_ = jd;
         offset0_ = vars.getOr(cloudkeys::weatherOffset, glm::dvec2(0.0));
+        cirrusOffset0_ = vars.getOr(cloudkeys::cirrusOffset, offset0_);
         lastT_ = 0.0;
     }
     const double t = ((jd.x - jd0_.x) + (jd.y - jd0_.y)) * 86400.0;
@@ -259,6 +262,7 @@ void WeatherMap::doRun(SkyVars& vars, const Logger&) {
     const glm::dvec2 wind = vars.getOr(cloudkeys::wind, glm::dvec2(0.0));
     // set(), not publish(): readers of the offset run again only when it moved.
     vars.set(cloudkeys::weatherOffset, offset0_ - wind * t);
+    vars.set(cloudkeys::cirrusOffset, cirrusOffset0_ - vars.getOr(cloudkeys::cirrusWind, wind) * t);
 
     if (!artist.empty()) {
         if (artist != artistPath_ || !tex_) {

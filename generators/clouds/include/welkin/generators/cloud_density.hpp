@@ -29,7 +29,8 @@
 //   layer downwards and comes back up is cut at the first exit). Negative exit: no crossing
 //   (the ray misses the shell or the ground hides it).
 // - cirrusDensity(xy) is the cirrus layer's relative density in [0, 1] at a point of its layer
-//   (ENU x, y metres), from clouds.curl_noise; 0 when clouds.cirrus_coverage = 0.
+//   (ENU x, y metres), from clouds.curl_noise at ((x, y) + clouds.cirrus_offset_m) / curl
+//   period; 0 when clouds.cirrus_coverage = 0.
 // Textures are sampled at level 0 with linear filtering and GL_REPEAT (the ray march's steps are
 // far longer than a texel: derivative-based mip selection means nothing there).
 //
@@ -42,6 +43,7 @@
 #include <welkin/vars.hpp>
 
 #include <array>
+#include <optional>
 #include <vector>
 
 namespace welkin::generators {
@@ -70,20 +72,25 @@ struct CloudLayerBlock {
     float scrollBase[4];
     /// xyz the detail noise's scroll (m, reduced modulo its period), w unused
     float scrollDetail[4];
+    /// xy the cirrus' offset (clouds.cirrus_offset_m, m, reduced modulo the curl period), zw unused
+    float cirrus[4];
 
     /// From the keys of cloud_keys.hpp (undeclared keys take the defaults the Clouds element
     /// declares: bottom 2000 m, top 3000 m, coverage 0.5, detail scale 1, scattering 0.05/m,
     /// cirrus 9000 m / 0.3, extent 40 km, offset 0) and planet.radius_m (6 360 000 m). The noise
     /// scrolls with the weather map (noise scroll = (clouds.weather_offset_m, 0)): detail moves
-    /// with its cloud. Checks the layer (validateCloudLayer()).
+    /// with its cloud; the cirrus moves by clouds.cirrus_offset_m (clouds.weather_offset_m if
+    /// unset). Checks the layer (validateCloudLayer()).
     static CloudLayerBlock from(const SkyVars& vars);
-    /// The same from explicit values (m, [0,1], 1/m); `noiseScroll` in m.
+    /// The same from explicit values (m, [0,1], 1/m); `noiseScroll` in m; `cirrusOffset` in m
+    /// (nullopt: the weather offset).
     static CloudLayerBlock make(double planetRadius, double bottom, double top, double coverage, double detailScale,
                                 double scatteringPerM, double cirrusHeight, double cirrusCoverage, double weatherExtent,
                                 glm::dvec2 weatherOffset, glm::dvec3 noiseScroll, double basePeriod = kDefaultNoiseBasePeriodM,
-                                double detailPeriod = kDefaultNoiseDetailPeriodM, double curlPeriod = kDefaultCurlPeriodM);
+                                double detailPeriod = kDefaultNoiseDetailPeriodM, double curlPeriod = kDefaultCurlPeriodM,
+                                std::optional<glm::dvec2> cirrusOffset = std::nullopt);
 };
-static_assert(sizeof(CloudLayerBlock) == 6 * 16, "CloudLayerBlock: std140 layout of 6 vec4");
+static_assert(sizeof(CloudLayerBlock) == 7 * 16, "CloudLayerBlock: std140 layout of 7 vec4");
 
 enum class CloudLod { Cheap = 0, Full = 1 };
 

@@ -5,6 +5,7 @@
 // Animation over the simulated time (time.jd_utc, seconds since the first run):
 //  - constant wind: clouds.weather_offset_m = its value at the first run - wind x elapsed time
 //    (the map slides east with a positive east wind: uv = (xy + offset) / extent); no re-render;
+//    the cirrus likewise: clouds.cirrus_offset_m - clouds.cirrus_wind_m_s (default: the wind) x t;
 //  - a 2-D flow field (clouds.flow_file image, or setFlow() from C++) advects each cloud's
 //    centre (RK4, sub-steps <= 30 s) and the map is re-rendered when clouds moved.
 //
@@ -93,7 +94,7 @@ private:
     bool userFlow_ = false;
     std::string flowPath_, artistPath_;
     bool started_ = false;
-    glm::dvec2 jd0_{0.0}, offset0_{0.0};
+    glm::dvec2 jd0_{0.0}, offset0_{0.0}, cirrusOffset0_{0.0};
     double elapsed_ = 0.0, lastT_ = 0.0;
     gl::Texture2D tex_;
     gl::Framebuffer fbo_;
