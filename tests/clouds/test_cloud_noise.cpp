@@ -4,7 +4,9 @@
 #include "clouds/cloud_test_util.hpp"
 #include "gl_test_context.hpp"
 
+#include <welkin/generators/cloud_density.hpp>
 #include <welkin/generators/cloud_keys.hpp>
+#include <welkin/gl/bindings.hpp>
 #include <welkin/generators/cloud_noise.hpp>
 #include <welkin/generators/cloud_path_lut.hpp>
 #include <welkin/generators/weather_map.hpp>
@@ -109,6 +111,33 @@ TEST_CASE("Cloud noise: the functions are periodic and the textures tile seamles
     for (int y = 0; y < kSmall.base; y += 5)
         for (int c = 0; c < 4; ++c)
             CHECK(std::abs(cpu::baseNoise(kSmall.base, y, 3, kSmall.base, 7)[c] - b.base.texel(0, y, 3)[c]) <= 1.0 / 255.0 + 1e-4);
+}
+
+TEST_CASE("bindCloudTextures() puts the published textures on their units", "[gl][clouds]") {
+    test::glContext();
+    SkyVars vars;
+    vars.declare(cloudkeys::seed, 1);
+    CloudNoise noise(kSmall);
+    noise.run(vars, test::testLogger(), true);
+    glBindTextureUnit(gl::binding::kCloudWeatherMap, 0);
+    bindCloudTextures(vars);
+    GLint b3 = 0, d3 = 0, c2 = 0, w2 = -1;
+    glActiveTexture(GL_TEXTURE0 + gl::binding::kCloudNoiseBase);
+    glGetIntegerv(GL_TEXTURE_BINDING_3D, &b3);
+    glActiveTexture(GL_TEXTURE0 + gl::binding::kCloudNoiseDetail);
+    glGetIntegerv(GL_TEXTURE_BINDING_3D, &d3);
+    glActiveTexture(GL_TEXTURE0 + gl::binding::kCloudCurlNoise);
+    glGetIntegerv(GL_TEXTURE_BINDING_2D, &c2);
+    glActiveTexture(GL_TEXTURE0 + gl::binding::kCloudWeatherMap);
+    glGetIntegerv(GL_TEXTURE_BINDING_2D, &w2);
+    glActiveTexture(GL_TEXTURE0);
+    CHECK(GLuint(b3) == noise.base().id());
+    CHECK(GLuint(d3) == noise.detail().id());
+    CHECK(GLuint(c2) == noise.curl().id());
+    CHECK(w2 == 0);  // no weather map published: its unit is left alone
+    glBindTextureUnit(gl::binding::kCloudNoiseBase, 0);
+    glBindTextureUnit(gl::binding::kCloudNoiseDetail, 0);
+    glBindTextureUnit(gl::binding::kCloudCurlNoise, 0);
 }
 
 TEST_CASE("Cloud noise: same seed same textures, another seed differs", "[gl][clouds]") {

@@ -5,6 +5,9 @@
 #include <welkin/generators/cloud_density.hpp>
 #include <welkin/generators/cloud_keys.hpp>
 #include <welkin/generators/lights.hpp>
+#include <welkin/gl/bindings.hpp>
+
+#include <epoxy/gl.h>
 
 #include <algorithm>
 #include <cmath>
@@ -80,6 +83,16 @@ CloudLayerBlock CloudLayerBlock::from(const SkyVars& vars) {
                 vars.getOr(cloudkeys::noiseBasePeriod, kDefaultNoiseBasePeriodM),
                 vars.getOr(cloudkeys::noiseDetailPeriod, kDefaultNoiseDetailPeriodM), vars.getOr(cloudkeys::curlPeriod, kDefaultCurlPeriodM),
                 vars.getOr(cloudkeys::cirrusOffset, off));
+}
+
+void bindCloudTextures(const SkyVars& vars) {
+    const std::pair<const Key<TextureRef>*, int> list[] = {{&cloudkeys::weatherMap, gl::binding::kCloudWeatherMap},
+                                                           {&cloudkeys::noiseBase, gl::binding::kCloudNoiseBase},
+                                                           {&cloudkeys::noiseDetail, gl::binding::kCloudNoiseDetail},
+                                                           {&cloudkeys::curlNoise, gl::binding::kCloudCurlNoise},
+                                                           {&cloudkeys::pathLut, gl::binding::kCloudPathLut}};
+    for (const auto& [key, unit] : list)
+        if (vars.has(*key)) glBindTextureUnit(GLuint(unit), vars.get(*key).id);
 }
 
 namespace cpu {

@@ -5,6 +5,7 @@
 //   using namespace welkin::generators;
 //   CloudLayerBlock b = CloudLayerBlock::from(vars);          // keys of cloud_keys.hpp
 //   gl::Buffer ubo(sizeof b, &b);  ubo.bindBase(GL_UNIFORM_BUFFER, gl::binding::kCloudUbo);
+//   bindCloudTextures(vars);                                  // weather, noises, curl, path LUT
 //   // GLSL: include embedded::clouds_shaders("cloud_density.glsl") after your header, then
 //   //       float d = cloudDensity(p, CLOUD_LOD_FULL);        // p: ENU metres, see below
 //   // CPU (tests, tools): the same function on read-back textures
@@ -93,6 +94,11 @@ struct CloudLayerBlock {
 static_assert(sizeof(CloudLayerBlock) == 7 * 16, "CloudLayerBlock: std140 layout of 7 vec4");
 
 enum class CloudLod { Cheap = 0, Full = 1 };
+
+/// Binds the clouds' published textures to their units (WELKIN_BINDING_CLOUD_WEATHER_MAP,
+/// _NOISE_BASE, _NOISE_DETAIL, _CURL_NOISE, _PATH_LUT; glBindTextureUnit): those set in `vars`
+/// (a reader's render() or a generator's pass, before its draw). Needs a current context.
+void bindCloudTextures(const SkyVars& vars);
 
 namespace cpu {
 
