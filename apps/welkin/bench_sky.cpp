@@ -66,26 +66,7 @@ struct SkyBenchOptions {
 
 double Y(const glm::dvec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
 
-// A trivial element: constant radiance, the cost floor of a fullscreen pass.
-class Trivial final : public SkyElement {
-public:
-    Trivial() : SkyElement("trivial") {}
-
-private:
-    void doInit(InitContext&) override {
-        prog_ = gl::ProgramBuilder("trivial")
-                    .fullscreenVertex()
-                    .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
-                    .fragment("trivial.frag", "void main() { welkin_output(vec3(gl_FragCoord.xy * 1e-3, 1.0), vec3(0.0)); }")
-                    .build();
-    }
-    void doRender(const FrameContext& ctx) override {
-        prog_.use();
-        ctx.drawFullscreen();
-    }
-    void doRelease() override { prog_ = {}; }
-    gl::Program prog_;
-};
+using Trivial = TrivialElement;
 
 struct Row {
     int preset;

@@ -2,7 +2,12 @@
 // llvmpipe: passes are timed on the CPU clock, bracketed by glFinish so GPU work is included.
 //
 //   double ms = welkin::cli::medianMs(10, [&] { processor.renderFrame(); });
+//   processor.add(std::make_unique<welkin::cli::TrivialElement>());  // the cost floor of an element
 #pragma once
+#include <welkin/element.hpp>
+#include <welkin/gl/objects.hpp>
+#include <welkin/gl/shader.hpp>
+
 #include <epoxy/gl.h>
 
 #include <algorithm>
@@ -25,5 +30,28 @@ inline double medianMs(int repeats, const std::function<void()>& fn) {
     std::sort(t.begin(), t.end());
     return t[t.size() / 2];
 }
+
+/// A trivial element: constant radiance through the composite contract (camera block, dual-source
+/// blend into the HDR target), the cost floor of any fullscreen element. Benchmarks report an
+/// element's cost as a ratio to this one's, timed in the same frames.
+class TrivialElement final : public SkyElement {
+public:
+    TrivialElement() : SkyElement("trivial") {}
+
+private:
+    void doInit(InitContext&) override {
+        prog_ = gl::ProgramBuilder("trivial")
+                    .fullscreenVertex()
+                    .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
+                    .fragment("trivial.frag", "void main() { welkin_output(vec3(gl_FragCoord.xy * 1e-3, 1.0), vec3(0.0)); }")
+                    .build();
+    }
+    void doRender(const FrameContext& ctx) override {
+        prog_.use();
+        ctx.drawFullscreen();
+    }
+    void doRelease() override { prog_ = {}; }
+    gl::Program prog_;
+};
 
 }  // namespace welkin::cli
