@@ -118,6 +118,8 @@ Clouds::Clouds() : SkyElement("clouds") {
     reads(keys::observerHeight);
     reads(lightkeys::sunIlluminance);
     reads(lightkeys::moonIlluminance);
+    reads(lightkeys::sunTransmittance);
+    reads(lightkeys::moonTransmittance);
     reads(skykeys::transmittanceLut);
     reads(skykeys::horizontalIlluminance);
     reads(skykeys::diffuseIrradiance);
@@ -233,8 +235,16 @@ void Clouds::setUniforms(const gl::Program& p, const FrameContext& ctx) const {
     p.set("u_h", float(std::max(v.getOr(keys::observerHeight, 0.0), 0.0)));
     p.set("u_sunDir", glm::vec3(unit(v.get(keys::sunDirection))));
     p.set("u_moonDir", glm::vec3(unit(v.get(keys::moonDirection))));
-    p.set("u_sunE", glm::vec3(v.getOr(lightkeys::sunIlluminance, glm::dvec3(0.0))));
-    p.set("u_moonE", glm::vec3(v.getOr(lightkeys::moonIlluminance, glm::dvec3(0.0))));
+    const glm::dvec3 sunE = v.getOr(lightkeys::sunIlluminance, glm::dvec3(0.0));
+    glm::dvec3 moonE = v.getOr(lightkeys::moonIlluminance, glm::dvec3(0.0));
+    // The Moon's light march only when it matters: by day the full Moon (0.25 lux) is 1e-5 of
+    // the Sun's light at the observer; below 1e-4 of the sunlight it is dropped (invisible under
+    // any exposure), which halves the cost of a daytime frame with the Moon up.
+    const double sunAtObs = lum(sunE * v.getOr(lightkeys::sunTransmittance, glm::dvec3(1.0)));
+    const double moonAtObs = lum(moonE * v.getOr(lightkeys::moonTransmittance, glm::dvec3(1.0)));
+    if (moonAtObs < 1e-4 * sunAtObs) moonE = glm::dvec3(0.0);
+    p.set("u_sunE", glm::vec3(sunE));
+    p.set("u_moonE", glm::vec3(moonE));
     const glm::dvec3 diffuse = v.getOr(skykeys::diffuseIrradiance, glm::dvec3(0.0));
     p.set("u_ambientE", glm::vec3(diffuse));
     // The global illuminance per channel: the diffuse's colour scaled to the global's luminance.
