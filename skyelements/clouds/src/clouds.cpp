@@ -181,7 +181,9 @@ void Clouds::doInit(InitContext& ctx) {
     addGenerator(luts_.sunView);
     addGenerator(luts_.moonView);
     addGenerator(luts_.irradiance);
-    addGenerator(CloudNoise::obtain(v));
+    // The generated noise, unless the host published its own textures before init (a test's
+    // uniform slab, an artist's noise).
+    if (!v.has(ck::noiseBase)) addGenerator(CloudNoise::obtain(v));
     // The generated weather map, unless the host published its own clouds.weather_map before
     // init (a tool, a test: then the host owns it and its offset).
     if (!v.has(ck::weatherMap)) addGenerator(WeatherMap::obtain(v));
