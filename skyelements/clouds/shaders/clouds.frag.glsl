@@ -187,10 +187,10 @@ bool cld_cirrusLayer(vec3 dir, out vec3 L, out float T, out float d) {
 }
 
 // Everything along the ray: radiance and per-channel transmittance. With `haze`, the air between
-// the observer and each layer dims the cloud's light (transmittance Tair) and adds its own
-// in-scatter in front of the cloud's opaque part, approximated by the sky's mean radiance
-// E_diffuse / pi: (1 - Tair) (1 - Tcloud) E_d / pi. The transmittance stays the cloud's (the Sun's
-// disk and the stars behind an opaque cloud stay hidden).
+// the observer and each layer dims the cloud's light (transmittance Tair) and its in-scatter in
+// front of the cloud is approximated by the sky's radiance along the ray, already in the
+// compositor's target: transmittance 1 - Tair (1 - Tcloud). Near the Sun's and Moon's disks
+// (which the target also holds) by the sky's mean radiance E_d / pi instead (see below).
 void cloudsShade(vec3 dir, vec2 px, bool haze, out vec3 L, out vec3 T) {
     vec3 Lc, Li;
     float Tc, Ti, dc, di;
@@ -198,9 +198,23 @@ void cloudsShade(vec3 dir, vec2 px, bool haze, out vec3 L, out vec3 T) {
     bool ci = cld_cirrusLayer(dir, Li, Ti, di);
     vec3 LcA = Lc, LiA = Li, TcA = vec3(Tc), TiA = vec3(Ti);
     if (haze) {
-        vec3 haze = u_ambientE / CLD_PI;  // the sky's mean radiance: the air's in-scatter in front
-        if (cu) { vec3 a = cld_airTransmittance(dir.z, dc); LcA = a * Lc + (1.0 - a) * (1.0 - Tc) * haze; }
-        if (ci) { vec3 a = cld_airTransmittance(dir.z, di); LiA = a * Li + (1.0 - a) * (1.0 - Ti) * haze; }
+        // Away from the Sun's and Moon's disks the sky behind (dst) stands for the in-scatter:
+        // transmittance 1 - Tair (1 - Tcloud). Within 2 deg of a disk (which dst also holds, at
+        // up to 1e5 x the sky's radiance) the sky's mean radiance E_d / pi replaces it and the
+        // cloud keeps its own transmittance, blended over 0.5-2 deg.
+        float nearDisk = max(smoothstep(cos(0.035), cos(0.0087), dot(dir, u_sunDir)),
+                             smoothstep(cos(0.035), cos(0.0087), dot(dir, u_moonDir)));
+        vec3 haze = u_ambientE / CLD_PI;
+        if (cu) {
+            vec3 a = cld_airTransmittance(dir.z, dc);
+            LcA = a * Lc + nearDisk * (1.0 - a) * (1.0 - Tc) * haze;
+            TcA = mix(1.0 - a * (1.0 - Tc), vec3(Tc), nearDisk);
+        }
+        if (ci) {
+            vec3 a = cld_airTransmittance(dir.z, di);
+            LiA = a * Li + nearDisk * (1.0 - a) * (1.0 - Ti) * haze;
+            TiA = mix(1.0 - a * (1.0 - Ti), vec3(Ti), nearDisk);
+        }
     }
     // Nearest layer first: the cirrus is behind the cumulus unless the observer is above it.
     bool cirrusFirst = ci && u_h > cld_radii.w - cld_radii.x;
