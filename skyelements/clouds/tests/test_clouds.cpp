@@ -221,7 +221,7 @@ TEST_CASE("Clouds: the sunward side of a cloud is brighter", "[gl][clouds]") {
     CHECK(east / ne > 1.1 * west / nw);  // the lit half at least 10 % brighter
 }
 
-TEST_CASE("Clouds: finite, non-negative pixels from below, inside, above, at night, Sun at zenith", "[gl][clouds]") {
+TEST_CASE("Clouds: finite, non-negative pixels from below, inside, above, at night, Sun at zenith", "[gl][clouds][slow]") {
     Weather w(16, [](double u, double v) { return glm::vec4(float(0.5 + 0.5 * std::sin(6.283 * u) * std::cos(6.283 * v)), 0.1f, 0.9f, 0.0f); });
     struct Case { double h, sunAlt; };
     for (Case c : {Case{0, 30}, Case{2500, 30}, Case{6000, 30}, Case{0, 90}, Case{0, -20}, Case{4e5, 45}}) {
