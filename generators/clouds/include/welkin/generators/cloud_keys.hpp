@@ -55,6 +55,12 @@ inline const Key<TextureRef> noiseDetail{"clouds.noise_detail", "3-D tileable de
 inline const Key<TextureRef> curlNoise{"clouds.curl_noise", "2-D tileable curl noise for the cirrus (SevenSky HIGH_ALTITUDE_CLOUD_MAP)"};
 inline const Key<TextureRef> pathLut{"clouds.path_lut", "cloud-path LUT: entry and exit distances of the cloud shell by view zenith and altitude (SevenSky CLOUD_PATH_LUT)"};
 inline const Key<TextureRef> shadowMap{"clouds.shadow_map", "transmittance of the light through the clouds over the ground around the observer"};
+// --- Cloud shadows (generators/clouds/cloud_shadow.hpp) -----------------------------------------
+inline const Key<double> shadowExtent{"clouds.shadow_extent_m", Range{1e3, 5e5}, "side of the square of ground, centred below the observer, that clouds.shadow_map covers"};
+inline const Key<int> shadowResolution{"clouds.shadow_resolution", Range{16, 2048}, "texels per side of clouds.shadow_map"};
+inline const Key<int> shadowSteps{"clouds.shadow_steps", Range{1, 256}, "march steps through the cumulus layer per shadow-map texel"};
+inline const Key<glm::dvec3> shadowLight{"clouds.shadow_light_direction", Range{-1, 1}, "unit vector (ENU) to the light clouds.shadow_map was built for (the Sun, or the Moon at night; elevation clamped to >= 0)"};
+inline const Key<glm::dvec2> shadowOffset{"clouds.shadow_offset_m", Range{-1e12, 1e12}, "clouds.weather_offset_m when clouds.shadow_map was built (the host's lookup shifts by the change since)"};
 }  // namespace cloudkeys
 
 /// Rain rate under a weather-map cloud of rain density 1 when clouds.rain_density is 1, mm/h:
