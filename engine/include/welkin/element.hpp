@@ -231,6 +231,14 @@ protected:
             if (force) v.set(key, defaultValue);
         });
     }
+    /// Declares an option without a default (listed by `welkin vars` as unset): the element
+    /// supplies a value in doInit() when nobody set one (SkyVars::has()), e.g. from a preset.
+    template <class T>
+    void optionUnset(const Key<T>& key) {
+        optionKeys_.push_back(key.info());
+        reads_.push_back(key.info());
+        optionDeclarers_.push_back([key](SkyVars& v) { v.declareUnset(key); });
+    }
     /// Adds a generator this element depends on (shared instances are run once per frame).
     void addGenerator(std::shared_ptr<Generator> g);
 

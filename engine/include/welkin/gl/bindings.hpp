@@ -25,6 +25,7 @@ inline constexpr int kCloudUbo = 2;       ///< the cloud layer's block (generato
 
 // Shader storage buffers (GL_SHADER_STORAGE_BUFFER binding points).
 inline constexpr int kSkyIrradianceSsbo = 0;  ///< SkyIrradiance's result (generators/atmosphere/shaders/sky_irradiance.glsl)
+inline constexpr int kWeatherShapesSsbo = 1;  ///< the weather map's cloud shapes (generators/clouds/shaders/weather_map.*.glsl)
 
 // Texture units: the engine's tone map.
 inline constexpr int kHdrTexture = 0;     ///< the HDR frame read by the tone map and log-luminance passes
@@ -100,6 +101,7 @@ inline constexpr std::array kTable = {
     Entry{"WELKIN_BINDING_ATMOSPHERE_UBO", kAtmosphereUbo, Kind::UniformBuffer},
     Entry{"WELKIN_BINDING_CLOUD_UBO", kCloudUbo, Kind::UniformBuffer},
     Entry{"WELKIN_BINDING_SKY_IRRADIANCE_SSBO", kSkyIrradianceSsbo, Kind::StorageBuffer},
+    Entry{"WELKIN_BINDING_WEATHER_SHAPES_SSBO", kWeatherShapesSsbo, Kind::StorageBuffer},
     Entry{"WELKIN_BINDING_HDR_TEXTURE", kHdrTexture, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_LOG_LUM_TEXTURE", kLogLumTexture, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_EYE_STATE_TEXTURE", kEyeStateTexture, Kind::TextureUnit},

@@ -54,6 +54,16 @@ inline const Key<TextureRef> noiseBase{"clouds.noise_base", "3-D tileable base n
 inline const Key<TextureRef> noiseDetail{"clouds.noise_detail", "3-D tileable detail noise: RGB Worley fBm at three frequencies (32^3 default)"};
 inline const Key<TextureRef> curlNoise{"clouds.curl_noise", "2-D tileable curl noise for the cirrus (SevenSky HIGH_ALTITUDE_CLOUD_MAP)"};
 inline const Key<TextureRef> pathLut{"clouds.path_lut", "cloud-path LUT: entry and exit distances of the cloud shell by view zenith and altitude (SevenSky CLOUD_PATH_LUT)"};
+// --- Noise tiling (the density function's scales; generators/clouds, cloud_density.hpp) -----------
+inline const Key<double> noiseBasePeriod{"clouds.noise_base_period_m", Range{5e2, 1e5}, "horizontal and vertical period of the 3-D base noise (one tile of clouds.noise_base)", "m"};
+inline const Key<double> noiseDetailPeriod{"clouds.noise_detail_period_m", Range{5e1, 2e4}, "period of the 3-D detail noise (one tile of clouds.noise_detail)", "m"};
+inline const Key<double> curlPeriod{"clouds.curl_period_m", Range{1e3, 1e6}, "period of the 2-D curl noise on the cirrus layer (one tile of clouds.curl_noise)", "m"};
+// --- Weather-map generator (generators/clouds/weather_map.hpp) -----------------------------------
+inline const Key<int> cloudCount{"clouds.cloud_count", Range{0, 4096}, "number of cloud shapes generated on the weather map (one tile)"};
+inline const Key<double> cloudSizeMin{"clouds.cloud_size_min_m", Range{50, 1e5}, "smallest semi-axis of a generated cloud shape", "m"};
+inline const Key<double> cloudSizeMax{"clouds.cloud_size_max_m", Range{50, 1e5}, "largest semi-axis of a generated cloud shape; >= clouds.cloud_size_min_m", "m"};
+inline const Key<std::string> flowFile{"clouds.flow_file", "image of a 2-D velocity field over one weather-map tile (OpenImageIO; R east, G north encoded 0.5 + 0.5 v, v in [-1, 1] x clouds.flow_scale_m_s); empty: none"};
+inline const Key<double> flowScale{"clouds.flow_scale_m_s", Range{0, 200}, "velocity of a flow-image value of 1", "m/s"};
 inline const Key<TextureRef> shadowMap{"clouds.shadow_map", "transmittance of the light through the clouds over the ground around the observer"};
 // --- Cloud shadows (generators/clouds/cloud_shadow.hpp) -----------------------------------------
 inline const Key<double> shadowExtent{"clouds.shadow_extent_m", Range{1e3, 5e5}, "side of the square of ground, centred below the observer, that clouds.shadow_map covers"};

@@ -1,0 +1,131 @@
+// The cloud density function, shared by everything that reads the clouds: its parameters as a
+// std140 uniform block (CloudLayerBlock, binding WELKIN_BINDING_CLOUD_UBO = 2) and the CPU twin
+// (double precision) of generators/clouds/shaders/cloud_density.glsl, the same formulas.
+//
+//   using namespace welkin::generators;
+//   CloudLayerBlock b = CloudLayerBlock::from(vars);          // keys of cloud_keys.hpp
+//   gl::Buffer ubo(sizeof b, &b);  ubo.bindBase(GL_UNIFORM_BUFFER, gl::binding::kCloudUbo);
+//   // GLSL: include embedded::clouds_shaders("cloud_density.glsl") after your header, then
+//   //       float d = cloudDensity(p, CLOUD_LOD_FULL);        // p: ENU metres, see below
+//   // CPU (tests, tools): the same function on read-back textures
+//   cpu::CloudTextures tex{weather, base, detail, curl};       // cpu::Image, RGBA float texels
+//   double d = cpu::cloudDensity(b, tex, {x, y, z}, CloudLod::Full);
+//
+// Contract (GLSL and C++ alike):
+// - Positions are world ENU metres relative to the observer's ground point: the observer stands
+//   at (0, 0, observer height), the planet's centre at (0, 0, -R), R = planet.radius_m. The
+//   altitude of p is |p + (0,0,R)| - R (evaluated in the cancellation-free form
+//   (x^2 + y^2 + z^2 + 2 R z) / (|p + (0,0,R)| + R)); the weather map is read at the point's
+//   tangent-plane (x, y): uv = ((x, y) + offset) / extent, repeat (cloud_keys.hpp).
+// - cloudDensity() returns the cloud's relative density in [0, 1] (0 outside the layer
+//   [clouds.bottom_m, clouds.top_m], 0 when clouds.coverage = 0, nondecreasing in the coverage);
+//   the extinction coefficient is density x CloudLayerBlock::shape.z (clouds.scattering_per_m,
+//   1/m; single-scattering albedo ~1).
+// - CloudLod::Cheap: weather map, height profile and base shape only (light marches, shadows);
+//   CloudLod::Full: eroded by the detail noise (clouds.detail_scale). Cheap >= Full everywhere.
+// - cloudShellIntersect(r, mu) gives the entry and exit distances (m) along a ray from radius r
+//   (distance to the planet's centre, m) with cos(zenith) mu through the shell [bottom, top]:
+//   below, inside or above the layer; the first crossing only (a grazing ray that leaves the
+//   layer downwards and comes back up is cut at the first exit). Negative exit: no crossing
+//   (the ray misses the shell or the ground hides it).
+// - cirrusDensity(xy) is the cirrus layer's relative density in [0, 1] at a point of its layer
+//   (ENU x, y metres), from clouds.curl_noise; 0 when clouds.cirrus_coverage = 0.
+// Textures are sampled at level 0 with linear filtering and GL_REPEAT (the ray march's steps are
+// far longer than a texel: derivative-based mip selection means nothing there).
+//
+// Sources: Papp, "Atmospheric and cloud rendering in real time" (SevenSky, 2018) eqs. 5.1-5.5
+// (altitude on the sphere, the weather map's height scale and gradient, coverage, erosion);
+// Schneider & Vos, "The real-time volumetric cloudscapes of Horizon Zero Dawn" (SIGGRAPH 2015)
+// and Schneider, "Nubis: authoring real-time volumetric cloudscapes" (SIGGRAPH 2017): the remap-
+// based erosion of the Perlin-Worley shape by Worley fBm and the detail noise, the height profile.
+#pragma once
+#include <welkin/vars.hpp>
+
+#include <array>
+#include <vector>
+
+namespace welkin::generators {
+
+/// Default periods of the noise tiles when the keys are undeclared, m. The base tile spans a few
+/// cumulus (its Perlin-Worley cells, 4 per tile edge, are ~2 km); the detail tile a few hundred m
+/// of cauliflower edges (Schneider 2015 uses the same ratio of ~1:8 between the two).
+inline constexpr double kDefaultNoiseBasePeriodM = 8000.0;
+inline constexpr double kDefaultNoiseDetailPeriodM = 1000.0;
+inline constexpr double kDefaultCurlPeriodM = 40000.0;
+
+/// The cloud layer's parameters, std140 (all vec4: no padding surprises). Mirror of the GLSL
+/// block WelkinClouds in cloud_density.glsl.
+struct CloudLayerBlock {
+    /// x planet radius R, y R + clouds.bottom_m, z R + clouds.top_m, w R + clouds.cirrus_height_m (m)
+    float radii[4];
+    /// x clouds.coverage [0,1], y clouds.detail_scale [0,4], z clouds.scattering_per_m (1/m),
+    /// w clouds.cirrus_coverage [0,1]
+    float shape[4];
+    /// xy clouds.weather_offset_m reduced modulo the extent (m), z extent (m), w 1 / extent (1/m)
+    float weather[4];
+    /// x base-noise period, y detail-noise period, z curl-noise period (m), w unused
+    float noise[4];
+    /// xyz the base noise's scroll (m, reduced modulo its period), w unused
+    float scrollBase[4];
+    /// xyz the detail noise's scroll (m, reduced modulo its period), w unused
+    float scrollDetail[4];
+
+    /// From the keys of cloud_keys.hpp (undeclared keys take the defaults the Clouds element
+    /// declares: bottom 2000 m, top 3000 m, coverage 0.5, detail scale 1, scattering 0.05/m,
+    /// cirrus 9000 m / 0.3, extent 40 km, offset 0) and planet.radius_m (6 360 000 m). The noise
+    /// scrolls with the weather map (noise scroll = (clouds.weather_offset_m, 0)): detail moves
+    /// with its cloud. Checks the layer (validateCloudLayer()).
+    static CloudLayerBlock from(const SkyVars& vars);
+    /// The same from explicit values (m, [0,1], 1/m); `noiseScroll` in m.
+    static CloudLayerBlock make(double planetRadius, double bottom, double top, double coverage, double detailScale,
+                                double scatteringPerM, double cirrusHeight, double cirrusCoverage, double weatherExtent,
+                                glm::dvec2 weatherOffset, glm::dvec3 noiseScroll, double basePeriod = kDefaultNoiseBasePeriodM,
+                                double detailPeriod = kDefaultNoiseDetailPeriodM, double curlPeriod = kDefaultCurlPeriodM);
+};
+static_assert(sizeof(CloudLayerBlock) == 6 * 16, "CloudLayerBlock: std140 layout of 6 vec4");
+
+enum class CloudLod { Cheap = 0, Full = 1 };
+
+namespace cpu {
+
+/// A texture's level 0 on the CPU: RGBA float texels, x fastest then y then z (GL's order, as
+/// gl::Texture::readRgbaFloat() returns them). d = 1 for 2-D.
+struct Image {
+    int w = 0, h = 0, d = 1;
+    std::vector<float> rgba;
+    /// Linear filtering with GL_REPEAT at normalised coordinates (GL's texel-centre convention),
+    /// double precision.
+    glm::dvec4 sample2D(glm::dvec2 uv) const;
+    glm::dvec4 sample3D(glm::dvec3 uvw) const;
+    glm::dvec4 texel(int x, int y, int z = 0) const;
+};
+
+/// The four textures the density reads (level 0 each).
+struct CloudTextures {
+    const Image& weather;  ///< clouds.weather_map
+    const Image& base;     ///< clouds.noise_base
+    const Image& detail;   ///< clouds.noise_detail
+    const Image& curl;     ///< clouds.curl_noise
+};
+
+/// GLSL's remap: (v - lo) / (hi - lo) * (newHi - newLo) + newLo (no clamp).
+double remap(double v, double lo, double hi, double newLo, double newHi);
+/// Altitude above the ground of ENU point p (m), cancellation-free.
+double cloudAltitude(const CloudLayerBlock& b, glm::dvec3 p);
+/// Weather-map uv of ENU point p (repeat not applied).
+glm::dvec2 weatherUv(const CloudLayerBlock& b, glm::dvec3 p);
+/// The height profile in [0, 1] at layer fraction a (0 bottom, 1 top) of a cloud whose base and
+/// top sit at fractions wb, wt of the layer (weather G, B): rounded base and top.
+double heightProfile(double a, double wb, double wt);
+/// Relative density in [0, 1] (contract at the top of this file).
+double cloudDensity(const CloudLayerBlock& b, const CloudTextures& t, glm::dvec3 p, CloudLod lod);
+/// Entry and exit distances (m) of the shell [b.radii.y, b.radii.z] from radius r with cos
+/// zenith mu; exit < 0: no crossing (contract above).
+glm::dvec2 cloudShellIntersect(const CloudLayerBlock& b, double r, double mu);
+/// The same for explicit radii (planet R, shell [rb, rt], m).
+glm::dvec2 shellIntersect(double R, double rb, double rt, double r, double mu);
+/// Cirrus relative density in [0, 1] at ENU (x, y) on its layer.
+double cirrusDensity(const CloudLayerBlock& b, const Image& curl, glm::dvec2 xy);
+
+}  // namespace cpu
+}  // namespace welkin::generators

@@ -1,0 +1,130 @@
+// Clouds: a volumetric cumulus layer (a spherical shell between clouds.bottom_m and clouds.top_m,
+// density from the weather map and the noise of generators/clouds) and a thin cirrus layer at
+// clouds.cirrus_height_m, ray-marched per pixel and lit by the Sun and the Moon through the
+// atmosphere's transmittance, with ambient light from the sky's irradiance; composited after the
+// Sky (Layer::Clouds, not in the default set).
+//
+//   welkin::SkyProcessor p;                                   // the default set, then the clouds:
+//   for (auto& n : welkin::elements::defaultElements()) p.add(welkin::elements::makeElement(n));
+//   p.add(std::make_unique<welkin::elements::Clouds>());
+//   p.vars().set(welkin::elements::cloudelemkeys::preset, std::string("overcast"));
+//   p.vars().set(welkin::generators::cloudkeys::coverage, 0.7);   // overrides the preset's
+//   p.renderFrame();
+//   // welkin render ... --elements default,clouds --var clouds.preset=fair
+//
+// Presets (clouds.preset): `fair` (fair-weather cumulus), `overcast` (stratocumulus),
+// `scattered-cirrus` (a few cumulus under much cirrus), `clear`. A preset supplies the value of
+// every cloud key it names (coverage, layer heights, cirrus, scattering, rain, weather-map
+// generation) that nobody else set: a key the host or `--var` sets keeps the set value, whatever
+// the preset (the element declares those keys without a value; SkyVars::has() tells them apart).
+// When the preset changes at run time, the keys the element wrote itself follow the new preset.
+//
+// Units: radiance cd/m^2, illuminance lux, heights m above the ground, scattering 1/m.
+#pragma once
+#include <welkin/element.hpp>
+#include <welkin/generators/sky_luts.hpp>
+#include <welkin/gl/objects.hpp>
+#include <welkin/gl/projection_programs.hpp>
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace welkin::elements {
+
+namespace cloudelemkeys {
+inline const Key<std::string> preset{"clouds.preset", "cloud preset: fair, overcast, scattered-cirrus or clear (sets the cloud keys nobody set)"};
+inline const Key<int> samples{"clouds.samples", Range{4, 512}, "ray-march samples per view ray through the cumulus layer"};
+inline const Key<int> lightSamples{"clouds.light_samples", Range{1, 32}, "light-march samples from each sample towards the Sun or Moon (self-shadowing)"};
+inline const Key<bool> reprojection{"clouds.reprojection", "temporal reprojection for the real-time path (welkin view); off: every pixel every frame"};
+}  // namespace cloudelemkeys
+
+/// The values a preset gives the cloud keys (cloud_keys.hpp).
+struct CloudPreset {
+    std::string name;
+    double coverage = 0;        ///< clouds.coverage [0, 1]
+    double bottom = 2000;       ///< clouds.bottom_m
+    double top = 3000;          ///< clouds.top_m
+    double cirrusCoverage = 0;  ///< clouds.cirrus_coverage [0, 1]
+    double cirrusHeight = 9000; ///< clouds.cirrus_height_m
+    double scattering = 0.05;   ///< clouds.scattering_per_m (1/m)
+    double detailScale = 1;     ///< clouds.detail_scale
+    double rain = 0;            ///< clouds.rain_density [0, 1]
+    int cloudCount = 60;        ///< clouds.cloud_count (weather-map generator)
+    double sizeMin = 800;       ///< clouds.cloud_size_min_m
+    double sizeMax = 3000;      ///< clouds.cloud_size_max_m
+};
+/// The preset named `name`; throws welkin::Error "clouds.preset: 'x' not one of fair, overcast,
+/// scattered-cirrus, clear".
+const CloudPreset& cloudPreset(const std::string& name);
+/// The preset names, in the order above.
+std::vector<std::string> cloudPresetNames();
+
+namespace cloudcpu {
+/// Henyey-Greenstein phase function (1/sr) for cos(angle) nu and asymmetry g in (-1, 1).
+double henyeyGreenstein(double nu, double g);
+/// The clouds' two-lobe phase (1/sr): mix of HG(g = 0.8) forward and HG(g = -0.3) backward with
+/// weights 0.7 / 0.3, with every g scaled by `gScale` (the multiple-scattering octaves).
+double cloudPhase(double nu, double gScale = 1.0);
+/// The multiple-scattering approximation of Wrenninge et al. 2013 ("Oz: the great and
+/// volumetric", SIGGRAPH talk; also Hillaire 2016 §5.6): the in-scattered radiance per lux of
+/// the light and per unit scattering coefficient, sum over octaves i < n of
+/// a^i * phase(nu, c^i) * exp(-b^i * tauLight), a = b = c = 0.5 (1/sr).
+double multipleScattering(double nu, double tauLight, int octaves = 3);
+/// Energy-conserving integration of one step (Hillaire 2016, "Physically based sky, atmosphere
+/// and cloud rendering in Frostbite", eq. at §5.6.3): the radiance in-scattered over a step of
+/// length dt with source S (cd/m^2 per m) and extinction sigmaT (1/m): (S - S e^-sigmaT dt)/sigmaT.
+double integrateStep(double source, double sigmaT, double dt);
+/// Two-stream transmission (direct + diffuse) of a conservative-scattering slab of optical
+/// depth tau and asymmetry g (Bohren 1987, "Multiple scattering of light and some of its
+/// observable consequences", Am. J. Phys. 55, 524: T = 1 / (1 + 0.75 (1 - g) tau) at normal
+/// incidence, diffuse illumination).
+double twoStreamTransmission(double tau, double g);
+}  // namespace cloudcpu
+
+class Clouds final : public SkyElement {
+public:
+    Clouds();
+    /// The photometry of the last frame that computed it (lux): horizontal global, direct (the
+    /// Sun's beam through the clouds), diffuse (sky + clouds), and the clear-sky values.
+    struct Photometry {
+        double global = 0, direct = 0, diffuse = 0;
+        double clearGlobal = 0, clearDirect = 0, clearDiffuse = 0;
+        double sunTransmittance = 1;  ///< the clouds' transmittance along the ray to the Sun
+        bool valid = false;
+    };
+    const Photometry& photometry() const { return photometry_; }
+    /// True if the last render() drew (coverage > 0 or cirrus coverage > 0).
+    bool drew() const { return drew_; }
+
+private:
+    void doInit(InitContext& ctx) override;
+    void doUpdate(const FrameContext& ctx) override;
+    void doRender(const FrameContext& ctx) override;
+    void doResize(int w, int h) override;
+    void doRelease() override;
+    void doStats(nlohmann::json& root) const override;
+    void doValidateOptions(const SkyVars& vars) const override;
+
+    void applyPreset(SkyVars& v);
+    void bindResources(const FrameContext& ctx);
+    void setUniforms(const gl::Program& p, const FrameContext& ctx) const;
+    void computePhotometry(const FrameContext& ctx);
+    gl::ProgramBuilder recipe(bool stats, bool reproject) const;
+
+    generators::SkyLuts luts_;
+    gl::ProjectionPrograms programs_;
+    gl::Program statsProgram_;
+    gl::Buffer atmUbo_, cloudUbo_;
+    gl::Texture2D statsTex_;
+    gl::Framebuffer statsFbo_;
+    Photometry photometry_;
+    std::vector<double> photometryInputs_;
+    bool drew_ = false;
+    // Preset bookkeeping: per preset-driven key, the version after the element last wrote it (0:
+    // never written by the element).
+    std::string appliedPreset_;
+    std::vector<std::pair<std::string, uint64_t>> written_;
+};
+
+}  // namespace welkin::elements

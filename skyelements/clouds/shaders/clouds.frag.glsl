@@ -1,0 +1,241 @@
+// The Clouds element's pass: the cumulus shell ray-marched per pixel and the cirrus layer, lit by
+// the Sun and the Moon through the atmosphere's transmittance (atmosphere.glsl), with ambient light
+// from the sky's irradiance. Needs atmosphere.glsl (ATM_USE_TRANSMITTANCE) and the clouds'
+// cloud_density.glsl before it. Sources of the model: docs/clouds.md and clouds.hpp.
+//
+// Frame: ENU at the observer's ground point, metres; observer at (0, 0, u_h), planet centre at
+// (0, 0, -R). Radiance cd/m^2, illuminance lux.
+uniform float u_h;           // observer height above the ground, m
+uniform vec3 u_sunDir;       // unit vectors to the lights, ENU
+uniform vec3 u_moonDir;
+uniform vec3 u_sunE;         // illuminance above the atmosphere, lux per channel (0: no light)
+uniform vec3 u_moonE;
+uniform vec3 u_ambientE;     // the clear sky's diffuse horizontal illuminance at the ground, lux
+uniform vec3 u_groundE;      // global horizontal illuminance at the ground (sky + Sun), lux
+uniform int u_samples;       // view-ray samples through the cumulus layer
+uniform int u_lightSamples;  // light-march samples
+uniform float u_maxDistance; // longest march through the shell (m): beyond, the haze hides it
+uniform float u_cirrusTau;   // vertical optical depth of cirrus at relative density 1
+
+const float CLD_PI = 3.14159265358979;
+// Sun's angular radius (the transmittance's smooth horizon); the Moon's is nearly the same.
+const float CLD_LIGHT_RADIUS = 0.00465;
+const float CLD_GROUND_ALBEDO = 0.2;  // reflectance of the ground lighting the cloud bases (grass, soil)
+
+// Henyey-Greenstein, 1/sr.
+float cld_hg(float nu, float g) {
+    float d = 1.0 + g * g - 2.0 * g * nu;
+    return (1.0 - g * g) / (4.0 * CLD_PI * d * sqrt(d));
+}
+// Two lobes (0.7 forward g = 0.8, 0.3 backward g = -0.3; the classic cloud fit, e.g. Hillaire
+// 2016 §5.6.2, Schneider & Vos 2015): twin of cloudcpu::cloudPhase.
+float cld_phase(float nu, float gScale) { return 0.7 * cld_hg(nu, 0.8 * gScale) + 0.3 * cld_hg(nu, -0.3 * gScale); }
+// Wrenninge et al. 2013 octaves (a = b = c = 0.5): twin of cloudcpu::multipleScattering.
+float cld_multiScatter(float nu, float tau) {
+    float s = 0.0, a = 1.0, b = 1.0, c = 1.0;
+    for (int i = 0; i < 3; ++i) {
+        s += a * cld_phase(nu, c) * exp(-b * tau);
+        a *= 0.5; b *= 0.5; c *= 0.5;
+    }
+    return s;
+}
+
+// Interleaved gradient noise (Jimenez 2014, "Next generation post processing in Call of Duty:
+// Advanced Warfare"): the ray offset in [0, 1), deterministic per pixel.
+float cld_dither(vec2 px) { return fract(52.9829189 * fract(dot(px, vec2(0.06711056, 0.00583715)))); }
+
+// Light reaching point p (altitude hp) from a light of direction l and top-of-atmosphere
+// illuminance E: E x the atmosphere's transmittance from p towards the light (0 below p's
+// horizon, smoothed over the disk).
+vec3 cld_lightAt(vec3 p, float hp, vec3 l, vec3 E) {
+    vec3 up = normalize(p + vec3(0.0, 0.0, cld_radii.x));
+    return E * transmittanceToLight(hp, dot(up, l), CLD_LIGHT_RADIUS);
+}
+
+// Optical depth from p towards the light l through the cumulus (cheap density): u_lightSamples
+// steps over at most 3 km (Schneider & Vos 2015 march ~6 samples over a few cloud cells), the
+// steps growing geometrically (x1.5) so near self-shadowing is resolved.
+float cld_lightDepth(vec3 p, vec3 l) {
+    float sigma = cld_shape.z;
+    float total = 3000.0;
+    vec3 q = p + vec3(0.0, 0.0, cld_radii.x);
+    float r = length(q);
+    vec2 seg = cloudShellIntersect(r, dot(q, l) / r);
+    if (seg.y > 0.0) total = min(total, seg.y);
+    // sum of 1.5^i for i < n: (1.5^n - 1) / 0.5
+    float first = total * 0.5 / (pow(1.5, float(u_lightSamples)) - 1.0);
+    float t = 0.0, ds = first, tau = 0.0;
+    for (int i = 0; i < u_lightSamples; ++i) {
+        vec3 s = p + l * (t + 0.5 * ds);
+        tau += cloudDensity(s, CLOUD_LOD_CHEAP) * sigma * ds;
+        t += ds;
+        ds *= 1.5;
+    }
+    return tau;
+}
+
+// Transmittance of the air between the observer (h, mu) and the point at distance d along the
+// ray, from the transmittance LUT: the ratio of the two paths to the top of the atmosphere (rays
+// that reach the ground are reversed: the ratio of the paths from the far end upwards).
+vec3 cld_airTransmittance(float mu, float d) {
+    float R = atm_bottom();
+    float r = R + u_h;
+    float rd = sqrt(max(d * d + 2.0 * r * mu * d + r * r, R * R));
+    float hd = rd - R;
+    float mud = clamp((r * mu + d) / rd, -1.0, 1.0);
+    if (mu >= 0.0 || !rayIntersectsGround(u_h, mu)) {
+        vec3 a = transmittanceFromLut(u_h, mu), b = transmittanceFromLut(hd, mud);
+        return clamp(a / max(b, vec3(1e-20)), 0.0, 1.0);
+    }
+    vec3 a = transmittanceFromLut(hd, -mud), b = transmittanceFromLut(u_h, -mu);
+    return clamp(a / max(b, vec3(1e-20)), 0.0, 1.0);
+}
+
+// In-scattered source of one sample (cd/m^2 per m) at p with extinction sigmaT (albedo 1).
+vec3 cld_source(vec3 p, float hp, float a, vec3 dir, float sigmaT) {
+    vec3 S = vec3(0.0);
+    if (any(greaterThan(u_sunE, vec3(0.0)))) {
+        vec3 E = cld_lightAt(p, hp, u_sunDir, u_sunE);
+        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_multiScatter(dot(dir, u_sunDir), cld_lightDepth(p, u_sunDir));
+    }
+    if (any(greaterThan(u_moonE, vec3(0.0)))) {
+        vec3 E = cld_lightAt(p, hp, u_moonDir, u_moonE);
+        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_multiScatter(dot(dir, u_moonDir), cld_lightDepth(p, u_moonDir));
+    }
+    // Ambient: the sky's radiance over the upper hemisphere, E_diffuse / pi, reaches the cloud's
+    // top and less of it its base (linear in the layer fraction a from 0.25 to 1: the cloud above
+    // shades its own base, Schneider & Vos 2015's height gradient); the ground's reflected light
+    // E_global rho / pi lights the base from below. Half of an isotropically scattering
+    // particle's phase integral faces each hemisphere.
+    S += 0.5 * u_ambientE / CLD_PI * mix(0.25, 1.0, a);
+    S += 0.5 * CLD_GROUND_ALBEDO * u_groundE / CLD_PI * mix(1.0, 0.25, a);
+    return S * sigmaT;
+}
+
+// The cumulus along the ray: radiance L (cd/m^2), transmittance T (grey), the transmittance-
+// weighted mean distance of what scattered (m; for the haze). Returns false if the ray misses.
+bool cld_cumulus(vec3 dir, vec2 px, out vec3 L, out float T, out float dMean) {
+    L = vec3(0.0);
+    T = 1.0;
+    dMean = 0.0;
+    if (cld_shape.x <= 0.0) return false;
+    float r = cld_radii.x + u_h;
+    vec2 seg = cloudShellIntersect(r, dir.z);
+    if (seg.y <= 0.0) return false;
+    float t0 = max(seg.x, 0.0), t1 = min(seg.y, t0 + u_maxDistance);
+    if (t1 <= t0) return false;
+    float sigma = cld_shape.z;
+    float bottom = cld_radii.y - cld_radii.x, top = cld_radii.z - cld_radii.x;
+    float dt = (t1 - t0) / float(u_samples);
+    float t = t0 + dt * cld_dither(px);
+    vec3 o = vec3(0.0, 0.0, u_h);
+    float wSum = 0.0;
+    for (int i = 0; i < u_samples; ++i, t += dt) {
+        vec3 p = o + dir * t;
+        float d = cloudDensity(p, CLOUD_LOD_FULL);
+        if (d <= 0.0) continue;
+        float sigmaT = d * sigma;
+        float hp = cloudAltitude(p);
+        float a = clamp((hp - bottom) / (top - bottom), 0.0, 1.0);
+        vec3 S = cld_source(p, hp, a, dir, sigmaT);
+        float Ts = exp(-sigmaT * dt);
+        // Hillaire 2016 energy-conserving step: int_0^dt S e^(-sigmaT s) ds = (S - S Ts) / sigmaT
+        L += T * (S - S * Ts) / sigmaT;
+        float w = T * (1.0 - Ts);
+        dMean += w * t;
+        wSum += w;
+        T *= Ts;
+        if (T < 1e-3) { T = 0.0; break; }
+    }
+    dMean = wSum > 0.0 ? dMean / wSum : t0;
+    return wSum > 0.0;
+}
+
+// Cirrus: a thin layer at R + cirrus height, single scattering of the lights with an ice-crystal
+// phase (HG g = 0.7) and the ambient term; optical depth u_cirrusTau x density over the slant
+// path (1 / |cos| of the local zenith, capped at 10). Returns false if the ray misses it.
+bool cld_cirrus(vec3 dir, out vec3 L, out float T, out float d) {
+    L = vec3(0.0);
+    T = 1.0;
+    d = 0.0;
+    if (cld_shape.w <= 0.0) return false;
+    float R = cld_radii.x, rc = cld_radii.w, r = R + u_h;
+    float mu = dir.z;
+    float disc = r * r * mu * mu - (r - rc) * (r + rc);
+    if (disc < 0.0) return false;
+    float s = sqrt(disc);
+    if (r < rc) d = -r * mu + s;
+    else {
+        d = -r * mu - s;
+        if (d <= 0.0) return false;
+    }
+    // hidden by the ground?
+    if (r < rc && rayIntersectsGround(u_h, mu) && d > distanceToBottom(u_h, mu)) return false;
+    vec3 p = vec3(0.0, 0.0, u_h) + dir * d;
+    float c = cirrusDensity(p.xy);
+    if (c <= 0.0) return false;
+    vec3 up = normalize(p + vec3(0.0, 0.0, R));
+    float tau = u_cirrusTau * c / max(abs(dot(up, dir)), 0.1);
+    T = exp(-tau);
+    float hp = rc - R;
+    vec3 S = vec3(0.0);
+    S += cld_lightAt(p, hp, u_sunDir, u_sunE) * cld_hg(dot(dir, u_sunDir), 0.7);
+    S += cld_lightAt(p, hp, u_moonDir, u_moonE) * cld_hg(dot(dir, u_moonDir), 0.7);
+    S += 0.5 * u_ambientE / CLD_PI;
+    L = S * (1.0 - T);  // albedo 1: the scattered fraction of the light crossing the layer
+    return true;
+}
+
+// Everything along the ray: radiance and per-channel transmittance. With `haze`, the air between
+// the observer and each layer dims it (transmittance Tair) and lets the sky behind through in
+// proportion (the compositor's dst already holds the sky's radiance along the whole ray: the
+// in-scatter in front of the cloud is approximated by that radiance x (1 - Tair)).
+void cloudsShade(vec3 dir, vec2 px, bool haze, out vec3 L, out vec3 T) {
+    vec3 Lc, Li;
+    float Tc, Ti, dc, di;
+    bool cu = cld_cumulus(dir, px, Lc, Tc, dc);
+    bool ci = cld_cirrus(dir, Li, Ti, di);
+    vec3 LcA = Lc, LiA = Li, TcA = vec3(Tc), TiA = vec3(Ti);
+    if (haze) {
+        if (cu) { vec3 a = cld_airTransmittance(dir.z, dc); LcA = a * Lc; TcA = 1.0 - a * (1.0 - Tc); }
+        if (ci) { vec3 a = cld_airTransmittance(dir.z, di); LiA = a * Li; TiA = 1.0 - a * (1.0 - Ti); }
+    }
+    // Nearest layer first: the cirrus is behind the cumulus unless the observer is above it.
+    bool cirrusFirst = ci && u_h > cld_radii.w - cld_radii.x;
+    if (cirrusFirst) { L = LiA + TiA * LcA; }
+    else { L = LcA + TcA * LiA; }
+    T = TcA * TiA;
+}
+
+#ifdef CLOUDS_STATS
+// Photometry pass: an N x N grid of cosine-weighted directions over the upper hemisphere
+// (Shirley & Chiu 1997 concentric map), then row N: pixel 0 the ray to the Sun. Outputs the
+// clouds' radiance (rgb) and transmittance (a, grey) without haze (at the ground).
+uniform int u_statsN;
+layout(location = 0) out vec4 o_stats;
+void main() {
+    ivec2 ij = ivec2(gl_FragCoord.xy);
+    vec3 dir;
+    if (ij.y >= u_statsN) {
+        dir = u_sunDir;
+    } else {
+        vec2 uv = 2.0 * (vec2(ij) + 0.5) / float(u_statsN) - 1.0;
+        float rad, phi;
+        if (abs(uv.x) > abs(uv.y)) { rad = uv.x; phi = 0.25 * CLD_PI * uv.y / uv.x; }
+        else { rad = uv.y; phi = 0.5 * CLD_PI - 0.25 * CLD_PI * uv.x / uv.y; }
+        vec2 xy = rad * vec2(cos(phi), sin(phi));
+        dir = vec3(xy, sqrt(max(1.0 - dot(xy, xy), 0.0)));
+    }
+    vec3 L, T;
+    cloudsShade(dir, vec2(ij), false, L, T);
+    o_stats = vec4(L, dot(T, vec3(0.2126, 0.7152, 0.0722)));
+}
+#else
+void main() {
+    vec3 dir;
+    if (!welkin_viewDirection(welkin_pixel(), dir)) discard;
+    vec3 L, T;
+    cloudsShade(dir, welkin_pixel(), true, L, T);
+    welkin_output(L, T);
+}
+#endif

@@ -1,0 +1,348 @@
+#include <welkin/check.hpp>
+#include <welkin/elements/clouds.hpp>
+#include <welkin/embedded/atmosphere_shaders.hpp>
+#include <welkin/embedded/clouds_element_shaders.hpp>
+#include <welkin/embedded/clouds_shaders.hpp>
+#include <welkin/error.hpp>
+#include <welkin/generators/atmosphere.hpp>
+#include <welkin/generators/cloud_density.hpp>
+#include <welkin/generators/cloud_keys.hpp>
+#include <welkin/generators/cloud_noise.hpp>
+#include <welkin/generators/lights.hpp>
+#include <welkin/gl/bindings.hpp>
+#include <welkin/gl/shader.hpp>
+#include <welkin/keys.hpp>
+
+#include <epoxy/gl.h>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace welkin::elements {
+
+using namespace welkin::generators;
+namespace ck = welkin::generators::cloudkeys;
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+// Side of the photometry pass's grid of hemisphere directions (even: no direction on the
+// concentric map's axes). 16 x 16 = 256 directions: the cosine-weighted mean of a sky of
+// scattered cumulus converges to ~2 % (measured against 64 x 64 in the tests' overcast case).
+constexpr int kStatsN = 16;
+// Vertical optical depth of cirrus at relative density 1: thin cirrus 0.03-0.3, cirrus up to ~1-3
+// (Sassen & Cho 1992, "Subvisual-thin cirrus lidar dataset", J. Appl. Meteor. 31: thin < 0.3).
+constexpr float kCirrusTau = 0.3f;
+// Longest march through the shell (m): a grazing ray crosses ~200 km of a 1 km layer; beyond
+// ~60 km the air between hides cumulus almost entirely (horizontal transmittance at 550 nm of a
+// clear atmosphere over 60 km: ~0.4 at sea level, the haze fade does the rest).
+constexpr float kMaxDistance = 60000.f;
+
+const std::vector<CloudPreset>& presets() {
+    // Heights and coverages: fair-weather cumulus bases ~1-2 km, tops 2-3 km in mid-latitude
+    // summer; stratocumulus a continuous sheet 0.5-2 km (WMO International Cloud Atlas, 2017,
+    // "Cumulus humilis/mediocris", "Stratocumulus stratiformis"). Scattering: the extinction of
+    // cloud ~ 0.02-0.1 /m (cumulus liquid water 0.2-0.5 g/m^3 with 10 um droplets: 3 LWC /
+    // (2 rho r_e) = 0.045-0.075 /m; Stephens 1978).
+    static const std::vector<CloudPreset> p{
+        {"fair", 0.45, 1500, 3000, 0.25, 9000, 0.05, 1.0, 0.0, 60, 700, 2500},
+        {"overcast", 0.98, 800, 2000, 0.0, 8000, 0.04, 0.6, 0.3, 220, 2000, 6000},
+        {"scattered-cirrus", 0.2, 1800, 2800, 0.75, 9500, 0.05, 1.2, 0.0, 25, 500, 1500},
+        {"clear", 0.0, 2000, 3000, 0.0, 9000, 0.05, 1.0, 0.0, 0, 500, 1000},
+    };
+    return p;
+}
+
+double lum(glm::dvec3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+
+// The effective value of a preset-driven key: what is set, else the preset's.
+double eff(const SkyVars& v, const Key<double>& k, double presetValue) { return v.has(k) ? v.get(k) : presetValue; }
+}  // namespace
+
+const CloudPreset& cloudPreset(const std::string& name) {
+    for (const CloudPreset& p : presets())
+        if (p.name == name) return p;
+    throw Error("clouds.preset: '" + name + "' not one of fair, overcast, scattered-cirrus, clear");
+}
+
+std::vector<std::string> cloudPresetNames() {
+    std::vector<std::string> n;
+    for (const CloudPreset& p : presets()) n.push_back(p.name);
+    return n;
+}
+
+namespace cloudcpu {
+double henyeyGreenstein(double nu, double g) {
+    const double d = 1.0 + g * g - 2.0 * g * nu;
+    return (1.0 - g * g) / (4.0 * kPi * d * std::sqrt(d));
+}
+double cloudPhase(double nu, double gScale) { return 0.7 * henyeyGreenstein(nu, 0.8 * gScale) + 0.3 * henyeyGreenstein(nu, -0.3 * gScale); }
+double multipleScattering(double nu, double tauLight, int octaves) {
+    double s = 0, a = 1, b = 1, c = 1;
+    for (int i = 0; i < octaves; ++i) {
+        s += a * cloudPhase(nu, c) * std::exp(-b * tauLight);
+        a *= 0.5;
+        b *= 0.5;
+        c *= 0.5;
+    }
+    return s;
+}
+double integrateStep(double source, double sigmaT, double dt) {
+    if (sigmaT <= 0) return source * dt;
+    return (source - source * std::exp(-sigmaT * dt)) / sigmaT;
+}
+double twoStreamTransmission(double tau, double g) { return 1.0 / (1.0 + 0.75 * (1.0 - g) * tau); }
+}  // namespace cloudcpu
+
+Clouds::Clouds() : SkyElement("clouds") {
+    option(cloudelemkeys::preset, std::string("fair"));
+    option(cloudelemkeys::samples, 48);
+    option(cloudelemkeys::lightSamples, 6);
+    option(cloudelemkeys::reprojection, false);
+    optionUnset(ck::coverage);
+    optionUnset(ck::bottom);
+    optionUnset(ck::top);
+    optionUnset(ck::cirrusCoverage);
+    optionUnset(ck::cirrusHeight);
+    optionUnset(ck::scattering);
+    optionUnset(ck::detailScale);
+    optionUnset(ck::rainDensity);
+    reads(keys::sunDirection);
+    reads(keys::moonDirection);
+    reads(keys::observerHeight);
+    reads(lightkeys::sunIlluminance);
+    reads(lightkeys::moonIlluminance);
+    reads(skykeys::transmittanceLut);
+    reads(skykeys::horizontalIlluminance);
+    reads(skykeys::diffuseIrradiance);
+    reads(ck::weatherMap);
+    reads(ck::noiseBase);
+    reads(ck::noiseDetail);
+    reads(ck::curlNoise);
+}
+
+void Clouds::doValidateOptions(const SkyVars& v) const {
+    const CloudPreset& p = cloudPreset(v.getOr(cloudelemkeys::preset, std::string("fair")));
+    // The layer's heights as this element will use them (set values, else the preset's).
+    SkyVars probe;
+    probe.set(ck::bottom, eff(v, ck::bottom, p.bottom));
+    probe.set(ck::top, eff(v, ck::top, p.top));
+    probe.set(ck::cirrusHeight, eff(v, ck::cirrusHeight, p.cirrusHeight));
+    validateCloudLayer(probe);
+}
+
+void Clouds::applyPreset(SkyVars& v) {
+    const std::string name = v.get(cloudelemkeys::preset);
+    const CloudPreset& p = cloudPreset(name);
+    if (name == appliedPreset_) return;
+    auto put = [&](const Key<double>& k, double value) {
+        auto it = std::find_if(written_.begin(), written_.end(), [&](auto& w) { return w.first == k.name(); });
+        const bool ours = it != written_.end() && v.version(k) == it->second;
+        if (v.has(k) && !ours) return;  // set by the host or --var: it wins over any preset
+        v.set(k, value);
+        if (it == written_.end()) written_.emplace_back(k.name(), v.version(k));
+        else it->second = v.version(k);
+    };
+    put(ck::coverage, p.coverage);
+    put(ck::bottom, p.bottom);
+    put(ck::top, p.top);
+    put(ck::cirrusCoverage, p.cirrusCoverage);
+    put(ck::cirrusHeight, p.cirrusHeight);
+    put(ck::scattering, p.scattering);
+    put(ck::detailScale, p.detailScale);
+    put(ck::rainDensity, p.rain);
+    appliedPreset_ = name;
+}
+
+void Clouds::doInit(InitContext& ctx) {
+    SkyVars& v = ctx.vars;
+    declareOptions(v);
+    appliedPreset_.clear();
+    written_.clear();
+    applyPreset(v);
+    validateCloudLayer(v);
+    luts_ = SkyLuts::obtain(v);
+    addGenerator(AtmosphereLights::obtain(v));
+    addGenerator(luts_.lightZenith);
+    addGenerator(luts_.transmittance);
+    addGenerator(luts_.multiScattering);
+    addGenerator(luts_.sh);
+    addGenerator(luts_.sunView);
+    addGenerator(luts_.moonView);
+    addGenerator(luts_.irradiance);
+    addGenerator(CloudNoise::obtain(v));
+    programs_ = gl::ProjectionPrograms(recipe(false, false));
+    statsProgram_ = recipe(true, false).build();
+    atmUbo_ = gl::Buffer(sizeof(AtmosphereBlock));
+    cloudUbo_ = gl::Buffer(sizeof(CloudLayerBlock));
+    statsTex_ = gl::Texture2D(kStatsN, kStatsN + 1, GL_RGBA32F);
+    statsFbo_ = gl::Framebuffer::create();
+    statsFbo_.attach(GL_COLOR_ATTACHMENT0, statsTex_);
+    photometry_ = {};
+    photometryInputs_.clear();
+}
+
+gl::ProgramBuilder Clouds::recipe(bool stats, bool) const {
+    gl::ProgramBuilder b(stats ? "Clouds (photometry)" : "Clouds");
+    b.define("ATM_USE_TRANSMITTANCE");
+    if (stats) b.define("CLOUDS_STATS");
+    b.fullscreenVertex();
+    if (!stats)
+        b.fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
+            .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"));
+    b.fragment("generators/atmosphere.glsl", embedded::atmosphere_shaders("atmosphere.glsl"))
+        .fragment("generators/clouds/cloud_density.glsl", embedded::clouds_shaders("cloud_density.glsl"))
+        .fragment("clouds/clouds.frag.glsl", embedded::clouds_element_shaders("clouds.frag.glsl"));
+    return b;
+}
+
+void Clouds::doUpdate(const FrameContext& ctx) { applyPreset(ctx.vars); }
+
+void Clouds::bindResources(const FrameContext& ctx) {
+    SkyVars& v = ctx.vars;
+    AtmosphereBlock block = AtmosphereBlock::from(luts_.transmittance->model(), luts_.transmittance->quality().shBands);
+    atmUbo_.update(&block, sizeof block);
+    atmUbo_.bindBase(GL_UNIFORM_BUFFER, gl::binding::kAtmosphereUbo);
+    CloudLayerBlock cb = CloudLayerBlock::from(v);
+    cloudUbo_.update(&cb, sizeof cb);
+    cloudUbo_.bindBase(GL_UNIFORM_BUFFER, gl::binding::kCloudUbo);
+    glBindTextureUnit(gl::binding::kTransmittanceLut, v.get(skykeys::transmittanceLut).id);
+    glBindTextureUnit(gl::binding::kCloudWeatherMap, v.get(ck::weatherMap).id);
+    glBindTextureUnit(gl::binding::kCloudNoiseBase, v.get(ck::noiseBase).id);
+    glBindTextureUnit(gl::binding::kCloudNoiseDetail, v.get(ck::noiseDetail).id);
+    glBindTextureUnit(gl::binding::kCloudCurlNoise, v.get(ck::curlNoise).id);
+}
+
+void Clouds::setUniforms(const gl::Program& p, const FrameContext& ctx) const {
+    const SkyVars& v = ctx.vars;
+    auto unit = [](glm::dvec3 d) { return glm::length(d) > 0 ? glm::normalize(d) : glm::dvec3(0, 0, -1); };
+    const glm::dvec3 hv = v.getOr(skykeys::horizontalIlluminance, glm::dvec3(0.0));
+    p.use();
+    p.set("u_h", float(std::max(v.getOr(keys::observerHeight, 0.0), 0.0)));
+    p.set("u_sunDir", glm::vec3(unit(v.get(keys::sunDirection))));
+    p.set("u_moonDir", glm::vec3(unit(v.get(keys::moonDirection))));
+    p.set("u_sunE", glm::vec3(v.getOr(lightkeys::sunIlluminance, glm::dvec3(0.0))));
+    p.set("u_moonE", glm::vec3(v.getOr(lightkeys::moonIlluminance, glm::dvec3(0.0))));
+    const glm::dvec3 diffuse = v.getOr(skykeys::diffuseIrradiance, glm::dvec3(0.0));
+    p.set("u_ambientE", glm::vec3(diffuse));
+    // The global illuminance per channel: the diffuse's colour scaled to the global's luminance.
+    const double dl = lum(diffuse);
+    p.set("u_groundE", glm::vec3(dl > 0 ? diffuse * (hv.x / dl) : glm::dvec3(hv.x)));
+    p.set("u_samples", v.get(cloudelemkeys::samples));
+    p.set("u_lightSamples", v.get(cloudelemkeys::lightSamples));
+    p.set("u_maxDistance", kMaxDistance);
+    p.set("u_cirrusTau", kCirrusTau);
+}
+
+void Clouds::computePhotometry(const FrameContext& ctx) {
+    SkyVars& v = ctx.vars;
+    // Inputs: everything the pass reads (lights, layer, weather, samples); texture contents are
+    // tracked through the keys' versions.
+    std::vector<double> in;
+    auto add3 = [&](glm::dvec3 x) { in.insert(in.end(), {x.x, x.y, x.z}); };
+    add3(v.get(keys::sunDirection));
+    add3(v.get(keys::moonDirection));
+    add3(v.getOr(lightkeys::sunIlluminance, glm::dvec3(0.0)));
+    add3(v.getOr(lightkeys::moonIlluminance, glm::dvec3(0.0)));
+    add3(v.getOr(skykeys::horizontalIlluminance, glm::dvec3(0.0)));
+    in.push_back(v.getOr(keys::observerHeight, 0.0));
+    for (const char* k : {"clouds.coverage", "clouds.bottom_m", "clouds.top_m", "clouds.cirrus_coverage", "clouds.cirrus_height_m",
+                          "clouds.scattering_per_m", "clouds.detail_scale", "clouds.weather_offset_m", "clouds.weather_map",
+                          "clouds.noise_base", "clouds.samples", "clouds.light_samples", "sky.transmittance_lut"})
+        in.push_back(double(v.version(k)));
+    if (photometry_.valid && in == photometryInputs_) return;
+    photometryInputs_ = in;
+
+    GLint prevFbo = 0, prevViewport[4];
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &prevFbo);
+    glGetIntegerv(GL_VIEWPORT, prevViewport);
+    const GLboolean blend = glIsEnabled(GL_BLEND);
+    statsFbo_.bind();
+    glViewport(0, 0, kStatsN, kStatsN + 1);
+    glDisable(GL_BLEND);
+    setUniforms(statsProgram_, ctx);
+    statsProgram_.set("u_statsN", kStatsN);
+    ctx.drawFullscreen();
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(prevFbo));
+    glViewport(prevViewport[0], prevViewport[1], prevViewport[2], prevViewport[3]);
+    if (blend) glEnable(GL_BLEND);
+    const std::vector<float> px = statsTex_.readRgbaFloat();
+
+    // Cosine-weighted directions: E = pi x mean radiance. The clear sky behind the clouds is
+    // taken as uniform: its share is the clear diffuse illuminance x the mean transmittance.
+    double meanL = 0, meanT = 0;
+    for (int i = 0; i < kStatsN * kStatsN; ++i) {
+        meanL += lum({px[size_t(4 * i)], px[size_t(4 * i + 1)], px[size_t(4 * i + 2)]});
+        meanT += px[size_t(4 * i + 3)];
+    }
+    meanL /= kStatsN * kStatsN;
+    meanT /= kStatsN * kStatsN;
+    const double sunT = px[size_t(4 * kStatsN * kStatsN + 3)];
+    const glm::dvec3 hv = v.getOr(skykeys::horizontalIlluminance, glm::dvec3(0.0));
+    Photometry& ph = photometry_;
+    ph.clearGlobal = hv.x;
+    ph.clearDirect = hv.y;
+    ph.clearDiffuse = hv.z;
+    ph.sunTransmittance = sunT;
+    ph.direct = hv.y * sunT;
+    ph.diffuse = hv.z * meanT + kPi * meanL;
+    ph.global = ph.direct + ph.diffuse;
+    ph.valid = true;
+}
+
+void Clouds::doRender(const FrameContext& ctx) {
+    SkyVars& v = ctx.vars;
+    drew_ = false;
+    const double cov = v.get(ck::coverage), cir = v.get(ck::cirrusCoverage);
+    if (cov <= 0.0 && cir <= 0.0) {
+        // Nothing to draw: the clear sky's photometry stands.
+        const glm::dvec3 hv = v.getOr(skykeys::horizontalIlluminance, glm::dvec3(0.0));
+        photometry_ = {hv.x, hv.y, hv.z, hv.x, hv.y, hv.z, 1.0, true};
+        photometryInputs_.clear();
+        return;
+    }
+    bindResources(ctx);
+    computePhotometry(ctx);
+    const gl::Program& p = programs_.get(ctx.camera.projection);
+    setUniforms(p, ctx);
+    ctx.drawFullscreen();
+    drew_ = true;
+}
+
+void Clouds::doResize(int, int) {}
+
+void Clouds::doRelease() {
+    programs_.releasePrograms();
+    statsProgram_ = {};
+    atmUbo_ = {};
+    cloudUbo_ = {};
+    statsTex_ = {};
+    statsFbo_ = {};
+    luts_.releaseGl();
+}
+
+void Clouds::doStats(nlohmann::json& root) const {
+    // Composited after the Sky, the clouds' doStats runs after the Sky's (registration order):
+    // the sky.* photometry becomes the one under the clouds; the clear sky's stays as sky.clear_*.
+    if (!photometry_.valid) return;
+    auto& s = root["sky"];
+    s["clear_horizontal_illuminance_lux"] = photometry_.clearGlobal;
+    s["clear_sun_illuminance_lux"] = photometry_.clearDirect;
+    s["clear_diffuse_illuminance_lux"] = photometry_.clearDiffuse;
+    s["horizontal_illuminance_lux"] = photometry_.global;
+    s["sun_illuminance_lux"] = photometry_.direct;
+    s["diffuse_illuminance_lux"] = photometry_.diffuse;
+    root["clouds"]["sun_transmittance"] = photometry_.sunTransmittance;
+    root["clouds"]["drew"] = drew_;
+}
+
+}  // namespace welkin::elements
+
+WELKIN_ELEMENT_DESCRIPTOR(clouds) {
+    static const welkin::ElementDescriptor d{
+        "clouds", "volumetric cumulus over a weather map and cirrus, lit by the Sun and Moon through the atmosphere",
+        welkin::Layer::Clouds, false, [] { return std::make_unique<welkin::elements::Clouds>(); }};
+    return d;
+}

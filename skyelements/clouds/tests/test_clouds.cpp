@@ -1,0 +1,260 @@
+// Clouds element: presets and validation, the lighting math against independent references,
+// and small renders (fisheye/perspective, tens of pixels, few samples) for the element's
+// behaviour: nothing drawn at coverage 0, the Sun hidden under a full deck, lit from the Sun's
+// side, finite everywhere, deterministic.
+#include <catch2/catch.hpp>
+
+#include "gl_test_context.hpp"
+
+#include <epoxy/gl.h>
+
+#include <welkin/camera.hpp>
+#include <welkin/elements/clouds.hpp>
+#include <welkin/elements/sky.hpp>
+#include <welkin/generators/atmosphere.hpp>
+#include <welkin/generators/cloud_keys.hpp>
+#include <welkin/gl/objects.hpp>
+#include <welkin/keys.hpp>
+#include <welkin/processor.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <numbers>
+
+using namespace welkin;
+namespace ck = welkin::generators::cloudkeys;
+namespace ek = welkin::elements::cloudelemkeys;
+
+namespace {
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+// A weather map of n x n texels: every texel (R density, G base, B top, A rain) from f(u, v).
+struct Weather {
+    gl::Texture2D tex;
+    template <class F>
+    Weather(int n, F f) : tex((test::glContext(), n), n, GL_RGBA32F) {
+        std::vector<float> px(size_t(4 * n * n));
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x) {
+                glm::vec4 c = f((x + 0.5) / n, (y + 0.5) / n);
+                for (int k = 0; k < 4; ++k) px[size_t(4 * (y * n + x) + k)] = c[k];
+            }
+        glTextureSubImage2D(tex.id(), 0, 0, 0, n, n, GL_RGBA, GL_FLOAT, px.data());
+        glTextureParameteri(tex.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+        glTextureParameteri(tex.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+        glTextureParameteri(tex.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTextureParameteri(tex.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    }
+    TextureRef ref() const { return {tex.id(), GL_TEXTURE_2D, tex.width(), tex.height(), 0}; }
+};
+
+struct Scene {
+    SkyProcessor p{SkyVars::earth(), Logger(), ProcessorOptions{.astronomy = false}};
+    elements::Clouds* clouds = nullptr;
+    Scene(double sunAltDeg, const Weather& w, Projection proj = Projection::Fisheye, int width = 48, int height = 48,
+          bool withSky = true) {
+        test::glContext();
+        p.vars().set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(atmosphere::Atmosphere::earthClear()));
+        p.vars().set(keys::sunDirection, directionFromAzAlt(180 * kDeg, sunAltDeg * kDeg));
+        p.vars().set(keys::moonDirection, glm::dvec3(0, 0, -1));
+        p.vars().set(ck::weatherMap, w.ref());
+        p.vars().set(ck::weatherExtent, 20000.0);
+        Camera cam;
+        cam.projection = proj;
+        cam.width = width;
+        cam.height = height;
+        p.setCamera(cam);
+        if (withSky) p.add(std::make_unique<elements::Sky>(elements::SkyOptions{.quality = 0}));
+        auto c = std::make_unique<elements::Clouds>();
+        clouds = c.get();
+        p.add(std::move(c));
+        p.vars().set(ek::samples, 16);      // few samples: llvmpipe
+        p.vars().set(ek::lightSamples, 4);
+        p.setAnimationTime(0.0);
+        p.setExposure({.automatic = false, .ev100 = 12});
+    }
+    Image render() {
+        p.renderFrame();
+        return p.readHdr();
+    }
+};
+
+double luminance(const Image& img, int x, int y) {
+    return 0.2126 * img.at(x, y, 0) + 0.7152 * img.at(x, y, 1) + 0.0722 * img.at(x, y, 2);
+}
+bool finiteNonNegative(const Image& img) {
+    for (float v : img.pixels)
+        if (!std::isfinite(v) || v < 0.0f) return false;
+    return true;
+}
+const auto kFull = [](double, double) { return glm::vec4(1, 0, 1, 0); };
+}  // namespace
+
+TEST_CASE("Clouds presets and validation", "[cpu][clouds]") {
+    CHECK(elements::cloudPreset("overcast").coverage > elements::cloudPreset("fair").coverage);
+    CHECK(elements::cloudPreset("clear").coverage == 0.0);
+    CHECK_THROWS_WITH(elements::cloudPreset("stormy"), "clouds.preset: 'stormy' not one of fair, overcast, scattered-cirrus, clear");
+    SkyProcessor p(SkyVars::earth(), Logger(), ProcessorOptions{.astronomy = false});
+    p.add(std::make_unique<elements::Clouds>());
+    auto& e = *p.elements().back();
+    CHECK_NOTHROW(e.validateOptions(p.vars()));
+    CHECK_THROWS_WITH(p.vars().setFromString("clouds.coverage", "1.3"), Catch::Contains("clouds.coverage"));
+    CHECK_THROWS_WITH(p.vars().setFromString("clouds.samples", "2"), Catch::Contains("not in [4, 512]"));
+    // The preset's top (fair: 3000 m) under a base the user set too high.
+    p.vars().set(ck::bottom, 2950.0);
+    CHECK_THROWS_WITH(e.validateOptions(p.vars()), "clouds.top_m 3000 must be at least clouds.bottom_m + 100 m (3050)");
+    p.vars().set(ck::bottom, 1000.0);
+    p.vars().set(ek::preset, std::string("stormy"));
+    CHECK_THROWS_WITH(e.validateOptions(p.vars()), Catch::Contains("clouds.preset: 'stormy'"));
+}
+
+TEST_CASE("Clouds lighting math against references", "[cpu][clouds]") {
+    using namespace elements::cloudcpu;
+    // The phase functions integrate to 1 over the sphere (midpoint rule in nu, 20000 steps:
+    // error < 1e-4 even for the g = 0.8 peak of width ~(1 - g)^2).
+    for (double g : {-0.3, 0.0, 0.5, 0.8}) {
+        double s = 0;
+        const int n = 20000;
+        for (int i = 0; i < n; ++i) s += 2 * std::numbers::pi * henyeyGreenstein(-1 + (i + 0.5) * 2.0 / n, g) * 2.0 / n;
+        CHECK(s == Approx(1.0).epsilon(1e-4));
+    }
+    // Isotropic limit and the octaves' sum: tau = 0, 3 octaves, a = 0.5: 1 + 0.5 + 0.25 times a
+    // phase that integrates to 1 -> the integral is 1.75.
+    double s = 0;
+    const int n = 20000;
+    for (int i = 0; i < n; ++i) s += 2 * std::numbers::pi * multipleScattering(-1 + (i + 0.5) * 2.0 / n, 0.0) * 2.0 / n;
+    CHECK(s == Approx(1.75).epsilon(1e-4));
+    // The octaves decay slower than Beer's law: at tau = 10 the third octave (b^2 = 0.25) keeps
+    // exp(-2.5) of its light while the single-scattering term keeps exp(-10).
+    CHECK(multipleScattering(0.0, 10.0) > 0.25 * cloudPhase(0.0, 0.25) * std::exp(-2.5) * 0.999);
+    // Energy-conserving step: the exact integral of S exp(-sigma s) over [0, dt]; small-step limit
+    // S dt; large-step limit S / sigma (a thick step never gives more than its saturated value).
+    CHECK(integrateStep(2.0, 0.1, 5.0) == Approx(2.0 * (1 - std::exp(-0.5)) / 0.1).epsilon(1e-12));
+    CHECK(integrateStep(2.0, 1e-9, 5.0) == Approx(10.0).epsilon(1e-6));
+    CHECK(integrateStep(2.0, 0.1, 1e4) == Approx(20.0).epsilon(1e-9));
+    // Bohren 1987: a cloud of tau = 10, g = 0.85 transmits 1 / (1 + 0.75 x 0.15 x 10) = 47 %.
+    CHECK(twoStreamTransmission(10.0, 0.85) == Approx(0.4706).epsilon(1e-3));
+}
+
+TEST_CASE("Clouds at coverage 0 without cirrus draw nothing", "[gl][clouds]") {
+    Weather w(8, kFull);
+    Scene with(30, w);
+    with.p.vars().set(ck::coverage, 0.0);
+    with.p.vars().set(ck::cirrusCoverage, 0.0);
+    const Image a = with.render();
+    CHECK_FALSE(with.clouds->drew());
+    Scene without(30, w);
+    without.p.remove("clouds");
+    const Image b = without.render();
+    REQUIRE(a.pixels.size() == b.pixels.size());
+    CHECK(a.pixels == b.pixels);  // bit-identical: the element did not draw
+}
+
+TEST_CASE("Clouds: a full deck hides the Sun and dims the ground's illuminance", "[gl][clouds]") {
+    Weather w(8, kFull);
+    Scene s(60, w, Projection::Fisheye, 32, 32);
+    s.p.vars().set(ck::coverage, 1.0);
+    s.p.vars().set(ck::cirrusCoverage, 0.0);
+    const Image img = s.render();
+    CHECK(s.clouds->drew());
+    CHECK(finiteNonNegative(img));
+    const auto& ph = s.clouds->photometry();
+    REQUIRE(ph.valid);
+    // A 1 km deck at 0.05 /m of (eroded) density ~0.3-1 has tau ~ 15-50 at the sun's 30 deg
+    // slant: the beam is gone (the march stops at T < 1e-3).
+    CHECK(ph.sunTransmittance < 1e-3);
+    CHECK(ph.direct < 1e-3 * ph.clearDirect + 1e-9);
+    CHECK(ph.global < 0.5 * ph.clearGlobal);
+    CHECK(ph.diffuse > 0.0);
+    INFO("global " << ph.global << " clear " << ph.clearGlobal << " diffuse " << ph.diffuse);
+    nlohmann::json j = s.p.stats();
+    CHECK(j["sky"]["horizontal_illuminance_lux"].get<double>() == Approx(ph.global));
+    CHECK(j["sky"]["clear_horizontal_illuminance_lux"].get<double>() == Approx(ph.clearGlobal));
+}
+
+TEST_CASE("Clouds: the sunward side of a cloud is brighter", "[gl][clouds]") {
+    // One round cloud 1.5 km in radius centred 4 km north of the observer (the weather map of
+    // 20 km repeats: the next copies are 20 km away), the Sun low in the east; seen from the
+    // observer, the cloud's east (sunward) half faces the light.
+    Weather w(128, [](double u, double v) {
+        const double x = (u - 0.5) * 20000, y = (v - 0.5) * 20000 - 4000;
+        const double r = std::sqrt(x * x + y * y);
+        return glm::vec4(r < 1500 ? 1.0f : 0.0f, 0.0f, 1.0f, 0.0f);
+    });
+    Scene s(15, w, Projection::Perspective, 64, 48);
+    s.p.vars().set(keys::sunDirection, directionFromAzAlt(90 * kDeg, 15 * kDeg));
+    s.p.vars().set(ck::weatherOffset, glm::dvec2(10000, 10000));  // u = 0.5 at the observer
+    s.p.vars().set(ck::coverage, 1.0);
+    s.p.vars().set(ck::cirrusCoverage, 0.0);
+    s.p.vars().set(ck::bottom, 1500.0);
+    s.p.vars().set(ck::top, 2500.0);
+    Camera cam;
+    cam.projection = Projection::Perspective;
+    cam.width = 64;
+    cam.height = 48;
+    cam.azimuthRad = 0;                                  // north
+    cam.altitudeRad = std::atan2(2000.0, 4000.0);        // at the cloud's middle
+    cam.verticalFovRad = 50 * kDeg;
+    s.p.setCamera(cam);
+    const Image img = s.render();
+    const Image ref = [&] {
+        Scene sky(15, w, Projection::Perspective, 64, 48);
+        sky.p.vars().set(keys::sunDirection, directionFromAzAlt(90 * kDeg, 15 * kDeg));
+        sky.p.remove("clouds");
+        sky.p.setCamera(cam);
+        return sky.render();
+    }();
+    // Mean of the pixels the cloud covers (luminance changed by > 5 %) in the east (right) half
+    // and the west (left) half.
+    double east = 0, west = 0;
+    int ne = 0, nw = 0;
+    for (int y = 0; y < 48; ++y)
+        for (int x = 0; x < 64; ++x) {
+            const double l = luminance(img, x, y), l0 = luminance(ref, x, y);
+            if (std::abs(l - l0) < 0.05 * l0) continue;
+            if (x >= 32) { east += l; ++ne; } else { west += l; ++nw; }
+        }
+    REQUIRE(ne > 20);
+    REQUIRE(nw > 20);
+    INFO("east " << east / ne << " west " << west / nw);
+    CHECK(east / ne > 1.1 * west / nw);  // the lit half at least 10 % brighter
+}
+
+TEST_CASE("Clouds: finite, non-negative pixels from below, inside, above, at night, Sun at zenith", "[gl][clouds]") {
+    Weather w(16, [](double u, double v) { return glm::vec4(float(0.5 + 0.5 * std::sin(6.283 * u) * std::cos(6.283 * v)), 0.1f, 0.9f, 0.0f); });
+    struct Case { double h, sunAlt; };
+    for (Case c : {Case{0, 30}, Case{2500, 30}, Case{6000, 30}, Case{0, 90}, Case{0, -20}, Case{4e5, 45}}) {
+        Scene s(c.sunAlt, w, Projection::Fisheye, 24, 24);
+        s.p.vars().set(keys::observerHeight, c.h);
+        s.p.vars().set(ck::coverage, 0.8);
+        s.p.vars().set(ck::cirrusCoverage, 0.5);
+        if (c.sunAlt < 0) s.p.vars().set(keys::moonDirection, directionFromAzAlt(0, 40 * kDeg));
+        const Image img = s.render();
+        INFO("height " << c.h << " sun " << c.sunAlt);
+        CHECK(finiteNonNegative(img));
+        CHECK(s.clouds->drew());
+    }
+}
+
+TEST_CASE("Clouds: same inputs, same image", "[gl][clouds]") {
+    Weather w(16, [](double u, double v) { return glm::vec4(float(u), 0.0f, float(0.5 + 0.5 * v), 0.0f); });
+    Scene a(40, w, Projection::Fisheye, 24, 24), b(40, w, Projection::Fisheye, 24, 24);
+    const Image ia = a.render(), ib = b.render();
+    CHECK(ia.pixels == ib.pixels);
+}
+
+TEST_CASE("Clouds: a preset fills only the keys nobody set", "[gl][clouds]") {
+    Weather w(8, kFull);
+    Scene s(40, w, Projection::Fisheye, 8, 8);
+    s.p.vars().set(ek::preset, std::string("overcast"));
+    s.p.vars().set(ck::coverage, 0.3);  // the user's coverage wins over the preset's 0.98
+    s.render();
+    CHECK(s.p.vars().get(ck::coverage) == 0.3);
+    CHECK(s.p.vars().get(ck::bottom) == elements::cloudPreset("overcast").bottom);
+    // A run-time preset change moves the keys the preset wrote, not the user's.
+    s.p.vars().set(ek::preset, std::string("fair"));
+    s.render();
+    CHECK(s.p.vars().get(ck::coverage) == 0.3);
+    CHECK(s.p.vars().get(ck::bottom) == elements::cloudPreset("fair").bottom);
+}

@@ -1,0 +1,281 @@
+// The cloud density function: GLSL (shaders/cloud_density.glsl) against its double-precision
+// CPU twin (cloud_density.hpp) on the same textures, and the physical facts it must obey.
+#include <catch2/catch.hpp>
+
+#include "clouds/cloud_test_util.hpp"
+#include "gl_test_context.hpp"
+
+#include <welkin/embedded/clouds_shaders.hpp>
+#include <welkin/error.hpp>
+#include <welkin/generators/cloud_density.hpp>
+#include <welkin/generators/cloud_keys.hpp>
+#include <welkin/gl/bindings.hpp>
+#include <welkin/gl/shader.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+using namespace welkin;
+using namespace welkin::generators;
+
+namespace {
+
+constexpr double kR = 6360e3;
+
+CloudLayerBlock testBlock(double coverage, double detailScale = 1.0) {
+    // Layer 2000-3000 m, extent 20 km, an offset that exercises the modulo, the noise scrolling.
+    return CloudLayerBlock::make(kR, 2000.0, 3000.0, coverage, detailScale, 0.05, 9000.0, 0.6, 20000.0, {123456.0, -98765.0},
+                                 {123456.0, -98765.0, 0.0}, 8000.0, 1000.0, 40000.0);
+}
+
+// Small textures with hashed contents: the twin comparison needs texels the CPU knows, not
+// realistic clouds. Weather: R in [0.4, 1], base G in [0, 0.3], top B in [0.6, 1] (B > G).
+struct TestTextures {
+    gl::Texture2D weather, curl;
+    gl::Texture3D base, detail;
+    cpu::Image w, b, d, c;
+    TestTextures() {
+        const int nw = 32, n3 = 16, nd = 8, nc = 32;
+        std::vector<float> wv(size_t(nw * nw * 4));
+        for (size_t i = 0; i < wv.size(); i += 4) {
+            wv[i] = 0.4f + 0.6f * test::hashUnit(uint32_t(i) + 1u);
+            wv[i + 1] = 0.3f * test::hashUnit(uint32_t(i) + 2u);
+            wv[i + 2] = 0.6f + 0.4f * test::hashUnit(uint32_t(i) + 3u);
+            wv[i + 3] = test::hashUnit(uint32_t(i) + 4u);
+        }
+        weather = gl::Texture2D(nw, nw, GL_RGBA16F);
+        weather.upload(GL_RGBA, GL_FLOAT, wv.data());
+        auto bytes = [](size_t n, uint32_t salt) {
+            std::vector<uint8_t> v(n);
+            for (size_t i = 0; i < n; ++i) v[i] = uint8_t(std::lround(255.0f * test::hashUnit(uint32_t(i) * 7919u + salt)));
+            return v;
+        };
+        base = gl::Texture3D(n3, n3, n3, GL_RGBA8);
+        base.upload(GL_RGBA, GL_UNSIGNED_BYTE, bytes(size_t(n3 * n3 * n3 * 4), 11u).data());
+        detail = gl::Texture3D(nd, nd, nd, GL_RGBA8);
+        detail.upload(GL_RGBA, GL_UNSIGNED_BYTE, bytes(size_t(nd * nd * nd * 4), 23u).data());
+        curl = gl::Texture2D(nc, nc, GL_RGBA8);
+        curl.upload(GL_RGBA, GL_UNSIGNED_BYTE, bytes(size_t(nc * nc * 4), 37u).data());
+        for (gl::Texture* t : {static_cast<gl::Texture*>(&weather), static_cast<gl::Texture*>(&curl), static_cast<gl::Texture*>(&base),
+                               static_cast<gl::Texture*>(&detail)}) {
+            t->setFilter(GL_LINEAR);
+            t->setWrap(GL_REPEAT);
+        }
+        w = test::toImage(weather);
+        b = test::toImage(base);
+        d = test::toImage(detail);
+        c = test::toImage(curl);
+    }
+    cpu::CloudTextures cpuTextures() const { return {w, b, d, c}; }
+    void bind() const {
+        weather.bind(gl::binding::kCloudWeatherMap);
+        base.bind(gl::binding::kCloudNoiseBase);
+        detail.bind(gl::binding::kCloudNoiseDetail);
+        curl.bind(gl::binding::kCloudCurlNoise);
+    }
+};
+
+// Evaluates on the GPU, per point (x, y, z, mu): (cheap, full, cirrus at (x, y), 0) and the shell
+// crossing from radius R + z with cos zenith mu.
+struct GpuEval {
+    std::vector<glm::vec4> density, shell;
+};
+GpuEval evalGpu(const CloudLayerBlock& block, const TestTextures& tex, const std::vector<glm::vec4>& pts) {
+    static const char* kMain = R"(
+layout(local_size_x = 64) in;
+layout(std430, binding = 4) readonly buffer Pts { vec4 pts[]; };
+layout(std430, binding = 5) writeonly buffer Dens { vec4 dens[]; };
+layout(std430, binding = 6) writeonly buffer Shell { vec4 shell[]; };
+uniform int u_count;
+void main() {
+    int i = int(gl_GlobalInvocationID.x);
+    if (i >= u_count) return;
+    vec4 q = pts[i];
+    dens[i] = vec4(cloudDensity(q.xyz, CLOUD_LOD_CHEAP), cloudDensity(q.xyz, CLOUD_LOD_FULL), cirrusDensity(q.xy), 0.0);
+    shell[i] = vec4(cloudShellIntersect(cld_radii.x + q.z, q.w), 0.0, 0.0);
+}
+)";
+    gl::Program prog = gl::ProgramBuilder("CloudDensityTest")
+                           .compute("generators/cloud_density.glsl", embedded::clouds_shaders("cloud_density.glsl"))
+                           .compute("test_main.glsl", kMain)
+                           .build();
+    gl::Buffer ubo(sizeof block, &block);
+    ubo.bindBase(GL_UNIFORM_BUFFER, gl::binding::kCloudUbo);
+    const size_t bytes = pts.size() * sizeof(glm::vec4);
+    gl::Buffer in(bytes, pts.data()), outD(bytes), outS(bytes);
+    in.bindBase(GL_SHADER_STORAGE_BUFFER, 4);
+    outD.bindBase(GL_SHADER_STORAGE_BUFFER, 5);
+    outS.bindBase(GL_SHADER_STORAGE_BUFFER, 6);
+    tex.bind();
+    prog.use();
+    prog.set("u_count", int(pts.size()));
+    glDispatchCompute(GLuint((pts.size() + 63) / 64), 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    GpuEval r;
+    r.density.resize(pts.size());
+    r.shell.resize(pts.size());
+    glGetNamedBufferSubData(outD.id(), 0, GLsizeiptr(bytes), r.density.data());
+    glGetNamedBufferSubData(outS.id(), 0, GLsizeiptr(bytes), r.shell.data());
+    glUseProgram(0);
+    gl::checkError("CloudDensityTest");
+    return r;
+}
+
+std::vector<glm::vec4> randomPoints(int n, double zLo, double zHi, uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> xy(-30000.0, 30000.0), z(zLo, zHi), mu(-1.0, 1.0);
+    std::vector<glm::vec4> p;
+    for (int i = 0; i < n; ++i) p.emplace_back(float(xy(rng)), float(xy(rng)), float(z(rng)), float(mu(rng)));
+    return p;
+}
+
+}  // namespace
+
+TEST_CASE("Cloud density: GLSL matches the CPU twin on the same textures", "[gl][clouds]") {
+    test::glContext();
+    TestTextures tex;
+    const CloudLayerBlock block = testBlock(0.8);
+    const auto pts = randomPoints(2048, 1950.0, 3050.0, 7u);
+    const GpuEval gpu = evalGpu(block, tex, pts);
+    double maxCheap = 0, maxFull = 0, maxCirrus = 0;
+    int nonzero = 0;
+    for (size_t i = 0; i < pts.size(); ++i) {
+        const glm::dvec3 p(pts[i]);
+        const double cheap = cpu::cloudDensity(block, tex.cpuTextures(), p, CloudLod::Cheap);
+        const double full = cpu::cloudDensity(block, tex.cpuTextures(), p, CloudLod::Full);
+        const double cirrus = cpu::cirrusDensity(block, tex.c, {p.x, p.y});
+        nonzero += full > 0.05;
+        maxCheap = std::max(maxCheap, std::abs(cheap - gpu.density[i].x));
+        maxFull = std::max(maxFull, std::abs(full - gpu.density[i].y));
+        maxCirrus = std::max(maxCirrus, std::abs(cirrus - gpu.density[i].z));
+    }
+    INFO("max |GPU - CPU|: cheap " << maxCheap << ", full " << maxFull << ", cirrus " << maxCirrus << "; nonzero " << nonzero);
+    // The comparison means something only if many points are inside clouds.
+    CHECK(nonzero > 200);
+    // llvmpipe filters with 8-bit interpolation weights (error <= 1/512 of a texel step, ~0.002 on
+    // [0, 1] data) and in float; the remaps amplify by at most 1 / (1 - 0.2 x detail scale) = 1.25,
+    // three fetches add up: 0.02 leaves a margin of ~3x over the observed worst case.
+    CHECK(maxCheap < 0.02);
+    CHECK(maxFull < 0.02);
+    // The cirrus' second fetch moves with the first (the warp): one texel of curl noise over
+    // 40 km is 1250 m, a weight error of 1/256 shifts it by 5 m, well within 0.02 too.
+    CHECK(maxCirrus < 0.02);
+}
+
+TEST_CASE("Cloud shell crossing: GLSL matches the analytic double-precision twin", "[gl][clouds]") {
+    test::glContext();
+    TestTextures tex;
+    const CloudLayerBlock block = testBlock(0.5);
+    // Observers below, inside and above the layer (2000-3000 m).
+    auto pts = randomPoints(1024, 0.0, 8000.0, 9u);
+    const GpuEval gpu = evalGpu(block, tex, pts);
+    int crossing = 0, skipped = 0;
+    auto ulp = [](double x) {
+        const float f = float(x);
+        return double(std::nextafter(f, 2.0f * std::abs(f) + 1.0f) - f);
+    };
+    for (size_t i = 0; i < pts.size(); ++i) {
+        const double r = double(block.radii[0]) + double(pts[i].z), mu = double(pts[i].w);
+        const glm::dvec2 ref = cpu::cloudShellIntersect(block, r, mu);
+        // The float evaluation only knows r and mu to their float spacing: the tolerance is the
+        // spread of the exact crossing over inputs perturbed by 1 ulp of r and 4 of mu (the
+        // conditioning: near tangency the crossing moves kilometres per 1e-7 of mu), + 2 m. A
+        // point whose hit/miss verdict flips within that perturbation is ambiguous in float:
+        // skipped (counted; a few at most).
+        double spread = 0.0;
+        bool ambiguous = false;
+        for (int dr = -1; dr <= 1; ++dr)
+            for (int dm = -4; dm <= 4; dm += 4) {
+                const glm::dvec2 q = cpu::cloudShellIntersect(block, r + dr * ulp(r), mu + dm * ulp(mu));
+                if ((q.y < 0) != (ref.y < 0)) ambiguous = true;
+                else spread = std::max({spread, std::abs(q.x - ref.x), std::abs(q.y - ref.y)});
+            }
+        if (ambiguous) {
+            ++skipped;
+            continue;
+        }
+        if (ref.y < 0) {
+            CHECK(gpu.shell[i].y < 0);
+            continue;
+        }
+        ++crossing;
+        CHECK(std::abs(gpu.shell[i].x - ref.x) <= 2.0 + 2.0 * spread);
+        CHECK(std::abs(gpu.shell[i].y - ref.y) <= 2.0 + 2.0 * spread);
+    }
+    CHECK(skipped < 10);
+    CHECK(crossing > 300);
+}
+
+TEST_CASE("Cloud shell crossing: below, inside and above the layer", "[cpu][clouds]") {
+    const double rb = kR + 2000.0, rt = kR + 3000.0;
+    // Zenith from the ground: straight through 1000 m of layer starting at 2000 m.
+    glm::dvec2 s = cpu::shellIntersect(kR, rb, rt, kR, 1.0);
+    CHECK(s.x == Approx(2000.0).margin(1e-6));
+    CHECK(s.y == Approx(3000.0).margin(1e-6));
+    // Downwards from the ground: the ground hides the layer.
+    CHECK(cpu::shellIntersect(kR, rb, rt, kR + 10.0, -0.5).y < 0);
+    // Horizontal from the ground: entry sqrt(rb^2 - R^2) (Pythagoras), exit sqrt(rt^2 - R^2).
+    s = cpu::shellIntersect(kR, rb, rt, kR, 0.0);
+    CHECK(s.x == Approx(std::sqrt(rb * rb - kR * kR)).epsilon(1e-9));
+    CHECK(s.y == Approx(std::sqrt(rt * rt - kR * kR)).epsilon(1e-9));
+    // Inside at 2500 m: entry 0, up exits at 500 m, down at 500 m (the base).
+    s = cpu::shellIntersect(kR, rb, rt, kR + 2500.0, 1.0);
+    CHECK(s.x == 0.0);
+    CHECK(s.y == Approx(500.0).margin(1e-6));
+    s = cpu::shellIntersect(kR, rb, rt, kR + 2500.0, -1.0);
+    CHECK(s.y == Approx(500.0).margin(1e-6));
+    // Above at 5000 m: straight down enters at 2000 m, leaves at 3000 m; up misses.
+    s = cpu::shellIntersect(kR, rb, rt, kR + 5000.0, -1.0);
+    CHECK(s.x == Approx(2000.0).margin(1e-6));
+    CHECK(s.y == Approx(3000.0).margin(1e-6));
+    CHECK(cpu::shellIntersect(kR, rb, rt, kR + 5000.0, 0.2).y < 0);
+}
+
+TEST_CASE("Cloud density: zero outside the layer and at coverage 0, monotone in coverage", "[gl][clouds]") {
+    test::glContext();
+    TestTextures tex;
+    const auto t = tex.cpuTextures();
+    const auto pts = randomPoints(3000, 0.0, 6000.0, 3u);
+    int inside = 0, positive = 0;
+    for (const glm::vec4& q : pts) {
+        const glm::dvec3 p(q);
+        const CloudLayerBlock b0 = testBlock(0.0);
+        const double h = cpu::cloudAltitude(b0, p);
+        const bool in = h >= 2000.0 && h <= 3000.0;
+        inside += in;
+        double prev = 0.0;
+        for (double c : {0.0, 0.2, 0.4, 0.6, 0.8, 1.0}) {
+            const CloudLayerBlock b = testBlock(c, 2.0);
+            const double full = cpu::cloudDensity(b, t, p, CloudLod::Full);
+            const double cheap = cpu::cloudDensity(b, t, p, CloudLod::Cheap);
+            REQUIRE(full >= 0.0);
+            REQUIRE(full <= 1.0);
+            REQUIRE(full <= cheap + 1e-12);  // erosion only removes
+            if (!in || c == 0.0) REQUIRE(cheap == 0.0);
+            REQUIRE(full >= prev - 1e-12);  // nondecreasing in coverage
+            prev = full;
+        }
+        positive += prev > 0.0;
+    }
+    CHECK(inside > 300);
+    CHECK(positive > 100);  // the monotonicity was checked on real clouds, not only zeros
+    // The altitude is the height above the sphere, not the tangent plane's z: 30 km east at z = 0
+    // the ground has fallen away by 30000^2 / 2R ~ 70.75 m (to 1e-3 relative: next term ~ x^4/R^3).
+    CHECK(cpu::cloudAltitude(testBlock(0.5), {30000.0, 0.0, 0.0}) == Approx(30000.0 * 30000.0 / (2 * kR)).epsilon(1e-3));
+}
+
+TEST_CASE("CloudLayerBlock::from reads the keys and checks the layer", "[cpu][clouds]") {
+    SkyVars vars;
+    vars.declare(cloudkeys::bottom, 1500.0);
+    vars.declare(cloudkeys::top, 1550.0);
+    CHECK_THROWS_WITH(CloudLayerBlock::from(vars), Catch::Contains("clouds.top_m"));
+    vars.set(cloudkeys::top, 4000.0);
+    vars.declare(cloudkeys::weatherExtent, 10000.0);
+    vars.declare(cloudkeys::weatherOffset, glm::dvec2(1e9 + 2500.0, -2500.0));
+    const CloudLayerBlock b = CloudLayerBlock::from(vars);
+    CHECK(b.radii[1] - b.radii[0] == Approx(1500.0).margin(0.5));  // float radii: 0.5 m ulp at 6.4e6 m
+    CHECK(b.radii[2] - b.radii[0] == Approx(4000.0).margin(0.5));
+    CHECK(b.weather[0] == Approx(2500.0).margin(1e-3));  // 1e9 is a whole number of 10 km tiles
+    CHECK(b.weather[1] == Approx(7500.0).margin(1e-3));  // -2500 wraps into [0, extent)
+}
