@@ -45,59 +45,32 @@ glm::dvec3 shadowLight(const SkyVars& vars) {
 }
 }  // namespace
 
-glm::dvec4 WeatherImage::sample(glm::dvec2 uv) const {
-    if (width <= 0 || height <= 0) return glm::dvec4(0.0);
-    // GL_LINEAR: texel centres at (i + 0.5) / width; GL_REPEAT wraps the integer indices.
-    const double x = uv.x * width - 0.5, y = uv.y * height - 0.5;
-    const double fx = std::floor(x), fy = std::floor(y);
-    const double ax = x - fx, ay = y - fy;
-    auto wrap = [](long long i, int n) { return int(((i % n) + n) % n); };
-    const int x0 = wrap((long long)fx, width), x1 = wrap((long long)fx + 1, width);
-    const int y0 = wrap((long long)fy, height), y1 = wrap((long long)fy + 1, height);
-    auto at = [&](int i, int j) { return texels[size_t(j) * size_t(width) + size_t(i)]; };
-    return (1 - ay) * ((1 - ax) * at(x0, y0) + ax * at(x1, y0)) + ay * ((1 - ax) * at(x0, y1) + ax * at(x1, y1));
-}
-
 namespace cpu {
 
-double cloudShadowDensity(const WeatherImage& weather, const CloudShadowParams& p, glm::dvec2 xyM, double hM) {
-    if (p.coverage <= 0.0) return 0.0;
-    const glm::dvec4 w = weather.sample((xyM + p.weatherOffsetM) / p.weatherExtentM);
-    const double hb = p.bottomM + w.g * (p.topM - p.bottomM), ht = p.bottomM + w.b * (p.topM - p.bottomM);
-    if (ht <= hb) return 0.0;
-    const double hs = 4.0 * (hM - hb) * (ht - hM) / ((ht - hb) * (ht - hb));      // Papp 2018 eq. 5.2
-    const double dcov = std::max(w.r + p.coverage - 1.0, 0.0) / p.coverage;        // eq. 5.4
-    return std::clamp(dcov * std::max(hs, 0.0), 0.0, 1.0);                         // eq. 5.5 without N(p)
-}
-
-double cloudShadowTransmittance(const WeatherImage& weather, const CloudShadowParams& p, glm::dvec2 xy) {
-    const double R = p.planetRadiusM;
-    const glm::dvec3 L = p.light;
+double cloudShadowTransmittance(const CloudLayerBlock& b, const CloudTextures& t, glm::dvec3 L, int steps, glm::dvec2 xy) {
+    const double R = b.radii[0];
     double tau = 0.0;
-    if (weather.width > 0 && p.coverage > 0.0 && p.scatteringPerM > 0.0) {
-        const double t0 = exitDistance(xy, L, R, p.bottomM), t1 = exitDistance(xy, L, R, p.topM);
-        const double dt = (t1 - t0) / p.steps;
-        for (int i = 0; i < p.steps; ++i) {
-            const double t = t0 + (i + 0.5) * dt;
-            const glm::dvec2 q = xy + t * glm::dvec2(L);
-            const glm::dvec3 pos(q, R + t * L.z);
-            const double h = glm::length(pos) - R;  // double: exact enough directly
-            tau += p.scatteringPerM * cloudShadowDensity(weather, p, q, h) * dt;
+    if (!t.weather.rgba.empty() && !t.base.rgba.empty() && b.shape[0] > 0.0f && b.shape[2] > 0.0f) {
+        const double t0 = exitDistance(xy, L, R, double(b.radii[1]) - R), t1 = exitDistance(xy, L, R, double(b.radii[2]) - R);
+        const double dt = (t1 - t0) / steps;
+        for (int i = 0; i < steps; ++i) {
+            const double s = t0 + (i + 0.5) * dt;
+            tau += double(b.shape[2]) * cloudDensity(b, t, glm::dvec3(xy, 0.0) + s * L, CloudLod::Cheap) * dt;
         }
     }
-    const double cirrusTau = kCirrusOpticalDepth * p.cirrusCoverage;
-    if (cirrusTau > 0.0) {
-        const double rc = R + p.cirrusHeightM;
+    if (!t.curl.rgba.empty() && b.shape[3] > 0.0f) {
+        const double rc = b.radii[3];
+        const double tc = exitDistance(xy, L, R, rc - R);
         const glm::dvec3 k = glm::cross(glm::dvec3(xy, R), L);
         const double mu = std::sqrt(std::max(1.0 - glm::dot(k, k) / (rc * rc), 0.0));
-        tau += cirrusTau / std::max(mu, 1e-3);
+        tau += kCirrusOpticalDepth * cirrusDensity(b, t.curl, xy + tc * glm::dvec2(L)) / std::max(mu, 1e-3);
     }
     return std::exp(-tau);
 }
 
-glm::dvec2 cloudShadowGroundPoint(glm::dvec3 pos, double observerHeightM, const CloudShadowParams& p, glm::dvec2 shiftM) {
-    const double h = std::clamp(pos.z + observerHeightM, 0.0, p.bottomM);
-    return glm::dvec2(pos) - h * glm::dvec2(p.light) / std::max(p.light.z, 1e-3) + shiftM;
+glm::dvec2 cloudShadowGroundPoint(glm::dvec3 pos, double observerHeightM, double bottomM, glm::dvec3 light) {
+    const double h = std::clamp(pos.z + observerHeightM, 0.0, bottomM);
+    return glm::dvec2(pos) - h * glm::dvec2(light) / std::max(light.z, 1e-3);
 }
 
 }  // namespace cpu
@@ -107,6 +80,7 @@ struct CloudShadowMap::Gl {
     gl::Framebuffer fbo;
     gl::Program prog;
     gl::VertexArray vao;  // empty: the fullscreen triangle's vertices come from gl_VertexID
+    gl::Buffer ubo;       // CloudLayerBlock
 };
 
 CloudShadowMap::CloudShadowMap() : Generator("clouds.shadow_map") {
@@ -117,6 +91,10 @@ CloudShadowMap::CloudShadowMap() : Generator("clouds.shadow_map") {
     input(cloudkeys::weatherMap, {.optional = true});
     input(cloudkeys::weatherOffset, {.tolerance = kOffsetTolerance, .optional = true});
     input(cloudkeys::weatherExtent, {.optional = true});
+    input(cloudkeys::noiseBase, {.optional = true});
+    input(cloudkeys::curlNoise, {.optional = true});
+    input(cloudkeys::noiseBasePeriod, {.optional = true});
+    input(cloudkeys::curlPeriod, {.optional = true});
     input(cloudkeys::bottom, {.optional = true});
     input(cloudkeys::top, {.optional = true});
     input(cloudkeys::coverage, {.optional = true});
@@ -143,26 +121,12 @@ void CloudShadowMap::doDeclare(SkyVars& vars) {
     vars.declare(cloudkeys::shadowSteps, kDefaultSteps);
 }
 
-CloudShadowParams CloudShadowMap::params(const SkyVars& vars) {
-    CloudShadowParams p;
-    p.bottomM = vars.getOr(cloudkeys::bottom, p.bottomM);
-    p.topM = vars.getOr(cloudkeys::top, p.topM);
-    p.coverage = vars.getOr(cloudkeys::coverage, p.coverage);
-    p.scatteringPerM = vars.getOr(cloudkeys::scattering, p.scatteringPerM);
-    p.cirrusCoverage = vars.getOr(cloudkeys::cirrusCoverage, p.cirrusCoverage);
-    p.cirrusHeightM = vars.getOr(cloudkeys::cirrusHeight, p.cirrusHeightM);
-    p.planetRadiusM = vars.getOr(lightkeys::planetRadius, p.planetRadiusM);
-    p.weatherExtentM = vars.getOr(cloudkeys::weatherExtent, p.weatherExtentM);
-    p.weatherOffsetM = vars.getOr(cloudkeys::weatherOffset, p.weatherOffsetM);
-    p.light = shadowLight(vars);
-    p.steps = vars.getOr(cloudkeys::shadowSteps, kDefaultSteps);
-    return p;
-}
+glm::dvec3 CloudShadowMap::lightDirection(const SkyVars& vars) { return shadowLight(vars); }
 
 void CloudShadowMap::doRun(SkyVars& vars, const Logger&) {
-    const CloudShadowParams p = params(vars);
-    if (p.topM < p.bottomM + 100.0)
-        throw Error("CloudShadowMap: clouds.top_m " + std::to_string(p.topM) + " not above clouds.bottom_m " + std::to_string(p.bottomM) + " + 100 m");
+    const CloudLayerBlock block = CloudLayerBlock::from(vars);  // checks the layer (validateCloudLayer)
+    const glm::dvec3 light = shadowLight(vars);
+    const int steps = vars.get(cloudkeys::shadowSteps);
     const int n = vars.get(cloudkeys::shadowResolution);
     const double extent = vars.get(cloudkeys::shadowExtent);
     if (!gl_) gl_ = std::make_shared<Gl>();
@@ -179,43 +143,43 @@ void CloudShadowMap::doRun(SkyVars& vars, const Logger&) {
     if (!g.prog)
         g.prog = gl::ProgramBuilder("CloudShadowMap")
                      .fullscreenVertex()
+                     .fragment("generators/cloud_density.glsl", embedded::clouds_shaders("cloud_density.glsl"))
                      .fragment("generators/cloud_shadow_map.glsl", embedded::clouds_shaders("cloud_shadow_map.glsl"))
                      .build();
+    g.ubo = gl::Buffer(sizeof block, &block);
     const TextureRef weather = vars.getOr(cloudkeys::weatherMap, TextureRef{});
+    const TextureRef base = vars.getOr(cloudkeys::noiseBase, TextureRef{});
+    const TextureRef curl = vars.getOr(cloudkeys::curlNoise, TextureRef{});
+    const bool hasClouds = weather.id && base.id;
     g.fbo.bind();
     glViewport(0, 0, n, n);
     glDisable(GL_BLEND);
     g.prog.use();
-    if (weather.id) {
-        glBindTextureUnit(gl::binding::kCloudWeatherMap, weather.id);
-    }
+    g.ubo.bindBase(GL_UNIFORM_BUFFER, gl::binding::kCloudUbo);
+    if (weather.id) glBindTextureUnit(gl::binding::kCloudWeatherMap, weather.id);
+    if (base.id) glBindTextureUnit(gl::binding::kCloudNoiseBase, base.id);
+    if (curl.id) glBindTextureUnit(gl::binding::kCloudCurlNoise, curl.id);
     g.prog.set("u_size", glm::ivec2(n, n));
     g.prog.set("u_extent", float(extent));
-    g.prog.set("u_weatherOffset", glm::vec2(p.weatherOffsetM));
-    g.prog.set("u_weatherExtent", float(p.weatherExtentM));
-    g.prog.set("u_bottom", float(p.bottomM));
-    g.prog.set("u_top", float(p.topM));
-    g.prog.set("u_coverage", float(p.coverage));
-    g.prog.set("u_sigma", float(p.scatteringPerM));
-    g.prog.set("u_cirrusTau", float(kCirrusOpticalDepth * p.cirrusCoverage));
-    g.prog.set("u_cirrusHeight", float(p.cirrusHeightM));
-    g.prog.set("u_radius", float(p.planetRadiusM));
-    g.prog.set("u_light", glm::vec3(p.light));
-    g.prog.set("u_steps", p.steps);
-    g.prog.set("u_hasWeather", weather.id ? 1 : 0);
+    g.prog.set("u_cirrusTau", float(kCirrusOpticalDepth));
+    g.prog.set("u_light", glm::vec3(light));
+    g.prog.set("u_steps", steps);
+    g.prog.set("u_hasClouds", hasClouds ? 1 : 0);
+    g.prog.set("u_hasCurl", curl.id ? 1 : 0);
     g.vao.bind();
     glDrawArrays(GL_TRIANGLES, 0, 3);
-    last_ = p;
-    vars.publish(cloudkeys::shadowLight, p.light);
-    vars.publish(cloudkeys::shadowOffset, p.weatherOffsetM);
+    lastLight_ = light;
+    lastSteps_ = steps;
+    vars.publish(cloudkeys::shadowLight, light);
+    vars.publish(cloudkeys::shadowOffset, vars.getOr(cloudkeys::weatherOffset, glm::dvec2(0.0)));
     vars.publish(cloudkeys::shadowMap, g.tex.ref());
 }
 
 void CloudShadowMap::doRelease() { gl_.reset(); }
 
 void CloudShadowMap::doStats(nlohmann::json& root) const {
-    root["clouds"]["shadow_light_direction"] = {last_.light.x, last_.light.y, last_.light.z};
-    root["clouds"]["shadow_steps"] = last_.steps;
+    root["clouds"]["shadow_light_direction"] = {lastLight_.x, lastLight_.y, lastLight_.z};
+    root["clouds"]["shadow_steps"] = lastSteps_;
 }
 
 void CloudShadowMap::hostUniforms(const SkyVars& vars, float m0[4], float m1[4]) {
@@ -229,7 +193,7 @@ void CloudShadowMap::hostUniforms(const SkyVars& vars, float m0[4], float m1[4])
     m1[0] = float(L.x);
     m1[1] = float(L.y);
     m1[2] = float(L.z);
-    m1[3] = float(vars.getOr(cloudkeys::bottom, CloudShadowParams{}.bottomM));
+    m1[3] = float(vars.getOr(cloudkeys::bottom, 2000.0));  // the Clouds element's default base
 }
 
 void CloudShadowMap::bindForHost(const SkyVars& vars, unsigned program) {
