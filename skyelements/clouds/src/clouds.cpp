@@ -9,6 +9,7 @@
 #include <welkin/generators/cloud_keys.hpp>
 #include <welkin/generators/cloud_noise.hpp>
 #include <welkin/generators/lights.hpp>
+#include <welkin/generators/weather_map.hpp>
 #include <welkin/gl/bindings.hpp>
 #include <welkin/gl/shader.hpp>
 #include <welkin/keys.hpp>
@@ -47,9 +48,9 @@ const std::vector<CloudPreset>& presets() {
     // cloud ~ 0.02-0.1 /m (cumulus liquid water 0.2-0.5 g/m^3 with 10 um droplets: 3 LWC /
     // (2 rho r_e) = 0.045-0.075 /m; Stephens 1978).
     static const std::vector<CloudPreset> p{
-        {"fair", 0.45, 1500, 3000, 0.25, 9000, 0.05, 1.0, 0.0, 60, 700, 2500},
+        {"fair", 0.75, 1500, 3000, 0.5, 9000, 0.05, 1.0, 0.0, 60, 700, 2500},
         {"overcast", 0.98, 800, 2000, 0.0, 8000, 0.04, 0.6, 0.3, 220, 2000, 6000},
-        {"scattered-cirrus", 0.2, 1800, 2800, 0.75, 9500, 0.05, 1.2, 0.0, 25, 500, 1500},
+        {"scattered-cirrus", 0.55, 1800, 2800, 0.85, 9500, 0.05, 1.2, 0.0, 25, 500, 1500},
         {"clear", 0.0, 2000, 3000, 0.0, 9000, 0.05, 1.0, 0.0, 0, 500, 1000},
     };
     return p;
@@ -109,6 +110,9 @@ Clouds::Clouds() : SkyElement("clouds") {
     optionUnset(ck::scattering);
     optionUnset(ck::detailScale);
     optionUnset(ck::rainDensity);
+    optionUnset(ck::cloudCount);
+    optionUnset(ck::cloudSizeMin);
+    optionUnset(ck::cloudSizeMax);
     reads(keys::sunDirection);
     reads(keys::moonDirection);
     reads(keys::observerHeight);
@@ -137,7 +141,7 @@ void Clouds::applyPreset(SkyVars& v) {
     const std::string name = v.get(cloudelemkeys::preset);
     const CloudPreset& p = cloudPreset(name);
     if (name == appliedPreset_) return;
-    auto put = [&](const Key<double>& k, double value) {
+    auto put = [&](const auto& k, auto value) {
         auto it = std::find_if(written_.begin(), written_.end(), [&](auto& w) { return w.first == k.name(); });
         const bool ours = it != written_.end() && v.version(k) == it->second;
         if (v.has(k) && !ours) return;  // set by the host or --var: it wins over any preset
@@ -153,6 +157,9 @@ void Clouds::applyPreset(SkyVars& v) {
     put(ck::scattering, p.scattering);
     put(ck::detailScale, p.detailScale);
     put(ck::rainDensity, p.rain);
+    put(ck::cloudCount, p.cloudCount);
+    put(ck::cloudSizeMin, p.sizeMin);
+    put(ck::cloudSizeMax, p.sizeMax);
     appliedPreset_ = name;
 }
 
@@ -173,6 +180,9 @@ void Clouds::doInit(InitContext& ctx) {
     addGenerator(luts_.moonView);
     addGenerator(luts_.irradiance);
     addGenerator(CloudNoise::obtain(v));
+    // The generated weather map, unless the host published its own clouds.weather_map before
+    // init (a tool, a test: then the host owns it and its offset).
+    if (!v.has(ck::weatherMap)) addGenerator(WeatherMap::obtain(v));
     programs_ = gl::ProjectionPrograms(recipe(false, false));
     statsProgram_ = recipe(true, false).build();
     atmUbo_ = gl::Buffer(sizeof(AtmosphereBlock));

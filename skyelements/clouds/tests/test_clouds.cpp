@@ -258,3 +258,34 @@ TEST_CASE("Clouds: a preset fills only the keys nobody set", "[gl][clouds]") {
     CHECK(s.p.vars().get(ck::coverage) == 0.3);
     CHECK(s.p.vars().get(ck::bottom) == elements::cloudPreset("fair").bottom);
 }
+
+TEST_CASE("Clouds: the overcast preset at noon gives an overcast day's illuminance", "[gl][clouds][slow]") {
+    // The generated weather map and noise (the element's own generators), the Sun 60 deg up.
+    test::glContext();
+    SkyProcessor p(SkyVars::earth(), Logger(), ProcessorOptions{.astronomy = false});
+    p.vars().set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(atmosphere::Atmosphere::earthClear()));
+    p.vars().set(keys::sunDirection, directionFromAzAlt(180 * kDeg, 60 * kDeg));
+    p.vars().set(keys::moonDirection, glm::dvec3(0, 0, -1));
+    Camera cam;
+    cam.projection = Projection::Fisheye;
+    cam.width = cam.height = 8;
+    p.setCamera(cam);
+    p.add(std::make_unique<elements::Sky>(elements::SkyOptions{.quality = 0}));
+    auto c = std::make_unique<elements::Clouds>();
+    auto* clouds = c.get();
+    p.add(std::move(c));
+    p.vars().set(ek::preset, std::string("overcast"));
+    p.vars().set(ek::samples, 24);
+    p.setAnimationTime(0.0);
+    p.renderFrame();
+    const auto& ph = clouds->photometry();
+    REQUIRE(ph.valid);
+    INFO("global " << ph.global << " direct " << ph.direct << " diffuse " << ph.diffuse << " clear " << ph.clearGlobal);
+    // Overcast summer noon at mid-latitudes: 10-40 klux global (CIE 110-1994 / Kittler et al.
+    // 1998 overcast sky daylight levels; Darula & Kittler 2002: overcast horizontal illuminance
+    // ~ 0.2-0.4 of the clear sky's at the same solar altitude). The clear sky here: ~100 klux.
+    CHECK(ph.global > 10000.0);
+    CHECK(ph.global < 40000.0);
+    CHECK(ph.global < 0.4 * ph.clearGlobal);
+    CHECK(ph.direct < 0.05 * ph.clearDirect);  // the Sun's beam (nearly) hidden
+}
