@@ -29,7 +29,7 @@ TEST_CASE("welkin bench clouds: bad options are one-line errors", "[cpu][cli][be
     }
 }
 
-TEST_CASE("welkin bench clouds: a tiny run writes its rows and judges the target", "[gl][cli][bench]") {
+TEST_CASE("welkin bench clouds: a tiny run writes its rows and judges the target", "[gl][cli][bench][slow]") {
     if (!welkin::elements::findDescriptor("clouds")) {
         WARN("no clouds element in this build: test skipped");
         return;
