@@ -186,11 +186,12 @@ int run(const CloudsBenchOptions& o) {
             if (n > 0) clouds->vars().setFromString("clouds.samples", std::to_string(n));
             clouds->vars().setFromString("clouds.reprojection", reproj ? "true" : "false");
         };
+        // The preset's own samples (the moving rows use them), before the reference changes them.
+        const std::string defaultSamples = clouds->vars().valueString("clouds.samples");
         // The reference: many samples, no reprojection, one converged frame.
         setClouds(o.referenceSamples, false);
         clouds->renderFrame();  // the generators run in its update: one frame is the reference
         const std::vector<double> ref = luminance(clouds->readHdr());
-        const std::string defaultSamples = clouds->vars().valueString("clouds.samples");
         sky->renderFrame();
         auto timeRow = [&](const std::string& mode, int n, bool reproj, int frames, bool moving) {
             if (n > 0 || !moving) setClouds(n, reproj);
