@@ -155,11 +155,12 @@ TEST_CASE("Cloud density: GLSL matches the CPU twin on the same textures", "[gl]
     CHECK(nonzero > 200);
     // llvmpipe filters with 8-bit interpolation weights (error <= 1/512 of a texel step, ~0.002 on
     // [0, 1] data) and in float; the remaps amplify by at most 1 / (1 - 0.2 x detail scale) = 1.25,
-    // three fetches add up: 0.02 leaves a margin of ~3x over the observed worst case.
+    // three fetches add up to ~0.01; measured 0.004.
     CHECK(maxCheap < 0.02);
     CHECK(maxFull < 0.02);
-    // The cirrus' second fetch moves with the first (the warp): one texel of curl noise over
-    // 40 km is 1250 m, a weight error of 1/256 shifts it by 5 m, well within 0.02 too.
+    // The cirrus' second fetch moves with the first (the warp): a filtering error of ~0.002 in RG
+    // moves it by 2 x 0.002 x 0.05 = 2e-4 in uv, 0.0064 texel of this 32-texel hashed map whose
+    // neighbours differ by up to 1: ~0.007, plus its own filtering 0.002 (measured 0.011).
     CHECK(maxCirrus < 0.02);
 }
 
@@ -278,4 +279,13 @@ TEST_CASE("CloudLayerBlock::from reads the keys and checks the layer", "[cpu][cl
     CHECK(b.radii[2] - b.radii[0] == Approx(4000.0).margin(0.5));
     CHECK(b.weather[0] == Approx(2500.0).margin(1e-3));  // 1e9 is a whole number of 10 km tiles
     CHECK(b.weather[1] == Approx(7500.0).margin(1e-3));  // -2500 wraps into [0, extent)
+    CHECK(b.cirrus[0] == Approx(std::fmod(1e9 + 2500.0, kDefaultCurlPeriodM)).margin(1e-3));  // no cirrus key: the weather's
+    vars.declare(cloudkeys::cirrusOffset, glm::dvec2(-1000.0, 500.0));
+    CHECK(CloudLayerBlock::from(vars).cirrus[0] == Approx(kDefaultCurlPeriodM - 1000.0).margin(1e-3));
+    CHECK(CloudLayerBlock::from(vars).cirrus[1] == Approx(500.0).margin(1e-3));
+    // Bad explicit values: one line naming the argument and its range; NaN is never in range.
+    CHECK_THROWS_WITH(CloudLayerBlock::make(6360e3, 2000, 3000, 1.3, 1, 0.05, 9000, 0.3, 4e4, {}, {}),
+                      "CloudLayerBlock::make(): coverage 1.3 not in [0, 1]");
+    CHECK_THROWS_WITH(CloudLayerBlock::make(6360e3, 2000, 3000, 0.5, 1, 0.05, 9000, 0.3, std::nan(""), {}, {}),
+                      Catch::Contains("weatherExtent (m) nan not in"));
 }

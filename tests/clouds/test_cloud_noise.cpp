@@ -4,8 +4,14 @@
 #include "clouds/cloud_test_util.hpp"
 #include "gl_test_context.hpp"
 
+#include <welkin/generators/cloud_density.hpp>
 #include <welkin/generators/cloud_keys.hpp>
+#include <welkin/gl/bindings.hpp>
 #include <welkin/generators/cloud_noise.hpp>
+#include <welkin/generators/cloud_path_lut.hpp>
+#include <welkin/generators/weather_map.hpp>
+
+#include <chrono>
 
 #include <cmath>
 
@@ -107,6 +113,33 @@ TEST_CASE("Cloud noise: the functions are periodic and the textures tile seamles
             CHECK(std::abs(cpu::baseNoise(kSmall.base, y, 3, kSmall.base, 7)[c] - b.base.texel(0, y, 3)[c]) <= 1.0 / 255.0 + 1e-4);
 }
 
+TEST_CASE("bindCloudTextures() puts the published textures on their units", "[gl][clouds]") {
+    test::glContext();
+    SkyVars vars;
+    vars.declare(cloudkeys::seed, 1);
+    CloudNoise noise(kSmall);
+    noise.run(vars, test::testLogger(), true);
+    glBindTextureUnit(gl::binding::kCloudWeatherMap, 0);
+    bindCloudTextures(vars);
+    GLint b3 = 0, d3 = 0, c2 = 0, w2 = -1;
+    glActiveTexture(GL_TEXTURE0 + gl::binding::kCloudNoiseBase);
+    glGetIntegerv(GL_TEXTURE_BINDING_3D, &b3);
+    glActiveTexture(GL_TEXTURE0 + gl::binding::kCloudNoiseDetail);
+    glGetIntegerv(GL_TEXTURE_BINDING_3D, &d3);
+    glActiveTexture(GL_TEXTURE0 + gl::binding::kCloudCurlNoise);
+    glGetIntegerv(GL_TEXTURE_BINDING_2D, &c2);
+    glActiveTexture(GL_TEXTURE0 + gl::binding::kCloudWeatherMap);
+    glGetIntegerv(GL_TEXTURE_BINDING_2D, &w2);
+    glActiveTexture(GL_TEXTURE0);
+    CHECK(GLuint(b3) == noise.base().id());
+    CHECK(GLuint(d3) == noise.detail().id());
+    CHECK(GLuint(c2) == noise.curl().id());
+    CHECK(w2 == 0);  // no weather map published: its unit is left alone
+    glBindTextureUnit(gl::binding::kCloudNoiseBase, 0);
+    glBindTextureUnit(gl::binding::kCloudNoiseDetail, 0);
+    glBindTextureUnit(gl::binding::kCloudCurlNoise, 0);
+}
+
 TEST_CASE("Cloud noise: same seed same textures, another seed differs", "[gl][clouds]") {
     test::glContext();
     const Built a = build(3), a2 = build(3), c = build(4);
@@ -122,4 +155,59 @@ TEST_CASE("Cloud noise: same seed same textures, another seed differs", "[gl][cl
     CHECK(differs(a.base, c.base) > 0.5);
     CHECK(differs(a.detail, c.detail) > 0.5);
     CHECK(differs(a.curl, c.curl) > 0.5);
+}
+
+TEST_CASE("Cloud generators at their default sizes: cost, and sane contents", "[gl][clouds][slow]") {
+    test::glContext();
+    SkyVars vars;
+    vars.declare(cloudkeys::seed, 1);
+    CloudNoise noise;
+    noise.run(vars, test::testLogger(), true);
+    WARN("CloudNoise 128^3 + 32^3 + 256^2 on this machine: " << noise.lastRunSeconds() << " s");
+    const cpu::Image base = test::toImage(noise.base());
+    // Worley of one feature point per cell (a jittered grid, close to a unit-density Poisson
+    // process whose mean nearest-neighbour distance is Gamma(4/3) (3 / 4 pi)^(1/3) = 0.554):
+    // the inverted channels average ~0.45-0.5 (measured 0.48); a broken pass (all zeros, all
+    // ones, NaN) falls far outside [0.35, 0.7].
+    for (int c = 1; c < 4; ++c) {
+        double mean = 0;
+        for (size_t i = size_t(c); i < base.rgba.size(); i += 4) mean += base.rgba[i];
+        mean /= double(base.rgba.size() / 4);
+        INFO("base channel " << c << " mean " << mean);
+        CHECK(mean > 0.35);
+        CHECK(mean < 0.7);
+    }
+    CHECK(noise.base().levels() == 8);  // 128 -> 1: mipmapped
+    // The curl's scale (1/8) keeps |v| < 1: under 1 % of the texels clamped (R or G at 0 or 1).
+    const cpu::Image curl = test::toImage(noise.curl());
+    size_t clamped = 0;
+    for (size_t i = 0; i < curl.rgba.size(); i += 4)
+        clamped += curl.rgba[i] <= 0.f || curl.rgba[i] >= 1.f || curl.rgba[i + 1] <= 0.f || curl.rgba[i + 1] >= 1.f;
+    float lo = 1.f, hi = 0.f;
+    for (size_t i = 0; i < curl.rgba.size(); i += 4) lo = std::min(lo, curl.rgba[i]), hi = std::max(hi, curl.rgba[i]);
+    INFO("clamped curl texels " << clamped << ", R in [" << lo << ", " << hi << "]");
+    CHECK(double(clamped) < 0.01 * double(curl.rgba.size() / 4));
+    CHECK(hi - lo > 0.3);  // and uses the 8 bits: |v| reaches ~0.6 (measured R in [0.22, 0.79])
+
+    using Clock = std::chrono::steady_clock;
+    vars.declare(cloudkeys::bottom, 2000.0);
+    vars.declare(cloudkeys::top, 3000.0);
+    CloudPathLut lut;
+    auto t0 = Clock::now();
+    lut.run(vars, test::testLogger(), true);
+    WARN("CloudPathLut 256 x 96: " << std::chrono::duration<double>(Clock::now() - t0).count() << " s");
+    WeatherMap wm;
+    wm.declareKeys(vars);
+    t0 = Clock::now();
+    wm.run(vars, test::testLogger(), true);
+    WARN("WeatherMap 512^2, 48 clouds: " << std::chrono::duration<double>(Clock::now() - t0).count() << " s");
+    // The default generation covers a fair part of the map (broken cumulus, not overcast, not
+    // clear): 5-60 % of the texels at density > 0.2.
+    const cpu::Image w = test::toImage(wm.texture());
+    size_t cloudy = 0;
+    for (size_t i = 0; i < w.rgba.size(); i += 4) cloudy += w.rgba[i] > 0.2f;
+    const double frac = double(cloudy) / double(w.rgba.size() / 4);
+    INFO("cloudy fraction " << frac);
+    CHECK(frac > 0.05);
+    CHECK(frac < 0.6);
 }

@@ -129,6 +129,13 @@ TEST_CASE("Weather map: wind moves the offset, same seed same map, another seed 
     const glm::dvec2 off = a.get(cloudkeys::weatherOffset);
     CHECK(off.x == Approx(-6000.0).margin(1e-3));  // 10 m/s x 600 s (time in double days: ~1e-5 s)
     CHECK(off.y == Approx(3000.0).margin(1e-3));
+    // The cirrus follows the same wind unless it has its own.
+    CHECK(a.get(cloudkeys::cirrusOffset).x == Approx(-6000.0).margin(1e-3));
+    a.set(cloudkeys::cirrusWind, glm::dvec2(30.0, 0.0));
+    wa.run(a, test::testLogger(), true);
+    CHECK(a.get(cloudkeys::cirrusOffset).x == Approx(-18000.0).margin(1e-3));
+    CHECK(a.get(cloudkeys::cirrusOffset).y == Approx(0.0).margin(1e-3));
+    CHECK(a.get(cloudkeys::weatherOffset).x == Approx(-6000.0).margin(1e-3));
 }
 
 TEST_CASE("Weather map: an artist's image round-trips, bad files fail in one line", "[gl][clouds]") {
@@ -180,4 +187,48 @@ TEST_CASE("Weather map: an artist's image round-trips, bad files fail in one lin
     vars.set(cloudkeys::weatherFile, p1);
     CHECK_THROWS_WITH(bad.run(vars, test::testLogger(), true), Catch::Contains("clouds.weather_map_file") && Catch::Contains("needs 3 or 4"));
     fs::remove_all(dir);
+}
+
+TEST_CASE("Weather map: a flow image advects the clouds; a bad one fails in one line", "[gl][clouds]") {
+    test::glContext();
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::temp_directory_path() / "welkin_flow_test";
+    fs::create_directories(dir);
+    // Uniform field R = 0.75, G = 0.25: v = (2 x 0.75 - 1, 2 x 0.25 - 1) x 10 m/s = (5, -5) m/s.
+    Image flow{.width = 4, .height = 4, .channels = 3, .pixels = {}};
+    for (int i = 0; i < 16; ++i) flow.pixels.insert(flow.pixels.end(), {0.75f, 0.25f, 0.0f});
+    const std::string path = (dir / "flow.exr").string();
+    writeImage(flow, path);
+    SkyVars vars = makeVars(1, 0);
+    vars.set(cloudkeys::flowFile, path);
+    WeatherMap wm(kSize);
+    wm.setClouds({CloudShape{.centre = {5000.0, 5000.0}, .semiAxes = {1000.0, 1000.0}, .seed = 1}});
+    wm.run(vars, test::testLogger(), true);
+    vars.set(keys::timeJdUtc, glm::dvec2(2461000.0, 0.25 + 200.0 / 86400.0));
+    wm.run(vars, test::testLogger(), true);
+    // 200 s at (5, -5) m/s: (+1000, -1000) m (time from double days: ~1e-5 s -> 1e-4 m).
+    CHECK(wm.clouds()[0].centre.x == Approx(6000.0).margin(1e-2));
+    CHECK(wm.clouds()[0].centre.y == Approx(4000.0).margin(1e-2));
+    Image grey{.width = 2, .height = 2, .channels = 1, .pixels = std::vector<float>(4, 0.5f)};
+    const std::string p1 = (dir / "grey.exr").string();
+    writeImage(grey, p1);
+    WeatherMap bad(kSize);
+    vars.set(cloudkeys::flowFile, p1);
+    CHECK_THROWS_WITH(bad.run(vars, test::testLogger(), true), Catch::Contains("clouds.flow_file") && Catch::Contains("needs 2"));
+    fs::remove_all(dir);
+}
+
+TEST_CASE("Weather map: a clock tick without motion does not republish the map", "[gl][clouds]") {
+    test::glContext();
+    SkyVars vars = makeVars(2, 4);
+    WeatherMap wm(kSize);
+    wm.run(vars, test::testLogger(), true);
+    const uint64_t v0 = vars.version(cloudkeys::weatherMap), o0 = vars.version(cloudkeys::weatherOffset);
+    vars.set(keys::timeJdUtc, glm::dvec2(2461000.0, 0.26));
+    wm.run(vars, test::testLogger(), true);
+    CHECK(vars.version(cloudkeys::weatherMap) == v0);   // no flow, no edit: same map
+    CHECK(vars.version(cloudkeys::weatherOffset) == o0);  // no wind: same offset
+    wm.move(0, {100.0, 0.0});
+    wm.run(vars, test::testLogger(), true);
+    CHECK(vars.version(cloudkeys::weatherMap) > v0);  // an edit redraws and republishes
 }

@@ -19,6 +19,7 @@ layout(std140, binding = WELKIN_BINDING_CLOUD_UBO) uniform WelkinClouds {
     vec4 cld_noise;         // base, detail, curl periods (m)
     vec4 cld_scrollBase;    // base-noise scroll (m, mod period)
     vec4 cld_scrollDetail;  // detail-noise scroll (m, mod period)
+    vec4 cld_cirrus;        // cirrus offset xy (m, mod curl period)
 };
 layout(binding = WELKIN_BINDING_CLOUD_WEATHER_MAP) uniform sampler2D u_cloudWeather;
 layout(binding = WELKIN_BINDING_CLOUD_NOISE_BASE) uniform sampler3D u_cloudNoiseBase;
@@ -99,7 +100,7 @@ vec2 cloudShellIntersect(float r, float mu) { return cloudShellIntersectRadii(cl
 float cirrusDensity(vec2 xy) {
     float cc = clamp(cld_shape.w, 0.0, 1.0);
     if (cc <= 0.0) return 0.0;
-    vec2 uv = (xy + cld_weather.xy) / cld_noise.z;
+    vec2 uv = (xy + cld_cirrus.xy) / cld_noise.z;
     vec4 c = textureLod(u_cloudCurl, uv, 0.0);
     vec2 warp = (c.rg * 2.0 - 1.0) * 0.05;
     float n = textureLod(u_cloudCurl, uv + warp, 0.0).b;

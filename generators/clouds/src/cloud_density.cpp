@@ -1,9 +1,13 @@
 // CPU twin of shaders/cloud_density.glsl (double precision, the same formulas) and the
 // CloudLayerBlock's construction from the keys.
+#include <welkin/check.hpp>
 #include <welkin/error.hpp>
 #include <welkin/generators/cloud_density.hpp>
 #include <welkin/generators/cloud_keys.hpp>
 #include <welkin/generators/lights.hpp>
+#include <welkin/gl/bindings.hpp>
+
+#include <epoxy/gl.h>
 
 #include <algorithm>
 #include <cmath>
@@ -25,7 +29,24 @@ double smooth(double e0, double e1, double x) {
 CloudLayerBlock CloudLayerBlock::make(double planetRadius, double bottom, double top, double coverage, double detailScale,
                                       double scatteringPerM, double cirrusHeight, double cirrusCoverage, double weatherExtent,
                                       glm::dvec2 weatherOffset, glm::dvec3 noiseScroll, double basePeriod, double detailPeriod,
-                                      double curlPeriod) {
+                                      double curlPeriod, std::optional<glm::dvec2> cirrusOffset) {
+    const char* w = "CloudLayerBlock::make()";
+    checkRange(w, "planetRadius (m)", planetRadius, 1e3, 1e9);
+    checkRange(w, "bottom (m)", bottom, 0.0, 2e4);
+    checkRange(w, "top (m)", top, bottom + 100.0, 2.5e4);
+    checkRange(w, "coverage", coverage, 0.0, 1.0);
+    checkRange(w, "detailScale", detailScale, 0.0, 4.0);
+    checkRange(w, "scatteringPerM (1/m)", scatteringPerM, 0.0, 1.0);
+    checkRange(w, "cirrusHeight (m)", cirrusHeight, top, 2e4);
+    checkRange(w, "cirrusCoverage", cirrusCoverage, 0.0, 1.0);
+    checkRange(w, "weatherExtent (m)", weatherExtent, 1e3, 1e6);
+    checkRange(w, "basePeriod (m)", basePeriod, 5e2, 1e5);
+    checkRange(w, "detailPeriod (m)", detailPeriod, 5e1, 2e4);
+    checkRange(w, "curlPeriod (m)", curlPeriod, 1e3, 1e6);
+    for (int i = 0; i < 2; ++i) checkRange(w, "weatherOffset (m)", weatherOffset[i], -1e12, 1e12);
+    for (int i = 0; i < 3; ++i) checkRange(w, "noiseScroll (m)", noiseScroll[i], -1e12, 1e12);
+    const glm::dvec2 co = cirrusOffset.value_or(weatherOffset);
+    for (int i = 0; i < 2; ++i) checkRange(w, "cirrusOffset (m)", co[i], -1e12, 1e12);
     CloudLayerBlock b{};
     b.radii[0] = float(planetRadius);
     b.radii[1] = float(planetRadius + bottom);
@@ -47,6 +68,8 @@ CloudLayerBlock CloudLayerBlock::make(double planetRadius, double bottom, double
         b.scrollBase[i] = float(wrapMod(noiseScroll[i], basePeriod));
         b.scrollDetail[i] = float(wrapMod(noiseScroll[i], detailPeriod));
     }
+    b.cirrus[0] = float(wrapMod(co.x, curlPeriod));
+    b.cirrus[1] = float(wrapMod(co.y, curlPeriod));
     return b;
 }
 
@@ -58,7 +81,18 @@ CloudLayerBlock CloudLayerBlock::from(const SkyVars& vars) {
                 vars.getOr(cloudkeys::cirrusHeight, 9000.0), vars.getOr(cloudkeys::cirrusCoverage, 0.3),
                 vars.getOr(cloudkeys::weatherExtent, 40000.0), off, glm::dvec3(off, 0.0),
                 vars.getOr(cloudkeys::noiseBasePeriod, kDefaultNoiseBasePeriodM),
-                vars.getOr(cloudkeys::noiseDetailPeriod, kDefaultNoiseDetailPeriodM), vars.getOr(cloudkeys::curlPeriod, kDefaultCurlPeriodM));
+                vars.getOr(cloudkeys::noiseDetailPeriod, kDefaultNoiseDetailPeriodM), vars.getOr(cloudkeys::curlPeriod, kDefaultCurlPeriodM),
+                vars.getOr(cloudkeys::cirrusOffset, off));
+}
+
+void bindCloudTextures(const SkyVars& vars) {
+    const std::pair<const Key<TextureRef>*, int> list[] = {{&cloudkeys::weatherMap, gl::binding::kCloudWeatherMap},
+                                                           {&cloudkeys::noiseBase, gl::binding::kCloudNoiseBase},
+                                                           {&cloudkeys::noiseDetail, gl::binding::kCloudNoiseDetail},
+                                                           {&cloudkeys::curlNoise, gl::binding::kCloudCurlNoise},
+                                                           {&cloudkeys::pathLut, gl::binding::kCloudPathLut}};
+    for (const auto& [key, unit] : list)
+        if (vars.has(*key)) glBindTextureUnit(GLuint(unit), vars.get(*key).id);
 }
 
 namespace cpu {
@@ -184,7 +218,7 @@ double cirrusDensity(const CloudLayerBlock& b, const Image& curl, glm::dvec2 xy)
     if (cc <= 0.0) return 0.0;
     // The curl noise's RG (a divergence-free field, encoded 0.5 + 0.5 v) advects the lookup of
     // its B (the fBm potential): streaky, sheared fibres (SevenSky's high-altitude map, Papp 6.3).
-    const glm::dvec2 uv = (xy + glm::dvec2(b.weather[0], b.weather[1])) / double(b.noise[2]);
+    const glm::dvec2 uv = (xy + glm::dvec2(b.cirrus[0], b.cirrus[1])) / double(b.noise[2]);
     const glm::dvec4 c = curl.sample2D(uv);
     const glm::dvec2 warp = (glm::dvec2(c.r, c.g) * 2.0 - 1.0) * 0.05;
     const double n = curl.sample2D(uv + warp).b;

@@ -58,11 +58,13 @@ WeatherMap::WeatherMap(int size) : Generator("clouds.weather_map"), size_(size) 
     input(cloudkeys::weatherExtent, {.optional = true});
     input(cloudkeys::weatherFile, {.optional = true});
     input(cloudkeys::wind, {.optional = true});
+    input(cloudkeys::cirrusWind, {.optional = true});
     input(cloudkeys::flowFile);
     input(cloudkeys::flowScale);
     input(keys::timeJdUtc, {.optional = true});
     output(cloudkeys::weatherMap);
     output(cloudkeys::weatherOffset);
+    output(cloudkeys::cirrusOffset);
 }
 
 std::shared_ptr<WeatherMap> WeatherMap::obtain(SkyVars& vars) {
@@ -252,20 +254,23 @@ void WeatherMap::doRun(SkyVars& vars, const Logger&) {
         started_ = true;
         jd0_ = jd;
         offset0_ = vars.getOr(cloudkeys::weatherOffset, glm::dvec2(0.0));
+        cirrusOffset0_ = vars.getOr(cloudkeys::cirrusOffset, offset0_);
         lastT_ = 0.0;
     }
     const double t = ((jd.x - jd0_.x) + (jd.y - jd0_.y)) * 86400.0;
     elapsed_ = t;
     const glm::dvec2 wind = vars.getOr(cloudkeys::wind, glm::dvec2(0.0));
-    vars.publish(cloudkeys::weatherOffset, offset0_ - wind * t);
+    // set(), not publish(): readers of the offset run again only when it moved.
+    vars.set(cloudkeys::weatherOffset, offset0_ - wind * t);
+    vars.set(cloudkeys::cirrusOffset, cirrusOffset0_ - vars.getOr(cloudkeys::cirrusWind, wind) * t);
 
     if (!artist.empty()) {
         if (artist != artistPath_ || !tex_) {
             loadArtist(artist);
             artistPath_ = artist;
+            vars.publish(cloudkeys::weatherMap, tex_.ref());
         }
         lastT_ = t;
-        vars.publish(cloudkeys::weatherMap, tex_.ref());
         return;
     }
     if (!artistPath_.empty()) {  // back from an artist's map to the generated one
@@ -314,8 +319,12 @@ void WeatherMap::doRun(SkyVars& vars, const Logger&) {
     }
     advect(lastT_, t, extent);
     lastT_ = t;
-    if (dirty_ || !tex_) render(extent);
-    vars.publish(cloudkeys::weatherMap, tex_.ref());
+    // Republished only when drawn: the map's readers (shadow map...) do not re-run every frame
+    // the clock advances.
+    if (dirty_ || !tex_) {
+        render(extent);
+        vars.publish(cloudkeys::weatherMap, tex_.ref());
+    }
 }
 
 namespace cpu {
@@ -350,11 +359,12 @@ glm::dvec4 shapeTexel(const CloudShape& s, glm::dvec2 m, glm::dvec2 centre) {
     const glm::dvec2 local = glm::dvec2(c * d.x + sn * d.y, -sn * d.x + c * d.y) / s.semiAxes;
     if (std::abs(local.x) > 1.6 || std::abs(local.y) > 1.6) return glm::dvec4(0.0);  // outside the quad
     const double r = glm::length(local);
-    const double n = perlinFbm2(local * 0.25 + edgeOffset(s.seed), 8, 3, s.seed);
+    const double n = perlinFbm2(local * 0.25 + edgeOffset(s.seed), 4, 3, s.seed);
     const double rr = r * (1.0 + 0.7 * (n - 0.5));
     const double fade = 1.0 - smooth(0.5, 1.0, rr);
     if (fade < 1e-3) return glm::dvec4(0.0);
-    return {s.density * fade, 1.0 - s.baseFraction, s.topFraction, s.rain * fade};
+    // Thinning towards the rim (weather_map.frag.glsl).
+    return {s.density * fade, (1.0 - s.baseFraction) * fade, s.topFraction * fade, s.rain * fade};
 }
 
 glm::dvec4 weatherTexel(const std::vector<CloudShape>& shapes, int i, int j, int size, double extent) {
@@ -365,7 +375,10 @@ glm::dvec4 weatherTexel(const std::vector<CloudShape>& shapes, int i, int j, int
         const glm::dvec2 c(wrapMod(s.centre.x, extent), wrapMod(s.centre.y, extent));
         for (int o = 0; o < 9; ++o) w = glm::max(w, shapeTexel(s, m, c + glm::dvec2(o % 3 - 1, o / 3 - 1) * extent));
     }
-    return w.r > 0.0 ? glm::dvec4(w.r, 1.0 - w.g, w.b, w.a) : glm::dvec4(0.0);
+    if (w.r <= 0.0) return glm::dvec4(0.0);
+    double base = 1.0 - w.g, top = w.b;
+    if (top < base) base = top = 0.5 * (base + top);
+    return {w.r, base, top, w.a};
 }
 
 glm::dvec2 flowAt(const Image& flow, double scale, glm::dvec2 m, double extent) {

@@ -154,7 +154,7 @@ bool cld_cumulus(vec3 dir, vec2 px, out vec3 L, out float T, out float dMean) {
 // Cirrus: a thin layer at R + cirrus height, single scattering of the lights with an ice-crystal
 // phase (HG g = 0.7) and the ambient term; optical depth u_cirrusTau x density over the slant
 // path (1 / |cos| of the local zenith, capped at 10). Returns false if the ray misses it.
-bool cld_cirrus(vec3 dir, out vec3 L, out float T, out float d) {
+bool cld_cirrusLayer(vec3 dir, out vec3 L, out float T, out float d) {
     L = vec3(0.0);
     T = 1.0;
     d = 0.0;
@@ -187,18 +187,20 @@ bool cld_cirrus(vec3 dir, out vec3 L, out float T, out float d) {
 }
 
 // Everything along the ray: radiance and per-channel transmittance. With `haze`, the air between
-// the observer and each layer dims it (transmittance Tair) and lets the sky behind through in
-// proportion (the compositor's dst already holds the sky's radiance along the whole ray: the
-// in-scatter in front of the cloud is approximated by that radiance x (1 - Tair)).
+// the observer and each layer dims the cloud's light (transmittance Tair) and adds its own
+// in-scatter in front of the cloud's opaque part, approximated by the sky's mean radiance
+// E_diffuse / pi: (1 - Tair) (1 - Tcloud) E_d / pi. The transmittance stays the cloud's (the Sun's
+// disk and the stars behind an opaque cloud stay hidden).
 void cloudsShade(vec3 dir, vec2 px, bool haze, out vec3 L, out vec3 T) {
     vec3 Lc, Li;
     float Tc, Ti, dc, di;
     bool cu = cld_cumulus(dir, px, Lc, Tc, dc);
-    bool ci = cld_cirrus(dir, Li, Ti, di);
+    bool ci = cld_cirrusLayer(dir, Li, Ti, di);
     vec3 LcA = Lc, LiA = Li, TcA = vec3(Tc), TiA = vec3(Ti);
     if (haze) {
-        if (cu) { vec3 a = cld_airTransmittance(dir.z, dc); LcA = a * Lc; TcA = 1.0 - a * (1.0 - Tc); }
-        if (ci) { vec3 a = cld_airTransmittance(dir.z, di); LiA = a * Li; TiA = 1.0 - a * (1.0 - Ti); }
+        vec3 haze = u_ambientE / CLD_PI;  // the sky's mean radiance: the air's in-scatter in front
+        if (cu) { vec3 a = cld_airTransmittance(dir.z, dc); LcA = a * Lc + (1.0 - a) * (1.0 - Tc) * haze; }
+        if (ci) { vec3 a = cld_airTransmittance(dir.z, di); LiA = a * Li + (1.0 - a) * (1.0 - Ti) * haze; }
     }
     // Nearest layer first: the cirrus is behind the cumulus unless the observer is above it.
     bool cirrusFirst = ci && u_h > cld_radii.w - cld_radii.x;

@@ -49,7 +49,7 @@ const std::vector<CloudPreset>& presets() {
     // (2 rho r_e) = 0.045-0.075 /m; Stephens 1978).
     static const std::vector<CloudPreset> p{
         {"fair", 0.75, 1500, 3000, 0.5, 9000, 0.05, 1.0, 0.0, 60, 700, 2500},
-        {"overcast", 0.98, 800, 2000, 0.0, 8000, 0.04, 0.6, 0.3, 220, 2000, 6000},
+        {"overcast", 0.98, 800, 2000, 0.0, 8000, 0.04, 0.6, 0.3, 800, 4000, 9000},
         {"scattered-cirrus", 0.55, 1800, 2800, 0.85, 9500, 0.05, 1.2, 0.0, 25, 500, 1500},
         {"clear", 0.0, 2000, 3000, 0.0, 9000, 0.05, 1.0, 0.0, 0, 500, 1000},
     };
@@ -118,6 +118,8 @@ Clouds::Clouds() : SkyElement("clouds") {
     reads(keys::observerHeight);
     reads(lightkeys::sunIlluminance);
     reads(lightkeys::moonIlluminance);
+    reads(lightkeys::sunTransmittance);
+    reads(lightkeys::moonTransmittance);
     reads(skykeys::transmittanceLut);
     reads(skykeys::horizontalIlluminance);
     reads(skykeys::diffuseIrradiance);
@@ -179,7 +181,9 @@ void Clouds::doInit(InitContext& ctx) {
     addGenerator(luts_.sunView);
     addGenerator(luts_.moonView);
     addGenerator(luts_.irradiance);
-    addGenerator(CloudNoise::obtain(v));
+    // The generated noise, unless the host published its own textures before init (a test's
+    // uniform slab, an artist's noise).
+    if (!v.has(ck::noiseBase)) addGenerator(CloudNoise::obtain(v));
     // The generated weather map, unless the host published its own clouds.weather_map before
     // init (a tool, a test: then the host owns it and its offset).
     if (!v.has(ck::weatherMap)) addGenerator(WeatherMap::obtain(v));
@@ -233,8 +237,16 @@ void Clouds::setUniforms(const gl::Program& p, const FrameContext& ctx) const {
     p.set("u_h", float(std::max(v.getOr(keys::observerHeight, 0.0), 0.0)));
     p.set("u_sunDir", glm::vec3(unit(v.get(keys::sunDirection))));
     p.set("u_moonDir", glm::vec3(unit(v.get(keys::moonDirection))));
-    p.set("u_sunE", glm::vec3(v.getOr(lightkeys::sunIlluminance, glm::dvec3(0.0))));
-    p.set("u_moonE", glm::vec3(v.getOr(lightkeys::moonIlluminance, glm::dvec3(0.0))));
+    const glm::dvec3 sunE = v.getOr(lightkeys::sunIlluminance, glm::dvec3(0.0));
+    glm::dvec3 moonE = v.getOr(lightkeys::moonIlluminance, glm::dvec3(0.0));
+    // The Moon's light march only when it matters: by day the full Moon (0.25 lux) is 1e-5 of
+    // the Sun's light at the observer; below 1e-4 of the sunlight it is dropped (invisible under
+    // any exposure), which halves the cost of a daytime frame with the Moon up.
+    const double sunAtObs = lum(sunE * v.getOr(lightkeys::sunTransmittance, glm::dvec3(1.0)));
+    const double moonAtObs = lum(moonE * v.getOr(lightkeys::moonTransmittance, glm::dvec3(1.0)));
+    if (moonAtObs < 1e-4 * sunAtObs) moonE = glm::dvec3(0.0);
+    p.set("u_sunE", glm::vec3(sunE));
+    p.set("u_moonE", glm::vec3(moonE));
     const glm::dvec3 diffuse = v.getOr(skykeys::diffuseIrradiance, glm::dvec3(0.0));
     p.set("u_ambientE", glm::vec3(diffuse));
     // The global illuminance per channel: the diffuse's colour scaled to the global's luminance.

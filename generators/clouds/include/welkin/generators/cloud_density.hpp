@@ -5,6 +5,7 @@
 //   using namespace welkin::generators;
 //   CloudLayerBlock b = CloudLayerBlock::from(vars);          // keys of cloud_keys.hpp
 //   gl::Buffer ubo(sizeof b, &b);  ubo.bindBase(GL_UNIFORM_BUFFER, gl::binding::kCloudUbo);
+//   bindCloudTextures(vars);                                  // weather, noises, curl, path LUT
 //   // GLSL: include embedded::clouds_shaders("cloud_density.glsl") after your header, then
 //   //       float d = cloudDensity(p, CLOUD_LOD_FULL);        // p: ENU metres, see below
 //   // CPU (tests, tools): the same function on read-back textures
@@ -29,7 +30,8 @@
 //   layer downwards and comes back up is cut at the first exit). Negative exit: no crossing
 //   (the ray misses the shell or the ground hides it).
 // - cirrusDensity(xy) is the cirrus layer's relative density in [0, 1] at a point of its layer
-//   (ENU x, y metres), from clouds.curl_noise; 0 when clouds.cirrus_coverage = 0.
+//   (ENU x, y metres), from clouds.curl_noise at ((x, y) + clouds.cirrus_offset_m) / curl
+//   period; 0 when clouds.cirrus_coverage = 0.
 // Textures are sampled at level 0 with linear filtering and GL_REPEAT (the ray march's steps are
 // far longer than a texel: derivative-based mip selection means nothing there).
 //
@@ -42,15 +44,17 @@
 #include <welkin/vars.hpp>
 
 #include <array>
+#include <optional>
 #include <vector>
 
 namespace welkin::generators {
 
 /// Default periods of the noise tiles when the keys are undeclared, m. The base tile spans a few
-/// cumulus (its Perlin-Worley cells, 4 per tile edge, are ~2 km); the detail tile a few hundred m
-/// of cauliflower edges (Schneider 2015 uses the same ratio of ~1:8 between the two).
-inline constexpr double kDefaultNoiseBasePeriodM = 8000.0;
-inline constexpr double kDefaultNoiseDetailPeriodM = 1000.0;
+/// cumulus (its Perlin-Worley cells, 4 per tile edge, are 1 km: the turrets of a 1-6 km wide
+/// cloud); the detail tile's Worley cells (2-8 per 500 m) are the 60-250 m cauliflower edges
+/// (Schneider 2015 uses the same ~1:8 ratio between the two).
+inline constexpr double kDefaultNoiseBasePeriodM = 4000.0;
+inline constexpr double kDefaultNoiseDetailPeriodM = 500.0;
 inline constexpr double kDefaultCurlPeriodM = 40000.0;
 
 /// The cloud layer's parameters, std140 (all vec4: no padding surprises). Mirror of the GLSL
@@ -69,22 +73,32 @@ struct CloudLayerBlock {
     float scrollBase[4];
     /// xyz the detail noise's scroll (m, reduced modulo its period), w unused
     float scrollDetail[4];
+    /// xy the cirrus' offset (clouds.cirrus_offset_m, m, reduced modulo the curl period), zw unused
+    float cirrus[4];
 
     /// From the keys of cloud_keys.hpp (undeclared keys take the defaults the Clouds element
     /// declares: bottom 2000 m, top 3000 m, coverage 0.5, detail scale 1, scattering 0.05/m,
     /// cirrus 9000 m / 0.3, extent 40 km, offset 0) and planet.radius_m (6 360 000 m). The noise
     /// scrolls with the weather map (noise scroll = (clouds.weather_offset_m, 0)): detail moves
-    /// with its cloud. Checks the layer (validateCloudLayer()).
+    /// with its cloud; the cirrus moves by clouds.cirrus_offset_m (clouds.weather_offset_m if
+    /// unset). Checks the layer (validateCloudLayer()).
     static CloudLayerBlock from(const SkyVars& vars);
-    /// The same from explicit values (m, [0,1], 1/m); `noiseScroll` in m.
+    /// The same from explicit values (m, [0,1], 1/m); `noiseScroll` in m; `cirrusOffset` in m
+    /// (nullopt: the weather offset).
     static CloudLayerBlock make(double planetRadius, double bottom, double top, double coverage, double detailScale,
                                 double scatteringPerM, double cirrusHeight, double cirrusCoverage, double weatherExtent,
                                 glm::dvec2 weatherOffset, glm::dvec3 noiseScroll, double basePeriod = kDefaultNoiseBasePeriodM,
-                                double detailPeriod = kDefaultNoiseDetailPeriodM, double curlPeriod = kDefaultCurlPeriodM);
+                                double detailPeriod = kDefaultNoiseDetailPeriodM, double curlPeriod = kDefaultCurlPeriodM,
+                                std::optional<glm::dvec2> cirrusOffset = std::nullopt);
 };
-static_assert(sizeof(CloudLayerBlock) == 6 * 16, "CloudLayerBlock: std140 layout of 6 vec4");
+static_assert(sizeof(CloudLayerBlock) == 7 * 16, "CloudLayerBlock: std140 layout of 7 vec4");
 
 enum class CloudLod { Cheap = 0, Full = 1 };
+
+/// Binds the clouds' published textures to their units (WELKIN_BINDING_CLOUD_WEATHER_MAP,
+/// _NOISE_BASE, _NOISE_DETAIL, _CURL_NOISE, _PATH_LUT; glBindTextureUnit): those set in `vars`
+/// (a reader's render() or a generator's pass, before its draw). Needs a current context.
+void bindCloudTextures(const SkyVars& vars);
 
 namespace cpu {
 

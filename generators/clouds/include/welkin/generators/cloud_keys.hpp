@@ -39,6 +39,8 @@ inline const Key<double> detailScale{"clouds.detail_scale", Range{0, 4}, "streng
 inline const Key<double> scattering{"clouds.scattering_per_m", Range{0, 1}, "scattering coefficient of cloud at density 1 (SevenSky Scattering); single-scattering albedo ~1", "1/m"};
 // --- Cirrus ---------------------------------------------------------------------------------------
 inline const Key<double> cirrusCoverage{"clouds.cirrus_coverage", Range{0, 1}, "high-altitude cirrus coverage (SevenSky AltoCoverage)"};
+inline const Key<glm::dvec2> cirrusWind{"clouds.cirrus_wind_m_s", Range{-200, 200}, "wind at the cirrus' height (east, north), moving clouds.cirrus_offset_m; undeclared: clouds.wind_m_s", "m/s"};
+inline const Key<glm::dvec2> cirrusOffset{"clouds.cirrus_offset_m", Range{-1e12, 1e12}, "the cirrus' offset on the curl noise (as clouds.weather_offset_m; written by the weather-map generator); undeclared: clouds.weather_offset_m"};
 inline const Key<double> cirrusHeight{"clouds.cirrus_height_m", Range{4e3, 2e4}, "height of the cirrus layer above the ground"};
 // --- Rain -------------------------------------------------------------------------------------------
 inline const Key<double> rainDensity{"clouds.rain_density", Range{0, 1}, "rain from the raining clouds of the weather map (SevenSky RainDensity): rate = weather A x this x 20 mm/h; 0 dry"};

@@ -5,6 +5,7 @@
 // Animation over the simulated time (time.jd_utc, seconds since the first run):
 //  - constant wind: clouds.weather_offset_m = its value at the first run - wind x elapsed time
 //    (the map slides east with a positive east wind: uv = (xy + offset) / extent); no re-render;
+//    the cirrus likewise: clouds.cirrus_offset_m - clouds.cirrus_wind_m_s (default: the wind) x t;
 //  - a 2-D flow field (clouds.flow_file image, or setFlow() from C++) advects each cloud's
 //    centre (RK4, sub-steps <= 30 s) and the map is re-rendered when clouds moved.
 //
@@ -15,8 +16,8 @@
 // Map coordinates: metres in [0, extent)^2 of one tile, m = world ENU (x, y) + offset (mod extent).
 // Defaults: extent 40 km (512 texels: 78 m each, 8 texels across the smallest default cloud of
 // 600 m semi-axis; the tile repeats ~4 times out to the 160 km horizon distance of a 2 km layer,
-// and the noise shapes hide it), 48 clouds of 600-3000 m semi-axes (coverage of ~25 % of the map
-// at density >= 0.5, broken cumulus).
+// and the noise shapes hide it), 48 clouds of 600-3000 m semi-axes (~10 % of the map at density
+// > 0.2 with seed 1: scattered cumulus; raise clouds.cloud_count for more).
 #pragma once
 #include <welkin/element.hpp>
 #include <welkin/gl/objects.hpp>
@@ -93,7 +94,7 @@ private:
     bool userFlow_ = false;
     std::string flowPath_, artistPath_;
     bool started_ = false;
-    glm::dvec2 jd0_{0.0}, offset0_{0.0};
+    glm::dvec2 jd0_{0.0}, offset0_{0.0}, cirrusOffset0_{0.0};
     double elapsed_ = 0.0, lastT_ = 0.0;
     gl::Texture2D tex_;
     gl::Framebuffer fbo_;
@@ -106,10 +107,12 @@ namespace cpu {
 /// The shapes a seed makes (the generator's own list at its first run).
 std::vector<CloudShape> generateClouds(uint32_t seed, int count, double sizeMin, double sizeMax, double extent);
 /// One shape's contribution (R density, G 1 - base, B top, A rain; before the max blend) at map
-/// position `m` (m), the shape drawn at centre + `tileOffset`; R = 0 outside it.
+/// position `m` (m) of the shape drawn at `centre`; 0 outside it. Density and rain fade over the
+/// noisy edge; G and B are weighted by the fade too (the cloud thins towards its rim: domes;
+/// weatherTexel() resolves top < base to their mean).
 glm::dvec4 shapeTexel(const CloudShape& s, glm::dvec2 m, glm::dvec2 centre);
 /// The map's texel (i, j) as the GPU draws it (max over shapes and the 9 tile offsets, G flipped
-/// back to the base fraction), `size` texels over `extent` m.
+/// back to the base fraction, top < base resolved to their mean), `size` texels over `extent` m.
 glm::dvec4 weatherTexel(const std::vector<CloudShape>& shapes, int i, int j, int size, double extent);
 /// Velocity of an image flow field at map position m (bilinear, repeat; R east, G north encoded
 /// 0.5 + 0.5 v, times `scale` m/s). The image's top row is the map's north edge.
