@@ -90,6 +90,9 @@ CloudShadowMap::CloudShadowMap() : Generator("clouds.shadow_map") {
     input(keys::moonDirection, {.tolerance = 5e-4, .optional = true});
     input(cloudkeys::weatherMap, {.optional = true});
     input(cloudkeys::weatherOffset, {.tolerance = kOffsetTolerance, .optional = true});
+    // The cirrus drifts on its own offset, which the host's shift does not follow: the map's
+    // cirrus lags by at most this tolerance (its optical depth is <= 0.3: a faint pattern).
+    input(cloudkeys::cirrusOffset, {.tolerance = kOffsetTolerance, .optional = true});
     input(cloudkeys::weatherExtent, {.optional = true});
     input(cloudkeys::noiseBase, {.optional = true});
     input(cloudkeys::curlNoise, {.optional = true});
