@@ -3,6 +3,10 @@
 #include <catch2/catch.hpp>
 
 #include "cli_runner.hpp"
+#include "plot.hpp"
+
+#include <welkin/csv.hpp>
+#include <welkin/image.hpp>
 
 #include <welkin/elements/registry.hpp>
 
@@ -54,4 +58,32 @@ TEST_CASE("welkin bench clouds: a tiny run writes its rows and judges the target
     CHECK(statics == 4);  // 2 sample counts x reprojection off/on
     CHECK(moving == 1);
     CHECK(finiteErrors == 4);  // every static row has an error against the reference
+}
+
+TEST_CASE("plot_bench_clouds.py draws a PNG from a bench clouds CSV", "[cpu][plot][bench]") {
+    if (!welkin::cli::findPythonWithMatplotlib()) {
+        WARN("no python3 with matplotlib (Debian: python3-matplotlib): plot test skipped");
+        return;
+    }
+    const std::string dir = welkin::test::scratchDir("plot_bench_clouds");
+    {
+        welkin::CsvWriter w(dir + "/c.csv", {"size", "mode", "samples", "reprojection", "frame_ms", "trivial_ms", "sky_ms", "ratio_trivial",
+                                             "ratio_sky", "rms_rel"});
+        w.comment("test data");
+        for (int reproj : {0, 1})
+            for (int n : {8, 16, 32}) w.row(std::string("800x450"), std::string("static"), n, reproj, 10.0 * n, 1.0, 20.0, 10.0 * n, 0.5 * n, 0.5 / n);
+        w.row(std::string("800x450"), std::string("moving"), 0, 1, 300.0, 1.0, 20.0, 300.0, 15.0, double(NAN));
+        w.close();
+    }
+    const welkin::cli::PlotResult r = welkin::cli::drawPlot("plot_bench_clouds.py", dir + "/c.csv", dir + "/c.png");
+    INFO(r.message);
+    REQUIRE(r.drawn);
+    const welkin::Image img = welkin::readImage(dir + "/c.png");
+    CHECK(img.width == 750);  // 7.5 x 4.8 in at 100 dpi
+    CHECK(img.height == 480);
+    // A CSV without the bench's columns: status 2, no PNG.
+    std::ofstream(dir + "/bad.csv") << "a,b\n1,2\n";
+    const welkin::cli::PlotResult bad = welkin::cli::drawPlot("plot_bench_clouds.py", dir + "/bad.csv", dir + "/bad.png");
+    CHECK_FALSE(bad.drawn);
+    CHECK(bad.message.find("exited with status 2") != std::string::npos);
 }
