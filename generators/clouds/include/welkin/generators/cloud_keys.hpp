@@ -67,6 +67,12 @@ inline const Key<double> cloudSizeMax{"clouds.cloud_size_max_m", Range{50, 1e5},
 inline const Key<std::string> flowFile{"clouds.flow_file", "image of a 2-D velocity field over one weather-map tile (OpenImageIO; R east, G north encoded 0.5 + 0.5 v, v in [-1, 1] x clouds.flow_scale_m_s); empty: none"};
 inline const Key<double> flowScale{"clouds.flow_scale_m_s", Range{0, 200}, "velocity of a flow-image value of 1", "m/s"};
 inline const Key<TextureRef> shadowMap{"clouds.shadow_map", "transmittance of the light through the clouds over the ground around the observer"};
+// --- Cloud shadows (generators/clouds/cloud_shadow.hpp) -----------------------------------------
+inline const Key<double> shadowExtent{"clouds.shadow_extent_m", Range{1e3, 5e5}, "side of the square of ground, centred below the observer, that clouds.shadow_map covers"};
+inline const Key<int> shadowResolution{"clouds.shadow_resolution", Range{16, 2048}, "texels per side of clouds.shadow_map"};
+inline const Key<int> shadowSteps{"clouds.shadow_steps", Range{1, 256}, "march steps through the cumulus layer per shadow-map texel"};
+inline const Key<glm::dvec3> shadowLight{"clouds.shadow_light_direction", Range{-1, 1}, "unit vector (ENU) to the light clouds.shadow_map was built for (the Sun, or the Moon at night; elevation clamped to >= 0)"};
+inline const Key<glm::dvec2> shadowOffset{"clouds.shadow_offset_m", Range{-1e12, 1e12}, "clouds.weather_offset_m when clouds.shadow_map was built (the host's lookup shifts by the change since)"};
 }  // namespace cloudkeys
 
 /// Rain rate under a weather-map cloud of rain density 1 when clouds.rain_density is 1, mm/h:

@@ -1,0 +1,214 @@
+// CloudShadowMap (GPU pass cloud_shadow_map.glsl) and its CPU twin (double precision): the model
+// and its sources are in cloud_shadow.hpp.
+#include <welkin/error.hpp>
+#include <welkin/embedded/clouds_shaders.hpp>
+#include <welkin/generators/cloud_shadow.hpp>
+#include <welkin/generators/lights.hpp>
+#include <welkin/gl/bindings.hpp>
+#include <welkin/gl/objects.hpp>
+#include <welkin/gl/shader.hpp>
+#include <welkin/keys.hpp>
+
+#include <epoxy/gl.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace welkin::generators {
+
+namespace {
+constexpr double kDefaultExtentM = 40e3;  // a few tens of km around the observer
+constexpr int kDefaultResolution = 256;   // 156 m texels over 40 km
+constexpr int kDefaultSteps = 16;         // through a 1 km layer: 63 m steps at the zenith
+
+// Exit distance of the unit ray L from the ground point (xy, R) through the sphere R + H (the
+// GLSL's exitDistance(), same stable form).
+double exitDistance(glm::dvec2 xy, glm::dvec3 L, double R, double H) {
+    const double b = glm::dot(xy, glm::dvec2(L)) + R * L.z;
+    const double q = glm::dot(xy, xy) - H * (2.0 * R + H);
+    const double s = std::sqrt(std::max(b * b - q, 0.0));
+    return b > 0.0 ? -q / (b + s) : s - b;
+}
+
+glm::dvec3 shadowLight(const SkyVars& vars) {
+    glm::dvec3 sun = vars.getOr(keys::sunDirection, glm::dvec3(0, 0, 1));
+    glm::dvec3 moon = vars.getOr(keys::moonDirection, glm::dvec3(0, 0, -1));
+    glm::dvec3 L = sun.z >= std::sin(kShadowMoonBelowSunElevationRad) ? sun : moon;
+    if (glm::length(L) < 1e-9) L = {0, 0, 1};
+    L = glm::normalize(L);
+    if (L.z < 0.0) {  // below the horizon: the light along the horizon, same azimuth
+        L.z = 0.0;
+        L = glm::length(glm::dvec2(L)) > 1e-9 ? glm::normalize(L) : glm::dvec3(1, 0, 0);
+    }
+    return L;
+}
+}  // namespace
+
+namespace cpu {
+
+double cloudShadowTransmittance(const CloudLayerBlock& b, const CloudTextures& t, glm::dvec3 L, int steps, glm::dvec2 xy) {
+    const double R = b.radii[0];
+    double tau = 0.0;
+    if (!t.weather.rgba.empty() && !t.base.rgba.empty() && b.shape[0] > 0.0f && b.shape[2] > 0.0f) {
+        const double t0 = exitDistance(xy, L, R, double(b.radii[1]) - R), t1 = exitDistance(xy, L, R, double(b.radii[2]) - R);
+        const double dt = (t1 - t0) / steps;
+        for (int i = 0; i < steps; ++i) {
+            const double s = t0 + (i + 0.5) * dt;
+            tau += double(b.shape[2]) * cloudDensity(b, t, glm::dvec3(xy, 0.0) + s * L, CloudLod::Cheap) * dt;
+        }
+    }
+    if (!t.curl.rgba.empty() && b.shape[3] > 0.0f) {
+        const double rc = b.radii[3];
+        const double tc = exitDistance(xy, L, R, rc - R);
+        const glm::dvec3 k = glm::cross(glm::dvec3(xy, R), L);
+        const double mu = std::sqrt(std::max(1.0 - glm::dot(k, k) / (rc * rc), 0.0));
+        tau += kCirrusOpticalDepth * cirrusDensity(b, t.curl, xy + tc * glm::dvec2(L)) / std::max(mu, 1e-3);
+    }
+    return std::exp(-tau);
+}
+
+glm::dvec2 cloudShadowGroundPoint(glm::dvec3 pos, double observerHeightM, double bottomM, glm::dvec3 light) {
+    const double h = std::clamp(pos.z + observerHeightM, 0.0, bottomM);
+    return glm::dvec2(pos) - h * glm::dvec2(light) / std::max(light.z, 1e-3);
+}
+
+}  // namespace cpu
+
+struct CloudShadowMap::Gl {
+    gl::Texture2D tex;
+    gl::Framebuffer fbo;
+    gl::Program prog;
+    gl::VertexArray vao;  // empty: the fullscreen triangle's vertices come from gl_VertexID
+    gl::Buffer ubo;       // CloudLayerBlock
+};
+
+CloudShadowMap::CloudShadowMap() : Generator("clouds.shadow_map") {
+    // 5e-4 rad: at 30 deg elevation the shadow of a cloud 2.5 km up moves by h / sin^2(e) x 5e-4
+    // = 5 m, a thirtieth of a default texel (156 m).
+    input(keys::sunDirection, {.tolerance = 5e-4, .optional = true});
+    input(keys::moonDirection, {.tolerance = 5e-4, .optional = true});
+    input(cloudkeys::weatherMap, {.optional = true});
+    input(cloudkeys::weatherOffset, {.tolerance = kOffsetTolerance, .optional = true});
+    // The cirrus drifts on its own offset, which the host's shift does not follow: the map's
+    // cirrus lags by at most this tolerance (its optical depth is <= 0.3: a faint pattern).
+    input(cloudkeys::cirrusOffset, {.tolerance = kOffsetTolerance, .optional = true});
+    input(cloudkeys::weatherExtent, {.optional = true});
+    input(cloudkeys::noiseBase, {.optional = true});
+    input(cloudkeys::curlNoise, {.optional = true});
+    input(cloudkeys::noiseBasePeriod, {.optional = true});
+    input(cloudkeys::curlPeriod, {.optional = true});
+    input(cloudkeys::bottom, {.optional = true});
+    input(cloudkeys::top, {.optional = true});
+    input(cloudkeys::coverage, {.optional = true});
+    input(cloudkeys::scattering, {.optional = true});
+    input(cloudkeys::cirrusCoverage, {.optional = true});
+    input(cloudkeys::cirrusHeight, {.optional = true});
+    input(lightkeys::planetRadius, {.optional = true});
+    input(cloudkeys::shadowExtent);
+    input(cloudkeys::shadowResolution);
+    input(cloudkeys::shadowSteps);
+    output(cloudkeys::shadowMap);
+    output(cloudkeys::shadowLight);
+    output(cloudkeys::shadowOffset);
+}
+
+std::shared_ptr<CloudShadowMap> CloudShadowMap::obtain(SkyVars& vars) {
+    static const Key<std::shared_ptr<CloudShadowMap>> kShared{"generators.cloud_shadow_map"};
+    return vars.obtain<CloudShadowMap>(kShared, [] { return std::make_shared<CloudShadowMap>(); });
+}
+
+void CloudShadowMap::doDeclare(SkyVars& vars) {
+    vars.declare(cloudkeys::shadowExtent, kDefaultExtentM);
+    vars.declare(cloudkeys::shadowResolution, kDefaultResolution);
+    vars.declare(cloudkeys::shadowSteps, kDefaultSteps);
+}
+
+glm::dvec3 CloudShadowMap::lightDirection(const SkyVars& vars) { return shadowLight(vars); }
+
+void CloudShadowMap::doRun(SkyVars& vars, const Logger&) {
+    const CloudLayerBlock block = CloudLayerBlock::from(vars);  // checks the layer (validateCloudLayer)
+    const glm::dvec3 light = shadowLight(vars);
+    const int steps = vars.get(cloudkeys::shadowSteps);
+    const int n = vars.get(cloudkeys::shadowResolution);
+    const double extent = vars.get(cloudkeys::shadowExtent);
+    if (!gl_) gl_ = std::make_shared<Gl>();
+    Gl& g = *gl_;
+    if (!g.tex || g.tex.width() != n) {
+        g.tex = gl::Texture2D(n, n, GL_R32F);
+        g.tex.setFilter(GL_LINEAR);
+        g.tex.setWrap(GL_CLAMP_TO_EDGE);
+        g.fbo = gl::Framebuffer::create();
+        g.fbo.attach(GL_COLOR_ATTACHMENT0, g.tex);
+        g.fbo.checkComplete("CloudShadowMap");
+    }
+    if (!g.vao) g.vao = gl::VertexArray::create();
+    if (!g.prog)
+        g.prog = gl::ProgramBuilder("CloudShadowMap")
+                     .fullscreenVertex()
+                     .fragment("generators/cloud_density.glsl", embedded::clouds_shaders("cloud_density.glsl"))
+                     .fragment("generators/cloud_shadow_map.glsl", embedded::clouds_shaders("cloud_shadow_map.glsl"))
+                     .build();
+    g.ubo = gl::Buffer(sizeof block, &block);
+    const TextureRef weather = vars.getOr(cloudkeys::weatherMap, TextureRef{});
+    const TextureRef base = vars.getOr(cloudkeys::noiseBase, TextureRef{});
+    const TextureRef curl = vars.getOr(cloudkeys::curlNoise, TextureRef{});
+    const bool hasClouds = weather.id && base.id;
+    g.fbo.bind();
+    glViewport(0, 0, n, n);
+    glDisable(GL_BLEND);
+    g.prog.use();
+    g.ubo.bindBase(GL_UNIFORM_BUFFER, gl::binding::kCloudUbo);
+    if (weather.id) glBindTextureUnit(gl::binding::kCloudWeatherMap, weather.id);
+    if (base.id) glBindTextureUnit(gl::binding::kCloudNoiseBase, base.id);
+    if (curl.id) glBindTextureUnit(gl::binding::kCloudCurlNoise, curl.id);
+    g.prog.set("u_size", glm::ivec2(n, n));
+    g.prog.set("u_extent", float(extent));
+    g.prog.set("u_cirrusTau", float(kCirrusOpticalDepth));
+    g.prog.set("u_light", glm::vec3(light));
+    g.prog.set("u_steps", steps);
+    g.prog.set("u_hasClouds", hasClouds ? 1 : 0);
+    g.prog.set("u_hasCurl", curl.id ? 1 : 0);
+    g.vao.bind();
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    lastLight_ = light;
+    lastSteps_ = steps;
+    vars.publish(cloudkeys::shadowLight, light);
+    vars.publish(cloudkeys::shadowOffset, vars.getOr(cloudkeys::weatherOffset, glm::dvec2(0.0)));
+    vars.publish(cloudkeys::shadowMap, g.tex.ref());
+}
+
+void CloudShadowMap::doRelease() { gl_.reset(); }
+
+void CloudShadowMap::doStats(nlohmann::json& root) const {
+    root["clouds"]["shadow_light_direction"] = {lastLight_.x, lastLight_.y, lastLight_.z};
+    root["clouds"]["shadow_steps"] = lastSteps_;
+}
+
+void CloudShadowMap::hostUniforms(const SkyVars& vars, float m0[4], float m1[4]) {
+    const glm::dvec2 shift = vars.getOr(cloudkeys::weatherOffset, glm::dvec2(0.0)) - vars.getOr(cloudkeys::shadowOffset, glm::dvec2(0.0));
+    const double extent = vars.getOr(cloudkeys::shadowExtent, kDefaultExtentM);
+    const glm::dvec3 L = vars.getOr(cloudkeys::shadowLight, glm::dvec3(0, 0, 1));
+    m0[0] = float(shift.x);
+    m0[1] = float(shift.y);
+    m0[2] = float(1.0 / extent);
+    m0[3] = float(-vars.getOr(keys::observerHeight, 0.0));
+    m1[0] = float(L.x);
+    m1[1] = float(L.y);
+    m1[2] = float(L.z);
+    m1[3] = float(vars.getOr(cloudkeys::bottom, 2000.0));  // the Clouds element's default base
+}
+
+void CloudShadowMap::bindForHost(const SkyVars& vars, unsigned program) {
+    if (!vars.has(cloudkeys::shadowMap)) return;
+    glBindTextureUnit(gl::binding::kCloudShadowMap, vars.get(cloudkeys::shadowMap).id);
+    if (!program) return;
+    float m0[4], m1[4];
+    hostUniforms(vars, m0, m1);
+    glProgramUniform4fv(program, glGetUniformLocation(program, "welkin_cloudShadowMapping0"), 1, m0);
+    glProgramUniform4fv(program, glGetUniformLocation(program, "welkin_cloudShadowMapping1"), 1, m1);
+}
+
+std::string_view CloudShadowMap::hostGlsl() { return embedded::clouds_shaders("cloud_shadow.glsl"); }
+
+}  // namespace welkin::generators

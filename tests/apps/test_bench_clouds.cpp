@@ -1,0 +1,89 @@
+// welkin bench clouds: options checked before any rendering, and a tiny run writes one CSV row
+// per (samples, reprojection) and the moving row, with the target judged.
+#include <catch2/catch.hpp>
+
+#include "cli_runner.hpp"
+#include "plot.hpp"
+
+#include <welkin/csv.hpp>
+#include <welkin/image.hpp>
+
+#include <welkin/elements/registry.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <string>
+
+using welkin::test::runCli;
+
+TEST_CASE("welkin bench clouds: bad options are one-line errors", "[cpu][cli][bench]") {
+    struct Case {
+        const char* args;
+        const char* message;
+    };
+    for (Case c : {Case{"--repeats 0", "--repeats 0 not in [1, 1000]"}, Case{"--warmup -1", "--warmup -1 not in [0, 1000]"},
+                   Case{"--samples 8,x", "--samples: 'x' not an integer in [1, 4096]"},
+                   Case{"--sizes 800x", "--sizes: '800x' not WxH with 16 <= W, H <= 8192"},
+                   Case{"--reference-samples 0", "--reference-samples 0 not in [1, 4096]"},
+                   Case{"--csv /nonexistent-dir/x.csv", "--csv '/nonexistent-dir/x.csv': no directory '/nonexistent-dir'"}}) {
+        const auto r = runCli(std::string("bench clouds ") + c.args);
+        INFO(c.args << " -> " << r.output);
+        CHECK(r.status == 1);
+        CHECK(r.output.find(std::string("welkin bench clouds: ") + c.message) != std::string::npos);
+    }
+}
+
+TEST_CASE("welkin bench clouds: a tiny run writes its rows and judges the target", "[gl][cli][bench][slow]") {
+    if (!welkin::elements::findDescriptor("clouds")) {
+        WARN("no clouds element in this build: test skipped");
+        return;
+    }
+    const std::string dir = welkin::test::scratchDir("bench_clouds");
+    // 64x36, two sample counts, one timed frame each, a 32-sample reference: seconds on llvmpipe.
+    const auto r = runCli("bench clouds --sizes 64x36 --samples 4,8 --repeats 1 --warmup 1 --moving-frames 2 --reference-samples 32 --csv '" +
+                          dir + "/c.csv' --plot ''");
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    CHECK(r.output.find("targets: ") != std::string::npos);
+    std::ifstream f(dir + "/c.csv");
+    std::string line;
+    int statics = 0, moving = 0, finiteErrors = 0;
+    while (std::getline(f, line)) {
+        if (line.empty() || line[0] == '#' || line.rfind("size,", 0) == 0) continue;
+        statics += line.find(",static,") != std::string::npos;
+        moving += line.find(",moving,") != std::string::npos;
+        const double rms = std::stod(line.substr(line.rfind(',') + 1));
+        finiteErrors += std::isfinite(rms) && rms >= 0.0;
+    }
+    CHECK(statics == 4);  // 2 sample counts x reprojection off/on
+    CHECK(moving == 1);
+    CHECK(finiteErrors == 4);  // every static row has an error against the reference
+}
+
+TEST_CASE("plot_bench_clouds.py draws a PNG from a bench clouds CSV", "[cpu][plot][bench]") {
+    if (!welkin::cli::findPythonWithMatplotlib()) {
+        WARN("no python3 with matplotlib (Debian: python3-matplotlib): plot test skipped");
+        return;
+    }
+    const std::string dir = welkin::test::scratchDir("plot_bench_clouds");
+    {
+        welkin::CsvWriter w(dir + "/c.csv", {"size", "mode", "samples", "reprojection", "frame_ms", "trivial_ms", "sky_ms", "ratio_trivial",
+                                             "ratio_sky", "rms_rel"});
+        w.comment("test data");
+        for (int reproj : {0, 1})
+            for (int n : {8, 16, 32}) w.row(std::string("800x450"), std::string("static"), n, reproj, 10.0 * n, 1.0, 20.0, 10.0 * n, 0.5 * n, 0.5 / n);
+        w.row(std::string("800x450"), std::string("moving"), 0, 1, 300.0, 1.0, 20.0, 300.0, 15.0, double(NAN));
+        w.close();
+    }
+    const welkin::cli::PlotResult r = welkin::cli::drawPlot("plot_bench_clouds.py", dir + "/c.csv", dir + "/c.png");
+    INFO(r.message);
+    REQUIRE(r.drawn);
+    const welkin::Image img = welkin::readImage(dir + "/c.png");
+    CHECK(img.width == 750);  // 7.5 x 4.8 in at 100 dpi
+    CHECK(img.height == 480);
+    // A CSV without the bench's columns: status 2, no PNG.
+    std::ofstream(dir + "/bad.csv") << "a,b\n1,2\n";
+    const welkin::cli::PlotResult bad = welkin::cli::drawPlot("plot_bench_clouds.py", dir + "/bad.csv", dir + "/bad.png");
+    CHECK_FALSE(bad.drawn);
+    CHECK(bad.message.find("exited with status 2") != std::string::npos);
+}
