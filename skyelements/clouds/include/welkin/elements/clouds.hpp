@@ -36,7 +36,9 @@ namespace cloudelemkeys {
 inline const Key<std::string> preset{"clouds.preset", "cloud preset: fair, overcast, scattered-cirrus or clear (sets the cloud keys nobody set)"};
 inline const Key<int> samples{"clouds.samples", Range{4, 512}, "ray-march samples per view ray through the cumulus layer"};
 inline const Key<int> lightSamples{"clouds.light_samples", Range{1, 32}, "light-march samples from each sample towards the Sun or Moon (self-shadowing)"};
-inline const Key<bool> reprojection{"clouds.reprojection", "temporal reprojection for the real-time path (welkin view); off: every pixel every frame"};
+inline const Key<bool> reprojection{"clouds.reprojection", "the real-time path (welkin view): the clouds in a direction-space cache refreshed over clouds.cache_frames frames, which every frame samples; off: every pixel every frame"};
+inline const Key<int> cacheFrames{"clouds.cache_frames", Range{1, 64}, "real-time path: frames that refresh the whole direction cache (1, 4, 16 or 64; a Bayer order)"};
+inline const Key<int> cacheWidth{"clouds.cache_width", Range{64, 4096}, "azimuth texels of the real-time path's direction cache (its height is half)"};
 }  // namespace cloudelemkeys
 
 /// The values a preset gives the cloud keys (cloud_keys.hpp).
@@ -111,6 +113,7 @@ private:
     void setUniforms(const gl::Program& p, const FrameContext& ctx) const;
     void computePhotometry(const FrameContext& ctx);
     gl::ProgramBuilder recipe(bool stats, bool reproject) const;
+    void renderCached(const FrameContext& ctx);
 
     generators::SkyLuts luts_;
     gl::ProjectionPrograms programs_;
@@ -121,6 +124,14 @@ private:
     Photometry photometry_;
     std::vector<double> photometryInputs_;
     bool drew_ = false;
+    // The real-time path (clouds.reprojection): the direction cache (radiance, transmittance),
+    // its fill and display programs, the phase of the next partial refresh, and the inputs of the
+    // last full fill (a change of any refills it at once).
+    gl::Texture2D cacheL_, cacheT_;
+    gl::Program cacheFill_;
+    gl::ProjectionPrograms cacheShow_;
+    int cachePhase_ = 0;
+    std::vector<double> cacheInputs_;
     // Preset bookkeeping: per preset-driven key, the version after the element last wrote it (0:
     // never written by the element).
     std::string appliedPreset_;
