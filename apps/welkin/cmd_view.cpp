@@ -6,6 +6,7 @@
 #include <welkin/error.hpp>
 #include <welkin/gl/context.hpp>
 #include <welkin/image.hpp>
+#include <welkin/keys.hpp>
 #include <welkin/processor.hpp>
 
 #define GLFW_INCLUDE_NONE
@@ -113,6 +114,7 @@ int run(const ViewOptions& o) {
     glfwSetScrollCallback(w, onScroll);
 
     SkyProcessor sky(SkyVars::earth(), log);
+    sky.vars().set(keys::interactive, true);  // before the --var values, which may override it
     o.scene.apply(sky);
     sky.setAnimationTime(std::nullopt);  // the window animates with the wall clock
     const UtcInstant start = o.scene.instant();

@@ -37,6 +37,10 @@ inline const Key<glm::dvec3> moonDirection{"moon.direction", Range{-1, 1}, "unit
 inline const Key<int> quality{"render.quality", Range{0, 3}, "quality preset: 0 low, 1 medium, 2 high, 3 reference"};
 /// Manual exposure, EV100, [-20, 30] (used when exposureAuto is false).
 inline const Key<double> exposureEv100{"exposure.ev100", Range{-20, 30}, "exposure value at ISO 100"};
+/// The frames are shown one after another while the time and the camera move (welkin view, a
+/// host's game loop): an element may spread its work over frames (the Clouds' direction cache).
+/// false (the default, welkin render): every frame is complete on its own.
+inline const Key<bool> interactive{"render.interactive", "frames shown one after another as time and camera move (welkin view, a game loop): elements may spread work over frames; false: every frame complete (welkin render)"};
 /// Automatic exposure: the eye's adaptation to the scene (eye.adaptation, welkin/eye.hpp) or a camera's log-average.
 inline const Key<bool> exposureAuto{"exposure.auto", "automatic exposure: the eye's adaptation (eye.*) or a camera's log-average"};
 /// The diffuse night sky's luminance at the zenith above the air, cd/m^2 (airglow, zodiacal

@@ -101,7 +101,8 @@ Clouds::Clouds() : SkyElement("clouds") {
     option(cloudelemkeys::preset, std::string("fair"));
     option(cloudelemkeys::samples, 48);
     option(cloudelemkeys::lightSamples, 6);
-    option(cloudelemkeys::reprojection, false);
+    optionUnset(cloudelemkeys::reprojection);  // unset: follows render.interactive
+    reads(keys::interactive);
     option(cloudelemkeys::cacheWidth, 512);
     option(cloudelemkeys::cacheFrames, 64);
     optionUnset(ck::coverage);
@@ -342,7 +343,8 @@ void Clouds::doRender(const FrameContext& ctx) {
     computePhotometry(ctx);
     const gl::Program& p = programs_.get(ctx.camera.projection);
     setUniforms(p, ctx);
-    if (v.get(cloudelemkeys::reprojection)) {
+    const bool realtime = v.has(cloudelemkeys::reprojection) ? v.get(cloudelemkeys::reprojection) : v.getOr(keys::interactive, false);
+    if (realtime) {
         renderCached(ctx);
     } else {
         const gl::Program& p = programs_.get(ctx.camera.projection);

@@ -36,7 +36,7 @@ namespace cloudelemkeys {
 inline const Key<std::string> preset{"clouds.preset", "cloud preset: fair, overcast, scattered-cirrus or clear (sets the cloud keys nobody set)"};
 inline const Key<int> samples{"clouds.samples", Range{4, 512}, "ray-march samples per view ray through the cumulus layer"};
 inline const Key<int> lightSamples{"clouds.light_samples", Range{1, 32}, "light-march samples from each sample towards the Sun or Moon (self-shadowing)"};
-inline const Key<bool> reprojection{"clouds.reprojection", "the real-time path (welkin view): the clouds in a direction-space cache refreshed over clouds.cache_frames frames, which every frame samples; off: every pixel every frame"};
+inline const Key<bool> reprojection{"clouds.reprojection", "the real-time path: the clouds in a direction-space cache refreshed over clouds.cache_frames frames, which every frame samples; off: every pixel every frame; unset: on when render.interactive (welkin view)"};
 inline const Key<int> cacheFrames{"clouds.cache_frames", Range{1, 64}, "real-time path: frames that refresh the whole direction cache (1, 4, 16 or 64; a Bayer order)"};
 inline const Key<int> cacheWidth{"clouds.cache_width", Range{64, 4096}, "azimuth texels of the real-time path's direction cache (its height is half)"};
 }  // namespace cloudelemkeys
