@@ -53,34 +53,6 @@ struct NightBenchOptions {
     double smallCatalogueMag = 6.5;
 };
 
-// The trivial fullscreen pass of bench frame: one constant-cost fragment per pixel into RGBA32F.
-class TrivialPass {
-public:
-    TrivialPass(int w, int h) : w_(w), h_(h), target_(w, h, GL_RGBA32F) {
-        vao_ = gl::VertexArray::create();
-        prog_ = gl::ProgramBuilder("trivial")
-                    .fullscreenVertex()
-                    .fragment("trivial.frag", "out vec4 o; void main() { o = vec4(gl_FragCoord.xy * 1e-3, 1.0, 1.0); }")
-                    .build();
-        fbo_ = gl::Framebuffer::create();
-        fbo_.attach(GL_COLOR_ATTACHMENT0, target_);
-        fbo_.checkComplete("bench night");
-    }
-    void draw() {
-        fbo_.bind();
-        glViewport(0, 0, w_, h_);
-        vao_.bind();
-        prog_.use();
-        glDrawArrays(GL_TRIANGLES, 0, 3);
-    }
-
-private:
-    int w_, h_;
-    gl::Texture2D target_;
-    gl::VertexArray vao_;
-    gl::Program prog_;
-    gl::Framebuffer fbo_;
-};
 
 struct Scene {
     std::string when;       // "day" | "night"

@@ -31,6 +31,36 @@ inline double medianMs(int repeats, const std::function<void()>& fn) {
     return t[t.size() / 2];
 }
 
+/// The trivial fullscreen pass: one constant-cost fragment per pixel into its own RGBA32F target,
+/// no camera, no blending (the floor of any fullscreen draw; the clouds and night benches).
+class TrivialPass {
+public:
+    TrivialPass(int w, int h) : w_(w), h_(h), target_(w, h, GL_RGBA32F) {
+        vao_ = gl::VertexArray::create();
+        prog_ = gl::ProgramBuilder("trivial")
+                    .fullscreenVertex()
+                    .fragment("trivial.frag", "out vec4 o; void main() { o = vec4(gl_FragCoord.xy * 1e-3, 1.0, 1.0); }")
+                    .build();
+        fbo_ = gl::Framebuffer::create();
+        fbo_.attach(GL_COLOR_ATTACHMENT0, target_);
+        fbo_.checkComplete("bench trivial pass");
+    }
+    void draw() {
+        fbo_.bind();
+        glViewport(0, 0, w_, h_);
+        vao_.bind();
+        prog_.use();
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+    }
+
+private:
+    int w_, h_;
+    gl::Texture2D target_;
+    gl::VertexArray vao_;
+    gl::Program prog_;
+    gl::Framebuffer fbo_;
+};
+
 /// A trivial element: constant radiance through the composite contract (camera block, dual-source
 /// blend into the HDR target), the cost floor of any fullscreen element. Benchmarks report an
 /// element's cost as a ratio to this one's, timed in the same frames.
