@@ -5,7 +5,8 @@ layout(binding = WELKIN_BINDING_MIE_PHASE_LUT) uniform sampler1D u_phase;  // rg
 uniform vec3 u_light;        // unit vector to the light, world ENU
 uniform vec3 u_E;            // light's illuminance at the rain, lux per channel
 uniform vec3 u_sca;          // curtain: scattering coefficient, 1/m per channel
-uniform vec3 u_ext;          // curtain: extinction coefficient, 1/m per channel
+uniform float u_ext;         // curtain: extinction coefficient, 1/m (grey: the channels' luminance mean;
+                             // for drops of r >= 5 um every channel is within 1 % of it (tested: < 2 %))
 uniform float u_dist;        // curtain: horizontal distance of its near face, m
 uniform float u_depth;       // curtain: horizontal depth, m
 uniform float u_height;      // curtain: top above the ground, m
@@ -13,6 +14,14 @@ uniform vec2 u_axis;         // curtain: horizontal unit vector to its middle (t
 uniform float u_cosHalfWidth;// curtain: cos of its azimuthal half-width
 uniform float u_obsHeight;   // observer above the ground, m
 uniform vec3 u_skyE;         // the sky's diffuse horizontal illuminance, lux (0 without a Sky)
+uniform int u_shadow;        // 1: the clouds' shadow (cloud_shadow.glsl) dims the light reaching the rain
+
+// The clouds' transmittance of the direct light to a point of the rain at p (x, y from the
+// observer, z above the ground; m); 1 without a shadow map. cloud_shadow.glsl takes ENU from the
+// observer: z - the observer's height.
+float rainbow_cloudShadow(vec3 p) {
+    return u_shadow != 0 ? welkin_cloudShadow(vec3(p.xy, p.z - u_obsHeight)) : 1.0;
+}
 #ifdef WELKIN_RAINBOW_CLOUDS
 layout(binding = WELKIN_BINDING_CLOUD_WEATHER_MAP) uniform sampler2D u_weather;  // A: rain density
 uniform float u_weatherExtent;   // m
@@ -75,14 +84,18 @@ void main() {
             float dl = up < face ? -dir.z / max(sinEl, 1e-3) : h / max(cosEl, 1e-3);
             float l0 = lightPath(u_obsHeight + t0 * dir.z, t0 * h, sinEl, cosEl);
             dl = max(dl, -0.999);
-            vec3 k = u_ext * (1.0 + dl);
-            vec3 integral = (1.0 - exp(-k * s)) / max(k, vec3(1e-12));
-            radiance += u_E * phase * u_sca * exp(-u_ext * l0) * integral;
-            transmittance *= exp(-u_ext * s);
+            // Grey extinction: three scalar exponentials per pixel instead of nine.
+            float k = u_ext * (1.0 + dl);
+            float integral = (1.0 - exp(-k * s)) / max(k, 1e-12);
+            // The clouds' shadow at the segment's middle (the curtain is thin next to the shadows).
+            float cs = rainbow_cloudShadow(vec3(tm * dir.xy, zm));
+            radiance += u_E * phase * u_sca * (exp(-u_ext * l0) * integral * cs);
+            float Ts = exp(-u_ext * s);
+            transmittance *= Ts;
             // Skylight scattered once: a uniform sky of radiance E_d / pi over the upper hemisphere
             // seen through a phase function that puts half its weight there gives the source
             // b_sca E_d / (2 pi); along the ray, times (1 - T) / b_ext.
-            radiance += u_skyE * (0.5 / 3.14159265) * (u_sca / max(u_ext, vec3(1e-12))) * (1.0 - transmittance);
+            radiance += u_skyE * (0.5 / 3.14159265) * (u_sca / max(u_ext, 1e-12)) * (1.0 - Ts);
         }
     }
 
@@ -113,7 +126,7 @@ void main() {
             // Light through the rain on its way to the point: down the column from the cloud's base,
             // or in from the side of the shower, taken as 1 km away (a shower cell's radius; the
             // weather map is not marched towards the light).
-            vec3 sun = exp(-be * min((base - p.z) / max(sinEl, 0.05), 1000.0));
+            vec3 sun = exp(-be * min((base - p.z) / max(sinEl, 0.05), 1000.0)) * rainbow_cloudShadow(p);
             vec3 stepT = exp(-be * dt);
             radiance += transmittance * (u_E * phase * sun + u_skyE * (0.5 / 3.14159265)) * bs * (1.0 - stepT) /
                         max(be, vec3(1e-12));

@@ -3,6 +3,7 @@
 #include <welkin/embedded/rainbow_shaders.hpp>
 #include <welkin/error.hpp>
 #include <welkin/generators/cloud_keys.hpp>
+#include <welkin/generators/cloud_shadow.hpp>
 #include <welkin/generators/lights.hpp>
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/gl/bindings.hpp>
@@ -61,12 +62,17 @@ void Rainbow::doInit(InitContext& ctx) {
     addGenerator(generators::AtmosphereLights::obtain(ctx.vars));
     mie_ = std::make_shared<generators::MiePhaseGenerator>();
     addGenerator(mie_);
+    // The clouds' shadow on the light reaching the rain (clouds.shadow_map): shared with the host
+    // and any element; every cloud input of it is optional, and without a weather map it is a
+    // map of 1 built once per 0.03 deg of the light's motion (a trivial pass).
+    addGenerator(generators::CloudShadowMap::obtain(ctx.vars));
     auto recipe = [](bool clouds) {
         gl::ProgramBuilder b("Rainbow");
         b.fullscreenVertex();
         if (clouds) b.define("WELKIN_RAINBOW_CLOUDS");
         b.fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
             .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
+            .fragment("generators/clouds/cloud_shadow.glsl", std::string(generators::CloudShadowMap::hostGlsl()))
             .fragment("optics/mie_angle.glsl", embedded::optics_shaders("mie_angle.glsl"))
             .fragment("rainbow/rainbow.frag.glsl", embedded::rainbow_shaders("rainbow.frag.glsl"));
         return b;
@@ -103,7 +109,9 @@ void Rainbow::doRender(const FrameContext& ctx) {
     p.set("u_light", glm::vec3(L));
     p.set("u_E", glm::vec3(E));
     p.set("u_sca", glm::vec3(v.get(rk::scattering)));
-    p.set("u_ext", glm::vec3(v.get(rk::extinction)));
+    // Grey extinction (rainbow.frag.glsl): the luminance-weighted mean of the channels.
+    const glm::dvec3 ext = v.get(rk::extinction);
+    p.set("u_ext", float(0.2126 * ext.r + 0.7152 * ext.g + 0.0722 * ext.b));
     p.set("u_dist", float(dist));
     p.set("u_depth", float(v.get(rainbowkeys::depth)));
     p.set("u_height", float(v.get(rainbowkeys::height)));
@@ -115,6 +123,10 @@ void Rainbow::doRender(const FrameContext& ctx) {
     // The Sky's diffuse illuminance when a Sky runs (optional: 0 otherwise).
     const glm::dvec3 skyE = v.has(generators::skykeys::diffuseIrradiance) ? v.get(generators::skykeys::diffuseIrradiance) : glm::dvec3(0.0);
     p.set("u_skyE", glm::vec3(skyE));
+    // The clouds' shadow, once its map exists (before, and without clouds: no shadow).
+    const bool shadow = v.has(generators::cloudkeys::shadowMap) && v.get(generators::cloudkeys::shadowMap).id != 0;
+    p.set("u_shadow", shadow ? 1 : 0);
+    if (shadow) generators::CloudShadowMap::bindForHost(v, p.id());
     if (clouds) {
         const TextureRef w = v.get(weatherMap);
         glBindTextureUnit(gl::binding::kCloudWeatherMap, w.id);

@@ -143,7 +143,10 @@ TEST_CASE("Rainbow: the rain under the clouds of a weather map", "[gl][rainbow]"
     v.declare(ck::weatherOffset, glm::dvec2(0.0));
     v.declare(ck::bottom, 8000.0);  // high base: optically thick rain on every ray (see Scene)
     v.declare(ck::top, 1e4);
+    v.declare(ck::cirrusHeight, 1.2e4);  // above the layer (validateCloudLayer)
     v.declare(ck::rainDensity, 0.25);  // 5 mm/h
+    // Clouds that do not scatter: no shadow on the rain here (the shadow is the next test's).
+    v.declare(ck::scattering, 0.0);
     const Image img = s.render();
     CHECK(s.bow->drewLastFrame());  // rain.rate_mm_h is 0: the bow comes from the clouds' rain
     CHECK(finiteNonNegative(img));
@@ -155,6 +158,47 @@ TEST_CASE("Rainbow: the rain under the clouds of a weather map", "[gl][rainbow]"
     const Image dry = s.render();
     CHECK_FALSE(s.bow->drewLastFrame());
     CHECK(peak(dry) == 0.0);
+}
+
+TEST_CASE("Rainbow: the clouds' shadow dims the light reaching the rain", "[gl][rainbow]") {
+    // A user's curtain under a uniform deck (weather map density 1 everywhere, 8-10 km): with
+    // clouds that scatter (0.05 /m over 2 km: optical depth ~100 along the light) the shadow
+    // map (clouds.shadow_map, CloudShadowMap) leaves exp(-100) of the sunlight and, without a Sky,
+    // no skylight: the bow goes dark. With clouds that do not scatter it is unchanged.
+    test::glContext();
+    namespace ck = welkin::generators::cloudkeys;
+    gl::Texture2D weather(4, 4, GL_RGBA32F);
+    std::vector<float> px(4 * 4 * 4);
+    for (std::size_t i = 0; i < 16; ++i) px[4 * i + 0] = 1.0f, px[4 * i + 1] = 0.0f, px[4 * i + 2] = 1.0f, px[4 * i + 3] = 0.0f;
+    weather.upload(GL_RGBA, GL_FLOAT, px.data());
+    weather.setWrap(GL_REPEAT);
+    weather.setFilter(GL_LINEAR);
+    // Base noise of 1 everywhere: the density is the weather map's (no erosion).
+    gl::Texture3D base(4, 4, 4, GL_RGBA32F);
+    std::vector<float> ones(4 * 4 * 4 * 4, 1.0f);
+    glTextureSubImage3D(base.id(), 0, 0, 0, 0, 4, 4, 4, GL_RGBA, GL_FLOAT, ones.data());
+    for (GLenum w : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R}) glTextureParameteri(base.id(), w, GL_REPEAT);
+    auto bowPeak = [&](double scattering) {
+        Scene s(10.0);
+        s.p.vars().set(rk::rate, 5.0);
+        SkyVars& v = s.p.vars();
+        v.declare(ck::weatherMap, weather.ref());
+        v.declare(ck::weatherExtent, 1e4);
+        v.declare(ck::weatherOffset, glm::dvec2(0.0));
+        v.declare(ck::bottom, 8000.0);
+        v.declare(ck::top, 1e4);
+        v.declare(ck::cirrusHeight, 1.2e4);  // above the layer (validateCloudLayer)
+        v.declare(ck::coverage, 1.0);
+        v.declare(ck::scattering, scattering);
+        v.declare(ck::noiseBase, TextureRef{base.id(), GL_TEXTURE_3D, 4, 4, 4});
+        const Image img = s.render();
+        CHECK(finiteNonNegative(img));
+        return peak(img);
+    };
+    const double lit = bowPeak(0.0), shadowed = bowPeak(0.05);
+    CAPTURE(lit, shadowed);
+    CHECK(lit > 100.0);             // as under an open sky (the shower test)
+    CHECK(shadowed < 1e-3 * lit);   // exp(-100): nothing of the direct light is left
 }
 
 TEST_CASE("Rainbow: a moonbow when the Sun is down", "[gl][rainbow]") {
