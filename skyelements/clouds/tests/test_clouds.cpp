@@ -363,9 +363,8 @@ TEST_CASE("Clouds: the real-time path's direction cache", "[gl][clouds]") {
     };
     SECTION("the first frame against the per-pixel path") {
         // A perspective view whose pixels (12 deg / 32 = 0.38 deg) match the cache's texels
-        // (1024 wide: 0.35 deg): the per-pixel path's noise fetches use the mip level of the
-        // pixel's footprint, the cache's compute pass level 0, so a coarser view would compare
-        // different noise filtering.
+        // (1024 wide: 0.35 deg), so both resolve the clouds alike and what differs is the
+        // rays' dither (by cache texel, by pixel) and the cache's bilinear resampling.
         auto s = scene(30, 64);
         s->p.vars().set(ek::cacheWidth, 1024);
         Camera cam;
