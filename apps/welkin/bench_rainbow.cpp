@@ -82,8 +82,16 @@ int run(const RainbowBenchOptions& o) {
     }
     // (2), (3) Per frame.
     bool met = true;
+    // Paths: 0 the offline per-pixel pass, 1 the real-time direction cache with the light still
+    // (what every frame pays between refills), 2 the cache refilled every frame (the light moved
+    // past its 0.02 deg tolerance each frame: time running ~100x faster than real), 3 no rain.
+    const char* names[] = {"rainbow pass, per pixel (offline path), 5 mm/h shower",
+                           "rainbow pass, direction cache (real-time path), 5 mm/h shower",
+                           "rainbow pass, direction cache refilled every frame (light moving 0.05 deg/frame)",
+                           "rainbow pass, no rain (skipped)"};
     for (auto [w, h] : {std::pair{800, 450}, std::pair{1280, 720}}) {
-        for (double rate : {5.0, 0.0}) {
+        for (int path = 0; path < 4; ++path) {
+            const double rate = path == 3 ? 0.0 : 5.0;
             SkyProcessor p(SkyVars::earth(), log, ProcessorOptions{.timing = true, .astronomy = false});
             Camera cam;
             cam.projection = Projection::Perspective;
@@ -100,9 +108,11 @@ int run(const RainbowBenchOptions& o) {
             p.add(std::move(e));
             p.vars().set(keys::sunDirection, directionFromAzAlt(M_PI, 10 * kDeg));
             p.vars().set(generators::rainkeys::rate, rate);
+            p.vars().set(elements::rainbowkeys::directionCache, path == 1 || path == 2);
             p.renderFrame();  // tables, programs
             std::vector<double> ms, tms, ratio;
             for (int i = 0; i < o.repeats; ++i) {
+                if (path == 2) p.vars().set(keys::sunDirection, directionFromAzAlt(M_PI + 0.05 * kDeg * (i + 1), 10 * kDeg));
                 p.renderFrame();
                 const nlohmann::json j = p.stats();
                 double renderMs = 0, t = NAN;
@@ -116,12 +126,11 @@ int run(const RainbowBenchOptions& o) {
             }
             const std::string size = std::to_string(w) + "x" + std::to_string(h);
             const double r = median(ratio);
-            emit(rate > 0 ? "rainbow pass, 5 mm/h shower" : "rainbow pass, no rain (skipped)", size + (bow->drewLastFrame() ? "" : ", not drawn"),
-                 median(ms), median(tms), r);
-            if (rate > 0 && r > 2.0) met = false;
+            emit(names[path], size + (bow->drewLastFrame() ? "" : ", not drawn"), median(ms), median(tms), r);
+            if (path == 1 && r > 2.0) met = false;
         }
     }
-    std::printf("\ntarget: rainbow pass <= 2x the trivial pass: %s\n", met ? "met" : "NOT met");
+    std::printf("\ntarget: rainbow pass (real-time path) <= 2x the trivial pass: %s\n", met ? "met" : "NOT met");
     if (f) {
         f->close();
         std::printf("wrote %s\n", o.csv.c_str());

@@ -89,6 +89,7 @@ Snapshot snapshot(const std::vector<GLuint>& framebuffers) {
     s["GL_LOGIC_OP_MODE"] = ints(GL_LOGIC_OP_MODE);
     s["GL_RASTERIZER_DISCARD"] = enabled(GL_RASTERIZER_DISCARD);
     s["GL_POLYGON_MODE"] = ints(GL_POLYGON_MODE, 1);
+    for (GLenum i = 0; i < 8; ++i) s["GL_CLIP_DISTANCE" + std::to_string(i)] = enabled(GL_CLIP_DISTANCE0 + i);
     const std::pair<GLenum, const char*> targets[] = {
         {GL_TEXTURE_BINDING_1D, "GL_TEXTURE_BINDING_1D"},
         {GL_TEXTURE_BINDING_2D, "GL_TEXTURE_BINDING_2D"},
@@ -246,6 +247,8 @@ struct Host {
         glEnable(GL_COLOR_LOGIC_OP);
         glLogicOp(GL_XOR);
         glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+        glEnable(GL_CLIP_DISTANCE0);  // welkin's programs write no gl_ClipDistance: must be off
+        glEnable(GL_CLIP_DISTANCE5);
         glBindTextureUnit(0, t2d.id());
         glBindTextureUnit(1, t1d.id());
         glBindTextureUnit(4, t3d.id());

@@ -111,6 +111,7 @@ void GlStateGuard::save(const std::vector<unsigned>& framebuffers) {
     logicOp_ = getInt(GL_LOGIC_OP_MODE);
     discard_ = glIsEnabled(GL_RASTERIZER_DISCARD);
     glGetIntegerv(GL_POLYGON_MODE, polygonMode_.data());
+    for (size_t i = 0; i < clipDistances_.size(); ++i) clipDistances_[i] = glIsEnabled(GL_CLIP_DISTANCE0 + GLenum(i));
 
     // Draw buffers are framebuffer state: read them with each framebuffer bound.
     for (unsigned fb : framebuffers) {
@@ -160,6 +161,8 @@ void GlStateGuard::applyDefaults() const {
     glDisable(GL_COLOR_LOGIC_OP);
     glDisable(GL_RASTERIZER_DISCARD);
     glDisable(GL_CULL_FACE);
+    // Elements that clip (the Rainbow's grid) enable their planes and disable them after.
+    for (GLenum i = 0; i < 8; ++i) glDisable(GL_CLIP_DISTANCE0 + i);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
     glBindSamplers(0, kUnits, nullptr);
@@ -203,6 +206,7 @@ void GlStateGuard::restore() const {
     glLogicOp(GLenum(logicOp_));
     enable(GL_RASTERIZER_DISCARD, discard_);
     glPolygonMode(GL_FRONT_AND_BACK, GLenum(polygonMode_[0]));
+    for (size_t i = 0; i < clipDistances_.size(); ++i) enable(GL_CLIP_DISTANCE0 + GLenum(i), clipDistances_[i]);
 
     for (int u = 0; u < kUnits; ++u) {
         glActiveTexture(GL_TEXTURE0 + GLenum(u));

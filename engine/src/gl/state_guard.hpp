@@ -75,6 +75,7 @@ private:
     std::array<float, 4> blendColor_{};
     int depthFunc_ = 0, cullMode_ = 0, frontFace_ = 0, logicOp_ = 0;
     unsigned char depthTest_ = 0, depthMask_ = 0, cull_ = 0, scissor_ = 0, logicOpEnabled_ = 0, discard_ = 0;
+    std::array<unsigned char, 8> clipDistances_{};  // GL_CLIP_DISTANCE0..7 (GL 4.5 guarantees 8)
     std::array<int, 4> scissorBox_{};
     std::array<int, 2> polygonMode_{};
     std::vector<FramebufferDraw> framebufferDraws_;

@@ -31,6 +31,8 @@ Rainbow::Rainbow() : SkyElement("rainbow") {
     option(rainbowkeys::depth, 1000.0);
     option(rainbowkeys::height, 1500.0);
     option(rainbowkeys::halfWidth, 90.0 * rainbowkeys::kDeg);
+    optionUnset(rainbowkeys::directionCache);  // unset: follows render.interactive
+    reads(keys::interactive);
     reads(keys::sunDirection);
     reads(keys::moonDirection);
     reads(keys::observerHeight);
@@ -74,16 +76,57 @@ void Rainbow::doInit(InitContext& ctx) {
             .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
             .fragment("generators/clouds/cloud_shadow.glsl", std::string(generators::CloudShadowMap::hostGlsl()))
             .fragment("optics/mie_angle.glsl", embedded::optics_shaders("mie_angle.glsl"))
+            .fragment("rainbow/rainbow_curtain.glsl", embedded::rainbow_shaders("rainbow_curtain.glsl"))
             .fragment("rainbow/rainbow.frag.glsl", embedded::rainbow_shaders("rainbow.frag.glsl"));
         return b;
     };
     programs_ = gl::ProjectionPrograms(recipe(false));
     cloudPrograms_ = gl::ProjectionPrograms(recipe(true));
+    // The real-time path: the cache's fill (compute) and the clipped polar mesh that shows it.
+    cacheFill_ = gl::ProgramBuilder("Rainbow cache")
+                     .compute("generators/clouds/cloud_shadow.glsl", std::string(generators::CloudShadowMap::hostGlsl()))
+                     .compute("optics/mie_angle.glsl", embedded::optics_shaders("mie_angle.glsl"))
+                     .compute("rainbow/rainbow_curtain.glsl", embedded::rainbow_shaders("rainbow_curtain.glsl"))
+                     .compute("rainbow/rainbow_polar.glsl", embedded::rainbow_shaders("rainbow_polar.glsl"))
+                     .compute("rainbow/rainbow_cache.comp.glsl", embedded::rainbow_shaders("rainbow_cache.comp.glsl"))
+                     .build();
+    meshPrograms_ = gl::ProjectionPrograms(gl::ProgramBuilder("Rainbow grid")
+                                               .vertex("engine/camera.glsl", gl::engineShader("camera.glsl"))
+                                               .vertex("rainbow/rainbow_polar.glsl", embedded::rainbow_shaders("rainbow_polar.glsl"))
+                                               .vertex("rainbow/rainbow_grid.vert.glsl", embedded::rainbow_shaders("rainbow_grid.vert.glsl"))
+                                               .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
+                                               .fragment("rainbow/rainbow_grid.frag.glsl", embedded::rainbow_shaders("rainbow_grid.frag.glsl")));
+    meshPrograms_.get(Projection::Perspective);
+    cache_ = gl::Texture2D(kCacheU, kCachePsi, GL_RGBA32F);
+    glTextureParameteri(cache_.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(cache_.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+    glTextureParameteri(cache_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(cache_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    cacheInputs_.clear();
     programs_.get(Projection::Perspective);  // shader errors surface in init()
 }
 
+namespace {
+
+double luminance(const glm::dvec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
+
+// The elevations (sines and cosines) between which a view ray meets the curtain: some horizontal
+// distance rho in [d, d + depth] has a height h0 + rho tan(e) in [0, H], i.e. tan(e) in
+// [-h0 / rho, (H - h0) / rho] for some rho; the union over rho is one interval (continuous in rho).
+struct ElevationRange {
+    double lo, hi;  // rad
+};
+ElevationRange curtainElevations(double h0, double dist, double depth, double H) {
+    const double r0 = std::max(dist, 1e-3), r1 = dist + depth;
+    const double a = -h0, b = H - h0;
+    return {std::atan(std::min(a / r0, a / r1)), std::atan(std::max(b / r0, b / r1))};
+}
+
+}  // namespace
+
 void Rainbow::doRender(const FrameContext& ctx) {
     drew_ = false;
+    cached_ = false;
     const SkyVars& v = ctx.vars;
     // The light: the Sun, or the Moon when the Sun gives no light at the observer (moonbows).
     glm::dvec3 E = v.get(lk::sunIlluminance) * v.get(lk::sunTransmittance);
@@ -102,31 +145,104 @@ void Rainbow::doRender(const FrameContext& ctx) {
                         v.get(weatherMap).id != 0;
     if (rate <= 0.0 && !clouds) return;  // no rain: nothing drawn, nothing bound
 
-    const gl::Program& p = (clouds ? cloudPrograms_ : programs_).get(ctx.camera.projection);
-    p.use();
-    const TextureRef lut = v.get(rk::phaseLut);
-    glBindTextureUnit(gl::binding::kMiePhaseLut, lut.id);
-    p.set("u_light", glm::vec3(L));
-    p.set("u_E", glm::vec3(E));
-    p.set("u_sca", glm::vec3(v.get(rk::scattering)));
-    // Grey extinction (rainbow.frag.glsl): the luminance-weighted mean of the channels.
-    const glm::dvec3 ext = v.get(rk::extinction);
-    p.set("u_ext", float(0.2126 * ext.r + 0.7152 * ext.g + 0.0722 * ext.b));
-    p.set("u_dist", float(dist));
-    p.set("u_depth", float(v.get(rainbowkeys::depth)));
-    p.set("u_height", float(v.get(rainbowkeys::height)));
+    // The curtain's uniforms (rainbow_curtain.glsl), on the per-pixel program or the cache's fill.
+    const glm::dvec3 skyE = v.has(generators::skykeys::diffuseIrradiance) ? v.get(generators::skykeys::diffuseIrradiance) : glm::dvec3(0.0);
+    const bool shadow = v.has(generators::cloudkeys::shadowMap) && v.get(generators::cloudkeys::shadowMap).id != 0;
     glm::dvec2 axis(-L.x, -L.y);
     axis = glm::length(axis) > 1e-9 ? glm::normalize(axis) : glm::dvec2(0.0, 1.0);
-    p.set("u_axis", glm::vec2(axis));
-    p.set("u_cosHalfWidth", float(std::cos(v.get(rainbowkeys::halfWidth))));
-    p.set("u_obsHeight", float(h0));
-    // The Sky's diffuse illuminance when a Sky runs (optional: 0 otherwise).
-    const glm::dvec3 skyE = v.has(generators::skykeys::diffuseIrradiance) ? v.get(generators::skykeys::diffuseIrradiance) : glm::dvec3(0.0);
-    p.set("u_skyE", glm::vec3(skyE));
-    // The clouds' shadow, once its map exists (before, and without clouds: no shadow).
-    const bool shadow = v.has(generators::cloudkeys::shadowMap) && v.get(generators::cloudkeys::shadowMap).id != 0;
-    p.set("u_shadow", shadow ? 1 : 0);
-    if (shadow) generators::CloudShadowMap::bindForHost(v, p.id());
+    const glm::dvec3 ext = v.get(rk::extinction);
+    // Grey extinction (rainbow_curtain.glsl): the luminance-weighted mean of the channels.
+    const double extGrey = luminance(ext);
+    auto setCurtain = [&](const gl::Program& p) {
+        glBindTextureUnit(gl::binding::kMiePhaseLut, v.get(rk::phaseLut).id);
+        p.set("u_light", glm::vec3(L));
+        p.set("u_E", glm::vec3(E));
+        p.set("u_sca", glm::vec3(v.get(rk::scattering)));
+        p.set("u_ext", float(extGrey));
+        p.set("u_dist", float(dist));
+        p.set("u_depth", float(v.get(rainbowkeys::depth)));
+        p.set("u_height", float(v.get(rainbowkeys::height)));
+        p.set("u_axis", glm::vec2(axis));
+        p.set("u_cosHalfWidth", float(std::cos(v.get(rainbowkeys::halfWidth))));
+        p.set("u_obsHeight", float(h0));
+        // The Sky's diffuse illuminance when a Sky runs (optional: 0 otherwise).
+        p.set("u_skyE", glm::vec3(skyE));
+        // The clouds' shadow, once its map exists (before, and without clouds: no shadow).
+        p.set("u_shadow", shadow ? 1 : 0);
+        if (shadow) generators::CloudShadowMap::bindForHost(v, p.id());
+    };
+
+    // The real-time path: the curtain alone (the clouds' rain is marched per pixel), perspective
+    // projection (the grid's interpolation and clip distances rely on rays affine in the pixel).
+    const bool realtime = v.has(rainbowkeys::directionCache) ? v.get(rainbowkeys::directionCache) : v.getOr(keys::interactive, false);
+    if (realtime && ctx.camera.projection == Projection::Perspective && !clouds) {
+        // Refill when an input changed: the rain and curtain exactly, the light by
+        // kLightTolerance, its illuminance or the sky's by 2 % (within that, u_scale follows the
+        // light's luminance), the clouds' shadow map when it was rebuilt.
+        const ElevationRange el = curtainElevations(h0, dist, v.get(rainbowkeys::depth), v.get(rainbowkeys::height));
+        std::vector<double> in = {double(v.get(rk::phaseLut).id), double(v.version(rk::phaseLut)),
+                                  v.get(rk::scattering).r, v.get(rk::scattering).g, v.get(rk::scattering).b, extGrey, dist,
+                                  v.get(rainbowkeys::depth), v.get(rainbowkeys::height), v.get(rainbowkeys::halfWidth), h0,
+                                  shadow ? 1.0 : 0.0};
+        const double eY = luminance(E), skyY = luminance(skyE);
+        const uint64_t shadowVersion = shadow ? v.version(generators::cloudkeys::shadowMap) : 0;
+        const bool stale = in != cacheInputs_ || glm::dot(L, cacheLight_) < std::cos(kLightTolerance) ||
+                           std::abs(eY - cacheE_) > 0.02 * cacheE_ || std::abs(skyY - cacheSkyE_) > 0.02 * std::max(cacheSkyE_, 1e-9) ||
+                           shadowVersion != cacheShadowVersion_;
+        // The polar frame around the anti-light point.
+        const glm::dvec3 A = -L;
+        const glm::dvec3 e1 = glm::normalize(std::abs(A.z) < 0.999 ? glm::cross(glm::dvec3(0, 0, 1), A) : glm::dvec3(1, 0, 0));
+        const glm::dvec3 e2 = glm::cross(A, e1);
+        if (stale) {
+            cacheFill_.use();
+            setCurtain(cacheFill_);
+            cacheFill_.set("u_polarA", glm::vec3(A));
+            cacheFill_.set("u_polarE1", glm::vec3(e1));
+            cacheFill_.set("u_polarE2", glm::vec3(e2));
+            cacheFill_.set("u_cacheSize", glm::ivec2(kCacheU, kCachePsi));
+            // Inset by 1e-4 rad so that the clamped directions lie strictly inside the curtain.
+            cacheFill_.set("u_sinElLo", float(std::sin(std::min(el.lo + 1e-4, 0.5 * (el.lo + el.hi)))));
+            cacheFill_.set("u_sinElHi", float(std::sin(std::max(el.hi - 1e-4, 0.5 * (el.lo + el.hi)))));
+            cacheFill_.set("u_halfWidth", float(std::max(v.get(rainbowkeys::halfWidth) - 1e-4, 0.0)));
+            glBindImageTexture(gl::binding::kLutImage, cache_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+            glDispatchCompute(GLuint((kCacheU + 7) / 8), GLuint((kCachePsi + 7) / 8), 1);
+            glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+            cacheInputs_ = in;
+            cacheLight_ = L;
+            cacheE_ = eY;
+            cacheSkyE_ = skyY;
+            cacheShadowVersion_ = shadowVersion;
+            ++cacheFills_;
+        }
+        const gl::Program& m = meshPrograms_.get(ctx.camera.projection);
+        m.use();
+        m.set("u_polarA", glm::vec3(A));
+        m.set("u_polarE1", glm::vec3(e1));
+        m.set("u_polarE2", glm::vec3(e2));
+        const int gx = (ctx.camera.width + kGridCellPx - 1) / kGridCellPx, gy = (ctx.camera.height + kGridCellPx - 1) / kGridCellPx;
+        m.set("u_grid", glm::ivec2(gx, gy));
+        m.set("u_cellPx", float(kGridCellPx));
+        m.set("u_axis", glm::vec2(axis));
+        m.set("u_cosHalfWidth", float(std::cos(v.get(rainbowkeys::halfWidth))));
+        // The cones clip widened by 0.5 deg (rainbow_grid.vert.glsl), the fragments exactly.
+        const double wlo = std::max(el.lo - 0.5 * rainbowkeys::kDeg, -0.5 * M_PI), whi = std::min(el.hi + 0.5 * rainbowkeys::kDeg, 0.5 * M_PI);
+        m.set("u_elLoClip", glm::vec2(std::cos(wlo), std::sin(wlo)));
+        m.set("u_elHiClip", glm::vec2(std::cos(whi), std::sin(whi)));
+        m.set("u_sinEl", glm::vec2(std::sin(el.lo), std::sin(el.hi)));
+        m.set("u_scale", float(cacheE_ > 0.0 ? eY / cacheE_ : 1.0));
+        glBindTextureUnit(gl::binding::kRainbowCache, cache_.id());
+        for (int c = 0; c < 3; ++c) glEnable(GL_CLIP_DISTANCE0 + c);
+        if (ctx.emptyVao) ctx.emptyVao->bind();
+        glDrawArrays(GL_TRIANGLES, 0, GLsizei(6 * gx * gy));
+        for (int c = 0; c < 3; ++c) glDisable(GL_CLIP_DISTANCE0 + c);
+        drew_ = true;
+        cached_ = true;
+        return;
+    }
+
+    const gl::Program& p = (clouds ? cloudPrograms_ : programs_).get(ctx.camera.projection);
+    p.use();
+    setCurtain(p);
     if (clouds) {
         const TextureRef w = v.get(weatherMap);
         glBindTextureUnit(gl::binding::kCloudWeatherMap, w.id);
@@ -146,6 +262,10 @@ void Rainbow::doRender(const FrameContext& ctx) {
 void Rainbow::doRelease() {
     programs_.releasePrograms();
     cloudPrograms_.releasePrograms();
+    meshPrograms_.releasePrograms();
+    cacheFill_ = {};
+    cache_ = {};
+    cacheInputs_.clear();
     mie_.reset();
 }
 

@@ -56,6 +56,7 @@ inline constexpr int kCloudShadowMap = 9;     ///< clouds.shadow_map (shares 9 w
 // Texture units: other passes.
 inline constexpr int kMiePhaseLut = 0;        ///< generators/optics: the 1-D phase LUT for the current drops (Rainbow; no sky view there)
 inline constexpr int kMiePhaseTable = 1;      ///< generators/optics: the 2-D phase table (angle x drop radius)
+inline constexpr int kRainbowCache = 0;       ///< the Rainbow's direction cache (its display pass only)
 inline constexpr int kSceneDepth = 0;     ///< the host's depth texture (aerial perspective applied to a scene)
 inline constexpr int kCombineSource = 0;  ///< the spectral-combine pass's source LUT
 inline constexpr int kMilkyWayTexture = 0;  ///< the night sky's Milky Way panorama (skyelements/nightsky)
@@ -125,6 +126,7 @@ inline constexpr std::array kTable = {
     Entry{"WELKIN_BINDING_CLOUD_PATH_LUT", kCloudPathLut, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_CLOUD_SHADOW_MAP", kCloudShadowMap, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_CLOUD_CACHE_RADIANCE", kCloudCacheRadiance, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_RAINBOW_CACHE", kRainbowCache, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_CLOUD_CACHE_TRANSMITTANCE", kCloudCacheTransmittance, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_MIE_PHASE_LUT", kMiePhaseLut, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_MIE_PHASE_TABLE", kMiePhaseTable, Kind::TextureUnit},

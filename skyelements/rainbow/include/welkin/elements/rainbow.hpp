@@ -22,7 +22,12 @@
 #pragma once
 #include <welkin/element.hpp>
 #include <welkin/generators/rain_keys.hpp>
+#include <welkin/gl/objects.hpp>
 #include <welkin/gl/projection_programs.hpp>
+#include <welkin/gl/shader.hpp>
+
+#include <glm/glm.hpp>
+#include <vector>
 
 #include <memory>
 
@@ -34,6 +39,11 @@ inline const Key<double> distance{"rain.distance_m", Range{0, 1e5}, "horizontal 
 inline const Key<double> depth{"rain.depth_m", Range{1, 1e5}, "horizontal depth of the rain curtain"};
 inline const Key<double> height{"rain.height_m", Range{1, 2e4}, "top of the rain curtain above the ground (the cloud base)"};
 inline const Key<double> halfWidth{"rain.half_width_rad", Range{1 * kDeg, 180 * kDeg}, "azimuthal half-width of the curtain around the anti-solar azimuth"};
+inline const Key<bool> directionCache{"rain.direction_cache",
+                                      "the real-time path: the curtain in a direction cache around the anti-light point (refilled when "
+                                      "the light moves 0.02 deg or the rain changes) drawn by a clipped screen grid, one fetch a pixel "
+                                      "(perspective projection, the curtain only); off: every pixel every frame; unset: "
+                                      "on when render.interactive (welkin view)"};
 }  // namespace rainbowkeys
 
 class Rainbow final : public SkyElement {
@@ -49,6 +59,16 @@ public:
     static bool bowPossible(double lightElevation, double observerHeightM, double curtainDistanceM);
     /// True if the last render() issued its draw (false: skipped, nothing to see).
     bool drewLastFrame() const { return drew_; }
+    /// True if the last render() drew through the direction cache (rain.direction_cache).
+    bool cachedLastFrame() const { return cached_; }
+    /// How many times the direction cache has been filled (tests: what triggers a refill).
+    int cacheFills() const { return cacheFills_; }
+
+    /// The direction cache's size (texels: angle from the anti-light point, position angle around
+    /// it) and the display grid's cell (pixels). docs/rainbow.md gives their measured error.
+    static constexpr int kCacheU = 2048, kCachePsi = 256, kGridCellPx = 64;
+    /// The light's motion (rad) that refills the cache (0.02 deg: 1/27 of the Sun's diameter).
+    static constexpr double kLightTolerance = 3.5e-4;
 
 private:
     void doInit(InitContext& ctx) override;
@@ -57,8 +77,15 @@ private:
     void doRelease() override;
 
     std::shared_ptr<generators::MiePhaseGenerator> mie_;
-    gl::ProjectionPrograms programs_, cloudPrograms_;
-    bool drew_ = false;
+    gl::ProjectionPrograms programs_, cloudPrograms_, meshPrograms_;
+    gl::Program cacheFill_;
+    gl::Texture2D cache_;
+    std::vector<double> cacheInputs_;  // what the cache was filled with (exact inputs)
+    glm::dvec3 cacheLight_{0.0};       // the light's direction then
+    double cacheE_ = 0, cacheSkyE_ = 0;  // the light's and the sky's luminance then, lux
+    uint64_t cacheShadowVersion_ = 0;
+    int cacheFills_ = 0;
+    bool drew_ = false, cached_ = false;
 };
 
 }  // namespace welkin::elements
