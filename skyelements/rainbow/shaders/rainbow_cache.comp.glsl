@@ -28,7 +28,7 @@ void main() {
     ivec2 ij = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(ij, u_cacheSize))) return;
     float x = (float(ij.x) + 0.5) / float(u_cacheSize.x);
-    float psi = 2.0 * RAINBOW_PI * (float(ij.y) + 0.5) / float(u_cacheSize.y);
+    float psi = rainbow_psiFromY((float(ij.y) + 0.5) / float(u_cacheSize.y));
     vec3 dir = rainbow_clampToCurtain(rainbow_polarDirection(x, psi));
     vec3 radiance = vec3(0.0), transmittance = vec3(1.0), phase;
     rainbow_curtain(dir, radiance, transmittance, phase);

@@ -95,6 +95,7 @@ void Rainbow::doInit(InitContext& ctx) {
                                                .vertex("rainbow/rainbow_polar.glsl", embedded::rainbow_shaders("rainbow_polar.glsl"))
                                                .vertex("rainbow/rainbow_grid.vert.glsl", embedded::rainbow_shaders("rainbow_grid.vert.glsl"))
                                                .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
+                                               .fragment("rainbow/rainbow_polar.glsl", embedded::rainbow_shaders("rainbow_polar.glsl"))
                                                .fragment("rainbow/rainbow_grid.frag.glsl", embedded::rainbow_shaders("rainbow_grid.frag.glsl")));
     meshPrograms_.get(Projection::Perspective);
     cache_ = gl::Texture2D(kCacheU, kCachePsi, GL_RGBA32F);
