@@ -117,11 +117,8 @@ int run(const CloudsBenchOptions& o) {
             throw Error("--sizes: '" + s + "' not WxH with 16 <= W, H <= 8192");
         sizes.emplace_back(w, h);
     }
-    for (const auto& [option, path] : {std::pair{"--csv", o.csv}, std::pair{"--plot", o.plot}}) {
-        const std::filesystem::path dir = std::filesystem::path(path).parent_path();
-        if (!path.empty() && !dir.empty() && !std::filesystem::is_directory(dir))
-            throw Error(std::string(option) + " '" + path + "': no directory '" + dir.string() + "'");
-    }
+    checkOutputDirectory("--csv", o.csv);
+    checkOutputDirectory("--plot", o.plot);
     if (!elements::findDescriptor("clouds")) throw Error("the clouds element is not in this build");
     UtcInstant start = UtcInstant::parse("2000-01-01T12:00:00Z");
     try {

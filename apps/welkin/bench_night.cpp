@@ -90,9 +90,7 @@ int run(const NightBenchOptions& o) {
     if (o.repeats < 1 || o.repeats > 1000) throw Error("--repeats " + std::to_string(o.repeats) + " not in [1, 1000]");
     if (!(o.smallCatalogueMag >= -2 && o.smallCatalogueMag <= 9))
         throw Error("--small-catalogue-mag " + std::to_string(o.smallCatalogueMag) + " not in [-2, 9]");
-    const std::filesystem::path csvDir = std::filesystem::path(o.csv).parent_path();
-    if (!o.csv.empty() && !csvDir.empty() && !std::filesystem::is_directory(csvDir))
-        throw Error("--csv '" + o.csv + "': no directory '" + csvDir.string() + "'");
+    checkOutputDirectory("--csv", o.csv);
     std::vector<Camera> cameras;
     for (const std::string& name : elements::parseElementList(o.cameras)) {
         Camera c;

@@ -58,6 +58,9 @@ std::vector<std::string> split(const std::string& s) {
 
 int run(const RainbowBenchOptions& o) {
     if (o.repeats < 1 || o.repeats > 1000) throw Error("--repeats " + std::to_string(o.repeats) + " not in [1, 1000]");
+    for (const std::string& q : split(o.qualities))
+        if (q != "low" && q != "default" && q != "high") throw Error("--qualities: '" + q + "' is not one of low, default, high");
+    checkOutputDirectory("--csv", o.csv);
     Logger log;
     auto ctx = gl::HeadlessContext::create({}, log);
     std::unique_ptr<CsvWriter> f;

@@ -285,11 +285,8 @@ int run(const SkyBenchOptions& o) {
     if (o.reference != "rgb" && o.reference != "spectral")
         throw Error("--reference '" + o.reference + "' unknown (accepted: rgb, spectral)");
     // Output directories checked before minutes of measurement, not after.
-    for (const auto& [option, path] : {std::pair{"--csv", o.csv}, std::pair{"--plot", o.plot}}) {
-        const std::filesystem::path dir = std::filesystem::path(path).parent_path();
-        if (!path.empty() && !dir.empty() && !std::filesystem::is_directory(dir))
-            throw Error(std::string(option) + " '" + path + "': no directory '" + dir.string() + "'");
-    }
+    checkOutputDirectory("--csv", o.csv);
+    checkOutputDirectory("--plot", o.plot);
     Logger log;
     auto ctx = gl::HeadlessContext::create({}, log);
     const atmosphere::Atmosphere atm = atmosphere::Atmosphere::earthClear();

@@ -5,6 +5,7 @@
 //   processor.add(std::make_unique<welkin::cli::TrivialElement>());  // the cost floor of an element
 #pragma once
 #include <welkin/element.hpp>
+#include <welkin/error.hpp>
 #include <welkin/gl/objects.hpp>
 #include <welkin/gl/shader.hpp>
 
@@ -12,10 +13,20 @@
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <functional>
+#include <string>
 #include <vector>
 
 namespace welkin::cli {
+
+/// A benchmark's output file (`option` names it: "--csv", "--plot") must go to an existing
+/// directory: checked before minutes of measurement, not after. Empty: no output, no check.
+inline void checkOutputDirectory(const char* option, const std::string& path) {
+    const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+    if (!path.empty() && !dir.empty() && !std::filesystem::is_directory(dir))
+        throw Error(std::string(option) + " '" + path + "': no directory '" + dir.string() + "'");
+}
 
 /// Median wall time of `repeats` (>= 1) calls of `fn`, milliseconds, each bracketed by glFinish.
 inline double medianMs(int repeats, const std::function<void()>& fn) {
