@@ -293,9 +293,10 @@ TEST_CASE("Clouds: the overcast preset at noon gives an overcast day's illuminan
 
 TEST_CASE("Clouds: a uniform slab transmits what the two-stream model says", "[gl][clouds]") {
     // A horizontally uniform deck: weather R = 1 (base 0, top 1) everywhere, noise textures of 1
-    // (the Perlin-Worley shape is then 1), no erosion, coverage 1: the density is the height
-    // profile alone, the same in every column. Its vertical optical depth from the profile's
-    // integral (cloud_density.glsl: smoothstep(0, .1, a) (1 - smoothstep(.6, 1, a)) (.75 + .25 a)).
+    // (the Perlin-Worley shape is then 1), no erosion, coverage 1, the stratocumulus gradient
+    // (clouds.cloud_type 0: a sheet): the density is the height profile alone, the same in every
+    // column. Its vertical optical depth from the profile's integral (cloud_density.hpp's
+    // heightGradient, type 0: smoothstep(0, .1, a) (1 - smoothstep(.65, 1, a)) (.75 + .25 a)).
     Weather w(8, kFull);
     Weather one2(8, [](double, double) { return glm::vec4(1.0f); });
     gl::Texture3D base(4, 4, 4, GL_RGBA32F), detail(4, 4, 4, GL_RGBA32F);
@@ -310,7 +311,7 @@ TEST_CASE("Clouds: a uniform slab transmits what the two-stream model says", "[g
     double integral = 0;  // of the profile over the layer fraction, midpoint rule (1e4 steps)
     for (int i = 0; i < 10000; ++i) {
         const double a = (i + 0.5) / 10000;
-        integral += ss(0, 0.1, a) * (1 - ss(0.6, 1, a)) * (0.75 + 0.25 * a) / 10000;
+        integral += ss(0, 0.1, a) * (1 - ss(0.65, 1, a)) * (0.75 + 0.25 * a) / 10000;
     }
     const double thickness = 1000, tau = 10;
     const double sigma = tau / (integral * thickness);
@@ -320,6 +321,7 @@ TEST_CASE("Clouds: a uniform slab transmits what the two-stream model says", "[g
     s.p.vars().set(ck::curlNoise, one2.ref());
     s.p.vars().set(ck::coverage, 1.0);
     s.p.vars().set(ck::detailScale, 0.0);
+    s.p.vars().set(ck::cloudType, 0.0);
     s.p.vars().set(ck::cirrusCoverage, 0.0);
     s.p.vars().set(ck::bottom, 1000.0);
     s.p.vars().set(ck::top, 1000.0 + thickness);
