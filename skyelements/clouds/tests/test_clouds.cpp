@@ -380,21 +380,34 @@ TEST_CASE("Clouds: the real-time path's direction cache", "[gl][clouds]") {
         const Image cached = s->render();
         s->p.vars().set(ek::reprojection, false);
         const Image direct = s->render();
-        double num = 0, den = 0, worst = 0;
+        s->p.vars().set(ek::samples, 256);
+        const Image reference = s->render();  // the per-pixel path converged (256 samples)
+        auto relRms = [](const Image& a, const Image& b) {
+            double num = 0, den = 0;
+            for (int y = 0; y < 32; ++y)
+                for (int x = 0; x < 32; ++x) {
+                    const double la = luminance(a, x, y), lb = luminance(b, x, y);
+                    num += (la - lb) * (la - lb), den += lb * lb;
+                }
+            return std::sqrt(num / den);
+        };
+        double worst = 0;
         for (int y = 0; y < 32; ++y)
             for (int x = 0; x < 32; ++x) {
                 const double a = luminance(cached, x, y), b = luminance(direct, x, y);
-                num += (a - b) * (a - b), den += b * b;
                 if (b > 0) worst = std::max(worst, std::abs(a - b) / b);
             }
-        const double rms = std::sqrt(num / den);
-        INFO("relative RMS " << rms << ", worst pixel " << worst);
-        // Both march 16 samples with a per-ray dither (by cache texel, by pixel): each is 4.4-4.7 %
-        // RMS off a 512-sample reference (welkin bench clouds, 2026-11-24), so two independent
-        // ditherings differ by up to ~sqrt(2) x that, 6.6 % (measured 4.0 %); one pixel by the
-        // banding of 16 steps through a cloud edge, up to tens of per cent (measured 40 %). A
-        // wrong mapping or a stale texel would be off by the clouds' whole contrast (~100 %).
-        CHECK(rms < 0.066);
+        const double rms = relRms(cached, direct), noise = relRms(direct, reference);
+        INFO("relative RMS " << rms << ", the 16-sample march's own error " << noise << ", worst pixel " << worst);
+        // Both march 16 samples with a per-ray dither (by cache texel, by pixel): each is off the
+        // converged image by the march's own noise (measured here against 256 samples: 7.5 % with
+        // the carved cumulus density of 2026-11-24, whose sharper edges band more than the earlier
+        // blobs' 4.4-4.7 %), so two independent ditherings differ by up to ~sqrt(2) x that
+        // (measured 7.5 %); 1.6 x leaves room for the cache's bilinear resampling. One pixel by the
+        // banding of 16 steps through a cloud edge, up to tens of per cent. A wrong mapping or a
+        // stale texel would be off by the clouds' whole contrast (~100 %).
+        CHECK(noise < 0.2);  // the reference itself is sane (a broken march would not converge)
+        CHECK(rms < 1.6 * noise);
         CHECK(worst < 0.6);
         CHECK(finiteNonNegative(cached));
     }
