@@ -51,7 +51,7 @@ const std::vector<CloudPreset>& presets() {
     // scattered skies, stratocumulus (0) for the overcast deck.
     static const std::vector<CloudPreset> p{
         {"fair", 0.75, 1500, 3000, 0.5, 9000, 0.05, 1.0, 0.0, 60, 700, 2500},
-        {"overcast", 0.98, 800, 2000, 0.0, 8000, 0.04, 0.6, 0.3, 800, 4000, 9000, 0.0},
+        {"overcast", 0.9, 800, 2000, 0.0, 8000, 0.04, 0.6, 0.3, 800, 4000, 9000, 0.0},
         {"scattered-cirrus", 0.55, 1800, 2800, 0.85, 9500, 0.05, 1.2, 0.0, 25, 500, 1500},
         {"clear", 0.0, 2000, 3000, 0.0, 9000, 0.05, 1.0, 0.0, 0, 500, 1000},
     };

@@ -248,7 +248,7 @@ TEST_CASE("Clouds: a preset fills only the keys nobody set", "[gl][clouds]") {
     Weather w(8, kFull);
     Scene s(40, w, Projection::Fisheye, 8, 8);
     s.p.vars().set(ek::preset, std::string("overcast"));
-    s.p.vars().set(ck::coverage, 0.3);  // the user's coverage wins over the preset's 0.98
+    s.p.vars().set(ck::coverage, 0.3);  // the user's coverage wins over the preset's 0.9
     s.render();
     CHECK(s.p.vars().get(ck::coverage) == 0.3);
     CHECK(s.p.vars().get(ck::bottom) == elements::cloudPreset("overcast").bottom);
@@ -284,7 +284,9 @@ TEST_CASE("Clouds: the overcast preset at noon gives an overcast day's illuminan
     // Overcast summer noon at mid-latitudes: 10-40 klux global (CIE 110-1994 / Kittler et al.
     // 1998 overcast sky daylight levels; Darula & Kittler 2002: overcast horizontal illuminance
     // ~ 0.2-0.4 of the clear sky's at the same solar altitude). The clear sky here: ~105 klux;
-    // measured under the preset's closed deck: ~13 klux, all diffuse.
+    // measured under the preset's deck: ~13 klux, all diffuse, with the smooth density before
+    // 2026-11-24; 14.2 klux (the Sun's beam 0.3 klux through the thinner cells) since the carved
+    // stratocumulus shape and the preset's coverage 0.9 (was 0.98) let the deck vary.
     CHECK(ph.global > 10000.0);
     CHECK(ph.global < 40000.0);
     CHECK(ph.global < 0.4 * ph.clearGlobal);
