@@ -58,7 +58,7 @@ TEST_CASE("Cloud docs images", "[.][docimages]") {
     writeImage(toDoc(detail, 0, [](glm::dvec4 t) { return glm::dvec3(t.r, t.g, t.b); }), kDir + "clouds_noise_detail.png");
     writeImage(toDoc(curl, 0, [](glm::dvec4 t) { return glm::dvec3(t.r, t.g, t.b); }), kDir + "clouds_curl_noise.png");
     // Vertical section of the density (full LOD) along the map's cloudiest row, z from 3100 m down
-    // to 1900 m around the layer 2-3 km, coverage 0.6.
+    // to 1900 m around the layer 2-3 km, coverage 0.75 (the fair preset), cumulus.
     int bestRow = 0;
     double bestSum = -1;
     for (int j = 0; j < w.h; ++j) {
@@ -71,7 +71,7 @@ TEST_CASE("Cloud docs images", "[.][docimages]") {
     for (int i = 0; i < w.w; ++i)
         if (w.texel(i, bestRow).r > w.texel(bestCol, bestRow).r) bestCol = i;
     const double x0 = (bestCol + 0.5) / w.w * kDefaultWeatherExtentM - 5000.0;
-    const CloudLayerBlock b = CloudLayerBlock::make(6360e3, 2000.0, 3000.0, 0.6, 1.0, 0.05, 9000.0, 0.3, kDefaultWeatherExtentM,
+    const CloudLayerBlock b = CloudLayerBlock::make(6360e3, 2000.0, 3000.0, 0.75, 1.0, 0.05, 9000.0, 0.3, kDefaultWeatherExtentM,
                                                     {0.0, 0.0}, {0.0, 0.0, 0.0});
     const cpu::CloudTextures t{w, base, detail, curl};
     // 10 km around the row's densest point, vertical exaggeration x2: 1024 px for 10 km, 246 px

@@ -16,7 +16,7 @@ layout(std140, binding = WELKIN_BINDING_CLOUD_UBO) uniform WelkinClouds {
     vec4 cld_radii;         // R, R + bottom, R + top, R + cirrus height (m)
     vec4 cld_shape;         // coverage, detail scale, scattering (1/m), cirrus coverage
     vec4 cld_weather;       // offset xy (m, mod extent), extent (m), 1 / extent
-    vec4 cld_noise;         // base, detail, curl periods (m)
+    vec4 cld_noise;         // base, detail, curl periods (m), w cloud type (0 stratocumulus, 1 cumulus)
     vec4 cld_scrollBase;    // base-noise scroll (m, mod period)
     vec4 cld_scrollDetail;  // detail-noise scroll (m, mod period)
     vec4 cld_cirrus;        // cirrus offset xy (m, mod curl period)
@@ -28,6 +28,15 @@ layout(binding = WELKIN_BINDING_CLOUD_CURL_NOISE) uniform sampler2D u_cloudCurl;
 
 #define CLOUD_LOD_CHEAP 0
 #define CLOUD_LOD_FULL 1
+// The shape constants, the same numbers as cloud_density.cpp's (documented there).
+#define CLD_SHAPE_LO 0.66
+#define CLD_SHAPE_HI 0.93
+#define CLD_CU_BASE 0.07
+#define CLD_CU_TOP0 0.5
+#define CLD_SC_BASE 0.1
+#define CLD_SC_TOP0 0.65
+#define CLD_EROSION 0.35
+#define CLD_DETAIL_FLIP 4.0
 
 float cld_remap(float v, float lo, float hi, float newLo, float newHi) { return (v - lo) / (hi - lo) * (newHi - newLo) + newLo; }
 
@@ -39,10 +48,15 @@ float cloudAltitude(vec3 p) {
 
 vec2 cloudWeatherUv(vec3 p) { return (p.xy + cld_weather.xy) * cld_weather.w; }
 
-float cloudHeightProfile(float a, float wb, float wt) {
-    float t = (a - wb) / max(wt - wb, 1e-3);
-    float profile = smoothstep(0.0, 0.1, t) * (1.0 - smoothstep(0.6, 1.0, t));
-    return profile * (0.75 + 0.25 * clamp(t, 0.0, 1.0));
+// The height gradient of a cloud type (cpu::heightGradient documents the shapes and sources):
+// x the profile in [0, 1], y the position within the cloud's own vertical extent in [0, 1].
+vec2 cloudHeightGradient(float a, float wb, float wt, float type) {
+    float tS = (a - wb) / max(wt - wb, 1e-3);
+    float tC = a / max(wt, 1e-3);
+    float pS = smoothstep(0.0, CLD_SC_BASE, tS) * (1.0 - smoothstep(CLD_SC_TOP0, 1.0, tS));
+    float pC = smoothstep(0.0, CLD_CU_BASE, tC) * (1.0 - smoothstep(CLD_CU_TOP0, 1.0, tC));
+    float t = clamp(mix(tS, tC, type), 0.0, 1.0);
+    return vec2(mix(pS, pC, type) * (0.75 + 0.25 * t), t);
 }
 
 float cloudDensity(vec3 p, int lod) {
@@ -53,18 +67,18 @@ float cloudDensity(vec3 p, int lod) {
     vec4 w = clamp(textureLod(u_cloudWeather, cloudWeatherUv(p), 0.0), 0.0, 1.0);
     float cov = w.r * clamp(cld_shape.x, 0.0, 1.0);
     if (cov <= 0.0) return 0.0;
-    float hp = cloudHeightProfile(a, w.g, w.b);
-    if (hp <= 0.0) return 0.0;
+    vec2 hg = cloudHeightGradient(a, w.g, w.b, clamp(cld_noise.w, 0.0, 1.0));
+    if (hg.x <= 0.0) return 0.0;
     vec4 n = textureLod(u_cloudNoiseBase, (vec3(p.xy, h) + cld_scrollBase.xyz) / cld_noise.x, 0.0);
     float fbm = 0.625 * n.g + 0.25 * n.b + 0.125 * n.a;
-    float shape = clamp(cld_remap(n.r, fbm - 1.0, 1.0, 0.0, 1.0), 0.0, 1.0) * hp;
+    float pw = cld_remap(n.r, fbm - 1.0, 1.0, 0.0, 1.0);
+    float shape = clamp(cld_remap(pw, CLD_SHAPE_LO, CLD_SHAPE_HI, 0.0, 1.0), 0.0, 1.0) * hg.x;
     float base = max(shape + cov - 1.0, 0.0);
     if (lod == CLOUD_LOD_CHEAP || base <= 0.0) return base;
     vec4 dn = textureLod(u_cloudNoiseDetail, (vec3(p.xy, h) + cld_scrollDetail.xyz) / cld_noise.y, 0.0);
     float dfbm = 0.625 * dn.r + 0.25 * dn.g + 0.125 * dn.b;
-    float ct = clamp((a - w.g) / max(w.b - w.g, 1e-3), 0.0, 1.0);
-    float mod_ = mix(dfbm, 1.0 - dfbm, clamp(ct * 4.0, 0.0, 1.0));
-    float e = min(0.2 * cld_shape.y * mod_, 0.9);
+    float mod_ = mix(dfbm, 1.0 - dfbm, clamp(hg.y * CLD_DETAIL_FLIP, 0.0, 1.0));
+    float e = min(CLD_EROSION * cld_shape.y * mod_, 0.9);
     return clamp((base - e) / (1.0 - e), 0.0, 1.0);
 }
 

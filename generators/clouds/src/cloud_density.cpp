@@ -29,7 +29,7 @@ double smooth(double e0, double e1, double x) {
 CloudLayerBlock CloudLayerBlock::make(double planetRadius, double bottom, double top, double coverage, double detailScale,
                                       double scatteringPerM, double cirrusHeight, double cirrusCoverage, double weatherExtent,
                                       glm::dvec2 weatherOffset, glm::dvec3 noiseScroll, double basePeriod, double detailPeriod,
-                                      double curlPeriod, std::optional<glm::dvec2> cirrusOffset) {
+                                      double curlPeriod, std::optional<glm::dvec2> cirrusOffset, double cloudType) {
     const char* w = "CloudLayerBlock::make()";
     checkRange(w, "planetRadius (m)", planetRadius, 1e3, 1e9);
     checkRange(w, "bottom (m)", bottom, 0.0, 2e4);
@@ -43,6 +43,7 @@ CloudLayerBlock CloudLayerBlock::make(double planetRadius, double bottom, double
     checkRange(w, "basePeriod (m)", basePeriod, 5e2, 1e5);
     checkRange(w, "detailPeriod (m)", detailPeriod, 5e1, 2e4);
     checkRange(w, "curlPeriod (m)", curlPeriod, 1e3, 1e6);
+    checkRange(w, "cloudType", cloudType, 0.0, 1.0);
     for (int i = 0; i < 2; ++i) checkRange(w, "weatherOffset (m)", weatherOffset[i], -1e12, 1e12);
     for (int i = 0; i < 3; ++i) checkRange(w, "noiseScroll (m)", noiseScroll[i], -1e12, 1e12);
     const glm::dvec2 co = cirrusOffset.value_or(weatherOffset);
@@ -64,6 +65,7 @@ CloudLayerBlock CloudLayerBlock::make(double planetRadius, double bottom, double
     b.noise[0] = float(basePeriod);
     b.noise[1] = float(detailPeriod);
     b.noise[2] = float(curlPeriod);
+    b.noise[3] = float(cloudType);
     for (int i = 0; i < 3; ++i) {
         b.scrollBase[i] = float(wrapMod(noiseScroll[i], basePeriod));
         b.scrollDetail[i] = float(wrapMod(noiseScroll[i], detailPeriod));
@@ -82,7 +84,7 @@ CloudLayerBlock CloudLayerBlock::from(const SkyVars& vars) {
                 vars.getOr(cloudkeys::weatherExtent, 40000.0), off, glm::dvec3(off, 0.0),
                 vars.getOr(cloudkeys::noiseBasePeriod, kDefaultNoiseBasePeriodM),
                 vars.getOr(cloudkeys::noiseDetailPeriod, kDefaultNoiseDetailPeriodM), vars.getOr(cloudkeys::curlPeriod, kDefaultCurlPeriodM),
-                vars.getOr(cloudkeys::cirrusOffset, off));
+                vars.getOr(cloudkeys::cirrusOffset, off), vars.getOr(cloudkeys::cloudType, 1.0));
 }
 
 void bindCloudTextures(const SkyVars& vars) {
@@ -139,14 +141,24 @@ glm::dvec2 weatherUv(const CloudLayerBlock& b, glm::dvec3 p) {
     return (glm::dvec2(p.x, p.y) + glm::dvec2(b.weather[0], b.weather[1])) * double(b.weather[3]);
 }
 
-double heightProfile(double a, double wb, double wt) {
-    // t: position within the cloud's own vertical extent [wb, wt] of the layer (Papp eq. 5.2's
-    // H_scale). Base: a short ramp (10 % of the thickness: flat, sharp bases); top: a long one
-    // (40 %: rounded tops), Schneider 2017's height-gradient shape.
-    const double t = (a - wb) / std::max(wt - wb, 1e-3);
-    const double profile = smooth(0.0, 0.1, t) * (1.0 - smooth(0.6, 1.0, t));
+glm::dvec2 heightGradient(double a, double wb, double wt, double type) {
+    // Two cloud types, blended by `type` (clouds.cloud_type), as Schneider & Vos 2015 and
+    // Schneider (GPU Pro 7, 2016) select a vertical density gradient per cloud type:
+    // - stratocumulus (0): a sheet between the weather map's base wb and top wt (Papp eq. 5.2's
+    //   H_scale), full within 10 % of its thickness above the base and rounded over its top 35 %;
+    // - cumulus (1): every base at the layer's bottom, the lifting condensation level that the
+    //   fair-weather cumulus of one air mass share (WMO International Cloud Atlas 2017, "Cumulus":
+    //   "flat bases"); the weather map's top wt (its domes) is the tower's height. Full density
+    //   within 7 % of the height above the base (a sharp, flat base), then a long taper over
+    //   50-100 % of the height: the coverage remap cuts ever more of the Perlin-Worley shape
+    //   upwards, leaving rounded turrets (cauliflower tops) rather than a flat lid.
+    const double tS = (a - wb) / std::max(wt - wb, 1e-3);
+    const double tC = a / std::max(wt, 1e-3);
+    const double pS = smooth(0.0, kScBaseRamp, tS) * (1.0 - smooth(kScTopStart, 1.0, tS));
+    const double pC = smooth(0.0, kCuBaseRamp, tC) * (1.0 - smooth(kCuTopStart, 1.0, tC));
+    const double t = sat(glm::mix(tS, tC, type));
     // H_gradient (Papp eq. 5.3): denser upwards in the cloud, 0.75 at its base to 1 at its top.
-    return profile * (0.75 + 0.25 * sat(t));
+    return {glm::mix(pS, pC, type) * (0.75 + 0.25 * t), t};
 }
 
 double cloudDensity(const CloudLayerBlock& b, const CloudTextures& t, glm::dvec3 p, CloudLod lod) {
@@ -158,25 +170,30 @@ double cloudDensity(const CloudLayerBlock& b, const CloudTextures& t, glm::dvec3
     // Coverage (Papp eq. 5.4): the weather map's density scaled by clouds.coverage.
     const double cov = sat(w.r) * sat(double(b.shape[0]));
     if (cov <= 0.0) return 0.0;
-    const double hp = heightProfile(a, sat(w.g), sat(w.b));
-    if (hp <= 0.0) return 0.0;
-    // Base shape (Schneider 2015): the Perlin-Worley R eroded by its Worley fBm GBA.
+    const glm::dvec2 hg = heightGradient(a, sat(w.g), sat(w.b), sat(double(b.noise[3])));
+    if (hg.x <= 0.0) return 0.0;
+    // Base shape (Schneider & Vos 2015): the Perlin-Worley R eroded by its Worley fBm GBA,
+    // remap(R, fbm - 1, 1, 0, 1); then stretched from its measured range [kShapeLo, kShapeHi] to
+    // [0, 1] so that the coverage cut below bites (see kShapeLo), times the height gradient.
     const glm::dvec3 pb = (glm::dvec3(p.x, p.y, h) + glm::dvec3(b.scrollBase[0], b.scrollBase[1], b.scrollBase[2])) / double(b.noise[0]);
     const glm::dvec4 n = t.base.sample3D(pb);
     const double fbm = 0.625 * n.g + 0.25 * n.b + 0.125 * n.a;
-    const double shape = sat(remap(n.r, fbm - 1.0, 1.0, 0.0, 1.0)) * hp;
-    // Coverage applied to the shape: remap(shape, 1 - cov, 1, 0, 1) * cov = shape - (1 - cov).
+    const double pw = remap(n.r, fbm - 1.0, 1.0, 0.0, 1.0);
+    const double shape = sat(remap(pw, kShapeLo, kShapeHi, 0.0, 1.0)) * hg.x;
+    // Coverage cut into the shape: remap(shape, 1 - cov, 1, 0, 1) * cov = shape - (1 - cov): where
+    // the weather map is thin only the shape's highest lobes survive (billowy edges).
     const double base = std::max(shape + cov - 1.0, 0.0);
     if (lod == CloudLod::Cheap || base <= 0.0) return base;
-    // Erosion by the detail noise (Papp eq. 5.5, in Schneider's remap form): wispy at the bottom
-    // of the cloud (the fBm), billowy at its top (its inverse); strength clouds.detail_scale.
+    // Erosion by the detail noise (Papp eq. 5.5, in Schneider's remap form): the Worley fBm near
+    // the cloud's base (eroding the cells' cores leaves wisps), its inverse above (eroding the cell
+    // borders leaves round billows: cauliflower), switching over the lowest 1/kDetailFlip of the
+    // cloud; strength kErosion x clouds.detail_scale.
     const glm::dvec3 pd =
         (glm::dvec3(p.x, p.y, h) + glm::dvec3(b.scrollDetail[0], b.scrollDetail[1], b.scrollDetail[2])) / double(b.noise[1]);
     const glm::dvec4 dn = t.detail.sample3D(pd);
     const double dfbm = 0.625 * dn.r + 0.25 * dn.g + 0.125 * dn.b;
-    const double ct = sat((a - sat(w.g)) / std::max(sat(w.b) - sat(w.g), 1e-3));
-    const double mod = glm::mix(dfbm, 1.0 - dfbm, sat(ct * 4.0));
-    const double e = std::min(0.2 * double(b.shape[1]) * mod, 0.9);
+    const double mod = glm::mix(dfbm, 1.0 - dfbm, sat(hg.y * kDetailFlip));
+    const double e = std::min(kErosion * double(b.shape[1]) * mod, 0.9);
     return sat((base - e) / (1.0 - e));
 }
 

@@ -101,6 +101,7 @@ CloudShadowMap::CloudShadowMap() : Generator("clouds.shadow_map") {
     input(cloudkeys::bottom, {.optional = true});
     input(cloudkeys::top, {.optional = true});
     input(cloudkeys::coverage, {.optional = true});
+    input(cloudkeys::cloudType, {.optional = true});
     input(cloudkeys::scattering, {.optional = true});
     input(cloudkeys::cirrusCoverage, {.optional = true});
     input(cloudkeys::cirrusHeight, {.optional = true});

@@ -47,9 +47,11 @@ const std::vector<CloudPreset>& presets() {
     // "Cumulus humilis/mediocris", "Stratocumulus stratiformis"). Scattering: the extinction of
     // cloud ~ 0.02-0.1 /m (cumulus liquid water 0.2-0.5 g/m^3 with 10 um droplets: 3 LWC /
     // (2 rho r_e) = 0.045-0.075 /m; Stephens 1978).
+    // Cloud type (clouds.cloud_type, the density's height gradient): cumulus (1) for the fair and
+    // scattered skies, stratocumulus (0) for the overcast deck.
     static const std::vector<CloudPreset> p{
         {"fair", 0.75, 1500, 3000, 0.5, 9000, 0.05, 1.0, 0.0, 60, 700, 2500},
-        {"overcast", 0.98, 800, 2000, 0.0, 8000, 0.04, 0.6, 0.3, 800, 4000, 9000},
+        {"overcast", 0.9, 800, 2000, 0.0, 8000, 0.04, 0.6, 0.3, 800, 4000, 9000, 0.0},
         {"scattered-cirrus", 0.55, 1800, 2800, 0.85, 9500, 0.05, 1.2, 0.0, 25, 500, 1500},
         {"clear", 0.0, 2000, 3000, 0.0, 9000, 0.05, 1.0, 0.0, 0, 500, 1000},
     };
@@ -112,6 +114,7 @@ Clouds::Clouds() : SkyElement("clouds") {
     optionUnset(ck::cirrusHeight);
     optionUnset(ck::scattering);
     optionUnset(ck::detailScale);
+    optionUnset(ck::cloudType);
     optionUnset(ck::rainDensity);
     optionUnset(ck::cloudCount);
     optionUnset(ck::cloudSizeMin);
@@ -164,6 +167,7 @@ void Clouds::applyPreset(SkyVars& v) {
     put(ck::cirrusHeight, p.cirrusHeight);
     put(ck::scattering, p.scattering);
     put(ck::detailScale, p.detailScale);
+    put(ck::cloudType, p.cloudType);
     put(ck::rainDensity, p.rain);
     put(ck::cloudCount, p.cloudCount);
     put(ck::cloudSizeMin, p.sizeMin);
@@ -285,7 +289,7 @@ void Clouds::computePhotometry(const FrameContext& ctx) {
     add3(v.getOr(skykeys::horizontalIlluminance, glm::dvec3(0.0)));
     in.push_back(v.getOr(keys::observerHeight, 0.0));
     for (const char* k : {"clouds.coverage", "clouds.bottom_m", "clouds.top_m", "clouds.cirrus_coverage", "clouds.cirrus_height_m",
-                          "clouds.scattering_per_m", "clouds.detail_scale", "clouds.weather_offset_m", "clouds.weather_map",
+                          "clouds.scattering_per_m", "clouds.detail_scale", "clouds.cloud_type", "clouds.weather_offset_m", "clouds.weather_map",
                           "clouds.noise_base", "clouds.samples", "clouds.light_samples", "sky.transmittance_lut"})
         in.push_back(double(v.version(k)));
     if (photometry_.valid && in == photometryInputs_) return;
@@ -379,7 +383,7 @@ void Clouds::renderCached(const FrameContext& ctx) {
     }
     std::vector<double> in;
     for (const char* k : {"clouds.coverage", "clouds.bottom_m", "clouds.top_m", "clouds.cirrus_coverage", "clouds.cirrus_height_m",
-                          "clouds.scattering_per_m", "clouds.detail_scale", "clouds.noise_base", "clouds.samples",
+                          "clouds.scattering_per_m", "clouds.detail_scale", "clouds.cloud_type", "clouds.noise_base", "clouds.samples",
                           "clouds.light_samples", "clouds.preset", "sky.transmittance_lut", "observer.height_m"})
         in.push_back(double(v.version(k)));
     in.push_back(double(w));

@@ -248,7 +248,7 @@ TEST_CASE("Clouds: a preset fills only the keys nobody set", "[gl][clouds]") {
     Weather w(8, kFull);
     Scene s(40, w, Projection::Fisheye, 8, 8);
     s.p.vars().set(ek::preset, std::string("overcast"));
-    s.p.vars().set(ck::coverage, 0.3);  // the user's coverage wins over the preset's 0.98
+    s.p.vars().set(ck::coverage, 0.3);  // the user's coverage wins over the preset's 0.9
     s.render();
     CHECK(s.p.vars().get(ck::coverage) == 0.3);
     CHECK(s.p.vars().get(ck::bottom) == elements::cloudPreset("overcast").bottom);
@@ -284,7 +284,9 @@ TEST_CASE("Clouds: the overcast preset at noon gives an overcast day's illuminan
     // Overcast summer noon at mid-latitudes: 10-40 klux global (CIE 110-1994 / Kittler et al.
     // 1998 overcast sky daylight levels; Darula & Kittler 2002: overcast horizontal illuminance
     // ~ 0.2-0.4 of the clear sky's at the same solar altitude). The clear sky here: ~105 klux;
-    // measured under the preset's closed deck: ~13 klux, all diffuse.
+    // measured under the preset's deck: ~13 klux, all diffuse, with the smooth density before
+    // 2026-11-24; 14.2 klux (the Sun's beam 0.3 klux through the thinner cells) since the carved
+    // stratocumulus shape and the preset's coverage 0.9 (was 0.98) let the deck vary.
     CHECK(ph.global > 10000.0);
     CHECK(ph.global < 40000.0);
     CHECK(ph.global < 0.4 * ph.clearGlobal);
@@ -293,9 +295,10 @@ TEST_CASE("Clouds: the overcast preset at noon gives an overcast day's illuminan
 
 TEST_CASE("Clouds: a uniform slab transmits what the two-stream model says", "[gl][clouds]") {
     // A horizontally uniform deck: weather R = 1 (base 0, top 1) everywhere, noise textures of 1
-    // (the Perlin-Worley shape is then 1), no erosion, coverage 1: the density is the height
-    // profile alone, the same in every column. Its vertical optical depth from the profile's
-    // integral (cloud_density.glsl: smoothstep(0, .1, a) (1 - smoothstep(.6, 1, a)) (.75 + .25 a)).
+    // (the Perlin-Worley shape is then 1), no erosion, coverage 1, the stratocumulus gradient
+    // (clouds.cloud_type 0: a sheet): the density is the height profile alone, the same in every
+    // column. Its vertical optical depth from the profile's integral (cloud_density.hpp's
+    // heightGradient, type 0: smoothstep(0, .1, a) (1 - smoothstep(.65, 1, a)) (.75 + .25 a)).
     Weather w(8, kFull);
     Weather one2(8, [](double, double) { return glm::vec4(1.0f); });
     gl::Texture3D base(4, 4, 4, GL_RGBA32F), detail(4, 4, 4, GL_RGBA32F);
@@ -310,7 +313,7 @@ TEST_CASE("Clouds: a uniform slab transmits what the two-stream model says", "[g
     double integral = 0;  // of the profile over the layer fraction, midpoint rule (1e4 steps)
     for (int i = 0; i < 10000; ++i) {
         const double a = (i + 0.5) / 10000;
-        integral += ss(0, 0.1, a) * (1 - ss(0.6, 1, a)) * (0.75 + 0.25 * a) / 10000;
+        integral += ss(0, 0.1, a) * (1 - ss(0.65, 1, a)) * (0.75 + 0.25 * a) / 10000;
     }
     const double thickness = 1000, tau = 10;
     const double sigma = tau / (integral * thickness);
@@ -320,6 +323,7 @@ TEST_CASE("Clouds: a uniform slab transmits what the two-stream model says", "[g
     s.p.vars().set(ck::curlNoise, one2.ref());
     s.p.vars().set(ck::coverage, 1.0);
     s.p.vars().set(ck::detailScale, 0.0);
+    s.p.vars().set(ck::cloudType, 0.0);
     s.p.vars().set(ck::cirrusCoverage, 0.0);
     s.p.vars().set(ck::bottom, 1000.0);
     s.p.vars().set(ck::top, 1000.0 + thickness);
@@ -378,21 +382,34 @@ TEST_CASE("Clouds: the real-time path's direction cache", "[gl][clouds]") {
         const Image cached = s->render();
         s->p.vars().set(ek::reprojection, false);
         const Image direct = s->render();
-        double num = 0, den = 0, worst = 0;
+        s->p.vars().set(ek::samples, 256);
+        const Image reference = s->render();  // the per-pixel path converged (256 samples)
+        auto relRms = [](const Image& a, const Image& b) {
+            double num = 0, den = 0;
+            for (int y = 0; y < 32; ++y)
+                for (int x = 0; x < 32; ++x) {
+                    const double la = luminance(a, x, y), lb = luminance(b, x, y);
+                    num += (la - lb) * (la - lb), den += lb * lb;
+                }
+            return std::sqrt(num / den);
+        };
+        double worst = 0;
         for (int y = 0; y < 32; ++y)
             for (int x = 0; x < 32; ++x) {
                 const double a = luminance(cached, x, y), b = luminance(direct, x, y);
-                num += (a - b) * (a - b), den += b * b;
                 if (b > 0) worst = std::max(worst, std::abs(a - b) / b);
             }
-        const double rms = std::sqrt(num / den);
-        INFO("relative RMS " << rms << ", worst pixel " << worst);
-        // Both march 16 samples with a per-ray dither (by cache texel, by pixel): each is 4.4-4.7 %
-        // RMS off a 512-sample reference (welkin bench clouds, 2026-11-24), so two independent
-        // ditherings differ by up to ~sqrt(2) x that, 6.6 % (measured 4.0 %); one pixel by the
-        // banding of 16 steps through a cloud edge, up to tens of per cent (measured 40 %). A
-        // wrong mapping or a stale texel would be off by the clouds' whole contrast (~100 %).
-        CHECK(rms < 0.066);
+        const double rms = relRms(cached, direct), noise = relRms(direct, reference);
+        INFO("relative RMS " << rms << ", the 16-sample march's own error " << noise << ", worst pixel " << worst);
+        // Both march 16 samples with a per-ray dither (by cache texel, by pixel): each is off the
+        // converged image by the march's own noise (measured here against 256 samples: 7.5 % with
+        // the carved cumulus density of 2026-11-24, whose sharper edges band more than the earlier
+        // blobs' 4.4-4.7 %), so two independent ditherings differ by up to ~sqrt(2) x that
+        // (measured 7.5 %); 1.6 x leaves room for the cache's bilinear resampling. One pixel by the
+        // banding of 16 steps through a cloud edge, up to tens of per cent. A wrong mapping or a
+        // stale texel would be off by the clouds' whole contrast (~100 %).
+        CHECK(noise < 0.2);  // the reference itself is sane (a broken march would not converge)
+        CHECK(rms < 1.6 * noise);
         CHECK(worst < 0.6);
         CHECK(finiteNonNegative(cached));
     }

@@ -67,7 +67,8 @@ struct CloudLayerBlock {
     float shape[4];
     /// xy clouds.weather_offset_m reduced modulo the extent (m), z extent (m), w 1 / extent (1/m)
     float weather[4];
-    /// x base-noise period, y detail-noise period, z curl-noise period (m), w unused
+    /// x base-noise period, y detail-noise period, z curl-noise period (m), w clouds.cloud_type
+    /// [0, 1] (0 stratocumulus, 1 cumulus: the height gradient)
     float noise[4];
     /// xyz the base noise's scroll (m, reduced modulo its period), w unused
     float scrollBase[4];
@@ -78,22 +79,41 @@ struct CloudLayerBlock {
 
     /// From the keys of cloud_keys.hpp (undeclared keys take the defaults the Clouds element
     /// declares: bottom 2000 m, top 3000 m, coverage 0.5, detail scale 1, scattering 0.05/m,
-    /// cirrus 9000 m / 0.3, extent 40 km, offset 0) and planet.radius_m (6 360 000 m). The noise
+    /// cirrus 9000 m / 0.3, extent 40 km, offset 0, cloud type 1) and planet.radius_m (6 360 000 m). The noise
     /// scrolls with the weather map (noise scroll = (clouds.weather_offset_m, 0)): detail moves
     /// with its cloud; the cirrus moves by clouds.cirrus_offset_m (clouds.weather_offset_m if
     /// unset). Checks the layer (validateCloudLayer()).
     static CloudLayerBlock from(const SkyVars& vars);
     /// The same from explicit values (m, [0,1], 1/m); `noiseScroll` in m; `cirrusOffset` in m
-    /// (nullopt: the weather offset).
+    /// (nullopt: the weather offset); `cloudType` in [0, 1] (0 stratocumulus, 1 cumulus).
     static CloudLayerBlock make(double planetRadius, double bottom, double top, double coverage, double detailScale,
                                 double scatteringPerM, double cirrusHeight, double cirrusCoverage, double weatherExtent,
                                 glm::dvec2 weatherOffset, glm::dvec3 noiseScroll, double basePeriod = kDefaultNoiseBasePeriodM,
                                 double detailPeriod = kDefaultNoiseDetailPeriodM, double curlPeriod = kDefaultCurlPeriodM,
-                                std::optional<glm::dvec2> cirrusOffset = std::nullopt);
+                                std::optional<glm::dvec2> cirrusOffset = std::nullopt, double cloudType = 1.0);
 };
 static_assert(sizeof(CloudLayerBlock) == 7 * 16, "CloudLayerBlock: std140 layout of 7 vec4");
 
 enum class CloudLod { Cheap = 0, Full = 1 };
+
+/// The density's shape constants (cloud_density.glsl's CLD_* defines are the same numbers).
+/// The eroded Perlin-Worley base shape remap(R, fbm - 1, 1, 0, 1) of the generated noise
+/// (CloudNoise, 128^3, seed 1) is narrow and bright: its 1st, 5th, 50th and 99th percentiles are
+/// 0.69, 0.735, 0.83, 0.93. Stretched from [kShapeLo, kShapeHi] to [0, 1] (the median to 0.63,
+/// the 5th percentile to 0.28), the coverage cut max(shape + cov - 1, 0) carves cells and gaps
+/// out of the clouds; unstretched, the cut at the fair preset's 0.75 (shape < 0.25) removes no
+/// texel and a cloud is the weather map's smooth blob. kShapeLo a little below the 1st
+/// percentile: a harder stretch (from the 5th) left only scattered turrets of a cloud at coverage
+/// 0.75 (docs/clouds.md); the stretch also multiplies the 8-bit noise's filtering error (3.7x).
+/// Tested: "Cloud density: the base shape fills [0, 1], so the coverage cut carves".
+inline constexpr double kShapeLo = 0.66, kShapeHi = 0.93;
+/// Height gradients (heightGradient()): cumulus full at 7 % of its height, tapering from 50 %;
+/// stratocumulus full at 10 % of its thickness, rounded from 65 %.
+inline constexpr double kCuBaseRamp = 0.07, kCuTopStart = 0.5, kScBaseRamp = 0.1, kScTopStart = 0.65;
+/// Detail erosion: at most kErosion x clouds.detail_scale of the base density is cut (Schneider
+/// 2015 uses 0.2 for a detail noise at 4x the frequency of ours: our cells are larger, the cut
+/// deeper); the wispy-to-billowy switch over the lowest 1/kDetailFlip of the cloud.
+inline constexpr double kErosion = 0.35, kDetailFlip = 4.0;
 
 /// Binds the clouds' published textures to their units (WELKIN_BINDING_CLOUD_WEATHER_MAP,
 /// _NOISE_BASE, _NOISE_DETAIL, _CURL_NOISE, _PATH_LUT; glBindTextureUnit): those set in `vars`
@@ -128,9 +148,13 @@ double remap(double v, double lo, double hi, double newLo, double newHi);
 double cloudAltitude(const CloudLayerBlock& b, glm::dvec3 p);
 /// Weather-map uv of ENU point p (repeat not applied).
 glm::dvec2 weatherUv(const CloudLayerBlock& b, glm::dvec3 p);
-/// The height profile in [0, 1] at layer fraction a (0 bottom, 1 top) of a cloud whose base and
-/// top sit at fractions wb, wt of the layer (weather G, B): rounded base and top.
-double heightProfile(double a, double wb, double wt);
+/// The height gradient at layer fraction a (0 bottom, 1 top) of a cloud whose base and top sit
+/// at fractions wb, wt of the layer (weather G, B), for cloud type `type` in [0, 1] (0
+/// stratocumulus: a sheet from wb to wt; 1 cumulus: a flat base at the layer's bottom, full within
+/// 7 % of its height, tapering over its upper half to wt; between: a blend): x the profile in
+/// [0, 1] (times the upward density gradient 0.75-1), y the position within the cloud's own
+/// vertical extent, [0, 1] (what the detail erosion's wispy-to-billowy switch reads).
+glm::dvec2 heightGradient(double a, double wb, double wt, double type);
 /// Relative density in [0, 1] (contract at the top of this file).
 double cloudDensity(const CloudLayerBlock& b, const CloudTextures& t, glm::dvec3 p, CloudLod lod);
 /// Entry and exit distances (m) of the shell [b.radii.y, b.radii.z] from radius r with cos

@@ -36,6 +36,7 @@ inline const Key<double> bottom{"clouds.bottom_m", Range{0, 2e4}, "base of the v
 inline const Key<double> top{"clouds.top_m", Range{1e2, 2.5e4}, "top of the volumetric cloud layer above the ground (SevenSky VOLUMETRIC_CLOUDS_TO); > clouds.bottom_m"};
 inline const Key<double> coverage{"clouds.coverage", Range{0, 1}, "volumetric cloud coverage: 0 clear, 1 the weather map's density (SevenSky Coverage, eq. 5.4)"};
 inline const Key<double> detailScale{"clouds.detail_scale", Range{0, 4}, "strength of the erosion by the detail noise (SevenSky DetailScale)"};
+inline const Key<double> cloudType{"clouds.cloud_type", Range{0, 1}, "height gradient of the cumulus layer: 0 stratocumulus (a sheet between the weather map's base and top), 1 cumulus (flat bases at clouds.bottom_m, tapered tops); between: a blend (Schneider 2015)"};
 inline const Key<double> scattering{"clouds.scattering_per_m", Range{0, 1}, "scattering coefficient of cloud at density 1 (SevenSky Scattering); single-scattering albedo ~1", "1/m"};
 // --- Cirrus ---------------------------------------------------------------------------------------
 inline const Key<double> cirrusCoverage{"clouds.cirrus_coverage", Range{0, 1}, "high-altitude cirrus coverage (SevenSky AltoCoverage)"};

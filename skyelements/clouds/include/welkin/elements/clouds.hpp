@@ -55,6 +55,7 @@ struct CloudPreset {
     int cloudCount = 60;        ///< clouds.cloud_count (weather-map generator)
     double sizeMin = 800;       ///< clouds.cloud_size_min_m
     double sizeMax = 3000;      ///< clouds.cloud_size_max_m
+    double cloudType = 1;       ///< clouds.cloud_type (0 stratocumulus, 1 cumulus)
 };
 /// The preset named `name`; throws welkin::Error "clouds.preset: 'x' not one of fair, overcast,
 /// scattered-cirrus, clear".
