@@ -80,15 +80,18 @@ private:
     void doStats(nlohmann::json& root) const override;
     void doValidateOptions(const SkyVars& vars) const override;
     /// shBands: SkyQuality::shBands (read by the per-pixel march only).
-    static gl::ProgramBuilder recipe(bool perPixel, bool moon, bool transmittance, bool baked, bool spectral, int shBands);
+    /// shadow: subtract sky.shadow_loss_lut (the direct light's shadow, e.g. the clouds').
+    static gl::ProgramBuilder recipe(bool perPixel, bool moon, bool transmittance, bool baked, bool spectral, int shBands, bool shadow);
 
     SkyOptions options_;
     generators::SkyLuts luts_;
     // [without, with the Moon][without, with the transmittance output][separate, baked Mie phase]:
     // separate variants because llvmpipe evaluates both sides of a uniform branch; each compiled
     // per projection on first use. spectralPrograms_: per pixel, one wavelength triple per draw;
-    // the per-pixel ones are (re)made for the quality's SH bands (marchBands_) on first use.
-    gl::ProjectionPrograms lutPrograms_[2][2][2], marchPrograms_[2], spectralPrograms_[2];
+    // the per-pixel ones are (re)made for the quality's SH bands (marchBands_) on first use. The
+    // last index of lutPrograms_ and marchPrograms_: [without, with] the shadow loss
+    // (sky.shadow_loss_lut present: clouds in the scene).
+    gl::ProjectionPrograms lutPrograms_[2][2][2][2], marchPrograms_[2][2], spectralPrograms_[2];
     int marchBands_ = 0;
     gl::Buffer ubo_;
     bool perPixel_ = false;
