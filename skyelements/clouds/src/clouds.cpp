@@ -107,6 +107,7 @@ Clouds::Clouds() : SkyElement("clouds") {
     reads(keys::interactive);
     option(cloudelemkeys::cacheWidth, 512);
     option(cloudelemkeys::cacheFrames, 64);
+    option(cloudelemkeys::skyShadow, true);
     optionUnset(ck::coverage);
     optionUnset(ck::bottom);
     optionUnset(ck::top);
@@ -196,9 +197,12 @@ void Clouds::doInit(InitContext& ctx) {
     // init (a tool, a test: then the host owns it and its offset).
     if (!v.has(ck::weatherMap)) addGenerator(WeatherMap::obtain(v));
     // The clouds' shadow: the map (shared with the host and the Rainbow) and its effect on the
-    // atmosphere's in-scattering (sky.shadow_loss_lut, which the Sky element subtracts).
-    addGenerator(CloudShadowMap::obtain(v));
-    addGenerator(CloudSkyShadow::obtain(v));
+    // atmosphere's in-scattering (sky.shadow_loss_lut, which the Sky element subtracts), unless
+    // clouds.sky_shadow is off (read at init).
+    if (v.get(cloudelemkeys::skyShadow)) {
+        addGenerator(CloudShadowMap::obtain(v));
+        addGenerator(CloudSkyShadow::obtain(v));
+    }
     programs_ = gl::ProjectionPrograms(recipe(false, false));
     statsProgram_ = recipe(true, false).build();
     atmUbo_ = gl::Buffer(sizeof(AtmosphereBlock));
