@@ -19,7 +19,64 @@ namespace welkin::generators {
 
 namespace {
 constexpr double kMoonAngularRadius = 0.0045;  // rad, mean (as the sky view's Moon)
+constexpr double kPi = 3.14159265358979323846;
 }
+
+namespace cpu {
+
+std::pair<glm::dvec3, glm::dvec3> skyShadowLoss(const SkyModel& m, const Lut2D& T, double deltaM, const SkyShadowInputs& in,
+                                                double angularRadius, glm::dvec3 dir, bool ground,
+                                                const std::function<double(glm::dvec2)>& map) {
+    const glm::dvec3 L = in.light, ML = in.mapLight;
+    const double Ht = m.topRadius - m.bottomRadius;
+    const double h = std::clamp(in.observerHeightM, 0.0, Ht);
+    const double mu = std::clamp(dir.z, -1.0, 1.0), sinV = std::sqrt(std::max(1.0 - mu * mu, 0.0));
+    const double muS = L.z, nu = std::clamp(glm::dot(dir, L), -1.0, 1.0);
+    auto shadowAt = [&](glm::dvec2 xy, double hp) {
+        if (hp >= in.topM) return 1.0;
+        const glm::dvec2 g = xy - std::min(hp, in.bottomM) * glm::dvec2(ML) / std::max(ML.z, 1e-3);
+        const glm::dvec2 uv = (g + in.shift) / in.extentM + 0.5;
+        if (uv.x < 0.0 || uv.y < 0.0 || uv.x > 1.0 || uv.y > 1.0) return 1.0;
+        double s = map(uv);
+        if (hp > in.bottomM) s = std::pow(std::max(s, 1e-30), (in.topM - hp) / (in.topM - in.bottomM));
+        return s;
+    };
+    const double d = ground ? distanceToBottom(m, h, mu) : distanceToTop(m, h, mu);
+    const double r = m.bottomRadius + h, top = m.bottomRadius + in.topM;
+    double tEnd = d;
+    if (!ground) {
+        const double b = r * mu, c = r * r - top * top;
+        tEnd = h < in.topM ? std::min(tEnd, -b + std::sqrt(std::max(b * b - c, 0.0))) : 0.0;
+    }
+    const double reach = 0.7072 * in.extentM + in.bottomM * std::hypot(ML.x, ML.y) / std::max(ML.z, 1e-3) + 1.0;
+    tEnd = std::min(tEnd, reach / std::max(sinV, 1e-4));
+    glm::dvec3 lossR(0.0), lossM(0.0), thrD(1.0);
+    const double phaseR = rayleighPhase(nu);
+    const double dt = tEnd / in.steps;
+    for (int k = 0; k < in.steps && tEnd > 0.0; ++k) {
+        const double t = (k + 0.5) * dt;
+        const double hp = heightAt(m, h, mu, t);
+        const double muSp = std::clamp((r * muS + t * nu) / (m.bottomRadius + hp), -1.0, 1.0);
+        const glm::dvec3 sR = m.scatteringRayleigh(hp), sM = m.scatteringMie(hp);
+        const glm::dvec3 sigmaD = m.extinction(hp) - deltaM * sM;
+        // The segment's integral of exp(-sigmaD s) over [0, dt] (atm_segmentFactor()).
+        glm::dvec3 seg;
+        for (int c = 0; c < 3; ++c) seg[c] = sigmaD[c] * dt > 1e-4 ? (1.0 - std::exp(-sigmaD[c] * dt)) / sigmaD[c] : dt;
+        const double lost = 1.0 - shadowAt(t * glm::dvec2(dir), hp);
+        const glm::dvec3 tl = transmittanceToLight(m, T, hp, muSp, angularRadius) * (lost * thrD) * seg;
+        lossR += sR * tl * phaseR;
+        lossM += sM * tl;
+        thrD *= glm::exp(-sigmaD * dt);
+    }
+    if (ground && tEnd >= d && d > 0.0) {
+        const double muSg = std::clamp((r * muS + d * nu) / m.bottomRadius, -1.0, 1.0);
+        const double lost = 1.0 - shadowAt(d * glm::dvec2(dir), 0.0);
+        lossR += thrD * transmittanceToLight(m, T, 0.0, muSg, angularRadius) * std::max(muSg, 0.0) * lost * m.groundAlbedo / kPi;
+    }
+    return {lossR, lossM};
+}
+
+}  // namespace cpu
 
 CloudSkyShadow::CloudSkyShadow() : SkyGenerator("sky.shadow_loss") {
     input(cloudkeys::shadowMap);
@@ -112,7 +169,7 @@ void CloudSkyShadow::doRun(SkyVars& vars, const Logger&) {
     prog_.set("u_map", glm::vec4(float(in.shift.x), float(in.shift.y), float(1.0 / in.extentM), float(in.extentM)));
     prog_.set("u_layer", glm::vec2(float(in.bottomM), float(in.topM)));
     prog_.set("u_angular", float(in.moon ? kMoonAngularRadius : model_.sunAngularRadius));
-    prog_.set("u_steps", kSkyShadowSteps);
+    prog_.set("u_steps", in.steps);
     prog_.set("u_size", glm::ivec2(W, H));
     prog_.set("u_scale", float(kLutScale));
     fullscreen();

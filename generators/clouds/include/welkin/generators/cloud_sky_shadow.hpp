@@ -12,7 +12,7 @@
 //
 // Model (docs/clouds.md, "The clouds' shadow on the atmosphere's in-scattering"): along each
 // direction, the segment of the ray below the cloud top (clouds.top_m) and within reach of the
-// map (clouds.shadow_extent_m) is marched in u_steps equal steps (midpoint rule), summing
+// map (clouds.shadow_extent_m) is marched in kSkyShadowSteps equal steps (midpoint rule), summing
 // T_view sigma_s T_light P (1 - S) ds for Rayleigh (phase applied) and Mie (phase per pixel), with
 // the sky-view march's delta-M view transmittance and light transmittance
 // (generators/atmosphere.glsl), and S the shadow map's transmittance of the direct light at the
@@ -29,7 +29,9 @@
 #pragma once
 #include <welkin/generators/sky_luts.hpp>
 
+#include <functional>
 #include <memory>
+#include <utility>
 
 namespace welkin::generators {
 
@@ -49,7 +51,20 @@ struct SkyShadowInputs {
     double extentM = 40e3;         ///< clouds.shadow_extent_m
     double bottomM = 2000.0, topM = 3000.0;
     bool moon = false;             ///< the light is the Moon
+    int steps = kSkyShadowSteps;   ///< march steps
 };
+
+namespace cpu {
+/// The double-precision twin of one texel of cloud_sky_shadow.glsl: (Rayleigh with its phase +
+/// the ground's direct term, Mie without its phase) removed per lux of the light, for the unit
+/// ENU view direction `dir`; `ground`: the texel's row is in the sky view's ground half. `T`: the
+/// transmittance LUT (cpu::transmittanceLut); `deltaM`: the delta-M forward fraction of the sky
+/// view's march (cpu::phaseMoments(m, q.shBands).forward); `angularRadius`: the light's, rad;
+/// `map(uv)`: the shadow map's transmittance at map coordinates uv in [0, 1]^2.
+std::pair<glm::dvec3, glm::dvec3> skyShadowLoss(const SkyModel& m, const Lut2D& T, double deltaM, const SkyShadowInputs& in,
+                                                double angularRadius, glm::dvec3 dir, bool ground,
+                                                const std::function<double(glm::dvec2)>& map);
+}  // namespace cpu
 
 class CloudSkyShadow final : public SkyGenerator {
 public:
