@@ -8,8 +8,8 @@
 // transmittance of the direct light at the point (1 outside the map and above the cloud top).
 // Output 0: Rayleigh with its phase (and the ground); output 1: Mie without its phase (applied
 // per pixel by the Sky element, as for the sky-view LUT). The Sky element subtracts both from the
-// light's sky-view radiance. Needs atmosphere.glsl
-// (ATM_USE_TRANSMITTANCE) before it.
+// light's sky-view radiance. Twin of cpu::skyShadowLoss() (cloud_sky_shadow.hpp). Needs
+// atmosphere.glsl (ATM_USE_TRANSMITTANCE) before it.
 layout(binding = WELKIN_BINDING_CLOUD_SHADOW_MAP) uniform sampler2D u_shadowMap;
 uniform float u_h;          // observer height above the ground, m (inside the atmosphere)
 uniform vec3 u_light;       // the light whose scattering is shadowed: unit ENU (may be below the horizon)

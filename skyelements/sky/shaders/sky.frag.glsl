@@ -26,7 +26,9 @@ uniform vec3 u_lossLight;  // the shadowed light, unit ENU
 uniform vec3 u_lossE;      // its illuminance per channel / kLutScale (lux)
 uniform vec2 u_lossSize;   // the loss table's size, texels
 vec3 shadowLoss(vec3 dir) {
-    float az = atan(dir.x, dir.y);  // from north through east; any value at the zenith (u does not matter there)
+    // From north through east; atan(0, 0) is undefined in GLSL: 0 at the zenith and nadir (u does
+    // not matter there).
+    float az = dir.x == 0.0 && dir.y == 0.0 ? 0.0 : atan(dir.x, dir.y);
     vec2 uv = vec2(az * (0.5 / ATM_PI), skyViewUvS(u_sH, dir.z, 1.0, u_lossSize).y);
     return (texture(u_lossSmooth, uv).rgb + texture(u_lossMie, uv).rgb * miePhase(clamp(dot(dir, u_lossLight), -1.0, 1.0))) * u_lossE;
 }

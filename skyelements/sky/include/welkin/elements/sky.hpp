@@ -28,6 +28,10 @@
 // sky.sun_transmittance, sky.moon_transmittance, sky.horizontal_illuminance (global, direct,
 // diffuse lux), sky.diffuse_irradiance, sky.zenith_luminance.
 //
+// Shadow of the direct light: when a generator publishes sky.shadow_loss_lut (the Clouds
+// element's CloudSkyShadow: crepuscular rays), the sky subtracts the single scattering it removes
+// (generators/sky_luts.hpp; docs/clouds.md); without it the sky is unchanged, bit for bit.
+//
 // Observer heights below the ground are clamped to 0 m with a warning through the logger.
 #pragma once
 #include <welkin/element.hpp>
