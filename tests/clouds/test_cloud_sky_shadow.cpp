@@ -9,6 +9,7 @@
 #include <epoxy/gl.h>
 
 #include <welkin/camera.hpp>
+#include <welkin/elements/clouds.hpp>
 #include <welkin/elements/sky.hpp>
 #include <welkin/elements/sky_offline.hpp>
 #include <welkin/generators/atmosphere.hpp>
@@ -18,6 +19,7 @@
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/gl/objects.hpp>
 #include <welkin/keys.hpp>
+#include <welkin/processor.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -264,6 +266,37 @@ TEST_CASE("Clouds' shadow on the sky: the GPU loss table against its double CPU 
     // minimum) on the shadows' sharp edges, where one step can cross a 0-to-1 edge.
     CHECK(errR < 0.01 * maxR);
     CHECK(errM < 0.01 * maxM);
+}
+
+TEST_CASE("Clouds' shadow on the sky: the Clouds element switches it on, clouds.sky_shadow off", "[gl][clouds][shadow]") {
+    // The whole chain in a processor (Sky + Clouds, default weather and noise, a tiny fisheye):
+    // the Clouds element adds the shadow map and the loss table, the Sky renders a finite,
+    // non-negative image; with clouds.sky_shadow = false neither table exists.
+    test::glContext();
+    for (bool on : {true, false}) {
+        SkyProcessor p{SkyVars::earth(), test::testLogger(), ProcessorOptions{.astronomy = false}};
+        p.vars().set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(atmosphere::Atmosphere::earthClear()));
+        p.vars().set(keys::sunDirection, directionFromAzAlt(250 * kDeg, 10 * kDeg));
+        p.vars().set(keys::moonDirection, glm::dvec3(0, 0, -1));
+        Camera cam;
+        cam.projection = Projection::Fisheye;
+        cam.width = 24;
+        cam.height = 24;
+        p.setCamera(cam);
+        p.add(std::make_unique<elements::Sky>(elements::SkyOptions{.quality = 0}));
+        p.add(std::make_unique<elements::Clouds>());
+        p.vars().set(elements::cloudelemkeys::samples, 8);  // few samples: llvmpipe
+        p.vars().set(elements::cloudelemkeys::lightSamples, 2);
+        p.vars().set(elements::cloudelemkeys::skyShadow, on);
+        p.setExposure({.automatic = false, .ev100 = 12});
+        p.renderFrame();
+        const Image img = p.readHdr();
+        INFO("clouds.sky_shadow " << on);
+        CHECK(p.vars().has(skykeys::shadowLossLut) == on);
+        CHECK(p.vars().has(cloudkeys::shadowMap) == on);
+        for (float x : img.pixels) REQUIRE((std::isfinite(x) && x >= 0.0f));
+        p.release();
+    }
 }
 
 TEST_CASE("Clouds' shadow on the sky: cost (median of 9, glFinish)", "[.timing][clouds][shadow]") {
