@@ -62,7 +62,9 @@ void main() {
         float b = r * mu, c = r * r - top * top;
         tEnd = h < u_layer.y ? min(tEnd, -b + sqrt(max(b * b - c, 0.0))) : 0.0;
     }
-    float reach = 0.7072 * u_map.w + u_layer.x * length(u_mapLight.xy) / max(u_mapLight.z, 1e-3) + 1.0;
+    // The map's square (half-diagonal), moved by the wind's shift since it was built, seen from
+    // points up to the cloud base (displaced along the light by base x tan(light zenith)).
+    float reach = 0.7072 * u_map.w + length(u_map.xy) + u_layer.x * length(u_mapLight.xy) / max(u_mapLight.z, 1e-3) + 1.0;
     tEnd = min(tEnd, reach / max(sinV, 1e-4));
     vec3 lossR = vec3(0.0), lossM = vec3(0.0);
     float phaseR = rayleighPhase(nu);

@@ -48,7 +48,7 @@ std::pair<glm::dvec3, glm::dvec3> skyShadowLoss(const SkyModel& m, const Lut2D& 
         const double b = r * mu, c = r * r - top * top;
         tEnd = h < in.topM ? std::min(tEnd, -b + std::sqrt(std::max(b * b - c, 0.0))) : 0.0;
     }
-    const double reach = 0.7072 * in.extentM + in.bottomM * std::hypot(ML.x, ML.y) / std::max(ML.z, 1e-3) + 1.0;
+    const double reach = 0.7072 * in.extentM + glm::length(in.shift) + in.bottomM * std::hypot(ML.x, ML.y) / std::max(ML.z, 1e-3) + 1.0;
     tEnd = std::min(tEnd, reach / std::max(sinV, 1e-4));
     glm::dvec3 lossR(0.0), lossM(0.0), thrD(1.0);
     const double phaseR = rayleighPhase(nu);
