@@ -294,6 +294,7 @@ TEST_CASE("Clouds' shadow on the sky: the Clouds element switches it on, clouds.
         INFO("clouds.sky_shadow " << on);
         CHECK(p.vars().has(skykeys::shadowLossLut) == on);
         CHECK(p.vars().has(cloudkeys::shadowMap) == on);
+        CHECK(static_cast<elements::Sky&>(*p.elements().front()).shadowed() == on);
         for (float x : img.pixels) REQUIRE((std::isfinite(x) && x >= 0.0f));
         p.release();
     }

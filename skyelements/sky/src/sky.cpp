@@ -179,6 +179,7 @@ void Sky::doRender(const FrameContext& ctx) {
     // wavelength triple; the table is RGB: not shadowed, docs/clouds.md).
     const bool shadow = (!perPixel_ || !sp) && h <= m.topRadius - m.bottomRadius - 1.0 && v.has(skykeys::shadowLossLut) &&
                         v.get(skykeys::shadowLossLut).id != 0 && v.has(skykeys::shadowLossMieLut);
+    shadowed_ = shadow;
     if (!perPixel_ || !sp) {
         const gl::Program& p = perPixel_ ? marchPrograms_[moon][shadow].get(proj)
                                          : lutPrograms_[moon][ctx.nothingBehind ? 0 : 1][q.bakedMiePhase][shadow].get(proj);
@@ -243,6 +244,7 @@ void Sky::doStats(nlohmann::json& root) const {
     root["sky"]["sun_illuminance_lux"] = direct_;
     root["sky"]["diffuse_illuminance_lux"] = diffuse_;
     root["sky"]["per_pixel"] = perPixel_;
+    root["sky"]["shadowed"] = shadowed_;
 }
 
 }  // namespace welkin::elements

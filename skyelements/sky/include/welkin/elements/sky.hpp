@@ -74,6 +74,8 @@ public:
     const generators::SkyLuts& luts() const { return luts_; }
     /// True if the last frame was ray-marched per pixel (space or reference quality).
     bool perPixel() const { return perPixel_; }
+    /// True if the last frame subtracted a direct-light shadow (sky.shadow_loss_lut: clouds).
+    bool shadowed() const { return shadowed_; }
 
 private:
     Sky(const SkyOptions& options, bool force);
@@ -99,6 +101,7 @@ private:
     int marchBands_ = 0;
     gl::Buffer ubo_;
     bool perPixel_ = false;
+    bool shadowed_ = false;  // the last frame subtracted sky.shadow_loss_lut
     double zenith_ = 0, global_ = 0, direct_ = 0, diffuse_ = 0;
 };
 
