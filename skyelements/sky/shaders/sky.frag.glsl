@@ -24,12 +24,12 @@ layout(binding = WELKIN_BINDING_SHADOW_LOSS_LUT) uniform sampler2D u_lossSmooth;
 layout(binding = WELKIN_BINDING_SHADOW_LOSS_MIE_LUT) uniform sampler2D u_lossMie;
 uniform vec3 u_lossLight;  // the shadowed light, unit ENU
 uniform vec3 u_lossE;      // its illuminance per channel / kLutScale (lux)
-uniform vec2 u_lossSize;   // the loss table's size, texels
-vec3 shadowLoss(vec3 dir) {
+// v: the sky view's latitude coordinate of dir (the loss table has the sky view's height).
+vec3 shadowLoss(vec3 dir, float v) {
     // From north through east; atan(0, 0) is undefined in GLSL: 0 at the zenith and nadir (u does
     // not matter there).
     float az = dir.x == 0.0 && dir.y == 0.0 ? 0.0 : atan(dir.x, dir.y);
-    vec2 uv = vec2(az * (0.5 / ATM_PI), skyViewUvS(u_sH, dir.z, 1.0, u_lossSize).y);
+    vec2 uv = vec2(az * (0.5 / ATM_PI), v);
     return (texture(u_lossSmooth, uv).rgb + texture(u_lossMie, uv).rgb * miePhase(clamp(dot(dir, u_lossLight), -1.0, 1.0))) * u_lossE;
 }
 #endif
@@ -119,9 +119,12 @@ void main() {
 #endif
 #endif
 #ifdef SKY_SHADOW_LOSS
+#ifdef SKY_PER_PIXEL
+    float v = skyViewUvS(u_sH, mu, 1.0, u_lutSize).y;
+#endif
     // max: the loss and the sky view are two marches of the same light (different steps); where
     // the shadow removes nearly everything, rounding must not go below 0.
-    L = max(L - shadowLoss(dir), vec3(0.0));
+    L = max(L - shadowLoss(dir, v), vec3(0.0));
 #endif
 #ifdef SKY_SPECTRAL
     T = vec3(1.0);

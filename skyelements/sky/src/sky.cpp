@@ -178,7 +178,8 @@ void Sky::doRender(const FrameContext& ctx) {
     // table is for the observer's position), except in the spectral per-pixel march (one draw per
     // wavelength triple; the table is RGB: not shadowed, docs/clouds.md).
     const bool shadow = (!perPixel_ || !sp) && h <= m.topRadius - m.bottomRadius - 1.0 && v.has(skykeys::shadowLossLut) &&
-                        v.get(skykeys::shadowLossLut).id != 0 && v.has(skykeys::shadowLossMieLut);
+                        v.get(skykeys::shadowLossLut).id != 0 && v.has(skykeys::shadowLossMieLut) &&
+                        v.get(skykeys::shadowLossLut).height == q.skyViewH;  // it reuses the sky view's v (a quality change: next run)
     shadowed_ = shadow;
     if (!perPixel_ || !sp) {
         const gl::Program& p = perPixel_ ? marchPrograms_[moon][shadow].get(proj)
@@ -191,7 +192,6 @@ void Sky::doRender(const FrameContext& ctx) {
             glBindTextureUnit(gl::binding::kShadowLossMieLut, v.get(skykeys::shadowLossMieLut).id);
             p.set("u_lossLight", glm::vec3(unit(v.get(lossMoon ? keys::moonDirection : keys::sunDirection))));
             p.set("u_lossE", glm::vec3((lossMoon ? moonE : sunE) / kLutScale));
-            p.set("u_lossSize", glm::vec2(float(loss.width), float(loss.height)));
         }
         ctx.drawFullscreen();
         return;
