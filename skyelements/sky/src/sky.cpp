@@ -52,6 +52,9 @@ Sky::Sky(const SkyOptions& options, bool force) : SkyElement("sky"), options_(op
     reads(atmosphere::kAtmosphere);
     reads(lightkeys::sunIlluminance);
     reads(lightkeys::moonIlluminance);
+    reads(skykeys::shadowLossLut);  // optional: a direct-light shadow (the clouds')
+    reads(skykeys::shadowLossMieLut);
+    reads(skykeys::shadowLossMoon);
 }
 
 namespace {
