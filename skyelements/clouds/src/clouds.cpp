@@ -8,6 +8,8 @@
 #include <welkin/generators/cloud_density.hpp>
 #include <welkin/generators/cloud_keys.hpp>
 #include <welkin/generators/cloud_noise.hpp>
+#include <welkin/generators/cloud_shadow.hpp>
+#include <welkin/generators/cloud_sky_shadow.hpp>
 #include <welkin/generators/lights.hpp>
 #include <welkin/generators/weather_map.hpp>
 #include <welkin/gl/bindings.hpp>
@@ -107,6 +109,7 @@ Clouds::Clouds() : SkyElement("clouds") {
     reads(keys::interactive);
     option(cloudelemkeys::cacheWidth, 512);
     option(cloudelemkeys::cacheFrames, 64);
+    option(cloudelemkeys::skyShadow, true);
     optionUnset(ck::coverage);
     optionUnset(ck::bottom);
     optionUnset(ck::top);
@@ -197,6 +200,13 @@ void Clouds::doInit(InitContext& ctx) {
     // The generated weather map, unless the host published its own clouds.weather_map before
     // init (a tool, a test: then the host owns it and its offset).
     if (!v.has(ck::weatherMap)) addGenerator(WeatherMap::obtain(v));
+    // The clouds' shadow: the map (shared with the host and the Rainbow) and its effect on the
+    // atmosphere's in-scattering (sky.shadow_loss_lut, which the Sky element subtracts), unless
+    // clouds.sky_shadow is off (read at init).
+    if (v.get(cloudelemkeys::skyShadow)) {
+        addGenerator(CloudShadowMap::obtain(v));
+        addGenerator(CloudSkyShadow::obtain(v));
+    }
     programs_ = gl::ProjectionPrograms(recipe(false, false));
     statsProgram_ = recipe(true, false).build();
     atmUbo_ = gl::Buffer(sizeof(AtmosphereBlock));

@@ -16,6 +16,23 @@ uniform vec2 u_lutSize;     // sky-view LUT size, texels (height even)
 uniform int u_steps;        // per-pixel ray march
 uniform float u_moonAngular;
 uniform float u_sH;         // sin(theta_H / 2), theta_H the zenith angle of the observer's horizon (LUT path)
+#ifdef SKY_SHADOW_LOSS
+// The direct light's shadow on the in-scattering (sky.shadow_loss_lut, e.g. the clouds'): the
+// single scattering it removes, per lux x kLutScale, over absolute azimuth (u = az / 2 pi, wrap
+// repeat) and the sky view's latitude. A program variant: without a shadow nothing is fetched.
+layout(binding = WELKIN_BINDING_SHADOW_LOSS_LUT) uniform sampler2D u_lossSmooth;
+layout(binding = WELKIN_BINDING_SHADOW_LOSS_MIE_LUT) uniform sampler2D u_lossMie;
+uniform vec3 u_lossLight;  // the shadowed light, unit ENU
+uniform vec3 u_lossE;      // its illuminance per channel / kLutScale (lux)
+// v: the sky view's latitude coordinate of dir (the loss table has the sky view's height).
+vec3 shadowLoss(vec3 dir, float v) {
+    // From north through east; atan(0, 0) is undefined in GLSL: 0 at the zenith and nadir (u does
+    // not matter there).
+    float az = dir.x == 0.0 && dir.y == 0.0 ? 0.0 : atan(dir.x, dir.y);
+    vec2 uv = vec2(az * (0.5 / ATM_PI), v);
+    return (texture(u_lossSmooth, uv).rgb + texture(u_lossMie, uv).rgb * miePhase(clamp(dot(dir, u_lossLight), -1.0, 1.0))) * u_lossE;
+}
+#endif
 #ifdef SKY_SPECTRAL
 // Spectral mode, per pixel: one draw per wavelength triple (atmosphere block of that triple),
 // its per-lux values converted to linear sRGB per lux; T = 1 (the first draw outputs T).
@@ -100,6 +117,14 @@ void main() {
 #else
     T = vec3(0.0);  // nothing behind the sky (the program variant for the first element)
 #endif
+#endif
+#ifdef SKY_SHADOW_LOSS
+#ifdef SKY_PER_PIXEL
+    float v = skyViewUvS(u_sH, mu, 1.0, u_lutSize).y;
+#endif
+    // max: the loss and the sky view are two marches of the same light (different steps); where
+    // the shadow removes nearly everything, rounding must not go below 0.
+    L = max(L - shadowLoss(dir, v), vec3(0.0));
 #endif
 #ifdef SKY_SPECTRAL
     T = vec3(1.0);

@@ -52,6 +52,9 @@ Sky::Sky(const SkyOptions& options, bool force) : SkyElement("sky"), options_(op
     reads(atmosphere::kAtmosphere);
     reads(lightkeys::sunIlluminance);
     reads(lightkeys::moonIlluminance);
+    reads(skykeys::shadowLossLut);  // optional: a direct-light shadow (the clouds')
+    reads(skykeys::shadowLossMieLut);
+    reads(skykeys::shadowLossMoon);
 }
 
 namespace {
@@ -90,14 +93,16 @@ void Sky::doInit(InitContext& ctx) {
     for (int moon = 0; moon < 2; ++moon)
         for (int t = 0; t < 2; ++t)
             for (int baked = 0; baked < 2; ++baked)
-                lutPrograms_[moon][t][baked] = gl::ProjectionPrograms(recipe(false, moon == 1, t == 1, baked == 1, false, 0));
+                for (int sh = 0; sh < 2; ++sh)
+                    lutPrograms_[moon][t][baked][sh] = gl::ProjectionPrograms(recipe(false, moon == 1, t == 1, baked == 1, false, 0, sh == 1));
     marchBands_ = 0;
     ubo_ = gl::Buffer(sizeof(AtmosphereBlock));
 }
 
-gl::ProgramBuilder Sky::recipe(bool perPixel, bool moon, bool transmittance, bool baked, bool spectral, int shBands) {
+gl::ProgramBuilder Sky::recipe(bool perPixel, bool moon, bool transmittance, bool baked, bool spectral, int shBands, bool shadow) {
     gl::ProgramBuilder b(std::string(perPixel ? "Sky (per pixel)" : "Sky") + (moon ? " + Moon" : "") +
-                         (transmittance ? "" : " (nothing behind)") + (baked ? " (baked phase)" : "") + (spectral ? " spectral" : ""));
+                         (transmittance ? "" : " (nothing behind)") + (baked ? " (baked phase)" : "") + (spectral ? " spectral" : "") +
+                         (shadow ? " (shadowed)" : ""));
     b.define("ATM_USE_TRANSMITTANCE");
     if (moon) b.define("SKY_MOON");
     if (transmittance) b.define("SKY_TRANSMITTANCE");
@@ -105,6 +110,7 @@ gl::ProgramBuilder Sky::recipe(bool perPixel, bool moon, bool transmittance, boo
     if (perPixel)
         b.define("ATM_USE_MULTISCATTERING").define("ATM_MS_DIRECTIONAL").define("ATM_SH_BANDS", shBands).define("SKY_PER_PIXEL");
     if (spectral) b.define("SKY_SPECTRAL");
+    if (shadow) b.define("SKY_SHADOW_LOSS");
     b.fullscreenVertex()
         .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
         .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
@@ -133,8 +139,9 @@ void Sky::doRender(const FrameContext& ctx) {
     if (perPixel_ && marchBands_ != q.shBands) {
         marchBands_ = q.shBands;
         for (int moon = 0; moon < 2; ++moon) {
-            marchPrograms_[moon] = gl::ProjectionPrograms(recipe(true, moon == 1, true, false, false, marchBands_));
-            spectralPrograms_[moon] = gl::ProjectionPrograms(recipe(true, moon == 1, true, false, true, marchBands_));
+            for (int sh = 0; sh < 2; ++sh)
+                marchPrograms_[moon][sh] = gl::ProjectionPrograms(recipe(true, moon == 1, true, false, false, marchBands_, sh == 1));
+            spectralPrograms_[moon] = gl::ProjectionPrograms(recipe(true, moon == 1, true, false, true, marchBands_, false));
         }
     }
     AtmosphereBlock block = AtmosphereBlock::from(m, q.shBands);
@@ -169,10 +176,26 @@ void Sky::doRender(const FrameContext& ctx) {
         p.set("u_lutSize", glm::vec2(float(q.skyViewW), float(q.skyViewH)));
     };
     const auto& sp = luts_.sunView->spectral();
+    // The direct light's shadow (sky.shadow_loss_lut, published by e.g. the clouds'
+    // CloudSkyShadow): only while the table exists, the observer is inside the atmosphere (the
+    // table is for the observer's position), except in the spectral per-pixel march (one draw per
+    // wavelength triple; the table is RGB: not shadowed, docs/clouds.md).
+    const bool shadow = (!perPixel_ || !sp) && h <= m.topRadius - m.bottomRadius - 1.0 && v.has(skykeys::shadowLossLut) &&
+                        v.get(skykeys::shadowLossLut).id != 0 && v.has(skykeys::shadowLossMieLut) &&
+                        v.get(skykeys::shadowLossLut).height == q.skyViewH;  // it reuses the sky view's v (a quality change: next run)
+    shadowed_ = shadow;
     if (!perPixel_ || !sp) {
-        const gl::Program& p = perPixel_ ? marchPrograms_[moon].get(proj)
-                                         : lutPrograms_[moon][ctx.nothingBehind ? 0 : 1][q.bakedMiePhase].get(proj);
+        const gl::Program& p = perPixel_ ? marchPrograms_[moon][shadow].get(proj)
+                                         : lutPrograms_[moon][ctx.nothingBehind ? 0 : 1][q.bakedMiePhase][shadow].get(proj);
         setUniforms(p, sunE, moonE);
+        if (shadow) {
+            const TextureRef loss = v.get(skykeys::shadowLossLut);
+            const bool lossMoon = v.getOr(skykeys::shadowLossMoon, false);
+            glBindTextureUnit(gl::binding::kShadowLossLut, loss.id);
+            glBindTextureUnit(gl::binding::kShadowLossMieLut, v.get(skykeys::shadowLossMieLut).id);
+            p.set("u_lossLight", glm::vec3(unit(v.get(lossMoon ? keys::moonDirection : keys::sunDirection))));
+            p.set("u_lossE", glm::vec3((lossMoon ? moonE : sunE) / kLutScale));
+        }
         ctx.drawFullscreen();
         return;
     }
@@ -184,9 +207,9 @@ void Sky::doRender(const FrameContext& ctx) {
     // behind the sky (black), the first draw would multiply black: skipped.
     if (!ctx.nothingBehind) {
         if (h <= m.topRadius - m.bottomRadius - 1.0) {
-            setUniforms(lutPrograms_[0][1][q.bakedMiePhase].get(proj), glm::dvec3(0.0), glm::dvec3(0.0));
+            setUniforms(lutPrograms_[0][1][q.bakedMiePhase][0].get(proj), glm::dvec3(0.0), glm::dvec3(0.0));
         } else {
-            setUniforms(marchPrograms_[0].get(proj), glm::dvec3(0.0), glm::dvec3(0.0));
+            setUniforms(marchPrograms_[0][0].get(proj), glm::dvec3(0.0), glm::dvec3(0.0));
         }
         ctx.drawFullscreen();
     }
@@ -209,8 +232,10 @@ void Sky::doRender(const FrameContext& ctx) {
 void Sky::doRelease() {
     for (auto& row : lutPrograms_)
         for (auto& col : row)
-            for (auto& p : col) p.releasePrograms();
-    for (auto& p : marchPrograms_) p.releasePrograms();
+            for (auto& baked : col)
+                for (auto& p : baked) p.releasePrograms();
+    for (auto& row : marchPrograms_)
+        for (auto& p : row) p.releasePrograms();
     for (auto& p : spectralPrograms_) p.releasePrograms();
     ubo_ = {};
     luts_.releaseGl();
@@ -222,6 +247,7 @@ void Sky::doStats(nlohmann::json& root) const {
     root["sky"]["sun_illuminance_lux"] = direct_;
     root["sky"]["diffuse_illuminance_lux"] = diffuse_;
     root["sky"]["per_pixel"] = perPixel_;
+    root["sky"]["shadowed"] = shadowed_;
 }
 
 }  // namespace welkin::elements

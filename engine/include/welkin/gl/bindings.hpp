@@ -43,6 +43,8 @@ inline constexpr int kAerialTransmittanceLut = 7;  ///< aerial perspective trans
 inline constexpr int kShLut = 8;                   ///< sky.sh_lut (spherical-harmonic radiance field)
 inline constexpr int kShGroundLut = 9;             ///< the SH pass's ground-reflection input
 inline constexpr int kViewTransmittanceLut = 10;   ///< sky.view_transmittance_lut (1-D)
+inline constexpr int kShadowLossLut = 6;           ///< sky.shadow_loss_lut (the Sky pass; shares 6 with the aerial volume: never together)
+inline constexpr int kShadowLossMieLut = 7;        ///< sky.shadow_loss_mie_lut (the Sky pass; shares 7 with the aerial volume)
 // Texture units: the clouds (generators/clouds, skyelements/clouds and their readers, e.g. the
 // Rainbow), sampled together with the sky's LUTs above.
 inline constexpr int kCloudWeatherMap = 11;   ///< clouds.weather_map
@@ -119,6 +121,8 @@ inline constexpr std::array kTable = {
     Entry{"WELKIN_BINDING_SH_LUT", kShLut, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_SH_GROUND_LUT", kShGroundLut, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_VIEW_TRANSMITTANCE_LUT", kViewTransmittanceLut, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_SHADOW_LOSS_LUT", kShadowLossLut, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_SHADOW_LOSS_MIE_LUT", kShadowLossMieLut, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_CLOUD_WEATHER_MAP", kCloudWeatherMap, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_CLOUD_NOISE_BASE", kCloudNoiseBase, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_CLOUD_NOISE_DETAIL", kCloudNoiseDetail, Kind::TextureUnit},

@@ -84,6 +84,16 @@ inline const Key<TextureRef> viewTransmittanceLut{"sky.view_transmittance_lut", 
 inline const Key<TextureRef> moonViewLut{"sky.moon_view_lut", "sky-view LUT for the Moon (smooth part)"};
 inline const Key<TextureRef> moonViewMieLut{"sky.moon_view_mie_lut", "sky-view LUT for the Moon (Mie without phase)"};
 inline const Key<TextureRef> moonViewTotalLut{"sky.moon_view_total_lut", "sky-view LUT for the Moon: everything, Mie phase at the texel's angle"};
+/// The direct light's shadow on the in-scattering (optional; published by a shadow's generator,
+/// e.g. the clouds' generators::CloudSkyShadow; absent: the sky is unshadowed and pays nothing).
+/// The single scattering (and the directly lit ground) that the shadow removes, per lux of the
+/// light x kLutScale, over absolute azimuth u = az / 2 pi (az from north through east; wrap
+/// repeat) and the sky view's latitude v (skyViewUvS().y); the Sky element subtracts it from the
+/// light's sky-view radiance. R: Rayleigh with its phase and the ground; Mie: without its phase.
+inline const Key<TextureRef> shadowLossLut{"sky.shadow_loss_lut", "single scattering removed by the direct light's shadow (clouds): Rayleigh + ground, absolute azimuth"};
+inline const Key<TextureRef> shadowLossMieLut{"sky.shadow_loss_mie_lut", "single scattering removed by the direct light's shadow: Mie without phase, absolute azimuth"};
+/// Which light sky.shadow_loss_lut shadows: false the Sun, true the Moon.
+inline const Key<bool> shadowLossMoon{"sky.shadow_loss_moon", "sky.shadow_loss_lut is the Moon's (false: the Sun's)"};
 inline const Key<TextureRef> aerialInscatter{"sky.aerial_inscatter", "aerial perspective volume: in-scattered radiance per lux x kLutScale"};
 inline const Key<TextureRef> aerialTransmittance{"sky.aerial_transmittance", "aerial perspective volume: transmittance"};
 /// Horizontal illuminance at the observer, lux: (global, direct, diffuse); Sun and Moon.

@@ -38,6 +38,7 @@ inline const Key<int> samples{"clouds.samples", Range{4, 512}, "ray-march sample
 inline const Key<int> lightSamples{"clouds.light_samples", Range{1, 32}, "light-march samples from each sample towards the Sun or Moon (self-shadowing)"};
 inline const Key<bool> reprojection{"clouds.reprojection", "the real-time path: the clouds in a direction-space cache refreshed over clouds.cache_frames frames, which every frame samples; off: every pixel every frame; unset: on when render.interactive (welkin view)"};
 inline const Key<int> cacheFrames{"clouds.cache_frames", Range{1, 64}, "real-time path: frames that refresh the whole direction cache (1, 4, 16 or 64; a Bayer order)"};
+inline const Key<bool> skyShadow{"clouds.sky_shadow", "the clouds' shadow on the atmosphere's in-scattering (crepuscular rays; the sky.shadow_loss_lut the Sky element subtracts)"};
 inline const Key<int> cacheWidth{"clouds.cache_width", Range{64, 4096}, "azimuth texels of the real-time path's direction cache (its height is half)"};
 }  // namespace cloudelemkeys
 

@@ -28,6 +28,10 @@
 // sky.sun_transmittance, sky.moon_transmittance, sky.horizontal_illuminance (global, direct,
 // diffuse lux), sky.diffuse_irradiance, sky.zenith_luminance.
 //
+// Shadow of the direct light: when a generator publishes sky.shadow_loss_lut (the Clouds
+// element's CloudSkyShadow: crepuscular rays), the sky subtracts the single scattering it removes
+// (generators/sky_luts.hpp; docs/clouds.md); without it the sky is unchanged, bit for bit.
+//
 // Observer heights below the ground are clamped to 0 m with a warning through the logger.
 #pragma once
 #include <welkin/element.hpp>
@@ -70,6 +74,8 @@ public:
     const generators::SkyLuts& luts() const { return luts_; }
     /// True if the last frame was ray-marched per pixel (space or reference quality).
     bool perPixel() const { return perPixel_; }
+    /// True if the last frame subtracted a direct-light shadow (sky.shadow_loss_lut: clouds).
+    bool shadowed() const { return shadowed_; }
 
 private:
     Sky(const SkyOptions& options, bool force);
@@ -80,18 +86,22 @@ private:
     void doStats(nlohmann::json& root) const override;
     void doValidateOptions(const SkyVars& vars) const override;
     /// shBands: SkyQuality::shBands (read by the per-pixel march only).
-    static gl::ProgramBuilder recipe(bool perPixel, bool moon, bool transmittance, bool baked, bool spectral, int shBands);
+    /// shadow: subtract sky.shadow_loss_lut (the direct light's shadow, e.g. the clouds').
+    static gl::ProgramBuilder recipe(bool perPixel, bool moon, bool transmittance, bool baked, bool spectral, int shBands, bool shadow);
 
     SkyOptions options_;
     generators::SkyLuts luts_;
     // [without, with the Moon][without, with the transmittance output][separate, baked Mie phase]:
     // separate variants because llvmpipe evaluates both sides of a uniform branch; each compiled
     // per projection on first use. spectralPrograms_: per pixel, one wavelength triple per draw;
-    // the per-pixel ones are (re)made for the quality's SH bands (marchBands_) on first use.
-    gl::ProjectionPrograms lutPrograms_[2][2][2], marchPrograms_[2], spectralPrograms_[2];
+    // the per-pixel ones are (re)made for the quality's SH bands (marchBands_) on first use. The
+    // last index of lutPrograms_ and marchPrograms_: [without, with] the shadow loss
+    // (sky.shadow_loss_lut present: clouds in the scene).
+    gl::ProjectionPrograms lutPrograms_[2][2][2][2], marchPrograms_[2][2], spectralPrograms_[2];
     int marchBands_ = 0;
     gl::Buffer ubo_;
     bool perPixel_ = false;
+    bool shadowed_ = false;  // the last frame subtracted sky.shadow_loss_lut
     double zenith_ = 0, global_ = 0, direct_ = 0, diffuse_ = 0;
 };
 

@@ -1,0 +1,181 @@
+// CloudSkyShadow (GPU pass cloud_sky_shadow.glsl) and its CPU twin (double precision): the
+// model and its keys are in cloud_sky_shadow.hpp and docs/clouds.md.
+#include <welkin/embedded/atmosphere_shaders.hpp>
+#include <welkin/embedded/clouds_shaders.hpp>
+#include <welkin/error.hpp>
+#include <welkin/generators/cloud_keys.hpp>
+#include <welkin/generators/cloud_shadow.hpp>
+#include <welkin/generators/cloud_sky_shadow.hpp>
+#include <welkin/gl/bindings.hpp>
+#include <welkin/gl/shader.hpp>
+#include <welkin/keys.hpp>
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace welkin::generators {
+
+namespace {
+constexpr double kMoonAngularRadius = 0.0045;  // rad, mean (as the sky view's Moon)
+constexpr double kPi = 3.14159265358979323846;
+}
+
+namespace cpu {
+
+std::pair<glm::dvec3, glm::dvec3> skyShadowLoss(const SkyModel& m, const Lut2D& T, double deltaM, const SkyShadowInputs& in,
+                                                double angularRadius, glm::dvec3 dir, bool ground,
+                                                const std::function<double(glm::dvec2)>& map) {
+    const glm::dvec3 L = in.light, ML = in.mapLight;
+    const double Ht = m.topRadius - m.bottomRadius;
+    const double h = std::clamp(in.observerHeightM, 0.0, Ht);
+    const double mu = std::clamp(dir.z, -1.0, 1.0), sinV = std::sqrt(std::max(1.0 - mu * mu, 0.0));
+    const double muS = L.z, nu = std::clamp(glm::dot(dir, L), -1.0, 1.0);
+    auto shadowAt = [&](glm::dvec2 xy, double hp) {
+        if (hp >= in.topM) return 1.0;
+        const glm::dvec2 g = xy - std::min(hp, in.bottomM) * glm::dvec2(ML) / std::max(ML.z, 1e-3);
+        const glm::dvec2 uv = (g + in.shift) / in.extentM + 0.5;
+        if (uv.x < 0.0 || uv.y < 0.0 || uv.x > 1.0 || uv.y > 1.0) return 1.0;
+        double s = map(uv);
+        if (hp > in.bottomM) s = std::pow(std::max(s, 1e-30), (in.topM - hp) / (in.topM - in.bottomM));
+        return s;
+    };
+    const double d = ground ? distanceToBottom(m, h, mu) : distanceToTop(m, h, mu);
+    const double r = m.bottomRadius + h, top = m.bottomRadius + in.topM;
+    double tEnd = d;
+    if (!ground) {
+        const double b = r * mu, c = r * r - top * top;
+        tEnd = h < in.topM ? std::min(tEnd, -b + std::sqrt(std::max(b * b - c, 0.0))) : 0.0;
+    }
+    const double reach = 0.7072 * in.extentM + glm::length(in.shift) + in.bottomM * std::hypot(ML.x, ML.y) / std::max(ML.z, 1e-3) + 1.0;
+    tEnd = std::min(tEnd, reach / std::max(sinV, 1e-4));
+    glm::dvec3 lossR(0.0), lossM(0.0), thrD(1.0);
+    const double phaseR = rayleighPhase(nu);
+    const double dt = tEnd / in.steps;
+    for (int k = 0; k < in.steps && tEnd > 0.0; ++k) {
+        const double t = (k + 0.5) * dt;
+        const double hp = heightAt(m, h, mu, t);
+        const double muSp = std::clamp((r * muS + t * nu) / (m.bottomRadius + hp), -1.0, 1.0);
+        const glm::dvec3 sR = m.scatteringRayleigh(hp), sM = m.scatteringMie(hp);
+        const glm::dvec3 sigmaD = m.extinction(hp) - deltaM * sM;
+        // The segment's integral of exp(-sigmaD s) over [0, dt] (atm_segmentFactor()).
+        glm::dvec3 seg;
+        for (int c = 0; c < 3; ++c) seg[c] = sigmaD[c] * dt > 1e-4 ? (1.0 - std::exp(-sigmaD[c] * dt)) / sigmaD[c] : dt;
+        const double lost = 1.0 - shadowAt(t * glm::dvec2(dir), hp);
+        const glm::dvec3 tl = transmittanceToLight(m, T, hp, muSp, angularRadius) * (lost * thrD) * seg;
+        lossR += sR * tl * phaseR;
+        lossM += sM * tl;
+        thrD *= glm::exp(-sigmaD * dt);
+    }
+    if (ground && tEnd >= d && d > 0.0) {
+        const double muSg = std::clamp((r * muS + d * nu) / m.bottomRadius, -1.0, 1.0);
+        const double lost = 1.0 - shadowAt(d * glm::dvec2(dir), 0.0);
+        lossR += thrD * transmittanceToLight(m, T, 0.0, muSg, angularRadius) * std::max(muSg, 0.0) * lost * m.groundAlbedo / kPi;
+    }
+    return {lossR, lossM};
+}
+
+}  // namespace cpu
+
+CloudSkyShadow::CloudSkyShadow() : SkyGenerator("sky.shadow_loss") {
+    input(cloudkeys::shadowMap);
+    input(cloudkeys::shadowLight);
+    input(cloudkeys::shadowOffset);
+    input(cloudkeys::shadowExtent);
+    input(cloudkeys::weatherOffset, {.tolerance = kSkyShadowOffsetTolerance, .optional = true});
+    input(cloudkeys::bottom, {.optional = true});
+    input(cloudkeys::top, {.optional = true});
+    // The shadowed light's direction enters the light's transmittance and the phase (same
+    // tolerance as the shadow map's: 5e-4 rad).
+    input(keys::sunDirection, {.tolerance = 5e-4, .optional = true});
+    input(keys::moonDirection, {.tolerance = 5e-4, .optional = true});
+    input(keys::observerHeight, {.optional = true});
+    input(skykeys::transmittanceLut);
+    output(skykeys::shadowLossLut);
+    output(skykeys::shadowLossMieLut);
+    output(skykeys::shadowLossMoon);
+}
+
+std::shared_ptr<CloudSkyShadow> CloudSkyShadow::obtain(SkyVars& vars) {
+    static const Key<std::shared_ptr<CloudSkyShadow>> kShared{"generators.cloud_sky_shadow"};
+    return vars.obtain<CloudSkyShadow>(kShared, [] { return std::make_shared<CloudSkyShadow>(); });
+}
+
+void CloudSkyShadow::releaseGl() {
+    loss_ = {};
+    lossMie_ = {};
+    fbo_ = {};
+    prog_ = {};
+    releaseCommon();
+}
+
+void CloudSkyShadow::doRun(SkyVars& vars, const Logger&) {
+    prepare(vars);
+    // The RGB model's block (in spectral mode prepare() uploads triple 0's): the loss is RGB.
+    {
+        AtmosphereBlock block = AtmosphereBlock::from(model_, q_.shBands);
+        ubo_.update(&block, sizeof block);
+        ubo_.bindBase(GL_UNIFORM_BUFFER, gl::binding::kAtmosphereUbo);
+    }
+    const int W = 2 * q_.skyViewW, H = q_.skyViewH;
+    const GLenum fmt = q_.halfFloat ? GL_RGBA16F : GL_RGBA32F;
+    if (!loss_ || loss_.width() != W || loss_.height() != H || loss_.internalFormat() != fmt) {
+        for (gl::Texture2D* t : {&loss_, &lossMie_}) {
+            *t = gl::Texture2D(W, H, fmt);
+            t->setFilter(GL_LINEAR);
+            t->setWrap(GL_CLAMP_TO_EDGE);
+            // Azimuth wraps around (the seam at north interpolates across it).
+            glTextureParameteri(t->id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+        }
+        fbo_ = gl::Framebuffer::create();
+        fbo_.attach(GL_COLOR_ATTACHMENT0, loss_);
+        fbo_.attach(GL_COLOR_ATTACHMENT1, lossMie_);
+        fbo_.checkComplete("CloudSkyShadow");
+    }
+    if (!prog_)
+        prog_ = gl::ProgramBuilder("CloudSkyShadow")
+                    .define("ATM_USE_TRANSMITTANCE")
+                    .fullscreenVertex()
+                    .fragment("generators/atmosphere.glsl", embedded::atmosphere_shaders("atmosphere.glsl"))
+                    .fragment("generators/cloud_sky_shadow.glsl", embedded::clouds_shaders("cloud_sky_shadow.glsl"))
+                    .build();
+    auto unit = [](glm::dvec3 d, glm::dvec3 fallback) { return glm::length(d) > 1e-12 ? glm::normalize(d) : fallback; };
+    const glm::dvec3 sun = unit(vars.getOr(keys::sunDirection, glm::dvec3(0, 0, 1)), {0, 0, 1});
+    const glm::dvec3 moon = unit(vars.getOr(keys::moonDirection, glm::dvec3(0, 0, -1)), {0, 0, -1});
+    // The shadowed light is the one the map was built for (CloudShadowMap: the Sun above -6 deg,
+    // else the Moon).
+    SkyShadowInputs in;
+    in.moon = sun.z < std::sin(kShadowMoonBelowSunElevationRad);
+    in.light = in.moon ? moon : sun;
+    in.mapLight = unit(vars.get(cloudkeys::shadowLight), {0, 0, 1});
+    in.shift = vars.getOr(cloudkeys::weatherOffset, glm::dvec2(0.0)) - vars.get(cloudkeys::shadowOffset);
+    in.extentM = vars.get(cloudkeys::shadowExtent);
+    in.bottomM = vars.getOr(cloudkeys::bottom, 2000.0);  // the Clouds element's defaults
+    in.topM = std::max(vars.getOr(cloudkeys::top, 3000.0), in.bottomM + 1.0);
+    in.observerHeightM = std::clamp(vars.getOr(keys::observerHeight, 0.0), 0.0, model_.topRadius - model_.bottomRadius);
+    in_ = in;
+    fbo_.bind();
+    glViewport(0, 0, W, H);
+    glDisable(GL_BLEND);
+    const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glNamedFramebufferDrawBuffers(fbo_.id(), 2, bufs);
+    glBindTextureUnit(gl::binding::kTransmittanceLut, vars.get(skykeys::transmittanceLut).id);
+    glBindTextureUnit(gl::binding::kCloudShadowMap, vars.get(cloudkeys::shadowMap).id);
+    prog_.use();
+    prog_.set("u_h", float(in.observerHeightM));
+    prog_.set("u_light", glm::vec3(in.light));
+    prog_.set("u_mapLight", glm::vec3(in.mapLight));
+    prog_.set("u_map", glm::vec4(float(in.shift.x), float(in.shift.y), float(1.0 / in.extentM), float(in.extentM)));
+    prog_.set("u_layer", glm::vec2(float(in.bottomM), float(in.topM)));
+    prog_.set("u_angular", float(in.moon ? kMoonAngularRadius : model_.sunAngularRadius));
+    prog_.set("u_steps", in.steps);
+    prog_.set("u_size", glm::ivec2(W, H));
+    prog_.set("u_scale", float(kLutScale));
+    fullscreen();
+    vars.publish(skykeys::shadowLossLut, loss_.ref());
+    vars.publish(skykeys::shadowLossMieLut, lossMie_.ref());
+    vars.publish(skykeys::shadowLossMoon, in.moon);
+}
+
+}  // namespace welkin::generators
