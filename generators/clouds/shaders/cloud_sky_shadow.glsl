@@ -84,7 +84,7 @@ void main() {
         lossM += sM * tl;
         thrD *= exp(-sigmaD * dt);
     }
-    if (ground && tEnd >= d && d > 0.0) {
+    if (ground && tEnd >= d && d >= 0.0) {  // d = 0: the observer's own ground (standing on it)
         // The ground reached inside the map: its directly lit part, shadowed.
         float muSg = clamp((r * muS + d * nu) / atm_bottom(), -1.0, 1.0);
         float lost = 1.0 - shadowAt(d * dir.xy, 0.0);

@@ -68,7 +68,7 @@ std::pair<glm::dvec3, glm::dvec3> skyShadowLoss(const SkyModel& m, const Lut2D& 
         lossM += sM * tl;
         thrD *= glm::exp(-sigmaD * dt);
     }
-    if (ground && tEnd >= d && d > 0.0) {
+    if (ground && tEnd >= d && d >= 0.0) {  // d = 0: the observer's own ground (standing on it)
         const double muSg = std::clamp((r * muS + d * nu) / m.bottomRadius, -1.0, 1.0);
         const double lost = 1.0 - shadowAt(d * glm::dvec2(dir), 0.0);
         lossR += thrD * transmittanceToLight(m, T, 0.0, muSg, angularRadius) * std::max(muSg, 0.0) * lost * m.groundAlbedo / kPi;
