@@ -171,7 +171,15 @@ void CloudShadowMap::doRun(SkyVars& vars, const Logger&) {
     g.prog.set("u_hasClouds", hasClouds ? 1 : 0);
     g.prog.set("u_hasCurl", curl.id ? 1 : 0);
     g.vao.bind();
-    glDrawArrays(GL_TRIANGLES, 0, 3);
+    // Nothing to shadow (no cumulus, no cirrus: the clear preset, or no clouds at all): a map of
+    // 1 without the march (what the march gives there, at no cost).
+    const bool clear = vars.getOr(cloudkeys::coverage, 0.0) <= 0.0 && vars.getOr(cloudkeys::cirrusCoverage, 0.0) <= 0.0;
+    if (clear) {
+        const float one = 1.0f;
+        glClearTexImage(g.tex.id(), 0, GL_RED, GL_FLOAT, &one);
+    } else {
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+    }
     lastLight_ = light;
     lastSteps_ = steps;
     vars.publish(cloudkeys::shadowLight, light);

@@ -111,6 +111,14 @@ void CloudSkyShadow::releaseGl() {
 }
 
 void CloudSkyShadow::doRun(SkyVars& vars, const Logger&) {
+    // Nothing to shadow (no cumulus, no cirrus): no table, so the Sky draws its unshadowed
+    // variant (no fetch, no cost) rather than subtracting zeros.
+    if (vars.getOr(cloudkeys::coverage, 0.0) <= 0.0 && vars.getOr(cloudkeys::cirrusCoverage, 0.0) <= 0.0) {
+        vars.publish(skykeys::shadowLossLut, TextureRef{});
+        vars.publish(skykeys::shadowLossMieLut, TextureRef{});
+        vars.publish(skykeys::shadowLossMoon, false);
+        return;
+    }
     prepare(vars);
     // The RGB model's block (in spectral mode prepare() uploads triple 0's): the loss is RGB.
     {
