@@ -8,6 +8,7 @@ layout(binding = WELKIN_BINDING_CLOUD_WEATHER_MAP) uniform sampler2D u_weather; 
 uniform float u_weatherExtent;   // m
 uniform vec2 u_weatherOffset;    // m
 uniform float u_cloudBottom, u_cloudTop;  // m above the ground
+uniform float u_cloudType;       // clouds.cloud_type: 0 stratocumulus (base from the map's G), 1 cumulus (base at the bottom)
 uniform float u_rainRateScale;   // mm/h at weather A = 1 (clouds.rain_density x 20)
 uniform vec3 u_scaPerWater, u_extPerWater;  // 1/m per kg/m^3 of liquid water
 uniform float u_marchMax;        // m: farthest rain sample
@@ -39,7 +40,9 @@ void main() {
             float t = (float(i) + 0.5) * dt;
             vec3 p = vec3(t * dir.xy, u_obsHeight + t * dir.z);
             vec4 w = texture(u_weather, (p.xy + u_weatherOffset) / u_weatherExtent);
-            float base = u_cloudBottom + w.g * (u_cloudTop - u_cloudBottom);
+            // The cloud's base, as the density function places it (cloud_density.glsl's height
+            // gradient): the map's G for a stratocumulus sheet, the layer's bottom for cumulus.
+            float base = u_cloudBottom + mix(w.g, 0.0, clamp(u_cloudType, 0.0, 1.0)) * (u_cloudTop - u_cloudBottom);
             float rate = w.a * u_rainRateScale;
             if (rate <= 0.0 || p.z > base || p.z < 0.0) continue;
             float water = 0.0889e-3 * pow(rate, 0.84);   // kg/m^3, Marshall-Palmer (mie_tables.hpp)

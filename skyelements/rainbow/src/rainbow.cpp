@@ -44,6 +44,7 @@ Rainbow::Rainbow() : SkyElement("rainbow") {
     reads(rk::scattering);
     reads(rk::extinction);
     reads(generators::skykeys::diffuseIrradiance);
+    reads(ck::cloudType);
 }
 
 bool Rainbow::bowPossible(double lightElevation, double observerHeightM, double curtainDistanceM) {
@@ -251,6 +252,7 @@ void Rainbow::doRender(const FrameContext& ctx) {
         p.set("u_weatherOffset", glm::vec2(v.get(ck::weatherOffset)));
         p.set("u_cloudBottom", float(v.get(ck::bottom)));
         p.set("u_cloudTop", float(v.get(ck::top)));
+        p.set("u_cloudType", float(v.getOr(ck::cloudType, 0.0)));
         p.set("u_rainRateScale", float(v.get(ck::rainDensity) * generators::kRainRateAtFullDensityMmH));
         p.set("u_scaPerWater", glm::vec3(mie_->scatteringPerWater()));
         p.set("u_extPerWater", glm::vec3(mie_->extinctionPerWater()));
