@@ -289,22 +289,37 @@ void Clouds::setUniforms(const gl::Program& p, const FrameContext& ctx) const {
 
 void Clouds::computePhotometry(const FrameContext& ctx) {
     SkyVars& v = ctx.vars;
-    // Inputs: everything the pass reads (lights, layer, weather, samples); texture contents are
-    // tracked through the keys' versions.
+    // Inputs: everything the pass reads. The layer, the weather map's and noise's contents, the
+    // samples: exactly (the keys' versions). What moves every frame while time runs: by a
+    // tolerance, as the shadow map does — the lights' directions by 5e-4 rad (0.03 deg, 7 s of the
+    // Sun), their illuminances and the clear sky's by 1 %, the wind's offset by 156 m (a weather
+    // texel of the default 256-texel, 40 km map): photometry changes slowly, and a pass with a
+    // read-back every frame cost the running frame ~10 %.
     std::vector<double> in;
-    auto add3 = [&](glm::dvec3 x) { in.insert(in.end(), {x.x, x.y, x.z}); };
-    add3(v.get(keys::sunDirection));
-    add3(v.get(keys::moonDirection));
-    add3(v.getOr(lightkeys::sunIlluminance, glm::dvec3(0.0)));
-    add3(v.getOr(lightkeys::moonIlluminance, glm::dvec3(0.0)));
-    add3(v.getOr(skykeys::horizontalIlluminance, glm::dvec3(0.0)));
-    in.push_back(v.getOr(keys::observerHeight, 0.0));
     for (const char* k : {"clouds.coverage", "clouds.bottom_m", "clouds.top_m", "clouds.cirrus_coverage", "clouds.cirrus_height_m",
-                          "clouds.scattering_per_m", "clouds.detail_scale", "clouds.cloud_type", "clouds.weather_offset_m", "clouds.weather_map",
+                          "clouds.scattering_per_m", "clouds.detail_scale", "clouds.cloud_type", "clouds.weather_map",
                           "clouds.noise_base", "clouds.samples", "clouds.light_samples", "sky.transmittance_lut"})
         in.push_back(double(v.version(k)));
-    if (photometry_.valid && in == photometryInputs_) return;
+    in.push_back(v.getOr(keys::observerHeight, 0.0));
+    const glm::dvec3 sunDir = v.get(keys::sunDirection), moonDir = v.get(keys::moonDirection);
+    const glm::dvec3 sunE = v.getOr(lightkeys::sunIlluminance, glm::dvec3(0.0)), moonE = v.getOr(lightkeys::moonIlluminance, glm::dvec3(0.0));
+    const glm::dvec3 skyE = v.getOr(skykeys::horizontalIlluminance, glm::dvec3(0.0));
+    const glm::dvec2 offset = v.getOr(ck::weatherOffset, glm::dvec2(0.0));
+    auto moved = [](glm::dvec3 a, glm::dvec3 b) {
+        const double la = glm::length(a), lb = glm::length(b);
+        return la > 0 && lb > 0 ? glm::dot(a / la, b / lb) < std::cos(5e-4) : la != lb;
+    };
+    auto changed = [](glm::dvec3 a, glm::dvec3 b) {
+        for (int c = 0; c < 3; ++c)
+            if (std::abs(a[c] - b[c]) > 0.01 * std::max(std::abs(b[c]), 1e-12)) return true;
+        return false;
+    };
+    const PhotometryLast& l = photometryLast_;
+    if (photometry_.valid && in == photometryInputs_ && !moved(sunDir, l.sunDir) && !moved(moonDir, l.moonDir) && !changed(sunE, l.sunE) &&
+        !changed(moonE, l.moonE) && !changed(skyE, l.skyE) && glm::length(offset - l.offset) <= 156.0)
+        return;
     photometryInputs_ = in;
+    photometryLast_ = {sunDir, moonDir, sunE, moonE, skyE, offset};
 
     GLint prevFbo = 0, prevViewport[4];
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &prevFbo);

@@ -125,6 +125,10 @@ private:
     gl::Framebuffer statsFbo_;
     Photometry photometry_;
     std::vector<double> photometryInputs_;
+    struct PhotometryLast {  // the moving inputs of the last photometry pass (compared by tolerance)
+        glm::dvec3 sunDir{0.0}, moonDir{0.0}, sunE{0.0}, moonE{0.0}, skyE{0.0};
+        glm::dvec2 offset{0.0};
+    } photometryLast_;
     bool drew_ = false;
     // The real-time path (clouds.reprojection): the direction cache (radiance, transmittance),
     // its fill and display programs, the phase of the next partial refresh, and the inputs of the
