@@ -3,6 +3,8 @@
 #include <array>
 #include <cstdio>
 #include <string>
+#include <utility>
+#include <vector>
 #include <sys/wait.h>
 
 namespace welkin::test {
@@ -31,6 +33,19 @@ inline std::string scratchDir(const std::string& name) {
     std::string cmd = "rm -rf '" + d + "' && mkdir -p '" + d + "'";
     if (std::system(cmd.c_str()) != 0) return "/tmp";
     return d;
+}
+
+/// A command's bad options: for each (arguments, message), `welkin <command> <arguments>` must
+/// exit with status 1 and print "welkin <command>: <message>". Returns the failures, one line
+/// each ("<arguments> -> <output>"), so a test CHECKs that the list is empty.
+inline std::vector<std::string> badOptionFailures(const std::string& command, const std::vector<std::pair<std::string, std::string>>& cases) {
+    std::vector<std::string> failures;
+    for (const auto& [args, message] : cases) {
+        const CliResult r = runCli(command + " " + args);
+        if (r.status != 1 || r.output.find("welkin " + command + ": " + message) == std::string::npos)
+            failures.push_back(args + " -> status " + std::to_string(r.status) + ": " + r.output);
+    }
+    return failures;
 }
 
 }  // namespace welkin::test

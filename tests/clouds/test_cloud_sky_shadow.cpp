@@ -4,6 +4,7 @@
 // single-scattering table); one cloud darkens exactly the directions whose rays cross its shadow.
 #include <catch2/catch.hpp>
 
+#include "cloud_test_textures.hpp"
 #include "gl_test_context.hpp"
 
 #include <epoxy/gl.h>
@@ -50,13 +51,7 @@ cpu::Image weather(int n, double extentM, glm::dvec2 centre, double radiusM, boo
     return w;
 }
 
-gl::Texture upload(const cpu::Image& im, bool is3D) {
-    gl::Texture tex = is3D ? gl::Texture(gl::Texture3D(im.w, im.h, im.d, GL_RGBA32F)) : gl::Texture(gl::Texture2D(im.w, im.h, GL_RGBA32F));
-    tex.upload(GL_RGBA, GL_FLOAT, im.rgba.data());
-    tex.setFilter(GL_LINEAR);
-    tex.setWrap(GL_REPEAT);
-    return tex;
-}
+gl::Texture upload(const cpu::Image& im, bool is3D) { return test::uploadCloudTexture(im, is3D); }
 
 std::vector<float> readRgba(TextureRef ref) {
     std::vector<float> px(size_t(ref.width) * size_t(ref.height) * 4);

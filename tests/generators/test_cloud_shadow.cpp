@@ -4,6 +4,7 @@
 // GLSL lookup welkin_cloudShadow().
 #include <catch2/catch.hpp>
 
+#include "cloud_test_textures.hpp"
 #include "gl_test_context.hpp"
 
 #include <welkin/generators/cloud_shadow.hpp>
@@ -52,13 +53,7 @@ cpu::Image randomImage(int w, int h, int d, uint32_t seed, float lo) {
 // Base noise that leaves the weather map's shape as it is: R = 1 makes the remap 1 whatever G, B, A.
 cpu::Image flatBase() { return cpu::Image{1, 1, 1, {1.0f, 0.5f, 0.5f, 0.5f}}; }
 
-gl::Texture upload(const cpu::Image& im, bool is3D) {
-    gl::Texture tex = is3D ? gl::Texture(gl::Texture3D(im.w, im.h, im.d, GL_RGBA32F)) : gl::Texture(gl::Texture2D(im.w, im.h, GL_RGBA32F));
-    tex.upload(GL_RGBA, GL_FLOAT, im.rgba.data());
-    tex.setFilter(GL_LINEAR);
-    tex.setWrap(GL_REPEAT);
-    return tex;
-}
+gl::Texture upload(const cpu::Image& im, bool is3D) { return test::uploadCloudTexture(im, is3D); }
 
 std::vector<float> readR(TextureRef ref) {
     std::vector<float> px(size_t(ref.width) * size_t(ref.height));

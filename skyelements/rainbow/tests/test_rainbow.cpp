@@ -256,6 +256,17 @@ PathError comparePaths(const Image& exact, const Image& cached) {
     e.over5 /= std::max(e.drawn, 1);
     return e;
 }
+// The same frame through the per-pixel pass, then through the direction cache.
+PathError renderBothPaths(Scene& s) {
+    s.p.vars().set(elements::rainbowkeys::directionCache, false);
+    const Image exact = s.render();
+    CHECK_FALSE(s.bow->cachedLastFrame());
+    s.p.vars().set(elements::rainbowkeys::directionCache, true);
+    const Image cached = s.render();
+    CHECK(s.bow->cachedLastFrame());
+    CHECK(finiteNonNegative(cached));
+    return comparePaths(exact, cached);
+}
 }  // namespace
 
 TEST_CASE("Rainbow: the real-time path (direction cache) matches the per-pixel path", "[gl][rainbow]") {
@@ -275,14 +286,7 @@ TEST_CASE("Rainbow: the real-time path (direction cache) matches the per-pixel p
         // The Sun 20 deg west of south: the curtain is not symmetric about the view's centre line,
         // so a mirrored position angle would show.
         v.set(keys::sunDirection, directionFromAzAlt(M_PI + 20.0 * kDeg, 10.0 * kDeg));
-        v.set(elements::rainbowkeys::directionCache, false);
-        const Image exact = s.render();
-        CHECK_FALSE(s.bow->cachedLastFrame());
-        v.set(elements::rainbowkeys::directionCache, true);
-        const Image cached = s.render();
-        CHECK(s.bow->cachedLastFrame());
-        CHECK(finiteNonNegative(cached));
-        const PathError e = comparePaths(exact, cached);
+        const PathError e = renderBothPaths(s);
         INFO("mean " << e.mean << ", over 5 %: " << e.over5 << " of " << e.drawn);
         CHECK(e.drawn > 4000);  // the curtain fills a third of the frame
         // The cache's steps (0.06 deg across the bows; 0.9-1.8 deg x sin(angle from the anti-solar
@@ -309,13 +313,7 @@ TEST_CASE("Rainbow: the real-time path (direction cache) matches the per-pixel p
         v.set(elements::rainbowkeys::depth, 2e4);
         v.set(elements::rainbowkeys::height, 600.0);
         v.set(elements::rainbowkeys::halfWidth, 180.0 * kDeg);
-        v.set(elements::rainbowkeys::directionCache, false);
-        const Image exact = s.render();
-        v.set(elements::rainbowkeys::directionCache, true);
-        const Image cached = s.render();
-        CHECK(s.bow->cachedLastFrame());
-        CHECK(finiteNonNegative(cached));
-        const PathError e = comparePaths(exact, cached);
+        const PathError e = renderBothPaths(s);
         INFO("mean " << e.mean << ", over 5 %: " << e.over5 << " of " << e.drawn);
         CHECK(e.drawn > 8000);  // the layer fills the lower part of the view
         // The layer's radiance is smooth (no near face, no branch switch): measured mean 0.07 %,
