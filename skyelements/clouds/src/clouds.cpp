@@ -50,8 +50,9 @@ const std::vector<CloudPreset>& presets() {
     // cloud ~ 0.02-0.1 /m (cumulus liquid water 0.2-0.5 g/m^3 with 10 um droplets: 3 LWC /
     // (2 rho r_e) = 0.045-0.075 /m; Stephens 1978).
     // Cloud type (clouds.cloud_type, the density's height gradient): cumulus (1) for the fair and
-    // scattered skies, stratocumulus (0) for the overcast deck. Fair: 150 cells of 0.7-2.5 km in
-    // the 40 km weather map, ~1-2 oktas once the coverage carves them (fair-weather cumulus: 1-4).
+    // scattered skies, stratocumulus (0) for the overcast deck. Fair: 150 cells of semi-axes
+    // 0.7-2.5 km in the 40 km weather map, a few oktas once their faded edges and the coverage
+    // carve them (fair-weather cumulus: 1-4 oktas; 60 cells left the sky overhead empty).
     static const std::vector<CloudPreset> p{
         {"fair", 0.75, 1500, 3000, 0.5, 9000, 0.05, 1.0, 0.0, 150, 700, 2500},
         {"overcast", 0.9, 800, 2000, 0.0, 8000, 0.04, 0.6, 0.3, 800, 4000, 9000, 0.0},
