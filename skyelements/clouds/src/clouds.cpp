@@ -288,6 +288,15 @@ void Clouds::setUniforms(const gl::Program& p, const FrameContext& ctx) const {
     p.set("u_cirrusTau", kCirrusTau);
 }
 
+namespace {
+// The keys whose change changes every cloud the element marches (the layer, its density and the
+// march's samples; texture contents through the keys' versions): the photometry pass and the
+// real-time cache both track them.
+constexpr const char* kLayerInputs[] = {"clouds.coverage",      "clouds.bottom_m",        "clouds.top_m",         "clouds.cirrus_coverage",
+                                        "clouds.cirrus_height_m", "clouds.scattering_per_m", "clouds.detail_scale", "clouds.cloud_type",
+                                        "clouds.noise_base",    "clouds.samples",         "clouds.light_samples", "sky.transmittance_lut"};
+}  // namespace
+
 void Clouds::computePhotometry(const FrameContext& ctx) {
     SkyVars& v = ctx.vars;
     // Inputs: everything the pass reads. The layer, the weather map's and noise's contents, the
@@ -297,10 +306,8 @@ void Clouds::computePhotometry(const FrameContext& ctx) {
     // texel of the default 256-texel, 40 km map): photometry changes slowly, and a pass with a
     // read-back every frame cost the running frame ~10 %.
     std::vector<double> in;
-    for (const char* k : {"clouds.coverage", "clouds.bottom_m", "clouds.top_m", "clouds.cirrus_coverage", "clouds.cirrus_height_m",
-                          "clouds.scattering_per_m", "clouds.detail_scale", "clouds.cloud_type", "clouds.weather_map",
-                          "clouds.noise_base", "clouds.samples", "clouds.light_samples", "sky.transmittance_lut"})
-        in.push_back(double(v.version(k)));
+    for (const char* k : kLayerInputs) in.push_back(double(v.version(k)));
+    in.push_back(double(v.version(ck::weatherMap)));
     in.push_back(v.getOr(keys::observerHeight, 0.0));
     const glm::dvec3 sunDir = v.get(keys::sunDirection), moonDir = v.get(keys::moonDirection);
     const glm::dvec3 sunE = v.getOr(lightkeys::sunIlluminance, glm::dvec3(0.0)), moonE = v.getOr(lightkeys::moonIlluminance, glm::dvec3(0.0));
@@ -409,10 +416,8 @@ void Clouds::renderCached(const FrameContext& ctx) {
                                                 .fragment("clouds/clouds_cache.glsl", embedded::clouds_element_shaders("clouds_cache.glsl")));
     }
     std::vector<double> in;
-    for (const char* k : {"clouds.coverage", "clouds.bottom_m", "clouds.top_m", "clouds.cirrus_coverage", "clouds.cirrus_height_m",
-                          "clouds.scattering_per_m", "clouds.detail_scale", "clouds.cloud_type", "clouds.noise_base", "clouds.samples",
-                          "clouds.light_samples", "clouds.preset", "sky.transmittance_lut", "observer.height_m"})
-        in.push_back(double(v.version(k)));
+    for (const char* k : kLayerInputs) in.push_back(double(v.version(k)));
+    for (const char* k : {"clouds.preset", "observer.height_m"}) in.push_back(double(v.version(k)));
     in.push_back(double(w));
     const glm::dvec3 sun = v.get(keys::sunDirection);
     bool full = cacheL_.width() != w || cacheInputs_.size() != in.size() + 3;
