@@ -99,11 +99,7 @@ void Rainbow::doInit(InitContext& ctx) {
                                                .fragment("rainbow/rainbow_polar.glsl", embedded::rainbow_shaders("rainbow_polar.glsl"))
                                                .fragment("rainbow/rainbow_grid.frag.glsl", embedded::rainbow_shaders("rainbow_grid.frag.glsl")));
     meshPrograms_.get(Projection::Perspective);
-    cache_ = gl::Texture2D(kCacheU, kCachePsi, GL_RGBA32F);
-    glTextureParameteri(cache_.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(cache_.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
-    glTextureParameteri(cache_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTextureParameteri(cache_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    cache_ = {};  // 8 MB: made on the real-time path's first frame, not for an offline render
     cacheInputs_.clear();
     programs_.get(Projection::Perspective);  // shader errors surface in init()
 }
@@ -195,7 +191,13 @@ void Rainbow::doRender(const FrameContext& ctx) {
         const glm::dvec3 A = -L;
         const glm::dvec3 e1 = glm::normalize(std::abs(A.z) < 0.999 ? glm::cross(glm::dvec3(0, 0, 1), A) : glm::dvec3(1, 0, 0));
         const glm::dvec3 e2 = glm::cross(A, e1);
-        if (stale) {
+        if (!cache_) {
+            cache_ = gl::Texture2D(kCacheU, kCachePsi, GL_RGBA32F);
+            cache_.setFilter(GL_LINEAR);
+            cache_.setWrap(GL_REPEAT);  // psi goes round; x is clamped below
+            glTextureParameteri(cache_.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        }
+        if (stale) {  // always on the first frame: cacheInputs_ starts empty
             cacheFill_.use();
             setCurtain(cacheFill_);
             cacheFill_.set("u_polarA", glm::vec3(A));
