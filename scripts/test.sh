@@ -21,7 +21,15 @@ cmake --install "$build" --prefix "$prefix" >/dev/null
 cmake -S "$here/examples/consumer" -B "$build/consumer" -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
 cmake --build "$build/consumer" -j "$jobs" >/dev/null
 "$build/consumer/welkin_consumer"
-rm -rf "$prefix"
+
+echo "== examples/host copied out of the tree, built against the installed welkin, one headless frame"
+hostsrc=$(mktemp -d)
+cp -r "$here/examples/host/." "$hostsrc"
+cmake -S "$hostsrc" -B "$hostsrc/build" -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$hostsrc/build" -j "$jobs" >/dev/null
+"$hostsrc/build/welkin_host" --headless --time 2026-06-21T13:00:00+02:00 --size 320x180 --out "$build/example-host.png"
+test -s "$build/example-host.png"
+rm -rf "$hostsrc" "$prefix"
 
 echo "== element template: examples/elements/halo copied into skyelements/, nothing else changed"
 # A new element is one folder: copy the template, reconfigure, build, render it with an option

@@ -1,0 +1,246 @@
+#include <welkin_host/renderer.hpp>
+
+#include <epoxy/gl.h>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <cmath>
+#include <numbers>
+
+namespace host {
+
+namespace {
+
+// Texture units the renderer uses (the cloud shadow's is WELKIN_BINDING_CLOUD_SHADOW_MAP, 9).
+constexpr GLuint kUnitBrdf = 0, kUnitCube = 1;
+
+const char* kVertex = R"(#version 450 core
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;
+layout(location = 2) in vec4 a_color;
+uniform mat4 u_model;
+uniform mat3 u_normalMatrix;
+uniform mat4 u_viewProjection;
+out vec3 v_world;
+out vec3 v_normal;
+out vec4 v_color;
+void main() {
+    vec4 w = u_model * vec4(a_position, 1.0);
+    v_world = w.xyz;
+    v_normal = u_normalMatrix * a_normal;
+    v_color = a_color;
+    gl_Position = u_viewProjection * w;
+}
+)";
+
+// The fragment shader's body (after the optional cloud-shadow chunk).
+const char* kFragment = R"(
+const float PI = 3.14159265358979;
+in vec3 v_world;
+in vec3 v_normal;
+in vec4 v_color;
+out vec4 o_radiance;
+
+uniform vec3 u_eye;
+uniform vec4 u_baseColor;
+uniform float u_metallic;
+uniform float u_roughness;
+uniform vec3 u_sunDir, u_sunE;    // towards the Sun (world), lux per channel
+uniform vec3 u_moonDir, u_moonE;
+uniform vec2 u_cloudShadowOn;     // (Sun, Moon): 1 where the shadow map is made for that light
+uniform vec3 u_sh[9];             // SH radiance, cd/m^2, ENU
+uniform mat3 u_worldToEnu;
+uniform mat4 u_worldToEnuPoint;
+uniform mat3 u_worldToCube;
+uniform int u_cubeMips;           // 0: no cube (specular ambient from the SH)
+layout(binding = 0) uniform sampler2D u_brdf;
+layout(binding = 1) uniform samplerCube u_cube;
+
+// Irradiance (lux) from the SH radiance: sum A_l L_lm Y_lm(n).
+vec3 shIrradiance(vec3 n) {
+    const float A0 = PI, A1 = 2.0 * PI / 3.0, A2 = PI / 4.0;
+    return A0 * 0.282095 * u_sh[0]
+         + A1 * 0.488603 * (n.y * u_sh[1] + n.z * u_sh[2] + n.x * u_sh[3])
+         + A2 * (1.092548 * (n.x * n.y * u_sh[4] + n.y * n.z * u_sh[5] + n.x * n.z * u_sh[7])
+                 + 0.315392 * (3.0 * n.z * n.z - 1.0) * u_sh[6] + 0.546274 * (n.x * n.x - n.y * n.y) * u_sh[8]);
+}
+// Radiance (cd/m^2) of the SH environment in direction d (no convolution).
+vec3 shRadiance(vec3 n) {
+    return 0.282095 * u_sh[0] + 0.488603 * (n.y * u_sh[1] + n.z * u_sh[2] + n.x * u_sh[3])
+         + 1.092548 * (n.x * n.y * u_sh[4] + n.y * n.z * u_sh[5] + n.x * n.z * u_sh[7])
+         + 0.315392 * (3.0 * n.z * n.z - 1.0) * u_sh[6] + 0.546274 * (n.x * n.x - n.y * n.y) * u_sh[8];
+}
+
+float D_GGX(float NoH, float a) {
+    float a2 = a * a;
+    float d = NoH * NoH * (a2 - 1.0) + 1.0;
+    return a2 / (PI * d * d);
+}
+float V_SmithGGXCorrelated(float NoV, float NoL, float a) {
+    float a2 = a * a;
+    float gv = NoL * sqrt(NoV * NoV * (1.0 - a2) + a2);
+    float gl = NoV * sqrt(NoL * NoL * (1.0 - a2) + a2);
+    return 0.5 / max(gv + gl, 1e-8);
+}
+vec3 F_Schlick(vec3 f0, float VoH) { return f0 + (1.0 - f0) * pow(1.0 - VoH, 5.0); }
+
+// Radiance reflected towards v from a directional light of illuminance E (lux) towards l.
+vec3 directLight(vec3 n, vec3 v, vec3 l, vec3 E, vec3 diffuseColor, vec3 f0, float roughness) {
+    float NoL = dot(n, l);
+    if (NoL <= 0.0 || max(E.r, max(E.g, E.b)) <= 0.0) return vec3(0.0);
+    vec3 h = normalize(v + l);
+    float NoV = max(dot(n, v), 1e-4), NoH = max(dot(n, h), 0.0), VoH = max(dot(v, h), 0.0);
+    float a = max(roughness, 0.045);
+    a *= a;
+    vec3 spec = D_GGX(NoH, a) * V_SmithGGXCorrelated(NoV, NoL, a) * F_Schlick(f0, VoH);
+    return (diffuseColor / PI + spec) * E * NoL;
+}
+
+void main() {
+    vec3 n = normalize(v_normal);
+    vec3 v = normalize(u_eye - v_world);
+    if (dot(n, v) < 0.0) n = -n;  // a back face seen from behind (thin geometry)
+    vec3 base = u_baseColor.rgb * v_color.rgb;
+    float roughness = clamp(u_roughness, 0.0, 1.0);
+    float metallic = clamp(u_metallic, 0.0, 1.0);
+    vec3 diffuseColor = base * (1.0 - metallic);
+    vec3 f0 = mix(vec3(0.04), base, metallic);
+
+    float sunShadow = 1.0, moonShadow = 1.0;
+#ifdef HOST_CLOUD_SHADOW
+    float s = welkin_cloudShadow((u_worldToEnuPoint * vec4(v_world, 1.0)).xyz);
+    sunShadow = mix(1.0, s, u_cloudShadowOn.x);
+    moonShadow = mix(1.0, s, u_cloudShadowOn.y);
+#endif
+    vec3 L = directLight(n, v, u_sunDir, u_sunE * sunShadow, diffuseColor, f0, roughness)
+           + directLight(n, v, u_moonDir, u_moonE * moonShadow, diffuseColor, f0, roughness);
+
+    vec3 nEnu = u_worldToEnu * n;
+    L += diffuseColor / PI * max(shIrradiance(nEnu), vec3(0.0));
+
+    float NoV = max(dot(n, v), 1e-4);
+    vec3 r = reflect(-v, n);
+    vec2 ab = texture(u_brdf, vec2(NoV, roughness)).rg;
+    vec3 prefiltered;
+    if (u_cubeMips > 0)
+        prefiltered = textureLod(u_cube, u_worldToCube * r, roughness * float(u_cubeMips - 1)).rgb;
+    else
+        prefiltered = max(shRadiance(u_worldToEnu * r), vec3(0.0));
+    L += prefiltered * (f0 * ab.x + ab.y);
+    o_radiance = vec4(L, 1.0);
+}
+)";
+
+double radicalInverse(uint32_t bits) {
+    bits = (bits << 16u) | (bits >> 16u);
+    bits = ((bits & 0x55555555u) << 1u) | ((bits & 0xAAAAAAAAu) >> 1u);
+    bits = ((bits & 0x33333333u) << 2u) | ((bits & 0xCCCCCCCCu) >> 2u);
+    bits = ((bits & 0x0F0F0F0Fu) << 4u) | ((bits & 0xF0F0F0F0u) >> 4u);
+    bits = ((bits & 0x00FF00FFu) << 8u) | ((bits & 0xFF00FF00u) >> 8u);
+    return double(bits) * 2.3283064365386963e-10;  // / 2^32
+}
+
+}  // namespace
+
+std::vector<glm::vec2> computeBrdfTable(int size, int samples) {
+    std::vector<glm::vec2> table(size_t(size) * size_t(size));
+    for (int j = 0; j < size; ++j) {
+        const double roughness = (j + 0.5) / size;
+        const double a = roughness * roughness, a2 = a * a;
+        for (int i = 0; i < size; ++i) {
+            const double NoV = (i + 0.5) / size;
+            const glm::dvec3 v(std::sqrt(1.0 - NoV * NoV), 0.0, NoV);  // n = +z
+            double scale = 0.0, bias = 0.0;
+            for (int k = 0; k < samples; ++k) {
+                // GGX importance sample of the half vector: pdf(h) = D(h) (n.h).
+                const double u1 = (k + 0.5) / samples, u2 = radicalInverse(uint32_t(k));
+                const double phi = 2.0 * std::numbers::pi * u2;
+                const double cosT = std::sqrt((1.0 - u1) / (1.0 + (a2 - 1.0) * u1));
+                const double sinT = std::sqrt(1.0 - cosT * cosT);
+                const glm::dvec3 h(sinT * std::cos(phi), sinT * std::sin(phi), cosT);
+                const double VoH = glm::dot(v, h);
+                const glm::dvec3 l = 2.0 * VoH * h - v;
+                const double NoL = l.z, NoH = h.z;
+                if (NoL <= 0.0 || VoH <= 0.0) continue;
+                // f (n.l) / pdf(l) with pdf(l) = D (n.h) / (4 v.h) and f = D V F:
+                // = 4 V (n.l) (v.h) / (n.h) x F; F = F0 (1 - Fc) + Fc.
+                const double gv = NoL * std::sqrt(NoV * NoV * (1.0 - a2) + a2);
+                const double gl = NoV * std::sqrt(NoL * NoL * (1.0 - a2) + a2);
+                const double vis = 0.5 / (gv + gl);
+                const double w = 4.0 * vis * NoL * VoH / NoH;
+                const double fc = std::pow(1.0 - VoH, 5.0);
+                scale += (1.0 - fc) * w;
+                bias += fc * w;
+            }
+            table[size_t(j) * size_t(size) + size_t(i)] = glm::vec2(float(scale / samples), float(bias / samples));
+        }
+    }
+    return table;
+}
+
+SceneRenderer::SceneRenderer() {
+    const int n = 64;
+    const std::vector<glm::vec2> table = computeBrdfTable(n, 512);
+    brdfTable_ = GlName::texture(GL_TEXTURE_2D);
+    glTextureStorage2D(brdfTable_.id(), 1, GL_RG32F, n, n);
+    glTextureSubImage2D(brdfTable_.id(), 0, 0, 0, n, n, GL_RG, GL_FLOAT, table.data());
+    glTextureParameteri(brdfTable_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(brdfTable_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(brdfTable_.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(brdfTable_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    program(false, {});
+    checkGl("SceneRenderer()");
+}
+
+unsigned SceneRenderer::program(bool cloudShadow, const std::string& cloudGlsl) {
+    GlName& p = cloudShadow ? programClouds_ : programPlain_;
+    if (!p) {
+        std::string fs = "#version 450 core\n";
+        if (cloudShadow) fs += "#define HOST_CLOUD_SHADOW 1\n" + cloudGlsl + "\n";
+        fs += kFragment;
+        p = buildProgram(cloudShadow ? "host PBR (cloud shadow)" : "host PBR", {{GL_VERTEX_SHADER, kVertex}, {GL_FRAGMENT_SHADER, fs}});
+    }
+    return p.id();
+}
+
+void SceneRenderer::draw(const Scene& scene, const ViewParams& view, const SceneLighting& lighting) {
+    const bool clouds = !lighting.cloudShadowGlsl.empty();
+    const GLuint prog = program(clouds, lighting.cloudShadowGlsl);
+    glUseProgram(prog);
+    auto loc = [prog](const char* name) { return glGetUniformLocation(prog, name); };
+    const glm::mat4 vp = view.projection * view.view;
+    glUniformMatrix4fv(loc("u_viewProjection"), 1, GL_FALSE, glm::value_ptr(vp));
+    glUniform3fv(loc("u_eye"), 1, glm::value_ptr(view.eyeWorld));
+    glUniform3fv(loc("u_sunDir"), 1, glm::value_ptr(lighting.sun.directionWorld));
+    glUniform3fv(loc("u_sunE"), 1, glm::value_ptr(lighting.sun.illuminanceRgb));
+    glUniform3fv(loc("u_moonDir"), 1, glm::value_ptr(lighting.moon.directionWorld));
+    glUniform3fv(loc("u_moonE"), 1, glm::value_ptr(lighting.moon.illuminanceRgb));
+    glUniform2f(loc("u_cloudShadowOn"), lighting.sun.cloudShadow ? 1.0f : 0.0f, lighting.moon.cloudShadow ? 1.0f : 0.0f);
+    glUniform3fv(loc("u_sh"), 9, glm::value_ptr(lighting.sh9RadianceEnu[0]));
+    glUniformMatrix3fv(loc("u_worldToEnu"), 1, GL_FALSE, glm::value_ptr(lighting.worldToEnu));
+    const glm::mat4 toEnu(lighting.worldToEnuPoint);
+    glUniformMatrix4fv(loc("u_worldToEnuPoint"), 1, GL_FALSE, glm::value_ptr(toEnu));
+    glUniformMatrix3fv(loc("u_worldToCube"), 1, GL_FALSE, glm::value_ptr(lighting.worldToCube));
+    glUniform1i(loc("u_cubeMips"), lighting.specularCube ? std::max(lighting.specularMips, 1) : 0);
+    glBindTextureUnit(kUnitBrdf, brdfTable_.id());
+    glBindTextureUnit(kUnitCube, lighting.specularCube);
+    if (clouds && lighting.bindCloudShadow) lighting.bindCloudShadow(prog);
+
+    const GLint uModel = loc("u_model"), uNormal = loc("u_normalMatrix"), uBase = loc("u_baseColor"),
+                uMetal = loc("u_metallic"), uRough = loc("u_roughness");
+    for (const auto& d : scene.draws()) {
+        const auto& prim = scene.primitives()[size_t(d.primitive)];
+        const auto& mat = scene.materials()[size_t(prim.material)];
+        const glm::mat3 normalMatrix = glm::transpose(glm::inverse(glm::mat3(d.world)));
+        glUniformMatrix4fv(uModel, 1, GL_FALSE, glm::value_ptr(d.world));
+        glUniformMatrix3fv(uNormal, 1, GL_FALSE, glm::value_ptr(normalMatrix));
+        glUniform4fv(uBase, 1, glm::value_ptr(mat.baseColor));
+        glUniform1f(uMetal, mat.metallic);
+        glUniform1f(uRough, mat.roughness);
+        glBindVertexArray(prim.vao.id());
+        glDrawElements(GL_TRIANGLES, prim.indexCount, GL_UNSIGNED_INT, nullptr);
+    }
+    glBindVertexArray(0);
+}
+
+}  // namespace host
