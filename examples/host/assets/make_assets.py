@@ -10,9 +10,9 @@
   buildings.gltf + buildings.bin  houses with pitched roofs and square towers in sandstone,
                                   terracotta roofs; one named node per building ("house_n1",
                                   "keep_far" ...) standing on the terrain
-  spheres.gltf + spheres.bin      two rows of five spheres (radius 1.5 m): dielectric in front,
-                                  metal behind, roughness 1.0, 0.75, 0.5, 0.25, 0.05 from south
-                                  to north (metallic-roughness PBR materials)
+  spheres.gltf + spheres.bin      a row of ten spheres (radius 1.4 m) 30 m west of the camera:
+                                  five white dielectrics then five gold metals, each from rough to
+                                  smooth (roughness 1.0, 0.75, 0.5, 0.25, 0.05; metallic-roughness)
 
 Plain python3 (struct, json, math): the same script writes the same bytes every time.
 """
@@ -38,8 +38,8 @@ def height(x, z):
     r = math.hypot(x, z)
     # Hills rising towards the edges of the map (a basin about the village), with a ridge to the
     # west on which the far keep stands.
-    rim = 90.0 * smoothstep(900.0, 2900.0, r)
-    ridge = 55.0 * math.exp(-((x + 2400.0) ** 2) / (2 * 420.0 ** 2)) * math.exp(-((z + 150.0) ** 2) / (2 * 700.0 ** 2))
+    rim = 170.0 * smoothstep(900.0, 2900.0, r)
+    ridge = 70.0 * math.exp(-((x + 2400.0) ** 2) / (2 * 420.0 ** 2)) * math.exp(-((z + 150.0) ** 2) / (2 * 700.0 ** 2))
     rolling = (14.0 * math.sin(x / 410.0 + 0.7) * math.cos(z / 530.0 - 0.4)
                + 7.0 * math.sin(x / 170.0 - 1.3) * math.sin(z / 230.0 + 2.1))
     # A valley running north-south east of the village, 35 m deep.
@@ -120,7 +120,7 @@ class Gltf:
     def node(self, name, mesh, translation=(0, 0, 0), yaw_deg=0.0):
         node = {"name": name, "mesh": mesh}
         if any(translation):
-            node["translation"] = [round(t, 4) for t in translation]
+            node["translation"] = [round(t, 4) + 0.0 for t in translation]
         if yaw_deg:
             h = math.radians(yaw_deg) / 2  # rotation about +y, glTF quaternion (x, y, z, w)
             node["rotation"] = [0.0, round(math.sin(h), 8), 0.0, round(math.cos(h), 8)]
@@ -269,7 +269,7 @@ def make_buildings(out_dir):
 
 # ---------------------------------------------------------------- spheres
 
-SPHERE_R = 1.5
+SPHERE_R = 1.4
 ROUGHNESS = [1.0, 0.75, 0.5, 0.25, 0.05]
 
 
@@ -290,14 +290,18 @@ def make_spheres(out_dir):
             idx += [a, b, a + 1, a + 1, b, b + 1]
     attrs = {"POSITION": g.vec3(pos, True), "NORMAL": g.vec3(nor)}
     ind = g.indices(idx)
-    rows = [("dielectric", (0.80, 0.80, 0.80), 0.0, -24.0),   # white plaster-like dielectric
-            ("metal", (1.00, 0.71, 0.29), 1.0, -31.0)]        # gold: F0 of gold, linear sRGB
-    for kind, base, metallic, x in rows:
-        for k, rough in enumerate(ROUGHNESS):
+    # One row across the view, 30 m west of the camera: five dielectrics (white) on the left
+    # (south), then five metals (gold) on the right (north), each from rough to smooth.
+    rows = [("dielectric", (0.80, 0.80, 0.80), 0.0),   # white plaster-like dielectric
+            ("metal", (1.00, 0.71, 0.29), 1.0)]        # gold: its F0, linear sRGB
+    k = 0
+    for kind, base, metallic in rows:
+        for j, rough in enumerate(ROUGHNESS):
             m = g.material("%s_r%.2f" % (kind, rough), base, metallic, rough)
             mesh = g.mesh("sphere_%s_r%.2f" % (kind, rough), [{"attributes": attrs, "indices": ind, "material": m, "mode": 4}])
-            z = 9.0 - 4.5 * k  # from south (left when looking west) to north
-            g.node("sphere_%s_%d" % (kind, k), mesh, (x, SPHERE_R, z))
+            z = 18.0 - 4.0 * k  # from south (left when looking west) to north
+            g.node("sphere_%s_%d" % (kind, j), mesh, (-30.0, SPHERE_R, z))
+            k += 1
     g.write(out_dir)
 
 
