@@ -17,7 +17,9 @@
 //   --yaw D --pitch D     heading from north through east, and elevation, degrees; default 270, -2
 //   --fov D               vertical field of view, degrees in [10, 120]; default 50
 //   --speed S             simulated seconds per real second in the window, [0, 1e6]; default 1440
-//   --no-aerial           leave out welkin's applyToScene() (aerial perspective, cloud shadows)
+//   --effects E           welkin (default): applyToScene() puts the clouds' shadows and the aerial
+//                         perspective over the drawn scene; shader: the host's shader shades the
+//                         clouds' shadows itself (welkin_cloudShadow), no aerial perspective
 //   --overlay             draw the frame-time overlay into the headless image too
 //   --assets DIR          the glTF assets (default: the source tree's examples/host/assets)
 //
@@ -78,7 +80,7 @@ void usage() {
     std::printf(
         "usage: welkin_host [--headless --out FILE.png|.exr] [--time ISO] [--size WxH] [--clouds none|fair|overcast]\n"
         "                   [--lat DEG --lon DEG] [--pos X,Y,Z] [--yaw DEG] [--pitch DEG] [--fov DEG] [--speed S]\n"
-        "                   [--no-aerial] [--overlay] [--assets DIR]\n"
+        "                   [--effects welkin|shader] [--overlay] [--assets DIR]\n"
         "A game's scene under welkin's sky. Default place: Malta (35.9 N, 14.5 E), camera 8 m up looking west.\n"
         "Window: right mouse look, WASD/QE move (Shift x10), space pause, ]/[ time speed, F1 overlay, Esc quit.\n");
 }
@@ -134,8 +136,11 @@ Options parse(int argc, char** argv) {
             o.camera.verticalFovDeg = parseNumber(a, value(i, a), 10, 120);
         } else if (a == "--speed") {
             o.speed = parseNumber(a, value(i, a), 0, 1e6);
-        } else if (a == "--no-aerial") {
-            o.app.aerialPerspective = false;
+        } else if (a == "--effects") {
+            const std::string v = value(i, a);
+            if (v == "welkin") o.app.effects = host::AppOptions::Effects::ApplyToScene;
+            else if (v == "shader") o.app.effects = host::AppOptions::Effects::Shader;
+            else throw UsageError("--effects '" + v + "' is not one of welkin, shader");
         } else if (a == "--overlay") {
             o.overlay = true;
         } else if (a == "--assets") {

@@ -120,18 +120,13 @@ void HostApp::updateLighting() {
     lighting_.moon.directionWorld = worldDir(L.moon.directionEnu);
     lighting_.sun.illuminanceRgb = glm::vec3(L.sun.illuminanceRgb);
     lighting_.moon.illuminanceRgb = glm::vec3(L.moon.illuminanceRgb);
-    for (int i = 0; i < 9; ++i) lighting_.sh9RadianceEnu[size_t(i)] = glm::vec3(L.sh9Radiance[size_t(i)]);
-    lighting_.worldToEnu = glm::mat3(glm::dmat3(glm::normalize(toEnu[0]), glm::normalize(toEnu[1]), glm::normalize(toEnu[2])));
+    lighting_.sky = &L;  // SH irradiance and specular cube: welkin::bindLighting() in the renderer
+    lighting_.enuFromWorld = glm::dmat3(glm::normalize(toEnu[0]), glm::normalize(toEnu[1]), glm::normalize(toEnu[2]));
     lighting_.worldToEnuPoint = worldToEnu_;
-    // Cube axes: x east, y up, z south = (e, u, -n).
-    const glm::mat3 cubeFromEnu(glm::vec3(1, 0, 0), glm::vec3(0, 0, -1), glm::vec3(0, 1, 0));
-    lighting_.worldToCube = cubeFromEnu * lighting_.worldToEnu;
-    lighting_.specularCube = L.specularCube.id;
-    lighting_.specularMips = L.specularMips;
     lighting_.sun.cloudShadow = lighting_.moon.cloudShadow = false;
     lighting_.cloudShadowGlsl.clear();
     lighting_.bindCloudShadow = nullptr;
-    if (cloudShadowMap_ && vars.has(welkin::generators::cloudkeys::shadowMap)) {
+    if (options_.effects == AppOptions::Effects::Shader && cloudShadowMap_ && vars.has(welkin::generators::cloudkeys::shadowMap)) {
         // The shadow map is made for the Sun, or the Moon at night; SkyLighting's illuminance is
         // the light at the observer after the clouds over the observer, so the light before the
         // clouds is E / T_clouds, shadowed per fragment by welkin_cloudShadow().
@@ -203,7 +198,7 @@ void HostApp::render(const welkin::UtcInstant& time, const FlyCamera& camera, in
                                                                  .farM = std::numeric_limits<double>::infinity(),
                                                                  .metresPerUnit = 1.0}};
     sky_->renderInto(target);
-    if (options_.aerialPerspective) sky_->applyToScene(target);
+    if (options_.effects == AppOptions::Effects::ApplyToScene) sky_->applyToScene(target);
     glQueryCounter(q[2].id(), GL_TIMESTAMP);
     timerPending_[size_t(frameIndex_ % kTimerFrames)] = true;
     ++frameIndex_;

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 
 namespace host {
 
@@ -48,28 +49,8 @@ uniform float u_roughness;
 uniform vec3 u_sunDir, u_sunE;    // towards the Sun (world), lux per channel
 uniform vec3 u_moonDir, u_moonE;
 uniform vec2 u_cloudShadowOn;     // (Sun, Moon): 1 where the shadow map is made for that light
-uniform vec3 u_sh[9];             // SH radiance, cd/m^2, ENU
-uniform mat3 u_worldToEnu;
 uniform mat4 u_worldToEnuPoint;
-uniform mat3 u_worldToCube;
-uniform int u_cubeMips;           // 0: no cube (specular ambient from the SH)
 layout(binding = 0) uniform sampler2D u_brdf;
-layout(binding = 1) uniform samplerCube u_cube;
-
-// Irradiance (lux) from the SH radiance: sum A_l L_lm Y_lm(n).
-vec3 shIrradiance(vec3 n) {
-    const float A0 = PI, A1 = 2.0 * PI / 3.0, A2 = PI / 4.0;
-    return A0 * 0.282095 * u_sh[0]
-         + A1 * 0.488603 * (n.y * u_sh[1] + n.z * u_sh[2] + n.x * u_sh[3])
-         + A2 * (1.092548 * (n.x * n.y * u_sh[4] + n.y * n.z * u_sh[5] + n.x * n.z * u_sh[7])
-                 + 0.315392 * (3.0 * n.z * n.z - 1.0) * u_sh[6] + 0.546274 * (n.x * n.x - n.y * n.y) * u_sh[8]);
-}
-// Radiance (cd/m^2) of the SH environment in direction d (no convolution).
-vec3 shRadiance(vec3 n) {
-    return 0.282095 * u_sh[0] + 0.488603 * (n.y * u_sh[1] + n.z * u_sh[2] + n.x * u_sh[3])
-         + 1.092548 * (n.x * n.y * u_sh[4] + n.y * n.z * u_sh[5] + n.x * n.z * u_sh[7])
-         + 0.315392 * (3.0 * n.z * n.z - 1.0) * u_sh[6] + 0.546274 * (n.x * n.x - n.y * n.y) * u_sh[8];
-}
 
 float D_GGX(float NoH, float a) {
     float a2 = a * a;
@@ -115,18 +96,12 @@ void main() {
     vec3 L = directLight(n, v, u_sunDir, u_sunE * sunShadow, diffuseColor, f0, roughness)
            + directLight(n, v, u_moonDir, u_moonE * moonShadow, diffuseColor, f0, roughness);
 
-    vec3 nEnu = u_worldToEnu * n;
-    L += diffuseColor / PI * max(shIrradiance(nEnu), vec3(0.0));
+    L += diffuseColor / PI * welkin_shIrradiance(welkin_toEnu(n));
 
     float NoV = max(dot(n, v), 1e-4);
     vec3 r = reflect(-v, n);
     vec2 ab = texture(u_brdf, vec2(NoV, roughness)).rg;
-    vec3 prefiltered;
-    if (u_cubeMips > 0)
-        prefiltered = textureLod(u_cube, u_worldToCube * r, roughness * float(u_cubeMips - 1)).rgb;
-    else
-        prefiltered = max(shRadiance(u_worldToEnu * r), vec3(0.0));
-    L += prefiltered * (f0 * ab.x + ab.y);
+    L += welkin_specularRadiance(welkin_toEnu(r), roughness) * (f0 * ab.x + ab.y);
     o_radiance = vec4(L, 1.0);
 }
 )";
@@ -196,6 +171,7 @@ unsigned SceneRenderer::program(bool cloudShadow, const std::string& cloudGlsl) 
     GlName& p = cloudShadow ? programClouds_ : programPlain_;
     if (!p) {
         std::string fs = "#version 450 core\n";
+        for (const auto& [name, text] : welkin::lightingGlslChunks()) fs += text + "\n";  // welkin_shIrradiance ...
         if (cloudShadow) fs += "#define HOST_CLOUD_SHADOW 1\n" + cloudGlsl + "\n";
         fs += kFragment;
         p = buildProgram(cloudShadow ? "host PBR (cloud shadow)" : "host PBR", {{GL_VERTEX_SHADER, kVertex}, {GL_FRAGMENT_SHADER, fs}});
@@ -216,14 +192,11 @@ void SceneRenderer::draw(const Scene& scene, const ViewParams& view, const Scene
     glUniform3fv(loc("u_moonDir"), 1, glm::value_ptr(lighting.moon.directionWorld));
     glUniform3fv(loc("u_moonE"), 1, glm::value_ptr(lighting.moon.illuminanceRgb));
     glUniform2f(loc("u_cloudShadowOn"), lighting.sun.cloudShadow ? 1.0f : 0.0f, lighting.moon.cloudShadow ? 1.0f : 0.0f);
-    glUniform3fv(loc("u_sh"), 9, glm::value_ptr(lighting.sh9RadianceEnu[0]));
-    glUniformMatrix3fv(loc("u_worldToEnu"), 1, GL_FALSE, glm::value_ptr(lighting.worldToEnu));
     const glm::mat4 toEnu(lighting.worldToEnuPoint);
     glUniformMatrix4fv(loc("u_worldToEnuPoint"), 1, GL_FALSE, glm::value_ptr(toEnu));
-    glUniformMatrix3fv(loc("u_worldToCube"), 1, GL_FALSE, glm::value_ptr(lighting.worldToCube));
-    glUniform1i(loc("u_cubeMips"), lighting.specularCube ? std::max(lighting.specularMips, 1) : 0);
     glBindTextureUnit(kUnitBrdf, brdfTable_.id());
-    glBindTextureUnit(kUnitCube, lighting.specularCube);
+    if (!lighting.sky) throw std::runtime_error("SceneRenderer::draw(): SceneLighting::sky is not set");
+    welkin::bindLighting(prog, *lighting.sky, int(kUnitCube), lighting.enuFromWorld);
     if (clouds && lighting.bindCloudShadow) lighting.bindCloudShadow(prog);
 
     const GLint uModel = loc("u_model"), uNormal = loc("u_normalMatrix"), uBase = loc("u_baseColor"),

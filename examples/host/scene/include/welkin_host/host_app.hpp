@@ -12,10 +12,10 @@
 //     the generators that are due, the lighting (SkyLighting) among them;
 //  2. the host: its HDR target (RGBA32F, cd/m^2) and depth texture (DEPTH_COMPONENT32F, reversed-Z:
 //     cleared to 0, GL_GREATER, infinite far plane, glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE));
-//     the scene drawn by the PBR renderer lit by the Sun, the Moon, the SH irradiance, the
-//     specular cube and the clouds' shadow;
+//     the scene drawn by the PBR renderer lit by the Sun, the Moon, the SH irradiance and the
+//     specular cube;
 //  3. welkin: renderInto() (the sky where the depth is still the far plane), applyToScene()
-//     (aerial perspective, cloud shadows... over the host's colour, from its depth).
+//     (the clouds' shadows, then the aerial perspective, over the host's colour, from its depth).
 // present(fb) tone-maps the HDR target with the eye's adaptation (toneMapInto(fb, hdrTexture)).
 //
 // The world: metres, Y-up (x east, y up, -z north: glTF's axes), its origin on the village floor
@@ -71,7 +71,12 @@ struct AppOptions {
     std::string assetsDir;  ///< where terrain.gltf, buildings.gltf and spheres.gltf are
     Site site;
     CloudCover clouds = CloudCover::None;
-    bool aerialPerspective = true;  ///< welkin's applyToScene() over the scene
+    /// Where the clouds' shadows and the aerial perspective come from. ApplyToScene (default):
+    /// welkin's applyToScene() after the scene is drawn, from its colour and depth (the scene lit
+    /// with the light at the observer, SkyLighting's). Shader: the host's own shader shades the
+    /// clouds' shadow per light and normal (welkin_cloudShadow, the light above the clouds), and
+    /// there is no aerial perspective.
+    enum class Effects { ApplyToScene, Shader } effects = Effects::ApplyToScene;
 };
 
 /// GPU time of the parts of a frame (timer queries, read a few frames later without stalling).

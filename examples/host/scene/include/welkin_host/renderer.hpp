@@ -12,16 +12,19 @@
 //    on a surface facing the body): L = f(l, v) E (n.l) s, where s is the clouds' shadow
 //    (welkin_cloudShadow) on the light the cloud shadow map is made for. Roughness is clamped to
 //    >= 0.045 for the direct light only (a = 0.002: a point light's highlight stays finite).
-//  * Ambient diffuse: albedo (1 - metallic) / pi x E_sh(n), the irradiance of the environment from
-//    its nine SH radiance coefficients: E(n) = sum_lm A_l L_lm Y_lm(n), A = (pi, 2pi/3, pi/4).
-//  * Ambient specular (split sum, Karis 2013): the GGX-prefiltered radiance cube at
-//    mip = roughness (mips - 1), times (F0 A + B) from a table of the directional albedo of the
-//    same BRDF (computeBrdfTable(), made on the CPU at start-up).
+//  * Ambient diffuse: albedo (1 - metallic) / pi x E(n), the environment's irradiance from welkin's
+//    nine SH coefficients (GLSL welkin_shIrradiance, welkin::lightingGlslChunks()).
+//  * Ambient specular (split sum, Karis 2013): welkin's GGX-prefiltered radiance cube around the
+//    reflected direction at the material's roughness (welkin_specularRadiance), times
+//    (F0 A + B) from a table of the directional albedo of the same BRDF (computeBrdfTable(),
+//    made on the CPU at start-up).
 // Depth: the renderer draws with the caller's depth state (the example sets reversed-Z,
-// GL_GREATER); it leaves the program, vertex array and texture units 0..2 changed.
+// GL_GREATER); it leaves the program, vertex array and texture units 0, 1 and 9 changed.
 #pragma once
 #include <welkin_host/gl.hpp>
 #include <welkin_host/scene.hpp>
+
+#include <welkin/lighting.hpp>
 
 #include <glm/glm.hpp>
 
@@ -38,19 +41,17 @@ struct DirectionalLight {
     bool cloudShadow = false;                    ///< the cloud shadow map is made for this light
 };
 
-/// Everything the renderer is lit by, in the host's world axes where it says so.
+/// Everything the renderer is lit by.
 struct SceneLighting {
     DirectionalLight sun, moon;
-    /// Radiance of the environment in real SH (l <= 2), coefficients in cd/m^2 over ENU
-    /// directions, order Y00, Y1-1(y), Y10(z), Y11(x), Y2-2, Y2-1, Y20, Y21, Y22.
-    std::array<glm::vec3, 9> sh9RadianceEnu{};
-    glm::mat3 worldToEnu{1.0f};   ///< rotation of host-world directions into ENU
-    glm::dmat4 worldToEnuPoint{1.0};  ///< host-world positions to ENU metres (the cloud shadow)
-    unsigned specularCube = 0;    ///< GGX-prefiltered radiance cube (cd/m^2); 0: the SH instead
-    int specularMips = 1;         ///< mip k holds roughness k / (mips - 1)
-    glm::mat3 worldToCube{1.0f};  ///< rotation of host-world directions into the cube's axes
+    /// welkin's lighting: the environment's SH irradiance and the GGX-prefiltered specular cube,
+    /// set in the program by welkin::bindLighting() and read by welkin's GLSL chunks
+    /// (welkin_shIrradiance, welkin_specularRadiance). Required.
+    const welkin::SkyLighting* sky = nullptr;
+    glm::dmat3 enuFromWorld{1.0};         ///< rotation of host-world directions into ENU
+    glm::dmat4 worldToEnuPoint{1.0};      ///< host-world positions to ENU metres (the cloud shadow)
     /// GLSL defining float welkin_cloudShadow(vec3 enuPositionM), and the call that binds its
-    /// texture and sets its uniforms in a program; empty: no cloud shadow.
+    /// texture and sets its uniforms in a program; empty: no cloud shadow in the shader.
     std::string cloudShadowGlsl;
     std::function<void(unsigned program)> bindCloudShadow;
 };
