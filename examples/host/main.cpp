@@ -226,7 +226,9 @@ int runWindow(const Options& o) {
     welkin::UtcInstant t = parseTime(o.time);
     welkin::Logger log;
     auto window = welkin::gl::WindowContext::create({.title = "welkin host example", .width = o.width, .height = o.height}, log);
-    host::HostApp app(o.app, log);
+    host::AppOptions appOptions = o.app;
+    appOptions.interactive = true;  // welkin may spread its work over frames
+    host::HostApp app(appOptions, log);
     host::TextOverlay overlay;
     host::FlyCamera camera = o.camera;
     GLFWwindow* win = window->window();

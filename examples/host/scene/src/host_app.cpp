@@ -77,6 +77,7 @@ HostApp::HostApp(const AppOptions& options, const welkin::Logger& log) : options
     const Site& s = options_.site;
     sky_->setObserver({.latitudeRad = s.latitudeDeg * kDeg, .longitudeRad = s.longitudeDeg * kDeg, .heightMeters = s.heightM});
     sky_->setExposure({.automatic = true});
+    sky_->vars().set(welkin::keys::interactive, options_.interactive);
     sky_->setLighting(welkin::LightingOptions{});
     // The world's origin is the observer: ENU = the Y-up world rotated, 1 m per unit.
     worldToEnu_ = welkin::enuFromYUp(1.0, glm::dvec3(0.0));

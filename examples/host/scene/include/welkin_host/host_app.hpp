@@ -77,6 +77,9 @@ struct AppOptions {
     /// clouds' shadow per light and normal (welkin_cloudShadow, the light above the clouds), and
     /// there is no aerial perspective.
     enum class Effects { ApplyToScene, Shader } effects = Effects::ApplyToScene;
+    /// A window's frames one after another (render.interactive): welkin spreads work over
+    /// frames (the lighting's capture, time-sliced). false: every frame complete (headless).
+    bool interactive = false;
 };
 
 /// GPU time of the parts of a frame (timer queries, read a few frames later without stalling).
