@@ -1,4 +1,5 @@
 #include "gl/state_guard.hpp"
+#include "lighting_engine.hpp"
 #include "tone_mapper.hpp"
 
 #include <welkin/astro/astro_keys.hpp>
@@ -58,6 +59,7 @@ SkyProcessor::SkyProcessor(SkyVars vars, Logger log, ProcessorOptions options)
     : ownVars_(std::move(vars)), log_(std::move(log)), options_(options), toneMapper_(std::make_unique<ToneMapper>()) {
     deriveVariables();
     declareToneMapKeys();
+    declareLightingKeys();
     if (options_.astronomy) addGenerator(std::make_shared<astro::AstronomyGenerator>());
 }
 
@@ -65,6 +67,7 @@ SkyProcessor::SkyProcessor(BorrowedVars vars, Logger log, ProcessorOptions optio
     : vars_(&vars.vars), log_(std::move(log)), options_(options), toneMapper_(std::make_unique<ToneMapper>()) {
     deriveVariables();
     declareToneMapKeys();
+    declareLightingKeys();
     if (options_.astronomy) addGenerator(std::make_shared<astro::AstronomyGenerator>());
 }
 
@@ -110,6 +113,7 @@ void SkyProcessor::release() {
     hdrFbo_ = {};
     ldrFbo_ = {};
     toneMapper_->release();
+    releaseLighting();
     emptyVao_ = {};
     cameraUbo_ = {};
     glReady_ = false;
@@ -307,6 +311,7 @@ void SkyProcessor::update() {
     runGenerators();
     FrameContext ctx = frameContext();
     for (auto& e : elements_) e->update(ctx);
+    updateLighting();
 }
 
 void SkyProcessor::composite(unsigned framebuffer, bool depthTest, bool clearedToBlack, const HostDepth* depth) {

@@ -34,6 +34,7 @@
 #include <welkin/gl/objects.hpp>
 #include <welkin/host_depth.hpp>
 #include <welkin/image.hpp>
+#include <welkin/lighting.hpp>
 #include <welkin/log.hpp>
 #include <welkin/time.hpp>
 #include <welkin/vars.hpp>
@@ -49,6 +50,7 @@
 namespace welkin {
 
 class ToneMapper;
+class LightingEngine;
 
 /// Where the observer stands. Geodetic on WGS84.
 struct Observer {
@@ -168,6 +170,14 @@ public:
     /// Forgets the adaptation: the next frame starts in the steady state (a cut in an animation).
     void resetAdaptation();
 
+    /// Turns SkyLighting on with these options (writes the lighting.* keys; welkin/lighting.hpp),
+    /// or off with std::nullopt. Off by default: a scene pays only for what it uses. Throws one
+    /// line naming the member out of range ("SkyProcessor::setLighting(): cubeSize 3 not in [8, 1024]").
+    void setLighting(std::optional<LightingOptions> options);
+    /// The host's lighting, updated at the end of each update() (a capture only when a key
+    /// changed; time-sliced when render.interactive); ev100 is the last tone map's.
+    const SkyLighting& lighting() const;
+
     /// Animation time passed to elements: seconds since construction, or the fixed value given
     /// to setAnimationTime() (offline renders use 0 so that output is deterministic).
     double seconds() const;
@@ -197,6 +207,14 @@ private:
     /// `newFrame`: the frame renderFrame() just composited (advances the eye's adaptation).
     void toneMap(unsigned framebuffer, bool newFrame);
     FrameContext frameContext();
+    // SkyLighting (engine/src/lighting.cpp): keys, the step at the end of update(), stats, and the
+    // environment's compositing (the elements that contribute to lighting, for a capture camera).
+    friend class LightingEngine;
+    void declareLightingKeys();
+    void updateLighting();
+    void releaseLighting();
+    void lightingStats(nlohmann::json& root) const;
+    void compositeEnvironment(const Camera& camera, const gl::Buffer& cameraUbo, unsigned framebuffer);
 
     SkyVars ownVars_;
     SkyVars* vars_ = &ownVars_;
@@ -220,6 +238,7 @@ private:
     gl::Texture2D hdr_, ldr_;
     gl::Framebuffer hdrFbo_, ldrFbo_;
     std::unique_ptr<ToneMapper> toneMapper_;  // engine/src/tone_mapper.hpp
+    std::unique_ptr<LightingEngine> lighting_;  // engine/src/lighting_engine.hpp
     gl::VertexArray emptyVao_;
     gl::Buffer cameraUbo_;
     double frameMs_ = 0.0, toneMapMs_ = 0.0, generatorsMs_ = 0.0;
