@@ -465,3 +465,130 @@ TEST_CASE("A GL error the host left pending is the host's, not welkin's", "[gl][
         }
     }
 }
+
+// ---- The real elements over a host's scene ------------------------------------------------------
+
+#include <welkin/elements/registry.hpp>
+#include <welkin/keys.hpp>
+#include <nlohmann/json.hpp>
+
+namespace {
+// A host scene: flat ground (ENU z = 0) seen from `eyeHeightM` looking north `pitchRad` down
+// through a reversed-Z infinite projection (vertical field of view `fovRad`, square), colour
+// `radiance` (cd/m^2) where the ground is and the far plane elsewhere: its depth per pixel from
+// the ground's distance along each ray, as the host's rasteriser would write it.
+struct GroundScene {
+    HostTarget t;
+    Camera cam;
+    std::vector<double> distance;  // metres per pixel (top row first), inf where no ground
+    GroundScene(int n, double eyeHeightM, double pitchRad, double fovRad, float radiance) : t(n, n), distance(size_t(n * n)) {
+        const double f = 1.0 / std::tan(fovRad / 2), nearM = 0.1;
+        glm::dmat4 proj(0.0);
+        proj[0][0] = proj[1][1] = f;
+        proj[2][3] = -1.0;
+        proj[3][2] = nearM;  // reversed-Z, infinite far: window depth = near / -z
+        const glm::dvec3 eye(0, 0, eyeHeightM), fwd(0, std::cos(pitchRad), -std::sin(pitchRad));
+        cam = Camera::fromViewProjection(lookAlong(eye, fwd, {0, 0, 1}), proj, enuFromZUp(), n, n,
+                                         {.reversedZ = true, .zeroToOne = true});
+        std::vector<float> depth(size_t(n * n));
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x) {
+                const glm::dvec3 d = *cam.directionAt({x + 0.5, y + 0.5});
+                const double dist = d.z < 0 ? eyeHeightM / -d.z : std::numeric_limits<double>::infinity();
+                distance[size_t(y * n + x)] = dist;
+                const double zView = -dist * glm::dot(d, fwd);  // view z: minus the distance along the axis
+                depth[size_t((n - 1 - y) * n + x)] = std::isinf(dist) ? 0.0f : float(nearM / -zView);
+            }
+        glTextureSubImage2D(t.depth.id(), 0, 0, 0, n, n, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
+        t.fbo.bind();
+        const float c[4] = {radiance, radiance, radiance, 1};
+        glClearBufferfv(GL_COLOR, 0, c);
+    }
+    RenderTarget target() const { return {.framebuffer = t.fbo.id(), .width = t.w, .height = t.h, .depth = HostDepth{.depthTexture = t.depth.id()}}; }
+};
+
+std::unique_ptr<SkyProcessor> noonOverMalta(const std::string& elements, const std::string& preset = "") {
+    auto p = std::make_unique<SkyProcessor>();
+    for (const auto& n : elements::expandElementList(elements)) p->add(elements::makeElement(n));
+    if (!preset.empty()) p->vars().setFromString("clouds.preset", preset);
+    p->setObserver({.latitudeRad = 35.9 * kDeg, .longitudeRad = 14.5 * kDeg, .heightMeters = 0});
+    p->setTime(UtcInstant::parse("2026-06-21T10:00:00Z"));
+    p->setAnimationTime(0.0);
+    return p;
+}
+}  // namespace
+
+TEST_CASE("applyToScene: the air in front of the host's ground brightens it with distance", "[gl][host][sky]") {
+    test::glContext();
+    // Black ground seen from 2 m, looking north 0.5 deg down with a 2 deg field: the rows span
+    // the ground from ~80 m to the horizon; the aerial perspective alone shows on it.
+    const int n = 24;
+    GroundScene g(n, 2.0, 0.5 * kDeg, 2.0 * kDeg, 0.0f);
+    auto p = noonOverMalta("sky");
+    p->setCamera(g.cam);
+    p->renderInto(g.target());
+    const auto before = g.t.colour.readRgbaFloat();
+    p->applyToScene(g.target());
+    auto px = g.t.colour.readRgbaFloat();
+    for (size_t i = 0; i < px.size(); ++i) REQUIRE(std::isfinite(px[i]));
+    CHECK(p->vars().get(keys::hostScene));
+    double lastDist = 0, lastG = -1;
+    int groundRows = 0;
+    for (int y = n - 1; y >= 0; --y) {  // from the bottom (near) upwards (far)
+        const double dist = g.distance[size_t(y * n + n / 2)];
+        const glm::vec4 c = g.t.at(px, n / 2, y);
+        if (std::isinf(dist)) {
+            // The sky (drawn by renderInto) is left as it was.
+            CHECK(c.g == g.t.at(before, n / 2, y).g);
+            continue;
+        }
+        ++groundRows;
+        CHECK(dist > lastDist);
+        // More air, more light: in-scattering grows with the distance (strictly: the volume's
+        // slices interpolate linearly between monotone values).
+        CHECK(c.g > lastG);
+        CHECK(c.b > c.r);  // Rayleigh: the air's light is blue
+        lastDist = dist;
+        lastG = c.g;
+        if (dist > 3000 && dist < 6000) {
+            // 3-6 km of noon air in front of black ground: a quarter to three quarters of the
+            // horizon sky's 5000-8000 cd/m^2 (the haze's extinction length is ~10-20 km).
+            CHECK(c.g > 500.0f);
+            CHECK(c.g < 6000.0f);
+        }
+        if (dist < 150) CHECK(c.g < 150.0f);  // ~100 m of air: a few per cent of the horizon
+    }
+    CHECK(groundRows > n / 2);
+}
+
+TEST_CASE("applyToScene: the clouds' shadows fall on the host's ground", "[gl][host][clouds]") {
+    test::glContext();
+    // A bright ground (1e5 cd/m^2: the aerial perspective's few hundred are then < 1 %) seen from
+    // 3 km under the fair cumulus at noon; the same scene without clouds is the reference, so the
+    // ratio is the shadow pass's factor.
+    const int n = 32;
+    auto render = [&](const std::string& elements) {
+        // Looking down 60 deg from 3 km with a 90 deg field: 2-15 km of ground ahead.
+        GroundScene g(n, 3000.0, 60 * kDeg, 90 * kDeg, 1e5f);
+        auto p = noonOverMalta(elements, elements == "sky" ? "" : "fair");
+        p->setCamera(g.cam);
+        p->renderInto(g.target());
+        p->applyToScene(g.target());
+        return g.t.colour.readRgbaFloat();
+    };
+    const auto clear = render("sky"), cloudy = render("sky,clouds");
+    int shadowed = 0, lit = 0;
+    for (size_t i = 0; i < clear.size(); i += 4) {
+        const double f = cloudy[i + 1] / clear[i + 1];
+        REQUIRE(std::isfinite(f));
+        CHECK(f >= 0.0);
+        // A sunlit patch under a broken deck is at most the clear direct + diffuse over the
+        // observer's share: < 3x at noon (the diffuse is > 1/3 of the direct only under a deck).
+        CHECK(f < 3.0);
+        if (f < 0.7) ++shadowed;  // a cloud's shadow: the Sun's direct light (3/4 of the total at noon) mostly gone
+        if (f > 0.95) ++lit;
+    }
+    // Fair-weather cumulus (1-2 oktas) over a 6 km square: both shadow and sunlit ground.
+    CHECK(shadowed > 0);
+    CHECK(lit > shadowed);
+}
