@@ -13,6 +13,12 @@ layout(std140, binding = WELKIN_BINDING_CAMERA_UBO) uniform WelkinCamera {
     vec4 welkin_viewport;       // width, height, 1/width, 1/height (pixels)
     vec4 welkin_projection;     // type (0 perspective, 1 fisheye, 2 equirect, 3 cube), tan(fovY/2), aspect, face
     vec4 welkin_time;           // seconds since start
+    mat4 welkin_clipRows;       // perspective: columns a, b, f; clip = (a.d, b.d, f.d, f.d) for an ENU direction d
+    mat4 welkin_worldFromClip;  // perspective: ENU ray = mat3(M) * vec3(ndc.xy, 1)
+    vec4 welkin_depthProjection;  // the host depth's projection P[2][2], P[3][2], P[2][3], P[3][3]
+    vec4 welkin_depthMode;      // reversedZ (0/1), zeroToOne (0/1), metres per host unit, 0
+    vec4 welkin_viewZ;          // the host view space's +z axis, ENU
+    vec4 welkin_eye;            // the eye, ENU metres from the observer
 };
 
 const float WELKIN_PI = 3.14159265358979;
@@ -44,11 +50,9 @@ bool welkin_viewDirection(vec2 pixel, out vec3 dir) {
     int type = welkin_projectionType();
     dir = vec3(0.0, 0.0, 1.0);
     if (type == 0) {
-        float tanY = welkin_projection.y, tanX = tanY * welkin_projection.z;
-        float x = (2.0 * pixel.x / size.x - 1.0) * tanX;
-        float y = (1.0 - 2.0 * pixel.y / size.y) * tanY;
-        mat3 b = mat3(welkin_cameraToWorld);
-        dir = normalize(b[2] + x * b[0] + y * b[1]);
+        // Any pinhole camera (welkin's, or the host's from its matrices: roll, off-axis frusta).
+        vec2 ndc = vec2(2.0 * pixel.x / size.x - 1.0, 1.0 - 2.0 * pixel.y / size.y);
+        dir = normalize(mat3(welkin_worldFromClip) * vec3(ndc, 1.0));
         return true;
     }
     if (type == 1) {
@@ -105,11 +109,9 @@ const vec4 WELKIN_CLIP_INVISIBLE = vec4(0.0, 0.0, 0.0, -1.0);
 // f.d), NDC = (a.d, b.d) / f.d. Mirrors pinholeOf() in engine/src/camera.cpp.
 void welkin_pinhole(out vec3 a, out vec3 b, out vec3 f) {
     if (welkin_projectionType() == 0) {
-        mat3 m = mat3(welkin_cameraToWorld);
-        float tanY = welkin_projection.y, tanX = tanY * welkin_projection.z;
-        a = m[0] / tanX;
-        b = m[1] / tanY;
-        f = m[2];
+        a = welkin_clipRows[0].xyz;
+        b = welkin_clipRows[1].xyz;
+        f = welkin_clipRows[2].xyz;
         return;
     }
     // Cube face: NDC = (s, -t) in the face coordinates of welkin_viewDirection().
@@ -228,4 +230,25 @@ vec2 welkin_pixelScale(vec3 dir) {
     float a = m1.x, c = m1.y, b = m2.x, e = m2.y;
     float sMax = 0.5 * (length(vec2(a + e, c - b)) + length(vec2(a - e, c + b)));
     return vec2(sMax > 0.0 ? abs(a * e - b * c) / sMax : 0.0, sMax);
+}
+
+// ---- The host's depth buffer -------------------------------------------------------------------
+
+// True when window depth `d` (a texel of the host's depth texture) is the far plane: nothing was
+// drawn there (the camera's DepthMode: 1 standard, 0 reversed-Z).
+bool welkin_depthIsFar(float d) {
+    return welkin_depthMode.x > 0.5 ? d <= 0.0 : d >= 1.0;
+}
+
+// Distance in metres from the eye to the host's geometry at window depth `d` along the unit ENU
+// direction `dir` of its pixel, read with the host's projection (Camera::fromViewProjection) or,
+// for other cameras, a perspective with HostDepth's near and far planes, in the camera's
+// DepthMode. Returns a huge value (1e30) at the far plane. Mirrors welkin::sceneDistanceMeters().
+float welkin_sceneDistance(float d, vec3 dir) {
+    if (welkin_depthIsFar(d)) return 1e30;
+    float zNdc = welkin_depthMode.y > 0.5 ? d : 2.0 * d - 1.0;
+    vec4 P = welkin_depthProjection;  // ndc = (P.x z + P.y) / (P.z z + P.w), z view-space
+    float z = (P.y - zNdc * P.w) / (zNdc * P.z - P.x);
+    float along = dot(dir, welkin_viewZ.xyz);  // view-space z per unit of distance (< 0 in front)
+    return max(z / min(along, -1e-6), 0.0) * welkin_depthMode.z;
 }

@@ -100,7 +100,7 @@ void SkyElement::init(InitContext& ctx) {
     if (initialized_) throw Error(name_ + "::init(): already initialised");
     Stopwatch sw(timingEnabled_);
     doInit(ctx);
-    gl::checkError(name_ + "::init()");
+    if (validationEnabled_) gl::checkError(name_ + "::init()");
     initTiming_.add(sw.ms());
     initialized_ = true;
 }
@@ -109,7 +109,7 @@ void SkyElement::update(const FrameContext& ctx) {
     requireInitialized("update");
     Stopwatch sw(timingEnabled_);
     doUpdate(ctx);
-    gl::checkError(name_ + "::update()");
+    if (validationEnabled_) gl::checkError(name_ + "::update()");
     updateTiming_.add(sw.ms());
 }
 
@@ -117,8 +117,19 @@ void SkyElement::render(const FrameContext& ctx) {
     requireInitialized("render");
     Stopwatch sw(timingEnabled_);
     doRender(ctx);
-    gl::checkError(name_ + "::render()");
+    if (validationEnabled_) gl::checkError(name_ + "::render()");
     renderTiming_.add(sw.ms());
+}
+
+const char* toString(ScenePass pass) { return pass == ScenePass::Surfaces ? "surfaces" : "air"; }
+
+void SkyElement::applyToScene(const FrameContext& ctx, ScenePass pass) {
+    requireInitialized("applyToScene");
+    if (!ctx.depth) throw Error(name_ + "::applyToScene(): FrameContext::depth is not set (the host's depth is required)");
+    Stopwatch sw(timingEnabled_);
+    doApplyToScene(ctx, pass);
+    if (validationEnabled_) gl::checkError(name_ + "::applyToScene(" + toString(pass) + ")");
+    sceneTiming_.add(sw.ms());
 }
 
 void SkyElement::resize(int width, int height) {
@@ -126,7 +137,7 @@ void SkyElement::resize(int width, int height) {
         throw Error(name_ + "::resize(): " + std::to_string(width) + "x" + std::to_string(height) + " must be at least 1x1");
     if (!initialized_) return;
     doResize(width, height);
-    gl::checkError(name_ + "::resize()");
+    if (validationEnabled_) gl::checkError(name_ + "::resize()");
 }
 
 void SkyElement::release() {

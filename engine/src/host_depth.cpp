@@ -10,7 +10,8 @@ void HostDepth::validate(const char* where) const {
     const std::string w = std::string(where) + ": HostDepth";
     if (depthTexture == 0) throw Error(w + " depthTexture is 0 (no texture)");
     checkOpenRange(w.c_str(), "nearM", nearM, 0, kInfinity);
-    checkOpenRange(w.c_str(), "farM", farM, nearM, kInfinity);
+    // farM may be +inf (an infinite far plane); checkRange's closed end lets inf in, NaN never.
+    if (farM != kInfinity) checkOpenRange(w.c_str(), "farM", farM, nearM, kInfinity);
     checkOpenRange(w.c_str(), "metresPerUnit", metresPerUnit, 0, kInfinity);
 }
 

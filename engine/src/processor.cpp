@@ -28,23 +28,68 @@ double msSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// The driver's KHR_debug messages (core in GL 4.3) during a call in validation mode, to the log;
+// the host's own callback is saved and restored by HostStateScope.
+void GLAPIENTRY debugToLog(GLenum, GLenum type, GLuint, GLenum severity, GLsizei, const GLchar* message, const void* user) {
+    if (severity == GL_DEBUG_SEVERITY_NOTIFICATION) return;
+    const Logger& log = *static_cast<const Logger*>(user);
+    const std::string m = std::string("GL debug: ") + message;
+    if (type == GL_DEBUG_TYPE_ERROR) log.error(m);
+    else log.warn(m);
+}
+
 // The host's GL state is saved by the outermost public call that issues GL commands
-// (renderInto() calls update(), ...) and restored when it returns or throws.
+// (renderInto() calls update(), ...) and restored when it returns or throws. On entry it drains
+// the GL errors the host left pending (reported as the host's, in the log: they are not welkin's);
+// in validation mode it routes KHR_debug messages to the log until it returns.
 class HostStateScope {
 public:
-    explicit HostStateScope(int& depth, std::vector<unsigned> framebuffers = {}) : depth_(depth) {
-        if (depth_++ == 0) guard_.emplace(std::move(framebuffers));
+    HostStateScope(int& depth, const Logger& log, bool validation, const char* where, std::vector<unsigned> framebuffers = {})
+        : depth_(depth) {
+        if (depth_++ != 0) return;
+        // At most a few errors are recorded at once (one flag per kind); bounded against a
+        // driver that never returns GL_NO_ERROR without a context.
+        std::string pending;
+        for (int i = 0; i < 16; ++i) {
+            const GLenum e = glGetError();
+            if (e == GL_NO_ERROR) break;
+            pending += (pending.empty() ? "" : ", ") + std::string(gl::errorName(e));
+        }
+        if (!pending.empty())
+            log.warn(std::string(where) + ": the host left GL error(s) pending before calling welkin: " + pending +
+                     " (not welkin's; cleared)");
+        guard_.emplace(std::move(framebuffers));
+        if (validation) {
+            debugWasOn_ = glIsEnabled(GL_DEBUG_OUTPUT);
+            syncWasOn_ = glIsEnabled(GL_DEBUG_OUTPUT_SYNCHRONOUS);
+            glGetPointerv(GL_DEBUG_CALLBACK_FUNCTION, &hostCallback_);
+            glGetPointerv(GL_DEBUG_CALLBACK_USER_PARAM, &hostUser_);
+            glEnable(GL_DEBUG_OUTPUT);
+            glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);  // the message arrives inside the call that caused it
+            glDebugMessageCallback(debugToLog, &log);
+            debug_ = true;
+        }
     }
     ~HostStateScope() {
+        if (debug_) {
+            glDebugMessageCallback(reinterpret_cast<GLDEBUGPROC>(hostCallback_), hostUser_);
+            if (!debugWasOn_) glDisable(GL_DEBUG_OUTPUT);
+            if (!syncWasOn_) glDisable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
+        }
         guard_.reset();
         --depth_;
     }
     HostStateScope(const HostStateScope&) = delete;
     HostStateScope& operator=(const HostStateScope&) = delete;
+    /// True for the outermost scope (the one that checks welkin's own errors once on return).
+    bool outermost() const { return guard_.has_value(); }
 
 private:
     int& depth_;
     std::optional<gl::GlStateGuard> guard_;
+    bool debug_ = false, debugWasOn_ = false, syncWasOn_ = false;
+    void* hostCallback_ = nullptr;
+    void* hostUser_ = nullptr;
 };
 }  // namespace
 
@@ -123,6 +168,7 @@ SkyElement& SkyProcessor::add(std::unique_ptr<SkyElement> element) {
     if (!element) throw Error("SkyProcessor::add(): null element");
     if (find(element->name())) throw Error("SkyProcessor::add(): an element named '" + element->name() + "' is already registered");
     element->setTimingEnabled(options_.timing);
+    element->setValidationEnabled(options_.validation);
     {
         SkyVars::DeclarerScope scope(*vars_, element->name());
         element->declareOptions(*vars_);
@@ -189,7 +235,7 @@ void SkyProcessor::deriveVariables() {
 }
 
 void SkyProcessor::init() {
-    HostStateScope host(hostGuardDepth_);
+    HostStateScope host(hostGuardDepth_, log_, options_.validation, "SkyProcessor::init()");
     if (!glReady_) {
         emptyVao_ = gl::VertexArray::create();
         cameraUbo_ = gl::Buffer(sizeof(CameraBlock));
@@ -207,7 +253,7 @@ void SkyProcessor::init() {
         }
     }
     if (!orderValid_) orderGenerators();
-    gl::checkError("SkyProcessor::init()");
+    if (host.outermost() || options_.validation) gl::checkError("SkyProcessor::init()");
 }
 
 void SkyProcessor::orderGenerators() {
@@ -297,21 +343,26 @@ void SkyProcessor::runGenerators() {
     for (Generator* g : order_) {
         if (generatorsPaused_) break;
         g->runIfDue(*vars_, log_, options_.timing);
-        gl::checkError(g->name() + "::run()");
+        if (options_.validation) gl::checkError(g->name() + "::run()");
     }
     generatorsMs_ = msSince(t0);
 }
 
+void SkyProcessor::uploadCamera(const HostDepth* depth) {
+    CameraBlock block = makeCameraBlock(camera_, seconds(), depth ? *depth : HostDepth{});
+    cameraUbo_.update(&block, sizeof block);
+}
+
 void SkyProcessor::update() {
-    HostStateScope host(hostGuardDepth_);
+    HostStateScope host(hostGuardDepth_, log_, options_.validation, "SkyProcessor::update()");
     init();
     deriveVariables();
-    CameraBlock block = makeCameraBlock(camera_, seconds());
-    cameraUbo_.update(&block, sizeof block);
+    uploadCamera(nullptr);
     runGenerators();
     FrameContext ctx = frameContext();
     for (auto& e : elements_) e->update(ctx);
     updateLighting();
+    if (host.outermost()) gl::checkError("SkyProcessor::update()");
 }
 
 void SkyProcessor::composite(unsigned framebuffer, bool depthTest, bool clearedToBlack, const HostDepth* depth) {
@@ -328,8 +379,17 @@ void SkyProcessor::composite(unsigned framebuffer, bool depthTest, bool clearedT
         glBlendFuncSeparate(GL_ONE, GL_SRC1_COLOR, GL_ZERO, GL_ONE);
         glBlendEquation(GL_FUNC_ADD);
         if (depthTest) {
+            // The sky is at NDC z = 1 (z = w); the depth range puts that at window depth 1, or at 0
+            // for a reversed-Z host (glDepthRange(1, 0)), whatever the host's glClipControl depth
+            // mode (NDC 1 is the far end of both). The guard restores the host's range.
             glEnable(GL_DEPTH_TEST);
-            glDepthFunc(GL_LEQUAL);
+            if (camera_.depth.reversedZ) {
+                glDepthRange(1.0, 0.0);
+                glDepthFunc(GL_GEQUAL);
+            } else {
+                glDepthRange(0.0, 1.0);
+                glDepthFunc(GL_LEQUAL);
+            }
         } else {
             glDisable(GL_DEPTH_TEST);
         }
@@ -355,7 +415,7 @@ void SkyProcessor::composite(unsigned framebuffer, bool depthTest, bool clearedT
 }
 
 void SkyProcessor::renderFrame() {
-    HostStateScope host(hostGuardDepth_);
+    HostStateScope host(hostGuardDepth_, log_, options_.validation, "SkyProcessor::renderFrame()");
     auto t0 = std::chrono::steady_clock::now();
     if (options_.timing) glFinish();
     update();
@@ -364,11 +424,11 @@ void SkyProcessor::renderFrame() {
     const float black[4] = {0, 0, 0, 1};
     glClearBufferfv(GL_COLOR, 0, black);
     composite(hdrFbo_.id(), false, true, nullptr);
-    toneMap(ldrFbo_.id(), true);
+    toneMap(ldrFbo_.id(), true, 0);
     if (options_.timing) glFinish();
     frameMs_ = msSince(t0);
     ++frames_;
-    gl::checkError("SkyProcessor::renderFrame()");
+    if (host.outermost()) gl::checkError("SkyProcessor::renderFrame()");
 }
 
 void SkyProcessor::checkDepthTexture(const HostDepth& depth) const {
@@ -394,19 +454,79 @@ void SkyProcessor::renderInto(const RenderTarget& target) {
     }
     auto t0 = std::chrono::steady_clock::now();
     {
-        HostStateScope host(hostGuardDepth_, {target.framebuffer});
+        HostStateScope host(hostGuardDepth_, log_, options_.validation, "SkyProcessor::renderInto()", {target.framebuffer});
         update();
+        if (target.depth) uploadCamera(&*target.depth);
         composite(target.framebuffer, target.depthTest, false, target.depth ? &*target.depth : nullptr);
+        if (host.outermost()) gl::checkError("SkyProcessor::renderInto()");
     }
     frameMs_ = msSince(t0);
     ++frames_;
-    gl::checkError("SkyProcessor::renderInto()");
 }
 
-void SkyProcessor::toneMapInto(unsigned framebuffer) { toneMap(framebuffer, false); }
+void SkyProcessor::applyToScene(const RenderTarget& target) {
+    const char* where = "SkyProcessor::applyToScene()";
+    if (!target.depth) throw Error(std::string(where) + ": RenderTarget::depth is required (the host's depth texture)");
+    if (target.width != camera_.width || target.height != camera_.height)
+        throw Error(std::string(where) + ": target " + std::to_string(target.width) + "x" + std::to_string(target.height) +
+                    " differs from the camera's " + std::to_string(camera_.width) + "x" + std::to_string(camera_.height));
+    target.depth->validate(where);
+    if (!glReady_) throw Error(std::string(where) + ": no frame yet (call renderInto() first in the same frame)");
+    auto t0 = std::chrono::steady_clock::now();
+    {
+        HostStateScope host(hostGuardDepth_, log_, options_.validation, where, {target.framebuffer});
+        checkDepthTexture(*target.depth);
+        // Elements build what a host scene needs (the Sky's aerial-perspective volume) only once
+        // a host asks: from this call on (the generators that now have work run at once).
+        if (!vars_->getOr(keys::hostScene, false)) {
+            vars_->set(keys::hostScene, true);
+            runGenerators();
+        }
+        uploadCamera(&*target.depth);
+        FrameContext ctx = frameContext();
+        ctx.depth = &*target.depth;
+        for (ScenePass pass : {ScenePass::Surfaces, ScenePass::Air})
+            for (auto& e : elements_) {
+                glBindFramebuffer(GL_FRAMEBUFFER, target.framebuffer);
+                if (target.framebuffer != 0) glDrawBuffer(GL_COLOR_ATTACHMENT0);
+                glViewport(0, 0, camera_.width, camera_.height);
+                cameraUbo_.bindBase(GL_UNIFORM_BUFFER, gl::binding::kCameraUbo);
+                emptyVao_.bind();
+                glEnable(GL_BLEND);
+                glBlendFuncSeparate(GL_ONE, GL_SRC1_COLOR, GL_ZERO, GL_ONE);
+                glBlendEquation(GL_FUNC_ADD);
+                glDisable(GL_DEPTH_TEST);
+                glDepthMask(GL_FALSE);
+                glDisable(GL_CULL_FACE);
+                e->applyToScene(ctx, pass);
+            }
+        if (host.outermost()) gl::checkError(where);
+    }
+    sceneMs_ = msSince(t0);
+}
 
-void SkyProcessor::toneMap(unsigned framebuffer, bool newFrame) {
+void SkyProcessor::toneMapInto(unsigned framebuffer) {
     if (!hdr_) throw Error("SkyProcessor::toneMapInto(): no HDR frame yet (call renderFrame() first)");
+    toneMap(framebuffer, false, 0);
+}
+
+void SkyProcessor::toneMapInto(unsigned framebuffer, unsigned hostHdrTexture) {
+    const char* where = "SkyProcessor::toneMapInto()";
+    if (hostHdrTexture == 0 || !glIsTexture(hostHdrTexture))
+        throw Error(std::string(where) + ": hostHdrTexture " + std::to_string(hostHdrTexture) + " is not a texture");
+    GLint w = 0, h = 0, target = 0;
+    glGetTextureParameteriv(hostHdrTexture, GL_TEXTURE_TARGET, &target);
+    if (target != GL_TEXTURE_2D) throw Error(std::string(where) + ": hostHdrTexture is not a GL_TEXTURE_2D");
+    glGetTextureLevelParameteriv(hostHdrTexture, 0, GL_TEXTURE_WIDTH, &w);
+    glGetTextureLevelParameteriv(hostHdrTexture, 0, GL_TEXTURE_HEIGHT, &h);
+    if (w != camera_.width || h != camera_.height)
+        throw Error(std::string(where) + ": hostHdrTexture " + std::to_string(w) + "x" + std::to_string(h) +
+                    " differs from the camera's " + std::to_string(camera_.width) + "x" + std::to_string(camera_.height));
+    if (!glReady_) init();
+    toneMap(framebuffer, true, hostHdrTexture);
+}
+
+void SkyProcessor::toneMap(unsigned framebuffer, bool newFrame, unsigned hdrTexture) {
     // The exposure.* and eye.* keys are the settings (setExposure() writes them; --var too).
     const ToneSettings settings = ToneSettings::fromVars(*vars_);
     exposure_ = {settings.automatic, settings.ev100, settings.compensationEv};
@@ -421,12 +541,14 @@ void SkyProcessor::toneMap(unsigned framebuffer, bool newFrame) {
     auto t0 = std::chrono::steady_clock::now();
     if (options_.timing) glFinish();
     {
-        HostStateScope host(hostGuardDepth_, {framebuffer});
-        toneMapper_->run(hdr_, framebuffer, settings, cameraUbo_, emptyVao_, dt);
+        HostStateScope host(hostGuardDepth_, log_, options_.validation, "SkyProcessor::toneMapInto()", {framebuffer});
+        const HdrSource source = hdrTexture ? HdrSource{hdrTexture, camera_.width, camera_.height}
+                                            : HdrSource{hdr_.id(), hdr_.width(), hdr_.height()};
+        toneMapper_->run(source, framebuffer, settings, cameraUbo_, emptyVao_, dt);
+        if (host.outermost()) gl::checkError("SkyProcessor::toneMapInto()");
     }
     if (options_.timing) glFinish();
     toneMapMs_ = msSince(t0);
-    gl::checkError("SkyProcessor::toneMapInto()");
 }
 
 double SkyProcessor::lastEv100() const { return exposure_.automatic ? toneMapper_->lastEv100() : exposure_.ev100; }

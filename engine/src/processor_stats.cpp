@@ -47,6 +47,7 @@ nlohmann::json SkyProcessor::stats() const {
                       {"init_ms", e->initTiming().lastMs},
                       {"update_ms", e->updateTiming().lastMs},
                       {"render_ms", e->renderTiming().lastMs},
+                      {"scene_ms", e->sceneTiming().lastMs},  // applyToScene(): its passes over the host's scene
                       {"generators", gens}});
     }
     j["elements"] = el;
@@ -55,6 +56,13 @@ nlohmann::json SkyProcessor::stats() const {
     j["frame_ms"] = frameMs_;
     j["generators_ms"] = generatorsMs_;
     j["tonemap_ms"] = toneMapMs_;
+    j["apply_to_scene_ms"] = sceneMs_;  // the last applyToScene(), every element's passes
+    if (camera_.host) {
+        const glm::dvec3 e = camera_.eyeEnuMeters();
+        j["camera"]["host_matrices"] = true;
+        j["camera"]["eye_enu_m"] = {e.x, e.y, e.z};
+    }
+    j["camera"]["depth"] = {{"reversed_z", camera_.depth.reversedZ}, {"zero_to_one", camera_.depth.zeroToOne}};
     j["frames"] = frames_;
     return j;
 }

@@ -71,11 +71,18 @@ void ToneMapper::init() {
     logLumFbo_ = gl::Framebuffer::create();
     logLumFbo_.attach(GL_COLOR_ATTACHMENT0, logLum_);
     logLumFbo_.checkComplete("SkyProcessor log luminance");
+    glCreateSamplers(1, &linearSampler_);
+    glSamplerParameteri(linearSampler_, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glSamplerParameteri(linearSampler_, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glSamplerParameteri(linearSampler_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glSamplerParameteri(linearSampler_, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     meterValid_ = false;
     stateValid_ = false;
 }
 
 void ToneMapper::release() {
+    if (linearSampler_) glDeleteSamplers(1, &linearSampler_);
+    linearSampler_ = 0;
     logLum_ = {};
     logLumFbo_ = {};
     toneMap_ = {};
@@ -89,19 +96,19 @@ void ToneMapper::release() {
     stateValid_ = false;
 }
 
-void ToneMapper::meter(gl::Texture2D& hdr) {
+void ToneMapper::meter(const HdrSource& hdr) {
     logLumFbo_.bind();
     glViewport(0, 0, kLogLumSize, kLogLumSize);
-    hdr.bind(gl::binding::kHdrTexture);
-    hdr.setFilter(GL_LINEAR);  // each meter fetch averages 2x2 texels
+    glBindTextureUnit(gl::binding::kHdrTexture, hdr.texture);
+    glBindSampler(gl::binding::kHdrTexture, linearSampler_);  // each meter fetch averages 2x2 texels
     logLumProgram_.use();
     glDrawArrays(GL_TRIANGLES, 0, 3);
-    hdr.setFilter(GL_NEAREST);
+    glBindSampler(gl::binding::kHdrTexture, 0);
     logLum_.generateMipmaps();
     meterValid_ = true;
 }
 
-void ToneMapper::run(gl::Texture2D& hdr, unsigned framebuffer, const ToneSettings& s, const gl::Buffer& cameraUbo,
+void ToneMapper::run(const HdrSource& hdr, unsigned framebuffer, const ToneSettings& s, const gl::Buffer& cameraUbo,
                      const gl::VertexArray& vao, std::optional<double> dt) {
     cameraUbo.bindBase(GL_UNIFORM_BUFFER, gl::binding::kCameraUbo);
     vao.bind();
@@ -138,8 +145,8 @@ void ToneMapper::run(gl::Texture2D& hdr, unsigned framebuffer, const ToneSetting
     }
 
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
-    glViewport(0, 0, hdr.width(), hdr.height());
-    hdr.bind(gl::binding::kHdrTexture);
+    glViewport(0, 0, hdr.width, hdr.height);
+    glBindTextureUnit(gl::binding::kHdrTexture, hdr.texture);
     state_[current_].bind(gl::binding::kEyeStateTexture);
     toneMap_.use();
     toneMap_.set("u_auto", s.automatic ? 1 : 0);

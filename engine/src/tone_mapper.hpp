@@ -18,6 +18,14 @@
 
 namespace welkin {
 
+/// The HDR frame to tone-map: the processor's own target or a host's texture (GL_TEXTURE_2D,
+/// RGBA16F/32F, cd/m^2), not owned; its parameters are never changed (the meter's bilinear fetches
+/// go through a sampler object).
+struct HdrSource {
+    unsigned texture = 0;
+    int width = 0, height = 0;
+};
+
 /// Everything the tone map reads, gathered from the exposure.* and eye.* keys (eye.hpp).
 struct ToneSettings {
     bool automatic = false;
@@ -48,7 +56,7 @@ public:
     /// the temporal adaptation (<= 0: the steady state, as a still render); nullopt: this is not
     /// a new frame (a second tone map of it), the adaptation state is kept. Changes GL state:
     /// the caller guards it.
-    void run(gl::Texture2D& hdr, unsigned framebuffer, const ToneSettings& settings, const gl::Buffer& cameraUbo,
+    void run(const HdrSource& hdr, unsigned framebuffer, const ToneSettings& settings, const gl::Buffer& cameraUbo,
              const gl::VertexArray& vao, std::optional<double> dt);
     /// The meter of the last run no longer describes the frame (the target was resized).
     void invalidateMeter() { meterValid_ = false; }
@@ -60,7 +68,7 @@ public:
     eye::Adaptation adaptation() const;
 
 private:
-    void meter(gl::Texture2D& hdr);
+    void meter(const HdrSource& hdr);
     glm::vec4 readState() const;
 
     gl::Texture2D logLum_;
@@ -69,6 +77,7 @@ private:
     gl::Framebuffer stateFbo_[2];
     int current_ = 0;
     gl::Program toneMap_, logLumProgram_, adaptProgram_;
+    unsigned linearSampler_ = 0;  // GL sampler object: bilinear, clamped (the meter's fetches)
     bool meterValid_ = false;  // logLum_ holds the last frame's meter
     bool stateValid_ = false;  // state_[current_] holds an adaptation
     bool lastAutomatic_ = false;

@@ -12,6 +12,7 @@ SkyVars SkyVars::earth() {
     v.set(keys::observerHeight, 0.0);
     v.set(keys::quality, 1);
     v.set(keys::interactive, false);
+    v.set(keys::hostScene, false);
     v.set(keys::exposureEv100, 15.0);
     v.set(keys::exposureAuto, false);
     return v;

@@ -13,6 +13,7 @@
 #include <welkin/gl/shader.hpp>
 
 #include <epoxy/gl.h>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -159,6 +160,16 @@ std::vector<Camera> cameras() {
     persp(60, 10, -20);
     persp(60, 135, 90);
     persp(179, 300, 5);
+    // The host's cameras (Camera::fromViewProjection): rolled 30 deg, an off-axis frustum, a
+    // Y-up world, reversed-Z; the shaders see them through the same camera block.
+    {
+        const glm::dvec3 fwd = glm::normalize(glm::dvec3(0.4, 0.3, -1.0));
+        const glm::dvec3 up = glm::rotate(glm::dmat4(1.0), 30 * kDeg, fwd) * glm::dvec4(0, 1, 0, 0);
+        const glm::dmat4 view = glm::lookAt(glm::dvec3(3, 2, 1), glm::dvec3(3, 2, 1) + fwd, up);
+        out.push_back(Camera::fromViewProjection(view, glm::frustum(-0.3, 0.7, -0.2, 0.4, 0.5, 100.0), enuFromYUp(), 64, 48,
+                                                 {.reversedZ = true, .zeroToOne = true}));
+        out.push_back(Camera::fromViewProjection(view, glm::perspective(80 * kDeg, 1.25, 0.1, 1e3), enuFromYUp(), 60, 48));
+    }
     test::appendNonPerspectiveCameras(out);
     return out;
 }
@@ -258,7 +269,12 @@ TEST_CASE("welkin_clipFromDirection lands on the pixel whose view direction it i
                 glm::dvec4 clip = *cam.clipFromDirection(d);
                 glm::dvec4 gpuClip = Target::at(px[1], cam, h.x, h.y);
                 double cmax = std::max({std::abs(clip.x), std::abs(clip.y), std::abs(clip.w), 1e-3});
-                for (int k = 0; k < 4; ++k) CHECK(std::abs(gpuClip[k] - clip[k]) < 1e-5 * cmax);
+                // A pinhole's clip rows are 1/tan(fov/2) long (229 at 0.5 deg): their products with
+                // the unit direction cancel down to the clip value, so float32 rounding is also
+                // ~1e-7 of the row's length (2e-7: two roundings, the row's and the product's).
+                const double tanY = std::tan(cam.verticalFovRad / 2);
+                const double rowLength = cam.projection == Projection::Perspective ? 1.0 / std::min(tanY, tanY * cam.width / cam.height) : 1.0;
+                for (int k = 0; k < 4; ++k) CHECK(std::abs(gpuClip[k] - clip[k]) < 1e-5 * cmax + 2e-7 * rowLength);
                 glm::dmat3x2 J = *cam.pixelJacobian(d);
                 glm::dvec4 j01 = Target::at(px[2], cam, h.x, h.y), j2s = Target::at(px[3], cam, h.x, h.y);
                 const double gpuJ[6] = {j01.x, j01.y, j01.z, j01.w, j2s.x, j2s.y};

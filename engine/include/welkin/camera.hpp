@@ -11,9 +11,16 @@
 //   auto clip = cam.clipFromDirection(east);  // gl_Position (nullopt: not visible); pixelFromClip(*clip) == *px
 //   auto ppr = cam.pixelScale(east);          // (2R/pi, R) = (163, 256) pixels per radian there
 //
+//   // A game's own camera: its view and projection matrices, a Y-up world in metres, reversed-Z
+//   // depth with glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE) and an infinite far plane.
+//   welkin::Camera host = welkin::Camera::fromViewProjection(view, projection, welkin::enuFromYUp(),
+//                                                            1920, 1080, {.reversedZ = true, .zeroToOne = true});
+//
 // Projections:
 //  - Perspective: looks at (azimuthRad, altitudeRad), vertical field of view verticalFovRad,
-//    the zenith "up" (no roll).
+//    the zenith "up" (no roll); or, made by Camera::fromViewProjection(), the host's own pinhole
+//    camera (any roll, asymmetric and off-axis frusta, infinite far planes): then `host` is set and
+//    azimuthRad, altitudeRad and verticalFovRad describe its optical axis only.
 //  - Fisheye: equidistant all-sky, zenith at the centre, horizon on the inscribed circle of
 //    radius min(W, H)/2, north up, east left: r = (pi/2 - alt)/(pi/2) * R,
 //    x = W/2 - r sin(az), y = H/2 - r cos(az).
@@ -31,6 +38,8 @@
 // direction (lines between two directions clip correctly); fisheye and equirect are not (subdivide
 // lines, and split them at the equirect seam).
 #pragma once
+#include <welkin/host_depth.hpp>
+
 #include <glm/glm.hpp>
 
 #include <optional>
@@ -50,6 +59,31 @@ glm::dvec3 directionFromAzAlt(double azimuthRad, double altitudeRad);
 /// Azimuth in [0, 2pi) and altitude in [-pi/2, pi/2] of a (not necessarily unit) ENU vector.
 glm::dvec2 azAltFromDirection(const glm::dvec3& dir);
 
+/// How the host's depth buffer is laid out: where the far plane is and the clip depth range
+/// (glClipControl). welkin draws the sky at the far plane behind the host's geometry with GL_LEQUAL
+/// (standard) or GL_GEQUAL (reversed-Z), and reads the host's depth texture this way.
+struct DepthMode {
+    bool reversedZ = false;  ///< far plane at window depth 0 (reversed-Z, depth cleared to 0); false: at 1
+    bool zeroToOne = false;  ///< NDC depth in [0, 1] (glClipControl(..., GL_ZERO_TO_ONE)); false: OpenGL's [-1, 1]
+    bool operator==(const DepthMode&) const = default;
+};
+
+/// Host world -> ENU (x east, y north, z up; metres relative to the observer) for a right-handed
+/// Y-up host world with x east, y up and -z north (OpenGL, glTF, most engines).
+/// `metresPerUnit` > 0 metres per host unit; `originEnuMeters`: where the host world's origin is in
+/// ENU metres (a floating origin moves it, the sky stays put).
+glm::dmat4 enuFromYUp(double metresPerUnit = 1.0, const glm::dvec3& originEnuMeters = glm::dvec3(0.0));
+/// Host world -> ENU for a right-handed Z-up host world with x east, y north, z up (the ENU axes).
+glm::dmat4 enuFromZUp(double metresPerUnit = 1.0, const glm::dvec3& originEnuMeters = glm::dvec3(0.0));
+
+/// The host's own pinhole camera, as Camera::fromViewProjection() derived it from its matrices.
+struct HostProjection {
+    glm::dmat3 viewFromEnu{1.0};     ///< rotation: ENU direction -> host view space (orthonormal)
+    glm::dmat4 projection{1.0};      ///< the host's projection matrix (view space -> clip), host units
+    glm::dvec3 eyeEnuMeters{0.0};    ///< the eye's position, ENU metres relative to the observer
+    double metresPerUnit = 1.0;      ///< metres per host unit (> 0)
+};
+
 struct Camera {
     Projection projection = Projection::Perspective;
     double azimuthRad = 0.0;               ///< view direction (perspective), [-2pi, 2pi]
@@ -58,6 +92,28 @@ struct Camera {
     int cubeFace = 0;                      ///< CubeFace only, [0, 5]
     int width = 1280;                      ///< pixels, [1, 16384]
     int height = 720;                      ///< pixels, [1, 16384]
+    DepthMode depth{};                     ///< the host's depth convention (renderInto, applyToScene)
+    /// Set by fromViewProjection() (Projection::Perspective only): the host's matrices replace
+    /// azimuthRad/altitudeRad/verticalFovRad for every mapping between pixels and directions.
+    std::optional<HostProjection> host;
+
+    /// The host's camera from its view matrix (host world -> view space, OpenGL convention: the
+    /// camera looks down -z), its projection matrix (view -> clip: any perspective, off-axis or
+    /// asymmetric, finite or infinite far plane, in the convention `depth` says) and `worldToEnu`
+    /// (host world -> ENU metres relative to the observer: enuFromYUp(), enuFromZUp() or the
+    /// host's own; rotation, uniform scale, translation). The view's translation only places the
+    /// eye (eyeEnuMeters()): directions ignore it, so a floating origin costs no precision.
+    /// Throws welkin::Error (one line) for a non-finite matrix, an orthographic projection (the
+    /// sky is at infinity), a view or worldToEnu that is not a rotation with a uniform scale, or
+    /// width/height not in [1, 16384].
+    static Camera fromViewProjection(const glm::dmat4& view, const glm::dmat4& projection, const glm::dmat4& worldToEnu,
+                                     int width, int height, DepthMode depth = {});
+    /// The eye's position in ENU metres relative to the observer (0 unless made from host matrices).
+    glm::dvec3 eyeEnuMeters() const { return host ? host->eyeEnuMeters : glm::dvec3(0.0); }
+    /// The host's projection matrix, or for other cameras a standard OpenGL perspective with
+    /// these near and far planes (host units; farUnits may be +inf) in the convention of `depth`:
+    /// what the host's depth buffer is read with.
+    glm::dmat4 depthProjection(double nearUnits, double farUnits) const;
 
     /// Throws welkin::Error naming the first member out of range.
     void validate() const;
@@ -96,14 +152,29 @@ struct Camera {
     std::optional<glm::dvec2> pixelScale(const glm::dvec3& direction) const;
 };
 
+/// Distance in metres from the eye to the host's geometry at window depth `windowDepth` (a texel of
+/// the host's depth texture, [0, 1]) along the unit ENU direction `dir` of its pixel, read with
+/// the host's projection (a camera from fromViewProjection()) or, for other cameras,
+/// depthProjection(depth.nearM, depth.farM) with depth.metresPerUnit, in the camera's DepthMode;
+/// +inf at the far plane. The CPU twin of GLSL welkin_sceneDistance() (engine/shaders/camera.glsl).
+double sceneDistanceMeters(const Camera& camera, double windowDepth, const glm::dvec3& dir, const HostDepth& depth = {});
+
 /// The per-frame camera block shared by every element's shaders (std140, binding gl::binding::kCameraUbo; see
 /// engine/shaders/camera.glsl).
 struct CameraBlock {
-    glm::mat4 cameraToWorld;  ///< columns: right, up, forward (perspective)
+    glm::mat4 cameraToWorld;  ///< columns: right, up, forward (perspective: forward is the optical axis)
     glm::vec4 viewport;       ///< width, height, 1/width, 1/height (pixels)
     glm::vec4 projection;     ///< type (0..3), tan(fovY/2), aspect, cube face
     glm::vec4 time;           ///< seconds since the processor started, 0, 0, 0
+    glm::mat4 clipRows;       ///< perspective: columns a, b, f with clip = (a.d, b.d, f.d, f.d) for an ENU direction d
+    glm::mat4 worldFromClip;  ///< perspective: mat3 part, ENU ray = M (ndc.x, ndc.y, 1) (the inverse of clipRows' rows)
+    glm::vec4 depthProjection;  ///< the host depth's projection: P[2][2], P[3][2], P[2][3], P[3][3] (glm [column][row])
+    glm::vec4 depthMode;      ///< reversedZ (0/1), zeroToOne (0/1), metres per host unit, 0
+    glm::vec4 viewZ;          ///< the host view space's +z axis in ENU (xyz): view-space z = |ray| (d . viewZ)
+    glm::vec4 eye;            ///< the eye's position, ENU metres relative to the observer (xyz)
 };
-CameraBlock makeCameraBlock(const Camera& camera, double seconds);
+/// `depth`: how a camera not made from host matrices reads the host's depth buffer (its near and
+/// far planes and units; ignored for host cameras, which use their own projection).
+CameraBlock makeCameraBlock(const Camera& camera, double seconds, const HostDepth& depth = {});
 
 }  // namespace welkin

@@ -80,6 +80,16 @@ struct FrameContext {
     void drawFullscreen() const;
 };
 
+/// The passes of SkyProcessor::applyToScene() over the host's own scene (its colour and depth), in
+/// this order: first what changes the light on the host's surfaces (the clouds' shadows), then
+/// what the air in front of them does (aerial perspective). An element that takes part overrides
+/// SkyElement::doApplyToScene(); FrameContext::depth is then always set.
+enum class ScenePass {
+    Surfaces,  ///< light on the host's surfaces (cloud shadows): dst = dst * T
+    Air,       ///< the air between the eye and the surfaces: dst = inscatter + dst * T
+};
+const char* toString(ScenePass pass);
+
 /// How a generator depends on one of its inputs.
 struct InputOptions {
     /// A change smaller than this (largest absolute difference of any component since the
@@ -172,6 +182,10 @@ public:
     void update(const FrameContext& ctx);
     /// Draws the element into the bound HDR target (blend state set by the processor).
     void render(const FrameContext& ctx);
+    /// Applies the element's effect on the host's scene (SkyProcessor::applyToScene()): drawn
+    /// with the same dual-source compositing as render() into the host's framebuffer, with
+    /// ctx.depth set. Elements without one do nothing.
+    void applyToScene(const FrameContext& ctx, ScenePass pass);
     /// The output size changed (pixels, >= 1).
     void resize(int width, int height);
     /// Frees GL resources; the element can be initialised again.
@@ -211,9 +225,14 @@ public:
 
     /// When enabled, each call is bracketed by glFinish so timings include GPU work.
     void setTimingEnabled(bool enabled) { timingEnabled_ = enabled; }
+    /// When enabled (ProcessorOptions::validation), each call is followed by glGetError and an
+    /// error is thrown naming the element and the call; otherwise no per-call glGetError (it can
+    /// stall a threaded driver).
+    void setValidationEnabled(bool enabled) { validationEnabled_ = enabled; }
     const Timing& initTiming() const { return initTiming_; }
     const Timing& updateTiming() const { return updateTiming_; }
     const Timing& renderTiming() const { return renderTiming_; }
+    const Timing& sceneTiming() const { return sceneTiming_; }
 
 protected:
     explicit SkyElement(std::string name) : name_(std::move(name)) {}
@@ -256,6 +275,7 @@ private:
     virtual void doUpdate(const FrameContext&) {}
     virtual void doRender(const FrameContext& ctx) = 0;
     virtual void doResize(int, int) {}
+    virtual void doApplyToScene(const FrameContext&, ScenePass) {}
     virtual void doRelease() = 0;
     virtual void doStats(nlohmann::json&) const {}
     virtual void doValidateOptions(const SkyVars&) const {}
@@ -271,7 +291,8 @@ private:
     std::vector<std::shared_ptr<Generator>> generators_;
     bool initialized_ = false;
     bool timingEnabled_ = false;
-    Timing initTiming_, updateTiming_, renderTiming_;
+    bool validationEnabled_ = false;
+    Timing initTiming_, updateTiming_, renderTiming_, sceneTiming_;
 };
 
 }  // namespace welkin

@@ -70,6 +70,10 @@ inline const Key<double> exposureEv100{"exposure.ev100", Range{-20, 30}, "exposu
 /// host's game loop): an element may spread its work over frames (the Clouds' direction cache).
 /// false (the default, welkin render): every frame is complete on its own.
 inline const Key<bool> interactive{"render.interactive", "frames shown one after another as time and camera move (welkin view, a game loop): elements may spread work over frames; false: every frame complete (welkin render)"};
+/// The host draws its own scene under the sky and asks for welkin's effects over it
+/// (SkyProcessor::applyToScene() sets it on its first call): elements build what those need
+/// (the Sky its aerial-perspective volume). false (the default): nothing is built for a host scene.
+inline const Key<bool> hostScene{"render.host_scene", "the host draws its own scene and asks for effects over it (SkyProcessor::applyToScene() sets it): the Sky builds its aerial-perspective volume"};
 /// Automatic exposure: the eye's adaptation to the scene (eye.adaptation, welkin/eye.hpp) or a camera's log-average.
 inline const Key<bool> exposureAuto{"exposure.auto", "automatic exposure: the eye's adaptation (eye.*) or a camera's log-average"};
 /// The diffuse night sky's luminance at the zenith above the air, cd/m^2 (airglow, zodiacal

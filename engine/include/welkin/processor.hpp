@@ -12,10 +12,25 @@
 //   sky.renderFrame();                                         // HDR composite + tone map
 //   welkin::Image hdr = sky.readHdr();                         // cd/m^2, top row first
 //
-// Embedding in a game loop: render the host scene into an HDR framebuffer with a depth buffer,
-// then call renderInto({.framebuffer = hostFbo, ...}): elements are drawn at the far plane with
-// depth test GL_LEQUAL, so the host's geometry hides the sky. Or call renderFrame() and
-// toneMapInto(0) to present.
+// Embedding in a game loop (docs/embedding.md, examples/host):
+//
+//   sky.setCamera(welkin::Camera::fromViewProjection(view, proj, welkin::enuFromYUp(), w, h,
+//                                                    {.reversedZ = true, .zeroToOne = true}));
+//   welkin::RenderTarget t{.framebuffer = hdrFbo, .width = w, .height = h,
+//                          .depth = welkin::HostDepth{.depthTexture = depthTex}};
+//   // ... draw the host's scene into hdrFbo (cd/m^2), lit by sky.lighting() ...
+//   sky.renderInto(t);                 // the sky at the far plane, behind the host's geometry
+//   sky.applyToScene(t);               // cloud shadows and aerial perspective over the scene
+//   sky.toneMapInto(0, hdrTexture);    // the eye's adaptation and display curve, to the screen
+//
+// Elements are drawn at the far plane with GL_LEQUAL (standard depth) or GL_GEQUAL (the camera's
+// DepthMode::reversedZ), whatever the host's glClipControl, so the host's geometry hides the sky.
+// Or call renderFrame() and toneMapInto(0) to present welkin's own frame.
+//
+// GL errors: an error the host left pending is drained when welkin is entered and reported as
+// the host's (a warning in the log, never thrown as welkin's); welkin checks its own once per
+// public call, and after every element and generator call only with ProcessorOptions::validation
+// (which also routes KHR_debug messages to the log while welkin runs).
 //
 // A guest in the host's GL: init(), update(), renderFrame(), renderInto() and toneMapInto()
 // leave the host's OpenGL state as they found it (bindings of framebuffers, program, vertex
@@ -94,6 +109,9 @@ struct ProcessorOptions {
                              ///< moon.direction ... to the host
     bool timeAndPlace = true;  ///< write time.* and observer.* from setTime()/setObserver() every
                                ///< frame; false: the host writes those keys into the SkyVars itself
+    bool validation = false;   ///< glGetError after every element and generator call, and the driver's
+                               ///< KHR_debug messages in the log while welkin runs (debugging; costs a
+                               ///< pipeline sync per call on threaded drivers)
 };
 
 class SkyProcessor {
@@ -152,8 +170,20 @@ public:
     /// background; blending is additive-attenuating). Does not tone-map. Only colour attachment 0
     /// is drawn to. Elements see target.depth in render() (FrameContext::depth).
     void renderInto(const RenderTarget& target);
+    /// Over the host's scene in target.framebuffer (its colour, cd/m^2) with its depth
+    /// (target.depth, required): every element's effect on it, in two passes (ScenePass): the
+    /// clouds' shadows on the host's surfaces, then the aerial perspective of the air in front of
+    /// them (the Sky; it builds its aerial-perspective volume from the first call on). Call after
+    /// renderInto() in the same frame (it draws with that frame's state; depthTest is ignored).
+    void applyToScene(const RenderTarget& target);
     /// Tone-maps the last HDR frame into `framebuffer` (0 = default) at the camera's size.
     void toneMapInto(unsigned framebuffer);
+    /// Tone-maps the host's HDR texture (`hostHdrTexture`: a GL_TEXTURE_2D of the camera's size,
+    /// RGBA16F or RGBA32F, linear radiance in cd/m^2, e.g. the target of renderInto() and
+    /// applyToScene()) into `framebuffer`, with the eye's adaptation: each call is a new frame
+    /// that advances the adaptation by the animation time since the previous one. The texture's
+    /// parameters are not changed.
+    void toneMapInto(unsigned framebuffer, unsigned hostHdrTexture);
 
     /// The HDR composite of the last renderFrame() (RGBA32F, cd/m^2).
     const gl::Texture2D& hdrTexture() const { return hdr_; }
@@ -205,7 +235,7 @@ private:
     void checkDepthTexture(const HostDepth& depth) const;
     void declareToneMapKeys();
     /// `newFrame`: the frame renderFrame() just composited (advances the eye's adaptation).
-    void toneMap(unsigned framebuffer, bool newFrame);
+    void toneMap(unsigned framebuffer, bool newFrame, unsigned hdrTexture);
     FrameContext frameContext();
     // SkyLighting (engine/src/lighting.cpp): keys, the step at the end of update(), stats, and the
     // environment's compositing (the elements that contribute to lighting, for a capture camera).
@@ -215,6 +245,8 @@ private:
     void releaseLighting();
     void lightingStats(nlohmann::json& root) const;
     void compositeEnvironment(const Camera& camera, const gl::Buffer& cameraUbo, unsigned framebuffer);
+    /// Writes the camera block (with the host depth's planes for cameras not made from matrices).
+    void uploadCamera(const HostDepth* depth);
 
     SkyVars ownVars_;
     SkyVars* vars_ = &ownVars_;
@@ -241,7 +273,7 @@ private:
     std::unique_ptr<LightingEngine> lighting_;  // engine/src/lighting_engine.hpp
     gl::VertexArray emptyVao_;
     gl::Buffer cameraUbo_;
-    double frameMs_ = 0.0, toneMapMs_ = 0.0, generatorsMs_ = 0.0;
+    double frameMs_ = 0.0, toneMapMs_ = 0.0, generatorsMs_ = 0.0, sceneMs_ = 0.0;
     int frames_ = 0;
 };
 

@@ -101,6 +101,12 @@ void GlStateGuard::save(const std::vector<unsigned>& framebuffers) {
 
     depthTest_ = glIsEnabled(GL_DEPTH_TEST);
     depthFunc_ = getInt(GL_DEPTH_FUNC);
+    // Depth ranges per viewport (welkin sets glDepthRange(1, 0) for a reversed-Z host) and the
+    // clip control (a host with glClipControl(..., GL_ZERO_TO_ONE) or an upper-left origin).
+    depthRanges_.assign(size_t(viewportCount_), {0.0, 1.0});
+    for (int i = 0; i < viewportCount_; ++i) glGetDoublei_v(GL_DEPTH_RANGE, GLuint(i), depthRanges_[size_t(i)].data());
+    clipOrigin_ = getInt(GL_CLIP_ORIGIN);
+    clipDepthMode_ = getInt(GL_CLIP_DEPTH_MODE);
     glGetBooleanv(GL_DEPTH_WRITEMASK, &depthMask_);
     cull_ = glIsEnabled(GL_CULL_FACE);
     cullMode_ = getInt(GL_CULL_FACE_MODE);
@@ -157,6 +163,10 @@ void GlStateGuard::save(const std::vector<unsigned>& framebuffers) {
 }
 
 void GlStateGuard::applyDefaults() const {
+    // welkin's passes assume OpenGL's defaults: a lower-left origin (images are not flipped),
+    // NDC depth in [-1, 1], the full depth range.
+    glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
+    glDepthRange(0.0, 1.0);
     glDisable(GL_SCISSOR_TEST);
     glDisable(GL_COLOR_LOGIC_OP);
     glDisable(GL_RASTERIZER_DISCARD);
@@ -196,6 +206,8 @@ void GlStateGuard::restore() const {
 
     enable(GL_DEPTH_TEST, depthTest_);
     glDepthFunc(GLenum(depthFunc_));
+    for (int i = 0; i < viewportCount_; ++i) glDepthRangeIndexed(GLuint(i), depthRanges_[size_t(i)][0], depthRanges_[size_t(i)][1]);
+    glClipControl(GLenum(clipOrigin_), GLenum(clipDepthMode_));
     glDepthMask(depthMask_);
     enable(GL_CULL_FACE, cull_);
     glCullFace(GLenum(cullMode_));

@@ -8,14 +8,15 @@
 //
 // Saved and restored (documented in docs/architecture.md, "A guest in the host's GL"):
 //   draw and read framebuffer bindings; the draw buffers of the framebuffers passed in;
-//   current program; vertex array; every viewport; per draw buffer (< GL_MAX_DRAW_BUFFERS, at
+//   current program; vertex array; every viewport and its depth range; the clip control (origin,
+//   depth mode); per draw buffer (< GL_MAX_DRAW_BUFFERS, at
 //   most 8): blend enable, blend functions and equations, colour mask; blend colour; depth test,
 //   function and mask; cull face enable and mode; front face; scissor test and box; colour logic
 //   op; rasterizer discard; polygon mode; active texture unit; on texture units 0..kUnits-1 the
 //   binding of every texture target and the sampler object; indexed and generic uniform-buffer
 //   and shader-storage bindings 0..kBufferBindings-1 (with their ranges); image units
 //   0..kImageUnits-1; pixel pack/unpack buffers and pixel-store parameters.
-// Welkin's defaults applied after saving: scissor test, colour logic op, rasterizer discard and
+// Welkin's defaults applied after saving: clip control (lower left, [-1, 1]), depth range [0, 1], scissor test, colour logic op, rasterizer discard and
 // face culling off, colour mask on, polygon mode fill, no sampler objects on units 0..kUnits-1,
 // no pixel pack/unpack buffer, default pixel-store parameters. Stencil state is left to the host
 // (a host may stencil the sky out on purpose).
@@ -73,6 +74,8 @@ private:
     std::vector<std::array<float, 4>> viewports_;
     std::array<Blend, kDrawBuffers> blend_{};
     std::array<float, 4> blendColor_{};
+    std::vector<std::array<double, 2>> depthRanges_;  // per viewport
+    int clipOrigin_ = 0, clipDepthMode_ = 0;
     int depthFunc_ = 0, cullMode_ = 0, frontFace_ = 0, logicOp_ = 0;
     unsigned char depthTest_ = 0, depthMask_ = 0, cull_ = 0, scissor_ = 0, logicOpEnabled_ = 0, discard_ = 0;
     std::array<unsigned char, 8> clipDistances_{};  // GL_CLIP_DISTANCE0..7 (GL 4.5 guarantees 8)

@@ -16,6 +16,25 @@ uniform float u_angular;
 uniform int u_groupOffset;  // first work group of this dispatch (a table built over several runs)
 uniform int u_groupsX;      // work groups per row of the whole table
 
+// atm_raySample() for a ray towards the ground: the sample's height clamped to >= 0 (the air
+// of the host's terrain), its light and view cosines taken at that clamped radius.
+RaySample apGroundSample(float h, float mu, float muS, float nu, float t, float dt, float lightAngularRadius) {
+    RaySample q;
+    float r = atm_bottom() + h;
+    float hp = max(heightAt(h, mu, t), 0.0);
+    float rp = atm_bottom() + hp;
+    float muSp = clamp((r * muS + t * nu) / rp, -1.0, 1.0);
+    q.sR = atm_scatteringRayleigh(hp);
+    q.sM = atm_scatteringMie(hp);
+    q.sigmaT = atm_extinction(hp);
+    q.sigmaD = q.sigmaT - atm_shFactors.w * q.sM;
+    q.seg = atm_segmentFactor(q.sigmaD, dt);
+    q.Tl = transmittanceToLight(hp, muSp, lightAngularRadius);
+    float muP = clamp((r * mu + t) / rp, -1.0, 1.0);
+    q.ms = msInscatter(hp, muP, muSp, nu, q.sR, q.sM);
+    return q;
+}
+
 void main() {
     int g = int(gl_WorkGroupID.x) + u_groupOffset;
     ivec2 ij = ivec2(g % u_groupsX, g / u_groupsX) * 8 + ivec2(gl_LocalInvocationID.xy);
@@ -25,8 +44,12 @@ void main() {
     float mu = ma.x, az = ma.y;
     float sinV = sqrt(max(1.0 - mu * mu, 0.0)), sinS = sqrt(max(1.0 - u_muS * u_muS, 0.0));
     float nu = clamp(sinV * sinS * cos(az) + mu * u_muS, -1.0, 1.0);
+    // Rays towards the ground are stopped by the host's geometry (its terrain), not by the
+    // planet's sphere: they run on to the last slice through air no lower than the ground (a
+    // host's ground point 20 km away, seen 0.5 deg down from 2 m, is in near-ground air all
+    // the way, not below it; an observer at height 0 would otherwise get no air at all).
     bool ground = ij.y < u_size / 2;
-    float dEnd = ground ? distanceToBottom(u_h, mu) : distanceToTop(u_h, mu);
+    float dEnd = ground ? u_maxDistance : distanceToTop(u_h, mu);
     float phaseR = rayleighPhase(nu), phaseM = miePhase(nu);
     vec3 L = vec3(0.0), thr = vec3(1.0), thrD = vec3(1.0);  // exact and delta-M (scattered light)
     float t0 = 0.0;
@@ -36,7 +59,7 @@ void main() {
         float dt = (t1 - t0) / float(u_substeps);
         for (int s = 0; s < u_substeps && dt > 0.0; ++s) {
             float t = t0 + (float(s) + 0.5) * dt;
-            RaySample q = atm_raySample(u_h, mu, u_muS, nu, t, dt, u_angular);
+            RaySample q = ground ? apGroundSample(u_h, mu, u_muS, nu, t, dt, u_angular) : atm_raySample(u_h, mu, u_muS, nu, t, dt, u_angular);
             L += thrD * ((q.sR * phaseR + q.sM * phaseM) * q.Tl + q.ms) * q.seg;
             thr *= exp(-q.sigmaT * dt);
             thrD *= exp(-q.sigmaD * dt);

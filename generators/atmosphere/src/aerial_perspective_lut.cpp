@@ -20,6 +20,7 @@ AerialPerspectiveLut::AerialPerspectiveLut() : SkyGenerator("sky.aerial_perspect
     input(keys::observerHeight);
     input(skykeys::sunCosZenith, {.tolerance = kCosZenithTolerance});  // the volume's azimuth is from the Sun
     input(skykeys::aerialVolume, {.optional = true});  // the Sky's option: nothing is built while false
+    input(keys::hostScene, {.optional = true});        // ... or while no host asks for its scene's aerial perspective
     output(skykeys::aerialInscatter);
     output(skykeys::aerialTransmittance);
 }
@@ -40,7 +41,7 @@ void AerialPerspectiveLut::releaseGl() {
 
 void AerialPerspectiveLut::doRun(SkyVars& vars, const Logger&) {
     // Pay only for what is used: no volume unless asked for (a host's geometry to fog).
-    if (!vars.getOr(skykeys::aerialVolume, false)) return;
+    if (!vars.getOr(skykeys::aerialVolume, false) && !vars.getOr(keys::hostScene, false)) return;
     prepare(vars);
     const int n = q_.aerialSize;
     auto make = [n](gl::Texture3D& t) {

@@ -470,7 +470,31 @@ void Clouds::renderCached(const FrameContext& ctx) {
 
 void Clouds::doResize(int, int) {}
 
+void Clouds::doApplyToScene(const FrameContext& ctx, ScenePass pass) {
+    if (pass != ScenePass::Surfaces || !drew_ || !photometry_.valid) return;
+    if (ctx.camera.projection != Projection::Perspective) return;  // a host's depth belongs to a pinhole view
+    if (!ctx.vars.has(generators::cloudkeys::shadowMap)) return;   // no shadow map: nothing shadows
+    if (!scenePass_) {
+        scenePass_ = gl::ProgramBuilder("Clouds (host scene shadows)")
+                         .fullscreenVertex()
+                         .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
+                         .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
+                         .fragment("generators/clouds/cloud_shadow.glsl", std::string(generators::CloudShadowMap::hostGlsl()))
+                         .fragment("clouds/clouds_scene.frag.glsl", embedded::clouds_element_shaders("clouds_scene.frag.glsl"))
+                         .build();
+    }
+    generators::CloudShadowMap::bindForHost(ctx.vars, scenePass_.id());
+    glBindTextureUnit(gl::binding::kSceneDepth, ctx.depth->depthTexture);
+    scenePass_.use();
+    // Luminance lux (the photometry's): the ratio is applied to every channel alike.
+    scenePass_.set("u_direct", float(photometry_.clearDirect));
+    scenePass_.set("u_diffuse", float(photometry_.diffuse));
+    scenePass_.set("u_observerT", float(photometry_.sunTransmittance));
+    ctx.drawFullscreen();
+}
+
 void Clouds::doRelease() {
+    scenePass_ = {};
     programs_.releasePrograms();
     cacheShow_.releasePrograms();
     cacheFill_ = {};

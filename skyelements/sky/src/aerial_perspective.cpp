@@ -20,7 +20,7 @@ std::vector<std::pair<std::string, std::string>> aerialPerspectiveGlslChunks() {
 }
 
 void AerialPerspective::bindResources(const SkyVars& vars, const gl::Program& program) {
-    if (!vars.getOr(skykeys::aerialVolume, false))
+    if (!vars.getOr(skykeys::aerialVolume, false) && !vars.getOr(keys::hostScene, false))
         throw Error("AerialPerspective: the Sky does not build the aerial-perspective volume: set sky.aerial_volume = true "
                     "(SkyOptions::aerialPerspective, --var sky.aerial_volume=true)");
     if (!vars.has(skykeys::aerialInscatter))
@@ -56,15 +56,12 @@ void AerialPerspective::apply(const SkyVars& vars, const Camera& camera, const H
         cameraUbo_ = gl::Buffer(sizeof(CameraBlock));
         vao_ = gl::VertexArray::create();
     }
-    CameraBlock cb = makeCameraBlock(camera, 0.0);
+    CameraBlock cb = makeCameraBlock(camera, 0.0, depth);
     cameraUbo_.update(&cb, sizeof cb);
     cameraUbo_.bindBase(GL_UNIFORM_BUFFER, gl::binding::kCameraUbo);
     bindResources(vars, program_);
     glBindTextureUnit(gl::binding::kSceneDepth, depth.depthTexture);
     program_.use();
-    program_.set("u_near", float(depth.nearM));
-    program_.set("u_far", float(depth.farM));
-    program_.set("u_metresPerUnit", float(depth.metresPerUnit));
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
     glViewport(0, 0, camera.width, camera.height);
     glEnable(GL_BLEND);

@@ -229,7 +229,16 @@ void Sky::doRender(const FrameContext& ctx) {
     }
 }
 
+void Sky::doApplyToScene(const FrameContext& ctx, ScenePass pass) {
+    if (pass != ScenePass::Air) return;
+    if (ctx.camera.projection != Projection::Perspective) return;  // a host's depth belongs to a pinhole view
+    GLint fb = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &fb);  // the host's, bound by the processor
+    aerial_.apply(ctx.vars, ctx.camera, *ctx.depth, GLuint(fb));
+}
+
 void Sky::doRelease() {
+    aerial_.release();
     for (auto& row : lutPrograms_)
         for (auto& col : row)
             for (auto& baked : col)

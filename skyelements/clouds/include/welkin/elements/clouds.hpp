@@ -108,6 +108,8 @@ private:
     void doInit(InitContext& ctx) override;
     void doUpdate(const FrameContext& ctx) override;
     void doRender(const FrameContext& ctx) override;
+    /// ScenePass::Surfaces: the clouds' shadows over the host's scene (clouds_scene.frag.glsl).
+    void doApplyToScene(const FrameContext& ctx, ScenePass pass) override;
     void doResize(int w, int h) override;
     void doRelease() override;
     void doStats(nlohmann::json& root) const override;
@@ -136,6 +138,7 @@ private:
     // The real-time path (clouds.reprojection): the direction cache (radiance, transmittance),
     // its fill and display programs, the phase of the next partial refresh, and the inputs of the
     // last full fill (a change of any refills it at once).
+    gl::Program scenePass_;  // applyToScene()'s shadow pass
     gl::Texture2D cacheL_, cacheT_;
     gl::Program cacheFill_;
     gl::ProjectionPrograms cacheShow_;

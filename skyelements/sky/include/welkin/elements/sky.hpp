@@ -34,6 +34,7 @@
 //
 // Observer heights below the ground are clamped to 0 m with a warning through the logger.
 #pragma once
+#include <welkin/elements/aerial_perspective.hpp>
 #include <welkin/element.hpp>
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/gl/objects.hpp>
@@ -82,6 +83,8 @@ private:
     void doInit(InitContext& ctx) override;
     void doUpdate(const FrameContext& ctx) override;
     void doRender(const FrameContext& ctx) override;
+    /// ScenePass::Air: the aerial perspective over the host's scene (AerialPerspective).
+    void doApplyToScene(const FrameContext& ctx, ScenePass pass) override;
     void doRelease() override;
     void doStats(nlohmann::json& root) const override;
     void doValidateOptions(const SkyVars& vars) const override;
@@ -100,6 +103,7 @@ private:
     gl::ProjectionPrograms lutPrograms_[2][2][2][2], marchPrograms_[2][2], spectralPrograms_[2];
     int marchBands_ = 0;
     gl::Buffer ubo_;
+    AerialPerspective aerial_;  // applyToScene()'s air pass
     bool perPixel_ = false;
     bool shadowed_ = false;  // the last frame subtracted sky.shadow_loss_lut
     double zenith_ = 0, global_ = 0, direct_ = 0, diffuse_ = 0;
