@@ -5,8 +5,8 @@
 
   terrain.gltf + terrain.bin      a 6 km x 6 km heightfield: a flat village floor at the origin,
                                   a valley running north-south, gentle hills rising towards the
-                                  edges; per-vertex normals; base colour grass or limestone by
-                                  slope (COLOR_0, linear)
+                                  edges; per-vertex normals; base colour by slope (dry fields and
+                                  scrub, limestone on slopes; COLOR_0, linear)
   buildings.gltf + buildings.bin  houses with pitched roofs and square towers in sandstone,
                                   terracotta roofs; one named node per building ("house_n1",
                                   "keep_far" ...) standing on the terrain
@@ -140,8 +140,17 @@ class Gltf:
 
 # ---------------------------------------------------------------- terrain
 
-GRASS = (0.080, 0.120, 0.035)     # linear albedo of dry Mediterranean grass and scrub
+DRY_GRASS = (0.17, 0.13, 0.065)   # linear albedo of sun-dried fields (a Maltese summer)
+SCRUB = (0.065, 0.085, 0.035)     # garrigue and green scrub
 LIMESTONE = (0.42, 0.38, 0.30)    # weathered globigerina limestone
+
+
+def field_pattern(x, z):
+    """Patches of dry fields and scrub in [0, 1] (1: scrub): sums of rotated sinusoids, smooth
+    over ~100 m, so the ground reads as fields from the camera and is the same on every run."""
+    a = math.sin(0.013 * x + 0.021 * z + 1.7) + math.sin(-0.019 * x + 0.011 * z + 0.4)
+    b = math.sin(0.047 * x - 0.031 * z + 2.9) * 0.6 + math.sin(0.029 * x + 0.053 * z - 1.1) * 0.6
+    return smoothstep(-0.4, 0.9, 0.6 * a + 0.5 * b)
 
 
 def make_terrain(out_dir):
@@ -158,7 +167,9 @@ def make_terrain(out_dir):
             # Slope from the normal: grass up to ~12 degrees, rock above ~22 degrees.
             slope = math.degrees(math.acos(min(1.0, nn[1])))
             t = smoothstep(12.0, 22.0, slope)
-            col.append(tuple(GRASS[c] * (1 - t) + LIMESTONE[c] * t for c in range(3)))
+            f = field_pattern(x, z)
+            grass = tuple(DRY_GRASS[c] * (1 - f) + SCRUB[c] * f for c in range(3))
+            col.append(tuple(grass[c] * (1 - t) + LIMESTONE[c] * t for c in range(3)))
     idx = []
     for j in range(n - 1):
         for i in range(n - 1):
