@@ -39,6 +39,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -183,8 +184,19 @@ std::vector<std::string> overlayLines(host::HostApp& app, const welkin::UtcInsta
     return lines;
 }
 
+// The assets folder must hold the three glTF files (checked before any GL work).
+void checkAssets(const std::string& dir) {
+    for (const char* f : {"terrain.gltf", "buildings.gltf", "spheres.gltf"})
+        if (!std::filesystem::is_regular_file(std::filesystem::path(dir) / f))
+            throw UsageError("--assets '" + dir + "' has no " + f + " (the folder examples/host/assets, or make_assets.py's output)");
+}
+
 int runHeadless(const Options& o) {
-    welkin::checkWritable(o.out);
+    try {
+        welkin::checkWritable(o.out);
+    } catch (const std::exception& e) {
+        throw UsageError(std::string("--out: ") + e.what());
+    }
     const welkin::UtcInstant t = parseTime(o.time);
     welkin::Logger log;
     auto context = welkin::gl::HeadlessContext::create({}, log);
@@ -289,6 +301,7 @@ int runWindow(const Options& o) {
 int main(int argc, char** argv) {
     try {
         const Options o = parse(argc, argv);
+        checkAssets(o.app.assetsDir);
         return o.headless ? runHeadless(o) : runWindow(o);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "welkin_host: %s\n", e.what());

@@ -84,9 +84,9 @@ struct AppOptions {
 
 /// GPU time of the parts of a frame (timer queries, read a few frames later without stalling).
 struct FrameTimes {
-    double sceneMs = 0.0;    ///< the host's scene pass
-    double welkinMs = 0.0;   ///< update + renderInto + applyToScene + toneMapInto
-    double lightingMs = 0.0; ///< welkin's lighting outputs (its own --stats timing), CPU ms
+    double sceneMs = 0.0;    ///< the host's scene pass, GPU
+    double welkinMs = 0.0;   ///< welkin's update() + renderInto() + applyToScene(), GPU (the tone map is not in it)
+    double lightingMs = 0.0; ///< welkin's lighting outputs this frame, from its --stats ("lighting": CPU ms)
     double frameMs = 0.0;    ///< CPU, between two render() calls
 };
 
@@ -138,7 +138,7 @@ private:
     int width_ = 0, height_ = 0;
     GlName hdr_, depth_, fbo_, ldr_, ldrFbo_;
     static constexpr int kTimerFrames = 4;
-    std::array<std::array<GlName, 3>, kTimerFrames> timers_;
+    std::array<std::array<GlName, 4>, kTimerFrames> timers_;  // before/after update(), after the scene, after welkin's passes
     std::array<bool, kTimerFrames> timerPending_{};
     int frameIndex_ = 0;
     FrameTimes times_;
