@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include "gl_test_context.hpp"
+#include "uniform_field.hpp"
 
 #include <welkin/camera.hpp>
 #include <welkin/element.hpp>
@@ -214,30 +215,6 @@ TEST_CASE("fromViewProjection rejects what it cannot use, in one line", "[cpu][c
 // ---- GL: the host's depth, scene pass, tone map and errors --------------------------------------
 
 namespace {
-// Radiance L over what is behind, attenuated by T (the processor's compositing).
-class Flat final : public SkyElement {
-public:
-    Flat(glm::vec3 radiance, glm::vec3 transmittance) : SkyElement("flat"), L_(radiance), T_(transmittance) {}
-
-private:
-    void doInit(InitContext&) override {
-        program_ = gl::ProgramBuilder("Flat")
-                       .fullscreenVertex()
-                       .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
-                       .fragment("flat.frag", "uniform vec3 u_L; uniform vec3 u_T;\nvoid main() { welkin_output(u_L, u_T); }\n")
-                       .build();
-    }
-    void doRender(const FrameContext& ctx) override {
-        program_.set("u_L", L_);
-        program_.set("u_T", T_);
-        program_.use();
-        ctx.drawFullscreen();
-    }
-    void doRelease() override { program_ = {}; }
-    glm::vec3 L_, T_;
-    gl::Program program_;
-};
-
 // Over the host's scene: writes the distance to the host's geometry (metres, camera.glsl's
 // welkin_sceneDistance) as radiance over black, in the air pass; 1e6 where nothing was drawn.
 class DistanceProbe final : public SkyElement {
@@ -315,7 +292,7 @@ TEST_CASE("Reversed-Z and [0, 1] depth hosts see the sky behind their geometry",
             SkyProcessor p;
             const glm::dmat4 proj = glm::perspective(1.0, 2.0, 0.1, 100.0);
             p.setCamera(Camera::fromViewProjection(glm::dmat4(1.0), proj, enuFromYUp(), w, h, {.reversedZ = reversed, .zeroToOne = zeroToOne}));
-            p.add(std::make_unique<Flat>(glm::vec3(10.0f), glm::vec3(0.5f)));
+            p.add(std::make_unique<test::UniformField>(glm::vec3(10.0f), "veil", glm::vec3(0.5f)));
             t.fbo.bind();
             p.renderInto({.framebuffer = t.fbo.id(), .width = w, .height = h, .depthTest = true});
             // The host's clip control and depth state survive the call.
@@ -396,7 +373,7 @@ TEST_CASE("toneMapInto tone-maps a host's HDR texture like welkin's own frame", 
     p.setCamera(cam);
     p.setAnimationTime(0.0);
     p.setExposure({.automatic = true});
-    p.add(std::make_unique<Flat>(glm::vec3(2500.0f, 3000.0f, 4000.0f), glm::vec3(0.0f)));
+    p.add(std::make_unique<test::UniformField>(glm::vec3(2500.0f, 3000.0f, 4000.0f)));
     p.renderFrame();
     const Image own = p.readToneMapped();
     const double ownEv = p.lastEv100();
@@ -441,7 +418,7 @@ TEST_CASE("A GL error the host left pending is the host's, not welkin's", "[gl][
         cam.width = 8;
         cam.height = 4;
         p.setCamera(cam);
-        p.add(std::make_unique<Flat>(glm::vec3(1.0f), glm::vec3(0.0f)));
+        p.add(std::make_unique<test::UniformField>(glm::vec3(1.0f)));
         glEnable(0x7FFF);  // GL_INVALID_ENUM, left by "the host"
         CHECK_NOTHROW(p.renderFrame());
         REQUIRE(!messages.empty());

@@ -205,7 +205,7 @@ AerialTexel aerialTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, 
     double sinV = std::sqrt(std::max(1.0 - mu * mu, 0.0)), sinS = std::sqrt(std::max(1.0 - muS * muS, 0.0));
     double nu = std::clamp(sinV * sinS * std::cos(az) + mu * muS, -1.0, 1.0);
     // Ground rays run on through air no lower than the ground (the host's terrain stops them:
-    // aerial_perspective.glsl's apGroundSample).
+    // atmosphere.glsl's atm_raySampleAir).
     bool ground = j < n / 2;
     double dEnd = ground ? q.aerialMaxDistance : distanceToTop(m, h, mu);
     double r = m.bottomRadius + h;
