@@ -33,3 +33,43 @@ function(welkin_embed_shaders target name base_dir)
   target_sources(${target} PRIVATE ${out_cpp} ${out_hpp})
   target_include_directories(${target} PUBLIC $<BUILD_INTERFACE:${out_dir}/include>)
 endfunction()
+
+# Public headers and internals (docs/architecture.md, "Installed API"). Every header under an
+# include/ folder is installed except those listed here: implementation details that no installed
+# header includes (scripts/check-installed-headers.sh fails CI if one does). An internal header
+# that an installed one must include lives under a detail/ folder instead: installed, left out of
+# the API reference (docs/Doxyfile).
+set(WELKIN_INTERNAL_HEADERS
+  welkin/check.hpp                        # precondition messages of the library's own checks
+  welkin/csv.hpp                          # CSV tables: the command's benchmarks and tools only
+  welkin/astro/elp.hpp                    # the Moon's series behind astro/bodies.hpp
+  welkin/astro/vsop87.hpp                 # the planets' series behind astro/bodies.hpp
+  welkin/generators/cloud_noise.hpp       # the Clouds element's noise textures
+  welkin/generators/cloud_path_lut.hpp    # the Clouds element's ray-entry LUT
+  welkin/generators/mie.hpp               # Lorenz-Mie series behind mie_tables.hpp
+)
+
+# welkin_install_headers(<include_dir>): installs the public headers under <include_dir>
+# (keeping their paths below it) into ${CMAKE_INSTALL_INCLUDEDIR}, component "headers".
+function(welkin_install_headers root)
+  file(GLOB_RECURSE headers CONFIGURE_DEPENDS RELATIVE ${root} ${root}/*.hpp ${root}/*.h)
+  foreach(h ${headers})
+    if(h IN_LIST WELKIN_INTERNAL_HEADERS)
+      set_property(GLOBAL APPEND PROPERTY WELKIN_INTERNAL_HEADERS_FOUND ${h})
+    else()
+      get_filename_component(dir ${h} DIRECTORY)
+      install(FILES ${root}/${h} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/${dir} COMPONENT headers)
+    endif()
+  endforeach()
+endfunction()
+
+# After every include folder was installed: a name in WELKIN_INTERNAL_HEADERS that no folder has
+# is a stale entry (a header renamed or removed), an error rather than a silent no-op.
+function(welkin_check_internal_headers)
+  get_property(found GLOBAL PROPERTY WELKIN_INTERNAL_HEADERS_FOUND)
+  foreach(h ${WELKIN_INTERNAL_HEADERS})
+    if(NOT h IN_LIST found)
+      message(FATAL_ERROR "WELKIN_INTERNAL_HEADERS (cmake/WelkinHelpers.cmake): ${h} is in no include/ folder")
+    endif()
+  endforeach()
+endfunction()

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The whole test suite on an existing build: unit tests ([cpu], [gl], [slow]) through CTest,
-# the examples, an install + find_package(welkin) consumer build, and the sanitizer build's
-# fast tests. Usage: scripts/test.sh BUILD_DIR
+# the examples, an install (its headers self-contained) + find_package(welkin) and pkg-config
+# consumer builds, the API reference (Doxygen), and the sanitizer build's fast tests.
+# Usage: scripts/test.sh BUILD_DIR
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${1:-$here/build}
@@ -18,6 +19,8 @@ echo "== examples"
 echo "== install and find_package(welkin) from the prefix"
 prefix=$(mktemp -d)
 cmake --install "$build" --prefix "$prefix" >/dev/null
+# Installed headers include only installed headers and compile with the prefix's flags alone.
+"$here/scripts/check-installed-headers.sh" "$prefix"
 cmake -S "$here/examples/consumer" -B "$build/consumer" -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
 cmake --build "$build/consumer" -j "$jobs" >/dev/null
 "$build/consumer/welkin_consumer"
@@ -29,7 +32,19 @@ cmake -S "$hostsrc" -B "$hostsrc/build" -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_BU
 cmake --build "$hostsrc/build" -j "$jobs" >/dev/null
 "$hostsrc/build/welkin_host" --headless --time 2026-06-21T13:00:00+02:00 --size 320x180 --out "$build/example-host.png"
 test -s "$build/example-host.png"
-rm -rf "$hostsrc" "$prefix"
+rm -rf "$hostsrc"
+
+echo "== pkg-config: a program built with 'pkg-config --cflags --libs welkin' from the prefix"
+pc_file=$(find "$prefix" -path '*/pkgconfig/welkin.pc' -print -quit)
+[ -n "$pc_file" ] || { echo "pkg-config step: no welkin.pc installed under $prefix" >&2; exit 1; }
+pc_flags=$(PKG_CONFIG_PATH=$(dirname "$pc_file") pkg-config --cflags --libs welkin)
+# shellcheck disable=SC2086  # a list of flags
+${CXX:-c++} -std=c++20 "$here/examples/consumer/pkg_config_main.cpp" $pc_flags -o "$build/welkin_pkg_config"
+"$build/welkin_pkg_config"
+rm -rf "$prefix"
+
+echo "== API reference: Doxygen over the installed headers, warnings are errors"
+"$here/scripts/docs.sh" "$build" >/dev/null
 
 echo "== element template: examples/elements/halo copied into skyelements/, nothing else changed"
 # A new element is one folder: copy the template, reconfigure, build, render it with an option

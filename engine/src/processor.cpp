@@ -365,38 +365,40 @@ void SkyProcessor::update() {
     if (host.outermost()) gl::checkError("SkyProcessor::update()");
 }
 
+void SkyProcessor::applyCompositeState(unsigned framebuffer, bool depthTest) {
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+    if (framebuffer != 0) glDrawBuffer(GL_COLOR_ATTACHMENT0);  // dual-source: one draw buffer
+    glViewport(0, 0, camera_.width, camera_.height);
+    cameraUbo_.bindBase(GL_UNIFORM_BUFFER, gl::binding::kCameraUbo);
+    emptyVao_.bind();
+    glEnable(GL_BLEND);
+    // dst.rgb = src0.rgb + dst.rgb * src1.rgb (radiance plus attenuated background); alpha kept.
+    glBlendFuncSeparate(GL_ONE, GL_SRC1_COLOR, GL_ZERO, GL_ONE);
+    glBlendEquation(GL_FUNC_ADD);
+    if (depthTest) {
+        // The sky is at NDC z = 1 (z = w); the depth range puts that at window depth 1, or at 0
+        // for a reversed-Z host (glDepthRange(1, 0)), whatever the host's glClipControl depth
+        // mode (NDC 1 is the far end of both). The guard restores the host's range.
+        glEnable(GL_DEPTH_TEST);
+        if (camera_.depth.reversedZ) {
+            glDepthRange(1.0, 0.0);
+            glDepthFunc(GL_GEQUAL);
+        } else {
+            glDepthRange(0.0, 1.0);
+            glDepthFunc(GL_LEQUAL);
+        }
+    } else {
+        glDisable(GL_DEPTH_TEST);
+    }
+    glDepthMask(GL_FALSE);
+    glDisable(GL_CULL_FACE);
+    glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+}
+
 void SkyProcessor::composite(unsigned framebuffer, bool depthTest, bool clearedToBlack, const HostDepth* depth) {
     // The compositing state is applied before every element, so an element that binds its own
     // framebuffer or changes blending in doRender() cannot break the ones after it.
-    auto apply = [&] {
-        glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
-        if (framebuffer != 0) glDrawBuffer(GL_COLOR_ATTACHMENT0);  // dual-source: one draw buffer
-        glViewport(0, 0, camera_.width, camera_.height);
-        cameraUbo_.bindBase(GL_UNIFORM_BUFFER, gl::binding::kCameraUbo);
-        emptyVao_.bind();
-        glEnable(GL_BLEND);
-        // dst.rgb = src0.rgb + dst.rgb * src1.rgb (radiance plus attenuated background); alpha kept.
-        glBlendFuncSeparate(GL_ONE, GL_SRC1_COLOR, GL_ZERO, GL_ONE);
-        glBlendEquation(GL_FUNC_ADD);
-        if (depthTest) {
-            // The sky is at NDC z = 1 (z = w); the depth range puts that at window depth 1, or at 0
-            // for a reversed-Z host (glDepthRange(1, 0)), whatever the host's glClipControl depth
-            // mode (NDC 1 is the far end of both). The guard restores the host's range.
-            glEnable(GL_DEPTH_TEST);
-            if (camera_.depth.reversedZ) {
-                glDepthRange(1.0, 0.0);
-                glDepthFunc(GL_GEQUAL);
-            } else {
-                glDepthRange(0.0, 1.0);
-                glDepthFunc(GL_LEQUAL);
-            }
-        } else {
-            glDisable(GL_DEPTH_TEST);
-        }
-        glDepthMask(GL_FALSE);
-        glDisable(GL_CULL_FACE);
-        glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    };
+    auto apply = [&] { applyCompositeState(framebuffer, depthTest); };
     FrameContext ctx = frameContext();
     // Over the processor's own HDR target (cleared to black) the first element has nothing
     // behind it; over a host's framebuffer there may be anything.
@@ -487,17 +489,7 @@ void SkyProcessor::applyToScene(const RenderTarget& target) {
         ctx.depth = &*target.depth;
         for (ScenePass pass : {ScenePass::Surfaces, ScenePass::Air})
             for (auto& e : elements_) {
-                glBindFramebuffer(GL_FRAMEBUFFER, target.framebuffer);
-                if (target.framebuffer != 0) glDrawBuffer(GL_COLOR_ATTACHMENT0);
-                glViewport(0, 0, camera_.width, camera_.height);
-                cameraUbo_.bindBase(GL_UNIFORM_BUFFER, gl::binding::kCameraUbo);
-                emptyVao_.bind();
-                glEnable(GL_BLEND);
-                glBlendFuncSeparate(GL_ONE, GL_SRC1_COLOR, GL_ZERO, GL_ONE);
-                glBlendEquation(GL_FUNC_ADD);
-                glDisable(GL_DEPTH_TEST);
-                glDepthMask(GL_FALSE);
-                glDisable(GL_CULL_FACE);
+                applyCompositeState(target.framebuffer, false);
                 e->applyToScene(ctx, pass);
             }
         if (host.outermost()) gl::checkError(where);

@@ -5,7 +5,7 @@
 #include "gl_test_context.hpp"
 
 #include <welkin/generators/atmosphere.hpp>
-#include <welkin/generators/light_keyframes.hpp>
+#include <welkin/generators/detail/light_keyframes.hpp>
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/keys.hpp>
 

@@ -323,6 +323,6 @@ struct ElementDescriptor {
 
 }  // namespace welkin
 
-/// Defines the descriptor function of the element in skyelements/<folder>/ (the build generates
+/// Defines the descriptor function of the element in `skyelements/<folder>/` (the build generates
 /// the registry from these: adding a folder is all it takes).
 #define WELKIN_ELEMENT_DESCRIPTOR(folder) const ::welkin::ElementDescriptor& welkin_element_descriptor_##folder()

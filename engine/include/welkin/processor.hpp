@@ -232,6 +232,9 @@ private:
     /// `clearedToBlack`: the target was just cleared to black (the first element has nothing behind it).
     /// `depth`: the host's depth for the elements (FrameContext::depth), or nullptr.
     void composite(unsigned framebuffer, bool depthTest, bool clearedToBlack, const HostDepth* depth);
+    /// The compositing state (framebuffer, viewport, camera block, dual-source blending, depth
+    /// test in the camera's DepthMode), set before every element's pass.
+    void applyCompositeState(unsigned framebuffer, bool depthTest);
     void checkDepthTexture(const HostDepth& depth) const;
     void declareToneMapKeys();
     /// `newFrame`: the frame renderFrame() just composited (advances the eye's adaptation).

@@ -16,25 +16,6 @@ uniform float u_angular;
 uniform int u_groupOffset;  // first work group of this dispatch (a table built over several runs)
 uniform int u_groupsX;      // work groups per row of the whole table
 
-// atm_raySample() for a ray towards the ground: the sample's height clamped to >= 0 (the air
-// of the host's terrain), its light and view cosines taken at that clamped radius.
-RaySample apGroundSample(float h, float mu, float muS, float nu, float t, float dt, float lightAngularRadius) {
-    RaySample q;
-    float r = atm_bottom() + h;
-    float hp = max(heightAt(h, mu, t), 0.0);
-    float rp = atm_bottom() + hp;
-    float muSp = clamp((r * muS + t * nu) / rp, -1.0, 1.0);
-    q.sR = atm_scatteringRayleigh(hp);
-    q.sM = atm_scatteringMie(hp);
-    q.sigmaT = atm_extinction(hp);
-    q.sigmaD = q.sigmaT - atm_shFactors.w * q.sM;
-    q.seg = atm_segmentFactor(q.sigmaD, dt);
-    q.Tl = transmittanceToLight(hp, muSp, lightAngularRadius);
-    float muP = clamp((r * mu + t) / rp, -1.0, 1.0);
-    q.ms = msInscatter(hp, muP, muSp, nu, q.sR, q.sM);
-    return q;
-}
-
 void main() {
     int g = int(gl_WorkGroupID.x) + u_groupOffset;
     ivec2 ij = ivec2(g % u_groupsX, g / u_groupsX) * 8 + ivec2(gl_LocalInvocationID.xy);
@@ -59,7 +40,7 @@ void main() {
         float dt = (t1 - t0) / float(u_substeps);
         for (int s = 0; s < u_substeps && dt > 0.0; ++s) {
             float t = t0 + (float(s) + 0.5) * dt;
-            RaySample q = ground ? apGroundSample(u_h, mu, u_muS, nu, t, dt, u_angular) : atm_raySample(u_h, mu, u_muS, nu, t, dt, u_angular);
+            RaySample q = atm_raySampleAir(u_h, mu, u_muS, nu, t, dt, u_angular, ground);
             L += thrD * ((q.sR * phaseR + q.sM * phaseM) * q.Tl + q.ms) * q.seg;
             thr *= exp(-q.sigmaT * dt);
             thrD *= exp(-q.sigmaD * dt);

@@ -305,10 +305,12 @@ vec3 msInscatter(float h, float mu, float muS, float nu, vec3 sR, vec3 sM) {
 struct RaySample {
     vec3 sR, sM, sigmaT, sigmaD, seg, Tl, ms;
 };
-RaySample atm_raySample(float h, float mu, float muS, float nu, float t, float dt, float lightAngularRadius) {
+// `groundAir`: the sample's height clamped to >= 0 (a ray towards the ground that the host's
+// terrain stops, not the planet's sphere: the aerial-perspective volume).
+RaySample atm_raySampleAir(float h, float mu, float muS, float nu, float t, float dt, float lightAngularRadius, bool groundAir) {
     RaySample q;
     float r = atm_bottom() + h;
-    float hp = heightAt(h, mu, t);
+    float hp = groundAir ? max(heightAt(h, mu, t), 0.0) : heightAt(h, mu, t);
     float rp = atm_bottom() + hp;
     float muSp = clamp((r * muS + t * nu) / rp, -1.0, 1.0);
     q.sR = atm_scatteringRayleigh(hp);
@@ -320,6 +322,9 @@ RaySample atm_raySample(float h, float mu, float muS, float nu, float t, float d
     float muP = clamp((r * mu + t) / rp, -1.0, 1.0);
     q.ms = msInscatter(hp, muP, muSp, nu, q.sR, q.sM);
     return q;
+}
+RaySample atm_raySample(float h, float mu, float muS, float nu, float t, float dt, float lightAngularRadius) {
+    return atm_raySampleAir(h, mu, muS, nu, t, dt, lightAngularRadius, false);
 }
 struct Scattering {
     vec3 smooth_;     // Rayleigh single (phase applied), multiple scattering and ground

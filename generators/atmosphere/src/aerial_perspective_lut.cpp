@@ -204,8 +204,10 @@ AerialTexel aerialTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, 
     double mu = ma.x, az = ma.y;
     double sinV = std::sqrt(std::max(1.0 - mu * mu, 0.0)), sinS = std::sqrt(std::max(1.0 - muS * muS, 0.0));
     double nu = std::clamp(sinV * sinS * std::cos(az) + mu * muS, -1.0, 1.0);
+    // Ground rays run on through air no lower than the ground (the host's terrain stops them:
+    // atmosphere.glsl's atm_raySampleAir).
     bool ground = j < n / 2;
-    double dEnd = ground ? distanceToBottom(m, h, mu) : distanceToTop(m, h, mu);
+    double dEnd = ground ? q.aerialMaxDistance : distanceToTop(m, h, mu);
     double r = m.bottomRadius + h;
     double phaseR = rayleighPhase(nu), phaseM = miePhase(nu, m.mieG, m.miePhase);
     const PhaseMoments moments = phaseMoments(m, MS.bands);
@@ -217,7 +219,7 @@ AerialTexel aerialTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, 
         double dt = (t1 - t0) / q.aerialSteps;
         for (int s = 0; s < q.aerialSteps && dt > 0.0; ++s) {
             double t = t0 + (s + 0.5) * dt;
-            double hp = heightAt(m, h, mu, t);
+            double hp = ground ? std::max(heightAt(m, h, mu, t), 0.0) : heightAt(m, h, mu, t);
             double rp = m.bottomRadius + hp;
             double muSp = std::clamp((r * muS + t * nu) / rp, -1.0, 1.0);
             glm::dvec3 sR = m.scatteringRayleigh(hp), sM = m.scatteringMie(hp), sigmaT = m.extinction(hp);

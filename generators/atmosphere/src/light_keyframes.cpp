@@ -1,6 +1,6 @@
 // LightKeyframes: the schedule of light-dependent tables while the light moves (see the header).
 #include <welkin/error.hpp>
-#include <welkin/generators/light_keyframes.hpp>
+#include <welkin/generators/detail/light_keyframes.hpp>
 
 #include <algorithm>
 #include <cmath>

@@ -23,7 +23,7 @@
 
 namespace welkin::gl {
 
-/// Text of one of the engine's embedded GLSL chunks (engine/shaders/<path>).
+/// Text of one of the engine's embedded GLSL chunks (`engine/shaders/<path>`).
 std::string_view engineShader(std::string_view path);
 
 class ProgramBuilder {

@@ -38,7 +38,7 @@
 // cost is unchanged and the LUT cost is about N/3 times RGB's.
 #pragma once
 #include <welkin/element.hpp>
-#include <welkin/generators/light_keyframes.hpp>
+#include <welkin/generators/detail/light_keyframes.hpp>
 #include <welkin/generators/lights.hpp>
 #include <welkin/generators/sky_model.hpp>
 #include <welkin/generators/sky_spectral.hpp>

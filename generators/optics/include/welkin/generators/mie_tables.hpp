@@ -100,7 +100,7 @@ struct MieTable {
     /// Exact Mie for every (wavelength, sub-radius) with `threads` threads (0: all cores).
     static MieTable build(const Quality& q, int threads = 0);
     /// The table from the disk cache ($XDG_CACHE_HOME/welkin, else ~/.cache/welkin, file
-    /// mie-<hash of the quality and the code version>.bin), else built and written there
+    /// `mie-<hash>.bin`, the hash of the quality and the code version), else built and written there
     /// atomically (temporary file + rename; a failed write only logs nothing and returns the table).
     /// Kept in memory per quality for the process.
     static const MieTable& cached(const Quality& q);
