@@ -136,8 +136,11 @@ TEST_CASE("SkyLighting: the SH irradiance equals a brute-force projection of the
             // different resolutions; the rest is float accumulation (1e-6).
             CHECK(e1 < 0.02);
             // The truncation of nine coefficients is the method's (Ramamoorthi & Hanrahan: a few %
-            // on average, up to ~10-15 % facing away from a low Sun): the band is that, doubled.
-            CHECK(std::abs(e2) < 0.3);
+            // on average): measured up to 12 % on the up and horizontal normals (facing away from
+            // a Sun at 5 deg) and 54 % facing down at sunrise (a dark ground under a bright sky
+            // band: the l <= 2 lobes spill the sky into the nadir); the bands are those, rounded
+            // up by a third, so that the documented table (docs/lighting.md) stays true.
+            CHECK(std::abs(e2) < (n.z < -0.5 ? 0.75 : 0.16));
         }
     }
 }
@@ -196,37 +199,43 @@ TEST_CASE("SkyLighting: specular mip 0 is the sky's radiance; the roughest mip a
         INFO("face " << f);
         CHECK(worst < 0.01);  // 1 %: the same passes, the same texels; float rounding only
     }
-    // The roughest mip (roughness 1, GGX alpha 1) against the double-precision sum over every
-    // texel of level 0 with the split-sum weight D(h)/4 (n.l) Omega.
-    const int mip = l.specularMips - 1, m = n >> mip;
-    double worst = 0;
-    for (int f = 0; f < 6; ++f) {
-        const std::vector<float> px = readFace(l.specularCube, mip, f);
-        for (int j = 0; j < m; ++j)
-            for (int i = 0; i < m; ++i) {
-                const glm::dvec3 nrm = *cubeCamera(f, m).directionAt({i + 0.5, j + 0.5});
-                glm::dvec3 sum(0.0);
-                double wsum = 0;
-                for (int sf = 0; sf < 6; ++sf)
-                    for (int sj = 0; sj < n; ++sj)
-                        for (int si = 0; si < n; ++si) {
-                            const glm::dvec3 d = *cubeCamera(sf, n).directionAt({si + 0.5, sj + 0.5});
-                            const double nl = glm::dot(nrm, d);
-                            if (nl <= 0) continue;
-                            const double nh = glm::dot(nrm, glm::normalize(nrm + d));
-                            const double a2 = 1.0, q = nh * nh * (a2 - 1) + 1, D = a2 / (kPi * q * q);
-                            const double w = D / 4 * nl * texelSolidAngle(si, sj, n);
-                            const size_t o = size_t(4 * (sj * n + si));
-                            sum += w * glm::dvec3(level0[size_t(sf)][o], level0[size_t(sf)][o + 1], level0[size_t(sf)][o + 2]);
-                            wsum += w;
-                        }
-                const glm::dvec3 ref = sum / wsum;
-                const glm::dvec3 got(px[size_t(4 * (j * m + i))], px[size_t(4 * (j * m + i) + 1)], px[size_t(4 * (j * m + i) + 2)]);
-                worst = std::max(worst, relErr(got, ref));
-            }
+    // Every prefiltered mip against the double-precision sum over every texel of level 0 with
+    // the split-sum weight D(h)/4 (n.l) Omega; the roughest (roughness 1, GGX alpha 1) must be
+    // within 3 % (the target); the others are printed for docs/lighting.md (mip 1 sums level 1).
+    for (int mip = 1; mip < l.specularMips; ++mip) {
+        const int m = n >> mip;
+        const double r = double(mip) / (l.specularMips - 1), a2 = r * r * r * r;
+        double worst = 0, sumErr = 0;
+        for (int f = 0; f < 6; ++f) {
+            const std::vector<float> px = readFace(l.specularCube, mip, f);
+            for (int j = 0; j < m; ++j)
+                for (int i = 0; i < m; ++i) {
+                    const glm::dvec3 nrm = *cubeCamera(f, m).directionAt({i + 0.5, j + 0.5});
+                    glm::dvec3 sum(0.0);
+                    double wsum = 0;
+                    for (int sf = 0; sf < 6; ++sf)
+                        for (int sj = 0; sj < n; ++sj)
+                            for (int si = 0; si < n; ++si) {
+                                const glm::dvec3 d = *cubeCamera(sf, n).directionAt({si + 0.5, sj + 0.5});
+                                const double nl = glm::dot(nrm, d);
+                                if (nl <= 0) continue;
+                                const double nh = glm::dot(nrm, glm::normalize(nrm + d));
+                                const double q = nh * nh * (a2 - 1) + 1, D = a2 / (kPi * q * q);
+                                const double w = D / 4 * nl * texelSolidAngle(si, sj, n);
+                                const size_t o = size_t(4 * (sj * n + si));
+                                sum += w * glm::dvec3(level0[size_t(sf)][o], level0[size_t(sf)][o + 1], level0[size_t(sf)][o + 2]);
+                                wsum += w;
+                            }
+                    const glm::dvec3 ref = sum / wsum;
+                    const glm::dvec3 got(px[size_t(4 * (j * m + i))], px[size_t(4 * (j * m + i) + 1)], px[size_t(4 * (j * m + i) + 2)]);
+                    worst = std::max(worst, relErr(got, ref));
+                    sumErr += relErr(got, ref);
+                }
+        }
+        std::printf("specular mip %d (roughness %.2f, %dx%d) vs brute-force GGX over level 0 (double): mean %.3f %%, worst %.3f %%\n", mip, r, m, m,
+                    100 * sumErr / (6 * m * m), 100 * worst);
+        if (mip == l.specularMips - 1) CHECK(worst < 0.03);  // 3 %: the target; it sums level 0 too, in float
     }
-    std::printf("\nroughest specular mip vs brute-force GGX (double, level 0): worst %.2f %%\n", 100 * worst);
-    CHECK(worst < 0.03);  // 3 %: the target; the pass sums a box-filtered source level (see lighting.md)
 }
 
 TEST_CASE("SkyLighting: the six axis lights are the irradiance along the axes", "[gl][lighting]") {
@@ -242,10 +251,10 @@ TEST_CASE("SkyLighting: the six axis lights are the irradiance along the axes", 
         std::printf("  axis %d: %.4g lx, exact %.4g lx, %+.2f %%, SH %+.2f %%\n", a, color::luminance(l.axisLights[size_t(a)]), color::luminance(exact), 100 * e,
                     100 * (color::luminance(l.irradiance(axes[a])) - color::luminance(exact)) / color::luminance(exact));
         INFO("axis " << a);
-        // 5 %: SevenSky's light map weights each 22.5 x 11.25 deg texel's mean radiance by the
+        // 3 %: SevenSky's light map weights each 22.5 x 11.25 deg texel's mean radiance by the
         // cosine at its centre; where the radiance varies across a texel (the aureole, the
-        // horizon), the mean of L cos differs from mean L x cos(centre) by up to a few %.
-        CHECK(std::abs(e) < 0.05);
+        // horizon), the mean of L cos differs from mean L x cos(centre): measured up to 1.7 %.
+        CHECK(std::abs(e) < 0.03);
     }
 }
 
