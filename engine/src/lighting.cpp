@@ -96,6 +96,12 @@ void LightingEngine::declareKeys(SkyVars& vars) {
     vars.declare(keys::lightingCubeSize, d.cubeSize);
     vars.declare(keys::lightingSpecularMips, d.specularMips);
     vars.declare(keys::lightingSlicesPerFrame, d.slicesPerFrame);
+    // The outputs: no value until the first frame with lighting on.
+    vars.declareUnset(keys::lightingSunIlluminance);
+    vars.declareUnset(keys::lightingMoonIlluminance);
+    vars.declareUnset(keys::lightingIrradianceUp);
+    vars.declareUnset(keys::lightingSpecularCube);
+    vars.declareUnset(keys::lightingSkyLightMap);
 }
 
 void LightingEngine::release() {
