@@ -387,3 +387,82 @@ TEST_CASE("SkyLighting: options are checked at the API boundary", "[cpu][lightin
     p.setLighting(std::nullopt);
     CHECK_FALSE(p.vars().get(keys::lightingEnabled));
 }
+
+TEST_CASE("SkyLighting: the host's GLSL chunks shade with the same SH and specular cube", "[gl][lighting]") {
+    test::glContext();
+    auto p = skyAt(25 * kDeg, 200 * kDeg, 16);
+    Camera cam;
+    cam.width = 32;
+    cam.height = 16;
+    p->setCamera(cam);
+    p->renderFrame();
+    const SkyLighting& l = p->lighting();
+    // A host's own program (no ProgramBuilder), Y-up world with -z north: pixel i shades the
+    // world normal u_n[i]; pixel 6 reads the specular cube towards world +x (east), roughness 0.
+    std::string fs = "#version 450 core\n";
+    for (auto& [name, text] : lightingGlslChunks()) fs += text + "\n";
+    fs += "uniform vec3 u_n[6]; out vec4 o;\n"
+          "void main() { int i = int(gl_FragCoord.x);\n"
+          "  o = vec4(i < 6 ? welkin_shIrradiance(welkin_toEnu(u_n[i])) : welkin_specularRadiance(welkin_toEnu(vec3(1, 0, 0)), 0.0), 1.0); }\n";
+    const char* vs = "#version 450 core\nvoid main() { vec2 p = vec2((gl_VertexID & 1) * 4 - 1, (gl_VertexID & 2) * 2 - 1); gl_Position = vec4(p, 0, 1); }\n";
+    auto compile = [](GLenum type, const std::string& src) {
+        GLuint s = glCreateShader(type);
+        const char* c = src.c_str();
+        glShaderSource(s, 1, &c, nullptr);
+        glCompileShader(s);
+        GLint ok = 0;
+        glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+        char log[2048] = {};
+        glGetShaderInfoLog(s, sizeof log, nullptr, log);
+        INFO(log);
+        REQUIRE(ok);
+        return s;
+    };
+    GLuint prog = glCreateProgram();
+    GLuint v = compile(GL_VERTEX_SHADER, vs), f = compile(GL_FRAGMENT_SHADER, fs);
+    glAttachShader(prog, v);
+    glAttachShader(prog, f);
+    glLinkProgram(prog);
+    GLint linked = 0;
+    glGetProgramiv(prog, GL_LINK_STATUS, &linked);
+    REQUIRE(linked);
+    const glm::dmat3 enuFromYUp(glm::dvec3(1, 0, 0), glm::dvec3(0, 0, 1), glm::dvec3(0, -1, 0));
+    const glm::vec3 worldNormals[6] = {{0, 1, 0}, {0, -1, 0}, {1, 0, 0}, {-1, 0, 0}, {0, 0, -1}, {0, 0, 1}};  // up, down, E, W, N, S
+    glProgramUniform3fv(prog, glGetUniformLocation(prog, "u_n"), 6, &worldNormals[0].x);
+    bindLighting(prog, l, 5, enuFromYUp);
+    gl::Texture2D target(7, 1, GL_RGBA32F);
+    auto fbo = gl::Framebuffer::create();
+    fbo.attach(GL_COLOR_ATTACHMENT0, target);
+    fbo.bind();
+    glViewport(0, 0, 7, 1);
+    glUseProgram(prog);
+    GLuint vao = 0;
+    glCreateVertexArrays(1, &vao);
+    glBindVertexArray(vao);
+    glDisable(GL_BLEND);
+    glDisable(GL_DEPTH_TEST);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    const std::vector<float> px = target.readRgbaFloat();
+    glBindVertexArray(0);
+    glDeleteVertexArrays(1, &vao);
+    glUseProgram(0);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glBindTextureUnit(5, 0);
+    glDeleteProgram(prog);
+    glDeleteShader(v);
+    glDeleteShader(f);
+    for (int i = 0; i < 6; ++i) {
+        const glm::dvec3 want = l.irradiance(enuFromYUp * glm::dvec3(worldNormals[i]));
+        INFO("normal " << i);
+        // float uniforms and a float sum of nine terms against double: 1e-4
+        for (int c = 0; c < 3; ++c) CHECK(px[size_t(4 * i + c)] == Approx(want[c]).epsilon(1e-4));
+    }
+    // East is face +X's centre: bilinear between its four central texels at mip 0.
+    const std::vector<float> face = readFace(l.specularCube, 0, 0);
+    const int n = l.specularCube.width, a = n / 2 - 1, b = n / 2;
+    for (int c = 0; c < 3; ++c) {
+        const double mean = 0.25 * (face[size_t(4 * (a * n + a) + c)] + face[size_t(4 * (a * n + b) + c)] + face[size_t(4 * (b * n + a) + c)] +
+                                    face[size_t(4 * (b * n + b) + c)]);
+        CHECK(px[size_t(24 + c)] == Approx(mean).epsilon(1e-3));  // the sampler's 8-bit bilinear weights: exact at the centre
+    }
+}
