@@ -34,6 +34,7 @@ namespace welkin::cli {
 namespace {
 
 constexpr double kDeg = M_PI / 180;
+constexpr int kWarmup = 12;  // frames before timing: more than one refresh at one slice per frame
 
 struct LightingBenchOptions {
     int frames = 40;           // timed frames while time runs
@@ -85,7 +86,7 @@ int run(const LightingBenchOptions& o) {
     std::vector<double> sky;
     {
         auto p = makeProcessor();
-        for (int i = -3; i < o.frames; ++i) {  // 3 frames of warm-up (tables, programs, caches)
+        for (int i = -kWarmup; i < o.frames; ++i) {  // warm-up: tables, programs (llvmpipe compiles at first use), caches
             p->setTime(at(i));
             p->setAnimationTime(i / o.fps);
             p->renderFrame();
@@ -100,7 +101,7 @@ int run(const LightingBenchOptions& o) {
     {
         auto p = makeProcessor();
         p->setLighting(lo);
-        for (int i = -3; i < o.frames; ++i) {
+        for (int i = -kWarmup; i < o.frames; ++i) {  // the warm-up covers a whole refresh (11 slices)
             p->setTime(at(i));
             p->setAnimationTime(i / o.fps);
             p->renderFrame();

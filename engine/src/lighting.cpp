@@ -96,6 +96,12 @@ void LightingEngine::declareKeys(SkyVars& vars) {
     vars.declare(keys::lightingCubeSize, d.cubeSize);
     vars.declare(keys::lightingSpecularMips, d.specularMips);
     vars.declare(keys::lightingSlicesPerFrame, d.slicesPerFrame);
+    // The outputs: no value until the first frame with lighting on.
+    vars.declareUnset(keys::lightingSunIlluminance);
+    vars.declareUnset(keys::lightingMoonIlluminance);
+    vars.declareUnset(keys::lightingIrradianceUp);
+    vars.declareUnset(keys::lightingSpecularCube);
+    vars.declareUnset(keys::lightingSkyLightMap);
 }
 
 void LightingEngine::release() {
@@ -173,7 +179,7 @@ std::vector<uint64_t> LightingEngine::snapshot(const SkyVars& vars, std::vector<
     return v;
 }
 
-void LightingEngine::setEv100(double ev100) {
+void LightingEngine::setEv100(double ev100) const {
     if (ev100 != out_.ev100) {
         out_.ev100 = ev100;
         bump();
@@ -336,11 +342,12 @@ void LightingEngine::reduce(bool timing) {
 }
 
 void LightingEngine::prefilter(int mip) {
-    // Source: the radiance cube one level finer than the output (level 1 for mip 1), box-filtered
-    // by the mip chain: the brute-force sum costs (outputs x sources), and a source texel finer
-    // than the output's lobe adds nothing the lobe can resolve.
+    // Source: level 0 (the radiance itself) for every mip but the first, level 1 (box-filtered)
+    // for mip 1: the brute-force sum costs outputs x sources, 36 (n/2)^4 for mip 1 from level 1
+    // and the same or less for mip k >= 2 from level 0, so no slice costs more than mip 1's; and
+    // mip 1's lobe (alpha 1/16 at 5 mips) is narrower than a level-1 texel anyway.
     const int outSize = std::max(size_ >> mip, 1);
-    const int sourceLevel = std::max(mip - 1, 1);
+    const int sourceLevel = mip == 1 ? 1 : 0;
     const int sourceSize = std::max(size_ >> sourceLevel, 1);
     const double roughness = mips_ > 1 ? double(mip) / (mips_ - 1) : 0.0;
     prefilterProgram_.use();
@@ -445,7 +452,10 @@ void SkyProcessor::updateLighting() {
 
 void SkyProcessor::releaseLighting() { lighting_->release(); }
 
-void SkyProcessor::lightingStats(nlohmann::json& root) const { lighting_->stats(root); }
+void SkyProcessor::lightingStats(nlohmann::json& root) const {
+    lighting_->setEv100(lastEv100());
+    lighting_->stats(root);
+}
 
 void SkyProcessor::compositeEnvironment(const Camera& cam, const gl::Buffer& ubo, unsigned framebuffer) {
     // As composite(), for the elements that contribute to the lighting, into a cleared target.

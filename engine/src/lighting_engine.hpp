@@ -31,7 +31,7 @@ public:
     void release();
     const SkyLighting& result() const { return out_; }
     /// The exposure is the tone map's, which runs after update(): refreshed when read.
-    void setEv100(double ev100);
+    void setEv100(double ev100) const;
     void stats(nlohmann::json& root) const;
 
 private:
@@ -48,9 +48,9 @@ private:
     void pollReadback(bool wait);
     void updateDirectionalLights(const SkyVars& vars);
     std::vector<uint64_t> snapshot(const SkyVars& vars, std::vector<std::string>& names) const;
-    void bump() { ++out_.revision; }
+    void bump() const { ++out_.revision; }
 
-    SkyLighting out_;
+    mutable SkyLighting out_;  // mutable: ev100 follows the tone map, refreshed when read
     int size_ = 0, mips_ = 0;
     gl::TextureCube work_, specular_;
     gl::Texture2D face_, lightMap_;

@@ -136,8 +136,11 @@ TEST_CASE("SkyLighting: the SH irradiance equals a brute-force projection of the
             // different resolutions; the rest is float accumulation (1e-6).
             CHECK(e1 < 0.02);
             // The truncation of nine coefficients is the method's (Ramamoorthi & Hanrahan: a few %
-            // on average, up to ~10-15 % facing away from a low Sun): the band is that, doubled.
-            CHECK(std::abs(e2) < 0.3);
+            // on average): measured up to 12 % on the up and horizontal normals (facing away from
+            // a Sun at 5 deg) and 54 % facing down at sunrise (a dark ground under a bright sky
+            // band: the l <= 2 lobes spill the sky into the nadir); the bands are those, rounded
+            // up by a third, so that the documented table (docs/lighting.md) stays true.
+            CHECK(std::abs(e2) < (n.z < -0.5 ? 0.75 : 0.16));
         }
     }
 }
@@ -196,37 +199,43 @@ TEST_CASE("SkyLighting: specular mip 0 is the sky's radiance; the roughest mip a
         INFO("face " << f);
         CHECK(worst < 0.01);  // 1 %: the same passes, the same texels; float rounding only
     }
-    // The roughest mip (roughness 1, GGX alpha 1) against the double-precision sum over every
-    // texel of level 0 with the split-sum weight D(h)/4 (n.l) Omega.
-    const int mip = l.specularMips - 1, m = n >> mip;
-    double worst = 0;
-    for (int f = 0; f < 6; ++f) {
-        const std::vector<float> px = readFace(l.specularCube, mip, f);
-        for (int j = 0; j < m; ++j)
-            for (int i = 0; i < m; ++i) {
-                const glm::dvec3 nrm = *cubeCamera(f, m).directionAt({i + 0.5, j + 0.5});
-                glm::dvec3 sum(0.0);
-                double wsum = 0;
-                for (int sf = 0; sf < 6; ++sf)
-                    for (int sj = 0; sj < n; ++sj)
-                        for (int si = 0; si < n; ++si) {
-                            const glm::dvec3 d = *cubeCamera(sf, n).directionAt({si + 0.5, sj + 0.5});
-                            const double nl = glm::dot(nrm, d);
-                            if (nl <= 0) continue;
-                            const double nh = glm::dot(nrm, glm::normalize(nrm + d));
-                            const double a2 = 1.0, q = nh * nh * (a2 - 1) + 1, D = a2 / (kPi * q * q);
-                            const double w = D / 4 * nl * texelSolidAngle(si, sj, n);
-                            const size_t o = size_t(4 * (sj * n + si));
-                            sum += w * glm::dvec3(level0[size_t(sf)][o], level0[size_t(sf)][o + 1], level0[size_t(sf)][o + 2]);
-                            wsum += w;
-                        }
-                const glm::dvec3 ref = sum / wsum;
-                const glm::dvec3 got(px[size_t(4 * (j * m + i))], px[size_t(4 * (j * m + i) + 1)], px[size_t(4 * (j * m + i) + 2)]);
-                worst = std::max(worst, relErr(got, ref));
-            }
+    // Every prefiltered mip against the double-precision sum over every texel of level 0 with
+    // the split-sum weight D(h)/4 (n.l) Omega; the roughest (roughness 1, GGX alpha 1) must be
+    // within 3 % (the target); the others are printed for docs/lighting.md (mip 1 sums level 1).
+    for (int mip = 1; mip < l.specularMips; ++mip) {
+        const int m = n >> mip;
+        const double r = double(mip) / (l.specularMips - 1), a2 = r * r * r * r;
+        double worst = 0, sumErr = 0;
+        for (int f = 0; f < 6; ++f) {
+            const std::vector<float> px = readFace(l.specularCube, mip, f);
+            for (int j = 0; j < m; ++j)
+                for (int i = 0; i < m; ++i) {
+                    const glm::dvec3 nrm = *cubeCamera(f, m).directionAt({i + 0.5, j + 0.5});
+                    glm::dvec3 sum(0.0);
+                    double wsum = 0;
+                    for (int sf = 0; sf < 6; ++sf)
+                        for (int sj = 0; sj < n; ++sj)
+                            for (int si = 0; si < n; ++si) {
+                                const glm::dvec3 d = *cubeCamera(sf, n).directionAt({si + 0.5, sj + 0.5});
+                                const double nl = glm::dot(nrm, d);
+                                if (nl <= 0) continue;
+                                const double nh = glm::dot(nrm, glm::normalize(nrm + d));
+                                const double q = nh * nh * (a2 - 1) + 1, D = a2 / (kPi * q * q);
+                                const double w = D / 4 * nl * texelSolidAngle(si, sj, n);
+                                const size_t o = size_t(4 * (sj * n + si));
+                                sum += w * glm::dvec3(level0[size_t(sf)][o], level0[size_t(sf)][o + 1], level0[size_t(sf)][o + 2]);
+                                wsum += w;
+                            }
+                    const glm::dvec3 ref = sum / wsum;
+                    const glm::dvec3 got(px[size_t(4 * (j * m + i))], px[size_t(4 * (j * m + i) + 1)], px[size_t(4 * (j * m + i) + 2)]);
+                    worst = std::max(worst, relErr(got, ref));
+                    sumErr += relErr(got, ref);
+                }
+        }
+        std::printf("specular mip %d (roughness %.2f, %dx%d) vs brute-force GGX over level 0 (double): mean %.3f %%, worst %.3f %%\n", mip, r, m, m,
+                    100 * sumErr / (6 * m * m), 100 * worst);
+        if (mip == l.specularMips - 1) CHECK(worst < 0.03);  // 3 %: the target; it sums level 0 too, in float
     }
-    std::printf("\nroughest specular mip vs brute-force GGX (double, level 0): worst %.2f %%\n", 100 * worst);
-    CHECK(worst < 0.03);  // 3 %: the target; the pass sums a box-filtered source level (see lighting.md)
 }
 
 TEST_CASE("SkyLighting: the six axis lights are the irradiance along the axes", "[gl][lighting]") {
@@ -242,10 +251,10 @@ TEST_CASE("SkyLighting: the six axis lights are the irradiance along the axes", 
         std::printf("  axis %d: %.4g lx, exact %.4g lx, %+.2f %%, SH %+.2f %%\n", a, color::luminance(l.axisLights[size_t(a)]), color::luminance(exact), 100 * e,
                     100 * (color::luminance(l.irradiance(axes[a])) - color::luminance(exact)) / color::luminance(exact));
         INFO("axis " << a);
-        // 5 %: SevenSky's light map weights each 22.5 x 11.25 deg texel's mean radiance by the
+        // 3 %: SevenSky's light map weights each 22.5 x 11.25 deg texel's mean radiance by the
         // cosine at its centre; where the radiance varies across a texel (the aureole, the
-        // horizon), the mean of L cos differs from mean L x cos(centre) by up to a few %.
-        CHECK(std::abs(e) < 0.05);
+        // horizon), the mean of L cos differs from mean L x cos(centre): measured up to 1.7 %.
+        CHECK(std::abs(e) < 0.03);
     }
 }
 
@@ -377,4 +386,83 @@ TEST_CASE("SkyLighting: options are checked at the API boundary", "[cpu][lightin
     CHECK(p.vars().get(keys::lightingEnabled));
     p.setLighting(std::nullopt);
     CHECK_FALSE(p.vars().get(keys::lightingEnabled));
+}
+
+TEST_CASE("SkyLighting: the host's GLSL chunks shade with the same SH and specular cube", "[gl][lighting]") {
+    test::glContext();
+    auto p = skyAt(25 * kDeg, 200 * kDeg, 16);
+    Camera cam;
+    cam.width = 32;
+    cam.height = 16;
+    p->setCamera(cam);
+    p->renderFrame();
+    const SkyLighting& l = p->lighting();
+    // A host's own program (no ProgramBuilder), Y-up world with -z north: pixel i shades the
+    // world normal u_n[i]; pixel 6 reads the specular cube towards world +x (east), roughness 0.
+    std::string fs = "#version 450 core\n";
+    for (auto& [name, text] : lightingGlslChunks()) fs += text + "\n";
+    fs += "uniform vec3 u_n[6]; out vec4 o;\n"
+          "void main() { int i = int(gl_FragCoord.x);\n"
+          "  o = vec4(i < 6 ? welkin_shIrradiance(welkin_toEnu(u_n[i])) : welkin_specularRadiance(welkin_toEnu(vec3(1, 0, 0)), 0.0), 1.0); }\n";
+    const char* vs = "#version 450 core\nvoid main() { vec2 p = vec2((gl_VertexID & 1) * 4 - 1, (gl_VertexID & 2) * 2 - 1); gl_Position = vec4(p, 0, 1); }\n";
+    auto compile = [](GLenum type, const std::string& src) {
+        GLuint s = glCreateShader(type);
+        const char* c = src.c_str();
+        glShaderSource(s, 1, &c, nullptr);
+        glCompileShader(s);
+        GLint ok = 0;
+        glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+        char log[2048] = {};
+        glGetShaderInfoLog(s, sizeof log, nullptr, log);
+        INFO(log);
+        REQUIRE(ok);
+        return s;
+    };
+    GLuint prog = glCreateProgram();
+    GLuint v = compile(GL_VERTEX_SHADER, vs), f = compile(GL_FRAGMENT_SHADER, fs);
+    glAttachShader(prog, v);
+    glAttachShader(prog, f);
+    glLinkProgram(prog);
+    GLint linked = 0;
+    glGetProgramiv(prog, GL_LINK_STATUS, &linked);
+    REQUIRE(linked);
+    const glm::dmat3 enuFromYUp(glm::dvec3(1, 0, 0), glm::dvec3(0, 0, 1), glm::dvec3(0, -1, 0));
+    const glm::vec3 worldNormals[6] = {{0, 1, 0}, {0, -1, 0}, {1, 0, 0}, {-1, 0, 0}, {0, 0, -1}, {0, 0, 1}};  // up, down, E, W, N, S
+    glProgramUniform3fv(prog, glGetUniformLocation(prog, "u_n"), 6, &worldNormals[0].x);
+    bindLighting(prog, l, 5, enuFromYUp);
+    gl::Texture2D target(7, 1, GL_RGBA32F);
+    auto fbo = gl::Framebuffer::create();
+    fbo.attach(GL_COLOR_ATTACHMENT0, target);
+    fbo.bind();
+    glViewport(0, 0, 7, 1);
+    glUseProgram(prog);
+    GLuint vao = 0;
+    glCreateVertexArrays(1, &vao);
+    glBindVertexArray(vao);
+    glDisable(GL_BLEND);
+    glDisable(GL_DEPTH_TEST);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    const std::vector<float> px = target.readRgbaFloat();
+    glBindVertexArray(0);
+    glDeleteVertexArrays(1, &vao);
+    glUseProgram(0);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glBindTextureUnit(5, 0);
+    glDeleteProgram(prog);
+    glDeleteShader(v);
+    glDeleteShader(f);
+    for (int i = 0; i < 6; ++i) {
+        const glm::dvec3 want = l.irradiance(enuFromYUp * glm::dvec3(worldNormals[i]));
+        INFO("normal " << i);
+        // float uniforms and a float sum of nine terms against double: 1e-4
+        for (int c = 0; c < 3; ++c) CHECK(px[size_t(4 * i + c)] == Approx(want[c]).epsilon(1e-4));
+    }
+    // East is face +X's centre: bilinear between its four central texels at mip 0.
+    const std::vector<float> face = readFace(l.specularCube, 0, 0);
+    const int n = l.specularCube.width, a = n / 2 - 1, b = n / 2;
+    for (int c = 0; c < 3; ++c) {
+        const double mean = 0.25 * (face[size_t(4 * (a * n + a) + c)] + face[size_t(4 * (a * n + b) + c)] + face[size_t(4 * (b * n + a) + c)] +
+                                    face[size_t(4 * (b * n + b) + c)]);
+        CHECK(px[size_t(24 + c)] == Approx(mean).epsilon(1e-3));  // the sampler's 8-bit bilinear weights: exact at the centre
+    }
 }
