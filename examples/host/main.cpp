@@ -21,6 +21,8 @@
 //                         perspective over the drawn scene; shader: the host's shader shades the
 //                         clouds' shadows itself (welkin_cloudShadow), no aerial perspective
 //   --overlay             draw the frame-time overlay into the headless image too
+//   --frames N            window: quit after N frames, printing the mean frame, scene, welkin and
+//                         lighting times of all but the first 10 (a benchmark run), N in [1, 1e6]
 //   --assets DIR          the glTF assets (default: the source tree's examples/host/assets)
 //
 // Window keys: mouse look (hold the right button), W/A/S/D move, Q/E down/up, Shift x10,
@@ -59,6 +61,7 @@ struct Options {
     host::FlyCamera camera;
     double speed = 1440.0;
     bool overlay = false;
+    int frames = 0;  // window: quit after this many frames and print the mean times (0: run until closed)
 };
 
 // A bad option: one line naming it and what it accepts.
@@ -81,7 +84,7 @@ void usage() {
     std::printf(
         "usage: welkin_host [--headless --out FILE.png|.exr] [--time ISO] [--size WxH] [--clouds none|fair|overcast]\n"
         "                   [--lat DEG --lon DEG] [--pos X,Y,Z] [--yaw DEG] [--pitch DEG] [--fov DEG] [--speed S]\n"
-        "                   [--effects welkin|shader] [--overlay] [--assets DIR]\n"
+        "                   [--effects welkin|shader] [--overlay] [--frames N] [--assets DIR]\n"
         "A game's scene under welkin's sky. Default place: Malta (35.9 N, 14.5 E), camera 8 m up looking west.\n"
         "Window: right mouse look, WASD/QE move (Shift x10), space pause, ]/[ time speed, F1 overlay, Esc quit.\n");
 }
@@ -142,6 +145,8 @@ Options parse(int argc, char** argv) {
             if (v == "welkin") o.app.effects = host::AppOptions::Effects::ApplyToScene;
             else if (v == "shader") o.app.effects = host::AppOptions::Effects::Shader;
             else throw UsageError("--effects '" + v + "' is not one of welkin, shader");
+        } else if (a == "--frames") {
+            o.frames = int(parseNumber(a, value(i, a), 1, 1e6));
         } else if (a == "--overlay") {
             o.overlay = true;
         } else if (a == "--assets") {
@@ -152,6 +157,7 @@ Options parse(int argc, char** argv) {
     }
     if (o.headless && o.out.empty()) throw UsageError("--headless needs --out FILE.png or FILE.exr");
     if (!o.headless && !o.out.empty()) throw UsageError("--out is for --headless (the window saves nothing)");
+    if (o.headless && o.frames > 0) throw UsageError("--frames is for the window (--headless renders one frame)");
     if (!o.out.empty()) {
         const auto dot = o.out.rfind('.');
         const std::string ext = dot == std::string::npos ? "" : o.out.substr(dot);
@@ -249,7 +255,10 @@ int runWindow(const Options& o) {
     bool prevSpace = false, prevF1 = false, prevUp = false, prevDown = false, looking = false;
     double lastX = 0, lastY = 0;
     auto last = std::chrono::steady_clock::now();
-    while (!window->shouldClose()) {
+    int frame = 0, counted = 0;
+    host::FrameTimes sum;
+    const int warmUp = 10;  // the first frames build welkin's tables and compile programs
+    while (!window->shouldClose() && (o.frames == 0 || frame < o.frames)) {
         window->pollEvents();
         const auto now = std::chrono::steady_clock::now();
         const double dt = std::chrono::duration<double>(now - last).count();
@@ -292,7 +301,17 @@ int runWindow(const Options& o) {
             overlay.draw(overlayLines(app, t, speed, paused), w, h);
         }
         window->swapBuffers();
+        if (++frame > warmUp) {
+            const host::FrameTimes ft = app.times();
+            sum.frameMs += ft.frameMs, sum.sceneMs += ft.sceneMs, sum.welkinMs += ft.welkinMs, sum.lightingMs += ft.lightingMs;
+            ++counted;
+        }
     }
+    if (o.frames > 0 && counted > 0)
+        std::printf("%d frames at %dx%d (after %d warm-up), mean: frame %.2f ms, scene %.2f ms (GPU), welkin %.2f ms (GPU), "
+                    "lighting %.2f ms (welkin's stats)\n",
+                    counted, o.width, o.height, warmUp, sum.frameMs / counted, sum.sceneMs / counted, sum.welkinMs / counted,
+                    sum.lightingMs / counted);
     return 0;
 }
 
