@@ -63,7 +63,10 @@ glm::dmat4 FlyCamera::projection(double aspect) const {
 // ------------------------------------------------------------------ HostApp
 
 HostApp::HostApp(const AppOptions& options, const welkin::Logger& log) : options_(options), log_(log) {
-    for (const char* file : {"terrain.gltf", "buildings.gltf", "spheres.gltf"}) scene_.load(options_.assetsDir + "/" + file);
+    std::vector<std::string> files = options_.sceneFiles;
+    if (files.empty())
+        for (const char* file : {"terrain.gltf", "buildings.gltf", "spheres.gltf"}) files.push_back(options_.assetsDir + "/" + file);
+    for (const auto& file : files) scene_.load(file);
     renderer_ = std::make_unique<SceneRenderer>();
 
     sky_ = std::make_unique<welkin::SkyProcessor>(welkin::SkyVars::earth(), log_);

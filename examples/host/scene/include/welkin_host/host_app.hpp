@@ -36,6 +36,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace host {
 
@@ -69,6 +70,8 @@ struct FlyCamera {
 
 struct AppOptions {
     std::string assetsDir;  ///< where terrain.gltf, buildings.gltf and spheres.gltf are
+    /// The glTF files of the scene; empty: those three in assetsDir (another demo passes its own).
+    std::vector<std::string> sceneFiles;
     Site site;
     CloudCover clouds = CloudCover::None;
     /// Where the clouds' shadows and the aerial perspective come from. ApplyToScene (default):
