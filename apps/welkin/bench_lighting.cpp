@@ -7,7 +7,9 @@
 // lighting's own cost per frame (its stages' glFinish-bracketed time from --stats) while time
 // runs, mean and maximum, as a ratio to (1)'s mean (target <= 0.3); (3) a jump of 6 h then the
 // time-sliced refresh it starts: the worst frame's lighting cost over the refresh, as a ratio to
-// a sky frame (target <= 1); (4) the offline path's whole refresh in one frame (welkin render),
+// a sky frame (target <= 1), both as the lighting's stages and as the difference between the two
+// processors' frames (the elements' own work after a jump, e.g. the clouds' cache refill, lands
+// in whichever draws first); (1)-(3) run in lockstep; (4) the offline path's whole refresh in one frame (welkin render),
 // with each stage.
 #include "bench_util.hpp"
 #include "command.hpp"
@@ -82,41 +84,40 @@ int run(const LightingBenchOptions& o) {
     auto at = [&](int frame) { return t0.plusSeconds(frame * stepS); };
     auto lightingMs = [](const nlohmann::json& j) { return j["lighting"]["frame_ms"]["total"].get<double>(); };
 
-    // (1) The sky frame without lighting, time running.
-    std::vector<double> sky;
-    {
-        auto p = makeProcessor();
-        for (int i = -kWarmup; i < o.frames; ++i) {  // warm-up: tables, programs (llvmpipe compiles at first use), caches
-            p->setTime(at(i));
-            p->setAnimationTime(i / o.fps);
-            p->renderFrame();
-            if (i >= 0) sky.push_back(p->stats()["frame_ms"].get<double>());
-        }
-    }
-    const double skyMs = mean(sky);
-    // (2) With lighting, time running; (3) a 6 h jump and its time-sliced refresh.
-    std::vector<double> running, runningFrame, jump;
+    // (1)-(3) Two processors in lockstep (the same instants, frame after frame, so the machine's
+    // load slows both alike): one without lighting (the sky frame), one with it.
+    std::vector<double> sky, running, runningFrame, jump, jumpExtra;
     nlohmann::json last;
     int jumpFrames = 0;
     {
+        auto base = makeProcessor();
         auto p = makeProcessor();
         p->setLighting(lo);
-        for (int i = -kWarmup; i < o.frames; ++i) {  // the warm-up covers a whole refresh (11 slices)
-            p->setTime(at(i));
-            p->setAnimationTime(i / o.fps);
-            p->renderFrame();
+        for (int i = -kWarmup; i < o.frames; ++i) {  // warm-up: tables, programs (llvmpipe compiles at first use), caches, a whole refresh
+            for (SkyProcessor* q : {base.get(), p.get()}) {
+                q->setTime(at(i));
+                q->setAnimationTime(i / o.fps);
+                q->renderFrame();
+            }
             if (i < 0) continue;
             const nlohmann::json j = p->stats();
+            sky.push_back(base->stats()["frame_ms"].get<double>());
             running.push_back(lightingMs(j));
             runningFrame.push_back(j["frame_ms"].get<double>());
         }
-        // Let the last refresh finish with time stopped, then jump.
+        // Let the last refresh finish with time stopped, then jump both by 6 h. The jump costs
+        // the elements themselves (the clouds refill their direction cache, the sky its tables):
+        // when the capture draws first it pays part of that for the frame, so the lighting's
+        // share of a jump frame is the difference of the two processors' frames.
         for (int k = 0; k < 64 && p->stats()["lighting"]["refreshing"].get<bool>(); ++k) p->renderFrame();
-        p->setTime(at(o.frames + int(6 * 3600 / std::max(stepS, 1.0))));
+        const int jumpTo = o.frames + int(6 * 3600 / std::max(stepS, 1.0));
+        for (SkyProcessor* q : {base.get(), p.get()}) q->setTime(at(jumpTo));
         for (int k = 0; k < 64; ++k) {
+            base->renderFrame();
             p->renderFrame();
             const nlohmann::json j = p->stats();
             jump.push_back(lightingMs(j));
+            jumpExtra.push_back(j["frame_ms"].get<double>() - base->stats()["frame_ms"].get<double>());
             ++jumpFrames;
             if (!j["lighting"]["refreshing"].get<bool>()) {
                 last = j["lighting"];
@@ -124,6 +125,7 @@ int run(const LightingBenchOptions& o) {
             }
         }
     }
+    const double skyMs = mean(sky);
     // (4) The offline path: the whole refresh in one frame.
     nlohmann::json offline;
     {
@@ -138,6 +140,7 @@ int run(const LightingBenchOptions& o) {
     }
     const double runMean = mean(running), runMax = *std::max_element(running.begin(), running.end());
     const double jumpMax = *std::max_element(jump.begin(), jump.end());
+    const double jumpExtraMax = *std::max_element(jumpExtra.begin(), jumpExtra.end());
     std::printf("welkin bench lighting (%s)\n%d frames, time at %gx, %g frames/s (%g s of sky per frame), cube %d, %d slice(s) per frame, elements %s\n\n",
                 ctx->description().c_str(), o.frames, o.speed, o.fps, stepS, o.cubeSize, o.slices, o.elements.c_str());
     std::printf("| what | ms | x sky frame |\n|---|---|---|\n");
@@ -154,7 +157,8 @@ int run(const LightingBenchOptions& o) {
     emit("sky frame with lighting (mean)", mean(runningFrame));
     emit("lighting per frame while time runs (mean)", runMean);
     emit("lighting per frame while time runs (max)", runMax);
-    emit("lighting, worst frame of the refresh after a 6 h jump (" + std::to_string(jumpFrames) + " frames)", jumpMax);
+    emit("lighting's stages, worst frame of the refresh after a 6 h jump (" + std::to_string(jumpFrames) + " frames)", jumpMax);
+    emit("frame with lighting - frame without, worst frame of that refresh", jumpExtraMax);
     const nlohmann::json& r = offline["lighting"]["refresh_ms"];
     emit("offline refresh in one frame: total", r["total"].get<double>());
     emit("offline refresh: capture (6 faces)", r["capture"].get<double>());
@@ -162,7 +166,8 @@ int run(const LightingBenchOptions& o) {
     emit("offline refresh: light map + axis lights", r["light_map"].get<double>());
     emit("offline refresh: GGX prefilter (mips 1..4)", r["prefilter"].get<double>());
     std::printf("\ntarget: lighting while time runs <= 0.3x a sky frame: %s (%.3f)\n", runMean <= 0.3 * skyMs ? "met" : "NOT met", runMean / skyMs);
-    std::printf("target: each frame of a time-sliced refresh <= 1 sky frame: %s (%.3f)\n", jumpMax <= skyMs ? "met" : "NOT met", jumpMax / skyMs);
+    std::printf("target: each frame of a time-sliced refresh <= 1 sky frame: %s (%.3f; the frames' difference)\n",
+                jumpExtraMax <= skyMs ? "met" : "NOT met", jumpExtraMax / skyMs);
     if (f) {
         f->close();
         std::printf("wrote %s\n", o.csv.c_str());

@@ -115,6 +115,7 @@ void LightingEngine::release() {
     cubeFbo_ = {};
     ssbo_ = {};
     faceUbo_ = {};
+    texels_ = {};
     shProgram_ = {};
     mapProgram_ = {};
     prefilterProgram_ = {};
@@ -150,6 +151,33 @@ void LightingEngine::ensureResources(const LightingOptions& o) {
     faceFbo_.checkComplete("SkyLighting capture");
     cubeFbo_ = gl::Framebuffer::create();
     ssbo_ = gl::Buffer(sizeof(float) * kSsboFloats);
+    // The prefilter's source texels, for every level it reads: direction (ENU) and exact solid
+    // angle, in double precision, stored as float.
+    {
+        std::vector<float> table;
+        texelOffsets_.assign(size_t(log2i(size_) + 1), -1);
+        for (int mip = 1; mip < mips_; ++mip) {
+            const int level = sourceLevel(mip);
+            if (texelOffsets_[size_t(level)] >= 0) continue;
+            texelOffsets_[size_t(level)] = int(table.size() / 4);
+            const int n = size_ >> level;
+            auto corner = [](double x, double y) { return std::atan2(x * y, std::sqrt(x * x + y * y + 1)); };
+            for (int face = 0; face < 6; ++face)
+                for (int j = 0; j < n; ++j)
+                    for (int i = 0; i < n; ++i) {
+                        Camera c;
+                        c.projection = Projection::CubeFace;
+                        c.cubeFace = face;
+                        c.width = c.height = n;
+                        const glm::dvec3 d = *c.directionAt({i + 0.5, j + 0.5});
+                        const double x0 = 2.0 * i / n - 1, x1 = 2.0 * (i + 1) / n - 1, y0 = 2.0 * j / n - 1, y1 = 2.0 * (j + 1) / n - 1;
+                        const double omega = corner(x0, y0) - corner(x0, y1) - corner(x1, y0) + corner(x1, y1);
+                        table.insert(table.end(), {float(d.x), float(d.y), float(d.z), float(omega)});
+                    }
+        }
+        if (table.empty()) table.assign(4, 0.0f);
+        texels_ = gl::Buffer(table.size() * sizeof(float), table.data());
+    }
     faceUbo_ = gl::Buffer(sizeof(CameraBlock));
     auto build = [](const char* label, const char* file) {
         return gl::ProgramBuilder(label)
@@ -341,20 +369,29 @@ void LightingEngine::reduce(bool timing) {
     map_.refreshMs += mapMs;
 }
 
+int LightingEngine::sourceLevel(int mip) const {
+    // Level 0 (the radiance itself) for every mip but the first, level 1 (box-filtered) for mip 1:
+    // the brute-force sum costs outputs x sources, 36 (n/2)^4 for mip 1 from level 1 and the same
+    // or less for mip k >= 2 from level 0, so no slice costs more than mip 1's (and mip 1's lobe,
+    // alpha 1/16 at 5 mips, is about a level-1 texel). Sources are capped at 32 texels a face
+    // (cubes above 32: the cost stays 6 (n/2^k)^2 x 6144 weights, the lobes of the finest mips
+    // then blur to the source's texel, 2.8 deg).
+    const int cap = std::max(0, log2i(size_) - 5);
+    return std::max(mip == 1 ? 1 : 0, cap);
+}
+
 void LightingEngine::prefilter(int mip) {
-    // Source: level 0 (the radiance itself) for every mip but the first, level 1 (box-filtered)
-    // for mip 1: the brute-force sum costs outputs x sources, 36 (n/2)^4 for mip 1 from level 1
-    // and the same or less for mip k >= 2 from level 0, so no slice costs more than mip 1's; and
-    // mip 1's lobe (alpha 1/16 at 5 mips) is narrower than a level-1 texel anyway.
     const int outSize = std::max(size_ >> mip, 1);
-    const int sourceLevel = mip == 1 ? 1 : 0;
-    const int sourceSize = std::max(size_ >> sourceLevel, 1);
+    const int level = sourceLevel(mip);
+    const int sourceSize = std::max(size_ >> level, 1);
     const double roughness = mips_ > 1 ? double(mip) / (mips_ - 1) : 0.0;
     prefilterProgram_.use();
     prefilterProgram_.set("u_outSize", outSize);
     prefilterProgram_.set("u_sourceSize", sourceSize);
+    prefilterProgram_.set("u_sourceOffset", texelOffsets_.at(size_t(level)));
     prefilterProgram_.set("u_alpha", float(std::max(roughness * roughness, 1e-4)));
-    glBindImageTexture(gl::binding::kLightingSourceImage, work_.id(), sourceLevel, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA32F);
+    texels_.bindBase(GL_SHADER_STORAGE_BUFFER, gl::binding::kLightingSsbo);
+    glBindImageTexture(gl::binding::kLightingSourceImage, work_.id(), level, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA32F);
     glBindImageTexture(gl::binding::kLightingOutputImage, specular_.id(), mip, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glDispatchCompute(GLuint((outSize + 7) / 8), GLuint((outSize + 7) / 8), 6);
     glMemoryBarrier(GL_ALL_BARRIER_BITS);

@@ -55,7 +55,9 @@ private:
     gl::TextureCube work_, specular_;
     gl::Texture2D face_, lightMap_;
     gl::Framebuffer faceFbo_, cubeFbo_;
-    gl::Buffer ssbo_, faceUbo_;
+    gl::Buffer ssbo_, faceUbo_, texels_;
+    std::vector<int> texelOffsets_;  // per level of the radiance cube: first entry in texels_ (-1: not tabulated)
+    int sourceLevel(int mip) const;
     gl::Program shProgram_, mapProgram_, prefilterProgram_;
     void* fence_ = nullptr;  // GLsync of the last reduction, until read back
 
