@@ -133,20 +133,23 @@ void HostApp::updateLighting() {
     lighting_.cloudShadowGlsl.clear();
     lighting_.bindCloudShadow = nullptr;
     if (options_.effects == AppOptions::Effects::Shader && cloudShadowMap_ && vars.has(welkin::generators::cloudkeys::shadowMap)) {
-        // The shadow map is made for the Sun, or the Moon at night; SkyLighting's illuminance is
-        // the light at the observer after the clouds over the observer, so the light before the
-        // clouds is E / T_clouds, shadowed per fragment by welkin_cloudShadow().
+        // The shadow map is made for the Sun, or the Moon at night. SkyLighting's illuminance is
+        // the light at the observer, after the clouds over the observer; the shader needs the
+        // light above the clouds (the same product without the clouds' transmittance,
+        // docs/lighting.md) and shadows it per fragment with welkin_cloudShadow().
         const glm::dvec3 shadowLight = welkin::generators::CloudShadowMap::lightDirection(vars);
         const bool onSun = glm::dot(shadowLight, L.sun.directionEnu) > glm::dot(shadowLight, L.moon.directionEnu);
-        DirectionalLight& light = onSun ? lighting_.sun : lighting_.moon;
-        const double t = vars.getOr(onSun ? welkin::keys::sunCloudTransmittance : welkin::keys::moonCloudTransmittance, 1.0);
-        if (t > 1e-3) {
-            light.illuminanceRgb /= float(t);
-            light.cloudShadow = true;
-            lighting_.cloudShadowGlsl = std::string(welkin::generators::CloudShadowMap::hostGlsl());
-            const welkin::SkyVars* v = &vars;
-            lighting_.bindCloudShadow = [v](unsigned program) { welkin::generators::CloudShadowMap::bindForHost(*v, program); };
+        if (onSun) {
+            lighting_.sun.illuminanceRgb = glm::vec3(vars.get(welkin::keys::sunIlluminance) * vars.get(welkin::keys::sunTransmittance) *
+                                                     vars.getOr(welkin::keys::sunEclipseFraction, 1.0));
+            lighting_.sun.cloudShadow = true;
+        } else {
+            lighting_.moon.illuminanceRgb = glm::vec3(vars.get(welkin::keys::moonIlluminance) * vars.get(welkin::keys::moonTransmittance));
+            lighting_.moon.cloudShadow = true;
         }
+        lighting_.cloudShadowGlsl = std::string(welkin::generators::CloudShadowMap::hostGlsl());
+        const welkin::SkyVars* v = &vars;
+        lighting_.bindCloudShadow = [v](unsigned program) { welkin::generators::CloudShadowMap::bindForHost(*v, program); };
     }
 }
 
