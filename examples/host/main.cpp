@@ -20,6 +20,8 @@
 //   --effects E           welkin (default): applyToScene() puts the clouds' shadows and the aerial
 //                         perspective over the drawn scene; shader: the host's shader shades the
 //                         clouds' shadows itself (welkin_cloudShadow), no aerial perspective
+//   --shadows on|off      the scene's own shadows (a shadow map of the brighter of the Sun and
+//                         the Moon over 800 m in front of the camera); default on
 //   --overlay             draw the frame-time overlay into the headless image too
 //   --frames N            window: quit after N frames, printing the mean frame, scene, welkin and
 //                         lighting times of all but the first 10 (a benchmark run), N in [1, 1e6]
@@ -84,7 +86,7 @@ void usage() {
     std::printf(
         "usage: welkin_host [--headless --out FILE.png|.exr] [--time ISO] [--size WxH] [--clouds none|fair|overcast]\n"
         "                   [--lat DEG --lon DEG] [--pos X,Y,Z] [--yaw DEG] [--pitch DEG] [--fov DEG] [--speed S]\n"
-        "                   [--effects welkin|shader] [--overlay] [--frames N] [--assets DIR]\n"
+        "                   [--effects welkin|shader] [--shadows on|off] [--overlay] [--frames N] [--assets DIR]\n"
         "A game's scene under welkin's sky. Default place: Malta (35.9 N, 14.5 E), camera 8 m up looking west.\n"
         "Window: right mouse look, WASD/QE move (Shift x10), space pause, ]/[ time speed, F1 overlay, Esc quit.\n");
 }
@@ -145,6 +147,10 @@ Options parse(int argc, char** argv) {
             if (v == "welkin") o.app.effects = host::AppOptions::Effects::ApplyToScene;
             else if (v == "shader") o.app.effects = host::AppOptions::Effects::Shader;
             else throw UsageError("--effects '" + v + "' is not one of welkin, shader");
+        } else if (a == "--shadows") {
+            const std::string v = value(i, a);
+            if (v != "on" && v != "off") throw UsageError("--shadows '" + v + "' is not one of on, off");
+            o.app.shadows.enabled = v == "on";
         } else if (a == "--frames") {
             o.frames = int(parseNumber(a, value(i, a), 1, 1e6));
         } else if (a == "--overlay") {

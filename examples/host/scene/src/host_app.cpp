@@ -67,7 +67,7 @@ HostApp::HostApp(const AppOptions& options, const welkin::Logger& log) : options
     if (files.empty())
         for (const char* file : {"terrain.gltf", "buildings.gltf", "spheres.gltf"}) files.push_back(options_.assetsDir + "/" + file);
     for (const auto& file : files) scene_.load(file);
-    renderer_ = std::make_unique<SceneRenderer>();
+    renderer_ = std::make_unique<SceneRenderer>(options_.shadows);
 
     sky_ = std::make_unique<welkin::SkyProcessor>(welkin::SkyVars::earth(), log_);
     const bool clouds = options_.clouds != CloudCover::None;
@@ -179,6 +179,12 @@ void HostApp::render(const welkin::UtcInstant& time, const FlyCamera& camera, in
                             ? stats["lighting"]["frame_ms"].value("total", 0.0)
                             : 0.0;
     updateLighting();
+
+    // The scene's shadow map, over the ground in front of the camera.
+    glm::dvec3 ahead = camera.forward();
+    ahead.y = 0.0;
+    ahead = glm::length(ahead) > 1e-6 ? glm::normalize(ahead) : glm::dvec3(0.0);
+    renderer_->renderShadows(scene_, lighting_, glm::vec3(camera.position + ahead * (0.6 * options_.shadows.halfExtentM)));
 
     // The host's scene pass: reversed-Z, [0, 1] clip depth, infinite far plane.
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());

@@ -2,6 +2,7 @@
 
 #include <epoxy/gl.h>
 
+#include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
 #include <cmath>
@@ -13,7 +14,7 @@ namespace host {
 namespace {
 
 // Texture units the renderer uses (the cloud shadow's is WELKIN_BINDING_CLOUD_SHADOW_MAP, 9).
-constexpr GLuint kUnitBrdf = 0, kUnitCube = 1;
+constexpr GLuint kUnitBrdf = 0, kUnitCube = 1, kUnitShadow = 2;
 
 const char* kVertex = R"(#version 450 core
 layout(location = 0) in vec3 a_position;
@@ -34,6 +35,16 @@ void main() {
 }
 )";
 
+const char* kDepthVertex = R"(#version 450 core
+layout(location = 0) in vec3 a_position;
+uniform mat4 u_model;
+uniform mat4 u_lightViewProjection;
+void main() { gl_Position = u_lightViewProjection * u_model * vec4(a_position, 1.0); }
+)";
+const char* kDepthFragment = R"(#version 450 core
+void main() {}
+)";
+
 // The fragment shader's body (after the optional cloud-shadow chunk).
 const char* kFragment = R"(
 const float PI = 3.14159265358979;
@@ -51,6 +62,27 @@ uniform vec3 u_moonDir, u_moonE;
 uniform vec2 u_cloudShadowOn;     // (Sun, Moon): 1 where the shadow map is made for that light
 uniform mat4 u_worldToEnuPoint;
 layout(binding = 0) uniform sampler2D u_brdf;
+uniform int u_shadowLight;        // the scene's shadow map is the Sun's (1), the Moon's (2), none (0)
+uniform mat4 u_shadowViewProjection;
+uniform float u_shadowTexel;      // metres per shadow-map texel
+layout(binding = 2) uniform sampler2DShadow u_shadowMap;
+
+// The fraction of the light reaching p (1: lit), from the scene's shadow map: 2 x 2 filtered taps
+// at a point pushed off the surface along its normal (more at grazing light) against acne.
+float sceneShadow(vec3 p, vec3 n, vec3 l) {
+    float NoL = clamp(dot(n, l), 0.0, 1.0);
+    vec3 q = p + n * u_shadowTexel * (1.0 + 2.0 * (1.0 - NoL));
+    vec4 c = u_shadowViewProjection * vec4(q, 1.0);
+    vec3 s = c.xyz / c.w * 0.5 + 0.5;
+    if (any(lessThan(s, vec3(0.0))) || any(greaterThan(s, vec3(1.0)))) return 1.0;  // outside the map: lit
+    vec2 texel = 1.0 / vec2(textureSize(u_shadowMap, 0));
+    float sum = 0.0;
+    for (int k = 0; k < 4; ++k) {
+        vec2 o = (vec2(k & 1, k >> 1) - 0.5) * texel;
+        sum += texture(u_shadowMap, vec3(s.xy + o, s.z));
+    }
+    return 0.25 * sum;
+}
 
 float D_GGX(float NoH, float a) {
     float a2 = a * a;
@@ -93,6 +125,8 @@ void main() {
     sunShadow = mix(1.0, s, u_cloudShadowOn.x);
     moonShadow = mix(1.0, s, u_cloudShadowOn.y);
 #endif
+    if (u_shadowLight == 1) sunShadow *= sceneShadow(v_world, normalize(v_normal), u_sunDir);
+    if (u_shadowLight == 2) moonShadow *= sceneShadow(v_world, normalize(v_normal), u_moonDir);
     vec3 L = directLight(n, v, u_sunDir, u_sunE * sunShadow, diffuseColor, f0, roughness)
            + directLight(n, v, u_moonDir, u_moonE * moonShadow, diffuseColor, f0, roughness);
 
@@ -153,7 +187,9 @@ std::vector<glm::vec2> computeBrdfTable(int size, int samples) {
     return table;
 }
 
-SceneRenderer::SceneRenderer() {
+SceneRenderer::SceneRenderer(const ShadowSettings& shadows) : shadowSettings_(shadows) {
+    if (shadows.size < 256 || shadows.size > 8192) throw std::invalid_argument("ShadowSettings::size not in [256, 8192]");
+    if (!(shadows.halfExtentM > 0.0f)) throw std::invalid_argument("ShadowSettings::halfExtentM not > 0");
     const int n = 64;
     const std::vector<glm::vec2> table = computeBrdfTable(n, 512);
     brdfTable_ = GlName::texture(GL_TEXTURE_2D);
@@ -164,7 +200,89 @@ SceneRenderer::SceneRenderer() {
     glTextureParameteri(brdfTable_.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTextureParameteri(brdfTable_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     program(false, {});
+    depthProgram_ = buildProgram("host shadow depth", {{GL_VERTEX_SHADER, kDepthVertex}, {GL_FRAGMENT_SHADER, kDepthFragment}});
+    // The shadow map: a depth texture compared in the lookup (sampler2DShadow), edges clamped.
+    shadowMap_ = GlName::texture(GL_TEXTURE_2D);
+    glTextureStorage2D(shadowMap_.id(), 1, GL_DEPTH_COMPONENT32F, shadows.size, shadows.size);
+    glTextureParameteri(shadowMap_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(shadowMap_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(shadowMap_.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(shadowMap_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(shadowMap_.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+    glTextureParameteri(shadowMap_.id(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+    shadowFbo_ = GlName::framebuffer();
+    glNamedFramebufferTexture(shadowFbo_.id(), GL_DEPTH_ATTACHMENT, shadowMap_.id(), 0);
+    glNamedFramebufferDrawBuffer(shadowFbo_.id(), GL_NONE);
+    glNamedFramebufferReadBuffer(shadowFbo_.id(), GL_NONE);
+    if (glCheckNamedFramebufferStatus(shadowFbo_.id(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw std::runtime_error("SceneRenderer: the shadow framebuffer is incomplete");
     checkGl("SceneRenderer()");
+}
+
+void SceneRenderer::renderShadows(const Scene& scene, const SceneLighting& lighting, const glm::vec3& centreWorld) {
+    shadowLight_ = 0;
+    if (!shadowSettings_.enabled) return;
+    // The brighter of the two lights above the horizon (world y up is not assumed: the
+    // horizon is the ENU z of the direction).
+    auto up = [&](const DirectionalLight& l) { return (lighting.enuFromWorld * glm::dvec3(l.directionWorld)).z > 0.0; };
+    auto lux = [](const DirectionalLight& l) { return glm::dot(l.illuminanceRgb, glm::vec3(0.2126f, 0.7152f, 0.0722f)); };
+    const bool sun = up(lighting.sun) && lux(lighting.sun) > 0.0f;
+    const bool moon = up(lighting.moon) && lux(lighting.moon) > 0.0f;
+    if (!sun && !moon) return;
+    shadowLight_ = sun && (!moon || lux(lighting.sun) >= lux(lighting.moon)) ? 1 : 2;
+    const glm::vec3 l = glm::normalize((shadowLight_ == 1 ? lighting.sun : lighting.moon).directionWorld);
+
+    // Light space: looking down the light onto the square about the centre, depth over 4 km.
+    const float e = shadowSettings_.halfExtentM, reach = 2000.0f;
+    const glm::vec3 helper = std::abs(l.y) > 0.99f ? glm::vec3(0.0f, 0.0f, -1.0f) : glm::vec3(0.0f, 1.0f, 0.0f);
+    // A light-space frame fixed to the world origin, moved to the centre in whole texels (the
+    // shadows' edges stay put as the camera moves), the centre 'reach' in front of it.
+    const glm::mat4 view0 = glm::lookAt(l * reach, glm::vec3(0.0f), helper);
+    const float texel = 2.0f * e / float(shadowSettings_.size);
+    const glm::vec4 c = view0 * glm::vec4(centreWorld, 1.0f);
+    const glm::vec2 snapped = texel * glm::floor(glm::vec2(c) / texel);
+    const glm::mat4 view = glm::translate(glm::mat4(1.0f), glm::vec3(-snapped.x, -snapped.y, -reach - c.z)) * view0;
+    shadowViewProjection_ = glm::ortho(-e, e, -e, e, 1.0f, 2.0f * reach) * view;
+
+    GLint fb = 0, vp[4], clipOrigin = 0, clipDepth = 0, depthFunc = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &fb);
+    glGetIntegerv(GL_VIEWPORT, vp);
+    glGetIntegerv(GL_CLIP_ORIGIN, &clipOrigin);
+    glGetIntegerv(GL_CLIP_DEPTH_MODE, &clipDepth);
+    glGetIntegerv(GL_DEPTH_FUNC, &depthFunc);
+    const GLboolean depthTest = glIsEnabled(GL_DEPTH_TEST), cull = glIsEnabled(GL_CULL_FACE);
+    GLboolean depthMask = GL_TRUE;
+    glGetBooleanv(GL_DEPTH_WRITEMASK, &depthMask);
+
+    glBindFramebuffer(GL_FRAMEBUFFER, shadowFbo_.id());
+    glViewport(0, 0, shadowSettings_.size, shadowSettings_.size);
+    glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_CULL_FACE);  // the terrain is one-sided: both sides cast
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(1.5f, 2.0f);
+    const float one = 1.0f;
+    glClearNamedFramebufferfv(shadowFbo_.id(), GL_DEPTH, 0, &one);
+    glUseProgram(depthProgram_.id());
+    glUniformMatrix4fv(glGetUniformLocation(depthProgram_.id(), "u_lightViewProjection"), 1, GL_FALSE, glm::value_ptr(shadowViewProjection_));
+    const GLint uModel = glGetUniformLocation(depthProgram_.id(), "u_model");
+    for (const auto& d : scene.draws()) {
+        const auto& prim = scene.primitives()[size_t(d.primitive)];
+        glUniformMatrix4fv(uModel, 1, GL_FALSE, glm::value_ptr(d.world));
+        glBindVertexArray(prim.vao.id());
+        glDrawElements(GL_TRIANGLES, prim.indexCount, GL_UNSIGNED_INT, nullptr);
+    }
+    glBindVertexArray(0);
+    glDisable(GL_POLYGON_OFFSET_FILL);
+    glBindFramebuffer(GL_FRAMEBUFFER, GLuint(fb));
+    glViewport(vp[0], vp[1], vp[2], vp[3]);
+    glClipControl(GLenum(clipOrigin), GLenum(clipDepth));
+    glDepthFunc(GLenum(depthFunc));
+    glDepthMask(depthMask);
+    if (!depthTest) glDisable(GL_DEPTH_TEST);
+    if (cull) glEnable(GL_CULL_FACE);
 }
 
 unsigned SceneRenderer::program(bool cloudShadow, const std::string& cloudGlsl) {
@@ -195,6 +313,10 @@ void SceneRenderer::draw(const Scene& scene, const ViewParams& view, const Scene
     const glm::mat4 toEnu(lighting.worldToEnuPoint);
     glUniformMatrix4fv(loc("u_worldToEnuPoint"), 1, GL_FALSE, glm::value_ptr(toEnu));
     glBindTextureUnit(kUnitBrdf, brdfTable_.id());
+    glUniform1i(loc("u_shadowLight"), shadowLight_);
+    glUniformMatrix4fv(loc("u_shadowViewProjection"), 1, GL_FALSE, glm::value_ptr(shadowViewProjection_));
+    glUniform1f(loc("u_shadowTexel"), 2.0f * shadowSettings_.halfExtentM / float(shadowSettings_.size));
+    glBindTextureUnit(kUnitShadow, shadowMap_.id());
     if (!lighting.sky) throw std::runtime_error("SceneRenderer::draw(): SceneLighting::sky is not set");
     welkin::bindLighting(prog, *lighting.sky, int(kUnitCube), lighting.enuFromWorld);
     if (clouds && lighting.bindCloudShadow) lighting.bindCloudShadow(prog);

@@ -12,8 +12,8 @@
 //     the generators that are due, the lighting (SkyLighting) among them;
 //  2. the host: its HDR target (RGBA32F, cd/m^2) and depth texture (DEPTH_COMPONENT32F, reversed-Z:
 //     cleared to 0, GL_GREATER, infinite far plane, glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE));
-//     the scene drawn by the PBR renderer lit by the Sun, the Moon, the SH irradiance and the
-//     specular cube;
+//     the scene's shadow map (the brighter of the Sun and the Moon), then the scene drawn by the
+//     PBR renderer lit by the Sun, the Moon, the SH irradiance and the specular cube;
 //  3. welkin: renderInto() (the sky where the depth is still the far plane), applyToScene()
 //     (the clouds' shadows, then the aerial perspective, over the host's colour, from its depth).
 // present(fb) tone-maps the HDR target with the eye's adaptation (toneMapInto(fb, hdrTexture)).
@@ -83,6 +83,8 @@ struct AppOptions {
     /// A window's frames one after another (render.interactive): welkin spreads work over
     /// frames (the lighting's capture, time-sliced). false: every frame complete (headless).
     bool interactive = false;
+    /// The scene's own shadows from the brighter of the Sun and the Moon (a shadow map).
+    ShadowSettings shadows;
 };
 
 /// GPU time of the parts of a frame (timer queries, read a few frames later without stalling).

@@ -10,7 +10,8 @@
 //    Schlick's Fresnel F = F0 + (1 - F0)(1 - v.h)^5, F0 = mix(0.04, baseColor, metallic).
 //  * Direct light: the Sun and the Moon as directional lights, illuminance E (lux, per channel,
 //    on a surface facing the body): L = f(l, v) E (n.l) s, where s is the clouds' shadow
-//    (welkin_cloudShadow) on the light the cloud shadow map is made for. Roughness is clamped to
+//    (welkin_cloudShadow) on the light the cloud shadow map is made for, and the scene's own
+//    shadow (ShadowSettings) on the brighter light. Roughness is clamped to
 //    >= 0.045 for the direct light only (a = 0.002: a point light's highlight stays finite).
 //  * Ambient diffuse: albedo (1 - metallic) / pi x E(n), the environment's irradiance from welkin's
 //    nine SH coefficients (GLSL welkin_shIrradiance, welkin::lightingGlslChunks()).
@@ -19,7 +20,7 @@
 //    (F0 A + B) from a table of the directional albedo of the same BRDF (computeBrdfTable(),
 //    made on the CPU at start-up).
 // Depth: the renderer draws with the caller's depth state (the example sets reversed-Z,
-// GL_GREATER); it leaves the program, vertex array and texture units 0, 1 and 9 changed.
+// GL_GREATER); it leaves the program, vertex array and texture units 0, 1, 2 and 9 changed.
 #pragma once
 #include <welkin_host/gl.hpp>
 #include <welkin_host/scene.hpp>
@@ -68,18 +69,37 @@ struct ViewParams {
 /// `samples` Hammersley points (deterministic). Row-major, n.v along x.
 std::vector<glm::vec2> computeBrdfTable(int size, int samples);
 
+/// The scene's own shadows: one shadow map for the brighter of the Sun and the Moon (the host's
+/// business: welkin knows the light, the host knows its geometry). An orthographic depth map of
+/// `size`^2 texels over a square 2 halfExtentM wide about a point (the camera), looked up with
+/// 2 x 2 hardware-filtered taps (PCF) and a normal offset against acne.
+struct ShadowSettings {
+    bool enabled = true;
+    int size = 2048;             ///< texels per side, [256, 8192]
+    float halfExtentM = 400.0f;  ///< half the side of the shadowed square, metres
+};
+
 class SceneRenderer {
 public:
     /// Compiles the programs and uploads the BRDF table (64 x 64, 512 samples: about 0.15 s on
     /// one core of this machine, once).
-    SceneRenderer();
+    explicit SceneRenderer(const ShadowSettings& shadows = {});
+    /// Renders the shadow map of the brighter light about `centreWorld` (call before draw(), with
+    /// no framebuffer requirement: it binds its own and restores the caller's framebuffer,
+    /// viewport, clip control and depth state). Nothing when shadows are disabled or both
+    /// lights are dark or below the horizon.
+    void renderShadows(const Scene& scene, const SceneLighting& lighting, const glm::vec3& centreWorld);
     /// Draws every primitive of the scene with depth test and writes, no blending.
     void draw(const Scene& scene, const ViewParams& view, const SceneLighting& lighting);
 
 private:
     unsigned program(bool cloudShadow, const std::string& cloudGlsl);
-    GlName programPlain_, programClouds_;
+    ShadowSettings shadowSettings_;
+    GlName programPlain_, programClouds_, depthProgram_;
     GlName brdfTable_;
+    GlName shadowMap_, shadowFbo_;
+    glm::mat4 shadowViewProjection_{1.0f};
+    int shadowLight_ = 0;  // 0: none this frame, 1: the Sun, 2: the Moon
 };
 
 }  // namespace host
