@@ -5,6 +5,8 @@
 #include <welkin/error.hpp>
 #include <welkin/gl/context.hpp>
 #include <welkin/image.hpp>
+#include <welkin/keys.hpp>
+#include <welkin/lighting.hpp>
 #include <welkin/processor.hpp>
 
 #include <nlohmann/json.hpp>
@@ -23,6 +25,7 @@ struct RenderOptions {
     SceneOptions scene;
     std::string out;
     std::string stats;
+    std::string lighting;
     bool debug = false;
 };
 
@@ -41,7 +44,7 @@ void checkTextWritable(const std::string& path, const char* option) {
 }
 
 // Writes `text` to a temporary file beside `path` and returns its name (renamed by the caller).
-std::string writeTemporary(const std::string& path, const std::string& text) {
+std::string writeTemporary(const std::string& path, const std::string& text, const char* option) {
     namespace fs = std::filesystem;
     fs::path target(path);
     fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
@@ -51,7 +54,7 @@ std::string writeTemporary(const std::string& path, const std::string& text) {
     if (!f || !f.flush()) {
         std::error_code ignored;
         fs::remove(tmp, ignored);
-        throw Error("--stats '" + path + "': write failed");
+        throw Error(std::string(option) + " '" + path + "': write failed");
     }
     return tmp;
 }
@@ -59,6 +62,45 @@ std::string writeTemporary(const std::string& path, const std::string& text) {
 bool endsWith(std::string s, const std::string& ext) {
     std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     return s.size() >= ext.size() && s.compare(s.size() - ext.size(), ext.size(), ext) == 0;
+}
+
+// The --lighting file: SkyLighting's values with their units and formulas written beside them.
+nlohmann::json lightingJson(const SkyLighting& l, const std::string& time) {
+    using nlohmann::json;
+    auto v3 = [](const glm::dvec3& v) { return json::array({v.x, v.y, v.z}); };
+    auto light = [&](const DirectionalLight& d) {
+        return json{{"direction_enu", v3(d.directionEnu)},
+                    {"illuminance_lux", d.illuminanceLux},
+                    {"illuminance_rgb_lux", v3(d.illuminanceRgb)},
+                    {"color_rgb", v3(d.colorRgb)}};
+    };
+    json sh = json::array();
+    for (const glm::dvec3& e : l.sh9Irradiance()) sh.push_back(v3(e));
+    const char* axes[6] = {"+E", "-E", "+N", "-N", "+U", "-U"};
+    json axis = json::object();
+    for (int a = 0; a < 6; ++a) axis[axes[a]] = v3(l.axisLights[size_t(a)]);
+    json about = {
+        {"frame", "directions are unit vectors in the observer's East-North-Up frame (x east, y north, z up)"},
+        {"colors", "linear sRGB (D65); Y = 0.2126 r + 0.7152 g + 0.0722 b is the photometric quantity"},
+        {"sun", "the Sun's light at the observer on a surface facing it: above the air x the atmosphere's transmittance x the clouds' "
+                "x the part of its disk the Moon leaves (solar eclipse); illuminance_rgb_lux = illuminance_lux x color_rgb (color_rgb has luminance 1)"},
+        {"moon", "the Moon's light at the observer (its phase and any lunar eclipse, then the atmosphere and the clouds), as for the Sun"},
+        {"sh9_irradiance", "irradiance of the environment (sky, clouds, ground bounce; not the Sun's and Moon's disks) as 9 x RGB real "
+                           "spherical-harmonic coefficients E_lm = A_l L_lm in lux, A = (pi, 2pi/3, pi/4) for l = 0, 1, 2, L_lm the "
+                           "radiance's projection in cd/m^2 (lux/sr): E(n) = sum_lm E_lm Y_lm(n) lux on a surface of unit normal n. "
+                           "Order and basis: Y00 = 0.282095, Y1-1 = 0.488603 y, Y10 = 0.488603 z, Y11 = 0.488603 x, Y2-2 = 1.092548 xy, "
+                           "Y2-1 = 1.092548 yz, Y20 = 0.315392 (3z^2 - 1), Y21 = 1.092548 xz, Y22 = 0.546274 (x^2 - y^2)"},
+        {"axis_lights", "SevenSky's six directional lights (lux): the environment's irradiance on a surface facing each axis, from the 16x16 "
+                        "sky light map: sum over its texels on that side of L |d . axis| Omega; shade with sum D_axis max(n . axis, 0)"},
+        {"ev100", "the exposure value at ISO 100 the tone map used (the eye's adaptation, or the manual setting)"},
+        {"see", "docs/lighting.md"}};
+    return json{{"about", about},
+                {"time", time},
+                {"sun", light(l.sun)},
+                {"moon", light(l.moon)},
+                {"sh9_irradiance", sh},
+                {"axis_lights", axis},
+                {"ev100", l.ev100}};
 }
 
 int run(const RenderOptions& o) {
@@ -69,6 +111,11 @@ int run(const RenderOptions& o) {
         if (!endsWith(o.stats, ".json")) throw Error("--stats '" + o.stats + "' must end in .json");
         checkTextWritable(o.stats, "--stats");
     }
+    if (!o.lighting.empty()) {
+        if (!endsWith(o.lighting, ".json")) throw Error("--lighting '" + o.lighting + "' must end in .json");
+        checkTextWritable(o.lighting, "--lighting");
+        if (o.lighting == o.stats) throw Error("--lighting '" + o.lighting + "' is also the --stats file");
+    }
 
     Logger log;
     auto ctx = gl::HeadlessContext::create({.debug = o.debug}, log);
@@ -76,6 +123,7 @@ int run(const RenderOptions& o) {
     {
         SkyProcessor processor(SkyVars::earth(), log, ProcessorOptions{.timing = !o.stats.empty()});
         o.scene.apply(processor);
+        if (!o.lighting.empty()) processor.vars().set(keys::lightingEnabled, true);  // sizes: lighting.* --var or defaults
         processor.renderFrame();
         Image img = endsWith(o.out, ".exr") ? processor.readHdr() : processor.readToneMapped();
         for (float v : img.pixels)
@@ -90,7 +138,17 @@ int run(const RenderOptions& o) {
                            {"size", o.scene.size},        {"exposure", o.scene.exposure},   {"quality", o.scene.quality},
                            {"out", o.out}};
             j["gl"] = ctx->description();
-            statsTmp = writeTemporary(o.stats, j.dump(2) + "\n");
+            statsTmp = writeTemporary(o.stats, j.dump(2) + "\n", "--stats");
+        }
+        std::string lightingTmp;
+        if (!o.lighting.empty()) {
+            try {
+                lightingTmp = writeTemporary(o.lighting, lightingJson(processor.lighting(), processor.time().toIso()).dump(2) + "\n", "--lighting");
+            } catch (...) {
+                std::error_code ignored;
+                if (!statsTmp.empty()) std::filesystem::remove(statsTmp, ignored);
+                throw;
+            }
         }
         namespace fs = std::filesystem;
         std::error_code ec, ignored;
@@ -98,7 +156,18 @@ int run(const RenderOptions& o) {
             writeImage(img, o.out);
         } catch (...) {
             if (!statsTmp.empty()) fs::remove(statsTmp, ignored);
+            if (!lightingTmp.empty()) fs::remove(lightingTmp, ignored);
             throw;
+        }
+        if (!lightingTmp.empty()) {
+            fs::rename(lightingTmp, o.lighting, ec);
+            if (ec) {
+                std::string why = ec.message();
+                fs::remove(lightingTmp, ignored);
+                if (!statsTmp.empty()) fs::remove(statsTmp, ignored);
+                fs::remove(o.out, ignored);
+                throw Error("--lighting '" + o.lighting + "': " + why);
+            }
         }
         if (!statsTmp.empty()) {
             fs::rename(statsTmp, o.stats, ec);
@@ -119,6 +188,7 @@ Registrar reg("render", "render one frame headless to .exr (linear cd/m^2) or .p
     o->scene.addTo(sub, true);
     sub.add_option("--out", o->out, "output image: .exr (float radiance, cd/m^2) or .png (tone-mapped)")->required();
     sub.add_option("--stats", o->stats, "write inputs, physical quantities and per-element costs as JSON");
+    sub.add_option("--lighting", o->lighting, "turn SkyLighting on and write its values (Sun, Moon, SH irradiance, axis lights, EV100) as JSON (docs/lighting.md)");
     sub.add_flag("--gl-debug", o->debug, "create a debug GL context and log its messages");
     return [o]() { return run(*o); };
 });

@@ -1,4 +1,5 @@
 #include "gl/state_guard.hpp"
+#include "lighting_engine.hpp"
 #include "tone_mapper.hpp"
 
 #include <welkin/astro/astro_keys.hpp>
@@ -103,6 +104,7 @@ SkyProcessor::SkyProcessor(SkyVars vars, Logger log, ProcessorOptions options)
     : ownVars_(std::move(vars)), log_(std::move(log)), options_(options), toneMapper_(std::make_unique<ToneMapper>()) {
     deriveVariables();
     declareToneMapKeys();
+    declareLightingKeys();
     if (options_.astronomy) addGenerator(std::make_shared<astro::AstronomyGenerator>());
 }
 
@@ -110,6 +112,7 @@ SkyProcessor::SkyProcessor(BorrowedVars vars, Logger log, ProcessorOptions optio
     : vars_(&vars.vars), log_(std::move(log)), options_(options), toneMapper_(std::make_unique<ToneMapper>()) {
     deriveVariables();
     declareToneMapKeys();
+    declareLightingKeys();
     if (options_.astronomy) addGenerator(std::make_shared<astro::AstronomyGenerator>());
 }
 
@@ -155,6 +158,7 @@ void SkyProcessor::release() {
     hdrFbo_ = {};
     ldrFbo_ = {};
     toneMapper_->release();
+    releaseLighting();
     emptyVao_ = {};
     cameraUbo_ = {};
     glReady_ = false;
@@ -357,14 +361,17 @@ void SkyProcessor::update() {
     runGenerators();
     FrameContext ctx = frameContext();
     for (auto& e : elements_) e->update(ctx);
+    updateLighting();
     if (host.outermost()) gl::checkError("SkyProcessor::update()");
 }
 
-void SkyProcessor::applyCompositeState(unsigned framebuffer, bool depthTest) {
+void SkyProcessor::applyCompositeState(unsigned framebuffer, bool depthTest) { applyCompositeState(framebuffer, depthTest, camera_, cameraUbo_); }
+
+void SkyProcessor::applyCompositeState(unsigned framebuffer, bool depthTest, const Camera& camera, const gl::Buffer& ubo) {
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
     if (framebuffer != 0) glDrawBuffer(GL_COLOR_ATTACHMENT0);  // dual-source: one draw buffer
-    glViewport(0, 0, camera_.width, camera_.height);
-    cameraUbo_.bindBase(GL_UNIFORM_BUFFER, gl::binding::kCameraUbo);
+    glViewport(0, 0, camera.width, camera.height);
+    ubo.bindBase(GL_UNIFORM_BUFFER, gl::binding::kCameraUbo);
     emptyVao_.bind();
     glEnable(GL_BLEND);
     // dst.rgb = src0.rgb + dst.rgb * src1.rgb (radiance plus attenuated background); alpha kept.
@@ -375,7 +382,7 @@ void SkyProcessor::applyCompositeState(unsigned framebuffer, bool depthTest) {
         // for a reversed-Z host (glDepthRange(1, 0)), whatever the host's glClipControl depth
         // mode (NDC 1 is the far end of both). The guard restores the host's range.
         glEnable(GL_DEPTH_TEST);
-        if (camera_.depth.reversedZ) {
+        if (camera.depth.reversedZ) {
             glDepthRange(1.0, 0.0);
             glDepthFunc(GL_GEQUAL);
         } else {

@@ -52,6 +52,7 @@ nlohmann::json SkyProcessor::stats() const {
     }
     j["elements"] = el;
     for (auto& e : elements_) e->stats(j);
+    lightingStats(j);
     j["frame_ms"] = frameMs_;
     j["generators_ms"] = generatorsMs_;
     j["tonemap_ms"] = toneMapMs_;

@@ -128,6 +128,8 @@ TEST_CASE("welkin render: bad input exits non-zero with one line and writes noth
         // A bad --stats path fails before anything is written, image included.
         {ok + "--elements grid --out " + dir + "/a.png --stats " + dir + "/missing/s.json", "", "--stats"},
         {ok + "--elements grid --out " + dir + "/a.png --stats " + dir, "", "must end in .json"},
+        {ok + "--elements grid --out " + dir + "/a.png --lighting " + dir + "/missing/l.json", "", "--lighting"},
+        {ok + "--elements grid --out " + dir + "/a.png --lighting " + dir + "/l.txt", "", "--lighting '" + dir + "/l.txt' must end in .json"},
         // No EGL: point glvnd at no vendor library.
         {ok + "--elements grid --out " + dir + "/a.png", "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json", "EGL"},
     };
@@ -147,6 +149,33 @@ TEST_CASE("welkin render: bad input exits non-zero with one line and writes noth
     fs::remove(dir + "/s.json");
     // Nothing (not even a temporary file) was left behind.
     CHECK(fs::is_empty(dir));
+}
+
+TEST_CASE("welkin render --lighting: the Sun, the Moon, the SH irradiance and the axis lights as JSON", "[gl][cli][lighting]") {
+    std::string dir = test::scratchDir("cli_lighting");
+    const std::string out = dir + "/a.exr", light = dir + "/l.json", stats = dir + "/s.json";
+    auto r = test::runCli("render --time 2026-06-21T09:00:00Z --lat 35.9 --lon 14.5 --elements sky --projection equirect --size 32x16 "
+                          "--var lighting.cube_size=16 --out " + out + " --lighting " + light + " --stats " + stats);
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    nlohmann::json j, s;
+    std::ifstream(light) >> j;
+    std::ifstream(stats) >> s;
+    REQUIRE(j["sh9_irradiance"].size() == 9);
+    CHECK(j["about"]["sh9_irradiance"].get<std::string>().find("E_lm = A_l L_lm in lux") != std::string::npos);
+    // E(up) from the file's coefficients: Y00, Y10 (z) and Y20 are the only ones nonzero at n = up.
+    double e = 0;
+    const double y[9] = {0.282094792, 0, 0.488602512, 0, 0, 0, 0.630783131, 0, 0};
+    for (int i = 0; i < 9; ++i)
+        for (int c = 0; c < 3; ++c) e += y[i] * j["sh9_irradiance"][size_t(i)][size_t(c)].get<double>() * (c == 0 ? 0.2126 : c == 1 ? 0.7152 : 0.0722);
+    CHECK(e == Approx(s["lighting"]["irradiance_up_lux"].get<double>()).epsilon(1e-6));  // the same numbers, written twice
+    CHECK(e > 5e3);  // a morning sky (Sun ~45 deg): diffuse ~1-2e4 lx on a horizontal surface
+    const double sunLux = j["sun"]["illuminance_lux"].get<double>();
+    CHECK(sunLux == Approx(s["lighting"]["sun_illuminance_lux"].get<double>()));
+    CHECK(sunLux > 5e4);
+    CHECK(j["sun"]["direction_enu"][2].get<double>() > 0.5);
+    CHECK(j["axis_lights"]["+U"][1].get<double>() > 0);
+    CHECK(j["ev100"].is_number());
 }
 
 TEST_CASE("welkin --version", "[cpu][cli]") {

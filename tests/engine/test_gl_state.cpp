@@ -7,6 +7,7 @@
 #include "gl_test_context.hpp"
 
 #include <epoxy/gl.h>
+#include <nlohmann/json.hpp>
 
 #include <welkin/elements/grid.hpp>
 #include <welkin/elements/sky.hpp>
@@ -14,6 +15,7 @@
 #include <welkin/error.hpp>
 #include <welkin/gl/shader.hpp>
 #include <welkin/keys.hpp>
+#include <welkin/lighting.hpp>
 #include <welkin/processor.hpp>
 
 #include <map>
@@ -396,6 +398,18 @@ TEST_CASE("renderInto, renderFrame and toneMapInto leave the host's GL state as 
                               Catch::Contains("thrown on purpose"));
             requireSame(before, snapshot(fbs));
         }
+    }
+    SECTION("SkyLighting: the capture, its reductions and prefilter, offline and time-sliced") {
+        p->setLighting(LightingOptions{.cubeSize = 8, .specularMips = 3});
+        p->renderInto({.framebuffer = host.fbo.id(), .width = cam.width, .height = cam.height});
+        requireSame(before, snapshot(fbs));
+        REQUIRE(p->stats()["lighting"]["refreshes"].get<int>() == 1);
+        p->vars().set(keys::interactive, true);
+        for (int i = 0; i < 10; ++i) {  // one slice per frame: faces, reductions, mips, read-back
+            p->renderInto({.framebuffer = host.fbo.id(), .width = cam.width, .height = cam.height});
+            requireSame(before, snapshot(fbs));
+        }
+        CHECK(p->stats()["lighting"]["refreshes"].get<int>() == 2);
     }
     SECTION("init() and update() alone") {
         p->init();

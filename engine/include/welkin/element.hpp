@@ -195,6 +195,12 @@ public:
     /// atmosphere's extinction (the Sky): elements before it then leave extinction to it
     /// (FrameContext::attenuatedLater).
     bool attenuatesBehind() const { return attenuatesBehind_; }
+    /// True (the default) if the element is part of the environment that lights a host's scene:
+    /// SkyLighting (welkin/lighting.hpp) captures it into its cube map. False for what is not
+    /// diffuse light from the sky: the Sun's and Moon's disks (they are SkyLighting's directional
+    /// lights, from the lights.* keys) and overlays (grids, labels). Set in the constructor with
+    /// setContributesToLighting().
+    bool contributesToLighting() const { return contributesToLighting_; }
     const std::vector<KeyInfo>& readKeys() const { return reads_; }
     const std::vector<KeyInfo>& writeKeys() const { return writes_; }
     /// The element's options: keys it declares with defaults (settable by the host, by
@@ -237,6 +243,9 @@ protected:
     /// Declares (in the constructor) that the element attenuates what is behind it by the
     /// atmosphere's extinction; see FrameContext::attenuatedLater.
     void setAttenuatesBehind(bool on) { attenuatesBehind_ = on; }
+    /// Declares (in the constructor) whether SkyLighting's environment capture draws the element;
+    /// see contributesToLighting(). Elements of Layer::Bodies and Layer::Overlay say false.
+    void setContributesToLighting(bool on) { contributesToLighting_ = on; }
     /// Declares an option: a key with a default, read by the element (also counts as reads()).
     /// Call in the constructor; read the value in doUpdate()/doRender() with ctx.vars.get(key).
     /// `force`: the value is set even if the key already has one (a constructor given explicit
@@ -278,6 +287,7 @@ private:
     std::vector<std::function<void(SkyVars&)>> optionDeclarers_;
     const SkyVars* optionsDeclaredIn_ = nullptr;
     bool attenuatesBehind_ = false;
+    bool contributesToLighting_ = true;
     std::vector<std::shared_ptr<Generator>> generators_;
     bool initialized_ = false;
     bool timingEnabled_ = false;

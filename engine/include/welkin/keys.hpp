@@ -32,6 +32,35 @@ inline const Key<glm::dvec3> sunDirection{"sun.direction", Range{-1, 1}, "unit v
 /// Unit vector towards the Moon's centre (topocentric, refracted), world ENU frame.
 inline const Key<glm::dvec3> moonDirection{"moon.direction", Range{-1, 1}, "unit vector to the Moon, ENU"};
 
+// --- Light at the observer (shared world state) ---------------------------------------------------
+// Written by the atmosphere's lights generator (generators/atmosphere, lights.hpp: the Sun's and
+// the Moon's light above the air and through it), the clouds (their photometry) and the astronomy
+// (eclipses); read by any element and by SkyLighting (welkin/lighting.hpp). Per linear-sRGB channel;
+// Y is the photometric quantity.
+/// The Sun's illuminance above the atmosphere on a surface facing it, lux per channel.
+inline const Key<glm::dvec3> sunIlluminance{"lights.sun_illuminance", Range{0, 1e7}, "Sun's illuminance above the atmosphere, per channel", "lx"};
+/// The atmosphere's transmittance from the observer towards the Sun, [0, 1] (0 below the horizon).
+inline const Key<glm::dvec3> sunTransmittance{"lights.sun_transmittance", Range{0, 1}, "transmittance observer -> Sun (0 below the horizon)"};
+/// The Sun's disk mean radiance, unreddened, cd/m^2.
+inline const Key<glm::dvec3> sunDiskRadiance{"lights.sun_disk_radiance", Range{0, 1e12}, "Sun's disk mean radiance, unreddened", "cd/m^2"};
+/// The Moon's illuminance above the atmosphere (its colour, phase and any lunar eclipse), lux per channel.
+inline const Key<glm::dvec3> moonIlluminance{"lights.moon_illuminance", Range{0, 1e6}, "Moon's illuminance above the atmosphere, per channel (its colour, phase and lunar eclipses)", "lx"};
+/// The atmosphere's transmittance from the observer towards the Moon, [0, 1].
+inline const Key<glm::dvec3> moonTransmittance{"lights.moon_transmittance", Range{0, 1}, "transmittance observer -> Moon"};
+/// The Moon's disk mean radiance (whole disk), unreddened, cd/m^2.
+inline const Key<glm::dvec3> moonDiskRadiance{"lights.moon_disk_radiance", Range{0, 1e6}, "Moon's disk mean radiance (whole disk), unreddened", "cd/m^2"};
+/// The clouds' transmittance along the ray from the observer to the Sun, [0, 1] (written by a
+/// clouds element from its photometry; absent, or 1, without clouds).
+inline const Key<double> sunCloudTransmittance{"lights.sun_cloud_transmittance", Range{0, 1}, "clouds' transmittance along the ray to the Sun (1: no clouds)"};
+/// The clouds' transmittance along the ray from the observer to the Moon, [0, 1].
+inline const Key<double> moonCloudTransmittance{"lights.moon_cloud_transmittance", Range{0, 1}, "clouds' transmittance along the ray to the Moon (1: no clouds)"};
+/// Fraction of the Sun's flux not hidden by the Moon's disk as seen by the observer (a solar
+/// eclipse; limb-darkened disk), [0, 1]; 1 outside eclipses. Written by the astronomy.
+inline const Key<double> sunEclipseFraction{"sun.eclipse_fraction", Range{0, 1}, "fraction of the Sun's flux not hidden by the Moon (solar eclipse; 1 outside eclipses)"};
+/// Fraction of sunlight reaching the Moon (the Earth's umbra and penumbra, the shadow enlarged
+/// 2 % by the atmosphere), [0, 1]; 1 outside lunar eclipses. Written by the astronomy.
+inline const Key<double> moonEclipseFactor{"moon.eclipse_factor", Range{0, 1}, "fraction of sunlight reaching the Moon (lunar eclipse; 1 outside eclipses)"};
+
 // --- Rendering --------------------------------------------------------------------------------
 /// Quality preset: 0 low, 1 medium (default), 2 high, 3 reference.
 inline const Key<int> quality{"render.quality", Range{0, 3}, "quality preset: 0 low, 1 medium, 2 high, 3 reference"};

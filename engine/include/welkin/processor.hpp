@@ -49,6 +49,7 @@
 #include <welkin/gl/objects.hpp>
 #include <welkin/host_depth.hpp>
 #include <welkin/image.hpp>
+#include <welkin/lighting.hpp>
 #include <welkin/log.hpp>
 #include <welkin/time.hpp>
 #include <welkin/vars.hpp>
@@ -64,6 +65,7 @@
 namespace welkin {
 
 class ToneMapper;
+class LightingEngine;
 
 /// Where the observer stands. Geodetic on WGS84.
 struct Observer {
@@ -198,6 +200,14 @@ public:
     /// Forgets the adaptation: the next frame starts in the steady state (a cut in an animation).
     void resetAdaptation();
 
+    /// Turns SkyLighting on with these options (writes the lighting.* keys; welkin/lighting.hpp),
+    /// or off with std::nullopt. Off by default: a scene pays only for what it uses. Throws one
+    /// line naming the member out of range ("SkyProcessor::setLighting(): cubeSize 3 not in [8, 1024]").
+    void setLighting(std::optional<LightingOptions> options);
+    /// The host's lighting, updated at the end of each update() (a capture only when a key
+    /// changed; time-sliced when render.interactive); ev100 is the last tone map's.
+    const SkyLighting& lighting() const;
+
     /// Animation time passed to elements: seconds since construction, or the fixed value given
     /// to setAnimationTime() (offline renders use 0 so that output is deterministic).
     double seconds() const;
@@ -225,6 +235,7 @@ private:
     /// The compositing state (framebuffer, viewport, camera block, dual-source blending, depth
     /// test in the camera's DepthMode), set before every element's pass.
     void applyCompositeState(unsigned framebuffer, bool depthTest);
+    void applyCompositeState(unsigned framebuffer, bool depthTest, const Camera& camera, const gl::Buffer& ubo);
     void checkDepthTexture(const HostDepth& depth) const;
     void declareToneMapKeys();
     /// `newFrame`: the frame renderFrame() just composited (advances the eye's adaptation).
@@ -232,6 +243,14 @@ private:
     FrameContext frameContext();
     /// Writes the camera block (with the host depth's planes for cameras not made from matrices).
     void uploadCamera(const HostDepth* depth);
+    // SkyLighting (engine/src/lighting.cpp): keys, the step at the end of update(), stats, and the
+    // environment's compositing (the elements that contribute to lighting, for a capture camera).
+    friend class LightingEngine;
+    void declareLightingKeys();
+    void updateLighting();
+    void releaseLighting();
+    void lightingStats(nlohmann::json& root) const;
+    void compositeEnvironment(const Camera& camera, const gl::Buffer& cameraUbo, unsigned framebuffer);
 
     SkyVars ownVars_;
     SkyVars* vars_ = &ownVars_;
@@ -255,6 +274,7 @@ private:
     gl::Texture2D hdr_, ldr_;
     gl::Framebuffer hdrFbo_, ldrFbo_;
     std::unique_ptr<ToneMapper> toneMapper_;  // engine/src/tone_mapper.hpp
+    std::unique_ptr<LightingEngine> lighting_;  // engine/src/lighting_engine.hpp
     gl::VertexArray emptyVao_;
     gl::Buffer cameraUbo_;
     double frameMs_ = 0.0, toneMapMs_ = 0.0, generatorsMs_ = 0.0, sceneMs_ = 0.0;

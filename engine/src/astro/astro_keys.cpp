@@ -36,6 +36,26 @@ const Key<double>& planetMagnitude(Body planet) { return planetKeys().magnitude[
 const Key<double>& planetAngularDiameter(Body planet) { return planetKeys().diameter[static_cast<int>(planet)]; }
 }  // namespace keys
 
+double eclipseVisibleFraction(double rs, double ro, double d, double u) {
+    if (!(rs > 0.0)) return 1.0;
+    const double R = std::max(ro, 0.0) / rs, D = std::abs(d) / rs;
+    if (D >= 1.0 + R) return 1.0;  // no overlap
+    constexpr int kRings = 512;
+    double total = 0.0, hidden = 0.0;
+    for (int i = 0; i < kRings; ++i) {
+        const double r = (i + 0.5) / kRings;
+        const double mu = std::sqrt(std::max(0.0, 1.0 - r * r));
+        const double w = (1.0 - u * (1.0 - mu)) * r;  // intensity x ring circumference (2 pi dr cancels)
+        double covered;                               // fraction of the ring inside the occulter
+        if (D + r <= R) covered = 1.0;
+        else if (D >= r + R || R + D <= r) covered = 0.0;
+        else covered = std::acos(std::clamp((r * r + D * D - R * R) / (2.0 * r * D), -1.0, 1.0)) / welkin::keys::kPi;
+        total += w;
+        hidden += w * covered;
+    }
+    return std::clamp(1.0 - hidden / total, 0.0, 1.0);
+}
+
 void updateSkyVars(SkyVars& vars) {
     vars.declare(keys::precise, false);
     vars.declare(keys::refractionPressure, 1013.25);
@@ -78,6 +98,21 @@ void updateSkyVars(SkyVars& vars) {
     vars.set(keys::moonLibrationLat, moon.librationLatRad);
     vars.set(keys::moonAxisAngle, moon.axisAngleRad);
     vars.set(keys::moonMagnitude, moon.magnitude);
+    // Eclipses. Solar: the Moon's disk over the Sun's, from the observer (topocentric, airless).
+    const double sunRadius = 0.5 * sun.angularDiameterRad, moonRadius = 0.5 * moon.angularDiameterRad;
+    const double solarSeparation = std::acos(std::clamp(glm::dot(sun.topo.enuGeometric, moon.topo.enuGeometric), -1.0, 1.0));
+    vars.set(welkin::keys::sunEclipseFraction, eclipseVisibleFraction(sunRadius, moonRadius, solarSeparation));
+    // Lunar: the solar disk seen from the Moon's centre, past the Earth's disk (geocentric
+    // positions; the shadow enlarged by the atmosphere).
+    {
+        constexpr double kEarthRadius = 6378137.0, kSunRadius = 6.957e8;
+        const glm::dvec3 moonPos = moon.directionIcrs * moon.distanceMeters, sunPos = sun.directionIcrs * sun.distanceMeters;
+        const glm::dvec3 toSun = sunPos - moonPos, toEarth = -moonPos;
+        const double sunFromMoon = std::asin(std::min(1.0, kSunRadius / glm::length(toSun)));
+        const double earthFromMoon = (1.0 + kShadowEnlargement) * std::asin(std::min(1.0, kEarthRadius / glm::length(toEarth)));
+        const double sep = std::acos(std::clamp(glm::dot(glm::normalize(toSun), glm::normalize(toEarth)), -1.0, 1.0));
+        vars.set(welkin::keys::moonEclipseFactor, eclipseVisibleFraction(sunFromMoon, earthFromMoon, sep));
+    }
     // Parallactic angle from the topocentric hour angle: tan q = sin H / (tan phi cos d - sin d cos H).
     const double H = frame.lastRad - moon.topo.raTopocentricRad, d = moon.topo.decTopocentricRad, phi = site.latitudeRad;
     vars.set(keys::moonParallacticAngle, std::atan2(std::sin(H), std::tan(phi) * std::cos(d) - std::sin(d) * std::cos(H)));
@@ -100,6 +135,8 @@ AstronomyGenerator::AstronomyGenerator() : Generator("astronomy") {
     input(keys::refractionTemperature);
     output(welkin::keys::sunDirection);
     output(welkin::keys::moonDirection);
+    output(welkin::keys::sunEclipseFraction);
+    output(welkin::keys::moonEclipseFactor);
     for (auto* k : {&keys::sunDistance, &keys::sunAngularRadius, &keys::sunAzimuth, &keys::sunAltitude, &keys::moonDistance,
                     &keys::moonAngularRadius, &keys::moonAzimuth, &keys::moonAltitude, &keys::moonPhaseAngle,
                     &keys::moonIlluminatedFraction, &keys::moonBrightLimbAngle, &keys::moonLibrationLon, &keys::moonLibrationLat,
@@ -130,6 +167,8 @@ void AstronomyGenerator::doRun(SkyVars& vars, const Logger&) {
     moonPhase_ = vars.get(keys::moonPhaseAngle);
     moonFraction_ = vars.get(keys::moonIlluminatedFraction);
     precise_ = vars.get(keys::precise);
+    sunEclipse_ = vars.get(welkin::keys::sunEclipseFraction);
+    moonEclipse_ = vars.get(welkin::keys::moonEclipseFactor);
     ran_ = true;
 }
 
@@ -142,6 +181,8 @@ void AstronomyGenerator::doStats(nlohmann::json& root) const {
     root["moon"]["alt_deg"] = moonAlt_ * deg;
     root["moon"]["phase_angle_deg"] = moonPhase_ * deg;
     root["moon"]["illuminated_fraction"] = moonFraction_;
+    root["sun"]["eclipse_fraction"] = sunEclipse_;
+    root["moon"]["eclipse_factor"] = moonEclipse_;
     root["astronomy"]["path"] = precise_ ? "precise" : "fast";
     root["astronomy"]["last_ms"] = timing().lastMs;
 }

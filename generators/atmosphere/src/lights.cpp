@@ -68,6 +68,7 @@ AtmosphereLights::AtmosphereLights() : Generator("atmosphere.lights") {
     input(astro::keys::moonPhaseAngle, {.optional = true});
     input(astro::keys::moonMagnitude, {.optional = true});
     input(astro::keys::moonAngularRadius, {.optional = true});
+    input(keys::moonEclipseFactor, {.optional = true});
     input(skykeys::wavelengths);
     input(skykeys::quality, {.optional = true});
     input(keys::quality);
@@ -76,6 +77,7 @@ AtmosphereLights::AtmosphereLights() : Generator("atmosphere.lights") {
     output(lightkeys::sunDiskRadiance);
     output(lightkeys::moonIlluminance);
     output(lightkeys::moonTransmittance);
+    output(lightkeys::moonIlluminanceUneclipsed);
     output(lightkeys::moonDiskRadiance);
     output(lightkeys::planetRadius);
 }
@@ -132,7 +134,7 @@ void AtmosphereLights::doRun(SkyVars& vars, const Logger& log) {
     vars.set(lightkeys::sunTransmittance, glm::clamp(transmittance(sun), 0.0, 1.0));
     vars.set(lightkeys::sunDiskRadiance, Esun / (kPi * alpha * alpha));
 
-    glm::dvec3 Emoon(0.0), Lmoon(0.0);
+    glm::dvec3 Emoon(0.0), Lmoon(0.0), EmoonUneclipsed(0.0);
     if (moon_) {
         const double dist = vars.getOr(astro::keys::moonDistance, kMoonMeanDistance);
         double mag;
@@ -147,12 +149,17 @@ void AtmosphereLights::doRun(SkyVars& vars, const Logger& log) {
             mag = astro::magnitude::moon(1.0, dist / kAu, phase * 180.0 / kPi);
         }
         const double E = astro::magnitude::illuminanceLux(mag);
-        Emoon = E * moonlightColour(a.wavelengthsNm, a.solarIrradiance);
+        // A lunar eclipse: only moon.eclipse_factor of the sunlight reaches the Moon (the Earth's
+        // umbra and penumbra; the astronomy writes it, 1 outside eclipses or without astronomy).
+        const double eclipse = std::clamp(vars.getOr(keys::moonEclipseFactor, 1.0), 0.0, 1.0);
+        EmoonUneclipsed = E * moonlightColour(a.wavelengthsNm, a.solarIrradiance);
+        Emoon = eclipse * EmoonUneclipsed;
         double am = vars.getOr(astro::keys::moonAngularRadius, std::asin(std::min(1.0, kMoonRadius / dist)));
         if (am <= 0) am = std::asin(std::min(1.0, kMoonRadius / dist));
         Lmoon = Emoon / (kPi * am * am);
     }
     vars.set(lightkeys::moonIlluminance, Emoon);
+    vars.set(lightkeys::moonIlluminanceUneclipsed, EmoonUneclipsed);
     vars.set(lightkeys::moonTransmittance, glm::clamp(transmittance(moonDir), 0.0, 1.0));
     vars.set(lightkeys::moonDiskRadiance, Lmoon);
     vars.set(lightkeys::planetRadius, m.bottomRadius);

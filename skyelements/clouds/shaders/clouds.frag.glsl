@@ -225,7 +225,8 @@ void cloudsShade(vec3 dir, vec2 px, bool haze, out vec3 L, out vec3 T) {
 
 #ifdef CLOUDS_STATS
 // Photometry pass: an N x N grid of cosine-weighted directions over the upper hemisphere
-// (Shirley & Chiu 1997 concentric map), then row N: pixel 0 the ray to the Sun. Outputs the
+// (Shirley & Chiu 1997 concentric map), then row N: pixel 0 the ray to the Sun, pixel 1 the ray
+// to the Moon. Outputs the
 // clouds' radiance (rgb) and transmittance (a, grey) without haze (at the ground).
 uniform int u_statsN;
 layout(location = 0) out vec4 o_stats;
@@ -233,7 +234,7 @@ void main() {
     ivec2 ij = ivec2(gl_FragCoord.xy);
     vec3 dir;
     if (ij.y >= u_statsN) {
-        dir = u_sunDir;
+        dir = ij.x == 1 ? u_moonDir : u_sunDir;
     } else {
         vec2 uv = 2.0 * (vec2(ij) + 0.5) / float(u_statsN) - 1.0;
         float rad, phi;

@@ -131,6 +131,8 @@ Clouds::Clouds() : SkyElement("clouds") {
     reads(lightkeys::moonIlluminance);
     reads(lightkeys::sunTransmittance);
     reads(lightkeys::moonTransmittance);
+    writes(keys::sunCloudTransmittance);
+    writes(keys::moonCloudTransmittance);
     reads(skykeys::transmittanceLut);
     reads(skykeys::horizontalIlluminance);
     reads(skykeys::diffuseIrradiance);
@@ -354,12 +356,16 @@ void Clouds::computePhotometry(const FrameContext& ctx) {
     meanL /= kStatsN * kStatsN;
     meanT /= kStatsN * kStatsN;
     const double sunT = px[size_t(4 * kStatsN * kStatsN + 3)];
+    const double moonT = px[size_t(4 * kStatsN * kStatsN + 4 + 3)];
     const glm::dvec3 hv = v.getOr(skykeys::horizontalIlluminance, glm::dvec3(0.0));
     Photometry& ph = photometry_;
     ph.clearGlobal = hv.x;
     ph.clearDirect = hv.y;
     ph.clearDiffuse = hv.z;
     ph.sunTransmittance = sunT;
+    ph.moonTransmittance = moonT;
+    v.set(keys::sunCloudTransmittance, std::clamp(sunT, 0.0, 1.0));
+    v.set(keys::moonCloudTransmittance, std::clamp(moonT, 0.0, 1.0));
     ph.direct = hv.y * sunT;
     ph.diffuse = hv.z * meanT + kPi * meanL;
     ph.global = ph.direct + ph.diffuse;
@@ -373,7 +379,9 @@ void Clouds::doRender(const FrameContext& ctx) {
     if (cov <= 0.0 && cir <= 0.0) {
         // Nothing to draw: the clear sky's photometry stands.
         const glm::dvec3 hv = v.getOr(skykeys::horizontalIlluminance, glm::dvec3(0.0));
-        photometry_ = {hv.x, hv.y, hv.z, hv.x, hv.y, hv.z, 1.0, true};
+        photometry_ = {hv.x, hv.y, hv.z, hv.x, hv.y, hv.z, 1.0, 1.0, true};
+        v.set(keys::sunCloudTransmittance, 1.0);
+        v.set(keys::moonCloudTransmittance, 1.0);
         photometryInputs_.clear();
         return;
     }
@@ -513,6 +521,7 @@ void Clouds::doStats(nlohmann::json& root) const {
     s["sun_illuminance_lux"] = photometry_.direct;
     s["diffuse_illuminance_lux"] = photometry_.diffuse;
     root["clouds"]["sun_transmittance"] = photometry_.sunTransmittance;
+    root["clouds"]["moon_transmittance"] = photometry_.moonTransmittance;
     root["clouds"]["drew"] = drew_;
 }
 

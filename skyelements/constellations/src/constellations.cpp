@@ -195,6 +195,7 @@ std::vector<astro::Star> loadConstellationStars(const std::string& catalogue) {
 }
 
 Constellations::Constellations() : SkyElement("constellations") {
+    setContributesToLighting(false);  // overlay: not light from the sky
     option(constellationkeys::linesFile, std::string(kConstellationLinesFile));
     option(constellationkeys::namesFile, std::string(kConstellationNamesFile));
     option(constellationkeys::culture, std::string("Western"));

@@ -44,6 +44,7 @@ Grid::Grid() : Grid(GridOptions{}, false) {}
 Grid::Grid(const GridOptions& options) : Grid(options, true) {}
 
 Grid::Grid(const GridOptions& o, bool force) : SkyElement("grid") {
+    setContributesToLighting(false);  // overlay: not light from the sky
     o.validate();
     option(gridkeys::altitudeStep, o.altitudeStepDeg * gridkeys::kDeg, force);
     option(gridkeys::azimuthStep, o.azimuthStepDeg * gridkeys::kDeg, force);

@@ -245,6 +245,7 @@ Planet::Planet(std::vector<astro::Body> bodies, std::string name) : Planet(std::
 }
 
 Planet::Planet(std::string name) : SkyElement(std::move(name)) {
+    setContributesToLighting(false);  // the Sun's and Moon's disks are SkyLighting's directional lights
     option(planetkeys::bodies, std::string("all"));
     option(planetkeys::sizeFactor, 1.0);
     option(planetkeys::earthshine, true);
@@ -268,6 +269,7 @@ Planet::Planet(std::string name) : SkyElement(std::move(name)) {
     reads(generators::lightkeys::sunDiskRadiance);
     reads(generators::lightkeys::sunTransmittance);
     reads(generators::lightkeys::moonIlluminance);
+    reads(generators::lightkeys::moonIlluminanceUneclipsed);
     reads(generators::lightkeys::moonTransmittance);
     for (astro::Body b : astro::kAllBodies) {
         if (b == astro::Body::Sun || b == astro::Body::Moon) continue;
@@ -493,10 +495,12 @@ void Planet::doRender(const FrameContext& ctx) {
         draw(kKindDisk, dir, radius, 3.0, L0, E, astro::bodyName(b));
     }
 
-    // The Moon: calibrated so that its disk integral is lights.moon_illuminance.
+    // The Moon: calibrated so that its disk integral is lights.moon_illuminance without the
+    // lunar eclipse (lights.moon_illuminance_uneclipsed): the disk draws the eclipse per pixel below
+    // (planet.eclipse).
     if (hasMoon && v.has(lk::moonIlluminance)) {
         const glm::dvec3 T = later ? glm::dvec3(1.0) : v.get(lk::moonTransmittance);
-        const glm::dvec3 E = v.get(lk::moonIlluminance) * T;
+        const glm::dvec3 E = v.getOr(lk::moonIlluminanceUneclipsed, v.get(lk::moonIlluminance)) * T;
         const MoonGeometry g = moonGeometry(v, f);
         // The integral depends only on the Sun's and the observer's directions in the Moon's
         // frame and the apparent radius: recomputed when one moves by more than 1e-4 rad (its

@@ -306,7 +306,11 @@ TEST_CASE("Planet: a total lunar eclipse darkens and reddens the Moon", "[gl][pl
     s.p->vars().set(planetkeys::earthshine, false);
     s.p->renderFrame();
     const SkyVars& v = s.p->vars();
-    const glm::dvec3 E = v.get(lk::moonIlluminance) * v.get(lk::moonTransmittance);
+    // The disk is calibrated to the uneclipsed light and draws the eclipse itself; the Moon's
+    // light on everything else (lights.moon_illuminance) carries moon.eclipse_factor (0 deep in
+    // the umbra: the geometric shadow, without the refracted light the disk shows).
+    const glm::dvec3 E = v.get(lk::moonIlluminanceUneclipsed) * v.get(lk::moonTransmittance);
+    CHECK(color::luminance(v.get(lk::moonIlluminance)) <= 0.02 * color::luminance(v.get(lk::moonIlluminanceUneclipsed)));
     const glm::dvec3 got = integrate(s.p->readHdr(), s.cam);
     // Totality: the Moon at 1e-4..2e-5 of its full brightness (magnitude ~ -2 against -12.7) and
     // red (the refracted light; the transmittance reddens it a little more).

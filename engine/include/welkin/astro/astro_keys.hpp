@@ -70,9 +70,21 @@ const Key<double>& planetAngularDiameter(Body planet);  // "planet.<name>.angula
 
 namespace welkin::astro {
 
+/// Fraction of a limb-darkened disk's flux left visible when another disk covers part of it
+/// (small-angle, flat geometry): the source of angular radius `sourceRadiusRad`, the occulting
+/// disk of `occulterRadiusRad`, their centres `separationRad` apart. Limb darkening
+/// I(mu) = I(1) (1 - u (1 - mu)) with u = `limbDarkening` (the Sun in the visible: 0.6). [0, 1];
+/// integrated over 512 rings of the source (analytic arc per ring), error < 1e-4.
+double eclipseVisibleFraction(double sourceRadiusRad, double occulterRadiusRad, double separationRad, double limbDarkening = 0.6);
+/// The fraction of the Earth's atmosphere enlarges its shadow by (Danjon's 1/50 rule): the Earth's
+/// apparent radius seen from the Moon is multiplied by 1 + this in moon.eclipse_factor.
+inline constexpr double kShadowEnlargement = 0.02;
+
 /// Computes every body for the time (keys::timeJdUtc) and observer (observer.*) in `vars`, on the
 /// path chosen by astro.precise, and writes welkin::keys::sunDirection / moonDirection and the keys
-/// above. Declares astro.precise (false) and the refraction keys (1013.25 hPa, 10 C) if absent.
+/// above, and the eclipses: sun.eclipse_fraction (the Sun's flux not hidden by the Moon, from their
+/// topocentric airless directions and radii) and moon.eclipse_factor (the solar disk's flux seen
+/// from the Moon's centre past the Earth's disk, enlarged by kShadowEnlargement). Declares astro.precise (false) and the refraction keys (1013.25 hPa, 10 C) if absent.
 void updateSkyVars(SkyVars& vars);
 
 /// updateSkyVars() as a generator ("astronomy"): inputs time.jd_utc, observer.*, astro.*;
@@ -86,6 +98,7 @@ private:
     void doRun(SkyVars& vars, const Logger& log) override;
     void doDeclare(SkyVars& vars) override;
     void doStats(nlohmann::json& root) const override;
+    double sunEclipse_ = 1, moonEclipse_ = 1;
     double sunAz_ = 0, sunAlt_ = 0, moonAz_ = 0, moonAlt_ = 0, moonPhase_ = 0, moonFraction_ = 0;
     bool precise_ = false;
     bool ran_ = false;

@@ -26,6 +26,7 @@ inline constexpr int kCloudUbo = 2;       ///< the cloud layer's block (generato
 // Shader storage buffers (GL_SHADER_STORAGE_BUFFER binding points).
 inline constexpr int kSkyIrradianceSsbo = 0;  ///< SkyIrradiance's result (generators/atmosphere/shaders/sky_irradiance.glsl)
 inline constexpr int kWeatherShapesSsbo = 1;  ///< the weather map's cloud shapes (generators/clouds/shaders/weather_map.*.glsl)
+inline constexpr int kLightingSsbo = 2;       ///< SkyLighting's sums (SH partials, axis lights; engine/shaders/lighting_*.comp.glsl)
 
 // Texture units: the engine's tone map.
 inline constexpr int kHdrTexture = 0;     ///< the HDR frame read by the tone map and log-luminance passes
@@ -66,6 +67,7 @@ inline constexpr int kZodiacalTexture = 1;  ///< the night sky's baked zodiacal 
 inline constexpr int kTextAtlas = 0;      ///< gl::Font's glyph atlas (welkin/gl/text.hpp), bound by TextBatch::draw()
 inline constexpr int kMoonAlbedoTexture = 0;  ///< the Planet element's Moon albedo map
 inline constexpr int kMoonNormalTexture = 1;  ///< the Planet element's Moon normal map
+inline constexpr int kLightingCube = 0;       ///< SkyLighting's captured radiance cube, sampled by the light-map pass
 // The keyframe blend passes (generators/atmosphere/shaders/light_blend.glsl): up to four tables at
 // consecutive elevations (A..D), mixed with weights in elevation.
 inline constexpr int kBlendA = 0;        ///< table A (sky view: smooth part; aerial: in-scattering)
@@ -83,6 +85,8 @@ inline constexpr int kBlendAerialD = 3;  ///< aerial: table D's in-scattering
 // Image units (glBindImageTexture): what a generator's compute pass writes.
 inline constexpr int kLutImage = 0;        ///< the (first) LUT written or updated by a compute pass
 inline constexpr int kSecondLutImage = 1;  ///< a second output (the aerial perspective transmittance)
+inline constexpr int kLightingOutputImage = 0;  ///< SkyLighting: the light map or specular mip a pass writes
+inline constexpr int kLightingSourceImage = 1;  ///< SkyLighting: the radiance cube level a pass reads
 
 // Reserved for user elements: the library never binds these (inclusive ranges). Each fits the
 // minimum GL 4.5 guarantees: 80 combined texture units, 8 image units, 72 uniform-buffer and 8
@@ -107,6 +111,10 @@ inline constexpr std::array kTable = {
     Entry{"WELKIN_BINDING_CLOUD_UBO", kCloudUbo, Kind::UniformBuffer},
     Entry{"WELKIN_BINDING_SKY_IRRADIANCE_SSBO", kSkyIrradianceSsbo, Kind::StorageBuffer},
     Entry{"WELKIN_BINDING_WEATHER_SHAPES_SSBO", kWeatherShapesSsbo, Kind::StorageBuffer},
+    Entry{"WELKIN_BINDING_LIGHTING_SSBO", kLightingSsbo, Kind::StorageBuffer},
+    Entry{"WELKIN_BINDING_LIGHTING_CUBE", kLightingCube, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_LIGHTING_OUTPUT_IMAGE", kLightingOutputImage, Kind::ImageUnit},
+    Entry{"WELKIN_BINDING_LIGHTING_SOURCE_IMAGE", kLightingSourceImage, Kind::ImageUnit},
     Entry{"WELKIN_BINDING_HDR_TEXTURE", kHdrTexture, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_LOG_LUM_TEXTURE", kLogLumTexture, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_EYE_STATE_TEXTURE", kEyeStateTexture, Kind::TextureUnit},

@@ -23,24 +23,31 @@
 // reflected by the lunar regolith: the solar spectrum times a reflectance rising linearly with
 // wavelength, R(lambda) ~ 1 + 0.0020 (lambda - 550 nm), chosen to reproduce the Moon's colour
 // index B-V = 0.92 against the Sun's 0.65 (Allen's Astrophysical Quantities, 4th ed., 12.2 and
-// 14.7). Disk radiance: E / (pi alpha_moon^2) averaged over the whole disk (lit and dark parts).
+// 14.7), times moon.eclipse_factor (the fraction of sunlight reaching the Moon: a lunar eclipse,
+// written by the astronomy; 1 without it). Disk radiance: E / (pi alpha_moon^2) averaged over the whole disk (lit and dark parts).
 //
 // One planet radius: planet.radius_m is published from the atmosphere (Atmosphere::bottomRadiusM).
 #pragma once
 #include <welkin/element.hpp>
 #include <welkin/generators/atmosphere.hpp>
+#include <welkin/keys.hpp>
 
 #include <memory>
 
 namespace welkin::generators {
 
 namespace lightkeys {
-inline const Key<glm::dvec3> sunIlluminance{"lights.sun_illuminance", Range{0, 1e7}, "Sun's illuminance above the atmosphere, per channel", "lx"};
-inline const Key<glm::dvec3> sunTransmittance{"lights.sun_transmittance", Range{0, 1}, "transmittance observer -> Sun (0 below the horizon)"};
-inline const Key<glm::dvec3> sunDiskRadiance{"lights.sun_disk_radiance", Range{0, 1e12}, "Sun's disk mean radiance, unreddened", "cd/m^2"};
-inline const Key<glm::dvec3> moonIlluminance{"lights.moon_illuminance", Range{0, 1e6}, "Moon's illuminance above the atmosphere, per channel (its colour and phase)", "lx"};
-inline const Key<glm::dvec3> moonTransmittance{"lights.moon_transmittance", Range{0, 1}, "transmittance observer -> Moon"};
-inline const Key<glm::dvec3> moonDiskRadiance{"lights.moon_disk_radiance", Range{0, 1e6}, "Moon's disk mean radiance (whole disk), unreddened", "cd/m^2"};
+// The Sun's and Moon's light keys are shared world state, defined by the engine (welkin/keys.hpp);
+// these names stay for the code that used them here.
+inline const Key<glm::dvec3>& sunIlluminance = welkin::keys::sunIlluminance;
+inline const Key<glm::dvec3>& sunTransmittance = welkin::keys::sunTransmittance;
+inline const Key<glm::dvec3>& sunDiskRadiance = welkin::keys::sunDiskRadiance;
+inline const Key<glm::dvec3>& moonIlluminance = welkin::keys::moonIlluminance;
+inline const Key<glm::dvec3>& moonTransmittance = welkin::keys::moonTransmittance;
+inline const Key<glm::dvec3>& moonDiskRadiance = welkin::keys::moonDiskRadiance;
+/// The Moon's illuminance above the atmosphere as if no lunar eclipse were on (lights.moon_illuminance
+/// / moon.eclipse_factor): what the Planet element calibrates its disk to, drawing the eclipse per pixel.
+inline const Key<glm::dvec3> moonIlluminanceUneclipsed{"lights.moon_illuminance_uneclipsed", Range{0, 1e6}, "Moon's illuminance above the atmosphere without a lunar eclipse (the Planet element's calibration)", "lx"};
 /// The planet's radius, m: the atmosphere's ground sphere (the one radius every element uses).
 inline const Key<double> planetRadius{"planet.radius_m", Range{1e3, 1e9}, "planet (ground sphere) radius", "m"};
 }  // namespace lightkeys

@@ -90,11 +90,14 @@ class Clouds final : public SkyElement {
 public:
     Clouds();
     /// The photometry of the last frame that computed it (lux): horizontal global, direct (the
-    /// Sun's beam through the clouds), diffuse (sky + clouds), and the clear-sky values.
+    /// Sun's beam through the clouds), diffuse (sky + clouds), and the clear-sky values. The
+    /// transmittances along the rays to the Sun and the Moon are also written into the engine keys
+    /// lights.sun_cloud_transmittance and lights.moon_cloud_transmittance (SkyLighting reads them).
     struct Photometry {
         double global = 0, direct = 0, diffuse = 0;
         double clearGlobal = 0, clearDirect = 0, clearDiffuse = 0;
         double sunTransmittance = 1;  ///< the clouds' transmittance along the ray to the Sun
+        double moonTransmittance = 1;  ///< the clouds' transmittance along the ray to the Moon
         bool valid = false;
     };
     const Photometry& photometry() const { return photometry_; }
