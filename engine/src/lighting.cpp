@@ -504,18 +504,7 @@ void SkyProcessor::compositeEnvironment(const Camera& cam, const gl::Buffer& ubo
     for (size_t i = 0; i < list.size(); ++i) {
         ctx.attenuatedLater = false;
         for (size_t j = i + 1; j < list.size(); ++j) ctx.attenuatedLater = ctx.attenuatedLater || list[j]->attenuatesBehind();
-        glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
-        glDrawBuffer(GL_COLOR_ATTACHMENT0);
-        glViewport(0, 0, cam.width, cam.height);
-        ubo.bindBase(GL_UNIFORM_BUFFER, gl::binding::kCameraUbo);
-        emptyVao_.bind();
-        glEnable(GL_BLEND);
-        glBlendFuncSeparate(GL_ONE, GL_SRC1_COLOR, GL_ZERO, GL_ONE);
-        glBlendEquation(GL_FUNC_ADD);
-        glDisable(GL_DEPTH_TEST);
-        glDepthMask(GL_FALSE);
-        glDisable(GL_CULL_FACE);
-        glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        applyCompositeState(framebuffer, false, cam, ubo);
         list[i]->render(ctx);
         ctx.nothingBehind = false;
     }

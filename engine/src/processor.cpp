@@ -365,11 +365,13 @@ void SkyProcessor::update() {
     if (host.outermost()) gl::checkError("SkyProcessor::update()");
 }
 
-void SkyProcessor::applyCompositeState(unsigned framebuffer, bool depthTest) {
+void SkyProcessor::applyCompositeState(unsigned framebuffer, bool depthTest) { applyCompositeState(framebuffer, depthTest, camera_, cameraUbo_); }
+
+void SkyProcessor::applyCompositeState(unsigned framebuffer, bool depthTest, const Camera& camera, const gl::Buffer& ubo) {
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
     if (framebuffer != 0) glDrawBuffer(GL_COLOR_ATTACHMENT0);  // dual-source: one draw buffer
-    glViewport(0, 0, camera_.width, camera_.height);
-    cameraUbo_.bindBase(GL_UNIFORM_BUFFER, gl::binding::kCameraUbo);
+    glViewport(0, 0, camera.width, camera.height);
+    ubo.bindBase(GL_UNIFORM_BUFFER, gl::binding::kCameraUbo);
     emptyVao_.bind();
     glEnable(GL_BLEND);
     // dst.rgb = src0.rgb + dst.rgb * src1.rgb (radiance plus attenuated background); alpha kept.
@@ -380,7 +382,7 @@ void SkyProcessor::applyCompositeState(unsigned framebuffer, bool depthTest) {
         // for a reversed-Z host (glDepthRange(1, 0)), whatever the host's glClipControl depth
         // mode (NDC 1 is the far end of both). The guard restores the host's range.
         glEnable(GL_DEPTH_TEST);
-        if (camera_.depth.reversedZ) {
+        if (camera.depth.reversedZ) {
             glDepthRange(1.0, 0.0);
             glDepthFunc(GL_GEQUAL);
         } else {

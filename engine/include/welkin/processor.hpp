@@ -235,11 +235,14 @@ private:
     /// The compositing state (framebuffer, viewport, camera block, dual-source blending, depth
     /// test in the camera's DepthMode), set before every element's pass.
     void applyCompositeState(unsigned framebuffer, bool depthTest);
+    void applyCompositeState(unsigned framebuffer, bool depthTest, const Camera& camera, const gl::Buffer& ubo);
     void checkDepthTexture(const HostDepth& depth) const;
     void declareToneMapKeys();
     /// `newFrame`: the frame renderFrame() just composited (advances the eye's adaptation).
     void toneMap(unsigned framebuffer, bool newFrame, unsigned hdrTexture);
     FrameContext frameContext();
+    /// Writes the camera block (with the host depth's planes for cameras not made from matrices).
+    void uploadCamera(const HostDepth* depth);
     // SkyLighting (engine/src/lighting.cpp): keys, the step at the end of update(), stats, and the
     // environment's compositing (the elements that contribute to lighting, for a capture camera).
     friend class LightingEngine;
@@ -248,8 +251,6 @@ private:
     void releaseLighting();
     void lightingStats(nlohmann::json& root) const;
     void compositeEnvironment(const Camera& camera, const gl::Buffer& cameraUbo, unsigned framebuffer);
-    /// Writes the camera block (with the host depth's planes for cameras not made from matrices).
-    void uploadCamera(const HostDepth* depth);
 
     SkyVars ownVars_;
     SkyVars* vars_ = &ownVars_;
