@@ -25,3 +25,6 @@ vec3 welkin_specularRadiance(vec3 r, float roughness) {
     float lod = clamp(roughness, 0.0, 1.0) * (welkin_specularMips - 1.0);
     return textureLod(welkin_specularCube, vec3(r.x, r.z, -r.y), lod).rgb;
 }
+
+// The same, under the shorter name of the API plan (docs/lighting.md).
+vec3 welkin_specular(vec3 r, float roughness) { return welkin_specularRadiance(r, roughness); }

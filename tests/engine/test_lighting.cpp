@@ -466,3 +466,13 @@ TEST_CASE("SkyLighting: the host's GLSL chunks shade with the same SH and specul
         CHECK(px[size_t(24 + c)] == Approx(mean).epsilon(1e-3));  // the sampler's 8-bit bilinear weights: exact at the centre
     }
 }
+
+TEST_CASE("SkyLighting: the library's bodies and overlays stay out of the environment, the rest is in it", "[cpu][lighting]") {
+    // The convention of docs/writing-an-element.md: Layer::Bodies (the Sun's and Moon's disks, the
+    // directional lights) and Layer::Overlay (not light) say setContributesToLighting(false).
+    for (const ElementDescriptor* d : elements::descriptors()) {
+        INFO(d->name << " (" << toString(d->layer) << ")");
+        const bool expected = d->layer != Layer::Bodies && d->layer != Layer::Overlay;
+        CHECK(d->make()->contributesToLighting() == expected);
+    }
+}

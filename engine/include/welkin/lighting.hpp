@@ -110,6 +110,7 @@ inline const Key<TextureRef> lightingSkyLightMap{"lighting.sky_light_map", "SkyL
 ///   vec3 welkin_toEnu(vec3 worldVector);                  // host world -> ENU (welkin_enuFromWorld)
 ///   vec3 welkin_shIrradiance(vec3 nEnu);                  // lux on a surface of unit normal n
 ///   vec3 welkin_specularRadiance(vec3 rEnu, float roughness);  // cd/m^2, roughness in [0, 1]
+///   vec3 welkin_specular(vec3 rEnu, float roughness);          // the same
 std::vector<std::pair<std::string, std::string>> lightingGlslChunks();
 
 /// Sets the uniforms of lightingGlslChunks() in `program` (a linked GL program name) and binds
