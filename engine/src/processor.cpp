@@ -468,7 +468,7 @@ void SkyProcessor::renderInto(const RenderTarget& target) {
     ++frames_;
 }
 
-void SkyProcessor::applyToScene(const RenderTarget& target) {
+void SkyProcessor::applyToScene(const RenderTarget& target, ScenePasses passes) {
     const char* where = "SkyProcessor::applyToScene()";
     if (!target.depth) throw Error(std::string(where) + ": RenderTarget::depth is required (the host's depth texture)");
     if (target.width != camera_.width || target.height != camera_.height)
@@ -489,11 +489,13 @@ void SkyProcessor::applyToScene(const RenderTarget& target) {
         uploadCamera(&*target.depth);
         FrameContext ctx = frameContext();
         ctx.depth = &*target.depth;
-        for (ScenePass pass : {ScenePass::Surfaces, ScenePass::Air})
+        for (ScenePass pass : {ScenePass::Surfaces, ScenePass::Air}) {
+            if (pass == ScenePass::Surfaces ? !passes.surfaces : !passes.air) continue;
             for (auto& e : elements_) {
                 applyCompositeState(target.framebuffer, false);
                 e->applyToScene(ctx, pass);
             }
+        }
         if (host.outermost()) gl::checkError(where);
     }
     sceneMs_ = msSince(t0);

@@ -19,7 +19,7 @@
 //   --speed S             simulated seconds per real second in the window, [0, 1e6]; default 1440
 //   --effects E           welkin (default): applyToScene() puts the clouds' shadows and the aerial
 //                         perspective over the drawn scene; shader: the host's shader shades the
-//                         clouds' shadows itself (welkin_cloudShadow), no aerial perspective
+//                         clouds' shadows itself (welkin_cloudShadow), applyToScene() the air only
 //   --shadows on|off      the scene's own shadows (a shadow map of the brighter of the Sun and
 //                         the Moon over 800 m in front of the camera); default on
 //   --overlay             draw the frame-time overlay into the headless image too

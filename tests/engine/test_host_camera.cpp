@@ -363,6 +363,28 @@ TEST_CASE("applyToScene gives elements the distance to the host's geometry in an
     CHECK_THROWS_WITH(p.applyToScene({.framebuffer = 0, .width = 1280, .height = 720}), Catch::Contains("RenderTarget::depth is required"));
 }
 
+TEST_CASE("applyToScene runs only the passes asked for", "[gl][host]") {
+    test::glContext();
+    // The distance probe draws in the air pass: asking for the surfaces only leaves the host's
+    // colour as it was; asking for the air only draws it.
+    const int w = 4, h = 4;
+    HostTarget t(w, h);
+    const float half = 0.5f;
+    glClearTexImage(t.depth.id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, &half);
+    SkyProcessor p;
+    p.setCamera(Camera::fromViewProjection(glm::dmat4(1.0), glm::perspective(1.0, 1.0, 0.5, 100.0), enuFromYUp(), w, h));
+    p.add(std::make_unique<DistanceProbe>());
+    const RenderTarget target{.framebuffer = t.fbo.id(), .width = w, .height = h, .depth = HostDepth{.depthTexture = t.depth.id()}};
+    t.fbo.bind();
+    const float grey[4] = {7, 7, 7, 1};
+    glClearBufferfv(GL_COLOR, 0, grey);
+    p.renderInto(target);
+    p.applyToScene(target, {.surfaces = true, .air = false});
+    CHECK(t.at(t.colour.readRgbaFloat(), 1, 1).r == 7.0f);
+    p.applyToScene(target, {.surfaces = false, .air = true});
+    CHECK(t.at(t.colour.readRgbaFloat(), 1, 1).r != 7.0f);
+}
+
 TEST_CASE("toneMapInto tone-maps a host's HDR texture like welkin's own frame", "[gl][tonemap][host]") {
     test::glContext();
     const int w = 16, h = 8;

@@ -89,6 +89,12 @@ enum class ScenePass {
     Air,       ///< the air between the eye and the surfaces: dst = inscatter + dst * T
 };
 const char* toString(ScenePass pass);
+/// Which passes SkyProcessor::applyToScene() runs: a host that shades the clouds' shadows in its
+/// own shaders (welkin_cloudShadow) asks for the air only, so the shadows are not applied twice.
+struct ScenePasses {
+    bool surfaces = true;  ///< ScenePass::Surfaces (the clouds' shadows)
+    bool air = true;       ///< ScenePass::Air (the aerial perspective)
+};
 
 /// How a generator depends on one of its inputs.
 struct InputOptions {

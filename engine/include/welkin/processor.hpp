@@ -175,7 +175,8 @@ public:
     /// clouds' shadows on the host's surfaces, then the aerial perspective of the air in front of
     /// them (the Sky; it builds its aerial-perspective volume from the first call on). Call after
     /// renderInto() in the same frame (it draws with that frame's state; depthTest is ignored).
-    void applyToScene(const RenderTarget& target);
+    /// `passes`: which of the two (a host that shades the clouds' shadows itself asks for the air only).
+    void applyToScene(const RenderTarget& target, ScenePasses passes = {});
     /// Tone-maps the last HDR frame into `framebuffer` (0 = default) at the camera's size.
     void toneMapInto(unsigned framebuffer);
     /// Tone-maps the host's HDR texture (`hostHdrTexture`: a GL_TEXTURE_2D of the camera's size,

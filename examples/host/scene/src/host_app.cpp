@@ -216,7 +216,8 @@ void HostApp::render(const welkin::UtcInstant& time, const FlyCamera& camera, in
                                                                  .farM = std::numeric_limits<double>::infinity(),
                                                                  .metresPerUnit = 1.0}};
     sky_->renderInto(target);
-    if (options_.effects == AppOptions::Effects::ApplyToScene) sky_->applyToScene(target);
+    // --effects shader: the scene's shader shades the clouds' shadows itself; welkin adds the air only.
+    sky_->applyToScene(target, {.surfaces = options_.effects == AppOptions::Effects::ApplyToScene, .air = true});
     glQueryCounter(q[3].id(), GL_TIMESTAMP);
     timerPending_[size_t(frameIndex_ % kTimerFrames)] = true;
     ++frameIndex_;

@@ -78,7 +78,7 @@ struct AppOptions {
     /// welkin's applyToScene() after the scene is drawn, from its colour and depth (the scene lit
     /// with the light at the observer, SkyLighting's). Shader: the host's own shader shades the
     /// clouds' shadow per light and normal (welkin_cloudShadow, the light above the clouds), and
-    /// there is no aerial perspective.
+    /// applyToScene() adds the aerial perspective only ({.surfaces = false}).
     enum class Effects { ApplyToScene, Shader } effects = Effects::ApplyToScene;
     /// A window's frames one after another (render.interactive): welkin spreads work over
     /// frames (the lighting's capture, time-sliced). false: every frame complete (headless).
