@@ -6,6 +6,7 @@
 // directional lights, and that nothing runs when nothing changed.
 #include <catch2/catch.hpp>
 
+#include "astronomy_at.hpp"
 #include "gl_test_context.hpp"
 #include "uniform_field.hpp"
 
@@ -295,13 +296,7 @@ TEST_CASE("Eclipses: the Sun's visible fraction and the sunlight reaching the Mo
     CHECK(astro::eclipseVisibleFraction(1e-3, 0.5e-3, 0.0) == Approx(1 - hidden).margin(1e-5));
 
     auto at = [](const char* iso, double latDeg, double lonDeg) {
-        SkyVars v = SkyVars::earth();
-        const JulianDate jd = UtcInstant::parse(iso).julianDate();
-        v.set(keys::timeJdUtc, glm::dvec2(jd.day, jd.fraction));
-        v.set(keys::observerLatitude, latDeg * kDeg);
-        v.set(keys::observerLongitude, lonDeg * kDeg);
-        v.set(keys::observerHeight, 0.0);
-        astro::updateSkyVars(v);
+        const SkyVars v = test::astronomyAt(iso, latDeg, lonDeg);
         return std::pair{v.get(keys::sunEclipseFraction), v.get(keys::moonEclipseFactor)};
     };
     // The total solar eclipse of 2026-08-12 near Burgos (Spain), 18:29 UTC: near-total.

@@ -3,6 +3,7 @@
 // the Earth's shadow; finite output at extreme cameras.
 #include <catch2/catch.hpp>
 
+#include "astronomy_at.hpp"
 #include "gl_test_context.hpp"
 
 #include <welkin/astro/astro_keys.hpp>
@@ -33,17 +34,7 @@ namespace ak = astro::keys;
 
 bool haveMoonMaps() { return std::filesystem::exists(kMoonTexturePath) && std::filesystem::exists(kMoonNormalsPath); }
 
-// The astronomy keys for an instant and a site (CPU only).
-SkyVars astronomyAt(const char* iso, double latDeg, double lonDeg) {
-    SkyVars v = SkyVars::earth();
-    const JulianDate jd = UtcInstant::parse(iso).julianDate();
-    v.set(keys::timeJdUtc, glm::dvec2(jd.day, jd.fraction));
-    v.set(keys::observerLatitude, latDeg * kDeg);
-    v.set(keys::observerLongitude, lonDeg * kDeg);
-    v.set(keys::observerHeight, 0.0);
-    astro::updateSkyVars(v);
-    return v;
-}
+using test::astronomyAt;  // the astronomy keys for an instant and a site (CPU only)
 
 // A site on the equator where the body stands highest at that instant (15-degree steps).
 double bestLongitude(const char* iso, const Key<glm::dvec3>& dirKey) {
