@@ -353,11 +353,13 @@ void SkyProcessor::uploadCamera(const HostDepth* depth) {
     cameraUbo_.update(&block, sizeof block);
 }
 
-void SkyProcessor::update() {
+void SkyProcessor::update() { update(nullptr); }
+
+void SkyProcessor::update(const HostDepth* depth) {
     HostStateScope host(hostGuardDepth_, log_, options_.validation, "SkyProcessor::update()");
     init();
     deriveVariables();
-    uploadCamera(nullptr);
+    uploadCamera(depth);
     runGenerators();
     FrameContext ctx = frameContext();
     for (auto& e : elements_) e->update(ctx);
@@ -459,8 +461,7 @@ void SkyProcessor::renderInto(const RenderTarget& target) {
     auto t0 = std::chrono::steady_clock::now();
     {
         HostStateScope host(hostGuardDepth_, log_, options_.validation, "SkyProcessor::renderInto()", {target.framebuffer});
-        update();
-        if (target.depth) uploadCamera(&*target.depth);
+        update(target.depth ? &*target.depth : nullptr);
         composite(target.framebuffer, target.depthTest, false, target.depth ? &*target.depth : nullptr);
         if (host.outermost()) gl::checkError("SkyProcessor::renderInto()");
     }

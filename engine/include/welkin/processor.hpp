@@ -244,6 +244,8 @@ private:
     FrameContext frameContext();
     /// Writes the camera block (with the host depth's planes for cameras not made from matrices).
     void uploadCamera(const HostDepth* depth);
+    /// update() with the host's depth in the camera block (renderInto()).
+    void update(const HostDepth* depth);
     // SkyLighting (engine/src/lighting.cpp): keys, the step at the end of update(), stats, and the
     // environment's compositing (the elements that contribute to lighting, for a capture camera).
     friend class LightingEngine;

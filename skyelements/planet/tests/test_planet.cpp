@@ -158,8 +158,8 @@ TEST_CASE("Planet: the Moon's orientation agrees with the astronomy and the IAU 
 
 TEST_CASE("Planet: the Moon's illuminated fraction in the image and its bright limb", "[gl][planet]") {
     if (!haveMoonMaps()) {
-        WARN("stellarium-data's Moon maps are missing (apt install stellarium-data): test skipped");
-        return;
+        // The data is installed by scripts/setup.sh: missing, the test fails rather than pass unseen.
+        FAIL("stellarium-data's Moon maps are missing (apt install stellarium-data)");
     }
     // Dates chosen for a crescent, a quarter and a gibbous Moon (fractions checked below).
     struct Case { const char* iso; double lo, hi; };
@@ -206,8 +206,8 @@ TEST_CASE("Planet: the Moon's illuminated fraction in the image and its bright l
 
 TEST_CASE("Planet: the Moon's integrated light is lights.moon_illuminance x transmittance", "[gl][planet]") {
     if (!haveMoonMaps()) {
-        WARN("stellarium-data's Moon maps are missing (apt install stellarium-data): test skipped");
-        return;
+        // The data is installed by scripts/setup.sh: missing, the test fails rather than pass unseen.
+        FAIL("stellarium-data's Moon maps are missing (apt install stellarium-data)");
     }
     for (const char* iso : {"2026-03-26T00:00:00Z", "2026-04-01T12:00:00Z"}) {  // quarter, near full
         INFO(iso);
@@ -289,8 +289,8 @@ TEST_CASE("Planet: a planet's flux is its magnitude's illuminance x transmittanc
 
 TEST_CASE("Planet: a total lunar eclipse darkens and reddens the Moon", "[gl][planet]") {
     if (!haveMoonMaps()) {
-        WARN("stellarium-data's Moon maps are missing (apt install stellarium-data): test skipped");
-        return;
+        // The data is installed by scripts/setup.sh: missing, the test fails rather than pass unseen.
+        FAIL("stellarium-data's Moon maps are missing (apt install stellarium-data)");
     }
     const char* iso = "2025-09-07T18:12:00Z";  // greatest eclipse 18:11:48 UT (NASA, umbral magnitude 1.36)
     Scene s = scene(iso, bestLongitude(iso, keys::moonDirection), keys::moonDirection, 0.8, 160);
@@ -377,8 +377,8 @@ TEST_CASE("Planet: one instance per body, and the bodies option", "[gl][planet]"
 
 TEST_CASE("Planet: the equirect seam draws a body whole", "[gl][planet]") {
     if (!haveMoonMaps()) {
-        WARN("stellarium-data's Moon maps are missing (apt install stellarium-data): test skipped");
-        return;
+        // The data is installed by scripts/setup.sh: missing, the test fails rather than pass unseen.
+        FAIL("stellarium-data's Moon maps are missing (apt install stellarium-data)");
     }
     // From 35 S the Moon (dec +26) culminates due north, on the seam at azimuth 0, near 19:00 UTC
     // at longitude 1.9 E (LAST = its RA, 111 deg).
@@ -415,8 +415,8 @@ TEST_CASE("Planet: the equirect seam draws a body whole", "[gl][planet]") {
 
 TEST_CASE("Planet: a Moon across cube faces' edges is whole over the cube", "[gl][planet]") {
     if (!haveMoonMaps()) {
-        WARN("stellarium-data's Moon maps are missing (apt install stellarium-data): test skipped");
-        return;
+        // The data is installed by scripts/setup.sh: missing, the test fails rather than pass unseen.
+        FAIL("stellarium-data's Moon maps are missing (apt install stellarium-data)");
     }
     // The up face (+Y) meets the side faces at altitude 45 deg: an instant when the Moon (radius
     // 2.7 deg at size factor 10) is within 1 deg of it, seen from Malta on 2026-03-26.
@@ -456,8 +456,8 @@ TEST_CASE("Planet: a Moon across cube faces' edges is whole over the cube", "[gl
 
 TEST_CASE("Planet: earthshine follows the Earth's phase seen from the Moon", "[gl][planet]") {
     if (!haveMoonMaps()) {
-        WARN("stellarium-data's Moon maps are missing (apt install stellarium-data): test skipped");
-        return;
+        // The data is installed by scripts/setup.sh: missing, the test fails rather than pass unseen.
+        FAIL("stellarium-data's Moon maps are missing (apt install stellarium-data)");
     }
     // The night side's centre (crescents: the disk's centre is dark) against the model: the
     // calibration scale x earthshineRatio(phase) x B(0) S(0) (= 2) x albedo x the Lommel-Seeliger
@@ -513,8 +513,7 @@ TEST_CASE("Planet: without the astronomy, the Sun from a host's sun.direction", 
 
 TEST_CASE("Planet: labels beside the bodies (planet.labels)", "[gl][planet]") {
     if (!std::filesystem::exists(gl::kDefaultFontPath)) {
-        WARN("no font at " << gl::kDefaultFontPath << " (fonts-dejavu-core): skipped");
-        return;
+        FAIL("no font at " << gl::kDefaultFontPath << " (apt install fonts-dejavu-core)");
     }
     // Jupiter centred in a 10 deg, 256 px view: with labels, "Jupiter" is written to its right at
     // the label luminance; nothing changes to its left, and without labels nothing is written.
