@@ -41,4 +41,12 @@ struct BenchRegistrar {
     }
 };
 
+/// `welkin demo <name>`: the heritage and education demos register here the same way.
+std::vector<Command>& demos();
+struct DemoRegistrar {
+    DemoRegistrar(std::string name, std::string description, Setup setup) {
+        demos().push_back({std::move(name), std::move(description), std::move(setup)});
+    }
+};
+
 }  // namespace welkin::cli

@@ -16,6 +16,10 @@ std::vector<Command>& benchmarks() {
     static std::vector<Command> b;
     return b;
 }
+std::vector<Command>& demos() {
+    static std::vector<Command> d;
+    return d;
+}
 }  // namespace welkin::cli
 
 int main(int argc, char** argv) {
@@ -27,6 +31,7 @@ int main(int argc, char** argv) {
     auto byName = [](const Command& a, const Command& b) { return a.name < b.name; };
     std::sort(commands().begin(), commands().end(), byName);
     std::sort(benchmarks().begin(), benchmarks().end(), byName);
+    std::sort(demos().begin(), demos().end(), byName);
 
     struct Entry {
         CLI::App* sub;
@@ -44,6 +49,14 @@ int main(int argc, char** argv) {
         for (auto& b : benchmarks()) {
             CLI::App* sub = bench->add_subcommand(b.name, b.description);
             actions.push_back({sub, "bench " + b.name, b.setup(*sub)});
+        }
+    }
+    if (!demos().empty()) {
+        CLI::App* demo = app.add_subcommand("demo", "the heritage and education demos (docs/demos.md)");
+        demo->require_subcommand(1);
+        for (auto& d : demos()) {
+            CLI::App* sub = demo->add_subcommand(d.name, d.description);
+            actions.push_back({sub, "demo " + d.name, d.setup(*sub)});
         }
     }
     try {
