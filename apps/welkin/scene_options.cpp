@@ -144,7 +144,7 @@ void SceneOptions::applyVars(SkyProcessor& p) const {
         const size_t eq = kv.find('=');
         if (eq == std::string::npos || eq == 0) throw Error("--var '" + kv + "' is not KEY=VALUE");
         try {
-            p.vars().setFromString(kv.substr(0, eq), kv.substr(eq + 1));
+            p.setOption(kv.substr(0, eq), kv.substr(eq + 1));
         } catch (const Error& e) {
             throw Error("--var " + kv + ": " + e.what());
         }

@@ -234,6 +234,45 @@ void SkyProcessor::deriveVariables() {
     vars_->set(keys::observerHeight, observer_.heightMeters);
 }
 
+namespace {
+// What sets a derived key, for setOption()'s message ("" if the processor does not derive it).
+std::string derivedFrom(std::string_view name) {
+    if (name == keys::timeJdUtc.name() || name == keys::timeIso.name()) return "SkyProcessor::setTime() (welkin: --time)";
+    if (name == keys::observerLatitude.name()) return "SkyProcessor::setObserver() (welkin: --lat)";
+    if (name == keys::observerLongitude.name()) return "SkyProcessor::setObserver() (welkin: --lon)";
+    if (name == keys::observerHeight.name()) return "SkyProcessor::setObserver() (welkin: --height)";
+    return "";
+}
+
+std::string generatorOutputMessage(std::string_view key, const Generator& g) {
+    return std::string(key) + " is an output of the generator '" + g.name() +
+           "', not an input (it is computed every frame from the time, the place and the generator's inputs: `welkin vars` lists them)";
+}
+
+std::string elementOutputMessage(std::string_view key, const SkyElement& e) {
+    return std::string(key) + " is written by the element '" + e.name() + "' every frame, not an input";
+}
+}  // namespace
+
+void SkyProcessor::setOption(std::string_view name, std::string_view text) {
+    if (options_.timeAndPlace) {
+        const std::string from = derivedFrom(name);
+        if (!from.empty()) throw Error(std::string(name) + " is derived from " + from + ", not an input");
+    }
+    auto check = [&](const Generator& g) {
+        for (const KeyInfo& k : g.outputs())
+            if (k.name == name) throw Error(generatorOutputMessage(name, g));
+    };
+    for (auto& g : generators_) check(*g);
+    for (auto& e : elements_) {
+        for (auto& g : e->generators()) check(*g);
+        for (const KeyInfo& k : e->writeKeys())
+            if (k.name == name) throw Error(elementOutputMessage(name, *e));
+    }
+    vars_->setFromString(name, text);
+    if (std::find(optionsSet_.begin(), optionsSet_.end(), name) == optionsSet_.end()) optionsSet_.emplace_back(name);
+}
+
 void SkyProcessor::init() {
     HostStateScope host(hostGuardDepth_, log_, options_.validation, "SkyProcessor::init()");
     if (!glReady_) {
@@ -278,6 +317,13 @@ void SkyProcessor::orderGenerators() {
                 throw Error("SkyProcessor::init(): key '" + k.name + "' is written by two generators, '" + all[it->second]->name() +
                             "' and '" + all[i]->name() + "'");
         }
+    // A key the caller set with setOption() must not be a generator's output (an element's
+    // generators are attached at its init(), after the option was set).
+    for (const std::string& k : optionsSet_)
+        if (auto it = writer.find(k); it != writer.end()) throw Error(generatorOutputMessage(k, *all[it->second]));
+    for (auto& e : elements_)
+        for (const KeyInfo& w : e->writeKeys())
+            if (std::find(optionsSet_.begin(), optionsSet_.end(), w.name) != optionsSet_.end()) throw Error(elementOutputMessage(w.name, *e));
     // Reads: of a key some generator writes (an edge), or of a declared key, or optional.
     std::vector<std::vector<size_t>> after(all.size());  // after[w] = readers of w's outputs
     std::vector<int> pending(all.size(), 0);

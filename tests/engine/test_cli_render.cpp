@@ -130,6 +130,16 @@ TEST_CASE("welkin render: bad input exits non-zero with one line and writes noth
         {ok + "--elements grid --out " + dir + "/a.png --stats " + dir, "", "must end in .json"},
         {ok + "--elements grid --out " + dir + "/a.png --lighting " + dir + "/missing/l.json", "", "--lighting"},
         {ok + "--elements grid --out " + dir + "/a.png --lighting " + dir + "/l.txt", "", "--lighting '" + dir + "/l.txt' must end in .json"},
+        // Outputs are not inputs: a --var on a key the processor derives or a generator or an
+        // element writes every frame is refused, naming what sets it (it used to be accepted
+        // and silently overwritten).
+        {ok + "--var time.iso=2026 --out " + dir + "/a.png", "", "time.iso is derived from SkyProcessor::setTime() (welkin: --time)"},
+        {ok + "--var observer.latitude_rad=1 --out " + dir + "/a.png", "", "(welkin: --lat)"},
+        {ok + "--var sun.direction=0,0,1 --out " + dir + "/a.png", "", "sun.direction is an output of the generator 'astronomy'"},
+        {ok + "--var stars.frame_icrs_to_enu=1,0,0,0,1,0,0,0,1 --out " + dir + "/a.png", "", "is an output of the generator"},
+        // Written by a generator the Clouds attach at init(): refused there, before any image.
+        {ok + "--elements sky,clouds --var lights.sun_cloud_transmittance=0.5 --out " + dir + "/a.png", "",
+         "lights.sun_cloud_transmittance is"},
         // No EGL: point glvnd at no vendor library.
         {ok + "--elements grid --out " + dir + "/a.png", "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json", "EGL"},
     };

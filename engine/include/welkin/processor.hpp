@@ -125,6 +125,14 @@ public:
 
     SkyVars& vars() { return *vars_; }
     const SkyVars& vars() const { return *vars_; }
+    /// Sets an input key from text, as `welkin render --var KEY=VALUE` does (parsed by the key's
+    /// type, checked against its range: SkyVars::setFromString()), and refuses the keys that are
+    /// outputs, not inputs: the ones derived from setTime() and setObserver() (time.*,
+    /// observer.*) and every generator's output (the astronomy's sun.direction,
+    /// stars.frame_icrs_to_enu ...), which the next frame would overwrite. Throws welkin::Error
+    /// naming what sets the key. A key written by a generator an element attaches at init() is
+    /// refused then: init() throws if a key set here is one of its outputs.
+    void setOption(std::string_view name, std::string_view text);
     Logger& logger() { return log_; }
 
     /// Appends an element (composited after the ones already added). Initialised lazily on the
@@ -263,6 +271,7 @@ private:
     std::vector<std::shared_ptr<Generator>> generators_;  // processor-level
     std::vector<Generator*> order_;
     bool orderValid_ = false;
+    std::vector<std::string> optionsSet_;  // keys setOption() set, checked against the generators' outputs at init()
     bool generatorsPaused_ = false;
     UtcInstant time_ = UtcInstant::parse("2000-01-01T12:00:00Z");
     Observer observer_{};
