@@ -57,8 +57,8 @@ using namespace welkin::atmosphere;
 constexpr double kDeg = std::numbers::pi / 180.0;
 
 struct Options {
-    // The project's shared reference data sits beside the source tree (../shared/reference).
-    std::string data = std::string(WELKIN_SOURCE_DIR) + "/../shared/reference/kider2013";
+    // The measurements kept in the repository (tests/data/kider2013/SOURCE.md).
+    std::string data = std::string(WELKIN_SOURCE_DIR) + "/tests/data/kider2013";
     bool quick = false;
     bool rgb = false;
     int threads = 2;

@@ -31,10 +31,7 @@ TEST_CASE("welkin bench clouds: bad options are one-line errors", "[cpu][cli][be
 }
 
 TEST_CASE("welkin bench clouds: a tiny run writes its rows and judges the target", "[gl][cli][bench][slow]") {
-    if (!welkin::elements::findDescriptor("clouds")) {
-        WARN("no clouds element in this build: test skipped");
-        return;
-    }
+    if (!welkin::elements::findDescriptor("clouds")) FAIL("no clouds element in this build" << ": this test needs skyelements/clouds");
     const std::string dir = welkin::test::scratchDir("bench_clouds");
     // 64x36, two sample counts, one timed frame each, a 32-sample reference: seconds on llvmpipe.
     const auto r = runCli("bench clouds --sizes 64x36 --samples 4,8 --repeats 1 --warmup 1 --moving-frames 2 --reference-samples 32 --csv '" +
@@ -58,10 +55,7 @@ TEST_CASE("welkin bench clouds: a tiny run writes its rows and judges the target
 }
 
 TEST_CASE("plot_bench_clouds.py draws a PNG from a bench clouds CSV", "[cpu][plot][bench]") {
-    if (!welkin::cli::findPythonWithMatplotlib()) {
-        WARN("no python3 with matplotlib (Debian: python3-matplotlib): plot test skipped");
-        return;
-    }
+    if (!welkin::cli::findPythonWithMatplotlib()) FAIL("no python3 with matplotlib (Debian: python3-matplotlib)" << ": install it (scripts/setup.sh installs it; a missing file fails, never skips)");
     const std::string dir = welkin::test::scratchDir("plot_bench_clouds");
     {
         welkin::CsvWriter w(dir + "/c.csv", {"size", "mode", "samples", "reprojection", "frame_ms", "trivial_ms", "sky_ms", "ratio_trivial",

@@ -101,10 +101,7 @@ private:
 }  // namespace
 
 TEST_CASE("Constellations: clines.dat and cnames.dat parse as the files are written", "[cpu][constellations]") {
-    if (!haveKStars()) {
-        WARN("kstars-data is not installed (/usr/share/kstars/clines.dat, cnames.dat, stars.dat)" ": test skipped");
-        return;
-    }
+    if (!haveKStars()) FAIL("kstars-data is not installed (/usr/share/kstars/clines.dat, cnames.dat, stars.dat)" << ": install it (scripts/setup.sh installs it; a missing file fails, never skips)");
     const auto figures = loadConstellationLines(kConstellationLinesFile, "Western");
     // The Western culture of kstars-data: 89 "# Name" figures with lines (Serpens in two) and 659
     // "D" records, each one segment (both counted independently with grep/awk on the file).
@@ -157,10 +154,7 @@ TEST_CASE("Constellations: clines.dat and cnames.dat parse as the files are writ
 }
 
 TEST_CASE("Constellations: every sky culture of the files parses", "[cpu][constellations]") {
-    if (!haveKStars()) {
-        WARN("kstars-data is not installed" ": test skipped");
-        return;
-    }
+    if (!haveKStars()) FAIL("kstars-data is not installed" << ": install it (scripts/setup.sh installs it; a missing file fails, never skips)");
     // The cultures listed by the files' own "C <name>" lines; each has figures and names.
     std::ifstream in(kConstellationLinesFile);
     std::string line;
@@ -177,10 +171,7 @@ TEST_CASE("Constellations: every sky culture of the files parses", "[cpu][conste
 }
 
 TEST_CASE("Constellations: the figures' stars resolve against the catalogue", "[cpu][constellations]") {
-    if (!haveKStars()) {
-        WARN("kstars-data is not installed" ": test skipped");
-        return;
-    }
+    if (!haveKStars()) FAIL("kstars-data is not installed" << ": install it (scripts/setup.sh installs it; a missing file fails, never skips)");
     const std::vector<astro::Star> stars = loadConstellationStars();
     int unresolved = -1;
     const auto segs = resolveConstellationSegments(loadConstellationLines(kConstellationLinesFile, "Western"), stars, &unresolved);
@@ -215,10 +206,7 @@ TEST_CASE("Constellations: the figures' stars resolve against the catalogue", "[
 }
 
 TEST_CASE("Text: glyph metrics, and a drawn string's box matches its layout", "[gl][constellations][text]") {
-    if (!haveFont()) {
-        WARN("DejaVu Sans is not installed (fonts-dejavu-core)" ": test skipped");
-        return;
-    }
+    if (!haveFont()) FAIL("DejaVu Sans is not installed (fonts-dejavu-core)" << ": install it (scripts/setup.sh installs it; a missing file fails, never skips)");
     test::glContext();
     CHECK_THROWS_WITH(gl::Font::load({.path = "/nonexistent.ttf"}), Catch::Contains("cannot open font '/nonexistent.ttf'"));
     CHECK_THROWS_WITH(gl::Font::load({.rasterPx = 4}), Catch::Contains("rasterPx 4 not in [8, 256]"));
@@ -329,10 +317,7 @@ TEST_CASE("Text: glyph metrics, and a drawn string's box matches its layout", "[
 }
 
 TEST_CASE("Constellations: lines pass within 1 px of their stars (Malta, 1024 fisheye and perspective)", "[gl][constellations]") {
-    if (!haveKStars() || !haveFont()) {
-        WARN("kstars-data or DejaVu Sans is not installed" ": test skipped");
-        return;
-    }
+    if (!haveKStars() || !haveFont()) FAIL("kstars-data or DejaVu Sans is not installed" << ": install it (scripts/setup.sh installs it; a missing file fails, never skips)");
     test::glContext();
     // The issue's 1024-px fisheye, and a 50-deg perspective view centred on Cygnus (pinhole: the
     // arcs are straight lines, drawn through the near-plane clipping path).
@@ -410,10 +395,7 @@ TEST_CASE("Constellations: lines pass within 1 px of their stars (Malta, 1024 fi
 }
 
 TEST_CASE("Constellations: a label is drawn centred on its figure's position", "[gl][constellations]") {
-    if (!haveKStars() || !haveFont()) {
-        WARN("kstars-data or DejaVu Sans is not installed" ": test skipped");
-        return;
-    }
+    if (!haveKStars() || !haveFont()) FAIL("kstars-data or DejaVu Sans is not installed" << ": install it (scripts/setup.sh installs it; a missing file fails, never skips)");
     test::glContext();
     const Camera cam = fisheye(1024);
     SkyProcessor p;
@@ -528,10 +510,7 @@ TEST_CASE("Grid: the equatorial grid puts the celestial pole at the latitude, du
 
 TEST_CASE("Constellations and the equatorial grid: every pixel finite at FOV 0.5 and 180 deg, 1x1 to 2048x2048",
           "[gl][constellations]") {
-    if (!haveKStars() || !haveFont()) {
-        WARN("kstars-data or DejaVu Sans is not installed" ": test skipped");
-        return;
-    }
+    if (!haveKStars() || !haveFont()) FAIL("kstars-data or DejaVu Sans is not installed" << ": install it (scripts/setup.sh installs it; a missing file fails, never skips)");
     test::glContext();
     // 2048 rather than 4096: a 4096^2 float read-back is 256 MB on llvmpipe; nothing in the
     // shaders depends on the size beyond the viewport.
@@ -566,10 +545,7 @@ TEST_CASE("Constellations and the equatorial grid: every pixel finite at FOV 0.5
 }
 
 TEST_CASE("Constellations: the equirect seam and options", "[gl][constellations]") {
-    if (!haveKStars() || !haveFont()) {
-        WARN("kstars-data or DejaVu Sans is not installed" ": test skipped");
-        return;
-    }
+    if (!haveKStars() || !haveFont()) FAIL("kstars-data or DejaVu Sans is not installed" << ": install it (scripts/setup.sh installs it; a missing file fails, never skips)");
     test::glContext();
     Camera cam;
     cam.projection = Projection::Equirect;
