@@ -46,6 +46,8 @@ int run(const FrameBenchOptions& o) {
         double ms;
     };
     std::vector<Row> rows;
+    std::vector<Row> alternated;  // (what, ratio to the trivial pass timed in alternation with it)
+    std::vector<double> copyRatio;  // the same rows' ratio to the copy pass (the tone map's memory floor)
     auto blended = gl::ProgramBuilder("trivial blended")
                        .fullscreenVertex()
                        .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
@@ -94,9 +96,44 @@ int run(const FrameBenchOptions& o) {
         gl::Texture2D ldr(w, h, GL_RGBA8);
         auto ldrFbo = gl::Framebuffer::create();
         ldrFbo.attach(GL_COLOR_ATTACHMENT0, ldr);
-        rows.push_back({"tone map, manual exposure", medianMs(o.repeats, [&] { sky.toneMapInto(ldrFbo.id()); })});
-        sky.setExposure({.automatic = true});
-        rows.push_back({"tone map, automatic exposure", medianMs(o.repeats, [&] { sky.toneMapInto(ldrFbo.id()); })});
+        // The tone map against the trivial pass and a copy pass (fetch the HDR texel, write RGBA8:
+        // the memory traffic any tone map has), timed in alternation: the ratio is the tone map's
+        // own arithmetic, steady on a loaded machine.
+        gl::Texture2D trivialTarget(w, h, GL_RGBA32F);
+        auto trivialFbo = gl::Framebuffer::create();
+        trivialFbo.attach(GL_COLOR_ATTACHMENT0, trivialTarget);
+        auto copy = gl::ProgramBuilder("copy")
+                        .fullscreenVertex()
+                        .fragment("copy.frag", "layout(binding = 0) uniform sampler2D u_hdr; out vec4 o;\n"
+                                               "void main() { o = vec4(texelFetch(u_hdr, ivec2(gl_FragCoord.xy), 0).rgb * 1e-3, 1.0); }")
+                        .build();
+        auto drawTrivial = [&] {
+            trivialFbo.bind();
+            glViewport(0, 0, w, h);
+            vao.bind();
+            trivial.use();
+            glDrawArrays(GL_TRIANGLES, 0, 3);
+        };
+        auto drawCopy = [&] {
+            ldrFbo.bind();
+            glViewport(0, 0, w, h);
+            vao.bind();
+            glBindTextureUnit(0, trivialTarget.id());
+            copy.use();
+            glDrawArrays(GL_TRIANGLES, 0, 3);
+        };
+        for (bool automatic : {false, true}) {
+            sky.setExposure({.automatic = automatic});
+            sky.toneMapInto(ldrFbo.id());
+            const std::vector<double> ms =
+                alternatedMedianMs(o.repeats, {drawTrivial, drawCopy, [&] { sky.toneMapInto(ldrFbo.id()); }});
+            const std::string what = automatic ? "automatic exposure" : "manual exposure";
+            rows.push_back({"tone map, " + what, ms[2]});
+            rows.push_back({"  alternated with it: trivial pass RGBA32F", ms[0]});
+            rows.push_back({"  alternated with it: copy pass RGBA32F -> RGBA8", ms[1]});
+            alternated.push_back({"tone map, " + what, ms[2] / ms[0]});
+            copyRatio.push_back(ms[2] / ms[1]);
+        }
         rows.push_back({"read back HDR (RGBA32F -> RGB)", medianMs(std::min(o.repeats, 3), [&] { (void)sky.readHdr(); })});
     }
     std::printf("welkin bench frame, %dx%d, median of %d, %s\n\n| pass | ms | x trivial RGBA32F |\n|---|---|---|\n", w, h,
@@ -105,6 +142,9 @@ int run(const FrameBenchOptions& o) {
     for (auto& r : rows)
         if (r.what == "trivial pass, RGBA32F") reference = r.ms;
     for (auto& r : rows) std::printf("| %s | %.2f | %.2f |\n", r.what.c_str(), r.ms, r.ms / reference);
+    std::printf("\n| pass | x trivial RGBA32F, timed in alternation (target <= 2) | x copy pass (fetch + write) |\n|---|---|---|\n");
+    for (size_t i = 0; i < alternated.size(); ++i)
+        std::printf("| %s | %.2f | %.2f |\n", alternated[i].what.c_str(), alternated[i].ms, copyRatio[i]);
     if (!o.csv.empty()) {
         CsvWriter f(o.csv, {"pass", "ms"});
         for (auto& r : rows) f.row(r.what, r.ms);

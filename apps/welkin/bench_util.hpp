@@ -42,6 +42,27 @@ inline double medianMs(int repeats, const std::function<void()>& fn) {
     return t[t.size() / 2];
 }
 
+/// Medians of several passes timed in alternation (pass 0, 1, ..., 0, 1, ...), milliseconds, each
+/// call bracketed by glFinish: every pass sees the same machine load, so their ratios hold on a
+/// busy machine where separate runs would not.
+inline std::vector<double> alternatedMedianMs(int repeats, const std::vector<std::function<void()>>& fns) {
+    std::vector<std::vector<double>> t(fns.size());
+    for (int i = 0; i < std::max(repeats, 1); ++i)
+        for (size_t k = 0; k < fns.size(); ++k) {
+            glFinish();
+            auto t0 = std::chrono::steady_clock::now();
+            fns[k]();
+            glFinish();
+            t[k].push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+        }
+    std::vector<double> medians;
+    for (auto& v : t) {
+        std::sort(v.begin(), v.end());
+        medians.push_back(v[v.size() / 2]);
+    }
+    return medians;
+}
+
 /// The trivial fullscreen pass: one constant-cost fragment per pixel into its own RGBA32F target,
 /// no camera, no blending (the floor of any fullscreen draw; the clouds and night benches).
 class TrivialPass {

@@ -2,12 +2,25 @@
 // rods' desaturated, blue-shifted percept below the photopic range), the exposure (manual, or
 // the eye's adaptation state written by adapt.frag.glsl), a display curve and the sRGB transfer
 // function.
+//
+// Cost (docs/eye.md, `welkin bench frame`): no branch and no transcendental function per
+// channel. An RGBA32F
+// frame is read with imageLoad (WELKIN_TONEMAP_IMAGE; half the cost of a texelFetch on
+// llvmpipe), any other format through the sampler; the sRGB transfer function is a rational
+// approximation in sqrt(x) (largest error 6e-6, 1/650 of an 8-bit step); the one log per pixel
+// is the mesopic weight's, and only with eye.mesopic.
+#ifdef WELKIN_TONEMAP_IMAGE
+layout(binding = WELKIN_BINDING_HDR_IMAGE, rgba32f) readonly uniform image2D u_hdrImage;
+#else
 layout(binding = WELKIN_BINDING_HDR_TEXTURE) uniform sampler2D u_hdr;
+#endif
 layout(binding = WELKIN_BINDING_EYE_STATE_TEXTURE) uniform sampler2D u_state;  // adapt.frag.glsl's (cone, rod, exposure, 1)
-uniform int u_auto;              // 1: the exposure of u_state
+// The settings are compiled in (ToneMapper keeps one program per combination, built when first
+// used): a branch on a uniform costs llvmpipe every path.
+//   WELKIN_TONEMAP_AUTO     defined: the exposure of u_state; else u_exposure
+//   WELKIN_TONEMAP_CURVE    0 ACES fit, 1 Hable, 2 Reinhard on luminance, 3 none (clip)
+//   WELKIN_TONEMAP_MESOPIC  defined: per-pixel mesopic colour
 uniform float u_exposure;        // manual: scene cd/m^2 -> display value before the curve
-uniform int u_curve;             // 0 ACES fit, 1 Hable, 2 Reinhard on luminance, 3 none (clip)
-uniform int u_mesopic;           // 1: per-pixel mesopic colour
 uniform float u_log10Scotopic;   // log10 of eye.scotopic_cd_m2: rods only below
 uniform float u_log10Photopic;   // log10 of eye.photopic_cd_m2: cones only above
 uniform vec3 u_rodColor;         // linear sRGB of the rod hue with Y = 1, divided by (V'/Y) of white
@@ -16,8 +29,13 @@ out vec4 o_color;
 
 const vec3 kLuminance = vec3(0.2126, 0.7152, 0.0722);
 
+uniform float u_photopic;        // eye.photopic_cd_m2: at and above it the colour is unchanged
+
 vec3 welkin_mesopic(vec3 c) {
     float Y = dot(c, kLuminance);
+    // Photopic pixels (all of a day frame) skip the rest: llvmpipe runs a branch only for the
+    // groups of pixels that take it.
+    if (Y >= u_photopic) return c;
     float X = dot(c, vec3(0.4124, 0.3576, 0.1805));
     float Z = dot(c, vec3(0.0193, 0.1192, 0.9505));
     float V = X > 0.0 ? max(Y * (1.33 * (1.0 + (Y + Z) / X) - 1.68), 0.0) : 0.0;  // Larson et al. 1997
@@ -37,19 +55,40 @@ vec3 welkin_hableF(vec3 x) {
 }
 
 vec3 welkin_curve(vec3 x) {
-    if (u_curve == 0) return welkin_aces(x);
-    if (u_curve == 1) return clamp(welkin_hableF(2.0 * x) / welkin_hableF(vec3(11.2)), 0.0, 1.0);  // exposure bias 2, white 11.2
-    if (u_curve == 2) return clamp(x / (1.0 + dot(x, kLuminance)), 0.0, 1.0);
+#if WELKIN_TONEMAP_CURVE == 0
+    return welkin_aces(x);
+#elif WELKIN_TONEMAP_CURVE == 1
+    return clamp(welkin_hableF(2.0 * x) / welkin_hableF(vec3(11.2)), 0.0, 1.0);  // exposure bias 2, white 11.2
+#elif WELKIN_TONEMAP_CURVE == 2
+    return clamp(x / (1.0 + dot(x, kLuminance)), 0.0, 1.0);
+#else
     return clamp(x, 0.0, 1.0);
+#endif
 }
 
 vec3 welkin_srgbEncode(vec3 c) {
-    return mix(12.92 * c, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(vec3(0.0031308), c));
+    // 1.055 c^(1/2.4) - 0.055 = 1.055 s^(5/6) - 0.055 with s = sqrt(c), on [0.0031308, 1] as a
+    // (3, 3) rational in s fitted to the exact curve (largest error 5.6e-6; the CPU twin
+    // welkin::eye::srgbEncodeFast() is the same formula, tested against the exact one).
+    vec3 s = sqrt(c);
+    vec3 p = -0.048761095 + s * (1.186980722 + s * (17.284672827 + s * 17.052349011));
+    vec3 q = 1.0 + s * (14.054653614 + s * (19.586260445 + s * 0.834515499));
+    return mix(12.92 * c, p / q, step(vec3(0.0031308), c));
 }
 
 void main() {
-    vec3 L = texelFetch(u_hdr, ivec2(gl_FragCoord.xy), 0).rgb;  // same size as the target
-    if (u_mesopic != 0) L = welkin_mesopic(L);
-    float exposure = u_auto != 0 ? texelFetch(u_state, ivec2(0), 0).z : u_exposure;
+#ifdef WELKIN_TONEMAP_IMAGE
+    vec3 L = imageLoad(u_hdrImage, ivec2(gl_FragCoord.xy)).rgb;  // same size as the target
+#else
+    vec3 L = texelFetch(u_hdr, ivec2(gl_FragCoord.xy), 0).rgb;
+#endif
+#ifdef WELKIN_TONEMAP_MESOPIC
+    L = welkin_mesopic(L);
+#endif
+#ifdef WELKIN_TONEMAP_AUTO
+    float exposure = texelFetch(u_state, ivec2(0), 0).z;
+#else
+    float exposure = u_exposure;
+#endif
     o_color = vec4(welkin_srgbEncode(welkin_curve(L * exposure)), 1.0);
 }

@@ -585,8 +585,10 @@ void SkyProcessor::toneMap(unsigned framebuffer, bool newFrame, unsigned hdrText
     if (options_.timing) glFinish();
     {
         HostStateScope host(hostGuardDepth_, log_, options_.validation, "SkyProcessor::toneMapInto()", {framebuffer});
-        const HdrSource source = hdrTexture ? HdrSource{hdrTexture, camera_.width, camera_.height}
-                                            : HdrSource{hdr_.id(), hdr_.width(), hdr_.height()};
+        GLint format = GL_RGBA32F;
+        if (hdrTexture) glGetTextureLevelParameteriv(hdrTexture, 0, GL_TEXTURE_INTERNAL_FORMAT, &format);
+        const HdrSource source = hdrTexture ? HdrSource{hdrTexture, camera_.width, camera_.height, format == GL_RGBA32F}
+                                            : HdrSource{hdr_.id(), hdr_.width(), hdr_.height(), true};
         toneMapper_->run(source, framebuffer, settings, cameraUbo_, emptyVao_, dt);
         if (host.outermost()) gl::checkError("SkyProcessor::toneMapInto()");
     }

@@ -46,10 +46,8 @@ ToneSettings ToneSettings::fromVars(const SkyVars& v) {
 }
 
 void ToneMapper::init() {
-    toneMap_ = gl::ProgramBuilder("SkyProcessor tone map")
-                   .fullscreenVertex()
-                   .fragment("engine/tonemap.frag.glsl", gl::engineShader("tonemap.frag.glsl"))
-                   .build();
+    for (auto& p : toneMap_) p = {};
+    toneMapProgram(true, false, true, 0);  // the default settings' program: a first frame's compile is not in its tone map
     logLumProgram_ = gl::ProgramBuilder("SkyProcessor log luminance")
                          .fullscreenVertex()
                          .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
@@ -80,12 +78,26 @@ void ToneMapper::init() {
     stateValid_ = false;
 }
 
+gl::Program& ToneMapper::toneMapProgram(bool rgba32fImage, bool automatic, bool mesopic, int curve) {
+    curve = std::clamp(curve, 0, 3);
+    gl::Program& p = toneMap_[size_t(rgba32fImage) | size_t(automatic) << 1 | size_t(mesopic) << 2 | size_t(curve) << 3];
+    if (!p) {
+        gl::ProgramBuilder b("SkyProcessor tone map");
+        if (rgba32fImage) b.define("WELKIN_TONEMAP_IMAGE");
+        if (automatic) b.define("WELKIN_TONEMAP_AUTO");
+        if (mesopic) b.define("WELKIN_TONEMAP_MESOPIC");
+        b.define("WELKIN_TONEMAP_CURVE", curve);
+        p = b.fullscreenVertex().fragment("engine/tonemap.frag.glsl", gl::engineShader("tonemap.frag.glsl")).build();
+    }
+    return p;
+}
+
 void ToneMapper::release() {
     if (linearSampler_) glDeleteSamplers(1, &linearSampler_);
     linearSampler_ = 0;
     logLum_ = {};
     logLumFbo_ = {};
-    toneMap_ = {};
+    for (auto& p : toneMap_) p = {};
     logLumProgram_ = {};
     adaptProgram_ = {};
     for (int i = 0; i < 2; ++i) {
@@ -146,16 +158,20 @@ void ToneMapper::run(const HdrSource& hdr, unsigned framebuffer, const ToneSetti
 
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
     glViewport(0, 0, hdr.width, hdr.height);
-    glBindTextureUnit(gl::binding::kHdrTexture, hdr.texture);
+    if (hdr.rgba32f)
+        glBindImageTexture(gl::binding::kHdrImage, hdr.texture, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    else
+        glBindTextureUnit(gl::binding::kHdrTexture, hdr.texture);
     state_[current_].bind(gl::binding::kEyeStateTexture);
-    toneMap_.use();
-    toneMap_.set("u_auto", s.automatic ? 1 : 0);
-    toneMap_.set("u_exposure", float(eye::exposureFromEv100(s.ev100)));
-    toneMap_.set("u_curve", s.curve);
-    toneMap_.set("u_mesopic", s.mesopic ? 1 : 0);
-    toneMap_.set("u_log10Scotopic", float(std::log10(s.scotopicBelow)));
-    toneMap_.set("u_log10Photopic", float(std::log10(s.photopicAbove)));
-    toneMap_.set("u_rodColor", glm::vec3(eye::rodColor(s.rodXy) / eye::scotopicPerPhotopicWhite()));
+    gl::Program& program = toneMapProgram(hdr.rgba32f, s.automatic, s.mesopic, s.curve);
+    program.use();
+    if (!s.automatic) program.set("u_exposure", float(eye::exposureFromEv100(s.ev100)));
+    if (s.mesopic) {
+        program.set("u_log10Scotopic", float(std::log10(s.scotopicBelow)));
+        program.set("u_log10Photopic", float(std::log10(s.photopicAbove)));
+        program.set("u_photopic", float(s.photopicAbove));
+        program.set("u_rodColor", glm::vec3(eye::rodColor(s.rodXy) / eye::scotopicPerPhotopicWhite()));
+    }
     glDrawArrays(GL_TRIANGLES, 0, 3);
 }
 

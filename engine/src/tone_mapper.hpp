@@ -14,6 +14,7 @@
 #include <welkin/gl/objects.hpp>
 #include <welkin/processor.hpp>
 
+#include <array>
 #include <optional>
 
 namespace welkin {
@@ -24,6 +25,7 @@ namespace welkin {
 struct HdrSource {
     unsigned texture = 0;
     int width = 0, height = 0;
+    bool rgba32f = false;  ///< GL_RGBA32F: the tone map reads it with imageLoad (faster on llvmpipe)
 };
 
 /// Everything the tone map reads, gathered from the exposure.* and eye.* keys (eye.hpp).
@@ -48,7 +50,7 @@ public:
     /// Builds the programs and the log-luminance target (needs a current GL 4.5 context).
     void init();
     void release();
-    bool ready() const { return bool(toneMap_); }
+    bool ready() const { return bool(adaptProgram_); }
 
     /// Tone-maps `hdr` (RGBA32F, cd/m^2) into `framebuffer` (0 = default) over a viewport of
     /// hdr's size. The camera block (weights of the automatic meter by solid angle) must be in
@@ -76,7 +78,11 @@ private:
     gl::Texture2D state_[2];  // (cone, rod, exposure, 1); state_[current_] is the latest
     gl::Framebuffer stateFbo_[2];
     int current_ = 0;
-    gl::Program toneMap_, logLumProgram_, adaptProgram_;
+    /// The tone map's program for these settings, built on first use (the settings are compiled
+    /// in: engine/shaders/tonemap.frag.glsl).
+    gl::Program& toneMapProgram(bool rgba32fImage, bool automatic, bool mesopic, int curve);
+    std::array<gl::Program, 32> toneMap_;  // by rgba32fImage | automatic << 1 | mesopic << 2 | curve << 3
+    gl::Program logLumProgram_, adaptProgram_;
     unsigned linearSampler_ = 0;  // GL sampler object: bilinear, clamped (the meter's fetches)
     bool meterValid_ = false;  // logLum_ holds the last frame's meter
     bool stateValid_ = false;  // state_[current_] holds an adaptation

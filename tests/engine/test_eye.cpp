@@ -137,6 +137,78 @@ TEST_CASE("Eye: the mesopic weight and colour (CPU twin)", "[cpu][eye]") {
     CHECK(color::luminance(eye::mesopicColor(glm::dvec3(1e-4), lo, hi, rod)) == Approx(1e-4).epsilon(1e-9));
 }
 
+TEST_CASE("Eye: the tone map's sRGB transfer function without pow (CPU twin)", "[cpu][eye][tonemap]") {
+    // The rational stand-in for x^(1/2.4) against the standard's formula on a dense grid: 6e-6 is
+    // the fit's largest error (1/650 of an 8-bit step), so no displayed code can move by more than one.
+    double worst = 0;
+    for (int i = 0; i <= 200000; ++i) {
+        const double x = std::pow(10.0, -6.0 + 6.0 * i / 200000.0);  // 1e-6 .. 1, log-spaced
+        worst = std::max(worst, std::abs(eye::srgbEncodeFast(x) - eye::srgbEncode(x)));
+    }
+    CHECK(worst < 6e-6);
+    // Continuous at the knee (the linear segment's end, 0.0031308 -> 0.04045) and exact at 0 and 1
+    // within the same bound.
+    CHECK(eye::srgbEncodeFast(0.0031308) == Approx(0.040450).margin(1e-5));
+    CHECK(eye::srgbEncodeFast(1.0) == Approx(1.0).margin(6e-6));
+    CHECK(eye::srgbEncodeFast(0.0) == 0.0);
+    CHECK(eye::srgbEncode(0.5) == Approx(0.735357).margin(1e-6));  // the standard's value at mid-grey
+}
+
+TEST_CASE("Eye: the GPU tone map of a host's HDR texture equals the CPU curves (RGBA32F image and RGBA16F sampler paths)",
+          "[gl][eye][tonemap]") {
+    test::glContext();
+    // A ramp over 11 decades of exposed value, each texel exactly representable in half float
+    // (m * 2^e, m in {1, 1.25, 1.5, 1.75}), so both formats hold the same numbers; the channels
+    // differ (g = r / 2, b = r / 8) so the per-channel curves and Reinhard's luminance are exercised.
+    const int w = 64, h = 2;
+    std::vector<float> texels(size_t(w) * h * 4);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const float r = std::ldexp(1.0f + 0.25f * float(x % 4), x / 4 - 14 + 8 * y);  // 2^-14 .. 2^9
+            float* t = &texels[(size_t(y) * w + x) * 4];
+            t[0] = r, t[1] = r / 2, t[2] = r / 8, t[3] = 1;
+        }
+    SkyProcessor p(SkyVars::earth(), Logger(), ProcessorOptions{.astronomy = false});
+    Camera cam;
+    cam.width = w;
+    cam.height = h;
+    p.setCamera(cam);
+    const double ev100 = 3.0;
+    p.setExposure({.automatic = false, .ev100 = ev100});
+    p.vars().set(eye::keys::mesopic, false);
+    const float exposure = float(eye::exposureFromEv100(ev100));  // the shader's uniform is a float
+    gl::Texture2D ldr(w, h, GL_RGBA8);
+    gl::Framebuffer fbo = gl::Framebuffer::create();
+    fbo.attach(GL_COLOR_ATTACHMENT0, ldr);
+    for (GLenum format : {GL_RGBA32F, GL_RGBA16F}) {
+        gl::Texture2D hdr(w, h, format);
+        glTextureSubImage2D(hdr.id(), 0, 0, 0, w, h, GL_RGBA, GL_FLOAT, texels.data());
+        for (int curve = 0; curve <= 3; ++curve) {
+            p.vars().set(eye::keys::curve, curve);
+            p.toneMapInto(fbo.id(), hdr.id());
+            std::vector<unsigned char> out(size_t(w) * h * 4);
+            glGetTextureImage(ldr.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(out.size()), out.data());
+            int worst = 0;
+            for (int i = 0; i < w * h; ++i) {
+                const glm::dvec3 x = glm::dvec3(texels[size_t(i) * 4], texels[size_t(i) * 4 + 1], texels[size_t(i) * 4 + 2]) * double(exposure);
+                const glm::dvec3 c = curve == 0   ? eye::acesFit(x)
+                                     : curve == 1 ? eye::hable(x)
+                                     : curve == 2 ? eye::reinhardLuminance(x)
+                                                  : glm::clamp(x, 0.0, 1.0);
+                for (int k = 0; k < 3; ++k) {
+                    const int expected = int(std::lround(eye::srgbEncode(c[k]) * 255.0));
+                    worst = std::max(worst, std::abs(int(out[size_t(i) * 4 + k]) - expected));
+                }
+            }
+            INFO((format == GL_RGBA32F ? "RGBA32F" : "RGBA16F") << " curve " << curve);
+            // One 8-bit code: float32 arithmetic against double, and the unorm conversion's
+            // rounding, can each land a value on the other side of a code boundary; the fit's own
+            // error is 1/650 of a code.
+            CHECK(worst <= 1);
+        }
+    }
+}
+
 TEST_CASE("Eye: the scotopic shift engages below and disengages above the specified luminances", "[gl][eye]") {
     test::glContext();
     SkyProcessor p(SkyVars::earth(), Logger(), ProcessorOptions{.astronomy = false});

@@ -87,6 +87,7 @@ inline constexpr int kLutImage = 0;        ///< the (first) LUT written or updat
 inline constexpr int kSecondLutImage = 1;  ///< a second output (the aerial perspective transmittance)
 inline constexpr int kLightingOutputImage = 0;  ///< SkyLighting: the light map or specular mip a pass writes
 inline constexpr int kLightingSourceImage = 1;  ///< SkyLighting: the radiance cube level a pass reads
+inline constexpr int kHdrImage = 0;  ///< the tone map's read of an RGBA32F HDR frame (imageLoad: half a texelFetch's cost on llvmpipe)
 
 // Reserved for user elements: the library never binds these (inclusive ranges). Each fits the
 // minimum GL 4.5 guarantees: 80 combined texture units, 8 image units, 72 uniform-buffer and 8
@@ -116,6 +117,7 @@ inline constexpr std::array kTable = {
     Entry{"WELKIN_BINDING_LIGHTING_OUTPUT_IMAGE", kLightingOutputImage, Kind::ImageUnit},
     Entry{"WELKIN_BINDING_LIGHTING_SOURCE_IMAGE", kLightingSourceImage, Kind::ImageUnit},
     Entry{"WELKIN_BINDING_HDR_TEXTURE", kHdrTexture, Kind::TextureUnit},
+    Entry{"WELKIN_BINDING_HDR_IMAGE", kHdrImage, Kind::ImageUnit},
     Entry{"WELKIN_BINDING_LOG_LUM_TEXTURE", kLogLumTexture, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_EYE_STATE_TEXTURE", kEyeStateTexture, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_SUN_VIEW_LUT", kSunViewLut, Kind::TextureUnit},
