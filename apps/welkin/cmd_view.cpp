@@ -33,6 +33,7 @@ struct ViewOptions {
     std::string screenshot;  // written after the last frame when --frames is given
     double speed = 60.0;     // simulated seconds per real second
     bool noPanel = false;    // start with the panel hidden (H or Tab shows it)
+    bool expandPanel = false;  // open every section of the panel
 };
 
 // Input state shared with the GLFW callbacks.
@@ -146,6 +147,7 @@ int run(const ViewOptions& o) {
     glfwSetScrollCallback(w, onScroll);
     ViewPanel panel(w);  // after the callbacks above: its GLFW backend chains them
     panel.visible = !o.noPanel;
+    panel.expandAll = o.expandPanel;
     s.panel = &panel;
 
     // Timing brackets every element and generator call with glFinish: the panel's frame-time
@@ -208,6 +210,7 @@ Registrar reg("view", "show the scene in a window with a settings panel: drag to
                   sub.add_option("--speed", o->speed, "simulated seconds per real second")->capture_default_str();
                   sub.add_option("--frames", o->frames, "exit after this many frames (0: run until closed)");
                   sub.add_option("--screenshot", o->screenshot, "with --frames: save the last frame as displayed, panel included, here (.png)");
+                  sub.add_flag("--panel-expand", o->expandPanel, "open every section of the panel and every element's keys (screenshots)");
                   sub.add_flag("--no-panel", o->noPanel, "start with the panel hidden (H or Tab shows it) and without per-element timing");
                   return [o]() { return run(*o); };
               });

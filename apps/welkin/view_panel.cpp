@@ -79,8 +79,8 @@ void ViewPanel::draw(SkyProcessor& sky, ViewClock& clock, Camera& camera, Logger
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
     const ImVec2 display = ImGui::GetIO().DisplaySize;
-    // Top left, 40 % of the width (200 to 420 px), the window's height less a margin.
-    const float width = std::clamp(display.x * 0.4f, 200.0f, 420.0f);
+    // Top left, 40 % of the width (240 to 420 px), the window's height less a margin.
+    const float width = std::clamp(display.x * 0.4f, 240.0f, 420.0f);
     ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_Once);
     ImGui::SetNextWindowSize(ImVec2(width, std::max(100.0f, display.y - 16)), ImGuiCond_Once);
     ImGui::SetNextWindowBgAlpha(0.85f);
@@ -90,10 +90,18 @@ void ViewPanel::draw(SkyProcessor& sky, ViewClock& clock, Camera& camera, Logger
             ImGui::TextWrapped("%s", error_.c_str());
             ImGui::PopStyleColor();
         }
+        auto open = [&] {
+            if (expandAll) ImGui::SetNextItemOpen(true, ImGuiCond_Once);
+        };
+        open();
         if (ImGui::CollapsingHeader("Date and time", ImGuiTreeNodeFlags_DefaultOpen)) timeSection(sky, clock);
+        open();
         if (ImGui::CollapsingHeader("Place", ImGuiTreeNodeFlags_DefaultOpen)) placeSection(sky);
+        open();
         if (ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) displaySection(sky, camera);
+        open();
         if (ImGui::CollapsingHeader("Elements")) elementsSection(sky, log);
+        open();
         if (ImGui::CollapsingHeader("Frame time", ImGuiTreeNodeFlags_DefaultOpen)) timingSection(sky);
     }
     ImGui::End();
@@ -118,12 +126,12 @@ void ViewPanel::timeSection(SkyProcessor& sky, ViewClock& clock) {
     ImGui::SameLine();
     static const char* kMonths[] = {"January", "February", "March",     "April",   "May",      "June",
                                     "July",    "August",   "September", "October", "November", "December"};
-    ImGui::SetNextItemWidth(110);
+    ImGui::SetNextItemWidth(92);
     ImGui::Combo("##month", &calendarMonth_, kMonths, 12);
     calendarMonth_ = std::clamp(calendarMonth_, 0, 11);
     ImGui::SameLine();
-    ImGui::SetNextItemWidth(90);
-    ImGui::InputInt("##year", &calendarYear_);
+    ImGui::SetNextItemWidth(48);
+    ImGui::InputInt("##year", &calendarYear_, 0);
     calendarYear_ = std::clamp(calendarYear_, -3999, 9999);
     ImGui::SameLine();
     if (ImGui::ArrowButton("##nextmonth", ImGuiDir_Right) && ++calendarMonth_ > 11) {
@@ -396,6 +404,7 @@ void ViewPanel::elementsSection(SkyProcessor& sky, Logger& log) {
             ImGui::TextDisabled("%s", name.c_str());
             continue;
         }
+        if (expandAll) ImGui::SetNextItemOpen(true, ImGuiCond_Once);
         if (ImGui::TreeNode(name.c_str())) {
             if (e->optionKeys().empty()) ImGui::TextDisabled("(no keys)");
             for (const KeyInfo& k : e->optionKeys()) {

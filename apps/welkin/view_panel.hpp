@@ -51,7 +51,8 @@ public:
     ViewPanel(const ViewPanel&) = delete;
     ViewPanel& operator=(const ViewPanel&) = delete;
 
-    bool visible = true;  ///< drawn this frame (H or Tab toggles it in the viewer)
+    bool visible = true;     ///< drawn this frame (H or Tab toggles it in the viewer)
+    bool expandAll = false;  ///< open every section and element on the first frame (screenshots, tests)
 
     /// The panel has the mouse (hovered or dragging one of its widgets) / the keyboard (a text
     /// field is being edited); false while hidden.
