@@ -323,7 +323,7 @@ int run(const TimelapseOptions& o) {
     auto label = [](const UtcInstant& t) {
         const DateTime& d = t.utc();
         char buf[48];
-        std::snprintf(buf, sizeof buf, "%04d-%02d-%02d %02d:%02d:%02d", d.year, d.month, d.day, d.hour, d.minute, int(d.second));
+        std::snprintf(buf, sizeof buf, "%04d-%02d-%02d %02d:%02d:%02dZ", d.year, d.month, d.day, d.hour, d.minute, int(d.second));
         return std::string(buf);
     };
 
