@@ -258,7 +258,9 @@ void ViewPanel::displaySection(SkyProcessor& sky, Camera& camera) {
         changed |= ImGui::SliderScalar("EV100", ImGuiDataType_Double, &e.ev100, &evMin, &evMax, "%.1f", ImGuiSliderFlags_AlwaysClamp);
     }
     if (changed) sky.setExposure(e);
-    // Night vision: the eye's per-pixel mesopic and scotopic colour (eye.mesopic).
+    // Night vision: the eye's per-pixel mesopic and scotopic colour (eye.mesopic). The keys shown
+    // here are shown again under their element: a scope of their own keeps the widgets apart.
+    ImGui::PushID("display");
     if (v.contains(eye::keys::mesopic.name())) {
         ImGui::TextUnformatted("night vision (eye.mesopic)");
         keyEditor(sky, eye::keys::mesopic.name());
@@ -269,6 +271,7 @@ void ViewPanel::displaySection(SkyProcessor& sky, Camera& camera) {
         ImGui::TextUnformatted(k);
         keyEditor(sky, k);
     }
+    ImGui::PopID();
     // Camera.
     int proj = int(camera.projection);
     const char* projections[] = {"perspective", "fisheye", "equirect", "cube face"};
@@ -406,6 +409,7 @@ void ViewPanel::elementsSection(SkyProcessor& sky, Logger& log) {
         }
         if (expandAll) ImGui::SetNextItemOpen(true, ImGuiCond_Once);
         if (ImGui::TreeNode(name.c_str())) {
+            ImGui::PushID(name.c_str());
             if (e->optionKeys().empty()) ImGui::TextDisabled("(no keys)");
             for (const KeyInfo& k : e->optionKeys()) {
                 ImGui::TextUnformatted(k.name.c_str());
@@ -413,6 +417,7 @@ void ViewPanel::elementsSection(SkyProcessor& sky, Logger& log) {
                 keyEditor(sky, k.name);
                 if (k.typeName != std::string("bool")) ImGui::Unindent();
             }
+            ImGui::PopID();
             ImGui::TreePop();
         }
     }

@@ -143,7 +143,7 @@ TEST_CASE("welkin timelapse writes the frames and a contact sheet", "[gl][cli][t
 
 TEST_CASE("welkin timelapse resumes after a kill without rewriting a frame", "[gl][cli][timelapse]") {
     const std::string dir = test::scratchDir("cli_timelapse_resume");
-    const int kFrames = 12;
+    const int kFrames = 8;
     // The reference: an uninterrupted run.
     auto ref = test::runCli(timelapseArgs(dir + "/ref", kFrames));
     INFO(ref.output);
@@ -160,14 +160,14 @@ TEST_CASE("welkin timelapse resumes after a kill without rewriting a frame", "[g
         _exit(127);
     }
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-    while (std::chrono::steady_clock::now() < deadline && !(fs::is_directory(out) && countFrames(out) >= 3))
+    while (std::chrono::steady_clock::now() < deadline && !(fs::is_directory(out) && countFrames(out) >= 2))
         std::this_thread::sleep_for(std::chrono::milliseconds(5));
     ::kill(pid, SIGKILL);
     int status = 0;
     ::waitpid(pid, &status, 0);
     REQUIRE(WIFSIGNALED(status));  // killed midway, not finished
     const int before = countFrames(out);
-    REQUIRE(before >= 3);
+    REQUIRE(before >= 2);
     REQUIRE(before < kFrames);
     std::map<std::string, FileId> ids = frameIds(out);
     // Every frame present after the kill is complete (writeImage renames a finished file): it reads.
@@ -196,4 +196,34 @@ TEST_CASE("welkin timelapse resumes after a kill without rewriting a frame", "[g
         INFO(name);
         CHECK(samePixels(readImage(out + name), readImage(dir + "/ref" + name)));
     }
+}
+
+TEST_CASE("welkin timelapse --video encodes the frames with ffmpeg", "[gl][cli][timelapse]") {
+    // ffmpeg is optional (not in scripts/setup.sh): without it the one-line refusal above is what
+    // is tested; with it, the video is made and checked here.
+    if (std::system("command -v ffmpeg >/dev/null 2>&1 && command -v ffprobe >/dev/null 2>&1") != 0) {
+        WARN("ffmpeg is not installed: the video itself is not tested here (the missing-ffmpeg error is)");
+        return;
+    }
+    const std::string dir = test::scratchDir("cli_timelapse_video");
+    auto r = test::runCli("timelapse --lat 35.9 --lon 14.5 --elements grid --size 48x32 --from 2026-06-21T18:00:00Z "
+                          "--to 2026-06-21T18:20:00Z --step 10m --out " + dir + "/frames --video " + dir + "/v.mp4 --fps 10");
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    REQUIRE(fs::is_regular_file(dir + "/v.mp4"));
+    // ffprobe decodes it: 3 frames of 48x32 (both even: kept as they are).
+    auto probe = test::CliResult{};
+    {
+        const std::string cmd = "ffprobe -v error -count_frames -select_streams v:0 -show_entries stream=width,height,nb_read_frames -of csv=p=0 '" +
+                                dir + "/v.mp4'";
+        FILE* p = popen(cmd.c_str(), "r");
+        REQUIRE(p);
+        char buf[256];
+        while (fgets(buf, sizeof buf, p)) probe.output += buf;
+        probe.status = pclose(p);
+    }
+    INFO(probe.output);
+    CHECK(probe.status == 0);
+    CHECK_THAT(probe.output, Catch::StartsWith("48,32,3"));
+    for (const auto& e : fs::directory_iterator(dir)) CHECK(e.path().filename().string()[0] != '.');  // no temporary file left
 }
