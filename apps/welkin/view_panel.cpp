@@ -1,5 +1,7 @@
 #include "view_panel.hpp"
 
+#include "scene_edit.hpp"
+
 #include <welkin/elements/registry.hpp>
 #include <welkin/error.hpp>
 #include <welkin/eye.hpp>
@@ -364,34 +366,8 @@ bool ViewPanel::keyEditor(SkyProcessor& sky, const std::string& name) {
 }
 
 void ViewPanel::setElementOn(SkyProcessor& sky, const std::string& name, bool on, Logger& log) {
-    try {
-        if (!on) {
-            if (auto e = sky.remove(name)) e->release();  // the context is current
-            error_.clear();
-            return;
-        }
-        // Keep the default compositing order: take out the elements that come after this one,
-        // add it, put them back.
-        const std::vector<std::string> known = elements::knownElements();
-        auto rank = [&](const std::string& n) { return size_t(std::find(known.begin(), known.end(), n) - known.begin()); };
-        std::vector<std::string> after;
-        for (auto& e : sky.elements())
-            if (rank(e->name()) > rank(name)) after.push_back(e->name());
-        std::vector<std::unique_ptr<SkyElement>> held;
-        for (auto& n : after) held.push_back(sky.remove(n));
-        sky.add(elements::makeElement(name));
-        for (auto& e : held) sky.add(std::move(e));
-        try {
-            sky.init();  // now, so that a failure is reported here and the element taken out again
-            error_.clear();
-        } catch (const Error& e) {
-            error_ = name + ": " + e.what();
-            log.warn(error_);
-            if (auto el = sky.remove(name)) el->release();
-        }
-    } catch (const Error& e) {
-        error_ = name + ": " + e.what();
-    }
+    error_ = setElementEnabled(sky, name, on);
+    if (!error_.empty()) log.warn(error_);
 }
 
 void ViewPanel::elementsSection(SkyProcessor& sky, Logger& log) {
