@@ -167,14 +167,24 @@ void ViewPanel::timeSection(SkyProcessor& sky, ViewClock& clock) {
         }
         ImGui::EndTable();
     }
+    // Hours, minutes and seconds, each on its own slider (UTC).
     int hms[3] = {dt.hour, dt.minute, int(std::floor(dt.second))};
-    ImGui::SetNextItemWidth(-60);
-    if (ImGui::SliderInt3("h m s UTC", hms, 0, 59)) {
-        dt.hour = std::clamp(hms[0], 0, 23);
-        dt.minute = std::clamp(hms[1], 0, 59);
-        dt.second = std::clamp(hms[2], 0, 59);
-        changed = true;
+    const int hmsMax[3] = {23, 59, 59};
+    const char* hmsId[3] = {"##hour", "##minute", "##second"};
+    const float hmsWidth = std::max(30.0f, (ImGui::GetContentRegionAvail().x - 70) / 3);
+    for (int k = 0; k < 3; ++k) {
+        if (k) ImGui::SameLine(0, 2);
+        ImGui::SetNextItemWidth(hmsWidth);
+        if (ImGui::SliderInt(hmsId[k], &hms[k], 0, hmsMax[k], k == 0 ? "%02d h" : k == 1 ? "%02d m" : "%02d s",
+                             ImGuiSliderFlags_AlwaysClamp)) {
+            dt.hour = hms[0];
+            dt.minute = hms[1];
+            dt.second = hms[2];
+            changed = true;
+        }
     }
+    ImGui::SameLine();
+    ImGui::TextUnformatted("UTC");
     if (ImGui::Button("Now")) {
         const std::time_t t = std::time(nullptr);
         std::tm u{};
