@@ -69,7 +69,6 @@ TEST_CASE("welkin timelapse rejects bad options in one line, before rendering", 
         "timelapse",
         {{base + "--from 2026-06-21T00:00Z --to 2026-06-21T01:00Z --step 10x", "--step '10x' is not a duration (a number with s, m, h or d"},
          {base + "--from 2026-06-21T00:00Z --to 2026-06-21T01:00Z --step 0s", "--step '0s' must be positive"},
-         {base + "--from 2026-06-21T00:00Z --to 2026-06-21T01:00Z --step -5m", "--step '-5m' must be positive"},
          {base + "--from 2026-06-21T02:00Z --to 2026-06-21T01:00Z --step 10m", "--to 2026-06-21T01:00Z is before --from 2026-06-21T02:00Z"},
          {base + "--from 2026-06-21T00:00Z --to 2026-06-23T00:00Z --step 1s", "--from/--to/--step give 172801 frames; at most 100000"},
          {base + "--from 2026-13-21T00:00Z --to 2026-06-21T01:00Z --step 10m", "--from "},
@@ -78,7 +77,6 @@ TEST_CASE("welkin timelapse rejects bad options in one line, before rendering", 
           "--time is not a timelapse option: use --from and --to"},
          {base + "--from 2026-06-21T00:00Z --to 2026-06-21T01:00Z --step 10m --contact-sheet " + dir + "/sheet.jpg",
           "--contact-sheet '" + dir + "/sheet.jpg' must end in .png"},
-         {"--lat 91 --lon 0 --out " + dir + "/frames --from 2026-06-21T00:00Z --to 2026-06-21T01:00Z --step 10m", "--lat 91 not in [-90, 90]"},
          {"--lat 0 --lon 0 --out " + dir + "/no/such/dir --from 2026-06-21T00:00Z --to 2026-06-21T01:00Z --step 10m",
           "--out '" + dir + "/no/such/dir': directory '" + dir + "/no/such' does not exist"}});
     INFO([&] {
@@ -174,6 +172,14 @@ TEST_CASE("welkin timelapse resumes after a kill without rewriting a frame", "[g
     for (auto& [name, id] : ids)
         if (name[0] != '.') CHECK(readImage(out + "/" + name).width == 48);
 
+    // A partial frame as a kill during writeImage leaves it (its temporary name; the kill above may
+    // or may not have left one of its own).
+    {
+        FILE* f = std::fopen((out + "/.frame-00007.png.tmp99999.png").c_str(), "wb");
+        REQUIRE(f);
+        std::fputs("partial", f);
+        std::fclose(f);
+    }
     // The rerun: the frames already there are skipped (same inode, same modification time), the
     // rest written, and the killed run's temporary file (if it was writing one) removed.
     auto r = test::runCli(timelapseArgs(out, kFrames));
@@ -189,6 +195,7 @@ TEST_CASE("welkin timelapse resumes after a kill without rewriting a frame", "[g
     }
     CHECK(countFrames(out) == kFrames);
     CHECK(int(after.size()) == kFrames);  // nothing else: no temporary or partial file
+    CHECK_FALSE(fs::exists(out + "/.frame-00007.png.tmp99999.png"));
     // Deterministic: every frame, rendered before or after the kill, equals the uninterrupted run's.
     for (int i = 0; i < kFrames; ++i) {
         char name[32];
