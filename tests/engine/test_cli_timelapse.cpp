@@ -205,9 +205,52 @@ TEST_CASE("welkin timelapse resumes after a kill without rewriting a frame", "[g
     }
 }
 
+TEST_CASE("welkin timelapse --video runs ffmpeg on the frames and keeps its output only if it succeeds", "[gl][cli][timelapse]") {
+    // A stand-in ffmpeg first PATH entry (this runs with or without a real ffmpeg): it records its
+    // arguments and writes its last one (the output), or fails when FAKE_FFMPEG_FAIL is set.
+    const std::string dir = test::scratchDir("cli_timelapse_fakeffmpeg");
+    fs::create_directories(dir + "/bin");
+    {
+        FILE* f = std::fopen((dir + "/bin/ffmpeg").c_str(), "w");
+        REQUIRE(f);
+        std::fputs("#!/bin/sh\nprintf '%s\\n' \"$@\" > \"$(dirname \"$0\")/args.txt\"\n"
+                   "[ -n \"$FAKE_FFMPEG_FAIL\" ] && exit 3\n"
+                   "for last; do :; done\necho video > \"$last\"\n",
+                   f);
+        std::fclose(f);
+        fs::permissions(dir + "/bin/ffmpeg", fs::perms::owner_all);
+    }
+    const std::string args = "timelapse --lat 35.9 --lon 14.5 --elements grid --size 48x32 --from 2026-06-21T18:00:00Z "
+                             "--to 2026-06-21T18:20:00Z --step 10m --out " + dir + "/frames --video " + dir + "/v.mp4 --fps 10";
+    const std::string path = "PATH='" + dir + "/bin':/usr/bin:/bin";
+    // ffmpeg fails: a one-line error, no video, the frames stay (complete, for the next run).
+    auto failed = test::runCli(args, "FAKE_FFMPEG_FAIL=1 " + path);
+    INFO(failed.output);
+    CHECK(failed.status == 1);
+    CHECK_THAT(failed.output, Catch::Contains("welkin timelapse: --video '" + dir + "/v.mp4': ffmpeg failed (status 3)"));
+    CHECK_FALSE(fs::exists(dir + "/v.mp4"));
+    CHECK(countFrames(dir + "/frames") == 3);
+    // ffmpeg succeeds: its output renamed to --video, its arguments the frames' pattern and rate.
+    auto ok = test::runCli(args, path);
+    INFO(ok.output);
+    REQUIRE(ok.status == 0);
+    CHECK(fs::is_regular_file(dir + "/v.mp4"));
+    std::string recorded;
+    {
+        FILE* f = std::fopen((dir + "/bin/args.txt").c_str(), "r");
+        REQUIRE(f);
+        char buf[512];
+        while (std::fgets(buf, sizeof buf, f)) recorded += buf;
+        std::fclose(f);
+    }
+    INFO(recorded);
+    CHECK_THAT(recorded, Catch::Contains("-framerate\n10\n-i\n" + dir + "/frames/frame-%05d.png\n"));
+    for (const auto& e : fs::directory_iterator(dir)) CHECK(e.path().filename().string()[0] != '.');  // no temporary file left
+}
+
 TEST_CASE("welkin timelapse --video encodes the frames with ffmpeg", "[gl][cli][timelapse]") {
-    // ffmpeg is optional (not in scripts/setup.sh): without it the one-line refusal above is what
-    // is tested; with it, the video is made and checked here.
+    // ffmpeg is optional (not in scripts/setup.sh): without it the tests above cover the refusal
+    // and the call through a stand-in; with it, a real video is made and decoded here.
     if (std::system("command -v ffmpeg >/dev/null 2>&1 && command -v ffprobe >/dev/null 2>&1") != 0) {
         WARN("ffmpeg is not installed: the video itself is not tested here (the missing-ffmpeg error is)");
         return;
