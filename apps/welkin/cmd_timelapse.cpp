@@ -331,7 +331,8 @@ int run(const TimelapseOptions& o) {
     auto ctx = gl::HeadlessContext::create({}, log);
     {
         SkyProcessor sky(SkyVars::earth(), log);
-        o.scene.apply(sky);  // render.interactive stays false: every frame complete
+        o.scene.apply(sky);
+        sky.vars().set(keys::interactive, false);  // every frame complete, whatever --var said
         sky.init();
         Progress progress(frames, already);
         for (long i = 0; i < frames; ++i) {

@@ -114,7 +114,7 @@ Image readDisplayed(int width, int height) {
     glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
     glPixelStorei(GL_PACK_ALIGNMENT, packAlign);
     glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(fbo));
-    if (fbo != 0) glReadBuffer(GLenum(readBuffer));
+    glReadBuffer(GLenum(readBuffer));
     Image img{width, height, 3, std::vector<float>(size_t(width) * size_t(height) * 3)};
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x)
