@@ -377,6 +377,7 @@ Registrar reg("timelapse", "render frames from --from to --to every --step (resu
     auto* o = new TimelapseOptions();  // lives for the whole process
     o->scene.addTo(sub, false);
     o->timeOption = sub.get_option("--time");
+    o->timeOption->group("");  // hidden from --help: refused with a pointer to --from and --to
     sub.get_option("--lat")->required();
     sub.get_option("--lon")->required();
     sub.add_option("--from", o->from, "first frame's instant, ISO 8601")->required();
