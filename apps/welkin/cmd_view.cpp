@@ -1,7 +1,8 @@
 // welkin view: the same scene as `welkin render` in a GLFW window, with mouse-look, zoom, time
-// controls and screenshots.
+// controls, screenshots and a Dear ImGui panel (view_panel.hpp, docs/viewer.md).
 #include "command.hpp"
 #include "scene_options.hpp"
+#include "view_panel.hpp"
 
 #include <welkin/error.hpp>
 #include <welkin/gl/context.hpp>
@@ -9,6 +10,7 @@
 #include <welkin/keys.hpp>
 #include <welkin/processor.hpp>
 
+#include <epoxy/gl.h>
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
@@ -30,18 +32,19 @@ struct ViewOptions {
     int frames = 0;          // 0: until the window closes
     std::string screenshot;  // written after the last frame when --frames is given
     double speed = 60.0;     // simulated seconds per real second
+    bool noPanel = false;    // start with the panel hidden (H or Tab shows it)
+    bool expandPanel = false;  // open every section of the panel
 };
 
 // Input state shared with the GLFW callbacks.
 struct ViewState {
     Camera camera;
-    double speed = 60.0;  // simulated seconds per real second
-    bool paused = false;
-    double timeOffset = 0.0;  // simulated seconds since the start time
+    ViewClock clock;
     bool dragging = false;
     double lastX = 0, lastY = 0;
     bool screenshot = false;
     const Logger* log = nullptr;
+    ViewPanel* panel = nullptr;  // the panel's wishes: when it has the mouse or keyboard, the view ignores them
 };
 
 ViewState& state(GLFWwindow* w) { return *static_cast<ViewState*>(glfwGetWindowUserPointer(w)); }
@@ -49,14 +52,20 @@ ViewState& state(GLFWwindow* w) { return *static_cast<ViewState*>(glfwGetWindowU
 void onKey(GLFWwindow* w, int key, int, int action, int) {
     if (action != GLFW_PRESS && action != GLFW_REPEAT) return;
     ViewState& s = state(w);
+    if (s.panel && s.panel->wantsKeyboard()) return;  // typing into the panel
+    ViewClock& c = s.clock;
     switch (key) {
         case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(w, GLFW_TRUE); break;
-        case GLFW_KEY_PERIOD: s.timeOffset += 10 * std::abs(s.speed); break;  // step forward
-        case GLFW_KEY_COMMA: s.timeOffset -= 10 * std::abs(s.speed); break;   // step backward
-        case GLFW_KEY_RIGHT_BRACKET: s.speed = std::clamp(s.speed * 10, -1e7, 1e7); break;
-        case GLFW_KEY_LEFT_BRACKET: s.speed = s.speed / 10; break;
-        case GLFW_KEY_R: s.speed = -s.speed; break;  // reverse
-        case GLFW_KEY_SPACE: s.paused = !s.paused; break;
+        case GLFW_KEY_PERIOD: c.offsetSeconds += 10 * std::abs(c.speed); break;  // step forward
+        case GLFW_KEY_COMMA: c.offsetSeconds -= 10 * std::abs(c.speed); break;   // step backward
+        case GLFW_KEY_RIGHT_BRACKET: c.speed = std::clamp(c.speed * 10, -1e7, 1e7); break;
+        case GLFW_KEY_LEFT_BRACKET: c.speed = c.speed / 10; break;
+        case GLFW_KEY_R: c.speed = -c.speed; break;  // reverse
+        case GLFW_KEY_SPACE: c.paused = !c.paused; break;
+        case GLFW_KEY_H:
+        case GLFW_KEY_TAB:
+            if (s.panel) s.panel->visible = !s.panel->visible;
+            break;
         case GLFW_KEY_P: s.screenshot = true; break;
         case GLFW_KEY_F:
             s.camera.projection = s.camera.projection == Projection::Fisheye ? Projection::Perspective : Projection::Fisheye;
@@ -68,7 +77,7 @@ void onKey(GLFWwindow* w, int key, int, int action, int) {
 void onMouseButton(GLFWwindow* w, int button, int action, int) {
     ViewState& s = state(w);
     if (button != GLFW_MOUSE_BUTTON_LEFT) return;
-    s.dragging = action == GLFW_PRESS;
+    s.dragging = action == GLFW_PRESS && !(s.panel && s.panel->wantsMouse());  // a press on the panel is the panel's
     glfwGetCursorPos(w, &s.lastX, &s.lastY);
 }
 
@@ -87,7 +96,30 @@ void onCursor(GLFWwindow* w, double x, double y) {
 
 void onScroll(GLFWwindow* w, double, double dy) {
     ViewState& s = state(w);
+    if (s.panel && s.panel->wantsMouse()) return;
     s.camera.verticalFovRad = std::clamp(s.camera.verticalFovRad * std::pow(1.1, -dy), 0.5 * kDeg, 150 * kDeg);
+}
+
+// What the window shows (the sky and the panel over it), read from the back buffer before the
+// swap: RGB in [0, 1] as displayed (sRGB-encoded), top row first.
+Image readDisplayed(int width, int height) {
+    std::vector<unsigned char> rgba(size_t(width) * size_t(height) * 4);
+    GLint fbo = 0, readBuffer = 0, packAlign = 4;
+    glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &fbo);
+    glGetIntegerv(GL_READ_BUFFER, &readBuffer);
+    glGetIntegerv(GL_PACK_ALIGNMENT, &packAlign);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    glReadBuffer(GL_BACK);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+    glPixelStorei(GL_PACK_ALIGNMENT, packAlign);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(fbo));
+    glReadBuffer(GLenum(readBuffer));
+    Image img{width, height, 3, std::vector<float>(size_t(width) * size_t(height) * 3)};
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            for (int c = 0; c < 3; ++c) img.at(x, height - 1 - y, c) = float(rgba[(size_t(y) * size_t(width) + size_t(x)) * 4 + size_t(c)]) / 255.0f;
+    return img;
 }
 
 int run(const ViewOptions& o) {
@@ -104,7 +136,8 @@ int run(const ViewOptions& o) {
     auto ctx = gl::WindowContext::create({.title = "welkin view", .width = cam.width, .height = cam.height}, log);
     ViewState s;
     s.camera = cam;
-    s.speed = o.speed;
+    s.clock.speed = o.speed;
+    s.clock.start = o.scene.instant();
     s.log = &log;
     GLFWwindow* w = ctx->window();
     glfwSetWindowUserPointer(w, &s);
@@ -112,12 +145,17 @@ int run(const ViewOptions& o) {
     glfwSetMouseButtonCallback(w, onMouseButton);
     glfwSetCursorPosCallback(w, onCursor);
     glfwSetScrollCallback(w, onScroll);
+    ViewPanel panel(w);  // after the callbacks above: its GLFW backend chains them
+    panel.visible = !o.noPanel;
+    panel.expandAll = o.expandPanel;
+    s.panel = &panel;
 
-    SkyProcessor sky(SkyVars::earth(), log);
+    // Timing brackets every element and generator call with glFinish: the panel's frame-time
+    // readout. The view runs without it when started without the panel.
+    SkyProcessor sky(SkyVars::earth(), log, ProcessorOptions{.timing = !o.noPanel});
     sky.vars().set(keys::interactive, true);  // before the --var values, which may override it
     o.scene.apply(sky);
     sky.setAnimationTime(std::nullopt);  // the window animates with the wall clock
-    const UtcInstant start = o.scene.instant();
     auto last = std::chrono::steady_clock::now();
     int frame = 0;
     while (!ctx->shouldClose()) {
@@ -125,7 +163,8 @@ int run(const ViewOptions& o) {
         auto now = std::chrono::steady_clock::now();
         double dt = std::chrono::duration<double>(now - last).count();
         last = now;
-        if (!s.paused) s.timeOffset += dt * s.speed;
+        ViewClock& c = s.clock;
+        if (!c.paused) c.offsetSeconds += dt * c.speed;
         int fw = 0, fh = 0;
         ctx->framebufferSize(fw, fh);
         if (fw < 1 || fh < 1) continue;  // minimised
@@ -133,27 +172,29 @@ int run(const ViewOptions& o) {
         s.camera.height = fh;
         sky.setCamera(s.camera);
         try {
-            sky.setTime(start.plusSeconds(s.timeOffset));
+            sky.setTime(c.start.plusSeconds(c.offsetSeconds));
         } catch (const Error& e) {  // ran past year 10000 or before -4000: stop there
             log.warn(e.what());
-            s.timeOffset -= dt * s.speed;
-            s.paused = true;
+            c.offsetSeconds -= dt * c.speed;
+            c.paused = true;
         }
         sky.renderFrame();
         sky.toneMapInto(0);
+        if (panel.visible) panel.draw(sky, c, s.camera, log);
         ++frame;
         bool done = o.frames > 0 && frame >= o.frames;
         if (s.screenshot || (done && !o.screenshot.empty())) {
             std::string path = !o.screenshot.empty() && done
                                    ? o.screenshot
                                    : "welkin-" + std::to_string(std::time(nullptr)) + "-" + std::to_string(frame) + ".png";
-            writeImage(sky.readToneMapped(), path);
+            // What is displayed, the panel included (docs/viewer.md): hide the panel (H) for the sky alone.
+            writeImage(readDisplayed(fw, fh), path);
             std::printf("screenshot %s (%s)\n", path.c_str(), sky.time().toIso().c_str());
             s.screenshot = false;
         }
         char title[160];
-        std::snprintf(title, sizeof title, "welkin view  %s  x%g%s  fov %.1f", sky.time().toIso().c_str(), s.speed,
-                      s.paused ? " (paused)" : "", s.camera.verticalFovRad / kDeg);
+        std::snprintf(title, sizeof title, "welkin view  %s  x%g%s  fov %.1f", sky.time().toIso().c_str(), c.speed,
+                      c.paused ? " (paused)" : "", s.camera.verticalFovRad / kDeg);
         glfwSetWindowTitle(w, title);
         ctx->swapBuffers();
         if (done) break;
@@ -162,13 +203,15 @@ int run(const ViewOptions& o) {
     return 0;
 }
 
-Registrar reg("view", "show the scene in a window: drag to look, scroll to zoom, ./, time, ]/[ speed, P screenshot",
+Registrar reg("view", "show the scene in a window with a settings panel: drag to look, scroll to zoom, ./, time, ]/[ speed, H panel, P screenshot",
               [](CLI::App& sub) {
                   auto* o = new ViewOptions();  // lives for the whole process
                   o->scene.addTo(sub, false);
                   sub.add_option("--speed", o->speed, "simulated seconds per real second")->capture_default_str();
                   sub.add_option("--frames", o->frames, "exit after this many frames (0: run until closed)");
-                  sub.add_option("--screenshot", o->screenshot, "with --frames: save the last frame here (.png)");
+                  sub.add_option("--screenshot", o->screenshot, "with --frames: save the last frame as displayed, panel included, here (.png)");
+                  sub.add_flag("--panel-expand", o->expandPanel, "open every section of the panel and every element's keys (screenshots)");
+                  sub.add_flag("--no-panel", o->noPanel, "start with the panel hidden (H or Tab shows it) and without per-element timing");
                   return [o]() { return run(*o); };
               });
 
