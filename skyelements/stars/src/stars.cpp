@@ -4,6 +4,7 @@
 #include <welkin/astro/bodies.hpp>
 #include <welkin/astro/frames.hpp>
 #include <welkin/color.hpp>
+#include <welkin/elements/point_sources.hpp>
 #include <welkin/elements/stars.hpp>
 #include <welkin/embedded/stars_shaders.hpp>
 #include <welkin/error.hpp>
@@ -13,6 +14,7 @@
 #include <welkin/gl/bindings.hpp>
 #include <welkin/gl/shader.hpp>
 #include <welkin/keys.hpp>
+#include <welkin/point_source.hpp>
 
 #include <epoxy/gl.h>
 #include <nlohmann/json.hpp>
@@ -48,14 +50,8 @@ std::vector<astro::Star> loadCatalogue(const std::string& path) {
 
 double limitingMagnitude(double backgroundCdM2) {
     if (!(backgroundCdM2 >= 0.0)) throw Error("limitingMagnitude(): background luminance not >= 0 cd/m^2");
-    const double B = backgroundCdM2 / 3.183098862e-6;  // nanolamberts (1 nL = 1e-5 / pi cd/m^2)
-    // Schaefer 1990 (Hecht 1947): night (scotopic) branch below 1479 nL, day above.
-    const bool night = B < 1479.0;
-    const double c1 = night ? std::pow(10.0, -9.8) : std::pow(10.0, -8.35);
-    const double c2 = night ? std::pow(10.0, -1.9) : std::pow(10.0, -5.9);
-    const double s = 1.0 + std::sqrt(c2 * B);
-    const double I = c1 * s * s;  // foot-candles
-    return -16.57 - 2.5 * std::log10(I);
+    // Schaefer 1990 (Hecht 1947), welkin/point_source.hpp: the magnitude of the threshold.
+    return -16.57 - 2.5 * std::log10(pointThresholdFootCandles(backgroundCdM2));
 }
 
 double scintillationAmplitude(double altitudeRad, double strength) {
@@ -123,6 +119,7 @@ void Stars::doInit(InitContext& ctx) {
     programs_ = gl::ProjectionPrograms(gl::ProgramBuilder("Stars")
                                            .define("STARS_TABLE_N", kTableN)
                                            .vertex("engine/camera.glsl", gl::engineShader("camera.glsl"))
+                                           .vertex("stars/point_perceptual.glsl", embedded::stars_shaders("point_perceptual.glsl"))
                                            .vertex("stars/stars.vert.glsl", embedded::stars_shaders("stars.vert.glsl"))
                                            .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
                                            .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
@@ -196,9 +193,10 @@ void Stars::doRender(const FrameContext& ctx) {
     float refr[kTableN];
     for (int i = 0; i < kTableN; ++i) refr[i] = float(astro::refraction(tableAltitude(i), P, Tc));
     glProgramUniform1fv(p.id(), p.location("u_refr"), kTableN, refr);
-    // Without a Sky composited over the stars, the atmosphere's extinction is applied here.
+    // Without a Sky composited over the stars, the atmosphere's extinction is applied here; the
+    // perceptual mode needs it either way (the eye's threshold is for the light that reaches it).
     p.set("u_extinction", attenuatedLater ? 0 : 1);
-    if (!attenuatedLater) {
+    if (setPerceptualPointUniforms(p, v, attenuatedLater) || !attenuatedLater) {
         updateExtinction(v);
         glProgramUniform3fv(p.id(), p.location("u_ext"), kTableN, extinction_.data());
     }
