@@ -43,7 +43,7 @@ PerceptualPoint perceptualPoint(double illuminanceLux, double backgroundCdM2, do
     if (!p.visible) return p;
     const double decades = std::log10(p.ratio);
     p.fwhmPx = fwhmAtThresholdPx * std::min(1.0 + 0.5 * decades, 8.0);
-    p.contrast = contrastAtThreshold * (1.0 + decades);
+    p.contrast = contrastAtThreshold * (1.0 + 2.0 * decades);
     return p;
 }
 

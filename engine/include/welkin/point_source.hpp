@@ -18,7 +18,7 @@
 //    atmosphere's extinction) is under the threshold I(B) for the sky luminance B behind it is not
 //    drawn; one above it is drawn (besides its physical PSF, whichever is brighter per pixel) as a
 //    Gaussian of FWHM f0 (1 + 0.5 log10 R), at most 8 f0, whose peak is the sky plus the Weber
-//    contrast C = render.point_contrast (1 + log10 R), R = E / I(B) >= 1: a just-visible star is a
+//    contrast C = render.point_contrast (1 + 2 log10 R), R = E / I(B) >= 1: a just-visible star is a
 //    faint small dot, Venus in twilight a bright larger one, as planetarium programs draw them.
 #pragma once
 #include <welkin/vars.hpp>
@@ -36,7 +36,7 @@ inline const Key<std::string> pointSources{"render.point_sources",
 /// Weber contrast over the sky behind it of a point at the eye's threshold (perceptual mode).
 inline const Key<double> pointContrast{"render.point_contrast", Range{0.05, 100},
                                        "perceptual point sources: Weber contrast over the sky of a point at the eye's threshold (grows "
-                                       "by this per decade above it)",
+                                       "by twice this per decade above it)",
                                        "1"};
 }  // namespace keys
 

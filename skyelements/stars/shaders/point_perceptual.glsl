@@ -53,5 +53,5 @@ vec2 pp_point(float eyeLux, float B, float f0) {
     float R = eyeLux / pp_thresholdLux(B);
     if (!(R >= 1.0)) return vec2(0.0);
     float decades = log(R) * 0.4342944819;
-    return vec2(f0 * min(1.0 + 0.5 * decades, 8.0), u_ppContrast * (1.0 + decades));
+    return vec2(f0 * min(1.0 + 0.5 * decades, 8.0), u_ppContrast * (1.0 + 2.0 * decades));
 }
