@@ -169,6 +169,7 @@ void Stars::doRender(const FrameContext& ctx) {
         limit_ = std::min(limit_, limitingMagnitude(B));
     }
     drawn_ = int(std::upper_bound(mags_.begin(), mags_.end(), float(limit_)) - mags_.begin());
+    perceptual_ = pointSourceMode(v) == PointSourceMode::Perceptual;
     if (drawn_ == 0) return;
 
     const gl::Program& p = programs_.get(ctx.camera.projection);
@@ -196,7 +197,8 @@ void Stars::doRender(const FrameContext& ctx) {
     // Without a Sky composited over the stars, the atmosphere's extinction is applied here; the
     // perceptual mode needs it either way (the eye's threshold is for the light that reaches it).
     p.set("u_extinction", attenuatedLater ? 0 : 1);
-    if (setPerceptualPointUniforms(p, v, attenuatedLater) || !attenuatedLater) {
+    perceptual_ = setPerceptualPointUniforms(p, v, attenuatedLater);
+    if (perceptual_ || !attenuatedLater) {
         updateExtinction(v);
         glProgramUniform3fv(p.id(), p.location("u_ext"), kTableN, extinction_.data());
     }
@@ -215,6 +217,7 @@ void Stars::doStats(nlohmann::json& root) const {
     root["stars"]["drawn"] = drawn_;
     root["stars"]["limiting_magnitude"] = limit_;
     root["stars"]["catalogue_size"] = int(mags_.size());
+    root["stars"]["point_sources"] = perceptual_ ? "perceptual" : "physical";
 }
 
 }  // namespace welkin::elements

@@ -81,7 +81,9 @@ public:
     /// A host's own catalogue (stars.catalogue is then ignored).
     explicit Stars(std::vector<astro::Star> stars);
 
-    /// Stars drawn by the last frame, and the limiting magnitude it used.
+    /// Stars drawn by the last frame (in the perceptual mode, render.point_sources: instanced;
+    /// those under the eye's threshold over the sky behind them are then culled on the GPU), and
+    /// the limiting magnitude it used.
     int drawn() const { return drawn_; }
     double limitingMagnitudeUsed() const { return limit_; }
     /// Catalogue size (after init).
@@ -106,6 +108,7 @@ private:
     const void* extinctionAtm_ = nullptr;
     int drawn_ = 0;
     double limit_ = 0;
+    bool perceptual_ = false;  // render.point_sources of the last frame
 };
 
 }  // namespace welkin::elements
