@@ -16,6 +16,7 @@
 #include <welkin/gl/shader.hpp>
 #include <welkin/image.hpp>
 #include <welkin/keys.hpp>
+#include <welkin/point_source.hpp>
 
 #include <epoxy/gl.h>
 #include <nlohmann/json.hpp>
@@ -259,6 +260,8 @@ Planet::Planet(std::string name) : SkyElement(std::move(name)) {
     option(planetkeys::moonNormals, std::string(kMoonNormalsPath));
     reads(keys::sunDirection);
     reads(keys::moonDirection);
+    reads(keys::pointSources);
+    reads(keys::pointContrast);
     reads(keys::exposureEv100);
     reads(astro::keys::sunDistance);
     reads(astro::keys::sunAngularRadius);

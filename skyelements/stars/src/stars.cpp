@@ -79,6 +79,8 @@ Stars::Stars() : SkyElement("stars") {
     reads(keys::timeJdUtc);
     reads(generators::skykeys::zenithLuminance);
     reads(keys::nightBackground);
+    reads(keys::pointSources);
+    reads(keys::pointContrast);
 }
 
 Stars::Stars(std::vector<astro::Star> stars) : Stars() {
