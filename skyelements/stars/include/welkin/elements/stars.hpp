@@ -36,6 +36,10 @@
 //    (default the dark-sky reference astro::magnitude::kDarkSkyZenithMag), m = -16.57 - 2.5 log10 I;
 //    capped by stars.magnitude_limit. Stars fainter than it are not drawn: the catalogue is sorted
 //    by magnitude and only the prefix brighter than the limit is instanced (cost nothing).
+//  - render.point_sources = perceptual (displayed images; welkin/point_source.hpp): each star's
+//    illuminance at the eye against the threshold for the sky behind it (point_perceptual.glsl);
+//    under it the star is not drawn, over it also as a Gaussian sized and brightened with log10
+//    of the ratio (the brighter of it and the PSF per pixel).
 #pragma once
 #include <welkin/astro/stars.hpp>
 #include <welkin/color.hpp>
