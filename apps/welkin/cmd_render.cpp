@@ -104,8 +104,11 @@ nlohmann::json lightingJson(const SkyLighting& l, const std::string& time) {
 }
 
 int run(const RenderOptions& o) {
+    // Point sources as the eye sees them in a displayed PNG, physical in an EXR (docs/eye.md).
+    SceneOptions scene = o.scene;
+    scene.pointSources = endsWith(o.out, ".exr") ? "physical" : "perceptual";
     // Validate everything before touching GL or the file system.
-    o.scene.validate();
+    scene.validate();
     checkWritable(o.out);
     if (!o.stats.empty()) {
         if (!endsWith(o.stats, ".json")) throw Error("--stats '" + o.stats + "' must end in .json");
@@ -122,7 +125,7 @@ int run(const RenderOptions& o) {
     int status = 0;
     {
         SkyProcessor processor(SkyVars::earth(), log, ProcessorOptions{.timing = !o.stats.empty()});
-        o.scene.apply(processor);
+        scene.apply(processor);
         if (!o.lighting.empty()) processor.vars().set(keys::lightingEnabled, true);  // sizes: lighting.* --var or defaults
         processor.renderFrame();
         Image img = endsWith(o.out, ".exr") ? processor.readHdr() : processor.readToneMapped();

@@ -4,6 +4,7 @@
 #include <welkin/elements/registry.hpp>
 #include <welkin/error.hpp>
 #include <welkin/keys.hpp>
+#include <welkin/point_source.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -135,7 +136,9 @@ void SceneOptions::validate() const {
     // The --var values against the keys the elements and the processor declare (no GL needed).
     SkyProcessor probe;
     for (auto& n : elementNames()) probe.add(elements::makeElement(n));
+    probe.vars().set(keys::pointSources, pointSources);
     applyVars(probe);
+    pointSourceMode(probe.vars());  // render.point_sources: physical | perceptual
     for (auto& e : probe.elements()) e->validateOptions(probe.vars());
 }
 
@@ -159,6 +162,7 @@ void SceneOptions::apply(SkyProcessor& p) const {
     p.setCamera(camera());
     p.setExposure(exposureSetting());
     for (auto& n : elementNames()) p.add(elements::makeElement(n));
+    p.vars().set(keys::pointSources, pointSources);
     applyVars(p);
 }
 

@@ -21,6 +21,9 @@ struct SceneOptions {
     std::string exposure = "auto";
     std::string quality = "medium";
     std::vector<std::string> vars;  ///< --var KEY=VALUE, in order
+    /// render.point_sources set before the --var values (which may override it): perceptual for
+    /// displayed images (welkin view, PNGs, demos), physical for HDR output (welkin render to .exr).
+    std::string pointSources = "perceptual";
 
     /// Adds the options to a subcommand.
     void addTo(CLI::App& app, bool requireTimeAndPlace);

@@ -8,6 +8,7 @@
 #include <welkin/error.hpp>
 #include <welkin/eye.hpp>
 #include <welkin/keys.hpp>
+#include <welkin/point_source.hpp>
 #include <welkin/processor.hpp>
 
 #include <epoxy/gl.h>
@@ -143,6 +144,7 @@ SkyProcessor::~SkyProcessor() { release(); }
 void SkyProcessor::declareToneMapKeys() {
     SkyVars::DeclarerScope scope(*vars_, "tone map");
     eye::declareKeys(*vars_);
+    declarePointSourceKeys(*vars_);
 }
 
 void SkyProcessor::release() {

@@ -9,6 +9,7 @@ uniform vec3 u_centre;
 uniform float u_sinRadius;
 uniform int u_kind;
 uniform float u_psfSigma;
+flat in vec4 v_pp;  // perceptual point: peak radiance (cd/m^2), sigma (px); 0: none
 uniform vec3 u_limb;          // Sun: limb-darkening exponents per channel
 uniform vec3 u_light;         // Moon, planet: unit direction from the body to the Sun
 uniform mat3 u_moonAxes;      // selenographic axes in ENU (lon 0, lon 90 E, north pole)
@@ -113,7 +114,10 @@ void main() {
     if (u_kind == 3) {
         float sigma = u_psfSigma;
         float w = exp(-0.5 * dot(v_offset, v_offset) / (sigma * sigma)) / (2.0 * WELKIN_PI * sigma * sigma);
-        welkin_output(v_flux * w, vec3(1.0));
+        vec3 Lp = v_flux * w;
+        // Perceptual point (planet.vert.glsl): where it is brighter than the physical PSF.
+        if (v_pp.w > 0.0) Lp = max(Lp, v_pp.rgb * exp(-0.5 * dot(v_offset, v_offset) / (v_pp.w * v_pp.w)));
+        welkin_output(Lp, vec3(1.0));
         return;
     }
     float theta = atan(length(cross(dir, u_centre)), dot(dir, u_centre));

@@ -10,10 +10,13 @@
 #include <welkin/generators/atmosphere.hpp>
 #include <welkin/generators/lights.hpp>
 #include <welkin/generators/sky_model.hpp>
+#include <welkin/elements/point_sources.hpp>
+#include <welkin/embedded/stars_shaders.hpp>
 #include <welkin/gl/bindings.hpp>
 #include <welkin/gl/shader.hpp>
 #include <welkin/image.hpp>
 #include <welkin/keys.hpp>
+#include <welkin/point_source.hpp>
 
 #include <epoxy/gl.h>
 #include <nlohmann/json.hpp>
@@ -257,6 +260,8 @@ Planet::Planet(std::string name) : SkyElement(std::move(name)) {
     option(planetkeys::moonNormals, std::string(kMoonNormalsPath));
     reads(keys::sunDirection);
     reads(keys::moonDirection);
+    reads(keys::pointSources);
+    reads(keys::pointContrast);
     reads(keys::exposureEv100);
     reads(astro::keys::sunDistance);
     reads(astro::keys::sunAngularRadius);
@@ -377,6 +382,7 @@ void Planet::doInit(InitContext& ctx) {
     addGenerator(generators::AtmosphereLights::obtain(ctx.vars));
     programs_ = gl::ProjectionPrograms(gl::ProgramBuilder("Planet")
                                            .vertex("engine/camera.glsl", gl::engineShader("camera.glsl"))
+                                           .vertex("stars/point_perceptual.glsl", embedded::stars_shaders("point_perceptual.glsl"))
                                            .vertex("planet/planet.vert.glsl", embedded::planet_shaders("planet.vert.glsl"))
                                            .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
                                            .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
@@ -428,6 +434,13 @@ void Planet::doRender(const FrameContext& ctx) {
     const int copies = cam.projection == Projection::Equirect ? 2 : 1;
     p.set("u_copies", copies);
     p.set("u_psfSigma", float(kPsfFwhmPx / 2.35482));
+    // Perceptual point sources (welkin/point_source.hpp): an unresolved planet's illuminance at
+    // the eye (lux), its colour (luminance 1), the transmittance the Sky applies later, and its
+    // disk's mean luminance at the eye (the drawn point's peak stays under it); set by the
+    // planets' loop before draw(), 0 = no perceptual point.
+    const bool perceptual = setPerceptualPointUniforms(p, v, later);
+    double ppEyeLux = 0.0, ppLaterT = 1.0, ppDiskCdM2 = 0.0;
+    glm::dvec3 ppColour(1.0);
 
     // Pixels per radian (smallest, largest) at a body's centre; on a cube face also for a centre
     // on a neighbouring face in front of this one (at least the face centre's W / 2).
@@ -456,6 +469,15 @@ void Planet::doRender(const FrameContext& ctx) {
         p.set("u_centre", glm::vec3(dir));
         p.set("u_sinRadius", float(std::sin(radius)));
         p.set("u_flux", glm::vec3(psf ? E : flux));
+        const bool ppPoint = perceptual && psf && ppEyeLux > 0.0;
+        p.set("u_ppPoint", ppPoint ? 1 : 0);
+        if (ppPoint) {
+            p.set("u_ppEyeLux", float(ppEyeLux));
+            p.set("u_ppLaterT", float(ppLaterT));
+            p.set("u_ppDiskCdM2", float(ppDiskCdM2));
+            p.set("u_ppColour", glm::vec3(ppColour));
+            p.set("u_ppFwhmPx", float(kPsfFwhmPx));
+        }
         glDrawArraysInstanced(GL_TRIANGLES, 0, 6, copies);
         ++drawn_;
         if (wantLabels) labels.push_back({dir, name, psf ? 0.5 * kPsfFwhmPx : radius * scale});
@@ -492,7 +514,16 @@ void Planet::doRender(const FrameContext& ctx) {
         const double omega = 2 * kPi * (1 - std::cos(radius));
         const glm::dvec3 L0 = E / (omega * (2.0 / 3.0) * std::max(lambertPhase(phase), 1e-6));
         p.set("u_light", glm::vec3(light));
+        if (perceptual) {
+            // With the Sky later, E is above the air: the eye gets E x T (T towards the planet).
+            const glm::dvec3 Te = later ? transmittanceTowards(v, std::asin(std::clamp(dir.z, -1.0, 1.0))) : glm::dvec3(1.0);
+            ppEyeLux = color::luminance(E * Te);
+            ppLaterT = later ? color::luminance(Te) : 1.0;
+            ppColour = E / std::max(color::luminance(E), 1e-300);
+            ppDiskCdM2 = ppEyeLux / std::max(kPi * radius * radius, 1e-30);
+        }
         draw(kKindDisk, dir, radius, 3.0, L0, E, astro::bodyName(b));
+        ppEyeLux = 0.0;
     }
 
     // The Moon: calibrated so that its disk integral is lights.moon_illuminance without the

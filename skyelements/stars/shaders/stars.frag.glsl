@@ -4,6 +4,7 @@ in vec2 v_offset;
 flat in vec3 v_flux;
 flat in vec3 v_shape;
 flat in float v_haloR2;
+flat in vec4 v_pp;
 
 void main() {
     vec3 dir;
@@ -17,5 +18,8 @@ void main() {
         float q = 1.0 + r2 / (a * a);
         w += g / (WELKIN_PI * a * a * (64.0 / 65.0) * q * q);
     }
-    welkin_output(v_flux * w, vec3(1.0));
+    vec3 L = v_flux * w;
+    // Perceptual mode: the point as the eye sees it, where it is brighter than the physical PSF.
+    if (v_pp.w > 0.0) L = max(L, v_pp.rgb * exp(-0.5 * r2 / (v_pp.w * v_pp.w)));
+    welkin_output(L, vec3(1.0));
 }

@@ -2,6 +2,7 @@
 // engine/camera.glsl before it. Star i is 3 vec4 in the storage buffer: (J2000 ICRS unit
 // direction, V magnitude), (proper motion, rad per Julian year, ICRS axes; 0), (linear sRGB of
 // luminance 1; 0). See skyelements/stars/include/welkin/elements/stars.hpp for the model.
+// Needs stars/point_perceptual.glsl before it (render.point_sources = perceptual).
 layout(std430, binding = WELKIN_BINDING_USER_SSBO_FIRST) readonly buffer StarBuffer { vec4 u_star[]; };
 
 uniform mat3 u_icrsToEnu;    // ICRS -> observer ENU, this frame
@@ -25,6 +26,7 @@ out vec2 v_offset;          // pixels from the star's centre (x right, y down)
 flat out vec3 v_flux;       // per channel illuminance / pixel solid angle (lux / (sr per px^2))
 flat out vec3 v_shape;      // core sigma (px), Moffat width a (px, 0 = no halo), halo fraction
 flat out float v_haloR2;    // halo truncation radius^2, px^2
+flat out vec4 v_pp;         // perceptual mode: peak radiance (cd/m^2, RGB), Gaussian sigma (px); 0: none
 
 const float kTableLo = -0.0872664626;  // -5 deg
 const float kTableSpan = 1.6580627894; // 95 deg
@@ -78,6 +80,7 @@ void main() {
     float glare = a.w < u_glareMag ? u_glare : 0.0;
     float halo = glare > 0.0 ? 2.0 * fwhm : 0.0;
     float radius = max(3.5 * sigma, 8.0 * halo);
+    v_pp = vec4(0.0);
 
     // Flux: magnitude, colour, scintillation (Kasten-Young airmass), extinction without a Sky.
     vec3 E = u_e0 * exp2(-1.3287712 * a.w) * c.rgb;  // 10^(-0.4 m) = 2^(-0.4 log2(10) m)
@@ -91,7 +94,25 @@ void main() {
         float n = mix(stars_noise(uint(star), k), stars_noise(uint(star), k + 1), f * f * (3.0 - 2.0 * f));
         E *= max(1.0 + amp * n, 0.0);
     }
-    if (u_extinction == 1) E *= extinctionAt(hApp);
+    vec3 T = extinctionAt(hApp);
+    if (u_ppMode == 1) {
+        // Perceptual: the eye's threshold against the sky behind the star (welkin/point_source.hpp).
+        // Not seen: not drawn. Seen: a Gaussian whose peak is the sky plus a Weber contrast over
+        // it, drawn besides the physical PSF (the brighter wins per pixel, in the fragment shader).
+        float B = pp_background(d);
+        vec2 fc = pp_point(dot(E * T, vec3(0.2126, 0.7152, 0.0722)), B, u_minFwhmPx);
+        if (fc.x <= 0.0) {
+            gl_Position = WELKIN_CLIP_INVISIBLE;
+            return;
+        }
+        // With the Sky composited later its transmittance multiplies what is drawn here: the
+        // peak is divided by the star's luminance transmittance so that the sky shows it at C B.
+        float tY = dot(T, vec3(0.2126, 0.7152, 0.0722));
+        float peak = fc.y * B / (u_extinction == 1 ? 1.0 : max(tY, 1e-6));
+        v_pp = vec4(peak * c.rgb * (u_extinction == 1 ? T / max(tY, 1e-6) : vec3(1.0)), fc.x / 2.35482);
+        radius = max(radius, 3.5 * v_pp.w);
+    }
+    if (u_extinction == 1) E *= T;
 
     v_flux = E * (s.x * s.y);  // divided by the pixel's solid angle 1 / (s.x s.y) sr
     v_shape = vec3(sigma, halo, glare);

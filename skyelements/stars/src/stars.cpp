@@ -4,6 +4,7 @@
 #include <welkin/astro/bodies.hpp>
 #include <welkin/astro/frames.hpp>
 #include <welkin/color.hpp>
+#include <welkin/elements/point_sources.hpp>
 #include <welkin/elements/stars.hpp>
 #include <welkin/embedded/stars_shaders.hpp>
 #include <welkin/error.hpp>
@@ -13,6 +14,7 @@
 #include <welkin/gl/bindings.hpp>
 #include <welkin/gl/shader.hpp>
 #include <welkin/keys.hpp>
+#include <welkin/point_source.hpp>
 
 #include <epoxy/gl.h>
 #include <nlohmann/json.hpp>
@@ -48,14 +50,8 @@ std::vector<astro::Star> loadCatalogue(const std::string& path) {
 
 double limitingMagnitude(double backgroundCdM2) {
     if (!(backgroundCdM2 >= 0.0)) throw Error("limitingMagnitude(): background luminance not >= 0 cd/m^2");
-    const double B = backgroundCdM2 / 3.183098862e-6;  // nanolamberts (1 nL = 1e-5 / pi cd/m^2)
-    // Schaefer 1990 (Hecht 1947): night (scotopic) branch below 1479 nL, day above.
-    const bool night = B < 1479.0;
-    const double c1 = night ? std::pow(10.0, -9.8) : std::pow(10.0, -8.35);
-    const double c2 = night ? std::pow(10.0, -1.9) : std::pow(10.0, -5.9);
-    const double s = 1.0 + std::sqrt(c2 * B);
-    const double I = c1 * s * s;  // foot-candles
-    return -16.57 - 2.5 * std::log10(I);
+    // Schaefer 1990 (Hecht 1947), welkin/point_source.hpp: the magnitude of the threshold.
+    return -16.57 - 2.5 * std::log10(pointThresholdFootCandles(backgroundCdM2));
 }
 
 double scintillationAmplitude(double altitudeRad, double strength) {
@@ -83,6 +79,8 @@ Stars::Stars() : SkyElement("stars") {
     reads(keys::timeJdUtc);
     reads(generators::skykeys::zenithLuminance);
     reads(keys::nightBackground);
+    reads(keys::pointSources);
+    reads(keys::pointContrast);
 }
 
 Stars::Stars(std::vector<astro::Star> stars) : Stars() {
@@ -123,6 +121,7 @@ void Stars::doInit(InitContext& ctx) {
     programs_ = gl::ProjectionPrograms(gl::ProgramBuilder("Stars")
                                            .define("STARS_TABLE_N", kTableN)
                                            .vertex("engine/camera.glsl", gl::engineShader("camera.glsl"))
+                                           .vertex("stars/point_perceptual.glsl", embedded::stars_shaders("point_perceptual.glsl"))
                                            .vertex("stars/stars.vert.glsl", embedded::stars_shaders("stars.vert.glsl"))
                                            .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
                                            .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
@@ -172,6 +171,7 @@ void Stars::doRender(const FrameContext& ctx) {
         limit_ = std::min(limit_, limitingMagnitude(B));
     }
     drawn_ = int(std::upper_bound(mags_.begin(), mags_.end(), float(limit_)) - mags_.begin());
+    perceptual_ = pointSourceMode(v) == PointSourceMode::Perceptual;
     if (drawn_ == 0) return;
 
     const gl::Program& p = programs_.get(ctx.camera.projection);
@@ -196,9 +196,11 @@ void Stars::doRender(const FrameContext& ctx) {
     float refr[kTableN];
     for (int i = 0; i < kTableN; ++i) refr[i] = float(astro::refraction(tableAltitude(i), P, Tc));
     glProgramUniform1fv(p.id(), p.location("u_refr"), kTableN, refr);
-    // Without a Sky composited over the stars, the atmosphere's extinction is applied here.
+    // Without a Sky composited over the stars, the atmosphere's extinction is applied here; the
+    // perceptual mode needs it either way (the eye's threshold is for the light that reaches it).
     p.set("u_extinction", attenuatedLater ? 0 : 1);
-    if (!attenuatedLater) {
+    perceptual_ = setPerceptualPointUniforms(p, v, attenuatedLater);
+    if (perceptual_ || !attenuatedLater) {
         updateExtinction(v);
         glProgramUniform3fv(p.id(), p.location("u_ext"), kTableN, extinction_.data());
     }
@@ -217,6 +219,7 @@ void Stars::doStats(nlohmann::json& root) const {
     root["stars"]["drawn"] = drawn_;
     root["stars"]["limiting_magnitude"] = limit_;
     root["stars"]["catalogue_size"] = int(mags_.size());
+    root["stars"]["point_sources"] = perceptual_ ? "perceptual" : "physical";
 }
 
 }  // namespace welkin::elements

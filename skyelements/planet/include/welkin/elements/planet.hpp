@@ -15,6 +15,8 @@
 //    a pixel whatever the projection. A disk under 2 pixels across (the Sun, the Moon; 3 for the
 //    planets) is drawn instead as the Stars' Gaussian PSF (FWHM 2 px)
 //    whose integral is the body's illuminance, so the flux is right resolved or not.
+//    With render.point_sources = perceptual an unresolved planet is culled or drawn as the eye
+//    sees it over the sky behind it (welkin/point_source.hpp), its peak under its disk's mean.
 //  - Sun: mean radiance lights.sun_disk_radiance (unreddened, cd/m^2) with the limb darkening
 //    I(mu)/I(1) = mu^a(lambda), a = -0.023 + 0.292 / lambda[um] (Hestroffer & Magnan 1998, A&A
 //    333, 338: a fit to the measured centre-to-limb profiles of Pierce & Slaughter 1977 and

@@ -36,6 +36,10 @@
 //    (default the dark-sky reference astro::magnitude::kDarkSkyZenithMag), m = -16.57 - 2.5 log10 I;
 //    capped by stars.magnitude_limit. Stars fainter than it are not drawn: the catalogue is sorted
 //    by magnitude and only the prefix brighter than the limit is instanced (cost nothing).
+//  - render.point_sources = perceptual (displayed images; welkin/point_source.hpp): each star's
+//    illuminance at the eye against the threshold for the sky behind it (point_perceptual.glsl);
+//    under it the star is not drawn, over it also as a Gaussian sized and brightened with log10
+//    of the ratio (the brighter of it and the PSF per pixel).
 #pragma once
 #include <welkin/astro/stars.hpp>
 #include <welkin/color.hpp>
@@ -81,7 +85,9 @@ public:
     /// A host's own catalogue (stars.catalogue is then ignored).
     explicit Stars(std::vector<astro::Star> stars);
 
-    /// Stars drawn by the last frame, and the limiting magnitude it used.
+    /// Stars drawn by the last frame (in the perceptual mode, render.point_sources: instanced;
+    /// those under the eye's threshold over the sky behind them are then culled on the GPU), and
+    /// the limiting magnitude it used.
     int drawn() const { return drawn_; }
     double limitingMagnitudeUsed() const { return limit_; }
     /// Catalogue size (after init).
@@ -106,6 +112,7 @@ private:
     const void* extinctionAtm_ = nullptr;
     int drawn_ = 0;
     double limit_ = 0;
+    bool perceptual_ = false;  // render.point_sources of the last frame
 };
 
 }  // namespace welkin::elements
