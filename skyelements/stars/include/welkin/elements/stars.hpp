@@ -40,6 +40,7 @@
 #include <welkin/astro/stars.hpp>
 #include <welkin/color.hpp>
 #include <welkin/element.hpp>
+#include <welkin/elements/star_labels.hpp>
 #include <welkin/gl/objects.hpp>
 #include <welkin/gl/projection_programs.hpp>
 
@@ -106,6 +107,7 @@ private:
     const void* extinctionAtm_ = nullptr;
     int drawn_ = 0;
     double limit_ = 0;
+    StarLabels labels_;  // stars.labels (star_labels.hpp)
 };
 
 }  // namespace welkin::elements
