@@ -17,6 +17,7 @@
 #include <welkin/image.hpp>
 #include <welkin/processor.hpp>
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -34,12 +35,16 @@ namespace {
 
 // Valletta, Malta (the place of the design's scene); local time in July 2018 is CEST (UTC+2).
 constexpr double kMaltaLatDeg = 35.90, kMaltaLonDeg = 14.51;
-constexpr const char* kElements = "nightsky,stars,planet,sky,constellations,grid";
+// The stars and the planets after the sky, so that their labels are written over it (each then
+// applies the atmosphere's extinction itself; the Sky's light in front of a star is the same
+// either way, and the Moon's opaque disk hides the little in front of it, < 1 % of its radiance).
+constexpr const char* kElements = "nightsky,sky,stars,planet,constellations,grid";
 
 struct EducationScene {
     const char* id;       // file name (id.png) and --scenes name
     const char* time;     // ISO 8601 with the local offset
     double azDeg, altDeg, fovDeg;  // view centre (azimuth from north through east), vertical field
+    double ev100;         // manual exposure: darker with the Moon high (its aureole)
     const char* caption;  // what the scene shows
 };
 
@@ -48,10 +53,10 @@ struct EducationScene {
 // Saturn higher (152, 26); at 01:00 they climb (Moon 133/23, Mars 146/23); at 04:00 they are in
 // the south (Moon 179/38, Mars 192/30). Jupiter (213, 33 at 23:00) is in Libra, south-west.
 const EducationScene kScenes[] = {
-    {"moon-mars-2300", "2018-07-01T23:00:00+02:00", 130, 14, 50, "23:00 CEST, south-east: the Moon and Mars rising, Saturn above them"},
-    {"moon-mars-0100", "2018-07-02T01:00:00+02:00", 150, 20, 50, "01:00 CEST, south-east: the Moon and Mars climbing along the ecliptic"},
-    {"moon-mars-0400", "2018-07-02T04:00:00+02:00", 195, 25, 50, "04:00 CEST, south: the Moon and Mars high before dawn, Saturn setting"},
-    {"jupiter-2300", "2018-07-01T23:00:00+02:00", 215, 22, 50, "23:00 CEST, south-west: Jupiter in Libra, Antares and Saturn to its left"},
+    {"moon-mars-2300", "2018-07-01T23:00:00+02:00", 125, 12, 40, -6, "23:00 CEST, south-east: the Moon and Mars rising, Saturn above them"},
+    {"moon-mars-0100", "2018-07-02T01:00:00+02:00", 148, 22, 40, -4, "01:00 CEST, south-east: the Moon and Mars climbing along the ecliptic"},
+    {"moon-mars-0400", "2018-07-02T04:00:00+02:00", 195, 25, 50, -4, "04:00 CEST, south: the Moon and Mars high before dawn, Saturn setting"},
+    {"jupiter-2300", "2018-07-01T23:00:00+02:00", 215, 22, 50, -6, "23:00 CEST, south-west: Jupiter in Libra, Antares and Saturn to its left"},
 };
 
 struct EducationOptions {
@@ -61,7 +66,7 @@ struct EducationOptions {
     double limitingMagnitude = 6.0;  // stars.magnitude_limit, [-2, 9]
     double starLabelMagnitude = 1.5; // stars.label_magnitude, [-2, 6]
     std::string scenes = "all";
-    std::string exposure = "auto";
+    std::string exposure = "scene";  // manual EV100 for every scene, or each scene's own
     std::string quality = "medium";
     bool view = false;
 };
@@ -98,6 +103,12 @@ std::string number(double v) {
 
 // The scene as `welkin render` options.
 SceneOptions sceneOptions(const EducationScene& s, const EducationOptions& o) {
+    const double ev = o.exposure == "scene" ? s.ev100 : std::stod(o.exposure);
+    const double white = 1.2 * std::exp2(ev);  // cd/m^2 the tone map shows as white
+    int w = 0, h = 0;
+    parseSize(o.size, "--size", w, h);
+    // Labels of at least 12 px: DejaVu's hyphen (the minus of "-2.2") vanishes at 11 px.
+    const double labelPx = std::max(12.0, std::round(std::min(w, h) / 45.0));
     SceneOptions so;
     so.time = s.time;
     so.latDeg = kMaltaLatDeg;
@@ -108,15 +119,25 @@ SceneOptions sceneOptions(const EducationScene& s, const EducationOptions& o) {
     so.altDeg = s.altDeg;
     so.fovDeg = s.fovDeg;
     so.size = o.size;
-    so.exposure = o.exposure;
+    so.exposure = number(ev);
     so.quality = o.quality;
-    so.vars = {"planet.labels=true",
+    so.vars = {"planet.bodies=moon,mercury,venus,mars,jupiter,saturn",  // the naked-eye planets
+               "planet.labels=true",
                "planet.label_magnitude=true",
                "planet.size_factor=" + number(o.planetScale),
                "stars.labels=true",
                "stars.label_magnitude=" + number(o.starLabelMagnitude),
                "stars.magnitude_limit=" + number(o.limitingMagnitude),
-               "grid.ecliptic=true"};
+               "grid.ecliptic=true",
+               // The overlay at fractions of the exposure's white (1.2 x 2^EV100 cd/m^2): names at
+               // white, the grid dimmer than the figures (0.6, their default) so they stand apart.
+               "planet.label_luminance_cd_m2=" + number(white),
+               "stars.label_luminance_cd_m2=" + number(white),
+               "constellations.label_luminance_cd_m2=0",
+               "constellations.line_luminance_cd_m2=0",
+               "grid.luminance_cd_m2=" + number(0.45 * white),
+               "planet.label_size_px=" + number(labelPx),
+               "stars.label_size_px=" + number(labelPx)};
     return so;
 }
 
@@ -125,7 +146,7 @@ std::vector<std::string> sceneArguments(const SceneOptions& so) {
     std::vector<std::string> a = {"--time", so.time, "--lat", number(so.latDeg), "--lon", number(so.lonDeg),
                                   "--elements", so.elements, "--az", number(so.azDeg), "--alt", number(so.altDeg),
                                   "--fov", number(so.fovDeg), "--size", so.size};
-    if (so.exposure != "auto") a.insert(a.end(), {"--exposure", so.exposure});
+    a.insert(a.end(), {"--exposure", so.exposure});
     if (so.quality != "medium") a.insert(a.end(), {"--quality", so.quality});
     for (const std::string& v : so.vars) a.insert(a.end(), {"--var", v});
     return a;
@@ -147,6 +168,12 @@ void validate(const EducationOptions& o) {
     welkin::checkRange("", "--planet-scale", o.planetScale, 1, 100);
     welkin::checkRange("", "--limiting-magnitude", o.limitingMagnitude, -2, 9);
     welkin::checkRange("", "--star-label-magnitude", o.starLabelMagnitude, -2, 6);
+    if (o.exposure != "scene") {
+        char* end = nullptr;
+        const double ev = std::strtod(o.exposure.c_str(), &end);
+        if (end == o.exposure.c_str() || *end != '\0') throw Error("--exposure '" + o.exposure + "' is neither an EV100 number nor scene");
+        welkin::checkRange("", "--exposure", ev, -20, 30);
+    }
     if (o.out.empty()) throw Error("--out: empty directory name");
 }
 
@@ -219,7 +246,8 @@ DemoRegistrar reg("education", "the Moon, Mars and the planets over Malta, 1-2 J
     sub.add_option("--star-label-magnitude", o->starLabelMagnitude, "name the stars at least this bright, mag [-2, 6] (stars.label_magnitude)")
         ->capture_default_str();
     sub.add_option("--scenes", o->scenes, "comma list of scenes, or all (" + ids + ")")->capture_default_str();
-    sub.add_option("--exposure", o->exposure, "EV100 in [-20, 30], or auto (the eye's adaptation)")->capture_default_str();
+    sub.add_option("--exposure", o->exposure, "manual exposure EV100 in [-20, 30] for every scene, or scene (each its own: -6, or -4 with the Moon high); labels and lines follow its white")
+        ->capture_default_str();
     sub.add_option("--quality", o->quality, "low | medium | high | reference")->capture_default_str();
     sub.add_flag("--view", o->view, "open the first selected scene in the interactive viewer (welkin view) instead of writing images");
     return [o]() { return run(*o); };
