@@ -56,7 +56,7 @@ const EducationScene kScenes[] = {
     {"moon-mars-2300", "2018-07-01T23:00:00+02:00", 125, 12, 40, -6, "23:00 CEST, south-east: the Moon and Mars rising, Saturn above them"},
     {"moon-mars-0100", "2018-07-02T01:00:00+02:00", 148, 22, 40, -4, "01:00 CEST, south-east: the Moon and Mars climbing along the ecliptic"},
     {"moon-mars-0400", "2018-07-02T04:00:00+02:00", 195, 25, 50, -4, "04:00 CEST, south: the Moon and Mars high before dawn, Saturn setting"},
-    {"jupiter-2300", "2018-07-01T23:00:00+02:00", 215, 22, 50, -6, "23:00 CEST, south-west: Jupiter in Libra, Antares and Saturn to its left"},
+    {"jupiter-2300", "2018-07-01T23:00:00+02:00", 215, 22, 50, -6, "23:00 CEST, south-west: Jupiter in Libra, between Spica and Antares"},
 };
 
 struct EducationOptions {

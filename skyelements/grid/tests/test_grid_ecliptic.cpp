@@ -90,6 +90,6 @@ TEST_CASE("Grid: the ecliptic passes through the Sun's place, along the ecliptic
     const double offAxisDeg = std::asin(std::min(1.0, std::abs(e.x * u.y - e.y * u.x))) / kDeg;
     INFO("ecliptic direction differs by " << offAxisDeg << " deg");
     CHECK(offAxisDeg < 3.0);  // a 24 px segment: 1 px across its end is 5 deg; 3 deg leaves room for the fit
-    // The line is the ecliptic's golden one (1, 0.78, 0.2), not a green equatorial line.
+    // The line is the ecliptic's golden one (2, 1.56, 0.4) x the luminance, not a green equatorial line.
     CHECK(red > 2 * blue);
 }

@@ -24,7 +24,7 @@
 // each pole. Without the astronomy (no stars.frame_icrs_to_enu) ICRS is taken as ENU.
 // The ecliptic (grid.ecliptic) is the great circle of the J2000 mean ecliptic, pole at ICRS
 // (0, -sin e, cos e), e = 23 deg 26' 21.406" (IAU 2006), placed and refracted like the equatorial
-// lines and drawn golden with the same width. The ecliptic of date is within 50" of it for
+// lines, golden, 1.5 x their width and twice their luminance. The ecliptic of date is within 50" of it for
 // 1900-2100 (it tilts by ~47" a century): the Sun's apparent place (ecliptic latitude < 1") lies on
 // the drawn line to well under a pixel at any ordinary field of view.
 #pragma once
