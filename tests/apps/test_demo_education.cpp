@@ -165,3 +165,14 @@ TEST_CASE("welkin demo education labels the planets with name and magnitude wher
         CHECK(stray == 0);
     }
 }
+
+TEST_CASE("welkin demo education --view starts welkin view with the scene's options", "[cpu][demo][education]") {
+    // Without a display the viewer parses every option (a bad one would be CLI11's parse error)
+    // and then stops at the window: its own one-line error proves it was the viewer that ran.
+    const test::CliResult r = test::runCli("demo education --view --scenes jupiter-2300 --size 64x36", "env -u DISPLAY -u WAYLAND_DISPLAY");
+    INFO(r.output);
+    CHECK(r.output.find("welkin view --time 2018-07-01T23:00:00+02:00 --lat 35.9 --lon 14.51 --elements nightsky,sky,stars,planet,constellations,grid --az 215") == 0);
+    CHECK(r.output.find("--var grid.ecliptic=true") != std::string::npos);
+    CHECK(r.output.find("welkin view: WindowContext: GLFW cannot start") != std::string::npos);
+    CHECK(r.status == 1);
+}
