@@ -13,7 +13,24 @@ namespace welkin::elements {
 bool isProperStarName(const std::string& name) {
     // kstars' stars.dat gives a long name ("Vega") where it has one, else the genitive Bayer or
     // Flamsteed designation ("alp2Cen", "61 Cyg"): those start with a lower-case letter or a digit.
-    return !name.empty() && std::isupper(static_cast<unsigned char>(name[0]));
+    if (name.empty() || !std::isupper(static_cast<unsigned char>(name[0]))) return false;
+    // BSC5 and HYG designations are capitalised ("Alp Lyr", "Bet1Sco"): a Greek letter's
+    // three-letter abbreviation (with an optional digit) before a constellation's is not a name.
+    static const char* kGreek[] = {"alp", "bet", "gam", "del", "eps", "zet", "eta", "the", "iot", "kap", "lam", "mu",
+                                   "nu",  "xi",  "omi", "pi",  "rho", "sig", "tau", "ups", "phi", "chi", "psi", "ome"};
+    // The constellation: the last three letters, after a space or the Greek letter's digit.
+    const size_t n = name.size();
+    if (n < 5 || !std::isalpha(static_cast<unsigned char>(name[n - 3])) || !std::isalpha(static_cast<unsigned char>(name[n - 2])) ||
+        !std::isalpha(static_cast<unsigned char>(name[n - 1])) || !(name[n - 4] == ' ' || std::isdigit(static_cast<unsigned char>(name[n - 4]))))
+        return true;
+    const size_t sp = n - 3;
+    std::string first;
+    for (size_t i = 0; i < sp; ++i)
+        if (std::isalpha(static_cast<unsigned char>(name[i]))) first += char(std::tolower(static_cast<unsigned char>(name[i])));
+        else if (!std::isdigit(static_cast<unsigned char>(name[i])) && name[i] != ' ') return true;
+    for (const char* g : kGreek)
+        if (first == g) return false;
+    return true;
 }
 
 std::vector<NamedStar> namedStars(const std::vector<astro::Star>& stars) {

@@ -33,6 +33,10 @@ TEST_CASE("Star labels: proper names only, from the kstars catalogue", "[cpu][st
     CHECK_FALSE(elements::isProperStarName("alp Lyr"));
     CHECK_FALSE(elements::isProperStarName("61 Cyg"));
     CHECK_FALSE(elements::isProperStarName(""));
+    CHECK_FALSE(elements::isProperStarName("Alp Lyr"));   // BSC5 / HYG designations
+    CHECK_FALSE(elements::isProperStarName("Bet1Sco"));
+    CHECK(elements::isProperStarName("Kaus Australis"));
+    CHECK(elements::isProperStarName("Zubenelgenubi"));
     if (!std::filesystem::exists(astro::kKStarsCatalogue)) FAIL("no star catalogue at " << astro::kKStarsCatalogue << " (apt install kstars-data)");
     const auto named = elements::namedStars(astro::loadKStarsCatalogue(astro::kKStarsCatalogue, 3.0));
     // The bright named stars (V < 1.5): about 20 of the 21 first-magnitude stars (alp Cen and

@@ -43,7 +43,8 @@ struct NamedStar {
     float magnitudeV = 0;  ///< visual magnitude
 };
 
-/// True for a proper name ("Vega", "Al Na'ir"), false for a designation ("alp Lyr", "61 Cyg") or "".
+/// True for a proper name ("Vega", "Al Na'ir"), false for a designation ("alp Lyr", "61 Cyg",
+/// BSC5's "Alp Lyr") or "".
 bool isProperStarName(const std::string& name);
 /// The stars of `stars` with a proper name, brightest first.
 std::vector<NamedStar> namedStars(const std::vector<astro::Star>& stars);
