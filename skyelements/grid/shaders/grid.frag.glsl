@@ -8,10 +8,11 @@ uniform float u_horizonWidthPx;  // pixels
 uniform float u_luminance;       // cd/m^2 of a fully covered pixel
 uniform vec4 u_markers[4];       // N, E, S, W: pixel position (x, y), visible flag
 uniform float u_glyphScale;      // pixels per glyph cell
-uniform int u_frame;             // bit 0: horizontal grid, bit 1: equatorial grid
+uniform int u_frame;             // bit 0: horizontal grid, bit 1: equatorial grid, bit 2: ecliptic
 uniform mat3 u_enuToIcrs;        // observer ENU -> ICRS (J2000)
 uniform float u_raStep;          // radians
 uniform float u_decStep;         // radians
+uniform vec3 u_eclipticPole;     // ICRS unit vector of the J2000 ecliptic's north pole
 // Refraction (rad) at apparent altitude h = -5 deg + 95 deg * u^2, u = i / (N - 1).
 uniform float u_refrApparent[GRID_TABLE_N];
 
@@ -62,14 +63,18 @@ void main() {
     float cover = max(max(cAlt, cAz), cHor);
     vec3 colour = mix(vec3(0.55, 0.7, 1.0), vec3(1.0, 0.8, 0.45), cHor / max(cover, 1e-6));
 
-    if ((u_frame & 2) != 0) {
-        // Equatorial: the geometric direction (refraction taken off), then ICRS RA/Dec.
+    vec3 q = vec3(0.0, 0.0, 1.0);
+    if ((u_frame & 6) != 0) {
+        // The geometric direction (refraction taken off) in ICRS axes.
         float x = sqrt(clamp((alt + 0.0872664626) / 1.6580627894, 0.0, 1.0)) * float(GRID_TABLE_N - 1);
         int i = min(int(x), GRID_TABLE_N - 2);
         float altGeo = alt - mix(u_refrApparent[i], u_refrApparent[i + 1], x - float(i));
         float h = length(dir.xy);
         vec2 sc = h > 0.0 ? dir.xy / h : vec2(0.0, 1.0);
-        vec3 q = u_enuToIcrs * vec3(sc * cos(altGeo), sin(altGeo));
+        q = u_enuToIcrs * vec3(sc * cos(altGeo), sin(altGeo));
+    }
+    if ((u_frame & 2) != 0) {
+        // Equatorial: ICRS RA/Dec.
         float dec = asin(clamp(q.z, -1.0, 1.0));
         float ra = atan(q.y, q.x);
         float cDec = lineCoverage(abs(dec - u_decStep * round(dec / u_decStep)), u_lineWidthPx * px);
@@ -81,6 +86,16 @@ void main() {
         if (cEq > 0.0) {
             colour = mix(colour, vec3(0.45, 1.0, 0.7), cEq / max(max(cover, cEq), 1e-6));
             cover = max(cover, cEq);
+        }
+    }
+
+    if ((u_frame & 4) != 0) {
+        // The ecliptic: angular distance from its great circle; golden, 1.5 x as wide and twice
+        // as bright as the other lines, over them.
+        float cEcl = lineCoverage(abs(asin(clamp(dot(q, u_eclipticPole), -1.0, 1.0))), 1.5 * u_lineWidthPx * px);
+        if (cEcl > 0.0) {
+            colour = mix(colour, vec3(2.0, 1.56, 0.4), cEcl / max(max(cover, cEcl), 1e-6));
+            cover = max(cover, cEcl);
         }
     }
 

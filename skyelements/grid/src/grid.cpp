@@ -55,6 +55,7 @@ Grid::Grid(const GridOptions& o, bool force) : SkyElement("grid") {
     option(gridkeys::frame, o.frame, force);
     option(gridkeys::raStep, o.raStepDeg * gridkeys::kDeg, force);
     option(gridkeys::decStep, o.decStepDeg * gridkeys::kDeg, force);
+    option(gridkeys::ecliptic, o.ecliptic, force);
     reads(keys::exposureEv100);
     reads(astro::keys::starFrameRotation);
     reads(astro::keys::refractionPressure);
@@ -79,7 +80,7 @@ void Grid::doRender(const FrameContext& ctx) {
     if (L <= 0) L = 0.8 * 1.2 * std::exp2(v.get(keys::exposureEv100));  // ~80 % of white
     validateOptions(v);
     const std::string frame = v.get(gridkeys::frame);
-    const int frameBits = (frame != "equatorial" ? 1 : 0) | (frame != "horizontal" ? 2 : 0);
+    const int frameBits = (frame != "equatorial" ? 1 : 0) | (frame != "horizontal" ? 2 : 0) | (v.get(gridkeys::ecliptic) ? 4 : 0);
     const bool markers = v.get(gridkeys::markers) && (frameBits & 1);
     const gl::Program& program_ = programs_.get(ctx.camera.projection);
     program_.use();
@@ -89,12 +90,15 @@ void Grid::doRender(const FrameContext& ctx) {
     program_.set("u_horizonWidthPx", float(v.get(gridkeys::horizonWidth)));
     program_.set("u_luminance", float(L));
     program_.set("u_frame", frameBits);
-    if (frameBits & 2) {
+    if (frameBits & 6) {
         // ENU -> ICRS (the transpose of the star frame's rotation), and the refraction to take off
         // an apparent altitude (a table over apparent altitude, like the Stars element's).
         program_.set("u_enuToIcrs", glm::mat3(glm::transpose(v.getOr(astro::keys::starFrameRotation, glm::dmat3(1.0)))));
         program_.set("u_raStep", float(v.get(gridkeys::raStep)));
         program_.set("u_decStep", float(v.get(gridkeys::decStep)));
+        // The J2000 mean ecliptic's north pole in ICRS axes (obliquity IAU 2006, 84381.406").
+        const double eps = 84381.406 / 3600.0 * gridkeys::kDeg;
+        program_.set("u_eclipticPole", glm::vec3(0.0f, float(-std::sin(eps)), float(std::cos(eps))));
         const double P = v.getOr(astro::keys::refractionPressure, 1013.25), Tc = v.getOr(astro::keys::refractionTemperature, 10.0);
         float refr[kTableN];
         for (int i = 0; i < kTableN; ++i) {

@@ -23,6 +23,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <numbers>
 #include <sstream>
@@ -82,6 +83,23 @@ glm::dvec3 sphereNormal(const glm::dvec3& d, const glm::dvec3& c, double s) {
     const double w = std::sqrt(std::max(1.0 - rho * rho, 0.0));
     const glm::dvec3 e = sinT > 0.0 ? perp / sinT : glm::dvec3(0.0);
     return glm::normalize(-(rho * sinT + cosT * w) * c + (rho * cosT - sinT * w) * e);
+}
+
+// The magnitude written after a body's name: one decimal with an ASCII minus (the text atlas is
+// Latin-1: U+2212 would draw as '?'), "?" when the astronomy has none.
+std::string planetLabelMagnitude(const SkyVars& v, const std::string& bodyName) {
+    namespace ak = astro::keys;
+    constexpr double kAuM = 1.495978707e11;  // IAU 2012 astronomical unit, m
+    const astro::Body b = astro::parseBody(bodyName);
+    double m = 0;
+    if (b == astro::Body::Sun) m = astro::magnitude::sun(v.getOr(ak::sunDistance, kAuM) / kAuM);
+    else if (b == astro::Body::Moon && v.has(ak::moonMagnitude)) m = v.get(ak::moonMagnitude);
+    else if (b != astro::Body::Moon && v.has(ak::planetMagnitude(b))) m = v.get(ak::planetMagnitude(b));
+    else return "?";
+    if (std::abs(m) < 0.05) m = 0.0;  // "0.0", not "-0.0"
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.1f", m);
+    return buf;
 }
 
 float lumaOf(const Image& img, int x, int y) {
@@ -254,6 +272,7 @@ Planet::Planet(std::string name) : SkyElement(std::move(name)) {
     option(planetkeys::earthshine, true);
     option(planetkeys::eclipse, true);
     option(planetkeys::labels, false);
+    option(planetkeys::labelMagnitude, false);
     option(planetkeys::labelSize, 0.0);
     option(planetkeys::labelLuminance, 2e-3);
     option(planetkeys::moonTexture, std::string(kMoonTexturePath));
@@ -611,6 +630,7 @@ void Planet::doRender(const FrameContext& ctx) {
             style.offsetPx = {float(l.radiusPx) + 0.4f * style.pixelSize, 0.0f};
             std::string name = l.name;
             if (!name.empty()) name[0] = char(std::toupper(static_cast<unsigned char>(name[0])));
+            if (v.get(planetkeys::labelMagnitude)) name += " " + planetLabelMagnitude(v, l.name);
             labelBatch_.addAt(font_, glm::vec3(l.dir), name, style);
             ++labelsDrawn_;
         }

@@ -71,6 +71,10 @@ Stars::Stars() : SkyElement("stars") {
     option(starkeys::glareMagnitude, 1.5);
     option(starkeys::scintillation, 1.0);
     option(starkeys::seed, 1);
+    option(starkeys::labels, false);
+    option(starkeys::labelMagnitude, 1.5);
+    option(starkeys::labelSize, 0.0);
+    option(starkeys::labelLuminance, 2e-3);
     reads(astro::keys::starFrameRotation);
     reads(astro::keys::starFrameAberration);
     reads(astro::keys::starFrameEpochYears);
@@ -89,6 +93,7 @@ Stars::Stars(std::vector<astro::Star> stars) : Stars() {
 }
 
 void Stars::upload(std::vector<astro::Star> stars) {
+    labels_.setCatalogue(stars);
     std::stable_sort(stars.begin(), stars.end(), [](const astro::Star& a, const astro::Star& b) { return a.magnitudeV < b.magnitudeV; });
     std::vector<glm::dvec3> colours;
     for (double bv = kBvLo; bv <= kBvHi + 1e-9; bv += kBvStep) colours.push_back(starColourFromBV(bv));
@@ -206,6 +211,7 @@ void Stars::doRender(const FrameContext& ctx) {
     }
     buffer_.bindBase(GL_SHADER_STORAGE_BUFFER, gl::binding::kUserSsboFirst);
     glDrawArraysInstanced(GL_TRIANGLES, 0, 6, copies * drawn_);
+    labels_.render(ctx, limit_);
 }
 
 void Stars::doRelease() {
@@ -213,6 +219,7 @@ void Stars::doRelease() {
     buffer_ = gl::Buffer();
     mags_.clear();
     extinction_.clear();
+    labels_.release();
 }
 
 void Stars::doStats(nlohmann::json& root) const {
@@ -220,6 +227,7 @@ void Stars::doStats(nlohmann::json& root) const {
     root["stars"]["limiting_magnitude"] = limit_;
     root["stars"]["catalogue_size"] = int(mags_.size());
     root["stars"]["point_sources"] = perceptual_ ? "perceptual" : "physical";
+    root["stars"]["labels"] = labels_.drawn();
 }
 
 }  // namespace welkin::elements

@@ -8,6 +8,7 @@
 //   processor.vars().set(welkin::elements::gridkeys::azimuthStep, 0.5);   // later: any option, rad
 //   // command line: welkin render --elements sky,grid --var grid.altitude_step_rad=15deg
 //   //               welkin render --elements grid --var grid.frame=both --var grid.ra_step_rad=30deg
+//               welkin render --elements grid --var grid.ecliptic=true      // + the ecliptic
 //
 // Options are keys (gridkeys below): GridOptions gives their values when the element is added.
 // Lines are antialiased and drawn with a constant angular width: `lineWidthPx` pixels at the
@@ -21,6 +22,11 @@
 // pole in 2026) and lifted by the same refraction as the stars (astro::refraction at the
 // astronomy's pressure and temperature). Hour circles stop at the last declination circle before
 // each pole. Without the astronomy (no stars.frame_icrs_to_enu) ICRS is taken as ENU.
+// The ecliptic (grid.ecliptic) is the great circle of the J2000 mean ecliptic, pole at ICRS
+// (0, -sin e, cos e), e = 23 deg 26' 21.406" (IAU 2006), placed and refracted like the equatorial
+// lines, golden, 1.5 x their width and twice their luminance. The ecliptic of date is within 50" of it for
+// 1900-2100 (it tilts by ~47" a century): the Sun's apparent place (ecliptic latitude < 1") lies on
+// the drawn line to well under a pixel at any ordinary field of view.
 #pragma once
 #include <welkin/element.hpp>
 #include <welkin/gl/objects.hpp>
@@ -41,6 +47,8 @@ inline const Key<bool> markers{"grid.markers", "draw N, E, S, W at the horizon"}
 inline const Key<std::string> frame{"grid.frame", "which grid: horizontal (altitude/azimuth), equatorial (RA/Dec, J2000) or both"};
 inline const Key<double> raStep{"grid.ra_step_rad", Range{1 * kDeg, 180 * kDeg}, "spacing of hour circles (equatorial; 15 deg = 1 h)"};
 inline const Key<double> decStep{"grid.dec_step_rad", Range{1 * kDeg, 90 * kDeg}, "spacing of declination circles (equatorial)"};
+/// The ecliptic (J2000 mean ecliptic, obliquity 23 deg 26' 21.406"), in any grid.frame.
+inline const Key<bool> ecliptic{"grid.ecliptic", "draw the ecliptic (J2000), the Sun's yearly path, where the planets wander"};
 }  // namespace gridkeys
 
 struct GridOptions {
@@ -53,6 +61,7 @@ struct GridOptions {
     std::string frame = "horizontal";  ///< "horizontal", "equatorial" or "both"
     double raStepDeg = 15.0;        ///< spacing of hour circles, degrees, [1, 180] (15 = 1 h)
     double decStepDeg = 10.0;       ///< spacing of declination circles, degrees, [1, 90]
+    bool ecliptic = false;          ///< draw the ecliptic (J2000) as a line of its own colour
     /// Throws welkin::Error naming the member and its range.
     void validate() const;
 };

@@ -44,6 +44,7 @@
 #include <welkin/astro/stars.hpp>
 #include <welkin/color.hpp>
 #include <welkin/element.hpp>
+#include <welkin/elements/star_labels.hpp>
 #include <welkin/gl/objects.hpp>
 #include <welkin/gl/projection_programs.hpp>
 
@@ -113,6 +114,7 @@ private:
     int drawn_ = 0;
     double limit_ = 0;
     bool perceptual_ = false;  // render.point_sources of the last frame
+    StarLabels labels_;  // stars.labels (star_labels.hpp)
 };
 
 }  // namespace welkin::elements
