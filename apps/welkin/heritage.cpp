@@ -78,7 +78,7 @@ const std::vector<SiteInfo>& sites() {
         // uncertain by at least +-10 deg (make_heritage.py turns the model by the same number).
         k.axisAzimuthDeg = 100.0;
         k.axisName = "Kalabsha's axis";
-        k.outside = {28.0, 24.0, 38.0, -32.0, 2.0, -3.0, 50.0};
+        k.outside = {18.0, 30.0, 52.0, -34.0, 9.0, -4.0, 50.0};
         k.inside = {-26.8, 1.7, 0.0, -60.0, 3.4, 0.0, 65.0};
         k.hasAlignmentView = true;
         k.alignment = {-51.0, 1.6, 0.0, 150.0, 1.6 + 201.0 * std::tan(1.2 * kDeg), 0.0, 40.0};

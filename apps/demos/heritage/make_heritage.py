@@ -49,8 +49,8 @@ KITI_APSE_AZIMUTH_DEG = 90.0
 # Linear albedos (base colours).
 SANDSTONE = (0.46, 0.33, 0.19)      # Nubian sandstone, yellow-brown
 SANDSTONE_DARK = (0.36, 0.25, 0.14)  # the same, for the terrace and the column drums
-GRANITE = (0.16, 0.11, 0.085)       # the dark granite promontory
-DESERT = (0.42, 0.31, 0.18)         # wind-blown sand
+GRANITE = (0.13, 0.10, 0.085)       # the dark granite of the promontory
+DESERT = (0.50, 0.34, 0.18)         # wind-blown orange sand
 WATER = (0.010, 0.020, 0.025)       # lake water (the reflection does the rest)
 LIMESTONE = (0.48, 0.41, 0.30)      # Cypriot limestone ashlar
 PLASTER = (0.55, 0.50, 0.42)        # the lime-plastered vaults and dome
@@ -313,9 +313,10 @@ def make_kalabsha(out_dir):
     g.node("kalabsha_temple", mesh, (0.0, 0.0, 0.0), 90.0 - KALABSHA_AXIS_AZIMUTH_DEG)
 
     def colour(x, y, z):
-        slope_rock = smoothstep(-2.0, -10.0, y)  # granite near the water, sand above
+        # The promontory is dark granite with drifts of orange sand; granite down to the water.
         f = 0.5 + 0.5 * math.sin(0.021 * x + 0.017 * z) * math.sin(0.013 * x - 0.029 * z + 1.0)
-        return mix(mix(DESERT, SANDSTONE_DARK, 0.35 * f), GRANITE, slope_rock)
+        sand = smoothstep(0.35, 0.75, f) * (1.0 - smoothstep(-2.0, -10.0, y))
+        return mix(GRANITE, DESERT, 0.25 + 0.75 * sand)
 
     ground(g, "promontory", 1500.0, 49, kalabsha_height, colour, ground_m)
     flat(g, "lake", 3000.0, -12.0, water_m)
