@@ -14,7 +14,8 @@
   kiti.gltf + .bin       Panagia Angeloktisti at Kiti (Cyprus): a small cross-in-square church
                          with its semicircular apse (a half dome over it), barrel vaults over
                          the four arms, a dome on a windowed drum over the crossing, a lower
-                         narthex to the west; doors and windows let daylight in. Node
+                         narthex to the west and the barrel-vaulted chapel of Saints Kosmas
+                         and Damian along the north side; doors and windows let daylight in. Node
                          "kiti_church", its apse towards KITI_APSE_AZIMUTH_DEG.
 
 Both models are built in a local frame whose +x is the building's axis (the way out through
@@ -173,13 +174,14 @@ def spandrel(mb, axis, a, c, y_spring, r, y_top, n=12):
             both(mb, [(u0, v0, a), (u1, v1, a), (u1, y_top, a), (u0, y_top, a)])
 
 
-def dome(mb, cx, y0, cz, r, a0=0.0, a1=2 * math.pi, n_az=16, n_el=6):
-    """A (part of a) hemispherical dome (thin, two-sided) over azimuths a0..a1 in the x-z plane."""
+def dome(mb, cx, y0, cz, r, a0=0.0, a1=2 * math.pi, n_az=16, n_el=6, ky=1.0):
+    """A (part of a) hemispherical dome (thin, two-sided) over azimuths a0..a1 in the x-z plane,
+    its height ky r (ky < 1: a flattened dome)."""
     for j in range(n_el):
         e0, e1 = 0.5 * math.pi * j / n_el, 0.5 * math.pi * (j + 1) / n_el
         for i in range(n_az):
             t0, t1 = a0 + (a1 - a0) * i / n_az, a0 + (a1 - a0) * (i + 1) / n_az
-            p = lambda t, e: (cx + r * math.cos(e) * math.cos(t), y0 + r * math.sin(e), cz + r * math.cos(e) * math.sin(t))
+            p = lambda t, e: (cx + r * math.cos(e) * math.cos(t), y0 + ky * r * math.sin(e), cz + r * math.cos(e) * math.sin(t))
             if j == n_el - 1:
                 both(mb, [p(t0, e0), p(t1, e0), p(t0, e1)])
             else:
@@ -347,12 +349,13 @@ def kiti_church(stone, plaster):
     box(stone, 6.0, 6.8, 0.0, h, -5.8, -2.4)
     box(stone, 6.0, 6.8, 0.0, h, 2.4, 5.8)
     box(stone, 6.0, 6.8, 4.6, h, -2.4, 2.4)
-    # The apse: a half cylinder of wall east of x = 6.8 with a window, its half dome at 4.6 m.
+    # The apse: a half cylinder of wall east of x = 6.8 with a window, its (flattened) half dome
+    # from 4.6 m.
     curved_wall(stone, 6.8, 0.0, 2.4, 3.1, -0.5 * math.pi, -0.12, 0.0, 4.6, 6)
     curved_wall(stone, 6.8, 0.0, 2.4, 3.1, 0.12, 0.5 * math.pi, 0.0, 4.6, 6)
     curved_wall(stone, 6.8, 0.0, 2.4, 3.1, -0.12, 0.12, 0.0, 1.8, 1)
     curved_wall(stone, 6.8, 0.0, 2.4, 3.1, -0.12, 0.12, 3.4, 4.6, 1)
-    dome(plaster, 6.8, 4.6, 0.0, 3.1, -0.5 * math.pi, 0.5 * math.pi, 10, 5)
+    dome(plaster, 6.8, 4.6, 0.0, 3.1, -0.5 * math.pi, 0.5 * math.pi, 10, 5, 0.5)
     # Four piers carrying the crossing's arches and its dome.
     for px in (-2.5, 2.5):
         for pz in (-2.5, 2.5):
@@ -394,6 +397,17 @@ def kiti_church(stone, plaster):
         if i % 2 == 1:
             curved_wall(stone, 0.0, 0.0, 2.0, 2.5, a0, a1, y_drum + 2.0, y_drum + 2.4, 1)
     dome(plaster, 0.0, y_drum + 2.4, 0.0, 2.5, 0.0, 2 * math.pi, 16, 6)
+    # The chapel of Saints Kosmas and Damian (12th century) along the north side: a lower
+    # barrel-vaulted hall sharing the church's north wall, its door to the west.
+    cz, hc, rc = -8.0, 4.0, 2.2
+    box(stone, -6.8, 5.0, 0.0, hc, -10.9, -10.2)                 # north wall
+    box(stone, 4.3, 5.0, 0.0, hc, -10.2, -5.8)                   # east wall
+    box(stone, -6.8, -6.1, 0.0, hc, -10.2, -8.7)                 # west wall with its door
+    box(stone, -6.8, -6.1, 0.0, hc, -7.3, -5.8)
+    box(stone, -6.8, -6.1, 2.4, hc, -8.7, -7.3)
+    barrel_vault(plaster, "x", -6.8, 5.0, cz, hc, rc + 0.5)
+    vault_end(stone, "x", -6.8, cz, hc, rc + 0.5)
+    vault_end(stone, "x", 5.0, cz, hc, rc + 0.5)
     # The narthex (a later, lower hall) west of the church with a pitched roof and a door.
     x0, x1 = -11.0, -6.8
     box(stone, x0, x1, 0.0, 4.0, -5.8, -5.0)
