@@ -182,6 +182,8 @@ int run(const Options& o) {
                 // The whole disk just clear of the horizon (its centre 0.5 deg up), minutes after sunrise.
                 const UtcInstant t = roundToSecond(sunAtAltitude(where, nearest->date, 0.5));
                 plan.shots.push_back({v, t, s->alignment, "the rising Sun along the axis on " + nearest->date.iso()});
+            } else if (v == "alignment") {
+                std::printf("  (no alignment image for %s: its day is stated above)\n", s->id.c_str());
             }
         }
         plans.push_back(std::move(plan));
