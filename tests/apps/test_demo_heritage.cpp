@@ -15,6 +15,7 @@
 #include <welkin_host/host_app.hpp>
 
 #include <cmath>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -250,6 +251,20 @@ TEST_CASE("Heritage demo: the command writes every image it announces", "[gl][he
     const Alignment al = alignmentDays(astroSite(site("kalabsha")), 2027, site("kalabsha").axisAzimuthDeg);
     for (const auto& d : al.days)
         CHECK(r.output.find("the Sun rises along Kalabsha's axis (azimuth 100.0 deg) on " + d.date.iso()) != std::string::npos);
+}
+
+TEST_CASE("Heritage demo: the default date is the next equinox", "[gl][heritage]") {
+    // Kiti has no alignment image: this run renders nothing and states the date it chose.
+    const std::string dir = test::scratchDir("demo-heritage-default-date");
+    const test::CliResult r = test::runCli("demo heritage --site kiti --views alignment --out '" + dir + "'");
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    const std::time_t now = std::time(nullptr);
+    std::tm tm{};
+    gmtime_r(&now, &tm);
+    const UtcInstant today = UtcInstant::fromDateTime({tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday, tm.tm_hour, tm.tm_min, 0.0});
+    const Date expected = dateOf(nextEquinox(today));
+    CHECK(r.output.find("date: " + expected.iso() + ", the ") != std::string::npos);
 }
 
 TEST_CASE("Heritage demo: bad options give one line and status 1", "[cpu][heritage]") {
