@@ -166,9 +166,9 @@ int run(const Options& o) {
                             "(azimuth %.2f deg)\n",
                             s->axisName.c_str(), s->axisAzimuthDeg, date.year, al.minAzimuthDeg, al.maxAzimuthDeg, d.date.iso().c_str(),
                             d.azimuthDeg);
-            const double dd = std::abs(daysBetween(d.time.julianDate(), UtcInstant::fromDateTime({date.year, date.month, date.day}).julianDate()));
-            if (!nearest || dd < std::abs(daysBetween(nearest->time.julianDate(),
-                                                      UtcInstant::fromDateTime({date.year, date.month, date.day}).julianDate())))
+            // The alignment image shows the alignment day nearest to --date.
+            const JulianDate day0 = UtcInstant::fromDateTime({date.year, date.month, date.day}).julianDate();
+            if (!nearest || std::abs(daysBetween(d.time.julianDate(), day0)) < std::abs(daysBetween(nearest->time.julianDate(), day0)))
                 nearest = &d;
         }
         Plan plan{s, {}};
