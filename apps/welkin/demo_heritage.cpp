@@ -20,6 +20,7 @@
 #include <welkin/gl/context.hpp>
 #include <welkin/image.hpp>
 #include <welkin/log.hpp>
+#include <welkin/point_source.hpp>
 
 #include <welkin_host/host_app.hpp>
 
@@ -199,6 +200,8 @@ int run(const Options& o) {
         options.clouds = clouds;
         options.shadows.halfExtentM = 150.0f;  // the buildings, sharper than the village's 400 m
         host::HostApp app(options, log);
+        // Displayed images: the stars and planets as the eye sees them (docs/eye.md).
+        app.sky().vars().set(keys::pointSources, std::string("perceptual"));
         for (const Shot& shot : plan.shots) {
             app.sky().setAnimationTime(0.0);  // deterministic: the same inputs give the same image
             app.sky().resetAdaptation();      // each view a cut: the eye adapted to it alone

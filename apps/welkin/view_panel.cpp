@@ -277,8 +277,14 @@ void ViewPanel::displaySection(SkyProcessor& sky, Camera& camera) {
         ImGui::TextUnformatted("night vision (eye.mesopic)");
         keyEditor(sky, eye::keys::mesopic.name());
     }
+    // Point sources: perceptual (the eye's threshold against the sky, the viewer's default) or
+    // physical (flux per pixel, as in an EXR).
+    if (v.contains("render.point_sources")) {
+        ImGui::TextUnformatted("point sources (render.point_sources)");
+        keyEditor(sky, "render.point_sources");
+    }
     // Labels: whichever of the labelling keys the scene's elements declare.
-    for (const char* k : {"planet.labels", "constellations.labels", "stars.labels"}) {
+    for (const char* k : {"planet.labels", "planet.label_magnitude", "constellations.labels", "stars.labels", "grid.ecliptic"}) {
         if (!v.contains(k)) continue;
         ImGui::TextUnformatted(k);
         keyEditor(sky, k);
@@ -366,7 +372,7 @@ bool ViewPanel::keyEditor(SkyProcessor& sky, const std::string& name) {
         ImGui::SetTooltip("%s%s%s", info->description.c_str(), info->unit.empty() ? "" : ", ", info->unit.c_str());
     if (text.empty() && !submitted) return false;
     try {
-        v.setFromString(name, text);  // checked against the key's type and range
+        sky.setOption(name, text);  // checked against the key's type and range; outputs refused
         error_.clear();
         return true;
     } catch (const Error& e) {
