@@ -209,9 +209,19 @@ void TextBatch::push(const Font& font, const glm::vec4& clip, std::string_view u
     for (char32_t u : decodeUtf8(utf8)) {
         const Glyph& g = font.glyph(u);
         if (g.size.x > 0 && g.size.y > 0) {
-            const glm::vec2 lo = pen + glm::vec2(float(g.bearing.x), -float(g.bearing.y)) * s;
-            const glm::vec2 hi = lo + glm::vec2(g.size) * s;
-            const glm::vec2 uv0 = glm::vec2(g.atlasPos) / atlasSize, uv1 = glm::vec2(g.atlasPos + g.size) / atlasSize;
+            // A glyph thinner than 2 px on screen along an axis (a hyphen or a minus sign at
+            // 11 px) may cover no pixel centre and vanish: its quad is grown by a pixel on both
+            // sides along that axis (its atlas box by the same amount, into the empty padding
+            // around the glyph), so its pixels show its filtered coverage. Other glyphs are
+            // drawn exactly as laid out.
+            const glm::vec2 sizePx = glm::vec2(g.size) * s;
+            const float grow = std::min(1.0f, 0.5f * float(kPad) * s);  // at most half the padding, in texels
+            const glm::vec2 marginPx(sizePx.x < 2.0f ? grow : 0.0f, sizePx.y < 2.0f ? grow : 0.0f);
+            const glm::vec2 lo = pen + glm::vec2(float(g.bearing.x), -float(g.bearing.y)) * s - marginPx;
+            const glm::vec2 hi = lo + sizePx + 2.0f * marginPx;
+            const glm::vec2 marginTexels = marginPx / s;
+            const glm::vec2 uv0 = (glm::vec2(g.atlasPos) - marginTexels) / atlasSize,
+                            uv1 = (glm::vec2(g.atlasPos + g.size) + marginTexels) / atlasSize;
             const float q[kFloatsPerQuad] = {clip.x, clip.y, clip.z, clip.w, lo.x, lo.y, hi.x, hi.y,
                                              uv0.x, uv0.y, uv1.x, uv1.y, radiance.r, radiance.g, radiance.b, 0.0f};
             vertices_.insert(vertices_.end(), q, q + kFloatsPerQuad);

@@ -316,6 +316,43 @@ TEST_CASE("Text: glyph metrics, and a drawn string's box matches its layout", "[
     }
 }
 
+TEST_CASE("Text: a glyph thinner than a pixel (the minus sign at 11 px) is still drawn", "[gl][constellations][text]") {
+    if (!haveFont()) FAIL("DejaVu Sans is not installed (fonts-dejavu-core)" << ": install it (scripts/setup.sh installs it; a missing file fails, never skips)");
+    test::glContext();
+    // A hyphen at 11 px is a bar about 0.9 px high: drawn as laid out, its quad can miss every
+    // pixel centre and the label "Mars -2.2" loses its sign. At every size from 9 to 14 px in
+    // quarter pixels (the pen is on a whole pixel, so the size sets where the bar falls between
+    // pixel centres), its ink must reach the image, carrying about the bar's area: the sum of its
+    // pixels' coverage within 50 % of the glyph's area on screen (the filtered footprint spreads
+    // it, it does not create or lose much of it).
+    for (int q = 0; q <= 20; ++q) {
+            const float size = 9.0f + 0.25f * float(q);
+            gl::TextStyle style;
+            style.pixelSize = size;
+            style.luminanceCdM2 = 100;
+            SkyProcessor p(SkyVars::earth(), Logger(), ProcessorOptions{.astronomy = false});
+            Camera cam;
+            cam.projection = Projection::Perspective;
+            cam.width = 64;
+            cam.height = 32;
+            p.setCamera(cam);
+            auto probe = std::make_unique<TextProbe>("-", style);
+            TextProbe* probePtr = probe.get();
+            p.add(std::move(probe));
+            p.renderFrame();
+            const Image img = p.readHdr();
+            double coverage = 0;  // in pixels: luminance / 100 cd/m^2 summed
+            for (int y = 0; y < img.height; ++y)
+                for (int x = 0; x < img.width; ++x) coverage += (0.2126 * img.at(x, y, 0) + 0.7152 * img.at(x, y, 1) + 0.0722 * img.at(x, y, 2)) / 100.0;
+            const gl::Glyph& g = probePtr->font.glyph(U'-');
+            const double s = size / float(probePtr->font.rasterPx());
+            const double area = double(g.size.x) * s * double(g.size.y) * s;
+            INFO("size " << size << " px: coverage " << coverage << " px, the glyph's area " << area << " px");
+            CHECK(coverage > 0.5 * area);
+            CHECK(coverage < 1.5 * area);
+        }
+}
+
 TEST_CASE("Constellations: lines pass within 1 px of their stars (Malta, 1024 fisheye and perspective)", "[gl][constellations]") {
     if (!haveKStars() || !haveFont()) FAIL("kstars-data or DejaVu Sans is not installed" << ": install it (scripts/setup.sh installs it; a missing file fails, never skips)");
     test::glContext();
