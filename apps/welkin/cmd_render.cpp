@@ -29,20 +29,6 @@ struct RenderOptions {
     bool debug = false;
 };
 
-// Checks that `path` can be created: its directory exists and is writable, it is not a
-// directory, and an existing file there is writable.
-void checkTextWritable(const std::string& path, const char* option) {
-    namespace fs = std::filesystem;
-    fs::path target(path);
-    fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
-    std::error_code ec;
-    if (!fs::is_directory(dir, ec)) throw Error(std::string(option) + " '" + path + "': directory '" + dir.string() + "' does not exist");
-    if (::access(dir.c_str(), W_OK) != 0) throw Error(std::string(option) + " '" + path + "': directory '" + dir.string() + "' is not writable");
-    if (fs::is_directory(target, ec)) throw Error(std::string(option) + " '" + path + "' is a directory");
-    if (fs::exists(target, ec) && ::access(path.c_str(), W_OK) != 0)
-        throw Error(std::string(option) + " '" + path + "' exists and is not writable");
-}
-
 // Writes `text` to a temporary file beside `path` and returns its name (renamed by the caller).
 std::string writeTemporary(const std::string& path, const std::string& text, const char* option) {
     namespace fs = std::filesystem;
@@ -59,10 +45,6 @@ std::string writeTemporary(const std::string& path, const std::string& text, con
     return tmp;
 }
 
-bool endsWith(std::string s, const std::string& ext) {
-    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return s.size() >= ext.size() && s.compare(s.size() - ext.size(), ext.size(), ext) == 0;
-}
 
 // The --lighting file: SkyLighting's values with their units and formulas written beside them.
 nlohmann::json lightingJson(const SkyLighting& l, const std::string& time) {
@@ -106,17 +88,17 @@ nlohmann::json lightingJson(const SkyLighting& l, const std::string& time) {
 int run(const RenderOptions& o) {
     // Point sources as the eye sees them in a displayed PNG, physical in an EXR (docs/eye.md).
     SceneOptions scene = o.scene;
-    scene.pointSources = endsWith(o.out, ".exr") ? "physical" : "perceptual";
+    scene.pointSources = endsWithIgnoringCase(o.out, ".exr") ? "physical" : "perceptual";
     // Validate everything before touching GL or the file system.
     scene.validate();
     checkWritable(o.out);
     if (!o.stats.empty()) {
-        if (!endsWith(o.stats, ".json")) throw Error("--stats '" + o.stats + "' must end in .json");
-        checkTextWritable(o.stats, "--stats");
+        if (!endsWithIgnoringCase(o.stats, ".json")) throw Error("--stats '" + o.stats + "' must end in .json");
+        checkFileWritable(o.stats, "--stats");
     }
     if (!o.lighting.empty()) {
-        if (!endsWith(o.lighting, ".json")) throw Error("--lighting '" + o.lighting + "' must end in .json");
-        checkTextWritable(o.lighting, "--lighting");
+        if (!endsWithIgnoringCase(o.lighting, ".json")) throw Error("--lighting '" + o.lighting + "' must end in .json");
+        checkFileWritable(o.lighting, "--lighting");
         if (o.lighting == o.stats) throw Error("--lighting '" + o.lighting + "' is also the --stats file");
     }
 
@@ -128,7 +110,7 @@ int run(const RenderOptions& o) {
         scene.apply(processor);
         if (!o.lighting.empty()) processor.vars().set(keys::lightingEnabled, true);  // sizes: lighting.* --var or defaults
         processor.renderFrame();
-        Image img = endsWith(o.out, ".exr") ? processor.readHdr() : processor.readToneMapped();
+        Image img = endsWithIgnoringCase(o.out, ".exr") ? processor.readHdr() : processor.readToneMapped();
         for (float v : img.pixels)
             if (!std::isfinite(v)) throw Error("render produced a non-finite pixel; nothing written");
         // The stats go to a temporary file first; the image is written (atomically) only when

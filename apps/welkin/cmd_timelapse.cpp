@@ -90,19 +90,6 @@ std::string findOnPath(const std::string& program) {
     return {};
 }
 
-bool endsWithLower(std::string s, const std::string& ext) {
-    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return s.size() >= ext.size() && s.compare(s.size() - ext.size(), ext.size(), ext) == 0;
-}
-
-void checkFileTarget(const std::string& path, const char* option) {
-    fs::path target(path);
-    fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
-    std::error_code ec;
-    if (!fs::is_directory(dir, ec)) throw Error(std::string(option) + " '" + path + "': directory '" + dir.string() + "' does not exist");
-    if (::access(dir.c_str(), W_OK) != 0) throw Error(std::string(option) + " '" + path + "': directory '" + dir.string() + "' is not writable");
-    if (fs::is_directory(target, ec)) throw Error(std::string(option) + " '" + path + "' is a directory");
-}
 
 // --- progress -----------------------------------------------------------------------------
 
@@ -270,15 +257,15 @@ int run(const TimelapseOptions& o) {
     const long frames = long(count);
     if (o.format != "png" && o.format != "exr") throw Error("--format '" + o.format + "' unknown (accepted: png, exr)");
     if (!o.contactSheet.empty()) {
-        if (!endsWithLower(o.contactSheet, ".png")) throw Error("--contact-sheet '" + o.contactSheet + "' must end in .png");
-        checkFileTarget(o.contactSheet, "--contact-sheet");
+        if (!endsWithIgnoringCase(o.contactSheet, ".png")) throw Error("--contact-sheet '" + o.contactSheet + "' must end in .png");
+        checkFileWritable(o.contactSheet, "--contact-sheet");
     }
     std::string ffmpeg;
     if (!o.video.empty()) {
-        if (!endsWithLower(o.video, ".mp4")) throw Error("--video '" + o.video + "' must end in .mp4");
+        if (!endsWithIgnoringCase(o.video, ".mp4")) throw Error("--video '" + o.video + "' must end in .mp4");
         if (o.format != "png") throw Error("--video needs --format png (ffmpeg encodes the tone-mapped frames)");
         if (!(o.fps >= 1 && o.fps <= 240)) throw Error("--fps " + std::to_string(o.fps) + " not in [1, 240]");
-        checkFileTarget(o.video, "--video");
+        checkFileWritable(o.video, "--video");
         ffmpeg = findOnPath("ffmpeg");
         if (ffmpeg.empty()) throw Error("--video needs ffmpeg, which is not on PATH (install it, e.g. apt-get install ffmpeg)");
     }

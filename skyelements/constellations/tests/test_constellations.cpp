@@ -98,6 +98,31 @@ private:
     gl::TextStyle style_;
     gl::TextBatch batch_;
 };
+
+// One string drawn by a TextProbe alone at the centre of a w x h perspective frame (no
+// astronomy): the processor (which owns the probe and its font), the camera and the HDR image
+// (cd/m^2). `anchorOnGpu`: anchored by the camera's forward direction, projected on the GPU.
+struct TextFrame {
+    std::unique_ptr<SkyProcessor> processor;
+    TextProbe* probe = nullptr;
+    Camera camera;
+    Image image;
+};
+TextFrame drawText(const std::string& text, const gl::TextStyle& style, int w, int h, bool anchorOnGpu = false) {
+    TextFrame f;
+    f.processor = std::make_unique<SkyProcessor>(SkyVars::earth(), Logger(), ProcessorOptions{.astronomy = false});
+    f.camera.projection = Projection::Perspective;
+    f.camera.width = w;
+    f.camera.height = h;
+    f.processor->setCamera(f.camera);
+    auto probe = std::make_unique<TextProbe>(text, style);
+    if (anchorOnGpu) probe->direction = glm::vec3(f.camera.basis()[2]);
+    f.probe = probe.get();
+    f.processor->add(std::move(probe));
+    f.processor->renderFrame();
+    f.image = f.processor->readHdr();
+    return f;
+}
 }  // namespace
 
 TEST_CASE("Constellations: clines.dat and cnames.dat parse as the files are written", "[cpu][constellations]") {
@@ -247,17 +272,9 @@ TEST_CASE("Text: glyph metrics, and a drawn string's box matches its layout", "[
         gl::TextStyle style;
         style.pixelSize = size;
         style.luminanceCdM2 = 100;
-        SkyProcessor p(SkyVars::earth(), Logger(), ProcessorOptions{.astronomy = false});
-        Camera cam;
-        cam.projection = Projection::Perspective;
-        cam.width = 320;
-        cam.height = 96;
-        p.setCamera(cam);
-        auto probe = std::make_unique<TextProbe>(text, style);
-        TextProbe* probePtr = probe.get();
-        p.add(std::move(probe));
-        p.renderFrame();
-        Image img = p.readHdr();
+        const TextFrame frame = drawText(text, style, 320, 96);
+        const Image& img = frame.image;
+        const TextProbe* probePtr = frame.probe;
         // The ink box drawn: pixels at more than 10 % coverage.
         int x0 = 1 << 20, y0 = 1 << 20, x1 = -1, y1 = -1;
         double peak = 0;
@@ -295,13 +312,7 @@ TEST_CASE("Text: glyph metrics, and a drawn string's box matches its layout", "[
         // The same string anchored by a direction projected on the GPU (addAt): the camera's
         // forward direction lands on the image centre, so the same pixels to float rounding.
         {
-            SkyProcessor q(SkyVars::earth(), Logger(), ProcessorOptions{.astronomy = false});
-            q.setCamera(cam);
-            auto gpu = std::make_unique<TextProbe>(text, style);
-            gpu->direction = glm::vec3(cam.basis()[2]);
-            q.add(std::move(gpu));
-            q.renderFrame();
-            const Image img2 = q.readHdr();
+            const Image img2 = drawText(text, style, 320, 96, true).image;
             double maxDiff = 0;
             for (size_t i = 0; i < img.pixels.size(); ++i) maxDiff = std::max(maxDiff, double(std::abs(img.pixels[i] - img2.pixels[i])));
             CHECK(maxDiff < 1e-3);  // 1e-5 of the luminance: identical coverage
@@ -330,17 +341,9 @@ TEST_CASE("Text: a glyph thinner than a pixel (the minus sign at 11 px) is still
             gl::TextStyle style;
             style.pixelSize = size;
             style.luminanceCdM2 = 100;
-            SkyProcessor p(SkyVars::earth(), Logger(), ProcessorOptions{.astronomy = false});
-            Camera cam;
-            cam.projection = Projection::Perspective;
-            cam.width = 64;
-            cam.height = 32;
-            p.setCamera(cam);
-            auto probe = std::make_unique<TextProbe>("-", style);
-            TextProbe* probePtr = probe.get();
-            p.add(std::move(probe));
-            p.renderFrame();
-            const Image img = p.readHdr();
+            const TextFrame frame = drawText("-", style, 64, 32);
+            const Image& img = frame.image;
+            const TextProbe* probePtr = frame.probe;
             double coverage = 0;  // in pixels: luminance / 100 cd/m^2 summed
             for (int y = 0; y < img.height; ++y)
                 for (int x = 0; x < img.width; ++x) coverage += (0.2126 * img.at(x, y, 0) + 0.7152 * img.at(x, y, 1) + 0.0722 * img.at(x, y, 2)) / 100.0;

@@ -6,6 +6,7 @@
 
 #include "cli_runner.hpp"
 #include "gl_test_context.hpp"
+#include "star_test_util.hpp"
 
 #include <welkin/astro/astro_keys.hpp>
 #include <welkin/astro/bodies.hpp>
@@ -38,15 +39,8 @@ using namespace welkin::elements;
 namespace {
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-// A catalogue star at an ICRS direction given as (ra, dec), no proper motion.
-astro::Star star(double raDeg, double decDeg, double mag, double bv) {
-    astro::Star s;
-    s.raJ2000Rad = raDeg * kDeg;
-    s.decJ2000Rad = decDeg * kDeg;
-    s.magnitudeV = float(mag);
-    s.colorBV = float(bv);
-    return s;
-}
+// A catalogue star at an ICRS direction given as (ra, dec), no proper motion (star_test_util.hpp).
+astro::Star star(double raDeg, double decDeg, double mag, double bv) { return test::catalogueStar(raDeg, decDeg, mag, bv); }
 
 double lumaAt(const Image& img, int x, int y) {
     return 0.2126 * img.at(x, y, 0) + 0.7152 * img.at(x, y, 1) + 0.0722 * img.at(x, y, 2);

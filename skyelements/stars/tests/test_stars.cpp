@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include "gl_test_context.hpp"
+#include "star_test_util.hpp"
 
 #include <welkin/astro/astro_keys.hpp>
 #include <welkin/astro/bodies.hpp>
@@ -29,15 +30,8 @@ using namespace welkin::elements;
 namespace {
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-// A catalogue star at an ICRS direction given as (ra, dec), no proper motion.
-astro::Star star(double raDeg, double decDeg, double mag, double bv) {
-    astro::Star s;
-    s.raJ2000Rad = raDeg * kDeg;
-    s.decJ2000Rad = decDeg * kDeg;
-    s.magnitudeV = float(mag);
-    s.colorBV = float(bv);
-    return s;
-}
+// A catalogue star at an ICRS direction given as (ra, dec), no proper motion (star_test_util.hpp).
+astro::Star star(double raDeg, double decDeg, double mag, double bv) { return test::catalogueStar(raDeg, decDeg, mag, bv); }
 
 // Sum of linear sRGB x pixel solid angle (lux per channel) in a window around a pixel (the
 // solid angle from the camera's own inverse pixel scale, CPU twin of the shader's).
