@@ -82,7 +82,9 @@ void twinTable(const std::vector<int>& orderList, int threads) {
                 const glm::dvec3 d = welkin::directionFromAzAlt(az * kDeg, alt * kDeg);
                 const double r = luminance(ref.radiance(0.0, d, sun));
                 const double c = luminance(cpu::skyRadiance(m, T, MS, 0.0, d, sun, m.solarIlluminance, 512, m.sunAngularRadius));
-                std::printf("| %d | %.1f | %.1f | %.1f | %.4g | %.4g | %.4f |\n", orders, sunAlt, az, alt, r, c, c / r);
+                char ratio[32] = "-";  // no light reaches the direction (in the Earth's shadow): no ratio
+                if (r > 0.0) std::snprintf(ratio, sizeof ratio, "%.4f", c / r);
+                std::printf("| %d | %.1f | %.1f | %.1f | %.4g | %.4g | %s |\n", orders, sunAlt, az, alt, r, c, ratio);
             }
         }
     }
@@ -117,7 +119,8 @@ void departureTable(int threads) {
                 }
                 const double r = luminance(ref.radiance(0.0, d, sun));
                 const double c = luminance(cpu::skyRadiance(m, T, MS, 0.0, d, sun, m.solarIlluminance, 256, m.sunAngularRadius));
-                std::printf(" %.3f |", c / r);
+                if (r > 0.0) std::printf(" %.3f |", c / r);
+                else std::printf(" - |");
             }
             std::printf("\n");
         }
