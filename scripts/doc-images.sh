@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Re-renders the README's gallery and the docs' images whose look depends on how point sources are
-# displayed (render.point_sources: perceptual for PNG), with the commands printed beside them.
+# displayed (render.point_sources: perceptual for PNG), with the commands printed beside them, and
+# docs/clouds.md's data images (welkin bench cloud-doc-images).
 # Usage: scripts/doc-images.sh [BUILD_DIR]     (needs xvfb-run for the viewer's screenshot, oiiotool for the strips)
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -38,6 +39,9 @@ echo "== night images (README, docs/stars.md, nightsky.md, constellations.md, cl
 "$w" render --time 2026-08-12T22:00:00Z --lat 35.9 --lon 14.5 --projection fisheye --size 1024x1024 --elements stars,sky,constellations --exposure -9 --out docs/images/constellations_malta.png
 "$w" render --time 2026-08-12T22:00:00Z --lat 35.9 --lon 14.5 --projection fisheye --size 512x512 --exposure -9 --elements stars,sky --out docs/images/stars_malta.png
 "$w" render --time 2026-06-29T23:30:00+02:00 --lat 35.9 --lon 14.5 --az 150 --alt 20 --fov 75 --size 480x270 --elements default,clouds --var clouds.preset=fair --out docs/images/clouds_moonlit.png
+
+echo "== cloud data images: weather map, noise slices, density section (docs/clouds.md)"
+"$w" bench cloud-doc-images --out docs/images >/dev/null
 
 echo "== the eye's day-to-night strips (docs/eye.md)"
 tmp=$(mktemp -d)

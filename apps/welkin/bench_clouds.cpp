@@ -15,6 +15,8 @@
 // samples, against the sky frame moving the same way, means over the frames (rebuilds included):
 // the issue's target is the clouds' own cost (the frame with clouds minus the sky frame) <= 2x
 // the sky frame.
+// The sky-shadow rows: per size, the Sky element's pass with clouds.sky_shadow off and on (frames
+// alternated, instrumented) and one rebuild of the shadow's loss table (docs/clouds.md).
 // Writes a CSV and a PNG plot (scripts/plots/plot_bench_clouds.py).
 #include "bench_util.hpp"
 #include "command.hpp"
@@ -24,7 +26,10 @@
 #include <welkin/elements/registry.hpp>
 #include <welkin/error.hpp>
 #include <welkin/gl/context.hpp>
+#include <welkin/generators/cloud_sky_shadow.hpp>
+#include <welkin/generators/sky_luts.hpp>
 #include <welkin/gl/shader.hpp>
+#include <welkin/keys.hpp>
 #include <welkin/processor.hpp>
 
 #include <epoxy/gl.h>
@@ -58,6 +63,7 @@ struct CloudsBenchOptions {
     std::string plot = "bench_clouds.png";
     double latDeg = 35.9, lonDeg = 14.5;
     std::string time = "2026-06-21T08:00:00Z";  // Malta, mid-morning: the Sun ~55 deg up in the east
+    int skyShadowRepeats = 9;  // alternated frame pairs of the sky-shadow rows (0: none)
 };
 
 
@@ -104,7 +110,59 @@ std::vector<int> parseInts(const std::string& option, const std::string& text, i
     return v;
 }
 
+struct ShadowRow {
+    std::string size;
+    double skyOffMs, skyOnMs, frameOffMs, frameOnMs, lossMs;
+};
+
+// The cost of the clouds' shadow on the sky at one size: the default elements plus the clouds (8
+// samples per ray, no reprojection), clouds.sky_shadow off and on, instrumented (the Sky element's
+// own pass bracketed by glFinish), frames alternated so both see the same load; and the loss
+// table's pass (CloudSkyShadow) rebuilt on its own.
+ShadowRow skyShadowRow(const CloudsBenchOptions& o, const Observer& observer, const UtcInstant& start, const Camera& cam,
+                       const std::string& sizeName, const Logger& log) {
+    auto make = [&](bool shadow) {
+        auto p = std::make_unique<SkyProcessor>(SkyVars::earth(), log, ProcessorOptions{.timing = true});
+        p->setObserver(observer);
+        p->setTime(start);
+        p->setCamera(cam);
+        p->setExposure({.automatic = true});
+        p->setAnimationTime(0.0);
+        for (const std::string& n : elements::expandElementList("default,clouds")) p->add(elements::makeElement(n));
+        if (!o.preset.empty()) p->vars().setFromString("clouds.preset", o.preset);
+        p->vars().setFromString("clouds.samples", "8");
+        p->vars().setFromString("clouds.reprojection", "false");
+        p->vars().setFromString("clouds.sky_shadow", shadow ? "true" : "false");
+        for (int i = 0; i < 2; ++i) p->renderFrame();  // warm-up: programs, tables
+        return p;
+    };
+    auto off = make(false), on = make(true);
+    if (!off->find("sky") || !on->vars().has(generators::skykeys::shadowLossLut)) throw Error("bench clouds: no Sky element or no shadow table");
+    std::vector<double> skyOff, skyOn;
+    const std::vector<double> frame = alternatedMedianMs(o.skyShadowRepeats, {[&] {
+                                                             off->renderFrame();
+                                                             skyOff.push_back(off->find("sky")->renderTiming().lastMs);
+                                                         },
+                                                         [&] {
+                                                             on->renderFrame();
+                                                             skyOn.push_back(on->find("sky")->renderTiming().lastMs);
+                                                         }});
+    auto loss = generators::CloudSkyShadow::obtain(on->vars());
+    const double lossMs = medianMs(o.skyShadowRepeats, [&] {
+        loss->invalidate();
+        loss->run(on->vars(), log, true);
+    });
+    ShadowRow r{sizeName, median(skyOff), median(skyOn), frame[0], frame[1], lossMs};
+    std::printf("  %s sky shadow: Sky pass %.1f -> %.1f ms, loss table %.1f ms\n", sizeName.c_str(), r.skyOffMs, r.skyOnMs, r.lossMs);
+    off->release();
+    on->release();
+    return r;
+}
+
 int run(const CloudsBenchOptions& o) {
+    if (o.skyShadowRepeats < 0 || o.skyShadowRepeats > 1000)
+        throw Error("--sky-shadow-repeats " + std::to_string(o.skyShadowRepeats) + " not in [0, 1000]");
+    std::vector<ShadowRow> shadowRows;
     if (o.repeats < 1 || o.repeats > 1000) throw Error("--repeats " + std::to_string(o.repeats) + " not in [1, 1000]");
     if (o.warmup < 0 || o.warmup > 1000) throw Error("--warmup " + std::to_string(o.warmup) + " not in [0, 1000]");
     if (o.movingFrames < 0 || o.movingFrames > 10000) throw Error("--moving-frames " + std::to_string(o.movingFrames) + " not in [0, 10000]");
@@ -225,6 +283,7 @@ int run(const CloudsBenchOptions& o) {
         }
         sky->release();
         clouds->release();
+        if (o.skyShadowRepeats > 0) shadowRows.push_back(skyShadowRow(o, observer, start, cam, sizeName, log));
     }
 
     std::printf("\n| size | mode | samples | reprojection | frame ms | x trivial | x sky | rel. RMS luminance |\n|---|---|---|---|---|---|---|---|\n");
@@ -244,6 +303,16 @@ int run(const CloudsBenchOptions& o) {
                         "(frame with clouds %.2fx the sky frame; target: clouds <= 2x): %s\n",
                         r.size.c_str(), own, r.ratioSky, ok ? "met" : "NOT met");
         }
+    if (!shadowRows.empty()) {
+        std::printf("\nThe clouds' shadow on the sky (docs/clouds.md): samples 8, static; the Sky element's pass (instrumented: "
+                    "glFinish around each element) with clouds.sky_shadow off and on, frames alternated, medians of %d\n\n"
+                    "| size | Sky pass ms, shadow off | Sky pass ms, shadow on | on / off | frame ms off | frame ms on | loss table rebuild ms |\n"
+                    "|---|---|---|---|---|---|---|\n",
+                    o.skyShadowRepeats);
+        for (const ShadowRow& r : shadowRows)
+            std::printf("| %s | %.1f | %.1f | %.2f | %.1f | %.1f | %.1f |\n", r.size.c_str(), r.skyOffMs, r.skyOnMs, r.skyOnMs / r.skyOffMs,
+                        r.frameOffMs, r.frameOnMs, r.lossMs);
+    }
     std::printf("targets: %s\n", met ? "all met" : "some NOT met");
     if (!o.csv.empty()) {
         CsvWriter f(o.csv, {"size", "mode", "samples", "reprojection", "frame_ms", "trivial_ms", "sky_ms", "ratio_trivial", "ratio_sky", "rms_rel"});
@@ -266,6 +335,8 @@ BenchRegistrar reg("clouds", "cost and error of the clouds by samples per ray, w
     sub.add_option("--sizes", o->sizes, "comma list of frame sizes WxH")->capture_default_str();
     sub.add_option("--samples", o->samples, "comma list of samples per view ray (clouds.samples)")->capture_default_str();
     sub.add_option("--preset", o->preset, "clouds.preset (empty: the element's default)")->capture_default_str();
+    sub.add_option("--sky-shadow-repeats", o->skyShadowRepeats, "alternated frame pairs timing clouds.sky_shadow off/on (0: none), [0, 1000]")
+        ->capture_default_str();
     sub.add_option("--time", o->time, "ISO 8601 instant (Malta)")->capture_default_str();
     sub.add_option("--csv", o->csv, "write the rows as CSV (empty: none)")->capture_default_str();
     sub.add_option("--plot", o->plot, "PNG plot drawn from the CSV by scripts/plots/plot_bench_clouds.py (empty: none)")->capture_default_str();

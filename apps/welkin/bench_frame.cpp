@@ -1,6 +1,6 @@
 // welkin bench frame: cost of the compositing pipeline itself on this machine: a trivial
 // fullscreen pass into RGBA32F and RGBA16F targets, the tone map (manual and automatic
-// exposure) and the Grid element. CPU-timed with glFinish (GL timer queries mean nothing on
+// exposure; on a mesopic frame with eye.mesopic off and on) and the Grid element. CPU-timed with glFinish (GL timer queries mean nothing on
 // llvmpipe). Prints a Markdown table; --csv writes the same rows.
 #include "bench_util.hpp"
 #include "command.hpp"
@@ -8,6 +8,7 @@
 #include <welkin/csv.hpp>
 #include <welkin/elements/grid.hpp>
 #include <welkin/error.hpp>
+#include <welkin/eye.hpp>
 #include <welkin/gl/context.hpp>
 #include <welkin/gl/shader.hpp>
 #include <welkin/processor.hpp>
@@ -133,6 +134,35 @@ int run(const FrameBenchOptions& o) {
             rows.push_back({"  alternated with it: copy pass RGBA32F -> RGBA8", ms[1]});
             alternated.push_back({"tone map, " + what, ms[2] / ms[0]});
             copyRatio.push_back(ms[2] / ms[1]);
+        }
+        // The mesopic colour (docs/eye.md): a frame of constant-cost radiance between 0 and ~1.3
+        // cd/m^2 (the trivial element: mesopic luminances, so the per-pixel mesopic path runs),
+        // automatic exposure, eye.mesopic off and on, both timed in alternation with the trivial
+        // pass.
+        {
+            SkyProcessor night(SkyVars::earth(), log, ProcessorOptions{.astronomy = false});
+            night.setCamera(cam);
+            night.add(std::make_unique<TrivialElement>());
+            night.setExposure({.automatic = true});
+            night.renderFrame();
+            auto toneMap = [&](bool mesopic) {
+                return [&, mesopic] {
+                    night.vars().set(eye::keys::mesopic, mesopic);
+                    night.toneMapInto(ldrFbo.id());
+                };
+            };
+            toneMap(false)();
+            toneMap(true)();
+            const std::vector<double> ms = alternatedMedianMs(o.repeats, {drawTrivial, drawCopy, toneMap(false), toneMap(true)});
+            rows.push_back({"tone map, mesopic frame, eye.mesopic off", ms[2]});
+            rows.push_back({"tone map, mesopic frame, eye.mesopic on", ms[3]});
+            rows.push_back({"  alternated with them: trivial pass RGBA32F", ms[0]});
+            rows.push_back({"  alternated with them: copy pass RGBA32F -> RGBA8", ms[1]});
+            for (int m = 0; m < 2; ++m) {
+                alternated.push_back({m ? "tone map, mesopic frame, eye.mesopic on" : "tone map, mesopic frame, eye.mesopic off", ms[2 + m] / ms[0]});
+                copyRatio.push_back(ms[2 + m] / ms[1]);
+            }
+            night.release();
         }
         rows.push_back({"read back HDR (RGBA32F -> RGB)", medianMs(std::min(o.repeats, 3), [&] { (void)sky.readHdr(); })});
     }

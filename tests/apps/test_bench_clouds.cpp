@@ -11,6 +11,7 @@
 #include <welkin/elements/registry.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <string>
 
@@ -23,6 +24,7 @@ TEST_CASE("welkin bench clouds: bad options are one-line errors", "[cpu][cli][be
                          {"--samples 8,x", "--samples: 'x' not an integer in [1, 4096]"},
                          {"--sizes 800x", "--sizes: '800x' not WxH with 16 <= W, H <= 8192"},
                          {"--reference-samples 0", "--reference-samples 0 not in [1, 4096]"},
+                         {"--sky-shadow-repeats -1", "--sky-shadow-repeats -1 not in [0, 1000]"},
                          {"--csv /nonexistent-dir/x.csv", "--csv '/nonexistent-dir/x.csv': no directory '/nonexistent-dir'"}});
     std::string report;
     for (const auto& f : failures) report += f + "\n";
@@ -34,7 +36,7 @@ TEST_CASE("welkin bench clouds: a tiny run writes its rows and judges the target
     if (!welkin::elements::findDescriptor("clouds")) FAIL("no clouds element in this build" << ": this test needs skyelements/clouds");
     const std::string dir = welkin::test::scratchDir("bench_clouds");
     // 64x36, two sample counts, one timed frame each, a 32-sample reference: seconds on llvmpipe.
-    const auto r = runCli("bench clouds --sizes 64x36 --samples 4,8 --repeats 1 --warmup 1 --moving-frames 2 --reference-samples 32 --csv '" +
+    const auto r = runCli("bench clouds --sizes 64x36 --samples 4,8 --repeats 1 --warmup 1 --moving-frames 2 --reference-samples 32 --sky-shadow-repeats 2 --csv '" +
                           dir + "/c.csv' --plot ''");
     INFO(r.output);
     REQUIRE(r.status == 0);
@@ -52,6 +54,16 @@ TEST_CASE("welkin bench clouds: a tiny run writes its rows and judges the target
     CHECK(statics == 4);  // 2 sample counts x reprojection off/on
     CHECK(moving == 1);
     CHECK(finiteErrors == 4);  // every static row has an error against the reference
+    // The sky-shadow table: one row for the size, with the Sky pass timed both ways and the loss
+    // table rebuilt (every time > 0 ms; the ratio positive).
+    const size_t at = r.output.find("\n| 64x36 | ", r.output.find("The clouds' shadow on the sky"));
+    REQUIRE(at != std::string::npos);
+    double off = 0, on = 0, ratio = 0, frameOff = 0, frameOn = 0, loss = 0;
+    REQUIRE(std::sscanf(r.output.c_str() + at, "\n| 64x36 | %lf | %lf | %lf | %lf | %lf | %lf |", &off, &on, &ratio, &frameOff, &frameOn, &loss) == 6);
+    CHECK(off > 0.0);
+    CHECK(on > 0.0);
+    CHECK(loss > 0.0);
+    CHECK(ratio > 0.0);
 }
 
 TEST_CASE("plot_bench_clouds.py draws a PNG from a bench clouds CSV", "[cpu][plot][bench]") {

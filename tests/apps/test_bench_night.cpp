@@ -46,9 +46,9 @@ TEST_CASE("welkin bench night: one frame per scene, CSV rows and targets", "[gl]
         if (line.find(",day,") != std::string::npos && line.find("stars + sky") != std::string::npos)
             culledByDay += line.find(",0,") != std::string::npos;
     }
-    // Per camera: the Sky alone and stars + sky (9k, full) by day and by night (6), every star
-    // by night (1), the default scene (1), + constellations (1), its instrumented twin (1), with
-    // the time running (1).
-    CHECK(rows == 11);
+    // Per camera: the Sky alone and stars + sky (9k, full) by day and by night (6), the NightSky
+    // alone (1), every star by night (1), the default scene (1), + constellations (1), its
+    // instrumented twin (1), with the time running (1).
+    CHECK(rows == 12);
     CHECK(culledByDay == 2);
 }

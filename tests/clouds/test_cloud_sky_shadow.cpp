@@ -23,7 +23,6 @@
 #include <welkin/processor.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 using namespace welkin;
@@ -293,51 +292,4 @@ TEST_CASE("Clouds' shadow on the sky: the Clouds element switches it on, clouds.
         for (float x : img.pixels) REQUIRE((std::isfinite(x) && x >= 0.0f));
         p.release();
     }
-}
-
-TEST_CASE("Clouds' shadow on the sky: cost (median of 9, glFinish)", "[.timing][clouds][shadow]") {
-    // Not run by default: prints the loss table's pass (medium: 384 x 108 texels, 32 steps) and
-    // the Sky pass at 1280x720 with and without the shadow.
-    Rig rig(directionFromAzAlt(180 * kDeg, 10 * kDeg), 0.0);
-    rig.cam.projection = Projection::Perspective;
-    rig.cam.width = 1280;
-    rig.cam.height = 720;
-    rig.render();
-    auto median = [](std::vector<double> v) {
-        std::sort(v.begin(), v.end());
-        return v[v.size() / 2];
-    };
-    auto timeMs = [&](auto&& f) {
-        std::vector<double> t;
-        for (int i = 0; i < 9; ++i) {
-            glFinish();
-            const auto t0 = std::chrono::steady_clock::now();
-            f();
-            glFinish();
-            t.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-        }
-        return median(t);
-    };
-    rig.clouds(weather(128, 40e3, {0, 6000}, 1500.0, false), 40e3, 256);
-    const double loss = timeMs([&] {
-        rig.loss->invalidate();
-        rig.loss->run(rig.vars, test::testLogger());
-    });
-    // The Sky pass alternately without (sky.shadow_loss_lut set to no texture: the plain
-    // program) and with the shadow, 15 pairs, so both see the same machine load.
-    rig.r.runGenerators = false;
-    const TextureRef table = rig.vars.get(skykeys::shadowLossLut);
-    std::vector<double> plain, shadowed;
-    for (int i = 0; i < 15; ++i)
-        for (int with = 0; with < 2; ++with) {
-            rig.vars.publish(skykeys::shadowLossLut, with ? table : TextureRef{});
-            glFinish();
-            const auto t0 = std::chrono::steady_clock::now();
-            rig.r.draw(rig.sky, rig.cam, true);
-            glFinish();
-            (with ? shadowed : plain).push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-        }
-    const double skyPlain = median(plain), skyShadowed = median(shadowed);
-    WARN("loss table " << loss << " ms; Sky pass 1280x720 " << skyPlain << " ms, with the shadow " << skyShadowed << " ms");
-    CHECK(loss > 0.0);
 }

@@ -14,7 +14,6 @@
 #include <epoxy/gl.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -347,33 +346,4 @@ TEST_CASE("Eye: the keys are the settings (--var), the camera model stays availa
     CHECK((a == Approx(eye::Defaults::adaptationMin).epsilon(1e-6) || a == Approx(adaptedBefore).epsilon(1e-6)));
     CHECK_THROWS_WITH(p.vars().setFromString("exposure.curve", "4"), Catch::Contains("not in [0, 3]"));
     CHECK_THROWS_WITH(p.vars().setFromString("eye.rod_time_s", "-1"), Catch::Contains("not in [0, 3600]"));
-}
-
-TEST_CASE("Eye diagnostics: cost of the mesopic colour in the tone map", "[.diag][eye]") {
-    // Not a test: prints the median time of toneMapInto() at 1280x720 with eye.mesopic off and
-    // on, interleaved so both see the same machine load (docs/eye.md quotes it).
-    test::glContext();
-    SkyProcessor p(SkyVars::earth(), Logger(), ProcessorOptions{.astronomy = false});
-    Camera cam;
-    cam.width = 1280;
-    cam.height = 720;
-    p.setCamera(cam);
-    p.emplace<Field>(glm::vec3(0.05f, 0.04f, 0.03f));
-    p.setExposure({.automatic = true});
-    p.renderFrame();
-    gl::Texture2D target(cam.width, cam.height, GL_RGBA8);
-    gl::Framebuffer fbo = gl::Framebuffer::create();
-    fbo.attach(GL_COLOR_ATTACHMENT0, target);
-    std::vector<double> ms[2];
-    for (int i = 0; i < 15; ++i)
-        for (int m = 0; m < 2; ++m) {
-            p.vars().set(eye::keys::mesopic, m == 1);
-            glFinish();
-            auto t0 = std::chrono::steady_clock::now();
-            p.toneMapInto(fbo.id());
-            glFinish();
-            ms[m].push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-        }
-    for (auto& v : ms) std::sort(v.begin(), v.end());
-    std::printf("tone map 1280x720, median of 15: mesopic off %.2f ms, on %.2f ms\n", ms[0][7], ms[1][7]);
 }

@@ -37,40 +37,6 @@ constexpr double kDeg = M_PI / 180;
 double Y(const glm::dvec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
 }  // namespace
 
-#ifdef WELKIN_HAVE_REFERENCE
-TEST_CASE("Sky diagnostics: CPU twin against the reference integrator", "[.diag]") {
-    auto atm = atmosphere::Atmosphere::earthClear();
-    atmosphere::ReferenceOptions ro;
-    ro.mode = atmosphere::SpectralMode::Rgb;
-    ro.threads = 2;
-    for (int orders : {1, 60}) {
-        ro.maxOrders = orders;
-        atmosphere::ReferenceSky ref(atm, ro);
-        SkyVars vars = SkyVars::earth();
-        vars.set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(atm));
-        SkyModel m = SkyModel::fromVars(vars);
-        SkyQuality q = SkyQuality::preset(2);
-        Lut2D T = cpu::transmittanceLut(m, q);
-        cpu::MsField MS = cpu::msField(m, q, T);
-        if (orders == 1) {
-            for (auto& t : MS.psi.texels) t = glm::dvec3(0.0);
-            for (auto& l : MS.sh)
-                for (auto& t : l.texels) t = glm::dvec3(0.0);
-        }
-        for (double sunAlt : {60.0, 20.0, 5.0, -4.0, -10.0, -18.0}) {
-            glm::dvec3 sun = directionFromAzAlt(0.0, sunAlt * kDeg);
-            for (auto [az, alt] : {std::pair{180.0, 45.0}, {90.0, 10.0}, {0.0, 90.0}, {0.0, 5.0}, {180.0, 5.0}, {30.0, 20.0}}) {
-                glm::dvec3 d = directionFromAzAlt(az * kDeg, alt * kDeg);
-                glm::dvec3 r = ref.radiance(0.0, d, sun);
-                glm::dvec3 c = cpu::skyRadiance(m, T, MS, 0.0, d, sun, m.solarIlluminance, 512, m.sunAngularRadius);
-                std::printf("orders %2d sun %6.1f view az %5.1f alt %4.1f: ref %.4g cpu %.4g ratio %.4f\n", orders, sunAlt, az, alt,
-                            Y(r), Y(c), Y(c) / Y(r));
-            }
-        }
-    }
-}
-#endif
-
 namespace {
 struct SkyRig {
     SkyVars vars = SkyVars::earth();
@@ -343,33 +309,6 @@ TEST_CASE("Sky: aerial perspective over a host's depth buffer", "[gl][sky]") {
     }
     ap.release();
 }
-
-#ifdef WELKIN_HAVE_REFERENCE
-TEST_CASE("Sky diagnostics: where the real-time model departs from the reference", "[.diag]") {
-    auto atm = atmosphere::Atmosphere::earthClear();
-    atmosphere::ReferenceOptions ro;
-    ro.mode = atmosphere::SpectralMode::Rgb;
-    ro.threads = 2;
-    atmosphere::ReferenceSky ref(atm, ro);
-    SkyVars vars = SkyVars::earth();
-    vars.set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(atm));
-    SkyModel m = SkyModel::fromVars(vars);
-    SkyQuality q = SkyQuality::preset(1);
-    Lut2D T = cpu::transmittanceLut(m, q);
-    cpu::MsField MS = cpu::msField(m, q, T);
-    for (double sunAlt : {20.0, 5.0}) {
-        glm::dvec3 sun = directionFromAzAlt(0.0, sunAlt * kDeg);
-        for (double alt : {3.0, 10.0, 30.0, 60.0})
-            for (double az = 0; az <= 180; az += 15) {
-                glm::dvec3 d = directionFromAzAlt(az * kDeg, alt * kDeg);
-                if (glm::dot(d, sun) > std::cos(2 * kDeg)) continue;
-                double r = Y(ref.radiance(0.0, d, sun));
-                double c = Y(cpu::skyRadiance(m, T, MS, 0.0, d, sun, m.solarIlluminance, 256, m.sunAngularRadius));
-                std::printf("sun %4.0f alt %4.0f az %4.0f ratio %.3f\n", sunAlt, alt, az, c / r);
-            }
-    }
-}
-#endif
 
 TEST_CASE("Sky: what is behind the sky is attenuated by the ray's transmittance", "[gl][sky]") {
     test::glContext();

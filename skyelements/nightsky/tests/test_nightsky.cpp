@@ -427,37 +427,3 @@ TEST_CASE("NightSky: every pixel finite at FOV 0.5 and 180 deg, 1x1 to 2048x2048
         CHECK(bad == 0);
     }
 }
-
-TEST_CASE("NightSky: cost of a frame (hidden; docs/nightsky.md)", "[.][nightsky-bench]") {
-    // welkin_tests "[nightsky-bench]": median render time of the element over 15 frames after a
-    // warm-up (program compiled, panorama loaded), CPU clock with glFinish, beside the Grid's (a
-    // cheap fullscreen element: the ratio survives a machine shared with other work).
-    test::glContext();
-    struct Case { const char* name; Projection proj; int w, h; };
-    for (Case k : {Case{"perspective 1280x720 (60 deg)", Projection::Perspective, 1280, 720}, Case{"fisheye 1024x1024", Projection::Fisheye, 1024, 1024}}) {
-        ProcessorOptions o;
-        o.timing = true;
-        SkyProcessor p(SkyVars::earth(), Logger(), o);
-        p.setObserver({.latitudeRad = 35.9 * kDeg, .longitudeRad = 14.5 * kDeg, .heightMeters = 0});
-        p.setTime(UtcInstant::parse("2026-08-12T22:00:00Z"));
-        Camera cam;
-        cam.projection = k.proj;
-        cam.altitudeRad = 0.5;
-        cam.width = k.w;
-        cam.height = k.h;
-        p.setCamera(cam);
-        SkyElement& e = p.add(makeElement("nightsky"));
-        SkyElement& grid = p.add(makeElement("grid"));  // the reference: a cheap fullscreen element
-        p.renderFrame();
-        const double init = e.initTiming().lastMs;
-        std::vector<double> ms, ref;
-        for (int i = 0; i < 15; ++i) {
-            p.renderFrame();
-            ms.push_back(e.renderTiming().lastMs);
-            ref.push_back(grid.renderTiming().lastMs);
-        }
-        std::sort(ms.begin(), ms.end());
-        std::sort(ref.begin(), ref.end());
-        WARN(k.name << ": render " << ms[7] << " ms (median of 15; the Grid's " << ref[7] << " ms), init " << init << " ms");
-    }
-}
