@@ -14,6 +14,7 @@
 
 #include <welkin/astro/stars.hpp>
 #include <welkin/csv.hpp>
+#include <welkin/elements/planet.hpp>
 #include <welkin/elements/registry.hpp>
 #include <welkin/elements/stars.hpp>
 #include <welkin/error.hpp>
@@ -286,6 +287,58 @@ int run(const NightBenchOptions& o) {
                         judged ? "target" : "for information (the target is at 1280x720)", cam.c_str(), r->ms, 1000.0 / r->ms, verdict);
         }
     std::printf("targets: %s\n", allMet ? "all met" : "some NOT met");
+
+    // The Planet element's own render time (glFinish around every element) against the trivial
+    // pass, timed in alternation, time running (+1 s a frame: the Moon's calibration follows), the
+    // default scene through a 1280x720 perspective camera (60 deg) at Malta (issue 22: the element
+    // pays only for the pixels of the bodies in view).
+    {
+        struct PlanetScene {
+            const char* what;
+            const char* time;
+            double azDeg, altDeg;
+        };
+        const PlanetScene planetScenes[] = {
+            {"no body in view (the issue's night: new Moon below the horizon)", "2026-08-12T22:00:00Z", 180, 30},
+            {"the full Moon in view (41 deg up)", "2026-08-27T22:00:00Z", 163, 41},
+            {"the Sun in view (67 deg up)", "2026-08-12T10:30:00Z", 156, 60},
+        };
+        std::printf("\nplanet element, perspective 1280x720 60 deg, default scene, time running; median of %d frames\n\n", o.repeats);
+        std::printf("| scene | bodies drawn | planet render ms | trivial pass ms | planet / trivial |\n|---|---|---|---|---|\n");
+        Camera cam;
+        cam.projection = Projection::Perspective;
+        cam.width = 1280, cam.height = 720;
+        cam.verticalFovRad = 60 * kDeg;
+        TrivialPass trivial(cam.width, cam.height);
+        for (const PlanetScene& ps : planetScenes) {
+            SkyProcessor p(SkyVars::earth(), log, ProcessorOptions{.timing = true});
+            const UtcInstant t0 = instant("--night-time", ps.time);
+            p.setObserver(observer);
+            p.setTime(t0);
+            cam.azimuthRad = ps.azDeg * kDeg, cam.altitudeRad = ps.altDeg * kDeg;
+            p.setCamera(cam);
+            p.setExposure({.automatic = true});
+            p.setAnimationTime(0.0);
+            for (auto& n : elements::defaultElements()) p.add(elements::makeElement(n));
+            for (int i = 0; i < 2; ++i) p.renderFrame();
+            std::vector<double> planetMs, trivialMs, ratio;
+            for (int r = 0; r < o.repeats; ++r) {
+                const double t = medianMs(1, [&] { trivial.draw(); });
+                p.setTime(t0.plusSeconds(double(r + 1)));
+                p.renderFrame();
+                double ms = NAN;
+                for (const auto& e : p.stats()["elements"])
+                    if (e["name"] == "planet") ms = e["render_ms"].get<double>();
+                planetMs.push_back(ms);
+                trivialMs.push_back(t);
+                ratio.push_back(ms / t);
+            }
+            const auto* planet = dynamic_cast<const elements::Planet*>(p.find("planet"));
+            std::printf("| %s | %d | %.2f | %.2f | %.2f |\n", ps.what, planet ? planet->drawn() : -1, median(planetMs), median(trivialMs),
+                        median(ratio));
+            p.release();
+        }
+    }
 
     if (!o.csv.empty()) {
         CsvWriter f(o.csv, {"camera", "when", "sun_alt_deg", "elements", "catalogue", "stars_drawn", "limiting_magnitude", "frame_ms",
