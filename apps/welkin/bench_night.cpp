@@ -330,7 +330,8 @@ int run(const NightBenchOptions& o) {
                 p.setTime(t0.plusSeconds(double(r + 1)));
                 p.renderFrame();
                 double ms = NAN;
-                for (const auto& e : p.stats()["elements"])
+                const nlohmann::json st = p.stats();  // held: a temporary's member would dangle in the loop
+                for (const auto& e : st["elements"])
                     if (e["name"] == "planet") ms = e["render_ms"].get<double>();
                 planetMs.push_back(ms);
                 trivialMs.push_back(t);
