@@ -448,16 +448,25 @@ void Planet::doRender(const FrameContext& ctx) {
     const bool later = ctx.attenuatedLater;
     const double f = v.get(planetkeys::sizeFactor);
     const Camera& cam = ctx.camera;
-    const gl::Program& p = programs_.get(cam.projection);
-    p.use();
     const int copies = cam.projection == Projection::Equirect ? 2 : 1;
-    p.set("u_copies", copies);
-    p.set("u_psfSigma", float(kPsfFwhmPx / 2.35482));
+    const double psfSigmaPx = kPsfFwhmPx / 2.35482;
+    // The program is bound (and its per-frame uniforms set) at the first body on screen: a frame
+    // with none makes no GL call at all.
+    const gl::Program& p = programs_.get(cam.projection);
+    bool bound = false;
+    bool perceptual = pointSourceMode(v) == PointSourceMode::Perceptual;
+    auto bind = [&] {
+        if (bound) return;
+        bound = true;
+        p.use();
+        p.set("u_copies", copies);
+        p.set("u_psfSigma", float(psfSigmaPx));
+        perceptual = setPerceptualPointUniforms(p, v, later);
+    };
     // Perceptual point sources (welkin/point_source.hpp): an unresolved planet's illuminance at
     // the eye (lux), its colour (luminance 1), the transmittance the Sky applies later, and its
     // disk's mean luminance at the eye (the drawn point's peak stays under it); set by the
     // planets' loop before draw(), 0 = no perceptual point.
-    const bool perceptual = setPerceptualPointUniforms(p, v, later);
     double ppEyeLux = 0.0, ppLaterT = 1.0, ppDiskCdM2 = 0.0;
     glm::dvec3 ppColour(1.0);
 
@@ -471,24 +480,45 @@ void Planet::doRender(const FrameContext& ctx) {
         }
         return s;
     };
-    // Draws one body: a disk of apparent radius `radius` (rad) around `dir` when it spans at least
-    // `minPx` pixels, else the PSF of illuminance `E` (lux per channel).
-    auto draw = [&](int kind, const glm::dvec3& dir, double radius, double minPx, const glm::dvec3& flux, const glm::dvec3& E,
-                    const char* name) {
-        // A body whose centre the projection does not show (behind a pinhole camera, below a
-        // fisheye's horizon) is not drawn: its quad is placed around the centre. On a cube face
-        // a body centred on a neighbouring face (in front of this one) is drawn too, so a disk
-        // across a face's edge is whole over the cube; its scale there is at least the face
-        // centre's, W / 2 px per radian.
+    // Where a body would be drawn: its pixel scale, whether as a PSF, and whether its quad (as
+    // planet.vert.glsl sizes it, 1 px wider) meets the image. A disk's quad: its apparent radius at
+    // the largest local scale x 1.05 + 2 px; a PSF's: 4 sigma, sigma at most the perceptual
+    // point's largest (FWHM 8 f0, point_perceptual.glsl) when `ppPossible`. In equirect either copy
+    // (the seam twin) may meet it. A cube-face body centred on a neighbouring face (no pixel of
+    // its own on this face) is kept: its quad is placed by the shader's pinhole maths.
+    struct Placement {
+        glm::dvec2 scale{0.0};
+        bool psf = false, onScreen = false;
+    };
+    auto place = [&](int kind, const glm::dvec3& dir, double radius, double minPx, bool ppPossible) -> std::optional<Placement> {
         const auto s = scaleAt(dir);
-        if (!s) return false;
-        const double scale = std::sqrt(s->x * s->y);
-        const bool psf = kind == kKindPsf || 2.0 * radius * scale < minPx;
-        p.set("u_kind", psf ? kKindPsf : kind);
+        if (!s) return std::nullopt;
+        Placement q;
+        q.scale = *s;
+        q.psf = kind == kKindPsf || 2.0 * radius * std::sqrt(s->x * s->y) < minPx;
+        const double halfPx = (q.psf ? 4.0 * std::max(psfSigmaPx, ppPossible ? 8.0 * kPsfFwhmPx / 2.35482 : 0.0)
+                                     : std::asin(std::min(std::sin(radius), 1.0)) * s->y * 1.05 + 2.0) +
+                              1.0;
+        for (int c = 0; c < copies && !q.onScreen; ++c) {
+            const auto clip = cam.clipFromDirection(dir, c);
+            if (!clip) {
+                q.onScreen = c == 0;  // the cube face's neighbour (scaleAt() gave it a scale)
+                continue;
+            }
+            if (clip->w <= 0.0) continue;
+            const glm::dvec2 px = cam.pixelFromClip(*clip);
+            q.onScreen = px.x + halfPx > 0.0 && px.x - halfPx < cam.width && px.y + halfPx > 0.0 && px.y - halfPx < cam.height;
+        }
+        return q;
+    };
+    // Draws one placed body: a disk of apparent radius `radius` (rad) around `dir`, or the PSF of
+    // illuminance `E` (lux per channel). The caller has bound the program (bind()).
+    auto draw = [&](int kind, const Placement& q, const glm::dvec3& dir, double radius, const glm::dvec3& flux, const glm::dvec3& E) {
+        p.set("u_kind", q.psf ? kKindPsf : kind);
         p.set("u_centre", glm::vec3(dir));
         p.set("u_sinRadius", float(std::sin(radius)));
-        p.set("u_flux", glm::vec3(psf ? E : flux));
-        const bool ppPoint = perceptual && psf && ppEyeLux > 0.0;
+        p.set("u_flux", glm::vec3(q.psf ? E : flux));
+        const bool ppPoint = perceptual && q.psf && ppEyeLux > 0.0;
         p.set("u_ppPoint", ppPoint ? 1 : 0);
         if (ppPoint) {
             p.set("u_ppEyeLux", float(ppEyeLux));
@@ -499,8 +529,10 @@ void Planet::doRender(const FrameContext& ctx) {
         }
         glDrawArraysInstanced(GL_TRIANGLES, 0, 6, copies);
         ++drawn_;
-        if (wantLabels) labels.push_back({dir, name, psf ? 0.5 * kPsfFwhmPx : radius * scale});
-        return true;
+    };
+    // A label for a body the projection shows (drawn or just off the image: its text may reach in).
+    auto label = [&](const Placement& q, const glm::dvec3& dir, double radius, const char* name) {
+        if (wantLabels) labels.push_back({dir, name, q.psf ? 0.5 * kPsfFwhmPx : radius * std::sqrt(q.scale.x * q.scale.y)});
     };
 
     // The Sun.
@@ -509,9 +541,16 @@ void Planet::doRender(const FrameContext& ctx) {
         const glm::dvec3 mean = v.get(lk::sunDiskRadiance) * T;
         const double alpha = v.getOr(ak::sunAngularRadius, 4.65e-3);
         const glm::dvec3 a = sunLimbExponents();
-        p.set("u_limb", glm::vec3(a));
+        const glm::dvec3 dir = glm::normalize(v.get(keys::sunDirection));
         if (mean != glm::dvec3(0.0) || later)
-            draw(kKindSun, glm::normalize(v.get(keys::sunDirection)), alpha, 2.0, mean * (a + 2.0) / 2.0, mean * kPi * alpha * alpha, "Sun");
+            if (const auto q = place(kKindSun, dir, alpha, 2.0, false)) {
+                if (q->onScreen) {
+                    bind();
+                    p.set("u_limb", glm::vec3(a));
+                    draw(kKindSun, *q, dir, alpha, mean * (a + 2.0) / 2.0, mean * kPi * alpha * alpha);
+                }
+                label(*q, dir, alpha, "Sun");
+            }
     }
 
     // The planets.
@@ -520,11 +559,17 @@ void Planet::doRender(const FrameContext& ctx) {
         if (b == astro::Body::Sun || b == astro::Body::Moon) continue;
         if (!v.has(ak::planetDirection(b))) continue;
         const glm::dvec3 dir = glm::normalize(v.get(ak::planetDirection(b)));
+        const double radius = std::min(0.5 * v.getOr(ak::planetAngularDiameter(b), 0.0) * f, 1.4);
+        // Off the image (and not labelled): nothing to compute.
+        const auto q = place(kKindDisk, dir, radius, 3.0, perceptual);
+        if (!q || (!q->onScreen && !wantLabels)) continue;
         const double m = v.get(ak::planetMagnitude(b));
         const glm::dvec3 T = later ? glm::dvec3(1.0) : transmittanceTowards(v, std::asin(std::clamp(dir.z, -1.0, 1.0)));
         if (T == glm::dvec3(0.0)) continue;
+        label(*q, dir, radius, astro::bodyName(b));
+        if (!q->onScreen) continue;
+        bind();
         const glm::dvec3 E = astro::magnitude::illuminanceLux(m) * color::starColourFromBV(kPlanetBV[int(b) - int(astro::Body::Mercury)]) * T;
-        const double radius = std::min(0.5 * v.getOr(ak::planetAngularDiameter(b), 0.0) * f, 1.4);
         // Lambert sphere lit from the Sun: L = L0 max(n.s, 0), L0 = E / (Omega (2/3) Phi(a)).
         const double dist = astro::bodyRadiusMeters(b) / std::max(std::tan(0.5 * v.getOr(ak::planetAngularDiameter(b), 1e-9)), 1e-12);
         const glm::dvec3 P = dist * dir;
@@ -541,7 +586,7 @@ void Planet::doRender(const FrameContext& ctx) {
             ppColour = E / std::max(color::luminance(E), 1e-300);
             ppDiskCdM2 = ppEyeLux / std::max(kPi * radius * radius, 1e-30);
         }
-        draw(kKindDisk, dir, radius, 3.0, L0, E, astro::bodyName(b));
+        draw(kKindDisk, *q, dir, radius, L0, E);
         ppEyeLux = 0.0;
     }
 
@@ -552,67 +597,74 @@ void Planet::doRender(const FrameContext& ctx) {
         const glm::dvec3 T = later ? glm::dvec3(1.0) : v.get(lk::moonTransmittance);
         const glm::dvec3 E = v.getOr(lk::moonIlluminanceUneclipsed, v.get(lk::moonIlluminance)) * T;
         const MoonGeometry g = moonGeometry(v, f);
-        // The integral depends only on the Sun's and the observer's directions in the Moon's
-        // frame and the apparent radius: recomputed when one moves by more than 1e-4 rad (its
-        // relative change is then < 1e-4).
-        const glm::dmat3 toSel = glm::transpose(g.axes);
-        const double key[7] = {(toSel * g.sunFromMoon).x, (toSel * g.sunFromMoon).y, (toSel * g.sunFromMoon).z,
-                               (toSel * -g.centre).x, (toSel * -g.centre).y, (toSel * -g.centre).z, g.angularRadius};
-        bool same = integralValid_;
-        for (int i = 0; i < 6; ++i) same = same && std::abs(key[i] - integralKey_[i]) < 1e-4;
-        same = same && std::abs(key[6] / integralKey_[6] - 1.0) < 1e-4;
-        if (!same) {
-            integral_ = moonDiskIntegral(g, maps_, 96);
-            std::copy(key, key + 7, integralKey_);
-            integralValid_ = true;
+        // Off the image (or dark with no Sky after it) and not labelled: nothing to compute.
+        const auto q = (E != glm::dvec3(0.0) || later) ? place(kKindMoon, g.centre, g.angularRadius, 2.0, false) : std::nullopt;
+        if (q) label(*q, g.centre, g.angularRadius, "Moon");
+        if (q && q->onScreen) {
+            bind();
+            // The integral depends only on the Sun's and the observer's directions in the Moon's
+            // frame and the apparent radius: recomputed when one moves by more than 1e-4 rad (its
+            // relative change is then < 1e-4).
+            const glm::dmat3 toSel = glm::transpose(g.axes);
+            const double key[7] = {(toSel * g.sunFromMoon).x, (toSel * g.sunFromMoon).y, (toSel * g.sunFromMoon).z,
+                                   (toSel * -g.centre).x, (toSel * -g.centre).y, (toSel * -g.centre).z, g.angularRadius};
+            bool same = integralValid_;
+            for (int i = 0; i < 6; ++i) same = same && std::abs(key[i] - integralKey_[i]) < 1e-4;
+            same = same && std::abs(key[6] / integralKey_[6] - 1.0) < 1e-4;
+            if (!same) {
+                integral_ = moonDiskIntegral(g, maps_, 96);
+                std::copy(key, key + 7, integralKey_);
+                integralValid_ = true;
+            }
+            const double integral = integral_;
+            const glm::dvec3 K = integral > 0.0 ? E / integral : glm::dvec3(0.0);  // cd/m^2 per unit A B LS
+            moonScale_ = color::luminance(K);
+            // Earthshine: K x (E_earth / E_sun) x B(0) S(0) (the Earth is behind the observer).
+            glm::dvec3 es(0.0);
+            if (v.get(planetkeys::earthshine)) {
+                // Unlike sunlight the earthshine is not in the calibration: its own Hapke factor and
+                // ratio, over the sunlit model's B(g) (K divides it out).
+                es = K * earthshineRatio(g.phaseRad, g.earthMoonDistanceM) * hapkePhase(0.0) * (kEarthshineColour / color::luminance(kEarthshineColour));
+            }
+            p.set("u_moonAxes", glm::mat3(g.axes));
+            p.set("u_worldToSel", glm::mat3(glm::transpose(g.axes)));
+            p.set("u_light", glm::vec3(g.sunFromMoon));
+            p.set("u_hapke", float(hapkePhase(std::clamp(g.phaseRad, 0.0, kPi))));
+            p.set("u_earthshine", glm::vec3(es));
+            // Eclipse geometry, in units of 1e6 m (float-friendly): Earth's centre and the Sun
+            // relative to the observer, the Moon's distance and true radius.
+            const double unit = 1e6;
+            const glm::dvec3 earthCentre(0.0, 0.0, -(kEarthRadiusM + v.getOr(keys::observerHeight, 0.0)));
+            const double Dm = v.getOr(ak::moonDistance, 3.844e8);
+            // The shadow is evaluated per pixel only when the Moon's disk reaches into the penumbra
+            // (the Moon's centre within penumbra radius + Moon radius + 1 % of the shadow's axis).
+            bool nearShadow = false;
+            if (v.get(planetkeys::eclipse)) {
+                const glm::dvec3 Mg = Dm * g.centre - earthCentre, Sg = sunPos - earthCentre;
+                const glm::dvec3 axis = -glm::normalize(Sg);
+                const double along = glm::dot(Mg, axis);
+                const double off = glm::length(Mg - along * axis);
+                const double Rs = astro::bodyRadiusMeters(astro::Body::Sun), Re = kEarthShadowEnlargement * kEarthRadiusM;
+                const double penumbra = Re + along * (Rs + Re) / glm::length(Sg);
+                nearShadow = along > 0.0 && off < 1.01 * (penumbra + astro::bodyRadiusMeters(astro::Body::Moon) * f);
+            }
+            p.set("u_eclipse", nearShadow ? 1 : 0);
+            p.set("u_earthCentre", glm::vec3(earthCentre / unit));
+            p.set("u_sunPos", glm::vec3(sunPos / unit));
+            p.set("u_moonDist", float(Dm / unit));
+            p.set("u_moonRadius", float(astro::bodyRadiusMeters(astro::Body::Moon) / unit));
+            p.set("u_earthRadius", float(kEarthShadowEnlargement * kEarthRadiusM / unit));
+            p.set("u_sunRadius", float(astro::bodyRadiusMeters(astro::Body::Sun) / unit));
+            p.set("u_umbraColour", glm::vec3(kUmbraColour / color::luminance(kUmbraColour)));
+            const auto s = scaleAt(g.centre);
+            const double rPx = s ? g.angularRadius * std::sqrt(s->x * s->y) : 1.0;
+            p.set("u_albedoLod", float(std::max(std::log2(albedoTex_.width() / (2 * kPi * std::max(rPx, 1e-3))), 0.0)));
+            p.set("u_normalLod", float(std::max(std::log2(normalTex_.width() / (2 * kPi * std::max(rPx, 1e-3))), 0.0)));
+            albedoTex_.bind(gl::binding::kMoonAlbedoTexture);
+            normalTex_.bind(gl::binding::kMoonNormalTexture);
+            draw(kKindMoon, *q, g.centre, g.angularRadius, K, E);
+            moonDrawn_ = true;
         }
-        const double integral = integral_;
-        const glm::dvec3 K = integral > 0.0 ? E / integral : glm::dvec3(0.0);  // cd/m^2 per unit A B LS
-        moonScale_ = color::luminance(K);
-        // Earthshine: K x (E_earth / E_sun) x B(0) S(0) (the Earth is behind the observer).
-        glm::dvec3 es(0.0);
-        if (v.get(planetkeys::earthshine)) {
-            // Unlike sunlight the earthshine is not in the calibration: its own Hapke factor and
-            // ratio, over the sunlit model's B(g) (K divides it out).
-            es = K * earthshineRatio(g.phaseRad, g.earthMoonDistanceM) * hapkePhase(0.0) * (kEarthshineColour / color::luminance(kEarthshineColour));
-        }
-        p.set("u_moonAxes", glm::mat3(g.axes));
-        p.set("u_worldToSel", glm::mat3(glm::transpose(g.axes)));
-        p.set("u_light", glm::vec3(g.sunFromMoon));
-        p.set("u_hapke", float(hapkePhase(std::clamp(g.phaseRad, 0.0, kPi))));
-        p.set("u_earthshine", glm::vec3(es));
-        // Eclipse geometry, in units of 1e6 m (float-friendly): Earth's centre and the Sun
-        // relative to the observer, the Moon's distance and true radius.
-        const double unit = 1e6;
-        const glm::dvec3 earthCentre(0.0, 0.0, -(kEarthRadiusM + v.getOr(keys::observerHeight, 0.0)));
-        const double Dm = v.getOr(ak::moonDistance, 3.844e8);
-        // The shadow is evaluated per pixel only when the Moon's disk reaches into the penumbra
-        // (the Moon's centre within penumbra radius + Moon radius + 1 % of the shadow's axis).
-        bool nearShadow = false;
-        if (v.get(planetkeys::eclipse)) {
-            const glm::dvec3 Mg = Dm * g.centre - earthCentre, Sg = sunPos - earthCentre;
-            const glm::dvec3 axis = -glm::normalize(Sg);
-            const double along = glm::dot(Mg, axis);
-            const double off = glm::length(Mg - along * axis);
-            const double Rs = astro::bodyRadiusMeters(astro::Body::Sun), Re = kEarthShadowEnlargement * kEarthRadiusM;
-            const double penumbra = Re + along * (Rs + Re) / glm::length(Sg);
-            nearShadow = along > 0.0 && off < 1.01 * (penumbra + astro::bodyRadiusMeters(astro::Body::Moon) * f);
-        }
-        p.set("u_eclipse", nearShadow ? 1 : 0);
-        p.set("u_earthCentre", glm::vec3(earthCentre / unit));
-        p.set("u_sunPos", glm::vec3(sunPos / unit));
-        p.set("u_moonDist", float(Dm / unit));
-        p.set("u_moonRadius", float(astro::bodyRadiusMeters(astro::Body::Moon) / unit));
-        p.set("u_earthRadius", float(kEarthShadowEnlargement * kEarthRadiusM / unit));
-        p.set("u_sunRadius", float(astro::bodyRadiusMeters(astro::Body::Sun) / unit));
-        p.set("u_umbraColour", glm::vec3(kUmbraColour / color::luminance(kUmbraColour)));
-        const auto s = scaleAt(g.centre);
-        const double rPx = s ? g.angularRadius * std::sqrt(s->x * s->y) : 1.0;
-        p.set("u_albedoLod", float(std::max(std::log2(albedoTex_.width() / (2 * kPi * std::max(rPx, 1e-3))), 0.0)));
-        p.set("u_normalLod", float(std::max(std::log2(normalTex_.width() / (2 * kPi * std::max(rPx, 1e-3))), 0.0)));
-        albedoTex_.bind(gl::binding::kMoonAlbedoTexture);
-        normalTex_.bind(gl::binding::kMoonNormalTexture);
-        if (E != glm::dvec3(0.0) || later) moonDrawn_ = draw(kKindMoon, g.centre, g.angularRadius, 2.0, K, E, "Moon");
     }
 
     // Labels: right of each body drawn, past its disk (or its point image), vertically centred.

@@ -287,6 +287,43 @@ TEST_CASE("Planet: a planet's flux is its magnitude's illuminance x transmittanc
     }
 }
 
+TEST_CASE("Planet: a body is drawn only where its quad reaches the image", "[gl][planet]") {
+    // Jupiter (a PSF, FWHM 2 px: its quad 4 sigma = 3.4 px around it) moved just above the top
+    // edge of a 64 px frame: 1.5 px above, its PSF still reaches row 0 (drawn); 6 px above, its
+    // quad misses the image (culled on the CPU: nothing drawn, no GL call, a black image).
+    const char* iso = "2026-01-10T00:00:00Z";
+    const auto key = ak::planetDirection(astro::Body::Jupiter);
+    for (double above : {1.5, 6.0}) {
+        INFO("Jupiter " << above << " px above the image");
+        auto owned = std::make_unique<Planet>(std::vector{astro::Body::Jupiter});
+        Planet* planet = owned.get();
+        Scene s = scene(iso, bestLongitude(iso, key) - 40, key, 10, 64, std::move(owned));
+        const glm::dvec3 d = glm::normalize(s.p->vars().get(key));
+        // Lower the camera until Jupiter's pixel row is -above (bisection on the altitude).
+        double lo = 0, hi = 10 * kDeg;
+        const double alt0 = s.cam.altitudeRad;
+        for (int i = 0; i < 60; ++i) {
+            s.cam.altitudeRad = alt0 - 0.5 * (lo + hi);
+            const double y = s.cam.pixelFromClip(*s.cam.clipFromDirection(d)).y;
+            (y > -above ? lo : hi) = 0.5 * (lo + hi);
+        }
+        s.p->setCamera(s.cam);
+        s.p->renderFrame();
+        const Image img = s.p->readHdr();
+        double top = 0, mid = 0, all = 0;  // row 0, row 1, rows 2..
+        for (int y = 0; y < img.height; ++y)
+            for (int x = 0; x < img.width; ++x) (y == 0 ? top : y >= 2 ? all : mid) += img.at(x, y, 1);
+        if (above < 3) {
+            CHECK(planet->drawn() == 1);
+            CHECK(top > 0.0);
+        } else {
+            CHECK(planet->drawn() == 0);
+            CHECK(top == 0.0);
+        }
+        CHECK(all == 0.0);  // rows 2 and below (centres >= 4 px from Jupiter): beyond its quad either way
+    }
+}
+
 TEST_CASE("Planet: a total lunar eclipse darkens and reddens the Moon", "[gl][planet]") {
     if (!haveMoonMaps()) {
         // The data is installed by scripts/setup.sh: missing, the test fails rather than pass unseen.

@@ -139,9 +139,11 @@ public:
     /// (planet.size_factor, ...) are shared keys.
     explicit Planet(std::vector<astro::Body> bodies, std::string name = "planet");
 
-    /// Bodies drawn by the last frame (disk or PSF).
+    /// Bodies drawn by the last frame (disk or PSF): those whose quads meet the image (a body
+    /// off the image costs no GL call).
     int drawn() const { return drawn_; }
-    /// The Moon's calibration of the last frame: radiance = scale x albedo x shading (cd/m^2).
+    /// The Moon's calibration of the last frame that drew it: radiance = scale x albedo x shading
+    /// (cd/m^2).
     double moonScale() const { return moonScale_; }
     /// The maps as the calibration integral samples them (after init, if the Moon is drawn).
     const MoonMaps& moonMaps() const { return maps_; }
