@@ -72,7 +72,7 @@ inline const Key<std::string> moonTexture{"planet.moon_texture", "the Moon's alb
 /// Names beside the bodies drawn (an education overlay: the engine's text, welkin/gl/text.hpp).
 inline const Key<bool> labels{"planet.labels", "names beside the bodies drawn"};
 /// With planet.labels, the visual magnitude after the name ("Mars -2.2"): the astronomy's
-/// planet.<name>.magnitude, moon.magnitude, the Sun's -26.74 + 5 log10(distance / au); one decimal.
+/// `planet.NAME.magnitude`, moon.magnitude, the Sun's -26.74 + 5 log10(distance / au); one decimal.
 inline const Key<bool> labelMagnitude{"planet.label_magnitude", "with planet.labels, the visual magnitude after each name (\"Mars -2.2\")"};
 /// Label size, px (0: the image's shorter side / 64, at least 11 px).
 inline const Key<double> labelSize{"planet.label_size_px", Range{0, 256}, "label em height, px (0: shorter image side / 64, >= 11)", "px"};
