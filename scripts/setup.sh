@@ -13,7 +13,7 @@ packages=(build-essential cmake pkg-config git
   libglfw3-dev libglm-dev libopenimageio-dev openimageio-tools catch2 libepoxy-dev libegl-dev
   libegl-mesa0 libgl1-mesa-dri liberfa-dev libcli11-dev nlohmann-json3-dev libimgui-dev glslang-tools
   xvfb xauth kstars-data stellarium-data libfreetype-dev fonts-dejavu-core python3 python3-matplotlib
-  doxygen libtinygltf-dev)
+  doxygen libtinygltf-dev ffmpeg)
 
 missing=()
 for p in "${packages[@]}"; do
