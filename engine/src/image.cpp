@@ -1,7 +1,7 @@
 #include <welkin/error.hpp>
 #include <welkin/image.hpp>
 
-#include <OpenImageIO/imageio.h>
+#include "image_codec.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -40,34 +40,16 @@ void writeImage(const Image& img, const std::string& path) {
     if (img.width <= 0 || img.height <= 0 || img.pixels.size() != size_t(img.width) * img.height * img.channels)
         throw Error("writeImage('" + path + "'): image is empty or inconsistent");
     std::string ext = lowerExt(path);
-    bool isFloat = ext == ".exr";
     // Temporary file beside the target, then rename: never a half-written output.
     fs::path target(path);
     std::string tmp = (target.parent_path() / ("." + target.filename().string() + ".tmp" + std::to_string(::getpid()))).string();
     tmp += ext;
-    auto out = OIIO::ImageOutput::create(tmp);
-    if (!out) throw Error("writeImage('" + path + "'): no writer for '" + ext + "'");
-    OIIO::ImageSpec spec(img.width, img.height, img.channels, isFloat ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
-    if (isFloat) spec.attribute("compression", "zip");
-    else spec.attribute("oiio:ColorSpace", "sRGB");
-    bool ok = out->open(tmp, spec);
-    if (ok) {
-        if (isFloat) {
-            ok = out->write_image(OIIO::TypeDesc::FLOAT, img.pixels.data());
-        } else {
-            std::vector<unsigned char> bytes(img.pixels.size());
-            for (size_t i = 0; i < bytes.size(); ++i)
-                bytes[i] = (unsigned char)std::lround(std::clamp(img.pixels[i], 0.0f, 1.0f) * 255.0f);
-            ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
-        }
-        ok = out->close() && ok;
-    }
-    std::string err = out->geterror();
-    out.reset();
+    std::string err = detail::encodeImage(img, tmp, ext);
+    bool ok = err.empty();
     std::error_code ec, ignored;
     if (!ok) {
         fs::remove(tmp, ignored);
-        throw Error("writeImage('" + path + "'): " + (err.empty() ? "write failed" : err));
+        throw Error("writeImage('" + path + "'): " + err);
     }
     fs::rename(tmp, target, ec);
     if (ec) {
@@ -77,18 +59,6 @@ void writeImage(const Image& img, const std::string& path) {
     }
 }
 
-Image readImage(const std::string& path) {
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) throw Error("readImage('" + path + "'): " + OIIO::geterror());
-    const OIIO::ImageSpec& spec = in->spec();
-    Image img;
-    img.width = spec.width;
-    img.height = spec.height;
-    img.channels = spec.nchannels;
-    img.pixels.resize(size_t(img.width) * img.height * img.channels);
-    if (!in->read_image(0, 0, 0, img.channels, OIIO::TypeDesc::FLOAT, img.pixels.data()))
-        throw Error("readImage('" + path + "'): " + in->geterror());
-    return img;
-}
+Image readImage(const std::string& path) { return detail::decodeImage(path); }
 
 }  // namespace welkin

@@ -9,6 +9,7 @@
 #include <GLFW/glfw3.h>
 
 #include <cstdio>
+#include <cstring>
 #include <mutex>
 
 namespace welkin::gl {
@@ -63,14 +64,38 @@ const char* eglErrorName(EGLint e) {
 }
 }  // namespace
 
+namespace {
+// The first GPU through EGL_EXT_platform_device (NVIDIA's headless path, where the surfaceless
+// platform may be missing); EGL_NO_DISPLAY when the extension or a device is absent.
+EGLDisplay deviceDisplay() {
+    const char* ext = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+    if (!ext || !std::strstr(ext, "EGL_EXT_platform_device")) return EGL_NO_DISPLAY;
+    auto query = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
+    if (!query) return EGL_NO_DISPLAY;
+    EGLDeviceEXT devices[8];
+    EGLint n = 0;
+    if (!query(8, devices, &n) || n < 1) return EGL_NO_DISPLAY;
+    for (EGLint i = 0; i < n; ++i) {
+        EGLDisplay d = eglGetPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
+        EGLint major = 0, minor = 0;
+        if (d != EGL_NO_DISPLAY && eglInitialize(d, &major, &minor)) return d;
+    }
+    return EGL_NO_DISPLAY;
+}
+}  // namespace
+
 std::unique_ptr<HeadlessContext> HeadlessContext::create(const ContextOptions& options, const Logger& log) {
+    // Mesa's surfaceless platform first (llvmpipe or a Mesa GPU driver), then an EGL device.
     EGLDisplay dpy = eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-    if (dpy == EGL_NO_DISPLAY)
-        throw Error(std::string("HeadlessContext: no EGL surfaceless display (") + eglErrorName(eglGetError()) +
-                    "); install Mesa's libegl-mesa0 and libgl1-mesa-dri");
     EGLint major = 0, minor = 0;
-    if (!eglInitialize(dpy, &major, &minor))
-        throw Error(std::string("HeadlessContext: eglInitialize failed (") + eglErrorName(eglGetError()) + ")");
+    EGLint surfacelessError = EGL_SUCCESS;
+    if (dpy == EGL_NO_DISPLAY || !eglInitialize(dpy, &major, &minor)) {
+        surfacelessError = eglGetError();
+        dpy = deviceDisplay();
+    }
+    if (dpy == EGL_NO_DISPLAY)
+        throw Error(std::string("HeadlessContext: no EGL surfaceless display (") + eglErrorName(surfacelessError) +
+                    ") and no EGL device; install Mesa's libegl-mesa0 and libgl1-mesa-dri");
     if (!eglBindAPI(EGL_OPENGL_API)) {
         eglTerminate(dpy);
         throw Error("HeadlessContext: EGL cannot bind the desktop OpenGL API");
