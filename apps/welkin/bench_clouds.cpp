@@ -310,7 +310,7 @@ int run(const CloudsBenchOptions& o) {
                     "|---|---|---|---|---|---|---|\n",
                     o.skyShadowRepeats);
         for (const ShadowRow& r : shadowRows)
-            std::printf("| %s | %.1f | %.1f | %.2f | %.1f | %.1f | %.1f |\n", r.size.c_str(), r.skyOffMs, r.skyOnMs, r.skyOnMs / r.skyOffMs,
+            std::printf("| %s | %.3f | %.3f | %.2f | %.3f | %.3f | %.3f |\n", r.size.c_str(), r.skyOffMs, r.skyOnMs, r.skyOnMs / r.skyOffMs,
                         r.frameOffMs, r.frameOnMs, r.lossMs);
     }
     std::printf("targets: %s\n", met ? "all met" : "some NOT met");

@@ -97,13 +97,15 @@ TEST_CASE("Sky LUTs: GPU passes match their CPU double twins", "[gl][sky]") {
     INFO("worst transmittance relative error " << worstT);
     CHECK(worstT < 1e-3);
 
-    // Multiple scattering: sums of ~16 x 8 float terms through the same LUT lookups; 2e-3.
+    // Multiple scattering: sums of ~16 x 8 float terms through the same LUT lookups; 3e-3
+    // (llvmpipe: 1.1e-3; an NVIDIA H100, driver 580, 2.2e-3 with its own exp/log approximations
+    // and fused multiply-adds in the float sums).
     cpu::MsField MScpu = cpu::msField(m, q, Tcpu);
     Lut2D MSgpu = readLut(rig.luts.multiScattering->texture());
     double worstMS = 0;
     for (size_t i = 0; i < MScpu.psi.texels.size(); ++i) worstMS = std::max(worstMS, relErr(MSgpu.texels[i], MScpu.psi.texels[i], 1e-9));
     INFO("worst multiple-scattering relative error " << worstMS);
-    CHECK(worstMS < 2e-3);
+    CHECK(worstMS < 3e-3);
 
     // Directional multiple scattering (SH l <= L: 15 or 28 layers): each coefficient against the
     // twin, relative to the layer's largest magnitude: 5e-3 (the l = 2 layers are sums of terms of

@@ -27,8 +27,10 @@ void GLAPIENTRY debugCallback(GLenum, GLenum type, GLuint id, GLenum severity, G
     LogLevel level = LogLevel::Debug;
     if (severity == GL_DEBUG_SEVERITY_HIGH || type == GL_DEBUG_TYPE_ERROR)
         level = LogLevel::Error;
-    else if (severity == GL_DEBUG_SEVERITY_MEDIUM)
+    else if (severity == GL_DEBUG_SEVERITY_MEDIUM && type != GL_DEBUG_TYPE_PERFORMANCE)
         level = LogLevel::Warning;
+    else if (type == GL_DEBUG_TYPE_PERFORMANCE)  // hints (NVIDIA's buffer-placement notes): not warnings
+        level = LogLevel::Info;
     else if (severity == GL_DEBUG_SEVERITY_LOW)
         level = LogLevel::Info;
     std::string m = "GL[" + std::to_string(id) + "] " + std::string(message, size_t(length < 0 ? 0 : length));

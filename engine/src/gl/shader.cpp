@@ -3,6 +3,8 @@
 #include <welkin/gl/bindings.hpp>
 #include <welkin/gl/shader.hpp>
 
+#include "shader_log.hpp"
+
 #include <epoxy/gl.h>
 
 #include <cstdio>
@@ -75,8 +77,16 @@ std::string ProgramBuilder::assembled(GLenum stage) const {
 }
 
 std::string ProgramBuilder::mapLog(const std::string& log, const std::vector<Chunk>& chunks) const {
-    // Mesa writes "0:300012(5): error: ..."; others "ERROR: 0:300012: ...". Decode the line
-    // number into the chunk's file name and its own line.
+    std::vector<std::string> names;
+    for (const Chunk& c : chunks) names.push_back(c.name);
+    return detail::mapShaderLog(log, names, kChunkLines);
+}
+
+namespace detail {
+std::string mapShaderLog(const std::string& log, const std::vector<std::string>& chunkNames, size_t chunkLines) {
+    // Mesa writes "0:300012(5): error: ..."; NVIDIA "0(300012) : error C1503: ..."; others
+    // "ERROR: 0:300012: ...". Decode the line number into the chunk's file name and its own line.
+    static const std::regex nvidia(R"(^\s*(\d+)\((\d+)\))");
     static const std::regex re(R"((\d+):(\d+)(\(\d+\))?)");
     std::string out;
     std::istringstream in(log);
@@ -84,10 +94,10 @@ std::string ProgramBuilder::mapLog(const std::string& log, const std::vector<Chu
     while (std::getline(in, line)) {
         if (line.empty()) continue;
         std::smatch m;
-        if (std::regex_search(line, m, re)) {
+        if (std::regex_search(line, m, nvidia) || std::regex_search(line, m, re)) {
             size_t encoded = std::stoul(m[2]);
-            size_t idx = encoded / kChunkLines, local = encoded % kChunkLines;
-            std::string file = idx == 0 ? "<generated header>" : idx <= chunks.size() ? chunks[idx - 1].name : "?";
+            size_t idx = encoded / chunkLines, local = encoded % chunkLines;
+            std::string file = idx == 0 ? "<generated header>" : idx <= chunkNames.size() ? chunkNames[idx - 1] : "?";
             line = m.prefix().str() + file + ":" + std::to_string(local) + m.suffix().str();
         }
         if (!out.empty()) out += " | ";
@@ -95,6 +105,7 @@ std::string ProgramBuilder::mapLog(const std::string& log, const std::vector<Chu
     }
     return out;
 }
+}  // namespace detail
 
 GLuint ProgramBuilder::compileStage(GLenum stage, const std::vector<Chunk>& chunks) const {
     auto srcs = sources(stage, chunks);
