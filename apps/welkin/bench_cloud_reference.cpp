@@ -102,9 +102,10 @@ struct Row {
 };
 
 int run(const CloudReferenceOptions& o) {
-    if (o.width < 8 || o.width > 1024 || o.height < 8 || o.height > 1024) throw Error("--width/--height: must be in [8, 1024]");
-    if (o.paths < 1 || o.paths > 65536) throw Error("--paths: must be in [1, 65536]");
-    if (o.threads < 1 || o.threads > 64) throw Error("--threads: must be in [1, 64]");
+    if (o.width < 8 || o.width > 1024) throw Error("--width " + std::to_string(o.width) + " not in [8, 1024]");
+    if (o.height < 8 || o.height > 1024) throw Error("--height " + std::to_string(o.height) + " not in [8, 1024]");
+    if (o.paths < 1 || o.paths > 65536) throw Error("--paths " + std::to_string(o.paths) + " not in [1, 65536]");
+    if (o.threads < 1 || o.threads > 64) throw Error("--threads " + std::to_string(o.threads) + " not in [1, 64]");
     if (!o.out.empty() && !std::filesystem::is_directory(o.out)) throw Error("--out '" + o.out + "': not an existing directory");
     checkOutputDirectory("--csv", o.csv);
     std::vector<std::string> scenes;
@@ -130,7 +131,7 @@ int run(const CloudReferenceOptions& o) {
         cam.width = o.width;
         cam.height = o.height;
         cam.azimuthRad = 0.0;
-        cam.altitudeRad = deck ? 60.0 * kDeg : 12.0 * kDeg;
+        cam.altitudeRad = deck ? 60.0 * kDeg : 28.0 * kDeg;
         cam.verticalFovRad = deck ? 60.0 * kDeg : 36.0 * kDeg;
         const double bottom = deck ? 1000.0 : 1500.0, top = deck ? 2000.0 : 3500.0;
 
