@@ -8,7 +8,8 @@
 // layer's middle), the sky (the reference integrator's clear-sky radiance seen from the ground,
 // tabulated) and the ground (the atmosphere's albedo). Over the cloud pixels (the path-traced
 // camera ray's cloud transmittance < 0.5) it prints the luminance error of the real-time frame:
-//   RMS = sqrt(mean (Y_rt - Y_ref)^2) / mean Y_ref,  p95 = 95th percentile of |Y_rt / Y_ref - 1|,
+//   RMS = sqrt(mean (Y_rt - Y_ref)^2) / mean Y_ref (also with the reference's own variance
+//   sigma^2 subtracted from each squared difference), p95 = 95th percentile of |Y_rt / Y_ref - 1|,
 //   bias = mean Y_rt / mean Y_ref,  noise = the reference's mean relative standard error.
 // Both images include the sky behind the clouds; the real-time frame also has the air between
 // the camera and the clouds (aerial perspective), which the reference leaves out (its clouds are
@@ -62,6 +63,7 @@ struct CloudReferenceOptions {
     std::string scenes = "deck,cumulus-side";
     std::string out;              // directory for the side-by-side PNGs (empty: none)
     std::string csv = "bench_cloud_reference.csv";
+    long slabPhotons = 0;         // > 0: first the slab table (path tracer against adding-doubling)
 };
 
 /// A GL texture (by name) read back as the density twin's image, level 0.
@@ -98,7 +100,7 @@ double lum(const glm::dvec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * 
 struct Row {
     std::string scene;
     int pixels = 0;
-    double rms = 0, p95 = 0, bias = 0, noise = 0, meanRef = 0, meanRt = 0, refSeconds = 0;
+    double rms = 0, rmsDenoised = 0, p95 = 0, bias = 0, noise = 0, meanRef = 0, meanRt = 0, refSeconds = 0;
 };
 
 int run(const CloudReferenceOptions& o) {
@@ -108,14 +110,35 @@ int run(const CloudReferenceOptions& o) {
     if (o.threads < 1 || o.threads > 64) throw Error("--threads " + std::to_string(o.threads) + " not in [1, 64]");
     if (!o.out.empty() && !std::filesystem::is_directory(o.out)) throw Error("--out '" + o.out + "': not an existing directory");
     checkOutputDirectory("--csv", o.csv);
+    if (o.slabPhotons < 0 || o.slabPhotons > 100000000) throw Error("--slab-photons " + std::to_string(o.slabPhotons) + " not in [0, 1e8]");
     std::vector<std::string> scenes;
-    {
+    if (!o.scenes.empty()) {
         std::stringstream ss(o.scenes);
         for (std::string s; std::getline(ss, s, ',');) {
             if (s != "deck" && s != "cumulus-side") throw Error("--scenes: '" + s + "' not one of deck, cumulus-side");
             scenes.push_back(s);
         }
     }
+    if (o.slabPhotons > 0) {
+        // HG g = 0.85, conservative scattering, black ground: the photon tracer against adding-doubling.
+        std::printf("slabs, HG g = 0.85, %ld photons a case: transmission (direct + diffuse), fractions of the incident flux\n", o.slabPhotons);
+        std::printf("| tau | mu0 | R adding-doubling | T adding-doubling | T path tracer | difference / sigma |\n|---|---|---|---|---|---|\n");
+        const cloudref::HenyeyGreenstein hg(0.85);
+        const auto m = cloudref::hgMoments(0.85, 300);
+        for (double tau : {1.0, 10.0, 50.0, 100.0})
+            for (double mu0 : {1.0, 0.5}) {
+                const cloudref::SlabMedium slab(0.0, 1000.0, tau / 1000.0);
+                cloudref::Scene s;
+                s.medium = &slab;
+                s.phase = &hg;
+                const cloudref::SlabFluxes f = cloudref::slabFluxes(s, {std::sqrt(1.0 - mu0 * mu0), 0.0, -mu0}, o.slabPhotons, o.seed);
+                const cloudref::SlabSolution a = cloudref::addingDoubling(tau, 1.0, m, mu0);
+                std::printf("| %g | %g | %.4f | %.4f | %.4f ± %.4f | %.1f |\n", tau, mu0, a.reflection, a.transmission, f.transmission,
+                            f.transmissionSigma, std::abs(f.transmission - a.transmission) / f.transmissionSigma);
+                std::fflush(stdout);
+            }
+    }
+    if (scenes.empty()) return 0;
     Logger log;
     auto ctx = gl::HeadlessContext::create({}, log);
     std::printf("welkin bench cloud-reference: %s, %dx%d, %d paths per pixel\n", ctx->description().c_str(), o.width, o.height, o.paths);
@@ -253,7 +276,7 @@ int run(const CloudReferenceOptions& o) {
         r.scene = name;
         r.refSeconds = refSeconds;
         std::vector<double> rel;
-        double se = 0.0, sRef = 0.0, sRt = 0.0, sNoise = 0.0;
+        double se = 0.0, sRef = 0.0, sRt = 0.0, sNoise = 0.0, sVar = 0.0;
         for (size_t i = 0; i < ref.size(); ++i) {
             if (trans[i] >= 0.5) continue;
             const int x = int(i % o.width), y = int(i / o.width);
@@ -263,6 +286,7 @@ int run(const CloudReferenceOptions& o) {
             sRef += yr;
             sRt += yt;
             sNoise += yr > 0 ? sig[i] / yr : 0.0;
+            sVar += sig[i] * sig[i];
             rel.push_back(yr > 0 ? std::abs(yt / yr - 1.0) : 0.0);
             ++r.pixels;
         }
@@ -271,12 +295,14 @@ int run(const CloudReferenceOptions& o) {
         r.meanRef = sRef / r.pixels;
         r.meanRt = sRt / r.pixels;
         r.rms = std::sqrt(se / r.pixels) / r.meanRef;
+        // E[(Y_rt - Y_ref)^2] = (Y_rt - Y_true)^2 + sigma^2: the reference's variance removed.
+        r.rmsDenoised = std::sqrt(std::max(0.0, se - sVar) / r.pixels) / r.meanRef;
         r.p95 = rel[std::min(rel.size() - 1, size_t(0.95 * double(rel.size())))];
         r.bias = r.meanRt / r.meanRef;
         r.noise = sNoise / r.pixels;
         rows.push_back(r);
-        std::printf("%-13s cloud px %5d  mean Y ref %9.0f rt %9.0f cd/m^2  bias %.3f  RMS %5.1f %%  p95 %5.1f %%  ref noise %4.1f %%  (%.0f s)\n",
-                    name.c_str(), r.pixels, r.meanRef, r.meanRt, r.bias, 100 * r.rms, 100 * r.p95, 100 * r.noise, refSeconds);
+        std::printf("%-13s cloud px %5d  mean Y ref %9.0f rt %9.0f cd/m^2  bias %.3f  RMS %5.1f %% (noise removed %5.1f %%)  p95 %5.1f %%  ref noise %4.1f %%  (%.0f s)\n",
+                    name.c_str(), r.pixels, r.meanRef, r.meanRt, r.bias, 100 * r.rms, 100 * r.rmsDenoised, 100 * r.p95, 100 * r.noise, refSeconds);
         std::fflush(stdout);
         if (!o.out.empty()) {
             // Side by side, one exposure: 1 - exp(-L / (the reference cloud pixels' mean Y)), sRGB-encoded.
@@ -300,10 +326,10 @@ int run(const CloudReferenceOptions& o) {
         }
     }
     if (!o.csv.empty()) {
-        CsvWriter f(o.csv, {"scene", "cloud_pixels", "mean_ref_cd_m2", "mean_rt_cd_m2", "bias", "rms_rel", "p95_rel", "ref_noise_rel", "ref_seconds"});
+        CsvWriter f(o.csv, {"scene", "cloud_pixels", "mean_ref_cd_m2", "mean_rt_cd_m2", "bias", "rms_rel", "rms_rel_noise_removed", "p95_rel", "ref_noise_rel", "ref_seconds"});
         f.comment("welkin bench cloud-reference, " + std::to_string(o.width) + "x" + std::to_string(o.height) + ", " +
                   std::to_string(o.paths) + " paths per pixel, seed " + std::to_string(o.seed) + ", " + ctx->description());
-        for (const Row& r : rows) f.row(r.scene, r.pixels, r.meanRef, r.meanRt, r.bias, r.rms, r.p95, r.noise, r.refSeconds);
+        for (const Row& r : rows) f.row(r.scene, r.pixels, r.meanRef, r.meanRt, r.bias, r.rms, r.rmsDenoised, r.p95, r.noise, r.refSeconds);
         f.close();
         std::printf("wrote %s\n", o.csv.c_str());
     }
@@ -318,9 +344,11 @@ BenchRegistrar reg("cloud-reference", "the real-time clouds against the path-tra
                        sub.add_option("--paths", o->paths, "path-traced paths per pixel, [1, 65536]")->capture_default_str();
                        sub.add_option("--threads", o->threads, "path tracer threads, [1, 64] (results do not depend on it)")->capture_default_str();
                        sub.add_option("--seed", o->seed, "path tracer seed")->capture_default_str();
-                       sub.add_option("--scenes", o->scenes, "comma list of deck, cumulus-side")->capture_default_str();
+                       sub.add_option("--scenes", o->scenes, "comma list of deck, cumulus-side (empty: none)")->capture_default_str();
                        sub.add_option("--out", o->out, "directory for the side-by-side PNGs (empty: none)")->capture_default_str();
                        sub.add_option("--csv", o->csv, "write the table as CSV (empty: none)")->capture_default_str();
+                       sub.add_option("--slab-photons", o->slabPhotons, "> 0: first print the slab table (path tracer against adding-doubling) with this many photons a case, [0, 1e8]")
+                           ->capture_default_str();
                        return [o]() { return run(*o); };
                    });
 
