@@ -14,6 +14,7 @@ TEST_CASE("welkin bench cloud-reference: bad options are one-line errors", "[cpu
                                   {"--paths 0", "--paths 0 not in [1, 65536]"},
                                   {"--threads 65", "--threads 65 not in [1, 64]"},
                                   {"--scenes deck,tower", "--scenes: 'tower' not one of deck, cumulus-side"},
+                                  {"--slab-photons -1", "--slab-photons -1 not in [0, 1e8]"},
                                   {"--out /nonexistent-dir", "--out '/nonexistent-dir': not an existing directory"}});
     std::string report;
     for (const auto& f : failures) report += f + "\n";
