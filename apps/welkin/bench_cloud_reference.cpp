@@ -1,0 +1,356 @@
+// welkin bench cloud-reference: the real-time clouds against the path-traced reference
+// (generators/reference/reference_clouds.hpp) on fixed scenes, at a small size. For each scene the
+// real-time frame (the default Sky element plus Clouds, no reprojection, the element's own
+// samples; astronomy off, the Sun placed by sun.direction) is rendered and read back (cd/m^2);
+// the clouds' textures it used (weather map, base, detail and curl noise) are read back too and
+// the path tracer renders the same camera rays through the density function's CPU twin, lit by
+// the Sun above the cloud layer (lights.sun_illuminance x the reference sky's transmittance at the
+// layer's middle), the sky (the reference integrator's clear-sky radiance seen from the ground,
+// tabulated) and the ground (the atmosphere's albedo). Over the cloud pixels (the path-traced
+// camera ray's cloud transmittance < 0.5) it prints the luminance error of the real-time frame:
+//   RMS = sqrt(mean (Y_rt - Y_ref)^2) / mean Y_ref (also with the reference's own variance
+//   sigma^2 subtracted from each squared difference), p95 = 95th percentile of |Y_rt / Y_ref - 1|,
+//   bias = mean Y_rt / mean Y_ref,  noise = the reference's mean relative standard error.
+// Both images include the sky behind the clouds; the real-time frame also has the air between
+// the camera and the clouds (aerial perspective), which the reference leaves out (its clouds are
+// 2-8 km away: a few % of their luminance). Writes a side-by-side PNG per scene (--out DIR:
+// reference left, real time right, one exposure) and the table as CSV.
+#include "bench_util.hpp"
+#include "command.hpp"
+
+#include <welkin/camera.hpp>
+#include <welkin/csv.hpp>
+#include <welkin/elements/clouds.hpp>
+#include <welkin/elements/sky.hpp>
+#include <welkin/error.hpp>
+#include <welkin/generators/atmosphere.hpp>
+#include <welkin/generators/cloud_density.hpp>
+#include <welkin/generators/cloud_keys.hpp>
+#include <welkin/generators/reference_clouds.hpp>
+#include <welkin/generators/reference_sky.hpp>
+#include <welkin/gl/context.hpp>
+#include <welkin/gl/objects.hpp>
+#include <welkin/image.hpp>
+#include <welkin/keys.hpp>
+#include <welkin/processor.hpp>
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace welkin::cli {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+namespace ck = generators::cloudkeys;
+namespace ek = elements::cloudelemkeys;
+
+struct CloudReferenceOptions {
+    int width = 64, height = 36;  // both images' size, px
+    int paths = 16;               // path-traced paths per pixel
+    int threads = 2;              // path tracer's threads (the result does not depend on them)
+    uint64_t seed = 1;
+    std::string scenes = "deck,cumulus-side";
+    std::string out;              // directory for the side-by-side PNGs (empty: none)
+    std::string csv = "bench_cloud_reference.csv";
+    long slabPhotons = 0;         // > 0: first the slab table (path tracer against adding-doubling)
+};
+
+/// A GL texture (by name) read back as the density twin's image, level 0.
+generators::cpu::Image readBack(const TextureRef& r) {
+    if (r.id == 0) throw Error("bench cloud-reference: a cloud texture is missing");
+    generators::cpu::Image im;
+    im.w = r.width;
+    im.h = r.height;
+    im.d = std::max(r.depth, 1);
+    im.rgba.resize(size_t(im.w) * im.h * im.d * 4);
+    glGetTextureImage(r.id, 0, GL_RGBA, GL_FLOAT, GLsizei(im.rgba.size() * sizeof(float)), im.rgba.data());
+    return im;
+}
+
+/// A texture of n x n (x n) texels from f, repeating, linear.
+gl::Texture makeTexture(int n, bool is3D, const std::function<glm::vec4(double, double)>& f) {
+    gl::Texture tex = is3D ? gl::Texture(gl::Texture3D(n, n, n, GL_RGBA32F)) : gl::Texture(gl::Texture2D(n, n, GL_RGBA32F));
+    std::vector<float> px;
+    const int depth = is3D ? n : 1;
+    for (int z = 0; z < depth; ++z)
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x) {
+                const glm::vec4 c = f((x + 0.5) / n, (y + 0.5) / n);
+                px.insert(px.end(), {c.r, c.g, c.b, c.a});
+            }
+    tex.upload(GL_RGBA, GL_FLOAT, px.data());
+    tex.setFilter(GL_LINEAR);
+    tex.setWrap(GL_REPEAT);
+    return tex;
+}
+
+double lum(const glm::dvec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
+
+struct Row {
+    std::string scene;
+    int pixels = 0;
+    double rms = 0, rmsDenoised = 0, p95 = 0, bias = 0, noise = 0, meanRef = 0, meanRt = 0, refSeconds = 0;
+};
+
+int run(const CloudReferenceOptions& o) {
+    if (o.width < 8 || o.width > 1024) throw Error("--width " + std::to_string(o.width) + " not in [8, 1024]");
+    if (o.height < 8 || o.height > 1024) throw Error("--height " + std::to_string(o.height) + " not in [8, 1024]");
+    if (o.paths < 1 || o.paths > 65536) throw Error("--paths " + std::to_string(o.paths) + " not in [1, 65536]");
+    if (o.threads < 1 || o.threads > 64) throw Error("--threads " + std::to_string(o.threads) + " not in [1, 64]");
+    if (!o.out.empty() && !std::filesystem::is_directory(o.out)) throw Error("--out '" + o.out + "': not an existing directory");
+    checkOutputDirectory("--csv", o.csv);
+    if (o.slabPhotons < 0 || o.slabPhotons > 100000000) throw Error("--slab-photons " + std::to_string(o.slabPhotons) + " not in [0, 1e8]");
+    std::vector<std::string> scenes;
+    if (!o.scenes.empty()) {
+        std::stringstream ss(o.scenes);
+        for (std::string s; std::getline(ss, s, ',');) {
+            if (s != "deck" && s != "cumulus-side") throw Error("--scenes: '" + s + "' not one of deck, cumulus-side");
+            scenes.push_back(s);
+        }
+    }
+    if (o.slabPhotons > 0) {
+        // HG g = 0.85, conservative scattering, black ground: the photon tracer against adding-doubling.
+        std::printf("slabs, HG g = 0.85, %ld photons a case: transmission (direct + diffuse), fractions of the incident flux\n", o.slabPhotons);
+        std::printf("| tau | mu0 | R adding-doubling | T adding-doubling | T path tracer | difference / sigma |\n|---|---|---|---|---|---|\n");
+        const cloudref::HenyeyGreenstein hg(0.85);
+        const auto m = cloudref::hgMoments(0.85, 300);
+        for (double tau : {1.0, 10.0, 50.0, 100.0})
+            for (double mu0 : {1.0, 0.5}) {
+                const cloudref::SlabMedium slab(0.0, 1000.0, tau / 1000.0);
+                cloudref::Scene s;
+                s.medium = &slab;
+                s.phase = &hg;
+                const cloudref::SlabFluxes f = cloudref::slabFluxes(s, {std::sqrt(1.0 - mu0 * mu0), 0.0, -mu0}, o.slabPhotons, o.seed);
+                const cloudref::SlabSolution a = cloudref::addingDoubling(tau, 1.0, m, mu0);
+                std::printf("| %g | %g | %.4f | %.4f | %.4f ± %.4f | %.1f |\n", tau, mu0, a.reflection, a.transmission, f.transmission,
+                            f.transmissionSigma, std::abs(f.transmission - a.transmission) / f.transmissionSigma);
+                std::fflush(stdout);
+            }
+    }
+    if (scenes.empty()) return 0;
+    Logger log;
+    auto ctx = gl::HeadlessContext::create({}, log);
+    std::printf("welkin bench cloud-reference: %s, %dx%d, %d paths per pixel\n", ctx->description().c_str(), o.width, o.height, o.paths);
+    const auto atm = std::make_shared<const atmosphere::Atmosphere>(atmosphere::Atmosphere::earthClear());
+    const atmosphere::ReferenceSky refSky(*atm, atmosphere::ReferenceOptions::fast());
+    std::vector<Row> rows;
+    for (const std::string& name : scenes) {
+        const bool deck = name == "deck";
+        // The scene: the Sun, the camera, the layer.
+        const glm::dvec3 sun = deck ? glm::dvec3(0.0, 0.0, 1.0) : directionFromAzAlt(90.0 * kDeg, 30.0 * kDeg);
+        Camera cam;
+        cam.projection = Projection::Perspective;
+        cam.width = o.width;
+        cam.height = o.height;
+        cam.azimuthRad = 0.0;
+        cam.altitudeRad = deck ? 60.0 * kDeg : 28.0 * kDeg;
+        cam.verticalFovRad = deck ? 60.0 * kDeg : 36.0 * kDeg;
+        const double bottom = deck ? 1000.0 : 1500.0, top = deck ? 2000.0 : 3500.0;
+
+        SkyProcessor p(SkyVars::earth(), log, ProcessorOptions{.astronomy = false});
+        p.vars().set(atmosphere::kAtmosphere, atm);
+        p.vars().set(keys::sunDirection, sun);
+        p.vars().set(keys::moonDirection, glm::dvec3(0.0, 0.0, -1.0));
+        p.setCamera(cam);
+        p.add(std::make_unique<elements::Sky>());
+        p.add(std::make_unique<elements::Clouds>());
+        p.setAnimationTime(0.0);
+        p.setExposure({.automatic = false, .ev100 = 14});
+        p.vars().set(ek::reprojection, false);
+        p.vars().set(ck::cirrusCoverage, 0.0);
+        p.vars().set(ck::bottom, bottom);
+        p.vars().set(ck::top, top);
+        p.vars().set(ck::weatherExtent, 20000.0);
+        p.vars().set(ck::weatherOffset, glm::dvec2(0.0));
+        std::vector<gl::Texture> own;  // textures this bench made (kept alive through the frame)
+        if (deck) {
+            // The uniform deck of tau = 10 (the element's own test): weather R = 1, base 0, top 1; noise
+            // of 1; no erosion; the stratocumulus sheet; scattering from the profile's integral.
+            own.push_back(makeTexture(8, false, [](double, double) { return glm::vec4(1, 0, 1, 0); }));
+            own.push_back(makeTexture(4, true, [](double, double) { return glm::vec4(1.0f); }));
+            own.push_back(makeTexture(8, false, [](double, double) { return glm::vec4(1.0f); }));
+            p.vars().set(ck::weatherMap, TextureRef{own[0].id(), GL_TEXTURE_2D, 8, 8, 0});
+            p.vars().set(ck::noiseBase, TextureRef{own[1].id(), GL_TEXTURE_3D, 4, 4, 4});
+            p.vars().set(ck::noiseDetail, TextureRef{own[1].id(), GL_TEXTURE_3D, 4, 4, 4});
+            p.vars().set(ck::curlNoise, TextureRef{own[2].id(), GL_TEXTURE_2D, 8, 8, 0});
+            p.vars().set(ck::coverage, 1.0);
+            p.vars().set(ck::detailScale, 0.0);
+            p.vars().set(ck::cloudType, 0.0);
+            const generators::cpu::Image w{1, 1, 1, {1, 0, 1, 0}}, one3{1, 1, 1, {1, 1, 1, 1}};
+            const generators::cpu::CloudTextures t{w, one3, one3, one3};
+            const auto b = generators::CloudLayerBlock::make(6360e3, bottom, top, 1.0, 0.0, 1.0, 9000.0, 0.0, 20000.0, {0.0, 0.0},
+                                                             {0.0, 0.0, 0.0}, generators::kDefaultNoiseBasePeriodM,
+                                                             generators::kDefaultNoiseDetailPeriodM, generators::kDefaultCurlPeriodM,
+                                                             std::nullopt, 0.0);
+            double integral = 0.0;
+            for (int i = 0; i < 20000; ++i)
+                integral += generators::cpu::cloudDensity(b, t, {0.0, 0.0, bottom + (top - bottom) * (i + 0.5) / 20000},
+                                                          generators::CloudLod::Full) * (top - bottom) / 20000;
+            p.vars().set(ck::scattering, 10.0 / integral);
+        } else {
+            // One cumulus 4 km north of the camera, ~2.4 km across: a Gaussian blob on the weather map
+            // (20 km square, the camera at its centre), base at the layer's bottom, top at 90 %.
+            own.push_back(makeTexture(128, false, [](double u, double v) {
+                const double x = (u - 0.5) * 20000.0, y = (v - 0.5) * 20000.0 - 4000.0;
+                const double r2 = (x * x + y * y) / (1200.0 * 1200.0);
+                return glm::vec4(float(std::exp(-r2 * r2)), 0.0f, 0.9f, 0.0f);
+            }));
+            p.vars().set(ck::weatherMap, TextureRef{own[0].id(), GL_TEXTURE_2D, 128, 128, 0});
+            // The weather map's uv = (xy + offset) / extent: the blob's centre at the origin's uv 0.5.
+            p.vars().set(ck::weatherOffset, glm::dvec2(10000.0, 10000.0));
+            p.vars().set(ck::coverage, 1.0);
+            p.vars().set(ck::cloudType, 1.0);
+        }
+        p.renderFrame();
+        p.renderFrame();
+        const Image rt = p.readHdr();
+        const SkyVars& v = p.vars();
+        const auto block = generators::CloudLayerBlock::from(v);
+        const generators::cpu::Image w = readBack(v.get(ck::weatherMap)), nb = readBack(v.get(ck::noiseBase)),
+                                     nd = readBack(v.get(ck::noiseDetail)), cn = readBack(v.get(ck::curlNoise));
+        const generators::cpu::CloudTextures tex{w, nb, nd, cn};
+        const cloudref::CloudFieldMedium medium(block, tex);
+        const cloudref::TabulatedPhase phase = cloudref::cloudDropletPhase();
+
+        // The lights: the Sun above the layer, the clear sky (tabulated from the ground), the ground.
+        const glm::dvec3 e0 = v.get(keys::sunIlluminance);
+        const glm::dvec3 sunE = e0 * refSky.transmittance(0.5 * (bottom + top), sun);
+        const int na = 72, nz = 24;
+        std::vector<glm::dvec3> skyTab(size_t(na) * nz);
+        for (int j = 0; j < nz; ++j)
+            for (int i = 0; i < na; ++i)
+                skyTab[size_t(j) * na + i] = refSky.radiance(0.0, directionFromAzAlt(2.0 * M_PI * (i + 0.5) / na, 0.5 * M_PI * (j + 0.5) / nz), sun);
+        cloudref::Scene s;
+        s.medium = &medium;
+        s.phase = &phase;
+        const glm::dvec3 ga = atm->rgb().groundAlbedo;
+        s.ground = {cloudref::Ground::Kind::Sphere, 0.0, 6360e3, (ga.r + ga.g + ga.b) / 3.0};
+        s.lights.sunDirection = sun;
+        s.lights.sunIrradiance = sunE;
+        s.lights.sky = [&](const glm::dvec3& d) {
+            const double az = std::atan2(d.x, d.y), alt = std::asin(std::clamp(d.z, 0.0, 1.0));
+            const int i = std::clamp(int(std::floor((az < 0 ? az + 2.0 * M_PI : az) / (2.0 * M_PI) * na)), 0, na - 1);
+            const int j = std::clamp(int(std::floor(alt / (0.5 * M_PI) * nz)), 0, nz - 1);
+            return skyTab[size_t(j) * na + i];
+        };
+        // The reference image along the camera's own pixel rays.
+        std::vector<glm::dvec3> ref(size_t(o.width) * o.height, glm::dvec3(0.0));
+        std::vector<double> sig(ref.size(), 0.0), trans(ref.size(), 1.0);
+        const auto t0 = std::chrono::steady_clock::now();
+        {
+            std::atomic<size_t> next{0};
+            auto work = [&] {
+                for (size_t i = next++; i < ref.size(); i = next++) {
+                    const int x = int(i % o.width), y = int(i / o.width);
+                    const auto d = cam.directionAt({x + 0.5, y + 0.5});
+                    if (!d) continue;
+                    const cloudref::Estimate e = cloudref::radiance(s, {0.0, 0.0, 0.5}, *d, o.paths, o.seed, i);
+                    ref[i] = e.mean;
+                    sig[i] = lum(e.sigma);
+                    cloudref::Rng rng(o.seed + 7, i);
+                    double tr = 0.0;
+                    for (int k = 0; k < 4; ++k) tr += 0.25 * cloudref::ratioTrackingTransmittance(medium, {0.0, 0.0, 0.5}, *d, 1e7, rng);
+                    trans[i] = tr;
+                }
+            };
+            std::vector<std::thread> pool;
+            for (int k = 1; k < o.threads; ++k) pool.emplace_back(work);
+            work();
+            for (auto& th : pool) th.join();
+        }
+        const double refSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+        // The error over the cloud pixels.
+        Row r;
+        r.scene = name;
+        r.refSeconds = refSeconds;
+        std::vector<double> rel;
+        double se = 0.0, sRef = 0.0, sRt = 0.0, sNoise = 0.0, sVar = 0.0;
+        for (size_t i = 0; i < ref.size(); ++i) {
+            if (trans[i] >= 0.5) continue;
+            const int x = int(i % o.width), y = int(i / o.width);
+            const double yr = lum(ref[i]);
+            const double yt = 0.2126 * rt.at(x, y, 0) + 0.7152 * rt.at(x, y, 1) + 0.0722 * rt.at(x, y, 2);
+            se += (yt - yr) * (yt - yr);
+            sRef += yr;
+            sRt += yt;
+            sNoise += yr > 0 ? sig[i] / yr : 0.0;
+            sVar += sig[i] * sig[i];
+            rel.push_back(yr > 0 ? std::abs(yt / yr - 1.0) : 0.0);
+            ++r.pixels;
+        }
+        if (r.pixels == 0) throw Error("bench cloud-reference: scene " + name + " has no cloud pixels");
+        std::sort(rel.begin(), rel.end());
+        r.meanRef = sRef / r.pixels;
+        r.meanRt = sRt / r.pixels;
+        r.rms = std::sqrt(se / r.pixels) / r.meanRef;
+        // E[(Y_rt - Y_ref)^2] = (Y_rt - Y_true)^2 + sigma^2: the reference's variance removed.
+        r.rmsDenoised = std::sqrt(std::max(0.0, se - sVar) / r.pixels) / r.meanRef;
+        r.p95 = rel[std::min(rel.size() - 1, size_t(0.95 * double(rel.size())))];
+        r.bias = r.meanRt / r.meanRef;
+        r.noise = sNoise / r.pixels;
+        rows.push_back(r);
+        std::printf("%-13s cloud px %5d  mean Y ref %9.0f rt %9.0f cd/m^2  bias %.3f  RMS %5.1f %% (noise removed %5.1f %%)  p95 %5.1f %%  ref noise %4.1f %%  (%.0f s)\n",
+                    name.c_str(), r.pixels, r.meanRef, r.meanRt, r.bias, 100 * r.rms, 100 * r.rmsDenoised, 100 * r.p95, 100 * r.noise, refSeconds);
+        std::fflush(stdout);
+        if (!o.out.empty()) {
+            // Side by side, one exposure: 1 - exp(-L / (the reference cloud pixels' mean Y)), sRGB-encoded.
+            const int gap = 2;
+            Image sbs{.width = 2 * o.width + gap, .height = o.height, .channels = 3, .pixels = {}};
+            sbs.pixels.assign(size_t(sbs.width) * sbs.height * 3, 1.0f);
+            auto enc = [&](double L) {
+                const double c = 1.0 - std::exp(-L / (1.5 * r.meanRef));
+                const double s8 = c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
+                return float(std::clamp(s8, 0.0, 1.0));
+            };
+            for (int y = 0; y < o.height; ++y)
+                for (int x = 0; x < o.width; ++x)
+                    for (int c = 0; c < 3; ++c) {
+                        sbs.at(x, y, c) = enc(ref[size_t(y) * o.width + x][c]);
+                        sbs.at(x + o.width + gap, y, c) = enc(rt.at(x, y, c));
+                    }
+            const std::string path = (std::filesystem::path(o.out) / ("cloud_reference_" + name + ".png")).string();
+            writeImage(sbs, path);
+            std::printf("wrote %s\n", path.c_str());
+        }
+    }
+    if (!o.csv.empty()) {
+        CsvWriter f(o.csv, {"scene", "cloud_pixels", "mean_ref_cd_m2", "mean_rt_cd_m2", "bias", "rms_rel", "rms_rel_noise_removed", "p95_rel", "ref_noise_rel", "ref_seconds"});
+        f.comment("welkin bench cloud-reference, " + std::to_string(o.width) + "x" + std::to_string(o.height) + ", " +
+                  std::to_string(o.paths) + " paths per pixel, seed " + std::to_string(o.seed) + ", " + ctx->description());
+        for (const Row& r : rows) f.row(r.scene, r.pixels, r.meanRef, r.meanRt, r.bias, r.rms, r.rmsDenoised, r.p95, r.noise, r.refSeconds);
+        f.close();
+        std::printf("wrote %s\n", o.csv.c_str());
+    }
+    return 0;
+}
+
+BenchRegistrar reg("cloud-reference", "the real-time clouds against the path-traced reference: RMS and 95th-percentile luminance error",
+                   [](CLI::App& sub) {
+                       auto* o = new CloudReferenceOptions();
+                       sub.add_option("--width", o->width, "image width, px, [8, 1024]")->capture_default_str();
+                       sub.add_option("--height", o->height, "image height, px, [8, 1024]")->capture_default_str();
+                       sub.add_option("--paths", o->paths, "path-traced paths per pixel, [1, 65536]")->capture_default_str();
+                       sub.add_option("--threads", o->threads, "path tracer threads, [1, 64] (results do not depend on it)")->capture_default_str();
+                       sub.add_option("--seed", o->seed, "path tracer seed")->capture_default_str();
+                       sub.add_option("--scenes", o->scenes, "comma list of deck, cumulus-side (empty: none)")->capture_default_str();
+                       sub.add_option("--out", o->out, "directory for the side-by-side PNGs (empty: none)")->capture_default_str();
+                       sub.add_option("--csv", o->csv, "write the table as CSV (empty: none)")->capture_default_str();
+                       sub.add_option("--slab-photons", o->slabPhotons, "> 0: first print the slab table (path tracer against adding-doubling) with this many photons a case, [0, 1e8]")
+                           ->capture_default_str();
+                       return [o]() { return run(*o); };
+                   });
+
+}  // namespace
+}  // namespace welkin::cli
