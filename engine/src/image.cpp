@@ -81,6 +81,13 @@ Image readImage(const std::string& path) {
     auto in = OIIO::ImageInput::open(path);
     if (!in) throw Error("readImage('" + path + "'): " + OIIO::geterror());
     const OIIO::ImageSpec& spec = in->spec();
+    // A header can claim any size: refuse the absurd before allocating (the limits are far above
+    // any texture welkin reads: an 8k x 4k panorama is 2^25 pixels).
+    if (spec.width < 1 || spec.height < 1 || spec.nchannels < 1 || spec.width > kMaxImageEdge || spec.height > kMaxImageEdge ||
+        spec.nchannels > kMaxImageChannels || double(spec.width) * spec.height * spec.nchannels > double(kMaxImageValues))
+        throw Error("readImage('" + path + "'): " + std::to_string(spec.width) + " x " + std::to_string(spec.height) + " x " +
+                    std::to_string(spec.nchannels) + " is not a supported size (1 to " + std::to_string(kMaxImageEdge) + " pixels a side, 1 to " +
+                    std::to_string(kMaxImageChannels) + " channels, at most " + std::to_string(kMaxImageValues) + " values)");
     Image img;
     img.width = spec.width;
     img.height = spec.height;

@@ -200,9 +200,10 @@ std::vector<Star> parseHygCsv(const std::string& text, const std::string& source
     return stars;
 }
 
-std::vector<Star> loadKStarsBinaryStars(const std::string& path) {
-    const std::string bin = readFile(path);
-    auto fail = [&](const std::string& what) -> void { throw Error(path + ": " + what); };
+std::vector<Star> loadKStarsBinaryStars(const std::string& path) { return parseKStarsBinaryStars(readFile(path), path); }
+
+std::vector<Star> parseKStarsBinaryStars(const std::string& bin, const std::string& source) {
+    auto fail = [&](const std::string& what) -> void { throw Error(source + ": " + what); };
     auto u8 = [&](size_t off) -> unsigned {
         if (off >= bin.size()) fail("truncated at byte " + std::to_string(off));
         return (unsigned char)bin[off];
