@@ -14,6 +14,19 @@ namespace welkin {
 namespace fs = std::filesystem;
 
 namespace {
+// OpenImageIO's messages can span lines (one per failing layer): welkin's errors are one line.
+std::string oneLine(std::string text) {
+    while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
+    std::string out;
+    for (char c : text) {
+        if (c == '\n' || c == '\r') {
+            if (!out.empty() && out.back() != ' ') out += "; ";
+        } else {
+            out += c;
+        }
+    }
+    return out;
+}
 std::string lowerExt(const std::string& path) {
     std::string e = fs::path(path).extension().string();
     std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
@@ -67,7 +80,7 @@ void writeImage(const Image& img, const std::string& path) {
     std::error_code ec, ignored;
     if (!ok) {
         fs::remove(tmp, ignored);
-        throw Error("writeImage('" + path + "'): " + (err.empty() ? "write failed" : err));
+        throw Error("writeImage('" + path + "'): " + (err.empty() ? "write failed" : oneLine(err)));
     }
     fs::rename(tmp, target, ec);
     if (ec) {
@@ -79,7 +92,7 @@ void writeImage(const Image& img, const std::string& path) {
 
 Image readImage(const std::string& path) {
     auto in = OIIO::ImageInput::open(path);
-    if (!in) throw Error("readImage('" + path + "'): " + OIIO::geterror());
+    if (!in) throw Error("readImage('" + path + "'): " + oneLine(OIIO::geterror()));
     const OIIO::ImageSpec& spec = in->spec();
     // A header can claim any size: refuse the absurd before allocating (the limits are far above
     // any texture welkin reads: an 8k x 4k panorama is 2^25 pixels).
@@ -94,7 +107,7 @@ Image readImage(const std::string& path) {
     img.channels = spec.nchannels;
     img.pixels.resize(size_t(img.width) * img.height * img.channels);
     if (!in->read_image(0, 0, 0, img.channels, OIIO::TypeDesc::FLOAT, img.pixels.data()))
-        throw Error("readImage('" + path + "'): " + in->geterror());
+        throw Error("readImage('" + path + "'): " + oneLine(in->geterror()));
     return img;
 }
 

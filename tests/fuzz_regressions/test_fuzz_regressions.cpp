@@ -8,6 +8,7 @@
 #include <welkin/astro/stars.hpp>
 #include <welkin/astro/vsop87.hpp>
 #include <welkin/error.hpp>
+#include <welkin/image.hpp>
 
 #include <filesystem>
 #include <fstream>
@@ -84,14 +85,35 @@ TEST_CASE("fuzz regression: star catalogue numbers beyond an int or a float", "[
 }
 
 TEST_CASE("fuzz regression: VSOP87 terms whose phase or frequency overflow the evaluation", "[cpu][fuzz]") {
-    // Found by running fuzz_vsop87 on hand-made variants of its seeds: B or C of 1e300 was
-    // accepted and the series evaluated to NaN (the planets' positions, then the image).
+    // Found by fuzz_vsop87 (found_huge_frequency: a C of ~1e100 on line 2, in a 120 s run) and
+    // hand-made variants of its seeds: B or C of 1e300 was accepted and the series evaluated to
+    // NaN (the planets' positions, then the image).
     for (const char* name : {"phase_1e300", "frequency_1e300"}) {
         const std::string text = regressionInput("fuzz_vsop87", name);
         CHECK(errorOf([&] { astro::parseVsop87Series(text, "x.vsop"); }).find("x.vsop:1: term out of range") != std::string::npos);
     }
+    const std::string found = regressionInput("fuzz_vsop87", "found_huge_frequency");
+    CHECK(errorOf([&] { astro::parseVsop87Series(found, "x.vsop"); }).find("x.vsop:2: term out of range") != std::string::npos);
     // A real term (the first of earth.L0) is kept.
     const auto terms = astro::parseVsop87Series("1.75347045673 0.00000000000 0.00000000000\n4.0 1.0 1e5\n", "earth.L0.vsop");
     REQUIRE(terms.size() == 2);
     CHECK(terms[0].a == 4.0);  // sorted by decreasing |A|
+}
+
+TEST_CASE("fuzz regression: a truncated PNG's error is one line", "[cpu][fuzz]") {
+    // Found by fuzz_image_load (its property: errors are one line): OpenImageIO's message for a
+    // PNG cut short spans lines, and readImage passed it on as it was.
+    namespace fs = std::filesystem;
+    const std::string bytes = regressionInput("fuzz_image_load", "png_multiline_error");
+    REQUIRE(bytes[0] == 1);  // byte 0 picked the extension: .png
+    const fs::path path = fs::temp_directory_path() / "welkin-fuzz-regression-truncated.png";
+    {
+        std::ofstream out(path, std::ios::binary);
+        out.write(bytes.data() + 1, std::streamsize(bytes.size() - 1));
+    }
+    const std::string e = errorOf([&] { readImage(path.string()); });
+    fs::remove(path);
+    CHECK(e.rfind("readImage('", 0) == 0);
+    CHECK(e.find('\n') == std::string::npos);
+    CHECK(e.find('\r') == std::string::npos);
 }
