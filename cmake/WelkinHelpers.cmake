@@ -1,8 +1,21 @@
 # Compiler warnings for welkin's own code (not for third-party headers).
 function(welkin_warnings target)
   # -Wno-restrict: GCC 12 false positives in std::string concatenation (GCC bug 105329).
-  target_compile_options(${target} PRIVATE -Wall -Wextra -Werror -Wno-missing-field-initializers -Wno-restrict)
+  if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+    target_compile_options(${target} PRIVATE -Wall -Wextra -Werror -Wno-missing-field-initializers -Wno-restrict)
+  else()  # clang (the fuzz build): no GCC-only flags
+    target_compile_options(${target} PRIVATE -Wall -Wextra -Werror -Wno-missing-field-initializers)
+  endif()
 endfunction()
+
+if(WELKIN_FUZZ)
+  # Everything (the engine too) instrumented for libFuzzer's coverage and the sanitizers; the
+  # fuzz targets add -fsanitize=fuzzer to their link. -O1 with line tables: quick to build,
+  # readable stacks. NDEBUG off: the assertions are checks too.
+  add_compile_options(-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+                      -O1 -gline-tables-only -UNDEBUG)
+  add_link_options(-fsanitize=address,undefined)
+endif()
 
 if(WELKIN_SANITIZE)
   add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)

@@ -91,16 +91,7 @@ int run(const RenderOptions& o) {
     scene.pointSources = endsWithIgnoringCase(o.out, ".exr") ? "physical" : "perceptual";
     // Validate everything before touching GL or the file system.
     scene.validate();
-    checkWritable(o.out);
-    if (!o.stats.empty()) {
-        if (!endsWithIgnoringCase(o.stats, ".json")) throw Error("--stats '" + o.stats + "' must end in .json");
-        checkFileWritable(o.stats, "--stats");
-    }
-    if (!o.lighting.empty()) {
-        if (!endsWithIgnoringCase(o.lighting, ".json")) throw Error("--lighting '" + o.lighting + "' must end in .json");
-        checkFileWritable(o.lighting, "--lighting");
-        if (o.lighting == o.stats) throw Error("--lighting '" + o.lighting + "' is also the --stats file");
-    }
+    checkRenderOutputPaths(o.out, o.stats, o.lighting);
 
     Logger log;
     auto ctx = gl::HeadlessContext::create({.debug = o.debug}, log);

@@ -170,21 +170,4 @@ void SceneOptions::apply(SkyProcessor& p) const {
     applyVars(p);
 }
 
-bool endsWithIgnoringCase(std::string path, const std::string& ext) {
-    std::transform(path.begin(), path.end(), path.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return path.size() >= ext.size() && path.compare(path.size() - ext.size(), ext.size(), ext) == 0;
-}
-
-void checkFileWritable(const std::string& path, const char* option) {
-    namespace fs = std::filesystem;
-    const fs::path target(path);
-    const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
-    std::error_code ec;
-    if (!fs::is_directory(dir, ec)) throw Error(std::string(option) + " '" + path + "': directory '" + dir.string() + "' does not exist");
-    if (::access(dir.c_str(), W_OK) != 0) throw Error(std::string(option) + " '" + path + "': directory '" + dir.string() + "' is not writable");
-    if (fs::is_directory(target, ec)) throw Error(std::string(option) + " '" + path + "' is a directory");
-    if (fs::exists(target, ec) && ::access(path.c_str(), W_OK) != 0)
-        throw Error(std::string(option) + " '" + path + "' exists and is not writable");
-}
-
 }  // namespace welkin::cli

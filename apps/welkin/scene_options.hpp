@@ -4,6 +4,8 @@
 
 #include <welkin/processor.hpp>
 
+#include "output_paths.hpp"
+
 #include <string>
 #include <vector>
 
@@ -42,12 +44,7 @@ struct SceneOptions {
     void applyVars(SkyProcessor& processor) const;
 };
 
-/// True if `path` ends in `ext` ("…", lower case), ignoring the case of `path`.
-bool endsWithIgnoringCase(std::string path, const std::string& ext);
-/// Checks that a file can be created at `path` before any work: its directory exists and is
-/// writable, it is not a directory, and an existing file there is writable. Throws welkin::Error
-/// naming `option` ("--stats '…': directory '…' does not exist").
-void checkFileWritable(const std::string& path, const char* option);
+// endsWithIgnoringCase(), checkFileWritable(): output_paths.hpp.
 
 /// Parses "WxH" (each in [1, 16384]); throws naming `option`.
 void parseSize(const std::string& text, const char* option, int& width, int& height);

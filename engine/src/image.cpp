@@ -13,6 +13,32 @@ namespace welkin {
 
 namespace fs = std::filesystem;
 
+namespace detail {
+// OpenImageIO's messages can span lines (one per failing layer): welkin's errors are one line.
+std::string oneLine(std::string text) {
+    while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
+    std::string out;
+    for (char c : text) {
+        if (c == '\n' || c == '\r') {
+            if (!out.empty() && out.back() != ' ') out += "; ";
+        } else {
+            out += c;
+        }
+    }
+    return out;
+}
+
+void checkReadSize(const std::string& path, long long width, long long height, long long channels) {
+    // A header can claim any size: refuse the absurd before allocating (the limits are far above
+    // any texture welkin reads: an 8k x 4k panorama is 2^25 pixels).
+    if (width < 1 || height < 1 || channels < 1 || width > kMaxImageEdge || height > kMaxImageEdge || channels > kMaxImageChannels ||
+        double(width) * double(height) * double(channels) > double(kMaxImageValues))
+        throw Error("readImage('" + path + "'): " + std::to_string(width) + " x " + std::to_string(height) + " x " + std::to_string(channels) +
+                    " is not a supported size (1 to " + std::to_string(kMaxImageEdge) + " pixels a side, 1 to " +
+                    std::to_string(kMaxImageChannels) + " channels, at most " + std::to_string(kMaxImageValues) + " values)");
+}
+}  // namespace detail
+
 namespace {
 std::string lowerExt(const std::string& path) {
     std::string e = fs::path(path).extension().string();
@@ -49,7 +75,7 @@ void writeImage(const Image& img, const std::string& path) {
     std::error_code ec, ignored;
     if (!ok) {
         fs::remove(tmp, ignored);
-        throw Error("writeImage('" + path + "'): " + err);
+        throw Error("writeImage('" + path + "'): " + detail::oneLine(err));
     }
     fs::rename(tmp, target, ec);
     if (ec) {

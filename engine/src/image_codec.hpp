@@ -17,6 +17,12 @@ std::string encodeImage(const Image& img, const std::string& path, const std::st
 /// 16-bit ones k to k / 65535 (no colour conversion). Throws welkin::Error naming the path.
 Image decodeImage(const std::string& path);
 
+/// `text` on one line (line breaks become "; "): welkin's errors are one line.
+std::string oneLine(std::string text);
+/// Throws welkin::Error naming `path` unless the size is within kMaxImageEdge, kMaxImageChannels
+/// and kMaxImageValues (welkin/image.hpp): checked before any decoder allocates.
+void checkReadSize(const std::string& path, long long width, long long height, long long channels);
+
 /// Uncompressed scanline OpenEXR, 32-bit float channels (1: Y, 3: RGB, 4: RGBA).
 std::string writeExrUncompressed(const Image& img, const std::string& path);
 /// Reads an uncompressed scanline EXR with FLOAT or HALF channels (what writeExrUncompressed

@@ -9,6 +9,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -83,6 +84,23 @@ void forEachLine(const std::string& text, F&& f) {
     }
 }
 
+// A catalogue quantity stored as float: finite there too (|v| <= 1e30 is far beyond any star's
+// magnitude, colour or proper motion; a larger value would become inf, or undefined as an int).
+float asFloat(double v, const char* name, const LineError& fail) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, " %g", v);
+    if (!(std::abs(v) <= 1e30)) fail(std::string(name) + buf + " out of range (|value| <= 1e30)");
+    return float(v);
+}
+// A HIP or HD number: a whole number in [0, 2^31 - 1] (0: unknown).
+int asCatalogueNumber(double v, const char* name, const LineError& fail) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, " %g", v);
+    if (!(v >= 0.0 && v <= 2147483647.0 && v == std::floor(v)))
+        fail(std::string(name) + buf + " is not a catalogue number (a whole number in [0, 2147483647])");
+    return int(v);
+}
+
 void checkRaDec(double ra, double dec, const LineError& fail) {
     if (!(ra >= 0 && ra < 2 * std::numbers::pi + 1e-9)) fail("right ascension out of [0, 24h)");
     if (!(dec >= -std::numbers::pi / 2 - 1e-9 && dec <= std::numbers::pi / 2 + 1e-9)) fail("declination out of [-90, 90] deg");
@@ -110,10 +128,10 @@ std::vector<Star> parseKStarsCatalogue(const std::string& text, const std::strin
         s.raJ2000Rad = (raH + raM / 60.0 + raS / 3600.0) * 15.0 * kDeg;
         s.decJ2000Rad = (dD + dM / 60.0 + dS / 3600.0) * kDeg * (l[10] == '-' ? -1.0 : 1.0);
         checkRaDec(s.raJ2000Rad, s.decJ2000Rad, fail);
-        s.pmRaMasPerYear = float(field(l, 20, 9, "pmRA", fail));
-        s.pmDecMasPerYear = float(field(l, 29, 9, "pmDec", fail));
-        s.magnitudeV = float(field(l, 45, 6, "magnitude", fail));
-        s.colorBV = float(field(l, 51, 5, "B-V", fail));
+        s.pmRaMasPerYear = asFloat(field(l, 20, 9, "pmRA", fail), "pmRA", fail);
+        s.pmDecMasPerYear = asFloat(field(l, 29, 9, "pmDec", fail), "pmDec", fail);
+        s.magnitudeV = asFloat(field(l, 45, 6, "magnitude", fail), "magnitude", fail);
+        s.colorBV = asFloat(field(l, 51, 5, "B-V", fail), "B-V", fail);
         if (s.magnitudeV > maxMagnitude) return;
         const size_t comma = l.find(',');
         if (comma != std::string_view::npos) {
@@ -152,11 +170,11 @@ std::vector<Star> parseYaleBrightStarCatalogue(const std::string& text, const st
         s.raJ2000Rad = (raH + raM / 60.0 + raS / 3600.0) * 15.0 * kDeg;
         s.decJ2000Rad = (dD + dM / 60.0 + dS / 3600.0) * kDeg * (sign == '-' ? -1.0 : 1.0);
         checkRaDec(s.raJ2000Rad, s.decJ2000Rad, fail);
-        s.magnitudeV = float(field(l, 102, 5, "Vmag", fail));
-        s.colorBV = float(optionalField(l, 109, 5, 0.0, "B-V", fail));
-        s.pmRaMasPerYear = float(optionalField(l, 148, 6, 0.0, "pmRA", fail) * 1000.0);  // arcsec/yr -> mas/yr
-        s.pmDecMasPerYear = float(optionalField(l, 154, 6, 0.0, "pmDE", fail) * 1000.0);
-        s.hd = int(optionalField(l, 25, 6, 0.0, "HD", fail));
+        s.magnitudeV = asFloat(field(l, 102, 5, "Vmag", fail), "Vmag", fail);
+        s.colorBV = asFloat(optionalField(l, 109, 5, 0.0, "B-V", fail), "B-V", fail);
+        s.pmRaMasPerYear = asFloat(optionalField(l, 148, 6, 0.0, "pmRA", fail) * 1000.0, "pmRA", fail);  // arcsec/yr -> mas/yr
+        s.pmDecMasPerYear = asFloat(optionalField(l, 154, 6, 0.0, "pmDE", fail) * 1000.0, "pmDE", fail);
+        s.hd = asCatalogueNumber(optionalField(l, 25, 6, 0.0, "HD", fail), "HD", fail);
         s.name = std::string(trim(cols(5, 14)));
         if (s.magnitudeV > maxMagnitude) return;
         stars.push_back(std::move(s));
@@ -187,12 +205,12 @@ std::vector<Star> parseHygCsv(const std::string& text, const std::string& source
         s.raJ2000Rad = std::fmod(raHours * 15.0 * kDeg, 2 * std::numbers::pi);
         s.decJ2000Rad = row.number(dec) * kDeg;
         checkRaDec(s.raJ2000Rad, s.decJ2000Rad, fail);
-        s.pmRaMasPerYear = float(number(pmra, 0));
-        s.pmDecMasPerYear = float(number(pmdec, 0));
-        s.magnitudeV = float(number(mag, 99));
-        s.colorBV = float(number(ci, 0));
-        s.hip = int(number(hip, 0));
-        s.hd = int(number(hd, 0));
+        s.pmRaMasPerYear = asFloat(number(pmra, 0), "pmra", fail);
+        s.pmDecMasPerYear = asFloat(number(pmdec, 0), "pmdec", fail);
+        s.magnitudeV = asFloat(number(mag, 99), "mag", fail);
+        s.colorBV = asFloat(number(ci, 0), "ci", fail);
+        s.hip = asCatalogueNumber(number(hip, 0), "hip", fail);
+        s.hd = asCatalogueNumber(number(hd, 0), "hd", fail);
         s.name = std::string(!properName.empty() ? properName : (bf ? row.text(*bf) : std::string_view()));
         if (s.magnitudeV > maxMagnitude) continue;
         stars.push_back(std::move(s));
@@ -200,9 +218,10 @@ std::vector<Star> parseHygCsv(const std::string& text, const std::string& source
     return stars;
 }
 
-std::vector<Star> loadKStarsBinaryStars(const std::string& path) {
-    const std::string bin = readFile(path);
-    auto fail = [&](const std::string& what) -> void { throw Error(path + ": " + what); };
+std::vector<Star> loadKStarsBinaryStars(const std::string& path) { return parseKStarsBinaryStars(readFile(path), path); }
+
+std::vector<Star> parseKStarsBinaryStars(const std::string& bin, const std::string& source) {
+    auto fail = [&](const std::string& what) -> void { throw Error(source + ": " + what); };
     auto u8 = [&](size_t off) -> unsigned {
         if (off >= bin.size()) fail("truncated at byte " + std::to_string(off));
         return (unsigned char)bin[off];
@@ -219,6 +238,7 @@ std::vector<Star> loadKStarsBinaryStars(const std::string& path) {
     size_t recordSize = 0, hdOffset = size_t(-1);
     for (size_t i = 0; i < nFields; ++i) {
         const size_t o = 129 + 16 * i;
+        if (o + 16 > bin.size()) fail("truncated in the field table (" + std::to_string(nFields) + " fields)");
         std::string name(bin.data() + o, bin.data() + std::min(o + 10, bin.size()));
         name = name.substr(0, name.find('\0'));
         if (name == "HD") hdOffset = recordSize;

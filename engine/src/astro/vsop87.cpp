@@ -39,6 +39,33 @@ std::string vsop87Directory() {
     return env && *env ? std::string(env) : std::string("/usr/share/kstars");
 }
 
+std::vector<VsopTerm> parseVsop87Series(std::string_view text, const std::string& sourceName) {
+    std::vector<VsopTerm> terms;
+    size_t pos = 0;
+    int lineNo = 0;
+    while (pos < text.size()) {
+        size_t end = text.find('\n', pos);
+        if (end == std::string_view::npos) end = text.size();
+        const std::string line(text.substr(pos, end - pos));
+        pos = end + 1;
+        ++lineNo;
+        if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+        std::istringstream ls(line);
+        VsopTerm t{};
+        if (!(ls >> t.a >> t.b >> t.c) || !std::isfinite(t.a) || !std::isfinite(t.b) || !std::isfinite(t.c))
+            throw Error("vsop87Full(): " + sourceName + ":" + std::to_string(lineNo) + ": expected three numbers \"A B C\"");
+        // Plausible sizes: the kstars-data files reach |A| 30.07 au, |B| 6.29 rad, |C| 94,138
+        // rad/millennium; the evaluator's cosine is accurate for |B + C t| < 6.5e6 (fast_trig.hpp),
+        // which these limits keep over |t| <= 4 millennia. Beyond them a sum turns inf or NaN.
+        if (!(std::fabs(t.a) <= 1e3 && std::fabs(t.b) <= 1e3 && std::fabs(t.c) <= 1e6))
+            throw Error("vsop87Full(): " + sourceName + ":" + std::to_string(lineNo) +
+                        ": term out of range (|A| <= 1000, |B| <= 1000 rad, |C| <= 1e6 rad/millennium)");
+        terms.push_back(t);
+    }
+    std::stable_sort(terms.begin(), terms.end(), [](const VsopTerm& x, const VsopTerm& y) { return std::fabs(x.a) > std::fabs(y.a); });
+    return terms;
+}
+
 namespace {
 
 // Storage of one body's full series: the terms live in `storage`, the spans in `body`.
@@ -48,25 +75,14 @@ struct LoadedBody {
 };
 
 std::vector<VsopTerm> readSeriesFile(const std::string& path, bool required) {
-    std::ifstream in(path);
+    std::ifstream in(path, std::ios::binary);
     if (!in) {
         if (required) throw Error("vsop87Full(): cannot read " + path + " (install the Debian package kstars-data or set WELKIN_VSOP87_DIR)");
         return {};
     }
-    std::vector<VsopTerm> terms;
-    std::string line;
-    int lineNo = 0;
-    while (std::getline(in, line)) {
-        ++lineNo;
-        if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-        std::istringstream ls(line);
-        VsopTerm t{};
-        if (!(ls >> t.a >> t.b >> t.c) || !std::isfinite(t.a) || !std::isfinite(t.b) || !std::isfinite(t.c))
-            throw Error("vsop87Full(): " + path + ":" + std::to_string(lineNo) + ": expected three numbers \"A B C\"");
-        terms.push_back(t);
-    }
-    std::stable_sort(terms.begin(), terms.end(), [](const VsopTerm& x, const VsopTerm& y) { return std::fabs(x.a) > std::fabs(y.a); });
-    return terms;
+    std::ostringstream text;
+    text << in.rdbuf();
+    return parseVsop87Series(text.str(), path);
 }
 
 std::unique_ptr<LoadedBody> loadBody(VsopPlanet p, const std::string& dir) {

@@ -39,6 +39,10 @@ Image decodeImage(const std::string& path) {
             return readExrUncompressed(path);
     }
     int w = 0, h = 0, c = 0;
+    if (!stbi_info(path.c_str(), &w, &h, &c))
+        throw Error("readImage('" + path + "'): " + stbi_failure_reason() +
+                    " (this build reads PNG, JPEG, HDR and uncompressed EXR; others need WELKIN_IMAGE_IO=OpenImageIO)");
+    checkReadSize(path, w, h, c);
     Image img;
     auto fill = [&](auto* data, float scale) {
         img.width = w;

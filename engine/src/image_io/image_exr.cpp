@@ -208,7 +208,7 @@ Image readExrUncompressed(const std::string& path) {
         r.fail("compression " + std::to_string(compression) + " (this build reads uncompressed EXR only; others need WELKIN_IMAGE_IO=OpenImageIO)");
     const int64_t w = int64_t(x1) - x0 + 1, h = int64_t(y1) - y0 + 1;
     if (chans.empty() || chans.size() > 4) r.fail("has " + std::to_string(chans.size()) + " channels (accepted: 1 to 4)");
-    if (w < 1 || h < 1 || w > 65536 || h > 65536) r.fail("data window " + std::to_string(w) + "x" + std::to_string(h) + " not in [1, 65536]");
+    checkReadSize(path, w, h, (long long)chans.size());
     // Where each EXR channel goes in the image: R, G, B, A (or Y, A) in that order.
     static const std::array<const char*, 4> order4 = {"R", "G", "B", "A"};
     Image img;

@@ -29,22 +29,23 @@ std::string encodeImage(const Image& img, const std::string& path, const std::st
         }
         ok = out->close() && ok;
     }
-    std::string err = out->geterror();
+    std::string err = oneLine(out->geterror());
     if (ok) return {};
     return err.empty() ? "write failed" : err;
 }
 
 Image decodeImage(const std::string& path) {
     auto in = OIIO::ImageInput::open(path);
-    if (!in) throw Error("readImage('" + path + "'): " + OIIO::geterror());
+    if (!in) throw Error("readImage('" + path + "'): " + oneLine(OIIO::geterror()));
     const OIIO::ImageSpec& spec = in->spec();
+    checkReadSize(path, spec.width, spec.height, spec.nchannels);
     Image img;
     img.width = spec.width;
     img.height = spec.height;
     img.channels = spec.nchannels;
     img.pixels.resize(size_t(img.width) * img.height * img.channels);
     if (!in->read_image(0, 0, 0, img.channels, OIIO::TypeDesc::FLOAT, img.pixels.data()))
-        throw Error("readImage('" + path + "'): " + in->geterror());
+        throw Error("readImage('" + path + "'): " + oneLine(in->geterror()));
     return img;
 }
 

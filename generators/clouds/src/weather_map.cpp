@@ -140,16 +140,7 @@ void WeatherMap::loadArtist(const std::string& path) {
     } catch (const std::exception& e) {
         throw Error(cloudkeys::weatherFile.name() + ": cannot read '" + path + "': " + e.what());
     }
-    if (im.channels < 3)
-        throw Error(cloudkeys::weatherFile.name() + ": '" + path + "' has " + std::to_string(im.channels) +
-                    " channel(s), needs 3 or 4 (R density, G base, B top, A rain)");
-    // GL rows run south to north (v = y / extent); the image's top row is the map's north edge.
-    std::vector<float> px(size_t(im.width) * size_t(im.height) * 4);
-    for (int y = 0; y < im.height; ++y)
-        for (int x = 0; x < im.width; ++x)
-            for (int c = 0; c < 4; ++c)
-                px[(size_t(y) * size_t(im.width) + size_t(x)) * 4 + size_t(c)] =
-                    c < im.channels ? std::clamp(im.at(x, im.height - 1 - y, c), 0.0f, 1.0f) : 0.0f;
+    const std::vector<float> px = cpu::weatherMapTexels(im, path);
     tex_ = gl::Texture2D(im.width, im.height, GL_RGBA16F);
     tex_.setFilter(GL_LINEAR);
     tex_.setWrap(GL_REPEAT);
@@ -310,8 +301,7 @@ void WeatherMap::doRun(SkyVars& vars, const Logger&) {
             } catch (const std::exception& e) {
                 throw Error(cloudkeys::flowFile.name() + ": cannot read '" + flowPath + "': " + e.what());
             }
-            if (im.channels < 2)
-                throw Error(cloudkeys::flowFile.name() + ": '" + flowPath + "' has 1 channel, needs 2 (R east, G north)");
+            cpu::checkFlowImage(im, flowPath);
             auto img = std::make_shared<Image>(std::move(im));
             const double scale = vars.get(cloudkeys::flowScale);
             flow_ = [img, scale, extent](glm::dvec2 p, double) { return cpu::flowAt(*img, scale, p, extent); };
@@ -381,24 +371,7 @@ glm::dvec4 weatherTexel(const std::vector<CloudShape>& shapes, int i, int j, int
     return {w.r, base, top, w.a};
 }
 
-glm::dvec2 flowAt(const Image& flow, double scale, glm::dvec2 m, double extent) {
-    // Bilinear, repeat; image x east, rows top (north) to bottom.
-    const double fx = wrapMod(m.x / extent, 1.0) * flow.width - 0.5, fy = (1.0 - wrapMod(m.y / extent, 1.0)) * flow.height - 0.5;
-    const int x0 = int(std::floor(fx)), y0 = int(std::floor(fy));
-    const double ax = fx - x0, ay = fy - y0;
-    auto at = [&](int x, int y, int c) {
-        x = ((x % flow.width) + flow.width) % flow.width;
-        y = ((y % flow.height) + flow.height) % flow.height;
-        return double(flow.at(x, y, c));
-    };
-    glm::dvec2 v;
-    for (int c = 0; c < 2; ++c) {
-        const double top = at(x0, y0, c) * (1 - ax) + at(x0 + 1, y0, c) * ax;
-        const double bot = at(x0, y0 + 1, c) * (1 - ax) + at(x0 + 1, y0 + 1, c) * ax;
-        v[c] = (2.0 * (top * (1 - ay) + bot * ay) - 1.0) * scale;
-    }
-    return v;
-}
+// flowAt(), weatherMapTexels(), checkFlowImage(): weather_image.cpp (CPU only).
 
 }  // namespace cpu
 }  // namespace welkin::generators

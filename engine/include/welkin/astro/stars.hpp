@@ -81,6 +81,8 @@ std::vector<Star> loadHygCsv(const std::string& path, double maxMagnitude = 99);
 std::vector<Star> parseKStarsCatalogue(const std::string& text, const std::string& sourceName, double maxMagnitude = 99);
 std::vector<Star> parseYaleBrightStarCatalogue(const std::string& text, const std::string& sourceName, double maxMagnitude = 99);
 std::vector<Star> parseHygCsv(const std::string& text, const std::string& sourceName, double maxMagnitude = 99);
+/// loadKStarsBinaryStars() on the bytes of a kstars binary star file held in memory.
+std::vector<Star> parseKStarsBinaryStars(const std::string& bytes, const std::string& sourceName);
 
 /// ICRS unit vector of a star at J2000.0 (the per-star vertex attribute p0).
 glm::dvec3 starDirectionJ2000(const Star& star);

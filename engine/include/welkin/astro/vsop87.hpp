@@ -16,6 +16,8 @@
 #include <glm/glm.hpp>
 
 #include <string>
+#include <string_view>
+#include <vector>
 
 namespace welkin::astro {
 
@@ -49,6 +51,12 @@ const VsopBody& vsop87Full(VsopPlanet p);
 /// Reads every full-series file of every planet under `directory` (no caching) and throws
 /// welkin::Error naming the first missing or malformed file. For diagnostics and tests.
 void checkVsop87Files(const std::string& directory);
+/// One series file's text ("A B C" per line, blank lines ignored) as terms sorted by decreasing
+/// |A|; what vsop87Full() reads each file with. Throws welkin::Error "vsop87Full(): source:line:
+/// ..." for a line that is not three finite numbers or a term beyond |A| <= 1000, |B| <= 1000 rad,
+/// |C| <= 1e6 rad/millennium (the real files stay below 31, 6.3 and 1e5). `sourceName` names the
+/// text in errors.
+std::vector<VsopTerm> parseVsop87Series(std::string_view text, const std::string& sourceName);
 /// Directory the full series are read from: $WELKIN_VSOP87_DIR or /usr/share/kstars.
 std::string vsop87Directory();
 

@@ -117,6 +117,14 @@ glm::dvec4 weatherTexel(const std::vector<CloudShape>& shapes, int i, int j, int
 /// Velocity of an image flow field at map position m (bilinear, repeat; R east, G north encoded
 /// 0.5 + 0.5 v, times `scale` m/s). The image's top row is the map's north edge.
 glm::dvec2 flowAt(const Image& flow, double scale, glm::dvec2 m, double extent);
+/// An artist's weather map (clouds.weather_map_file) as RGBA floats in [0, 1], rows south to
+/// north (the image's top row is the north edge; a 3-channel image gets A = 0, channels beyond
+/// 4 are ignored, values outside [0, 1] are clamped). Throws welkin::Error naming the key and
+/// `path` for fewer than 3 channels, an empty image or a non-finite value in R, G, B or A.
+std::vector<float> weatherMapTexels(const Image& image, const std::string& path);
+/// Checks a flow image (clouds.flow_file): at least 2 channels, R and G finite everywhere.
+/// Throws welkin::Error naming the key and `path`.
+void checkFlowImage(const Image& image, const std::string& path);
 }  // namespace cpu
 
 }  // namespace welkin::generators
