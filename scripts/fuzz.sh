@@ -22,6 +22,7 @@ mkdir -p "$work"
 # Sanitizer reports end the run (any finding is fatal); symbolised stacks.
 export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=1:detect_leaks=1:symbolize=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/tests/fuzz/lsan.supp}  # OpenImageIO's own leak
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
   for t in "$build"/fuzz/fuzz_*; do targets+=("$(basename "$t")"); done
