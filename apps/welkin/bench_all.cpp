@@ -29,6 +29,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cctype>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -38,6 +39,8 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include <unistd.h>
 
 namespace welkin::cli {
 namespace {
@@ -291,12 +294,16 @@ std::string frameworkSection(int frames, const std::function<void(const std::str
     std::string md = "## Framework CPU overhead per frame (callgrind)\n\n";
     if (frames <= 0) return md + "Not measured in this run (`--framework-frames 0`).\n\n";
     if (shell("command -v valgrind").empty()) return md + "Not measured: valgrind is not installed.\n\n";
-    const std::string self = std::filesystem::canonical("/proc/self/exe").string();
+    const std::string self_exe = std::filesystem::canonical("/proc/self/exe").string();
     const std::filesystem::path tmp = std::filesystem::temp_directory_path() / ("welkin_bench_callgrind_" + std::to_string(::getpid()));
     std::filesystem::create_directories(tmp);
     const std::string outFile = (tmp / "callgrind.out").string();
     const std::string jsonFile = (tmp / "framework.json").string();
-    const std::string cmd = "valgrind --tool=callgrind --instr-atstart=no --callgrind-out-file=" + outFile + " '" + self +
+    std::string preload;
+#ifdef WELKIN_VALGRIND_SHIM
+    if (std::filesystem::exists(WELKIN_VALGRIND_SHIM)) preload = "LD_PRELOAD='" WELKIN_VALGRIND_SHIM "' ";
+#endif
+    const std::string cmd = preload + "valgrind --tool=callgrind --instr-atstart=no --callgrind-out-file=" + outFile + " '" + self_exe +
                             "' bench framework --frames " + std::to_string(frames) + " --json " + jsonFile + " > " + (tmp / "log.txt").string() +
                             " 2>&1";
     progress("framework: " + std::to_string(frames) + " frames under callgrind (minutes)");
@@ -310,34 +317,64 @@ std::string frameworkSection(int frames, const std::function<void(const std::str
     // Self cost by object file: the welkin executable (framework, elements' CPU work, generators'
     // CPU work: all statically linked), the C/C++ runtime (called by welkin and by the driver
     // alike), and the driver (Mesa, LLVM, its JIT code, libepoxy).
-    const std::string annotate = shell("callgrind_annotate --inclusive=no --threshold=100 '" + outFile + "' 2>/dev/null");
-    std::filesystem::remove_all(tmp);
+    std::ifstream cg(outFile);
     double exe = 0, runtime = 0, driver = 0;
     std::map<std::string, double> exeFns;
-    std::istringstream in(annotate);
-    std::string line;
-    while (std::getline(in, line)) {
-        // "   1,234,567 (12.34%)  file:function [/path/object]"
-        size_t i = line.find_first_not_of(' ');
-        if (i == std::string::npos || !std::isdigit(static_cast<unsigned char>(line[i]))) continue;
-        size_t j = line.find(' ', i);
-        std::string num = line.substr(i, j - i);
-        num.erase(std::remove(num.begin(), num.end(), ','), num.end());
-        const double ir = std::atof(num.c_str());
-        const size_t ob = line.rfind(" [");
-        if (ob == std::string::npos || line.back() != ']') continue;
-        const std::string obj = line.substr(ob + 2, line.size() - ob - 3);
-        const size_t fnStart = line.find(':', line.find(')', j));
-        std::string fn = fnStart == std::string::npos ? "?" : line.substr(fnStart + 1, ob - fnStart - 1);
-        if (obj == self) {
-            exe += ir;
-            exeFns[fn] += ir;
-        } else if (obj.find("libc.so") != std::string::npos || obj.find("libstdc++") != std::string::npos || obj.find("libm.so") != std::string::npos ||
-                   obj.find("libgcc") != std::string::npos || obj.find("ld-linux") != std::string::npos)
-            runtime += ir;
-        else
-            driver += ir;
+    {
+        // callgrind's format: "ob=(id) name" / "fn=(id) name" set the current object and function
+        // (names compressed to "(id)" after their first use); a cost line ("position Ir") after a
+        // "calls=" line is the inclusive cost of that call and is skipped; every other cost line
+        // is the current function's self cost.
+        std::map<std::string, std::string> obNames, fnNames;
+        std::string ob, fn;
+        bool afterCalls = false;
+        std::map<std::pair<std::string, std::string>, double> self;
+        auto name = [](std::map<std::string, std::string>& names, const std::string& rest) {
+            if (rest.empty() || rest[0] != '(') return rest;
+            const size_t close = rest.find(')');
+            const std::string id = rest.substr(0, close + 1);
+            if (close + 2 <= rest.size() && rest.size() > close + 1) names[id] = rest.substr(close + 2);
+            return names[id];
+        };
+        std::string line;
+        while (std::getline(cg, line)) {
+            if (line.empty()) continue;
+            const char c = line[0];
+            if (std::isdigit(static_cast<unsigned char>(c)) || c == '+' || c == '-' || c == '*') {
+                if (afterCalls) {
+                    afterCalls = false;
+                    continue;
+                }
+                std::istringstream ls(line);
+                std::string pos;
+                double ir = 0;
+                ls >> pos >> ir;
+                self[{ob, fn}] += ir;
+            } else if (line.rfind("ob=", 0) == 0) {
+                ob = name(obNames, line.substr(3));
+            } else if (line.rfind("fn=", 0) == 0) {
+                fn = name(fnNames, line.substr(3));
+            } else if (line.rfind("cob=", 0) == 0) {
+                name(obNames, line.substr(4));
+            } else if (line.rfind("cfn=", 0) == 0) {
+                name(fnNames, line.substr(4));
+            } else if (line.rfind("calls=", 0) == 0) {
+                afterCalls = true;
+            }
+        }
+        for (const auto& [key, ir] : self) {
+            const std::string& obj = key.first;
+            if (obj == self_exe) {
+                exe += ir;
+                exeFns[key.second] += ir;
+            } else if (obj.find("libc.so") != std::string::npos || obj.find("libstdc++") != std::string::npos ||
+                       obj.find("libm.so") != std::string::npos || obj.find("libgcc") != std::string::npos || obj.find("ld-linux") != std::string::npos)
+                runtime += ir;
+            else
+                driver += ir;
+        }
     }
+    std::filesystem::remove_all(tmp);
     const double n = frames;
     md += "`valgrind --tool=callgrind --instr-atstart=no welkin bench framework --frames " + std::to_string(frames) +
           "`: the default elements (" + fj.value("elements", std::string()) + ") at " + fj.value("size", std::string()) +
