@@ -57,6 +57,8 @@ struct AllOptions {
     std::string sizeOverride;                 // WIDTHxHEIGHT: one size instead of the three
     int frames = -1;                          // timed frames per measurement; -1: 3 (--quick) or 9
     int frameworkFrames = -1;                 // frames under callgrind; 0: skip; -1: 10 (--quick) or 30
+    std::vector<std::string> vars;            // KEY=VALUE applied to every scene after its own settings
+    bool list = false;                        // print the elements and their scenes, measure nothing
 };
 
 struct Size {
@@ -146,7 +148,7 @@ struct OwnCost {
 
 class Measurer {
 public:
-    Measurer(const bench::ElementBench& b, Logger& log) : b_(b), log_(log) {}
+    Measurer(const bench::ElementBench& b, const bench::VarList& extra, Logger& log) : b_(b), extra_(extra), log_(log) {}
 
     ElementResult run(const std::vector<Size>& sizes, int frames, std::vector<GenResult>& gens, const std::function<void(const std::string&)>& progress) {
         ElementResult r{.name = b_.element, .description = b_.description};
@@ -155,6 +157,7 @@ public:
         for (const std::string& n : b_.scene.with) p->add(elements::makeElement(n));
         SkyElement& e = p->add(elements::makeElement(b_.element));
         for (const auto& [k, v] : b_.scene.vars) p->vars().setFromString(k, v);
+        for (const auto& [k, v] : extra_) p->vars().setFromString(k, v);
         p->setObserver({.latitudeRad = b_.scene.latitudeDeg * kDeg, .longitudeRad = b_.scene.longitudeDeg * kDeg, .heightMeters = 50});
         p->setExposure({.automatic = true});
         p->vars().set(keys::interactive, true);
@@ -185,7 +188,8 @@ public:
             r.firstFrameMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
             r.firstFrameRatio = r.firstFrameMs / tMs;
             own.take();
-            for (const auto& g : p->stats()["generators"]) {
+            const nlohmann::json st = p->stats();  // kept: a range-for over a temporary's member dangles
+            for (const auto& g : st["generators"]) {
                 const std::string name = g["name"].get<std::string>();
                 if (std::none_of(gens.begin(), gens.end(), [&](const GenResult& x) { return x.name == name; }))
                     gens.push_back({.name = name, .scene = b_.element, .firstMs = g["last_ms"].get<double>()});
@@ -209,8 +213,9 @@ public:
             sr.stillFrameRatio = median(fr) / sr.trivialMs;
             // Time running at 600x (the first two frames absorb the start).
             progress(b_.element + ": " + sizeText(z) + ", time running at 600x");
+            const nlohmann::json before = p->stats();
             if (&z == &sizes.front())
-                for (const auto& g : p->stats()["generators"])
+                for (const auto& g : before["generators"])
                     genBefore[g["name"].get<std::string>()] = {g["total_ms"].get<double>(), g["runs"].get<int>()};
             triv.clear(), el.clear(), fr.clear();
             for (int i = 0; i < frames + 2; ++i) {
@@ -225,8 +230,9 @@ public:
             sr.runMs = median(el);
             sr.runRatio = sr.runMs / median(triv);
             sr.runFrameRatio = median(fr) / median(triv);
+            const nlohmann::json after = p->stats();
             if (&z == &sizes.front())
-                for (const auto& g : p->stats()["generators"]) {
+                for (const auto& g : after["generators"]) {
                     const std::string name = g["name"].get<std::string>();
                     auto it = genBefore.find(name);
                     auto gr = std::find_if(gens.begin(), gens.end(), [&](const GenResult& x) { return x.name == name; });
@@ -285,6 +291,7 @@ private:
     }
 
     const bench::ElementBench& b_;
+    const bench::VarList& extra_;
     Logger& log_;
 };
 
@@ -429,9 +436,20 @@ int run(const AllOptions& o) {
         sizes = {{w, h}};
     }
     if (o.out.empty()) throw Error("--out: a file name is needed");
-    checkOutputDirectory("--out", o.out);
-    if (!o.plots.empty() && !std::filesystem::is_directory(o.plots)) throw Error("--plots '" + o.plots + "': no such directory");
+    if (!o.list) checkOutputDirectory("--out", o.out);
+    if (!o.list && !o.plots.empty() && !std::filesystem::is_directory(o.plots)) {
+        // The plots' directory is made when its parent exists (docs/images/bench in a checkout).
+        const std::filesystem::path parent = std::filesystem::absolute(o.plots).parent_path();
+        if (!std::filesystem::is_directory(parent)) throw Error("--plots '" + o.plots + "': no such directory");
+        std::filesystem::create_directory(o.plots);
+    }
 
+    bench::VarList extra;
+    for (const std::string& v : o.vars) {
+        const size_t eq = v.find('=');
+        if (eq == std::string::npos || eq == 0) throw Error("--var '" + v + "' not KEY=VALUE");
+        extra.push_back({v.substr(0, eq), v.substr(eq + 1)});
+    }
     // Every element of the registry: its own bench where it registered one, else the default scene.
     std::map<std::string, bench::ElementBench> benches;
     for (const bench::ElementBench& b : bench::elementBenches()) {
@@ -451,6 +469,11 @@ int run(const AllOptions& o) {
             if (!benches.count(n)) throw Error("--only: unknown element '" + n + "'");
     }
 
+    if (o.list) {
+        for (const std::string& n : names)
+            std::printf("%s: %s\n", n.c_str(), benches[n].description.c_str());
+        return 0;
+    }
     Logger log;
     auto ctx = gl::HeadlessContext::create({}, log);
     const std::string renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
@@ -464,7 +487,7 @@ int run(const AllOptions& o) {
     std::vector<GenResult> gens;
     for (const std::string& n : names) {
         ++index;
-        ElementResult r = Measurer(benches[n], log).run(sizes, frames, gens, progress);
+        ElementResult r = Measurer(benches[n], extra, log).run(sizes, frames, gens, progress);
         r.registered = registered.count(n) > 0;
         for (const SizeResult& s : r.sizes)
             if (!(s.stillRatio > 0) || !std::isfinite(s.stillRatio) || !(s.runRatio > 0) || !std::isfinite(s.runRatio))
@@ -482,10 +505,25 @@ int run(const AllOptions& o) {
     if (commit.empty()) commit = "unknown";
     else if (!shell("git -C '" WELKIN_SOURCE_DIR "' status --porcelain --untracked-files=no 2>/dev/null").empty()) commit += " (with uncommitted changes)";
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    std::string cmdline = std::string("welkin bench all") + (o.quick ? " --quick" : "") +
+                          (o.sizeOverride.empty() ? "" : " --size-override " + o.sizeOverride) + (o.only.empty() ? "" : " --only " + o.only) +
+                          (o.frames >= 0 ? " --frames " + std::to_string(o.frames) : "") +
+                          (o.frameworkFrames >= 0 ? " --framework-frames " + std::to_string(o.frameworkFrames) : "");
+    for (const std::string& v : o.vars) cmdline += " --var " + v;
+    if (o.out != "docs/BENCHMARKS.md") cmdline += " --out " + o.out;
+    if (o.plots != "docs/images/bench") cmdline += " --plots '" + o.plots + "'";
+    // The plots as the Markdown file links them (relative to its directory).
+    std::string plotRel = "images/bench";
+    if (!o.plots.empty()) {
+        std::error_code ec;
+        const std::filesystem::path outDir = std::filesystem::absolute(std::filesystem::path(o.out)).parent_path();
+        plotRel = std::filesystem::relative(std::filesystem::absolute(o.plots), outDir, ec).generic_string();
+        if (ec || plotRel.empty()) plotRel = std::filesystem::absolute(o.plots).generic_string();
+    }
     std::ostringstream md;
     md << "# Benchmarks\n\n"
-       << "Generated by `welkin bench all" << (o.quick ? " --quick" : "") << (o.sizeOverride.empty() ? "" : " --size-override " + o.sizeOverride)
-       << (o.only.empty() ? "" : " --only " + o.only) << "` (apps/welkin/bench_all.cpp). Do not edit by hand.\n\n"
+       << "Generated by `" << cmdline;
+    md << "` (apps/welkin/bench_all.cpp). Do not edit by hand.\n\n"
        << "- Date: " << date << "\n- Machine: " << cpuModel() << "; GL renderer: " << renderer << "\n- Commit: " << commit
        << "\n- Run: " << (o.quick ? "`--quick` (" : "full (") << frames << " timed frames per measurement, median), " << fmt(seconds, 0)
        << " s in all\n\n"
@@ -513,7 +551,7 @@ int run(const AllOptions& o) {
         }
         md << " " << triv << " |\n";
     }
-    md << "\n![Cost per frame of each element](" << "images/bench/bench_all_elements.png)\n\n"
+    md << "\n![Cost per frame of each element](" << plotRel << "/bench_all_elements.png)\n\n*`" << cmdline << "` (this run; scripts/plots/plot_bench_all.py)*\n\n"
        << "## First frame and generators\n\n"
        << "First frame: init, shader compilation (llvmpipe compiles at first use), tables and every generator's first build, at "
        << sizeText(sizes[0]) << ".\n\n| element | first frame ms | x trivial pass |\n|---|---|---|\n";
@@ -536,7 +574,7 @@ int run(const AllOptions& o) {
             for (size_t k = 0; k < s.work.size(); ++k) md << (k ? ", " : "") << fmt(s.work[k], 0) << ": " << fmt(s.ratio[k]);
             md << " | " << fmt(s.exponent) << " |\n";
         }
-    md << "\n![Cost against work](images/bench/bench_all_work.png)\n\n";
+    md << "\n![Cost against work](" << plotRel << "/bench_all_work.png)\n\n*`" << cmdline << "` (this run; scripts/plots/plot_bench_all.py)*\n\n";
     md << fwSection;
     md << "## Not yet measured here\n\n"
        << "The accuracy of each quality preset against its reference, the Mie and crystal table sizes and the wavelengths as work: "
@@ -588,6 +626,8 @@ BenchRegistrar reg("all", "every element's benchmark in one run: docs/BENCHMARKS
     sub.add_option("--frames", o->frames, "timed frames per measurement, in [1, 1000] (default 3 with --quick, else 9)");
     sub.add_option("--framework-frames", o->frameworkFrames,
                    "frames counted under callgrind, in [0, 1000] (0: skip; default 10 with --quick, else 30)");
+    sub.add_option("--var", o->vars, "KEY=VALUE set in every scene after its own settings (repeatable), e.g. rain.table_quality=low");
+    sub.add_flag("--list", o->list, "print the elements measured and their scenes, and exit");
     return [o]() { return run(*o); };
 });
 
