@@ -1,0 +1,644 @@
+// welkin bench all: every element's benchmark in one run, written to docs/BENCHMARKS.md (tables
+// with the date, the machine and the commit) and PNG plots (scripts/plots/plot_bench_all.py).
+//
+// Each element registers how it is measured from its own folder (welkin/bench.hpp,
+// skyelements/<name>/bench/*.cpp); an element of the registry that registers nothing is measured
+// in the default scene. Per element and frame size: the element's own cost per frame (its
+// update, render and own generators, from the processor's glFinish-bracketed timing) with time
+// stopped and with time running at 600x (30 frames/s of animation: 20 s of sky per frame), as a
+// ratio to a trivial fullscreen pass timed alternately with it in the same frames (software
+// rendering: ratios hold on a loaded machine where milliseconds do not); the first frame (tables
+// and generators built); the generators' first build and rebuild cost; cost against work with a
+// fitted growth exponent (pixels for every element, and each element's sweeps); and the
+// framework's CPU instructions per frame under callgrind (`welkin bench framework`).
+#include "bench_util.hpp"
+#include "command.hpp"
+#include "plot.hpp"
+
+#include <welkin/bench.hpp>
+#include <welkin/elements/registry.hpp>
+#include <welkin/error.hpp>
+#include <welkin/gl/context.hpp>
+#include <welkin/keys.hpp>
+#include <welkin/processor.hpp>
+
+#include <epoxy/gl.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cctype>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+namespace welkin::cli {
+namespace {
+
+constexpr double kDeg = M_PI / 180;
+constexpr double kSpeed = 600;  // time running: simulated seconds per real second
+constexpr double kFps = 30;     // animation frames per real second
+
+struct AllOptions {
+    bool quick = false;
+    std::string out = "docs/BENCHMARKS.md";
+    std::string plots = "docs/images/bench";  // empty: no plots
+    std::string only;                         // comma-separated element names; empty: all
+    std::string sizeOverride;                 // WIDTHxHEIGHT: one size instead of the three
+    int frames = -1;                          // timed frames per measurement; -1: 3 (--quick) or 9
+    int frameworkFrames = -1;                 // frames under callgrind; 0: skip; -1: 10 (--quick) or 30
+    std::vector<std::string> vars;            // KEY=VALUE applied to every scene after its own settings
+    bool list = false;                        // print the elements and their scenes, measure nothing
+};
+
+struct Size {
+    int w, h;
+};
+
+std::string sizeText(Size s) { return std::to_string(s.w) + "x" + std::to_string(s.h); }
+
+double median(std::vector<double> v) {
+    if (v.empty()) return NAN;
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+}
+
+std::string fmt(double v, int prec = 2) {
+    if (!std::isfinite(v)) return "n/a";
+    char b[64];
+    std::snprintf(b, sizeof b, "%.*f", prec, v);
+    return b;
+}
+
+std::string shell(const std::string& cmd) {
+    std::string out;
+    if (FILE* p = popen(cmd.c_str(), "r")) {
+        char buf[512];
+        while (std::fgets(buf, sizeof buf, p)) out += buf;
+        pclose(p);
+    }
+    while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
+    return out;
+}
+
+std::string loadAverage() {
+    std::ifstream f("/proc/loadavg");
+    std::string one;
+    f >> one;
+    return one.empty() ? "unknown" : one;
+}
+
+std::string cpuModel() {
+    std::ifstream f("/proc/cpuinfo");
+    std::string line;
+    int cores = 0;
+    std::string model = "unknown CPU";
+    while (std::getline(f, line))
+        if (line.rfind("model name", 0) == 0) {
+            ++cores;
+            model = line.substr(line.find(':') + 2);
+        }
+    return model + ", " + std::to_string(cores) + " logical cores";
+}
+
+/// One element's measurement at one size.
+struct SizeResult {
+    Size size;
+    double trivialMs = NAN;
+    double stillMs = NAN, stillRatio = NAN, stillFrameRatio = NAN;
+    double runMs = NAN, runRatio = NAN, runFrameRatio = NAN;
+};
+struct SweepResult {
+    std::string name, unit;
+    std::vector<double> work, ratio;
+    double exponent = NAN;
+};
+struct GenResult {
+    std::string name, scene;  // the element whose scene built it
+    double firstMs = NAN, perChangeMs = NAN;
+    int changes = 0;
+};
+struct ElementResult {
+    std::string name, description;
+    bool registered = false;  // false: the default scene (the element registers no bench)
+    double firstFrameMs = NAN, firstFrameRatio = NAN;
+    std::vector<SizeResult> sizes;
+    double pixelExponent = NAN;
+    std::vector<SweepResult> sweeps;
+};
+
+/// The element's own cost in the last frame: update + render + its own generators that ran.
+struct OwnCost {
+    const SkyElement* e;
+    std::vector<int> runs;
+    double take() {
+        double ms = e->updateTiming().lastMs + e->renderTiming().lastMs;
+        const auto& gens = e->generators();
+        runs.resize(gens.size(), 0);
+        for (size_t i = 0; i < gens.size(); ++i) {
+            if (gens[i]->runCount() != runs[i]) ms += gens[i]->timing().lastMs;
+            runs[i] = gens[i]->runCount();
+        }
+        return ms;
+    }
+};
+
+class Measurer {
+public:
+    Measurer(const bench::ElementBench& b, const bench::VarList& extra, Logger& log) : b_(b), extra_(extra), log_(log) {}
+
+    ElementResult run(const std::vector<Size>& sizes, int frames, std::vector<GenResult>& gens, const std::function<void(const std::string&)>& progress) {
+        ElementResult r{.name = b_.element, .description = b_.description};
+        const Scene0 s = scene();
+        auto p = std::make_unique<SkyProcessor>(SkyVars::earth(), log_, ProcessorOptions{.timing = true});
+        for (const std::string& n : b_.scene.with) p->add(elements::makeElement(n));
+        SkyElement& e = p->add(elements::makeElement(b_.element));
+        for (const auto& [k, v] : b_.scene.vars) p->vars().setFromString(k, v);
+        for (const auto& [k, v] : extra_) p->vars().setFromString(k, v);
+        p->setObserver({.latitudeRad = b_.scene.latitudeDeg * kDeg, .longitudeRad = b_.scene.longitudeDeg * kDeg, .heightMeters = 50});
+        p->setExposure({.automatic = true});
+        p->vars().set(keys::interactive, true);
+        OwnCost own{&e, {}};
+        auto setSize = [&](Size z) {
+            Camera cam;
+            cam.projection = Projection::Perspective;
+            cam.azimuthRad = b_.scene.azimuthDeg * kDeg;
+            cam.altitudeRad = b_.scene.altitudeDeg * kDeg;
+            cam.verticalFovRad = b_.scene.fovDeg * kDeg;
+            cam.width = z.w;
+            cam.height = z.h;
+            p->setCamera(cam);
+        };
+        setSize(sizes[0]);
+        p->setTime(s.t0);
+        p->setAnimationTime(0.0);
+        // First frame: init, programs, tables, every generator's first build.
+        {
+            TrivialPass trivial(sizes[0].w, sizes[0].h);
+            trivial.draw();
+            const double tMs = medianMs(3, [&] { trivial.draw(); });
+            progress(b_.element + ": first frame (tables, programs) at " + sizeText(sizes[0]));
+            glFinish();
+            const auto t0 = std::chrono::steady_clock::now();
+            p->renderFrame();
+            glFinish();
+            r.firstFrameMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+            r.firstFrameRatio = r.firstFrameMs / tMs;
+            own.take();
+            const nlohmann::json st = p->stats();  // kept: a range-for over a temporary's member dangles
+            for (const auto& g : st["generators"]) {
+                const std::string name = g["name"].get<std::string>();
+                if (std::none_of(gens.begin(), gens.end(), [&](const GenResult& x) { return x.name == name; }))
+                    gens.push_back({.name = name, .scene = b_.element, .firstMs = g["last_ms"].get<double>()});
+            }
+        }
+        std::map<std::string, std::pair<double, int>> genBefore;  // name -> (total ms, runs) before the running frames
+        std::vector<double> px, pxMs;
+        for (size_t zi = 0; zi < sizes.size(); ++zi) {
+            const Size z = sizes[zi];
+            setSize(z);
+            TrivialPass trivial(z.w, z.h);
+            SizeResult sr{.size = z};
+            // Time stopped.
+            progress(b_.element + ": " + sizeText(z) + ", time stopped");
+            p->setTime(s.t0);
+            for (int i = 0; i < 2; ++i) p->renderFrame(), own.take();
+            std::vector<double> triv, el, fr;
+            for (int i = 0; i < frames; ++i) timedPair(*p, trivial, own, triv, el, fr);
+            sr.trivialMs = median(triv);
+            sr.stillMs = median(el);
+            sr.stillRatio = sr.stillMs / sr.trivialMs;
+            sr.stillFrameRatio = median(fr) / sr.trivialMs;
+            // Time running at 600x (the first two frames absorb the start).
+            progress(b_.element + ": " + sizeText(z) + ", time running at 600x");
+            const nlohmann::json before = p->stats();
+            if (zi == 0)
+                for (const auto& g : before["generators"])
+                    genBefore[g["name"].get<std::string>()] = {g["total_ms"].get<double>(), g["runs"].get<int>()};
+            triv.clear(), el.clear(), fr.clear();
+            for (int i = 0; i < frames + 2; ++i) {
+                p->setTime(s.t0.plusSeconds((i + 1) * kSpeed / kFps));
+                p->setAnimationTime((i + 1) / kFps);
+                if (i < 2) {
+                    p->renderFrame(), own.take();
+                    continue;
+                }
+                timedPair(*p, trivial, own, triv, el, fr);
+            }
+            sr.runMs = median(el);
+            sr.runRatio = sr.runMs / median(triv);
+            sr.runFrameRatio = median(fr) / median(triv);
+            const nlohmann::json after = p->stats();
+            if (zi == 0)
+                for (const auto& g : after["generators"]) {
+                    const std::string name = g["name"].get<std::string>();
+                    auto it = genBefore.find(name);
+                    auto gr = std::find_if(gens.begin(), gens.end(), [&](const GenResult& x) { return x.name == name; });
+                    if (it == genBefore.end() || gr == gens.end() || gr->scene != b_.element) continue;
+                    const int n = g["runs"].get<int>() - it->second.second;
+                    gr->changes = n;
+                    if (n > 0) gr->perChangeMs = (g["total_ms"].get<double>() - it->second.first) / n;
+                }
+            p->setAnimationTime(0.0);
+            r.sizes.push_back(sr);
+            px.push_back(double(z.w) * z.h);
+            pxMs.push_back(sr.stillMs);
+        }
+        r.pixelExponent = bench::fitGrowthExponent(px, pxMs);
+        // Cost against work, at the first size with time stopped.
+        for (const bench::WorkSweep& ws : b_.sweeps) {
+            SweepResult sw{.name = ws.name, .unit = ws.unit};
+            setSize(sizes[0]);
+            p->setTime(s.t0);
+            TrivialPass trivial(sizes[0].w, sizes[0].h);
+            for (size_t k = 0; k < ws.points.size(); ++k) {
+                progress(b_.element + ": " + ws.name + ", point " + std::to_string(k + 1) + " of " + std::to_string(ws.points.size()));
+                for (const auto& [key, v] : ws.points[k].vars) p->vars().setFromString(key, v);
+                for (int i = 0; i < 2; ++i) p->renderFrame(), own.take();
+                std::vector<double> triv, el, fr;
+                for (int i = 0; i < frames; ++i) timedPair(*p, trivial, own, triv, el, fr);
+                double work = ws.points[k].work;
+                if (!ws.workStat.empty()) {
+                    const nlohmann::json j = p->stats();
+                    const nlohmann::json::json_pointer ptr(ws.workStat);
+                    if (!j.contains(ptr)) throw Error("element bench " + b_.element + ": no statistic " + ws.workStat);
+                    work = j.at(ptr).get<double>();
+                }
+                sw.work.push_back(work);
+                sw.ratio.push_back(median(el) / median(triv));
+            }
+            sw.exponent = bench::fitGrowthExponent(sw.work, sw.ratio);
+            r.sweeps.push_back(sw);
+        }
+        p->release();
+        return r;
+    }
+
+private:
+    struct Scene0 {
+        UtcInstant t0;
+    };
+    Scene0 scene() const { return {UtcInstant::parse(b_.scene.time)}; }
+
+    // One trivial pass and one frame, timed one after the other (each bracketed by glFinish).
+    static void timedPair(SkyProcessor& p, TrivialPass& trivial, OwnCost& own, std::vector<double>& triv, std::vector<double>& el,
+                          std::vector<double>& fr) {
+        triv.push_back(medianMs(1, [&] { trivial.draw(); }));
+        fr.push_back(medianMs(1, [&] { p.renderFrame(); }));
+        el.push_back(own.take());
+    }
+
+    const bench::ElementBench& b_;
+    const bench::VarList& extra_;
+    Logger& log_;
+};
+
+/// The framework's instructions per frame under callgrind (`welkin bench framework`), as the
+/// Markdown section; a sentence saying why not when valgrind is missing.
+std::string frameworkSection(int frames, const std::function<void(const std::string&)>& progress) {
+    std::string md = "## Framework CPU overhead per frame (callgrind)\n\n";
+    if (frames <= 0) return md + "Not measured in this run (`--framework-frames 0`).\n\n";
+    if (shell("command -v valgrind").empty()) return md + "Not measured: valgrind is not installed.\n\n";
+    const std::string self_exe = std::filesystem::canonical("/proc/self/exe").string();
+    const std::filesystem::path tmp = std::filesystem::temp_directory_path() / ("welkin_bench_callgrind_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(tmp);
+    const std::string outFile = (tmp / "callgrind.out").string();
+    const std::string jsonFile = (tmp / "framework.json").string();
+    std::string preload;
+#ifdef WELKIN_VALGRIND_SHIM
+    if (std::filesystem::exists(WELKIN_VALGRIND_SHIM)) preload = "LD_PRELOAD='" WELKIN_VALGRIND_SHIM "' ";
+#endif
+    const std::string cmd = preload + "valgrind --tool=callgrind --instr-atstart=no --callgrind-out-file=" + outFile + " '" + self_exe +
+                            "' bench framework --frames " + std::to_string(frames) + " --json " + jsonFile + " > " + (tmp / "log.txt").string() +
+                            " 2>&1";
+    progress("framework: " + std::to_string(frames) + " frames under callgrind (minutes)");
+    const int rc = std::system(cmd.c_str());
+    std::ifstream jf(jsonFile);
+    if (rc != 0 || !jf) {
+        std::filesystem::remove_all(tmp);
+        return md + "Not measured: `valgrind --tool=callgrind welkin bench framework` failed (exit " + std::to_string(rc) + ").\n\n";
+    }
+    nlohmann::json fj = nlohmann::json::parse(jf);
+    // Self cost by object file: the welkin executable (framework, elements' CPU work, generators'
+    // CPU work: all statically linked), the C/C++ runtime (called by welkin and by the driver
+    // alike), and the driver (Mesa, LLVM, its JIT code, libepoxy).
+    std::ifstream cg(outFile);
+    double exe = 0, runtime = 0, driver = 0;
+    std::map<std::string, double> exeFns;
+    {
+        // callgrind's format: "ob=(id) name" / "fn=(id) name" set the current object and function
+        // (names compressed to "(id)" after their first use); a cost line ("position Ir") after a
+        // "calls=" line is the inclusive cost of that call and is skipped; every other cost line
+        // is the current function's self cost.
+        std::map<std::string, std::string> obNames, fnNames;
+        std::string ob, fn;
+        bool afterCalls = false;
+        std::map<std::pair<std::string, std::string>, double> self;
+        auto name = [](std::map<std::string, std::string>& names, const std::string& rest) {
+            if (rest.empty() || rest[0] != '(') return rest;
+            const size_t close = rest.find(')');
+            const std::string id = rest.substr(0, close + 1);
+            if (close + 2 <= rest.size() && rest.size() > close + 1) names[id] = rest.substr(close + 2);
+            return names[id];
+        };
+        std::string line;
+        while (std::getline(cg, line)) {
+            if (line.empty()) continue;
+            const char c = line[0];
+            if (std::isdigit(static_cast<unsigned char>(c)) || c == '+' || c == '-' || c == '*') {
+                if (afterCalls) {
+                    afterCalls = false;
+                    continue;
+                }
+                std::istringstream ls(line);
+                std::string pos;
+                double ir = 0;
+                ls >> pos >> ir;
+                self[{ob, fn}] += ir;
+            } else if (line.rfind("ob=", 0) == 0) {
+                ob = name(obNames, line.substr(3));
+            } else if (line.rfind("fn=", 0) == 0) {
+                fn = name(fnNames, line.substr(3));
+            } else if (line.rfind("cob=", 0) == 0) {
+                name(obNames, line.substr(4));
+            } else if (line.rfind("cfn=", 0) == 0) {
+                name(fnNames, line.substr(4));
+            } else if (line.rfind("calls=", 0) == 0) {
+                afterCalls = true;
+            }
+        }
+        for (const auto& [key, ir] : self) {
+            const std::string& obj = key.first;
+            if (obj == self_exe) {
+                exe += ir;
+                exeFns[key.second] += ir;
+            } else if (obj.find("libc.so") != std::string::npos || obj.find("libstdc++") != std::string::npos ||
+                       obj.find("libm.so") != std::string::npos || obj.find("libgcc") != std::string::npos || obj.find("ld-linux") != std::string::npos)
+                runtime += ir;
+            else
+                driver += ir;
+        }
+    }
+    std::filesystem::remove_all(tmp);
+    const double n = frames;
+    md += "`valgrind --tool=callgrind --instr-atstart=no welkin bench framework --frames " + std::to_string(frames) +
+          "`: the default elements (" + fj.value("elements", std::string()) + ") at " + fj.value("size", std::string()) +
+          ", Malta, time running at 600x; the processor's instrumentation is off; only the " + std::to_string(frames) +
+          " measured frames are counted (after " + std::to_string(fj.value("warmup", 0)) +
+          " warm-up frames). Instructions are counted by the object file they execute in (self cost).\n\n";
+    md += "| where | instructions per frame |\n|---|---|\n";
+    md += "| welkin code (processor, SkyVars, generator graph, elements' and generators' CPU work; statically linked) | " + fmt(exe / n, 0) + " |\n";
+    md += "| C/C++ runtime (libc, libstdc++, libm: called by welkin and by the driver alike) | " + fmt(runtime / n, 0) + " |\n";
+    md += "| driver (Mesa llvmpipe, its JIT code, LLVM, libepoxy; excluded from the framework's cost) | " + fmt(driver / n, 0) + " |\n\n";
+    md += "Target: at most 200,000 instructions per frame for the framework (default scene, time running). Measured: " + fmt(exe / n, 0) +
+          " in welkin's own code, " + fmt((exe + runtime) / n, 0) + " with the whole C/C++ runtime counted as welkin's (an upper bound): " +
+          ((exe + runtime) / n <= 200000 ? "within the target." : (exe / n <= 200000 ? "within the target for welkin's own code; over it if the runtime is counted." : "over the target.")) +
+          "\n\nThe welkin functions with the most instructions per frame:\n\n| function | instructions per frame |\n|---|---|\n";
+    std::vector<std::pair<double, std::string>> top;
+    for (auto& [f, v] : exeFns) top.push_back({v, f});
+    std::sort(top.rbegin(), top.rend());
+    for (size_t k = 0; k < top.size() && k < 12; ++k) {
+        std::string f = top[k].second;
+        if (f.size() > 110) f = f.substr(0, 107) + "...";
+        for (char& c : f)
+            if (c == '|') c = '/';
+        md += "| `" + f + "` | " + fmt(top[k].first / n, 0) + " |\n";
+    }
+    return md + "\n";
+}
+
+void writeAtomically(const std::string& path, const std::string& text) {
+    const std::filesystem::path target(path);
+    const std::filesystem::path tmp = target.parent_path() / ("." + target.filename().string() + ".tmp");
+    {
+        std::ofstream f(tmp, std::ios::binary);
+        f << text;
+        f.close();
+        if (!f) throw Error("--out '" + path + "': cannot write " + tmp.string());
+    }
+    std::filesystem::rename(tmp, target);
+}
+
+int run(const AllOptions& o) {
+    const auto started = std::chrono::steady_clock::now();
+    const std::string loadAtStart = loadAverage();
+    const int frames = o.frames >= 0 ? o.frames : (o.quick ? 3 : 9);
+    if (frames < 1 || frames > 1000) throw Error("--frames " + std::to_string(o.frames) + " not in [1, 1000]");
+    const int fwFrames = o.frameworkFrames >= 0 ? o.frameworkFrames : (o.quick ? 10 : 30);
+    if (fwFrames < 0 || fwFrames > 1000) throw Error("--framework-frames " + std::to_string(o.frameworkFrames) + " not in [0, 1000]");
+    std::vector<Size> sizes = {{512, 256}, {1280, 720}, {1920, 1080}};
+    if (!o.sizeOverride.empty()) {
+        int w = 0, h = 0;
+        char tail = 0;
+        if (std::sscanf(o.sizeOverride.c_str(), "%dx%d%c", &w, &h, &tail) != 2 || w < 1 || h < 1 || w > 8192 || h > 8192)
+            throw Error("--size-override '" + o.sizeOverride + "' not WIDTHxHEIGHT in [1, 8192]");
+        sizes = {{w, h}};
+    }
+    if (o.out.empty()) throw Error("--out: a file name is needed");
+    if (!o.list) checkOutputDirectory("--out", o.out);
+    if (!o.list && !o.plots.empty() && !std::filesystem::is_directory(o.plots)) {
+        // The plots' directory is made when its parent exists (docs/images/bench in a checkout).
+        const std::filesystem::path parent = std::filesystem::absolute(o.plots).parent_path();
+        if (!std::filesystem::is_directory(parent)) throw Error("--plots '" + o.plots + "': no such directory");
+        std::filesystem::create_directory(o.plots);
+    }
+
+    bench::VarList extra;
+    for (const std::string& v : o.vars) {
+        const size_t eq = v.find('=');
+        if (eq == std::string::npos || eq == 0) throw Error("--var '" + v + "' not KEY=VALUE");
+        extra.push_back({v.substr(0, eq), v.substr(eq + 1)});
+    }
+    // Every element of the registry: its own bench where it registered one, else the default scene.
+    std::map<std::string, bench::ElementBench> benches;
+    for (const bench::ElementBench& b : bench::elementBenches()) {
+        if (!elements::findDescriptor(b.element)) throw Error("element bench for unknown element '" + b.element + "'");
+        benches[b.element] = b;
+    }
+    std::set<std::string> registered;
+    for (auto& [n, b] : benches) registered.insert(n);
+    for (const std::string& n : elements::knownElements())
+        if (!benches.count(n)) benches[n] = {.element = n, .description = "default scene (the element registers no bench)"};
+    std::vector<std::string> names;
+    if (o.only.empty()) {
+        for (auto& [n, b] : benches) names.push_back(n);
+    } else {
+        names = elements::parseElementList(o.only);
+        for (const std::string& n : names)
+            if (!benches.count(n)) throw Error("--only: unknown element '" + n + "'");
+    }
+
+    if (o.list) {
+        for (const std::string& n : names)
+            std::printf("%s: %s\n", n.c_str(), benches[n].description.c_str());
+        return 0;
+    }
+    Logger log;
+    auto ctx = gl::HeadlessContext::create({}, log);
+    const std::string renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    const size_t total = names.size();
+    size_t index = 0;
+    auto progress = [&](const std::string& what) {
+        const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        std::fprintf(stderr, "[bench all %3.0f s] [%zu/%zu] %s\n", s, index, total, what.c_str());
+    };
+    std::vector<ElementResult> results;
+    std::vector<GenResult> gens;
+    for (const std::string& n : names) {
+        ++index;
+        ElementResult r = Measurer(benches[n], extra, log).run(sizes, frames, gens, progress);
+        r.registered = registered.count(n) > 0;
+        for (const SizeResult& s : r.sizes)
+            if (!(s.stillRatio > 0) || !std::isfinite(s.stillRatio) || !(s.runRatio > 0) || !std::isfinite(s.runRatio))
+                std::fprintf(stderr, "welkin bench all: warning: %s at %s has no positive finite cost\n", n.c_str(), sizeText(s.size).c_str());
+        results.push_back(std::move(r));
+    }
+    ctx.reset();
+    const std::string fwSection = frameworkSection(fwFrames, progress);
+
+    // The Markdown.
+    char date[64];
+    const std::time_t now = std::time(nullptr);
+    std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+    std::string commit = shell("git -C '" WELKIN_SOURCE_DIR "' rev-parse --short HEAD 2>/dev/null");
+    if (commit.empty()) commit = "unknown";
+    else if (!shell("git -C '" WELKIN_SOURCE_DIR "' status --porcelain --untracked-files=no 2>/dev/null").empty()) commit += " (with uncommitted changes)";
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    std::string cmdline = std::string("welkin bench all") + (o.quick ? " --quick" : "") +
+                          (o.sizeOverride.empty() ? "" : " --size-override " + o.sizeOverride) + (o.only.empty() ? "" : " --only " + o.only) +
+                          (o.frames >= 0 ? " --frames " + std::to_string(o.frames) : "") +
+                          (o.frameworkFrames >= 0 ? " --framework-frames " + std::to_string(o.frameworkFrames) : "");
+    for (const std::string& v : o.vars) cmdline += " --var " + v;
+    if (o.out != "docs/BENCHMARKS.md") cmdline += " --out " + o.out;
+    if (o.plots != "docs/images/bench") cmdline += " --plots '" + o.plots + "'";
+    // The plots as the Markdown file links them (relative to its directory).
+    std::string plotRel = "images/bench";
+    if (!o.plots.empty()) {
+        std::error_code ec;
+        const std::filesystem::path outDir = std::filesystem::absolute(std::filesystem::path(o.out)).parent_path();
+        plotRel = std::filesystem::relative(std::filesystem::absolute(o.plots), outDir, ec).generic_string();
+        if (ec || plotRel.empty()) plotRel = std::filesystem::absolute(o.plots).generic_string();
+    }
+    std::ostringstream md;
+    md << "# Benchmarks\n\n"
+       << "Generated by `" << cmdline;
+    md << "` (apps/welkin/bench_all.cpp). Do not edit by hand.\n\n"
+       << "- Date: " << date << "\n- Machine: " << cpuModel() << "; GL renderer: " << renderer << "; load average (1 min) " << loadAtStart << " at the start, " << loadAverage() << " at the end" << "\n- Commit: " << commit
+       << "\n- Run: " << (o.quick ? "`--quick` (" : "full (") << frames << " timed frames per measurement, median), " << fmt(seconds, 0)
+       << " s in all\n\n"
+       << "This machine renders in software (Mesa llvmpipe) and is shared with other jobs, so milliseconds are noisy; every cost is "
+          "therefore given as a ratio to a trivial fullscreen pass (one constant-cost fragment per pixel into an RGBA32F target) "
+          "timed alternately with it in the same frames, at the same size. Expect ratios to move by 10-30 % between runs on a "
+          "busy machine.\n\n"
+       << "An element registers its bench from its own folder (`skyelements/<name>/bench/*.cpp`, `welkin/bench.hpp`); an element "
+          "that registers none is measured in the default scene.\n\n";
+    md << "## Cost per frame, as a ratio to a trivial pass\n\n"
+       << "The element's own cost per frame: its update and render and its own generators that ran in the frame (the processor's "
+          "glFinish-bracketed timing). *Still*: time stopped. *600x*: time running at 600x real time at 30 frames/s (20 s of sky per "
+          "frame). *Frame*: the whole `renderFrame()` (element, shared generators, tone map) with time stopped.\n\n"
+       << "| element | scene |";
+    for (Size z : sizes) md << " " << sizeText(z) << " still | " << sizeText(z) << " 600x | " << sizeText(z) << " frame |";
+    md << " trivial pass ms |\n|---|---|";
+    for (size_t k = 0; k < sizes.size(); ++k) md << "---|---|---|";
+    md << "---|\n";
+    for (const ElementResult& r : results) {
+        md << "| " << r.name << " | " << r.description << " |";
+        std::string triv;
+        for (const SizeResult& s : r.sizes) {
+            md << " " << fmt(s.stillRatio) << " | " << fmt(s.runRatio) << " | " << fmt(s.stillFrameRatio) << " |";
+            triv += (triv.empty() ? "" : ", ") + fmt(s.trivialMs);
+        }
+        md << " " << triv << " |\n";
+    }
+    md << "\n![Cost per frame of each element](" << plotRel << "/bench_all_elements.png)\n\n*`" << cmdline << "` (this run; scripts/plots/plot_bench_all.py)*\n\n"
+       << "## First frame and generators\n\n"
+       << "First frame: init, shader compilation (llvmpipe compiles at first use), tables and every generator's first build, at "
+       << sizeText(sizes[0]) << ".\n\n| element | first frame ms | x trivial pass |\n|---|---|---|\n";
+    for (const ElementResult& r : results) md << "| " << r.name << " | " << fmt(r.firstFrameMs, 1) << " | " << fmt(r.firstFrameRatio, 0) << " |\n";
+    md << "\nGenerators (tables): the first build, and the mean cost of a rebuild while time runs at 600x (the frames at "
+       << sizeText(sizes[0]) << " of the scene that first built it).\n\n| generator | scene | first build ms | rebuilds while running | ms per rebuild |\n|---|---|---|---|---|\n";
+    for (const GenResult& g : gens)
+        md << "| " << g.name << " | " << g.scene << " | " << fmt(g.firstMs, 2) << " | " << g.changes << " | " << fmt(g.perChangeMs, 2) << " |\n";
+    md << "\n## Cost against work\n\n"
+       << "Growth exponent: the least-squares slope of log(cost) against log(work) (1: linear).\n\n";
+    if (sizes.size() > 1) {
+        md << "| element | exponent against pixels (" << sizeText(sizes.front()) << " .. " << sizeText(sizes.back()) << ", time stopped, ms) |\n|---|---|\n";
+        for (const ElementResult& r : results) md << "| " << r.name << " | " << fmt(r.pixelExponent) << " |\n";
+        md << "\n";
+    }
+    md << "| element | work | points (work: x trivial pass) at " << sizeText(sizes[0]) << " | growth exponent |\n|---|---|---|---|\n";
+    for (const ElementResult& r : results)
+        for (const SweepResult& s : r.sweeps) {
+            md << "| " << r.name << " | " << s.name << " (" << s.unit << ") | ";
+            for (size_t k = 0; k < s.work.size(); ++k) md << (k ? ", " : "") << fmt(s.work[k], 0) << ": " << fmt(s.ratio[k]);
+            md << " | " << fmt(s.exponent) << " |\n";
+        }
+    md << "\n![Cost against work](" << plotRel << "/bench_all_work.png)\n\n*`" << cmdline << "` (this run; scripts/plots/plot_bench_all.py)*\n\n";
+    md << fwSection;
+    md << "## Not yet measured here\n\n"
+       << "The accuracy of each quality preset against its reference, the Mie and crystal table sizes and the wavelengths as work: "
+          "see `welkin bench sky`, `welkin bench rainbow` and `welkin bench clouds`, which report them in their own formats.\n";
+
+    // Plots: CSV beside the PNGs, drawn by scripts/plots/plot_bench_all.py.
+    std::string plotNotes;
+    if (!o.plots.empty()) {
+        const std::filesystem::path dir(o.plots);
+        const std::string costCsv = (dir / "bench_all_elements.csv").string(), workCsv = (dir / "bench_all_work.csv").string();
+        {
+            std::ofstream f(costCsv);
+            f << "element,size,pixels,still_ratio,running_ratio,still_ms,trivial_ms\n";
+            for (const ElementResult& r : results)
+                for (const SizeResult& s : r.sizes)
+                    f << r.name << "," << sizeText(s.size) << "," << double(s.size.w) * s.size.h << "," << s.stillRatio << "," << s.runRatio << ","
+                      << s.stillMs << "," << s.trivialMs << "\n";
+        }
+        {
+            std::ofstream f(workCsv);
+            f << "series,unit,work,cost,cost_unit,exponent\n";
+            for (const ElementResult& r : results) {
+                for (const SizeResult& s : r.sizes)
+                    if (sizes.size() > 1) f << r.name << ",pixels," << double(s.size.w) * s.size.h << "," << s.stillMs << ",ms," << r.pixelExponent << "\n";
+                for (const SweepResult& sw : r.sweeps)
+                    for (size_t k = 0; k < sw.work.size(); ++k)
+                        f << r.name << "," << sw.unit << "," << sw.work[k] << "," << sw.ratio[k] << ",x trivial pass," << sw.exponent << "\n";
+            }
+        }
+        for (const auto& [csv, png] : {std::pair{costCsv, (dir / "bench_all_elements.png").string()}, std::pair{workCsv, (dir / "bench_all_work.png").string()}}) {
+            const PlotResult pr = drawPlot("plot_bench_all.py", csv, png);
+            std::fprintf(stderr, "welkin bench all: %s\n", pr.message.c_str());
+            if (!pr.drawn) plotNotes += "\n(plot not drawn: " + pr.message + ")\n";
+        }
+    }
+    md << plotNotes;
+    writeAtomically(o.out, md.str());
+    std::printf("welkin bench all: wrote %s (%zu elements, %.0f s)\n", o.out.c_str(), results.size(), seconds);
+    return 0;
+}
+
+BenchRegistrar reg("all", "every element's benchmark in one run: docs/BENCHMARKS.md and its plots", [](CLI::App& sub) {
+    auto* o = new AllOptions();
+    sub.add_flag("--quick", o->quick, "fewer frames per measurement and under callgrind (a few minutes)");
+    sub.add_option("--out", o->out, "the Markdown file written (atomically)")->capture_default_str();
+    sub.add_option("--plots", o->plots, "existing directory for the PNG plots and their CSV (empty: no plots)")->capture_default_str();
+    sub.add_option("--only", o->only, "comma-separated elements to measure (default: every registered element)");
+    sub.add_option("--size-override", o->sizeOverride, "one frame size WIDTHxHEIGHT instead of 512x256, 1280x720 and 1920x1080");
+    sub.add_option("--frames", o->frames, "timed frames per measurement, in [1, 1000] (default 3 with --quick, else 9)");
+    sub.add_option("--framework-frames", o->frameworkFrames,
+                   "frames counted under callgrind, in [0, 1000] (0: skip; default 10 with --quick, else 30)");
+    sub.add_option("--var", o->vars, "KEY=VALUE set in every scene after its own settings (repeatable), e.g. rain.table_quality=low");
+    sub.add_flag("--list", o->list, "print the elements measured and their scenes, and exit");
+    return [o]() { return run(*o); };
+});
+
+}  // namespace
+}  // namespace welkin::cli

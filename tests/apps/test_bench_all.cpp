@@ -1,0 +1,138 @@
+// welkin bench all: bad options are one-line errors before any rendering; a tiny run writes a
+// Markdown file with a row for every element of the registry, each with finite positive ratios;
+// the growth fit and the plot script. No timing is judged here (this machine is shared).
+#include <catch2/catch.hpp>
+
+#include "cli_runner.hpp"
+#include "plot.hpp"
+
+#include <welkin/bench.hpp>
+#include <welkin/elements/registry.hpp>
+#include <welkin/image.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+using welkin::test::runCli;
+
+TEST_CASE("welkin bench all: bad options are one-line errors", "[cpu][cli][bench]") {
+    const auto failures = welkin::test::badOptionFailures(
+        "bench all", {{"--size-override 0x16", "--size-override '0x16' not WIDTHxHEIGHT in [1, 8192]"},
+                      {"--size-override 64", "--size-override '64' not WIDTHxHEIGHT in [1, 8192]"},
+                      {"--frames 0", "--frames 0 not in [1, 1000]"},
+                      {"--framework-frames 1001", "--framework-frames 1001 not in [0, 1000]"},
+                      {"--only nosuch", "--only: unknown element 'nosuch'"},
+                      {"--plots /nonexistent-dir/bench", "--plots '/nonexistent-dir/bench': no such directory"},
+                      {"--out /nonexistent-dir/b.md", "--out '/nonexistent-dir/b.md': no directory '/nonexistent-dir'"}});
+    for (const auto& f : failures) INFO(f);
+    CHECK(failures.empty());
+    const auto fw = welkin::test::badOptionFailures("bench framework", {{"--frames 0", "--frames 0 not in [1, 10000]"},
+                                                                         {"--size 8x", "--size '8x' not WIDTHxHEIGHT in [1, 8192]"}});
+    for (const auto& f : fw) INFO(f);
+    CHECK(fw.empty());
+}
+
+TEST_CASE("bench::fitGrowthExponent recovers power laws", "[cpu][bench]") {
+    // cost = 3 * work^1.5 exactly: the log-log slope is 1.5 (1e-12: rounding of log/exp only).
+    std::vector<double> x = {10, 100, 1000, 5000}, y;
+    for (double v : x) y.push_back(3 * std::pow(v, 1.5));
+    CHECK(welkin::bench::fitGrowthExponent(x, y) == Approx(1.5).margin(1e-12));
+    // Constant cost: exponent 0; one distinct work value: no fit.
+    CHECK(welkin::bench::fitGrowthExponent({1, 2, 4}, {7, 7, 7}) == Approx(0.0).margin(1e-12));
+    CHECK(std::isnan(welkin::bench::fitGrowthExponent({2, 2}, {1, 3})));
+    // Non-positive points are ignored: the remaining two give the slope of y = x^2.
+    CHECK(welkin::bench::fitGrowthExponent({-1, 2, 4}, {5, 4, 16}) == Approx(2.0).margin(1e-12));
+}
+
+TEST_CASE("welkin bench all: it measures every element of the registry", "[cpu][cli][bench]") {
+    // --list prints the elements a run measures, one "name: scene" line each: every element of the
+    // registry (with its own bench, or the default scene), so a new element folder is measured.
+    const auto r = runCli("bench all --list");
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    std::istringstream in(r.output);
+    std::string line;
+    std::vector<std::string> listed;
+    while (std::getline(in, line))
+        if (line.find(": ") != std::string::npos) listed.push_back(line.substr(0, line.find(": ")));
+    std::vector<std::string> known = welkin::elements::knownElements();
+    std::sort(known.begin(), known.end());
+    std::sort(listed.begin(), listed.end());
+    CHECK(listed == known);
+}
+
+TEST_CASE("welkin bench all: a tiny run writes a row per element with finite positive ratios", "[gl][cli][bench]") {
+    // Two elements (the grid: default bench; the stars: their own bench and sweep) at 32x16: the
+    // whole registry takes minutes here (the rainbow's Mie table, the clouds' noise volumes).
+    const std::string dir = welkin::test::scratchDir("bench_all");
+    const std::string out = dir + "/BENCHMARKS.md";
+    const auto r = runCli("bench all --only grid,stars --size-override 32x16 --frames 1 --framework-frames 0 --plots '' --out '" + out + "'");
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    std::ifstream f(out);
+    REQUIRE(f);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    const std::string md = ss.str();
+    CHECK(md.find("- Date: ") != std::string::npos);
+    CHECK(md.find("- Commit: ") != std::string::npos);
+    CHECK(md.find("GL renderer: ") != std::string::npos);
+    // The cost table: "| name | scene | still | 600x | frame | trivial ms |" for the one size.
+    const size_t table = md.find("## Cost per frame");
+    REQUIRE(table != std::string::npos);
+    std::map<std::string, std::vector<std::string>> rows;
+    std::istringstream in(md.substr(table, md.find("\n## ", table + 3) - table));
+    std::string line;
+    while (std::getline(in, line)) {
+        if (line.rfind("| ", 0) != 0 || line.rfind("| element", 0) == 0) continue;
+        std::vector<std::string> cells;
+        std::istringstream ls(line.substr(1));
+        std::string cell;
+        while (std::getline(ls, cell, '|')) cells.push_back(cell);
+        if (cells.size() >= 5) rows[cells[0].substr(1, cells[0].size() - 2)] = cells;
+    }
+    CHECK(rows.size() == 2);
+    for (const char* name : {"grid", "stars"}) {
+        INFO(name);
+        REQUIRE(rows.count(name) == 1);
+        for (int c = 2; c <= 4; ++c) {  // still, 600x, whole frame: ratios to the trivial pass
+            const double v = std::atof(rows[name][c].c_str());
+            INFO("column " << c << ": '" << rows[name][c] << "'");
+            CHECK(std::isfinite(v));
+            CHECK(v > 0.0);
+        }
+    }
+    // The stars' sweep found its statistic and fitted an exponent (a number, not "n/a").
+    CHECK(md.find("| stars | stars drawn (stars) |") != std::string::npos);
+    CHECK(md.find("Not measured in this run (`--framework-frames 0`)") != std::string::npos);
+    // Written atomically: no temporary left beside it.
+    CHECK_FALSE(std::ifstream(dir + "/.BENCHMARKS.md.tmp"));
+}
+
+TEST_CASE("plot_bench_all.py draws both plots from bench all's CSVs", "[cpu][plot][bench]") {
+    if (!welkin::cli::findPythonWithMatplotlib()) FAIL("no python3 with matplotlib (Debian: python3-matplotlib): install it (scripts/setup.sh installs it; a missing module fails, never skips)");
+    const std::string dir = welkin::test::scratchDir("plot_bench_all");
+    std::ofstream(dir + "/e.csv") << "element,size,pixels,still_ratio,running_ratio,still_ms,trivial_ms\n"
+                                     "sky,512x256,131072,2.5,4.0,5,2\nsky,1280x720,921600,2.2,3.1,30,14\n"
+                                     "stars,512x256,131072,0.5,0.6,1,2\nstars,1280x720,921600,0.3,0.4,4,14\n";
+    std::ofstream(dir + "/w.csv") << "series,unit,work,cost,cost_unit,exponent\n"
+                                     "sky,pixels,131072,5,ms,0.98\nsky,pixels,921600,30,ms,0.98\n"
+                                     "stars,stars,100,0.2,x trivial pass,0.5\nstars,stars,1000,0.6,x trivial pass,0.5\n";
+    for (const char* name : {"e", "w"}) {
+        const welkin::cli::PlotResult p = welkin::cli::drawPlot("plot_bench_all.py", dir + "/" + name + ".csv", dir + "/" + name + ".png");
+        INFO(p.message);
+        REQUIRE(p.drawn);
+        const welkin::Image img = welkin::readImage(dir + "/" + name + ".png");
+        CHECK(img.width > 200);  // figures of at least 4 in at 60 dpi
+        CHECK(img.height > 150);
+    }
+    std::ofstream(dir + "/bad.csv") << "a,b\n1,2\n";
+    const welkin::cli::PlotResult bad = welkin::cli::drawPlot("plot_bench_all.py", dir + "/bad.csv", dir + "/bad.png");
+    CHECK_FALSE(bad.drawn);
+    CHECK(bad.message.find("exited with status 2") != std::string::npos);
+}
