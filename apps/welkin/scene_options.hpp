@@ -49,6 +49,10 @@ bool endsWithIgnoringCase(std::string path, const std::string& ext);
 /// naming `option` ("--stats '…': directory '…' does not exist").
 void checkFileWritable(const std::string& path, const char* option);
 
+/// Throws welkin::Error naming `option` if `t`'s civil year is outside the astronomy's span
+/// [-2000, 6000] (astro::kEphemerisFirstYear, kEphemerisLastYear).
+void checkAstronomyYear(const UtcInstant& t, const char* option);
+
 /// Parses "WxH" (each in [1, 16384]); throws naming `option`.
 void parseSize(const std::string& text, const char* option, int& width, int& height);
 
