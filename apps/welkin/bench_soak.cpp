@@ -12,6 +12,7 @@
 #include "command.hpp"
 #include "scene_options.hpp"
 
+#include <welkin/astro/bodies.hpp>
 #include <welkin/elements/registry.hpp>
 #include <welkin/error.hpp>
 #include <welkin/gl/context.hpp>
@@ -189,11 +190,16 @@ int run(SoakOptions o) {
     checkCount("--rows", o.rows, 1, 1000);
     if (o.warmup < 0) o.warmup = std::min(o.dayFrames, o.frames / 2);
     checkCount("--warmup", o.warmup, 0, o.frames - 1);
-    if (!(o.dtSeconds > 0 && o.dtSeconds <= 3600)) throw Error("--dt " + std::to_string(o.dtSeconds) + " not in (0, 3600] s");
+    auto number = [](double v) {
+        char b[32];
+        std::snprintf(b, sizeof b, "%g", v);
+        return std::string(b);
+    };
+    if (!(o.dtSeconds > 0 && o.dtSeconds <= 3600)) throw Error("--dt " + number(o.dtSeconds) + " not in (0, 3600] s");
     if (!(o.rssToleranceMiB >= 0 && o.rssToleranceMiB <= 1e6))
-        throw Error("--rss-tolerance " + std::to_string(o.rssToleranceMiB) + " not in [0, 1e6] MiB");
+        throw Error("--rss-tolerance " + number(o.rssToleranceMiB) + " not in [0, 1e6] MiB");
     if (!(o.driverToleranceMiB >= 0 && o.driverToleranceMiB <= 1e6))
-        throw Error("--driver-tolerance " + std::to_string(o.driverToleranceMiB) + " not in [0, 1e6] MiB");
+        throw Error("--driver-tolerance " + number(o.driverToleranceMiB) + " not in [0, 1e6] MiB");
     // Every registered element unless --elements names some: a new element is soaked without
     // editing this file.
     if (!o.scene.elementsGiven) {
@@ -202,10 +208,24 @@ int run(SoakOptions o) {
         o.scene.elements = all;
         o.scene.elementsGiven = true;
     }
+    // Rain in the user's curtain and under the clouds, so the rainbow draws; before the user's
+    // --var values, which may change them.
+    const std::vector<std::string> names = o.scene.elementNames();
+    auto has = [&](const char* n) { return std::find(names.begin(), names.end(), n) != names.end(); };
+    if (has("clouds")) o.scene.vars.insert(o.scene.vars.begin(), "clouds.rain_density=0.5");
+    if (has("rainbow")) o.scene.vars.insert(o.scene.vars.begin(), "rain.rate_mm_h=5");
     o.scene.validate();
     const UtcInstant start = o.scene.instant();
     const double skySecondsPerFrame = 86400.0 / double(o.dayFrames);
-    start.plusSeconds(skySecondsPerFrame * double(o.frames));  // throws if the run leaves the supported years
+    // The whole run within the astronomy's years (the start is checked by instant()).
+    UtcInstant end;
+    try {
+        end = start.plusSeconds(skySecondsPerFrame * double(o.frames));
+        checkAstronomyYear(end, "end");
+    } catch (const Error&) {
+        throw Error("--time + --frames: the run ends after year " + std::to_string(int(astro::kEphemerisLastYear)) +
+                    " (the span of the ephemerides ends there)");
+    }
 
     Logger log;
     auto ctx = gl::HeadlessContext::create({}, log);
