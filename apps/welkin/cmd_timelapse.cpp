@@ -247,6 +247,8 @@ int run(const TimelapseOptions& o) {
     } catch (const Error& e) {
         throw Error(std::string("--to ") + e.what());
     }
+    checkAstronomyYear(from, "--from");
+    checkAstronomyYear(to, "--to");
     const double stepS = parseDuration(o.step);
     const double spanS = daysBetween(from.julianDate(), to.julianDate()) * 86400.0;
     if (spanS < 0) throw Error("--to " + o.to + " is before --from " + o.from);

@@ -61,9 +61,26 @@ int main(int argc, char** argv) {
     }
     try {
         app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-        // CLI11's own messages name the option; keep them on one line.
+    } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        // A bad value CLI11 itself refuses ("Could not convert: --lat = abc", an unknown option,
+        // a missing required one): one line, as for the commands' own checks, prefixed with the
+        // subcommand being parsed, and CLI11's non-zero status. (app.exit() would print a second
+        // line, "Run with --help for more information.")
+        std::string name = "welkin";
+        for (const CLI::App* a = &app;;) {
+            const auto subs = a->get_subcommands();
+            if (subs.empty()) break;
+            a = subs.front();
+            name += " " + a->get_name();
+        }
+        std::fprintf(stderr, "%s: %s (see --help)\n", name.c_str(), e.what());
+        return e.get_exit_code();
     }
     for (auto& [sub, name, action] : actions) {
         if (!sub->parsed()) continue;

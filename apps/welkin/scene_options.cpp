@@ -1,5 +1,6 @@
 #include "scene_options.hpp"
 
+#include <welkin/astro/bodies.hpp>
 #include <welkin/check.hpp>
 #include <welkin/elements/registry.hpp>
 #include <welkin/error.hpp>
@@ -68,12 +69,25 @@ void SceneOptions::addTo(CLI::App& app, bool required) {
         ->allow_extra_args(false);
 }
 
+void checkAstronomyYear(const UtcInstant& t, const char* option) {
+    // The astronomy (VSOP87, ELP) answers for civil years [-2000, 6000] only and would throw from
+    // the first frame, after the GL context is made, without naming the option: refuse here.
+    const int year = t.utc().year;
+    if (year < int(astro::kEphemerisFirstYear) || year > int(astro::kEphemerisLastYear))
+        throw Error(std::string(option) + " " + t.toIso() + ": year " + std::to_string(year) + " not in [" +
+                    std::to_string(int(astro::kEphemerisFirstYear)) + ", " + std::to_string(int(astro::kEphemerisLastYear)) +
+                    "] (the span of the ephemerides)");
+}
+
 UtcInstant SceneOptions::instant() const {
+    UtcInstant t;
     try {
-        return UtcInstant::parse(time);
+        t = UtcInstant::parse(time);
     } catch (const Error& e) {
         throw Error(std::string("--time ") + e.what());
     }
+    checkAstronomyYear(t, "--time");
+    return t;
 }
 
 Observer SceneOptions::observer() const {

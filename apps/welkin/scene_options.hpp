@@ -46,6 +46,10 @@ struct SceneOptions {
 
 // endsWithIgnoringCase(), checkFileWritable(): output_paths.hpp.
 
+/// Throws welkin::Error naming `option` if `t`'s civil year is outside the astronomy's span
+/// [-2000, 6000] (astro::kEphemerisFirstYear, kEphemerisLastYear).
+void checkAstronomyYear(const UtcInstant& t, const char* option);
+
 /// Parses "WxH" (each in [1, 16384]); throws naming `option`.
 void parseSize(const std::string& text, const char* option, int& width, int& height);
 

@@ -6,6 +6,7 @@
 #include <welkin/generators/cloud_shadow.hpp>
 #include <welkin/generators/lights.hpp>
 #include <welkin/generators/sky_luts.hpp>
+#include <welkin/generators/weather_map.hpp>
 #include <welkin/gl/bindings.hpp>
 #include <welkin/gl/shader.hpp>
 #include <welkin/keys.hpp>
@@ -250,8 +251,12 @@ void Rainbow::doRender(const FrameContext& ctx) {
     if (clouds) {
         const TextureRef w = v.get(weatherMap);
         glBindTextureUnit(gl::binding::kCloudWeatherMap, w.id);
-        p.set("u_weatherExtent", float(v.get(ck::weatherExtent)));
-        p.set("u_weatherOffset", glm::vec2(v.get(ck::weatherOffset)));
+        // The weather map's extent and offset are optional keys (a host or the wind sets them):
+        // unset, they take the clouds generators' defaults. v.get() threw "key
+        // 'clouds.weather_extent_m' is not set" from every frame that drew rain under the clouds
+        // with the defaults (found by the extreme grid, tests/apps/test_extreme_grid.cpp).
+        p.set("u_weatherExtent", float(v.getOr(ck::weatherExtent, generators::kDefaultWeatherExtentM)));
+        p.set("u_weatherOffset", glm::vec2(v.getOr(ck::weatherOffset, glm::dvec2(0.0))));
         p.set("u_cloudBottom", float(v.get(ck::bottom)));
         p.set("u_cloudTop", float(v.get(ck::top)));
         p.set("u_cloudType", float(v.getOr(ck::cloudType, 0.0)));
