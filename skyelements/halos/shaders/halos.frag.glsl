@@ -25,6 +25,9 @@ void main() {
     if (disc < 0.0) discard;
     float d = r < rc ? -r * mu + sqrt(disc) : -r * mu - sqrt(disc);
     if (d <= 0.0) discard;
+    // Hidden by the ground (the planet's sphere) before the layer?
+    float gDisc = r * r * (mu * mu - 1.0) + u_R * u_R;
+    if (mu < 0.0 && gDisc >= 0.0 && -r * mu - sqrt(gDisc) < d) discard;
     vec3 p = vec3(0.0, 0.0, u_h) + dir * d;
     vec3 up = normalize(p + vec3(0.0, 0.0, u_R));
     float slant = 1.0 / max(abs(dot(up, dir)), 0.1);

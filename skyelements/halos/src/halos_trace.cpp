@@ -256,7 +256,7 @@ void traceBranches(const Prism& P, glm::dvec3 p, glm::dvec3 dir, double n, doubl
     deposit(dir, weight);  // what is left: where it heads
 }
 
-constexpr uint64_t kChunk = 16384;
+constexpr uint64_t kChunk = 16383;  // a multiple of 3: whole crystals per chunk
 constexpr double kFixed = 4294967296.0;  // 2^32: integer accumulation, the same sums in any order
 
 // Runs `rays` rays in chunks over threads; body(rng, chunkBegin, chunkEnd, acc, truncated) adds
@@ -357,18 +357,23 @@ Phase1D traceRandom(const Population& pop, int bins, uint64_t rays, uint64_t see
     const std::size_t B = std::size_t(bins);
     uint64_t truncated = 0;
     auto acc = runChunks(rays, seed, B * 3, threads, truncated, [&](Rng& r, uint64_t b, uint64_t e, std::vector<uint64_t>& a, uint64_t& tr) {
-        for (uint64_t i = b; i < e; ++i) {
-            const int c = int(i % 3);
+        for (uint64_t i = b; i < e; i += 3) {
+            // One crystal, entry point and sequence of branch choices for the three channels
+            // (the same random numbers: their noise is correlated, no colour speckle).
             const glm::dmat3 R = sampleOrientation(pop, r);
             const glm::dvec3 S(1, 0, 0);  // the light along +x (any direction: random crystals)
             const glm::dvec3 dIn = glm::transpose(R) * sampleIncoming(0.0, r);
             const double weight = P.projected(dIn);
-            bool t;
-            const glm::dvec3 out = R * traceRay(P, dIn, nIce[c], r, t);
-            tr += t;
-            const double theta = std::acos(std::clamp(glm::dot(S, -out), -1.0, 1.0));
-            const std::size_t k = std::min(B - 1, std::size_t(theta / M_PI * double(B)));
-            a[k * 3 + std::size_t(c)] += uint64_t(weight * kFixed);
+            const Rng branch{r.next()};
+            for (int c = 0; c < 3; ++c) {
+                Rng rc = branch;
+                bool t;
+                const glm::dvec3 out = R * traceRay(P, dIn, nIce[c], rc, t);
+                tr += t;
+                const double theta = std::acos(std::clamp(glm::dot(S, -out), -1.0, 1.0));
+                const std::size_t k = std::min(B - 1, std::size_t(theta / M_PI * double(B)));
+                a[k * 3 + std::size_t(c)] += uint64_t(weight * kFixed);
+            }
         }
     });
     Phase1D out;
@@ -393,15 +398,18 @@ Phase2D traceOriented(const Population& pop, double h, int ne, int na, uint64_t 
     uint64_t truncated = 0;
     auto acc = runChunks(rays, seed, std::size_t(ne) * std::size_t(na) * 3, threads, truncated,
                          [&](Rng& r, uint64_t b, uint64_t e, std::vector<uint64_t>& a, uint64_t& tr) {
-                             for (uint64_t i = b; i < e; ++i) {
-                                 const int c = int(i % 3);
+                             for (uint64_t i = b; i < e; i += 3) {
                                  const glm::dmat3 R = sampleOrientation(pop, r);
                                  const glm::dvec3 dIn = glm::transpose(R) * sampleIncoming(h, r);
                                  const double weight = P.projected(dIn);
-                                 bool t;
-                                 const glm::dvec3 out = R * traceRay(P, dIn, nIce[c], r, t);
-                                 tr += t;
-                                 a[bin2D(-out, ne, na) * 3 + std::size_t(c)] += uint64_t(weight * kFixed);
+                                 const Rng branch{r.next()};  // the same choices for the three channels
+                                 for (int c = 0; c < 3; ++c) {
+                                     Rng rc = branch;
+                                     bool t;
+                                     const glm::dvec3 out = R * traceRay(P, dIn, nIce[c], rc, t);
+                                     tr += t;
+                                     a[bin2D(-out, ne, na) * 3 + std::size_t(c)] += uint64_t(weight * kFixed);
+                                 }
                              }
                          });
     Phase2D out = normalise2D(acc, ne, na);
@@ -463,7 +471,7 @@ HaloTables::Quality HaloTables::quality(const std::string& name) {
 
 uint64_t HaloTables::hash() const {
     // FNV-1a over the inputs and the code version (bump kVersion when the trace changes).
-    constexpr uint64_t kVersion = 1;
+    constexpr uint64_t kVersion = 2;
     uint64_t h = 1469598103934665603ull;
     auto mixIn = [&](const void* d, std::size_t n) {
         const auto* b = static_cast<const unsigned char*>(d);

@@ -120,7 +120,8 @@ struct Phase1D {
     /// Integral over the sphere, per channel (1 up to rounding).
     glm::dvec3 integral() const;
 };
-/// Rays: `rays` in all (a third per channel), seed: deterministic for a seed and a thread count
+/// Rays: `rays` in all (rays / 3 crystals, each traced at the three channels' indices with the
+/// same random choices), seed: deterministic for a seed and a thread count
 /// or not (chunks of rays seeded by their index, integer accumulation). threads 0: all cores.
 Phase1D traceRandom(const Population& pop, int bins, uint64_t rays, uint64_t seed, int threads = 0);
 
