@@ -1,13 +1,12 @@
 // The Halos element's pass (contract in welkin/elements/halos.hpp). Needs engine/camera.glsl,
 // engine/composite.glsl and generators/clouds' cloud_density.glsl before it.
 // Frame: ENU at the observer's ground point, metres; planet centre at (0, 0, -R).
-layout(binding = HALOS_TABLE_BINDING) uniform sampler3D u_haloTable;  // (azimuth, elevation, light elevation), 1/sr
+layout(binding = HALOS_TABLE_BINDING) uniform sampler2D u_haloTable;  // (azimuth, elevation) at the light's elevation, 1/sr
 
 uniform vec3 u_light;        // unit vector to the light (Sun or Moon), ENU
 uniform vec3 u_E;            // the light's illuminance at the observer, lux per channel
 uniform vec3 u_lightX;       // unit horizontal vector towards the light's azimuth
 uniform vec3 u_lightY;       // up x u_lightX
-uniform float u_sliceCoord;  // texture z of the light's elevation
 uniform float u_tauUser;     // vertical optical depth of the user's crystal layer
 uniform float u_tauCirrus;   // halos.cirrus_fraction x the cirrus' optical depth at density 1 (0: no cirrus)
 uniform float u_h;           // observer height above the ground, m
@@ -36,7 +35,7 @@ void main() {
     // The table's coordinates: the direction's elevation and its azimuth from the light's.
     float el = asin(clamp(dir.z, -1.0, 1.0));
     float az = atan(abs(dot(dir, u_lightY)), dot(dir, u_lightX));
-    vec3 phase = texture(u_haloTable, vec3(az / HALOS_PI, el / HALOS_PI + 0.5, u_sliceCoord)).rgb;
+    vec3 phase = texture(u_haloTable, vec2(az / HALOS_PI, el / HALOS_PI + 0.5)).rgb;
     vec3 L = u_E * phase * (1.0 - exp(-tau));
     welkin_output(L, vec3(exp(-u_tauUser * slant)));
 }

@@ -74,6 +74,8 @@ void Halos::doInit(InitContext& ctx) {
     table_ = {};
     tables_ = nullptr;
     mixed_ = {-1, -1, -1, -1};
+    mix_.clear();
+    tableElevation_ = -1.0;
 }
 
 void Halos::doRender(const FrameContext& ctx) {
@@ -106,16 +108,31 @@ void Halos::doRender(const FrameContext& ctx) {
     // The tables (traced once per crystal shape and quality, from disk afterwards) and their mix.
     const halos::HaloTables& t = halos::HaloTables::cached(halos::HaloTables::quality(v.get(hk::tableQuality)),
                                                            v.get(hk::plateAspect), v.get(hk::columnAspect), v.get(hk::tilt));
-    if (&t != tables_ || w != mixed_ || !table_) {
-        const std::vector<glm::vec4> mixed = t.mix(w);
-        if (!table_ || table_.width() != t.q.na || table_.height() != t.q.ne || &t != tables_) {
-            table_ = gl::Texture3D(t.q.na, t.q.ne, t.q.slices, GL_RGBA16F);
-            table_.setFilter(GL_LINEAR);
-            table_.setWrap(GL_CLAMP_TO_EDGE);
-        }
-        table_.upload(GL_RGBA, GL_FLOAT, mixed.data());
+    const double el = std::asin(std::clamp(L.z, -1.0, 1.0));
+    if (&t != tables_ || w != mixed_) {
+        mix_ = t.mix(w);
         tables_ = &t;
         mixed_ = w;
+        tableElevation_ = -1.0;
+    }
+    if (!table_ || table_.width() != t.q.na || table_.height() != t.q.ne) {
+        table_ = gl::Texture2D(t.q.na, t.q.ne, GL_RGBA16F);
+        table_.setFilter(GL_LINEAR);
+        table_.setWrap(GL_CLAMP_TO_EDGE);
+        tableElevation_ = -1.0;
+    }
+    if (std::abs(el - tableElevation_) > kElevationTolerance) {
+        // The light's elevation between two slices (evenly over [0, 90] deg): linear in elevation,
+        // on the CPU once per 0.02 deg of the light's motion, so that the pass makes one 2-D fetch.
+        const double f = std::clamp(el / (0.5 * M_PI), 0.0, 1.0) * (t.q.slices - 1);
+        const int s0 = std::min(int(f), t.q.slices - 1), s1 = std::min(s0 + 1, t.q.slices - 1);
+        const float a = float(f - s0);
+        const std::size_t cells = std::size_t(t.q.ne) * std::size_t(t.q.na);
+        std::vector<glm::vec4> slice(cells);
+        for (std::size_t i = 0; i < cells; ++i)
+            slice[i] = mix_[std::size_t(s0) * cells + i] * (1.0f - a) + mix_[std::size_t(s1) * cells + i] * a;
+        table_.upload(GL_RGBA, GL_FLOAT, slice.data());
+        tableElevation_ = el;
     }
 
     const double layerH = v.getOr(ck::cirrusHeight, kDefaultLayerHeightM);
@@ -124,11 +141,6 @@ void Halos::doRender(const FrameContext& ctx) {
     glm::dvec3 lx(L.x, L.y, 0.0);
     lx = glm::length(lx) > 1e-9 ? glm::normalize(lx) : glm::dvec3(1, 0, 0);
     const glm::dvec3 ly = glm::cross(glm::dvec3(0, 0, 1), lx);
-    const double el = std::asin(std::clamp(L.z, -1.0, 1.0));
-    // Texture z: slice s's centre is at (s + 0.5) / S, slice s at elevation s x 90 / (S - 1) deg.
-    const double S = t.q.slices;
-    const double sliceCoord = (std::clamp(el / (0.5 * M_PI), 0.0, 1.0) * (S - 1.0) + 0.5) / S;
-
     const gl::Program& p = programs_.get(ctx.camera.projection);
     p.use();
     glBindTextureUnit(kTableUnit, table_.id());
@@ -143,7 +155,6 @@ void Halos::doRender(const FrameContext& ctx) {
     p.set("u_E", glm::vec3(E));
     p.set("u_lightX", glm::vec3(lx));
     p.set("u_lightY", glm::vec3(ly));
-    p.set("u_sliceCoord", float(sliceCoord));
     p.set("u_tauUser", float(tauUser));
     p.set("u_tauCirrus", float(cirrus ? fraction * generators::kCirrusOpticalDepth : 0.0));
     p.set("u_h", float(h0));
@@ -165,6 +176,8 @@ void Halos::doRelease() {
     table_ = {};
     cloudUbo_ = {};
     tables_ = nullptr;
+    mix_.clear();
+    tableElevation_ = -1.0;
 }
 
 }  // namespace welkin::elements

@@ -211,11 +211,18 @@ private:
     void doStats(nlohmann::json& root) const override;
 
     gl::ProjectionPrograms programs_;
-    gl::Texture3D table_;
+    gl::Texture2D table_;            // the mix at the light's elevation (azimuth x elevation), 1/sr
     gl::Buffer cloudUbo_;
     const halos::HaloTables* tables_ = nullptr;
     std::array<double, 4> mixed_{-1, -1, -1, -1};
+    std::vector<glm::vec4> mix_;     // the mixed tables at every slice (HaloTables::mix)
+    double tableElevation_ = -1.0;   // the light elevation table_ holds, rad
     bool drew_ = false;
+
+public:
+    /// The light's motion in elevation (rad) that re-interpolates the table between its slices
+    /// (0.02 deg: 1/27 of the Sun's diameter).
+    static constexpr double kElevationTolerance = 3.5e-4;
 };
 
 }  // namespace welkin::elements
