@@ -70,7 +70,14 @@ void Halos::doInit(InitContext& ctx) {
                                            .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
                                            .fragment("generators/cloud_density.glsl", embedded::clouds_shaders("cloud_density.glsl"))
                                            .fragment("halos/halos.frag.glsl", embedded::halos_shaders("halos.frag.glsl")));
+    gridPrograms_ = gl::ProjectionPrograms(gl::ProgramBuilder("Halos grid")
+                                               .define("HALOS_TABLE_BINDING", kTableUnit)
+                                               .vertex("engine/camera.glsl", gl::engineShader("camera.glsl"))
+                                               .vertex("halos/halos_grid.vert.glsl", embedded::halos_shaders("halos_grid.vert.glsl"))
+                                               .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
+                                               .fragment("halos/halos_grid.frag.glsl", embedded::halos_shaders("halos_grid.frag.glsl")));
     programs_.get(Projection::Perspective);  // shader errors surface in init()
+    gridPrograms_.get(Projection::Perspective);
     table_ = {};
     tables_ = nullptr;
     mixed_ = {-1, -1, -1, -1};
@@ -80,6 +87,7 @@ void Halos::doInit(InitContext& ctx) {
 
 void Halos::doRender(const FrameContext& ctx) {
     drew_ = false;
+    grid_ = false;
     const SkyVars& v = ctx.vars;
     // The light: the Sun, or the Moon when the Sun gives no light at the observer.
     glm::dvec3 E = v.get(lk::sunIlluminance) * v.get(lk::sunTransmittance);
@@ -141,6 +149,28 @@ void Halos::doRender(const FrameContext& ctx) {
     glm::dvec3 lx(L.x, L.y, 0.0);
     lx = glm::length(lx) > 1e-9 ? glm::normalize(lx) : glm::dvec3(1, 0, 0);
     const glm::dvec3 ly = glm::cross(glm::dvec3(0, 0, 1), lx);
+    if (ctx.camera.projection == Projection::Perspective && !cirrus) {
+        // The real-time path: per-vertex coordinates on a grid, one fetch per pixel.
+        const gl::Program& g = gridPrograms_.get(ctx.camera.projection);
+        g.use();
+        glBindTextureUnit(kTableUnit, table_.id());
+        const int gx = (ctx.camera.width + kGridCellPx - 1) / kGridCellPx, gy = (ctx.camera.height + kGridCellPx - 1) / kGridCellPx;
+        g.set("u_grid", glm::ivec2(gx, gy));
+        g.set("u_cellPx", float(kGridCellPx));
+        g.set("u_lightX", glm::vec3(lx));
+        g.set("u_lightY", glm::vec3(ly));
+        g.set("u_tauUser", float(tauUser));
+        g.set("u_h", float(h0));
+        g.set("u_R", float(R));
+        g.set("u_layerH", float(layerH));
+        g.set("u_E", glm::vec3(E));
+        g.set("u_below", h0 < layerH ? 1.0f : 0.0f);
+        if (ctx.emptyVao) ctx.emptyVao->bind();
+        glDrawArrays(GL_TRIANGLES, 0, GLsizei(6 * gx * gy));
+        drew_ = true;
+        grid_ = true;
+        return;
+    }
     const gl::Program& p = programs_.get(ctx.camera.projection);
     p.use();
     glBindTextureUnit(kTableUnit, table_.id());
@@ -173,6 +203,7 @@ void Halos::doStats(nlohmann::json& root) const {
 
 void Halos::doRelease() {
     programs_.releasePrograms();
+    gridPrograms_.releasePrograms();
     table_ = {};
     cloudUbo_ = {};
     tables_ = nullptr;

@@ -210,7 +210,7 @@ private:
     void doRelease() override;
     void doStats(nlohmann::json& root) const override;
 
-    gl::ProjectionPrograms programs_;
+    gl::ProjectionPrograms programs_, gridPrograms_;
     gl::Texture2D table_;            // the mix at the light's elevation (azimuth x elevation), 1/sr
     gl::Buffer cloudUbo_;
     const halos::HaloTables* tables_ = nullptr;
@@ -223,6 +223,14 @@ public:
     /// The light's motion in elevation (rad) that re-interpolates the table between its slices
     /// (0.02 deg: 1/27 of the Sun's diameter).
     static constexpr double kElevationTolerance = 3.5e-4;
+    /// The real-time display's grid cell, pixels (perspective projection, no cirrus: the pass
+    /// computes its coordinates per vertex and makes one fetch per pixel).
+    static constexpr int kGridCellPx = 16;
+    /// True if the last render() drew through the grid.
+    bool gridLastFrame() const { return grid_; }
+
+private:
+    bool grid_ = false;
 };
 
 }  // namespace welkin::elements
