@@ -256,3 +256,33 @@ TEST_CASE("Halos: rendered sundogs move out with the Sun; the circumzenithal arc
     CHECK(czaLight(at30, 30) > 0.0);
     CHECK(czaLight(at40, 40) < 1e-3 * czaLight(at30, 30));
 }
+
+TEST_CASE("Halos: the perspective grid path puts the 22 deg halo where the per-pixel path does", "[gl][halos]") {
+    test::glContext();
+    HaloScene s;
+    s.p.vars().set(hk::opticalDepth, 0.3);
+    s.p.vars().set(hk::random, 1.0);
+    for (const auto* k : {&hk::plates, &hk::columns, &hk::parry}) s.p.vars().set(*k, 0.0);
+    // Looking up the Sun's meridian at the 22 deg halo's crest above a Sun 20 deg up.
+    Camera cam;
+    cam.projection = Projection::Perspective;
+    cam.azimuthRad = M_PI;
+    cam.altitudeRad = 42.0 * kDeg;
+    cam.verticalFovRad = 20.0 * kDeg;
+    cam.width = 64;
+    cam.height = 64;
+    s.p.setCamera(cam);
+    Image img = s.render(20);
+    CHECK(s.halos->gridLastFrame());
+    int best = 0;
+    for (int y = 0; y < 64; ++y)
+        if (lum(img, 32, y) > lum(img, 32, best)) best = y;
+    // Altitude of the crest row (the pinhole camera's tan mapping); the crest 0.2-0.4 deg outside
+    // the minimum deviation, 1 deg table bins: -0.5..+1.5 deg, as the per-pixel test.
+    const double f = 32.0 / std::tan(10.0 * kDeg);
+    const double alt = 42.0 + std::atan((32.0 - (best + 0.5)) / f) / kDeg;
+    const double d22 = minimumDeviationRad(kGreen, 60 * kDeg) / kDeg;
+    INFO("crest at altitude " << alt);
+    CHECK(alt - 20.0 - d22 > -0.5);
+    CHECK(alt - 20.0 - d22 < 1.5);
+}
