@@ -1,0 +1,236 @@
+// Halos: ice-crystal halos (the 22 and 46 deg halos, sundogs, the parhelic circle, the
+// circumzenithal and tangent arcs) from phase tables ray-traced once through hexagonal ice prisms,
+// drawn where the Sun (or the Moon) lights the cirrus or a crystal layer the user sets.
+// docs/halos.md.
+//
+//   processor.add(welkin::elements::makeElement("halos"));                 // Layer Foreground
+//   processor.vars().set(welkin::elements::haloskeys::opticalDepth, 0.2);  // a crystal layer
+//   // command line: welkin render --elements sky,clouds,halos --var clouds.preset=scattered-cirrus
+//   //               or   --elements sky,halos --var halos.optical_depth=0.2 --out halo.png
+//
+// Crystals: hexagonal prisms (side length a, length along the c-axis = aspect x 2a), four
+// populations mixed by halos.plates, halos.columns, halos.random, halos.parry (relative weights
+// of their scattering; unset: halos.preset's):
+//   plates  c-axis vertical, tilted by a 2-D Gaussian of sigma halos.tilt_rad (aspect halos.plate_aspect)
+//   columns c-axis horizontal (random azimuth, elevation spread halos.tilt_rad), free spin about it
+//   random  uniformly random orientation (aspect halos.column_aspect)
+//   parry   c-axis horizontal and two side faces horizontal (spread halos.tilt_rad)
+// Geometric optics: unpolarised Fresnel reflection and refraction at every face (a ray splits by
+// chance with the Fresnel probability, so no energy is lost), total internal reflection, no
+// absorption, no diffraction; the refractive index of ice per channel (iceRefractiveIndex()).
+// The Sun's disk (0.533 deg) is part of the trace.
+//
+// Radiance (cd/m^2) along a view ray that crosses the crystal layer (a thin shell at
+// clouds.cirrus_height_m, default 9000 m): L = E p(view, light) (1 - exp(-tau_slant)), E the
+// light's illuminance at the observer (lux per channel), p the mixed phase function (1/sr, from
+// the table at the light's elevation), tau_slant = (halos.optical_depth + halos.cirrus_fraction x
+// 0.3 x cirrus density) / max(|cos zenith|, 0.1) (0.3: the cirrus' optical depth at density 1, as
+// the Clouds element draws it). The part from halos.optical_depth also attenuates what is behind
+// (transmittance exp(-tau)); the cirrus' own attenuation is the Clouds element's. Light leaving
+// within 1 deg of the light's direction (rays through two parallel faces) is not drawn: it stays
+// in the direct beam. Nothing is drawn (no GL call) without light or crystals.
+#pragma once
+#include <welkin/element.hpp>
+#include <welkin/gl/objects.hpp>
+#include <welkin/gl/projection_programs.hpp>
+
+#include <glm/glm.hpp>
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace welkin::elements {
+
+namespace haloskeys {
+inline constexpr double kDeg = 0.017453292519943295;
+inline const Key<std::string> preset{"halos.preset", "crystal mix for the halos.plates/columns/random/parry nobody set: common (default: 22 deg halo, sundogs, arcs), display (a bright complex display), random (22 and 46 deg halos only)"};
+inline const Key<double> opticalDepth{"halos.optical_depth", Range{0, 5}, "vertical optical depth of a crystal layer at the cirrus height, added to the cirrus' crystals (0: only the cirrus')"};
+inline const Key<double> cirrusFraction{"halos.cirrus_fraction", Range{0, 1}, "share of the cirrus layer's optical depth due to halo-making crystals"};
+inline const Key<double> plates{"halos.plates", Range{0, 1}, "weight of plate-oriented plates in the crystal mix (unset: the preset's)"};
+inline const Key<double> columns{"halos.columns", Range{0, 1}, "weight of column-oriented columns in the crystal mix (unset: the preset's)"};
+inline const Key<double> random{"halos.random", Range{0, 1}, "weight of randomly oriented crystals in the crystal mix (unset: the preset's)"};
+inline const Key<double> parry{"halos.parry", Range{0, 1}, "weight of Parry-oriented columns in the crystal mix (unset: the preset's)"};
+inline const Key<double> plateAspect{"halos.plate_aspect", Range{0.05, 1}, "plates' length along the c-axis over their diameter (2 x side)"};
+inline const Key<double> columnAspect{"halos.column_aspect", Range{1, 8}, "columns' length along the c-axis over their diameter (also the random population's)"};
+inline const Key<double> tilt{"halos.tilt_rad", Range{0.1 * kDeg, 10 * kDeg}, "spread (Gaussian sigma) of the oriented crystals' axes about their preferred orientation"};
+inline const Key<std::string> tableQuality{"halos.table_quality", "phase tables: low (CI tests), default, high (rays and resolution; docs/halos.md)"};
+}  // namespace haloskeys
+
+namespace halos {
+
+/// Real refractive index of ice at wavelength `nm` (nm, [350, 800]): a Cauchy fit n = A + B /
+/// lambda^2 through 1.3072 at 656.3 nm and 1.3136 at 486.1 nm (ordinary ray, the values halo
+/// texts tabulate, e.g. Tape 1994 "Atmospheric Halos"; within 1e-3 of Warren & Brandt 2008,
+/// J. Geophys. Res. 113 D14220, over the visible). 1.3091 at 589 nm.
+double iceRefractiveIndex(double nm);
+/// The wavelengths traced for the red, green and blue channels, nm (the sRGB primaries' dominant).
+inline constexpr std::array<double, 3> kChannelNm{612.0, 549.0, 465.0};
+
+/// Minimum deviation of a prism of apex angle `apexRad` at index n: 2 asin(n sin(A/2)) - A
+/// (rad). 60 deg, n = 1.31: 21.84 deg (the 22 deg halo); 90 deg: 45.70 deg (the 46 deg halo).
+double minimumDeviationRad(double n, double apexRad);
+/// Bravais' index for rays inclined by `elevationRad` to a prism's plane of refraction (skew
+/// rays through a prism with a vertical edge): n' = sqrt(n^2 - sin^2 e) / cos e (Bravais 1847;
+/// Tape 1994 §2; Greenler 1980 "Rainbows, Halos and Glories" app.).
+double bravaisIndex(double n, double elevationRad);
+/// Azimuth between the Sun and a parhelion (sundog) for the Sun at `sunElevationRad`: the
+/// minimum deviation of the 60 deg prism at Bravais' index (rad; the sundog stays at the Sun's
+/// elevation). 21.8 deg at 0, 28.7 deg at 30 deg (n = 1.31); none above 60.75 deg.
+double parhelionAzimuthRad(double n, double sunElevationRad);
+/// The sundog's angular distance from the Sun, rad: cos d = sin^2 h + cos^2 h cos(azimuth).
+double parhelionDistanceRad(double n, double sunElevationRad);
+/// Elevation of the circumzenithal arc's lowest point (light in through the top face, out of a
+/// side face of a horizontal plate): sin e = sqrt(n^2 - cos^2 h) (rad); NaN when the arc cannot
+/// form (h above the cut-off).
+double circumzenithalElevationRad(double n, double sunElevationRad);
+/// The Sun's elevation above which the circumzenithal arc cannot form: cos h = sqrt(n^2 - 1)
+/// (rad): 32.2 deg at n = 1.31.
+double circumzenithalCutoffRad(double n);
+
+enum class Orientation { Random, Plate, Column, Parry };
+struct Population {
+    Orientation orientation = Orientation::Random;
+    double aspect = 2.0;   ///< length along the c-axis over the diameter 2a, (0, 20]
+    double tiltRad = 0.0;  ///< spread (Gaussian sigma) of the orientation, rad, [0, 0.3]
+};
+
+/// What a trace did: every ray leaves the crystal (energy is conserved by construction); rays
+/// still inside after kMaxEvents internal events are counted and deposited where they head.
+struct TraceStats {
+    uint64_t rays = 0;
+    uint64_t truncated = 0;
+    double seconds = 0.0;
+    /// Weight leaving the crystals over weight entering (traceOrientedExact: 1 when the Fresnel
+    /// branches conserve energy; the other traces deposit each ray once: 1 by construction).
+    double energyRatio = 1.0;
+};
+inline constexpr int kMaxEvents = 64;
+
+/// The phase function of randomly oriented crystals over the scattering angle, `bins` bins over
+/// [0, pi]; p[i] per channel in 1/sr (integral over the sphere 1).
+struct Phase1D {
+    std::vector<glm::dvec3> p;
+    TraceStats stats;
+    double binRad() const { return M_PI / double(p.size()); }
+    /// Linear interpolation between bin centres at scattering angle theta (rad).
+    glm::dvec3 at(double thetaRad) const;
+    /// Integral over the sphere, per channel (1 up to rounding).
+    glm::dvec3 integral() const;
+};
+/// Rays: `rays` in all (rays / 3 crystals, each traced at the three channels' indices with the
+/// same random choices), seed: deterministic for a seed and a thread count
+/// or not (chunks of rays seeded by their index, integer accumulation). threads 0: all cores.
+Phase1D traceRandom(const Population& pop, int bins, uint64_t rays, uint64_t seed, int threads = 0);
+
+/// The phase function of oriented crystals for the light at elevation `sunElevationRad`, over the
+/// sky in the light's frame: elevation e in [-pi/2, pi/2] (`ne` bins) x azimuth from the light's
+/// azimuth |phi| in [0, pi] (`na` bins; the pattern is symmetric about the light's vertical);
+/// p[ie * na + ia] per channel in 1/sr.
+struct Phase2D {
+    int ne = 0, na = 0;
+    std::vector<glm::dvec3> p;
+    TraceStats stats;
+    glm::dvec3 at(int ie, int ia) const { return p[std::size_t(ie) * std::size_t(na) + std::size_t(ia)]; }
+    /// Elevation and azimuth of a bin centre, rad.
+    double elevationRad(int ie) const { return -0.5 * M_PI + (ie + 0.5) * M_PI / ne; }
+    double azimuthRad(int ia) const { return (ia + 0.5) * M_PI / na; }
+    glm::dvec3 integral() const;
+};
+Phase2D traceOriented(const Population& pop, double sunElevationRad, int ne, int na, uint64_t rays, uint64_t seed,
+                      int threads = 0);
+
+/// The brute-force reference (docs/halos.md's accuracy check): every ray followed through every
+/// Fresnel branch with its weight (no random choice at the faces), each crystal orientation and
+/// entry point drawn as in the tables' trace; returns the same table.
+Phase2D traceOrientedExact(const Population& pop, double sunElevationRad, int ne, int na, uint64_t rays, uint64_t seed,
+                           int threads = 0);
+
+/// The element's tables: the three oriented populations at `slices` light elevations evenly
+/// over [0, 90] deg, the random population's 1-D table.
+struct HaloTables {
+    struct Quality {
+        std::string name;
+        int ne = 256, na = 256, slices = 31;  ///< 2-D bins; light elevations (0, 3, ..., 90 deg)
+        uint64_t raysPerSlice = 600000;       ///< per oriented population and light elevation
+        uint64_t raysRandom = 3000000;        ///< the random population
+        int bins = 1800;                      ///< 1-D bins (0.1 deg)
+    };
+    /// low (180 x 180 bins, 10 elevations, 60 000 rays: the tests), default (256 x 256, 31, 600 000),
+    /// high (512 x 512, 46, 4 000 000); throws welkin::Error for another name.
+    static Quality quality(const std::string& name);
+
+    Quality q;
+    double plateAspect = 0.2, columnAspect = 2.0, tiltRad = 1.0 * haloskeys::kDeg;
+    std::vector<float> plates, columns, parry;  ///< [(slice * ne + ie) * na + ia] * 3 + c, 1/sr
+    std::vector<float> random;                  ///< [bin * 3 + c], 1/sr
+    double buildSeconds = 0.0;                  ///< wall time of the trace (0 when read from disk)
+    bool fromCache = false;
+
+    double sliceElevationRad(int s) const { return q.slices > 1 ? s * 0.5 * M_PI / (q.slices - 1) : 0.0; }
+    uint64_t hash() const;
+    /// Traced with all cores.
+    static HaloTables build(const Quality& q, double plateAspect, double columnAspect, double tiltRad);
+    /// From the disk cache ($XDG_CACHE_HOME/welkin, else ~/.cache/welkin, `halos-<hash>.bin`,
+    /// the hash of the inputs and the code version), else built and written there atomically
+    /// (temporary file + rename; a failed write is ignored). Kept in memory for the process.
+    static const HaloTables& cached(const Quality& q, double plateAspect, double columnAspect, double tiltRad);
+    static std::string cachePath(const HaloTables& t);
+
+    /// The mixed table the shader samples: weights (plates, columns, random, parry) >= 0 with a
+    /// positive sum (normalised here), RGBA per texel [(slice * ne + ie) * na + ia], 1/sr, with
+    /// the forward 1 deg around the light set to 0.
+    std::vector<glm::vec4> mix(const std::array<double, 4>& weights) const;
+};
+
+/// The preset's mix (plates, columns, random, parry) and cirrus fraction; throws welkin::Error
+/// naming halos.preset for an unknown name.
+struct HaloPreset {
+    std::array<double, 4> weights;
+    double cirrusFraction;
+};
+const HaloPreset& haloPreset(const std::string& name);
+
+}  // namespace halos
+
+class Halos final : public SkyElement {
+public:
+    Halos();
+    /// True if the last render() issued its draw (false: no light or no crystals).
+    bool drewLastFrame() const { return drew_; }
+    /// The tables in use (nullptr before the first frame with light and crystals).
+    const halos::HaloTables* tables() const { return tables_; }
+
+private:
+    void doInit(InitContext& ctx) override;
+    void doValidateOptions(const SkyVars& vars) const override;
+    void doRender(const FrameContext& ctx) override;
+    void doRelease() override;
+    void doStats(nlohmann::json& root) const override;
+
+    gl::ProjectionPrograms programs_, gridPrograms_;
+    gl::Texture2D table_;            // the mix at the light's elevation (azimuth x elevation), 1/sr
+    gl::Buffer cloudUbo_;
+    const halos::HaloTables* tables_ = nullptr;
+    std::array<double, 4> mixed_{-1, -1, -1, -1};
+    std::vector<glm::vec4> mix_;     // the mixed tables at every slice (HaloTables::mix)
+    double tableElevation_ = -1.0;   // the light elevation table_ holds, rad
+    bool drew_ = false;
+
+public:
+    /// The light's motion in elevation (rad) that re-interpolates the table between its slices
+    /// (0.02 deg: 1/27 of the Sun's diameter).
+    static constexpr double kElevationTolerance = 3.5e-4;
+    /// The real-time display's grid cell, pixels (perspective projection, no cirrus: the pass
+    /// computes its coordinates per vertex and makes one fetch per pixel).
+    static constexpr int kGridCellPx = 16;
+    /// True if the last render() drew through the grid.
+    bool gridLastFrame() const { return grid_; }
+
+private:
+    bool grid_ = false;
+};
+
+}  // namespace welkin::elements

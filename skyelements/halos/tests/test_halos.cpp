@@ -1,0 +1,288 @@
+// The Halos element: the crystal trace against the prism optics' closed forms (minimum
+// deviation, Bravais' index for the sundogs, the circumzenithal arc's cut-off), its energy
+// conservation and determinism; rendered: the 22 and 46 deg halos, the sundogs' azimuth growing
+// with the Sun's elevation, the circumzenithal arc only below 32.2 deg, nothing without crystals.
+#include <catch2/catch.hpp>
+
+#include "gl_test_context.hpp"
+
+#include <welkin/elements/halos.hpp>
+#include <welkin/generators/lights.hpp>
+#include <welkin/keys.hpp>
+#include <welkin/processor.hpp>
+
+#include <cmath>
+
+using namespace welkin;
+using namespace welkin::elements::halos;
+namespace hk = welkin::elements::haloskeys;
+
+namespace {
+constexpr double kDeg = M_PI / 180.0;
+const double kGreen = iceRefractiveIndex(kChannelNm[1]);  // the channel the checks read
+
+// The first bin in [lo, hi) deg where the green phase rises above half the way from its value at
+// lo to its maximum in the range: the halo's sharp inner edge (the minimum deviation).
+double risingEdgeDeg(const Phase1D& p, double lo, double hi) {
+    const int a = int(lo * kDeg / p.binRad()), b = int(hi * kDeg / p.binRad());
+    double mx = 0;
+    for (int i = a; i < b; ++i) mx = std::max(mx, p.p[std::size_t(i)].y);
+    const double half = 0.5 * (p.p[std::size_t(a)].y + mx);
+    for (int i = a; i < b; ++i)
+        if (p.p[std::size_t(i)].y > half) return (i + 0.5) * p.binRad() / kDeg;
+    return -1;
+}
+}  // namespace
+
+TEST_CASE("Halos: closed forms of the prism optics", "[cpu][halos]") {
+    // Minimum deviation at n = 1.31 (the textbook values: Tape 1994, Greenler 1980): 21.84 deg
+    // (quoted to 0.01 deg) and 45.7 deg (quoted to 0.1 deg: 45.73).
+    CHECK(std::abs(minimumDeviationRad(1.31, 60 * kDeg) / kDeg - 21.84) < 0.01);
+    CHECK(std::abs(minimumDeviationRad(1.31, 90 * kDeg) / kDeg - 45.7) < 0.05);
+    // The circumzenithal arc's cut-off at 32.2 deg (quoted to 0.1 deg).
+    CHECK(std::abs(circumzenithalCutoffRad(1.31) / kDeg - 32.2) < 0.05);
+    // With the Sun on the horizon the sundogs sit at the 22 deg halo (Bravais' index = n).
+    CHECK(std::abs(parhelionAzimuthRad(1.31, 0.0) - minimumDeviationRad(1.31, 60 * kDeg)) < 1e-12);
+    CHECK(std::abs(parhelionDistanceRad(1.31, 0.0) - minimumDeviationRad(1.31, 60 * kDeg)) < 1e-12);
+    // ... and move out as it rises (Bravais' index grows), to none above ~61 deg.
+    CHECK(parhelionAzimuthRad(1.31, 30 * kDeg) > parhelionAzimuthRad(1.31, 20 * kDeg));
+    CHECK(std::isnan(parhelionAzimuthRad(1.31, 62 * kDeg)));
+    // Ice at the sodium D line: 1.3091 (ordinary ray 1.3090, extraordinary 1.3104); the fit's
+    // nodes are elsewhere (656 and 486 nm), 1e-3 is the birefringence the fit ignores.
+    CHECK(std::abs(iceRefractiveIndex(589.3) - 1.3091) < 1e-3);
+    CHECK(iceRefractiveIndex(kChannelNm[2]) > iceRefractiveIndex(kChannelNm[0]));  // normal dispersion
+}
+
+TEST_CASE("Halos: traced random crystals put the 22 and 46 deg halos at the minimum deviations", "[cpu][halos]") {
+    // Compact columns (aspect 1) make both halos; 300 000 rays, 0.1 deg bins.
+    const Phase1D p = traceRandom({Orientation::Random, 1.0, 0.0}, 1800, 300000, 11);
+    // The edge lies at the minimum deviation, smeared by the Sun's disk (radius 0.27 deg) and one
+    // bin (0.1 deg): 0.3 deg.
+    CHECK(std::abs(risingEdgeDeg(p, 19.0, 25.0) - minimumDeviationRad(kGreen, 60 * kDeg) / kDeg) < 0.3);
+    CHECK(std::abs(risingEdgeDeg(p, 43.0, 49.0) - minimumDeviationRad(kGreen, 90 * kDeg) / kDeg) < 0.3);
+    // No light inside the 22 deg halo's edge beyond the faint background: the halo is a ring
+    // (the inside at 18-20 deg less than a fifth of the crest).
+    double inside = 0, crest = 0;
+    for (int i = 180; i < 200; ++i) inside = std::max(inside, p.p[std::size_t(i)].y);
+    for (int i = 215; i < 235; ++i) crest = std::max(crest, p.p[std::size_t(i)].y);
+    CHECK(inside < 0.2 * crest);
+    // Red has the lower index: its halo lies inside (0.1-0.2 deg at these indices).
+    CHECK(risingEdgeDeg(Phase1D{[&] {
+                                    std::vector<glm::dvec3> r(p.p.size());
+                                    for (std::size_t i = 0; i < r.size(); ++i) r[i] = glm::dvec3(0, p.p[i].x, 0);
+                                    return r;
+                                }(),
+                                {}},
+                        19.0, 25.0) <= risingEdgeDeg(p, 19.0, 25.0));
+}
+
+TEST_CASE("Halos: the traced sundogs follow Bravais' index as the Sun rises", "[cpu][halos]") {
+    for (double h : {0.0, 20.0, 40.0}) {
+        const Phase2D p = traceOriented({Orientation::Plate, 0.2, 0.5 * kDeg}, h * kDeg, 180, 360, 90000, 5);
+        const int ie = std::min(179, int((h + 90.0) / 180.0 * 180.0));  // the Sun's elevation row
+        int best = 30;
+        for (int ia = 30; ia < 120; ++ia)
+            if (p.at(ie, ia).y > p.at(ie, best).y) best = ia;
+        // The crest lies just outside the minimum deviation: within 0.75 deg (half-degree bins,
+        // the Sun's disk, the plates' 0.5 deg tilt).
+        const double expected = parhelionAzimuthRad(kGreen, h * kDeg) / kDeg;
+        INFO("sun elevation " << h << " deg, sundog azimuth " << p.azimuthRad(best) / kDeg << ", formula " << expected);
+        CHECK(p.azimuthRad(best) / kDeg - expected > -0.25);
+        CHECK(p.azimuthRad(best) / kDeg - expected < 0.75);
+    }
+}
+
+TEST_CASE("Halos: the circumzenithal arc forms only with the Sun below 32.2 deg", "[cpu][halos]") {
+    // Light within 60 deg of the Sun's azimuth and more than 25 deg above it (where the arc is:
+    // 66 deg up at h = 20, 80 deg at 30), relative to all the plates' light.
+    auto czaShare = [](double h) {
+        const Phase2D p = traceOriented({Orientation::Plate, 0.2, 0.5 * kDeg}, h * kDeg, 90, 90, 60000, 9);
+        double s = 0, all = 0;
+        for (int ie = 0; ie < p.ne; ++ie) {
+            const double e = p.elevationRad(ie), w = std::cos(e);
+            for (int ia = 0; ia < p.na; ++ia) {
+                all += p.at(ie, ia).y * w;
+                if (e > (h + 25) * kDeg && p.azimuthRad(ia) < 60 * kDeg) s += p.at(ie, ia).y * w;
+            }
+        }
+        return s / all;
+    };
+    const double at20 = czaShare(20), at30 = czaShare(30), at35 = czaShare(35), at40 = czaShare(40);
+    CHECK(at20 > 1e-3);  // a few per mille of the plates' light at 20 deg
+    CHECK(at30 > 1e-4);  // fading towards the cut-off
+    CHECK(at35 == 0.0);  // above it: no ray at all (no other plate path lights that part of the sky)
+    CHECK(at40 == 0.0);
+}
+
+TEST_CASE("Halos: the trace conserves energy and is deterministic", "[cpu][halos]") {
+    const Population plates{Orientation::Plate, 0.2, 1.0 * kDeg};
+    // The brute-force trace follows every Fresnel branch with its weight: what leaves equals what
+    // enters (to the fixed-point accumulation's 2^-32 per deposit: 1e-6).
+    const Phase2D exact = traceOrientedExact(plates, 20 * kDeg, 45, 90, 3000, 3);
+    CHECK(std::abs(exact.stats.energyRatio - 1.0) < 1e-6);
+    // The tables' trace: every ray leaves (under 1e-3 of them still inside after 64 events,
+    // deposited where they head) and the table integrates to 1 over the sphere (rounding: 1e-9).
+    const Phase2D mc = traceOriented(plates, 20 * kDeg, 45, 90, 30000, 3);
+    CHECK(double(mc.stats.truncated) < 1e-3 * double(mc.stats.rays));
+    CHECK(std::abs(mc.integral().y - 1.0) < 1e-9);
+    CHECK(std::abs(exact.integral().y - 1.0) < 1e-9);
+    const Phase1D r = traceRandom({Orientation::Random, 2.0, 0.0}, 900, 30000, 3);
+    CHECK(std::abs(r.integral().x - 1.0) < 1e-9);
+    // The same seed gives the same table on 1 thread or 2 (integer accumulation per chunk).
+    const Phase2D one = traceOriented(plates, 20 * kDeg, 45, 90, 40000, 4, 1);
+    const Phase2D two = traceOriented(plates, 20 * kDeg, 45, 90, 40000, 4, 2);
+    CHECK(one.p == two.p);
+    // The Monte-Carlo branch choice and the exhaustive branches agree on the light scattered more
+    // than 10 deg from the Sun (Monte-Carlo noise of 30 000 rays: a few per cent).
+    auto away = [](const Phase2D& p) {
+        double s = 0;
+        const glm::dvec3 S(std::cos(20 * kDeg), 0, std::sin(20 * kDeg));
+        for (int ie = 0; ie < p.ne; ++ie)
+            for (int ia = 0; ia < p.na; ++ia) {
+                const double e = p.elevationRad(ie), a = p.azimuthRad(ia);
+                const glm::dvec3 v(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
+                if (glm::dot(v, S) < std::cos(10 * kDeg)) s += p.at(ie, ia).y * 2 * (M_PI / p.na) * (std::sin(e + 0.5 * M_PI / p.ne) - std::sin(e - 0.5 * M_PI / p.ne));
+            }
+        return s;
+    };
+    CHECK(std::abs(away(mc) - away(exact)) < 0.05 * away(exact));
+}
+
+namespace {
+// The Halos element alone on a black sky, equirect 360 x 180 (1 deg per pixel), the Sun due
+// south at elevation `sunDeg`, the low-quality tables (1 deg bins).
+struct HaloScene {
+    SkyProcessor p{SkyVars::earth(), Logger(), ProcessorOptions{.astronomy = false}};
+    elements::Halos* halos = nullptr;
+    explicit HaloScene() {
+        Camera cam;
+        cam.projection = Projection::Equirect;
+        cam.width = 360;
+        cam.height = 180;
+        p.setCamera(cam);
+        p.setExposure({.ev100 = 12});
+        auto e = std::make_unique<elements::Halos>();
+        halos = e.get();
+        p.add(std::move(e));
+        p.vars().set(hk::tableQuality, std::string("low"));
+    }
+    Image render(double sunDeg) {
+        p.vars().set(keys::sunDirection, directionFromAzAlt(M_PI, sunDeg * kDeg));
+        p.renderFrame();
+        return p.readHdr();
+    }
+};
+double lum(const Image& img, int x, int y) { return 0.2126 * img.at(x, y, 0) + 0.7152 * img.at(x, y, 1) + 0.0722 * img.at(x, y, 2); }
+// Row of altitude a (deg) and its inverse; column of azimuth az (deg).
+double rowAltDeg(int y) { return 90.0 - (y + 0.5); }
+int colOfAz(double az) { return int(az); }
+}  // namespace
+
+TEST_CASE("Halos: rendered 22 and 46 deg halos; nothing without crystals", "[gl][halos]") {
+    test::glContext();
+    HaloScene s;
+    // No crystals (the defaults: halos.optical_depth 0, no clouds): no draw, a black image.
+    Image none = s.render(20);
+    CHECK_FALSE(s.halos->drewLastFrame());
+    double peak = 0;
+    for (float v : none.pixels) peak = std::max(peak, double(v));
+    CHECK(peak == 0.0);
+    // Crystals, but a mix of weight 0: nothing either.
+    s.p.vars().set(hk::opticalDepth, 0.3);
+    for (const auto* k : {&hk::plates, &hk::columns, &hk::random, &hk::parry}) s.p.vars().set(*k, 0.0);
+    s.render(20);
+    CHECK_FALSE(s.halos->drewLastFrame());
+    // Random crystals: up the Sun's meridian (azimuth 180 = column 180), the 22 deg halo's crest
+    // 22 deg above the Sun and the 46 deg halo's 46 deg above.
+    s.p.vars().set(hk::random, 1.0);
+    Image img = s.render(20);
+    CHECK(s.halos->drewLastFrame());
+    auto crestAbove = [&](double lo, double hi) {
+        int best = -1;
+        for (int y = 0; y < 180; ++y) {
+            const double d = rowAltDeg(y) - 20.0;
+            if (d < lo || d > hi) continue;
+            if (best < 0 || lum(img, colOfAz(180), y) > lum(img, colOfAz(180), best)) best = y;
+        }
+        return rowAltDeg(best) - 20.0;
+    };
+    // Crest within 1.5 deg outside the minimum deviation: pixels and table bins of 1 deg, the
+    // crest 0.2-0.4 deg beyond the edge.
+    const double d22 = minimumDeviationRad(kGreen, 60 * kDeg) / kDeg, d46 = minimumDeviationRad(kGreen, 90 * kDeg) / kDeg;
+    CHECK(crestAbove(17, 27) - d22 > -0.5);
+    CHECK(crestAbove(17, 27) - d22 < 1.5);
+    CHECK(crestAbove(41, 51) - d46 > -0.5);
+    CHECK(crestAbove(41, 51) - d46 < 1.5);
+    // Finite and non-negative everywhere.
+    bool finite = true;
+    for (float v : img.pixels) finite = finite && std::isfinite(v) && v >= 0.0f;
+    CHECK(finite);
+    // Radiance scale: E p (1 - exp(-tau / mu)) at the 22 deg crest, with p from the table.
+    const double E = 0.7152 * (s.p.vars().get(generators::lightkeys::sunIlluminance) * s.p.vars().get(generators::lightkeys::sunTransmittance)).g;
+    CHECK(lum(img, colOfAz(180), 90 - 42) > 0.05 * E * (1 - std::exp(-0.3)));  // crest p > 0.05 /sr (traced 1.2 /sr)
+}
+
+TEST_CASE("Halos: rendered sundogs move out with the Sun; the circumzenithal arc only below 32.2 deg", "[gl][halos]") {
+    test::glContext();
+    HaloScene s;
+    s.p.vars().set(hk::opticalDepth, 0.3);
+    s.p.vars().set(hk::plates, 1.0);
+    for (const auto* k : {&hk::columns, &hk::random, &hk::parry}) s.p.vars().set(*k, 0.0);
+    auto sundogAz = [&](const Image& img, double sunDeg) {
+        const int y = int(90.0 - sunDeg);  // the row at the Sun's altitude
+        int best = colOfAz(180 + 15);
+        for (int x = colOfAz(180 + 15); x < colOfAz(180 + 50); ++x)
+            if (lum(img, x, y) > lum(img, best, y)) best = x;
+        return best + 0.5 - 180.0;
+    };
+    auto czaLight = [&](const Image& img, double sunDeg) {
+        double sum = 0;
+        for (int y = 0; y < 180; ++y)
+            if (rowAltDeg(y) > sunDeg + 25)
+                for (int x = colOfAz(120); x < colOfAz(240); ++x) sum += lum(img, x, y) * std::cos(rowAltDeg(y) * kDeg);
+        return sum;
+    };
+    // Sun elevations on the low table's slices (every 10 deg).
+    Image at10 = s.render(10), at30 = s.render(30), at40 = s.render(40);
+    for (auto [img, h] : {std::pair{&at10, 10.0}, std::pair{&at30, 30.0}}) {
+        const double expected = parhelionAzimuthRad(kGreen, h * kDeg) / kDeg;
+        INFO("sun " << h << " deg: sundog " << sundogAz(*img, h) << " deg from the Sun's azimuth, formula " << expected);
+        // 1 deg pixels and table bins, the crest just outside the minimum deviation: -1..+1.5 deg.
+        CHECK(sundogAz(*img, h) - expected > -1.0);
+        CHECK(sundogAz(*img, h) - expected < 1.5);
+    }
+    CHECK(sundogAz(at30, 30) - sundogAz(at10, 10) > 4.0);  // the formula: 5.9 deg further out
+    // The arc: 80 deg up at h = 30 (below the cut-off), none at 40 (above it).
+    CHECK(czaLight(at30, 30) > 0.0);
+    CHECK(czaLight(at40, 40) < 1e-3 * czaLight(at30, 30));
+}
+
+TEST_CASE("Halos: the perspective grid path puts the 22 deg halo where the per-pixel path does", "[gl][halos]") {
+    test::glContext();
+    HaloScene s;
+    s.p.vars().set(hk::opticalDepth, 0.3);
+    s.p.vars().set(hk::random, 1.0);
+    for (const auto* k : {&hk::plates, &hk::columns, &hk::parry}) s.p.vars().set(*k, 0.0);
+    // Looking up the Sun's meridian at the 22 deg halo's crest above a Sun 20 deg up.
+    Camera cam;
+    cam.projection = Projection::Perspective;
+    cam.azimuthRad = M_PI;
+    cam.altitudeRad = 42.0 * kDeg;
+    cam.verticalFovRad = 20.0 * kDeg;
+    cam.width = 64;
+    cam.height = 64;
+    s.p.setCamera(cam);
+    Image img = s.render(20);
+    CHECK(s.halos->gridLastFrame());
+    int best = 0;
+    for (int y = 0; y < 64; ++y)
+        if (lum(img, 32, y) > lum(img, 32, best)) best = y;
+    // Altitude of the crest row (the pinhole camera's tan mapping); the crest 0.2-0.4 deg outside
+    // the minimum deviation, 1 deg table bins: -0.5..+1.5 deg, as the per-pixel test.
+    const double f = 32.0 / std::tan(10.0 * kDeg);
+    const double alt = 42.0 + std::atan((32.0 - (best + 0.5)) / f) / kDeg;
+    const double d22 = minimumDeviationRad(kGreen, 60 * kDeg) / kDeg;
+    INFO("crest at altitude " << alt);
+    CHECK(alt - 20.0 - d22 > -0.5);
+    CHECK(alt - 20.0 - d22 < 1.5);
+}
