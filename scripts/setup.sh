@@ -28,8 +28,10 @@ if ((${#missing[@]})); then
     { $sudo apt-get update -q >/dev/null && $sudo apt-get install -y -q --no-install-recommends "${missing[@]}" >/dev/null; }
 fi
 
+build_start=$(date +%s)
 cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$build" -j "$jobs" >/dev/null
+echo "== build (Release): $(( $(date +%s) - build_start )) s" >&2
 
 case "$mode" in
   render)

@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <string>
 
 namespace welkin::cli {
@@ -109,7 +110,7 @@ int run(const CloudDocImagesOptions& o) {
 
 BenchRegistrar reg("cloud-doc-images", "write docs/clouds.md's weather map, noise slices and density section (--out DIR)",
                    [](CLI::App& sub) {
-                       auto* o = new CloudDocImagesOptions();
+                       auto o = std::make_shared<CloudDocImagesOptions>();  // the action below owns it
                        sub.add_option("--out", o->out, "existing directory for the PNGs (docs/images)")->required();
                        return [o]() { return run(*o); };
                    });

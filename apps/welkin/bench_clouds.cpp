@@ -327,7 +327,7 @@ int run(const CloudsBenchOptions& o) {
 }
 
 BenchRegistrar reg("clouds", "cost and error of the clouds by samples per ray, with and without reprojection, and moving", [](CLI::App& sub) {
-    auto* o = new CloudsBenchOptions();
+    auto o = std::make_shared<CloudsBenchOptions>();  // the action below owns it
     sub.add_option("--repeats", o->repeats, "timed frames per static row (median reported), [1, 1000]")->capture_default_str();
     sub.add_option("--warmup", o->warmup, "frames rendered before timing a row (reprojection converges), [0, 1000]")->capture_default_str();
     sub.add_option("--moving-frames", o->movingFrames, "timed frames of the time-running rows (0: none), [0, 10000]")->capture_default_str();

@@ -19,6 +19,7 @@
 #include <chrono>
 #include <cstdio>
 #include <functional>
+#include <memory>
 #include <vector>
 
 namespace welkin::cli {
@@ -184,7 +185,7 @@ int run(const FrameBenchOptions& o) {
 }
 
 BenchRegistrar reg("frame", "cost of the HDR target formats, the tone map and the grid", [](CLI::App& sub) {
-    auto* o = new FrameBenchOptions();
+    auto o = std::make_shared<FrameBenchOptions>();  // the action below owns it
     sub.add_option("--size", o->size, "frame size WIDTHxHEIGHT")->capture_default_str();
     sub.add_option("--repeats", o->repeats, "timed repetitions (median reported)")->capture_default_str();
     sub.add_option("--csv", o->csv, "also write the rows as CSV");

@@ -176,7 +176,7 @@ int run(const LightingBenchOptions& o) {
 }
 
 BenchRegistrar reg("lighting", "SkyLighting's cost per frame while time runs and after a jump, against a sky frame", [](CLI::App& sub) {
-    auto* o = new LightingBenchOptions();
+    auto o = std::make_shared<LightingBenchOptions>();  // the action below owns it
     sub.add_option("--frames", o->frames, "timed frames while time runs, [2, 10000]")->capture_default_str();
     sub.add_option("--speed", o->speed, "simulated seconds per real second, [0, 1e7]")->capture_default_str();
     sub.add_option("--fps", o->fps, "animation frames per real second, [1, 1000]")->capture_default_str();

@@ -360,7 +360,7 @@ int run(const NightBenchOptions& o) {
 }
 
 BenchRegistrar reg("night", "cost of the stars (9k and full catalogue, day and night) and the whole night scene", [](CLI::App& sub) {
-    auto* o = new NightBenchOptions();
+    auto o = std::make_shared<NightBenchOptions>();  // the action below owns it
     sub.add_option("--repeats", o->repeats, "timed frames per row (median reported), [1, 1000]")->capture_default_str();
     sub.add_option("--csv", o->csv, "write the rows as CSV (empty: none)")->capture_default_str();
     sub.add_option("--cameras", o->cameras, "comma list of perspective (1280x720, 60 deg) and fisheye (1024x1024)")->capture_default_str();

@@ -154,7 +154,7 @@ int run(const RainbowBenchOptions& o) {
 }
 
 BenchRegistrar reg("rainbow", "Mie table build times, the rainbow pass's cost against a trivial pass, and with no rain", [](CLI::App& sub) {
-    auto* o = new RainbowBenchOptions();
+    auto o = std::make_shared<RainbowBenchOptions>();  // the action below owns it
     sub.add_option("--repeats", o->repeats, "timed frames per row (median reported), [1, 1000]")->capture_default_str();
     sub.add_option("--csv", o->csv, "write the rows as CSV (empty: none)")->capture_default_str();
     sub.add_option("--qualities", o->qualities, "comma list of table qualities to build: low, default, high")->capture_default_str();

@@ -156,7 +156,7 @@ int run(const SkyTwinOptions& o) {
 }
 
 BenchRegistrar reg("sky-twin", "the sky model's CPU twin against the reference integrator (Markdown tables)", [](CLI::App& sub) {
-    auto* o = new SkyTwinOptions();
+    auto o = std::make_shared<SkyTwinOptions>();  // the action below owns it
     sub.add_option("--tables", o->tables, "which tables: twin (orders 1 and 60), departure (a map of the ratio)")->capture_default_str();
     sub.add_option("--orders", o->orders, "the twin table's scattering orders, comma-separated, each in [1, 500]")->capture_default_str();
     sub.add_option("--threads", o->threads, "reference precomputation threads, [1, 64]")->capture_default_str();

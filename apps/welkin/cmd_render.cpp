@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <unistd.h>
 
 namespace welkin::cli {
@@ -160,7 +161,7 @@ int run(const RenderOptions& o) {
 }
 
 Registrar reg("render", "render one frame headless to .exr (linear cd/m^2) or .png (tone-mapped sRGB)", [](CLI::App& sub) {
-    auto* o = new RenderOptions();  // lives for the whole process
+    auto o = std::make_shared<RenderOptions>();  // the action below owns it
     o->scene.addTo(sub, true);
     sub.add_option("--out", o->out, "output image: .exr (float radiance, cd/m^2) or .png (tone-mapped)")->required();
     sub.add_option("--stats", o->stats, "write inputs, physical quantities and per-element costs as JSON");

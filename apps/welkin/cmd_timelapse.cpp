@@ -21,6 +21,7 @@
 #include <cerrno>
 #include <cstdlib>
 #include <filesystem>
+#include <memory>
 #include <regex>
 #include <spawn.h>
 #include <sys/stat.h>
@@ -363,7 +364,7 @@ int run(const TimelapseOptions& o) {
 }
 
 Registrar reg("timelapse", "render frames from --from to --to every --step (resumable), a contact sheet, a video", [](CLI::App& sub) {
-    auto* o = new TimelapseOptions();  // lives for the whole process
+    auto o = std::make_shared<TimelapseOptions>();  // the action below owns it
     o->scene.addTo(sub, false);
     o->timeOption = sub.get_option("--time");
     o->timeOption->group("");  // hidden from --help: refused with a pointer to --from and --to

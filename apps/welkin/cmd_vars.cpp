@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <map>
+#include <memory>
 #include <set>
 
 namespace welkin::cli {
@@ -117,7 +118,7 @@ int run(const VarsOptions& o) {
 }
 
 Registrar reg("vars", "list every SkyVars key: type, unit, range, default, and who reads or writes it", [](CLI::App& sub) {
-    auto* o = new VarsOptions();  // lives for the whole process
+    auto o = std::make_shared<VarsOptions>();  // the action below owns it
     sub.add_flag("--json", o->json, "machine-readable JSON array");
     sub.add_flag("--markdown", o->markdown, "a Markdown table (docs/keys.md)");
     sub.add_option("--elements", o->elements, "comma list of elements to include (default: every known element)");

@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstdio>
 #include <ctime>
+#include <memory>
 #include <numbers>
 
 namespace welkin::cli {
@@ -205,7 +206,7 @@ int run(const ViewOptions& o) {
 
 Registrar reg("view", "show the scene in a window with a settings panel: drag to look, scroll to zoom, ./, time, ]/[ speed, H panel, P screenshot",
               [](CLI::App& sub) {
-                  auto* o = new ViewOptions();  // lives for the whole process
+                  auto o = std::make_shared<ViewOptions>();  // the action below owns it
                   o->scene.addTo(sub, false);
                   sub.add_option("--speed", o->speed, "simulated seconds per real second")->capture_default_str();
                   sub.add_option("--frames", o->frames, "exit after this many frames (0: run until closed)");

@@ -24,6 +24,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <unistd.h>
@@ -235,7 +236,7 @@ int run(const EducationOptions& o) {
 
 DemoRegistrar reg("education", "the Moon, Mars and the planets over Malta, 1-2 July 2018, labelled, with star names, figures, the ecliptic",
                   [](CLI::App& sub) {
-    auto* o = new EducationOptions();  // lives for the whole process
+    auto o = std::make_shared<EducationOptions>();  // the action below owns it
     std::string ids;
     for (const EducationScene& s : kScenes) ids += (ids.empty() ? "" : ", ") + std::string(s.id);
     sub.add_option("--out", o->out, "directory for the images (created if missing; each written atomically)")->capture_default_str();
