@@ -34,9 +34,10 @@
 //    the Earth as a Lambert sphere of Bond albedo 0.30 (geometric 0.20; earthshine measurements,
 //    Goode et al. 2001, Qiu et al. 2003) at its phase seen from the Moon (pi - the Moon's phase
 //    angle), coloured (0.88, 0.96, 1.00) (Mueller et al. 2012). Lunar eclipse: per surface point
-//    the fraction of the Sun's disk not hidden by the Earth, whose radius is enlarged by 2 % for
-//    its atmosphere (Meeus, Astronomical Algorithms ch. 54), plus in the umbra a reddened
-//    refracted light of 1e-4 .. 2e-5 of sunlight (Danjon L ~ 2).
+//    the fraction of the Sun's disk not hidden by the Earth, whose radius is enlarged for its
+//    atmosphere by Danjon's 1.01, plus in the umbra a reddened refracted light of 1e-4 .. 2e-5 of
+//    sunlight (Danjon L ~ 2): astro::earthShadowLight's model and constants
+//    (welkin/astro/eclipses.hpp), which moon.eclipse_factor averages over the disk.
 //  - Solar eclipse (planet.corona): the K+F corona (Baumbach's profile, coronaRelativeRadiance,
 //    times the disk's mean radiance and the Sun's transmittance), additive, drawn before the Sun
 //    while the Moon overlaps it, flattened towards the Sun's poles (taken as the ecliptic's) by
