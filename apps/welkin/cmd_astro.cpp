@@ -2,9 +2,15 @@
 // place and time, optionally with the day's rise/set/twilight events.
 //
 //   welkin astro --time 2026-06-21T21:00:00Z --lat 52.5 --lon 13.4 --events --json
+//   welkin astro --time 2026-08-01T00:00:00Z --lat 42.34 --lon -3.70 --events --to 2026-09-01T00:00:00Z
+//
+// --events adds the solar eclipses (local circumstances: contacts C1..C4, maximum, magnitude,
+// obscuration, type seen from the site) and lunar eclipses (P1, U1..U4, P4, magnitudes) in the
+// window --from .. --to (default: --time .. --time + 366 days); see welkin/astro/eclipses.hpp.
 #include "command.hpp"
 
 #include <welkin/astro/bodies.hpp>
+#include <welkin/astro/eclipses.hpp>
 #include <welkin/astro/events.hpp>
 #include <welkin/error.hpp>
 
@@ -35,6 +41,7 @@ struct AstroOptions {
     bool events = false;
     bool json = false;
     std::string pressure = "1013.25", temperature = "10";
+    std::string from, to;  // eclipse window (with --events)
 };
 
 std::vector<Body> parseBodies(const std::string& list) {
@@ -78,6 +85,56 @@ nlohmann::json bodyJson(const BodyState& s) {
 
 nlohmann::json optIso(const std::optional<UtcInstant>& t) { return t ? nlohmann::json(t->toIso()) : nlohmann::json(nullptr); }
 
+nlohmann::json contactJson(const EclipseContact& c, const char* altName) {
+    nlohmann::json j;
+    j["time"] = c.time.toIso();
+    j[altName] = std::round(c.altitudeRad / kDeg * 1e3) / 1e3;
+    return j;
+}
+nlohmann::json contactJson(const std::optional<EclipseContact>& c, const char* altName) {
+    return c ? contactJson(*c, altName) : nlohmann::json(nullptr);
+}
+
+nlohmann::json solarJson(const SolarEclipseLocal& e) {
+    nlohmann::json j;
+    j["type"] = toString(e.type);
+    j["visible"] = e.visible;
+    j["magnitude"] = std::round(e.magnitude * 1e4) / 1e4;
+    j["obscuration"] = std::round(e.obscuration * 1e4) / 1e4;
+    j["duration_s"] = std::round(e.durationSeconds * 10) / 10;
+    j["moon_sun_ratio"] = std::round(e.moonSunRatio * 1e5) / 1e5;
+    const char* alt = "sun_alt_deg";
+    j["c1"] = contactJson(e.c1, alt);
+    j["c2"] = contactJson(e.c2, alt);
+    j["maximum"] = contactJson(e.maximum, alt);
+    j["c3"] = contactJson(e.c3, alt);
+    j["c4"] = contactJson(e.c4, alt);
+    return j;
+}
+
+nlohmann::json lunarJson(const LunarEclipse& e) {
+    nlohmann::json j;
+    j["type"] = toString(e.type);
+    j["visible"] = e.visible;
+    j["umbral_magnitude"] = std::round(e.umbralMagnitude * 1e4) / 1e4;
+    j["penumbral_magnitude"] = std::round(e.penumbralMagnitude * 1e4) / 1e4;
+    const char* alt = "moon_alt_deg";
+    j["p1"] = contactJson(e.p1, alt);
+    j["u1"] = contactJson(e.u1, alt);
+    j["u2"] = contactJson(e.u2, alt);
+    j["greatest"] = contactJson(e.greatest, alt);
+    j["u3"] = contactJson(e.u3, alt);
+    j["u4"] = contactJson(e.u4, alt);
+    j["p4"] = contactJson(e.p4, alt);
+    return j;
+}
+
+void printContact(const char* name, const std::optional<EclipseContact>& c, const char* body) {
+    if (!c) return;
+    std::printf("    %-8s %s  %s alt %7.2f deg%s\n", name, c->time.toIso().c_str(), body, c->altitudeRad / kDeg,
+                c->altitudeRad < 0 ? "  (below the horizon)" : "");
+}
+
 /// A number from the command line within [lo, hi]; throws a one-line Error naming the option.
 double number(const std::string& option, const std::string& text, double lo, double hi, const char* unit) {
     if (text.empty()) throw Error(option + " is required");
@@ -116,10 +173,22 @@ int run(const AstroOptions& opt) {
     Ephemeris eph;
     eph.update(frame);
     std::optional<DayEvents> ev;
+    if (!o.events && (!opt.from.empty() || !opt.to.empty())) throw Error("--from/--to: the eclipse window needs --events");
+    const UtcInstant from = opt.from.empty() ? t : UtcInstant::parse(opt.from);
+    const UtcInstant to = opt.to.empty() ? from.plusSeconds(366.0 * 86400.0) : UtcInstant::parse(opt.to);
+    if (o.events) {
+        const double days = daysBetween(from.julianDate(), to.julianDate());
+        if (!(days >= 0.0 && days <= 20.0 * 366.0))
+            throw Error("--to " + to.toIso() + ": must be 0 to 20 years after --from " + from.toIso());
+    }
+    std::vector<SolarEclipseLocal> solar;
+    std::vector<LunarEclipse> lunar;
     if (o.events) {
         Site eventSite = site;
         eventSite.pressureHpa = 1013.25;  // events use the standard refraction in their definitions
         ev = findDayEvents(eventSite, t, path);
+        solar = findSolarEclipses(eventSite, from, to, path);
+        lunar = findLunarEclipses(eventSite, from, to, path);
     }
 
     if (o.json) {
@@ -150,6 +219,14 @@ int run(const AstroOptions& opt) {
             for (MoonQuarter q : {MoonQuarter::New, MoonQuarter::FirstQuarter, MoonQuarter::Full, MoonQuarter::LastQuarter})
                 je[std::string("next_") + toString(q)] = nextMoonQuarter(t, q, path).toIso();
             j["events"] = je;
+            nlohmann::json jc;
+            jc["from"] = from.toIso();
+            jc["to"] = to.toIso();
+            jc["solar"] = nlohmann::json::array();
+            for (const auto& e : solar) jc["solar"].push_back(solarJson(e));
+            jc["lunar"] = nlohmann::json::array();
+            for (const auto& e : lunar) jc["lunar"].push_back(lunarJson(e));
+            j["eclipses"] = jc;
         }
         std::cout << j.dump(2) << '\n';
         return 0;
@@ -189,6 +266,31 @@ int run(const AstroOptions& opt) {
         if (ev->polar != PolarState::None) std::printf("  %-18s %s\n", "polar", toString(ev->polar));
         for (MoonQuarter q : {MoonQuarter::New, MoonQuarter::FirstQuarter, MoonQuarter::Full, MoonQuarter::LastQuarter})
             std::printf("  next %-13s %s\n", toString(q), nextMoonQuarter(t, q, path).toIso().c_str());
+        std::printf("\nsolar eclipses from %s to %s, seen from this site:%s\n", from.toIso().c_str(), to.toIso().c_str(),
+                    solar.empty() ? " none" : "");
+        for (const auto& e : solar) {
+            std::printf("  %s %s%s: magnitude %.4f, obscuration %.4f", e.maximum.time.toIso().substr(0, 10).c_str(), toString(e.type),
+                        e.visible ? "" : " (Sun below the horizon)", e.magnitude, e.obscuration);
+            if (e.durationSeconds > 0) std::printf(", %s %dm %04.1fs", toString(e.type), int(e.durationSeconds / 60), std::fmod(e.durationSeconds, 60.0));
+            std::printf("\n");
+            printContact("C1", e.c1, "Sun");
+            printContact("C2", e.c2, "Sun");
+            printContact("maximum", e.maximum, "Sun");
+            printContact("C3", e.c3, "Sun");
+            printContact("C4", e.c4, "Sun");
+        }
+        std::printf("\nlunar eclipses from %s to %s:%s\n", from.toIso().c_str(), to.toIso().c_str(), lunar.empty() ? " none" : "");
+        for (const auto& e : lunar) {
+            std::printf("  %s %s%s: umbral magnitude %.4f, penumbral magnitude %.4f\n", e.greatest.time.toIso().substr(0, 10).c_str(),
+                        toString(e.type), e.visible ? "" : " (Moon below the horizon)", e.umbralMagnitude, e.penumbralMagnitude);
+            printContact("P1", e.p1, "Moon");
+            printContact("U1", e.u1, "Moon");
+            printContact("U2", e.u2, "Moon");
+            printContact("greatest", e.greatest, "Moon");
+            printContact("U3", e.u3, "Moon");
+            printContact("U4", e.u4, "Moon");
+            printContact("P4", e.p4, "Moon");
+        }
     }
     return 0;
 }
@@ -205,7 +307,9 @@ welkin::cli::Registrar reg("astro", "positions, sizes, magnitudes and phases of 
                                sub.add_option("--refraction", o.refraction, "on|off: refract the altitudes (alt_deg)");
                                sub.add_option("--pressure", o.pressure, "pressure for refraction, hPa (default 1013.25)");
                                sub.add_option("--temperature", o.temperature, "temperature for refraction, deg C (default 10)");
-                               sub.add_flag("--events", o.events, "add sunrise/sunset, twilights, moonrise/moonset, polar day/night, Moon quarters");
+                               sub.add_flag("--events", o.events, "add sunrise/sunset, twilights, moonrise/moonset, polar day/night, Moon quarters, solar and lunar eclipses");
+                               sub.add_option("--from", o.from, "with --events: start of the eclipse window, ISO 8601 (default --time)");
+                               sub.add_option("--to", o.to, "with --events: end of the eclipse window, ISO 8601 (default --from + 366 days, at most 20 years)");
                                sub.add_flag("--json", o.json, "print one JSON object");
                                return [] { return run(o); };
                            });

@@ -1,4 +1,5 @@
 #include <welkin/astro/astro_keys.hpp>
+#include <welkin/astro/eclipses.hpp>
 #include <welkin/astro/stars.hpp>
 
 #include <nlohmann/json.hpp>
@@ -102,16 +103,12 @@ void updateSkyVars(SkyVars& vars) {
     const double sunRadius = 0.5 * sun.angularDiameterRad, moonRadius = 0.5 * moon.angularDiameterRad;
     const double solarSeparation = std::acos(std::clamp(glm::dot(sun.topo.enuGeometric, moon.topo.enuGeometric), -1.0, 1.0));
     vars.set(welkin::keys::sunEclipseFraction, eclipseVisibleFraction(sunRadius, moonRadius, solarSeparation));
-    // Lunar: the solar disk seen from the Moon's centre, past the Earth's disk (geocentric
-    // positions; the shadow enlarged by the atmosphere).
+    // Lunar: the sunlight reaching the Moon's disk past the Earth's shadow (geocentric positions;
+    // one model with the Planet element's per-pixel shadow: astro/eclipses.hpp).
     {
-        constexpr double kEarthRadius = 6378137.0, kSunRadius = 6.957e8;
-        const glm::dvec3 moonPos = moon.directionIcrs * moon.distanceMeters, sunPos = sun.directionIcrs * sun.distanceMeters;
-        const glm::dvec3 toSun = sunPos - moonPos, toEarth = -moonPos;
-        const double sunFromMoon = std::asin(std::min(1.0, kSunRadius / glm::length(toSun)));
-        const double earthFromMoon = (1.0 + kShadowEnlargement) * std::asin(std::min(1.0, kEarthRadius / glm::length(toEarth)));
-        const double sep = std::acos(std::clamp(glm::dot(glm::normalize(toSun), glm::normalize(toEarth)), -1.0, 1.0));
-        vars.set(welkin::keys::moonEclipseFactor, eclipseVisibleFraction(sunFromMoon, earthFromMoon, sep));
+        const ShadowLight l = moonShadowLight(moon.directionIcrs * moon.distanceMeters, sun.directionIcrs * sun.distanceMeters);
+        vars.set(welkin::keys::moonEclipseFactor, std::clamp(l.direct + l.refracted, 0.0, 1.0));
+        vars.set(keys::moonEclipseRefracted, std::clamp(l.refracted, 0.0, 1.0));
     }
     // Parallactic angle from the topocentric hour angle: tan q = sin H / (tan phi cos d - sin d cos H).
     const double H = frame.lastRad - moon.topo.raTopocentricRad, d = moon.topo.decTopocentricRad, phi = site.latitudeRad;
@@ -137,6 +134,7 @@ AstronomyGenerator::AstronomyGenerator() : Generator("astronomy") {
     output(welkin::keys::moonDirection);
     output(welkin::keys::sunEclipseFraction);
     output(welkin::keys::moonEclipseFactor);
+    output(keys::moonEclipseRefracted);
     for (auto* k : {&keys::sunDistance, &keys::sunAngularRadius, &keys::sunAzimuth, &keys::sunAltitude, &keys::moonDistance,
                     &keys::moonAngularRadius, &keys::moonAzimuth, &keys::moonAltitude, &keys::moonPhaseAngle,
                     &keys::moonIlluminatedFraction, &keys::moonBrightLimbAngle, &keys::moonLibrationLon, &keys::moonLibrationLat,

@@ -2,6 +2,7 @@
 // unreddened disk radiance (CPU, double precision; a few hundred microseconds per run).
 #include <welkin/astro/astro_keys.hpp>
 #include <welkin/astro/bodies.hpp>
+#include <welkin/astro/eclipses.hpp>
 #include <welkin/color.hpp>
 #include <welkin/error.hpp>
 #include <welkin/generators/lights.hpp>
@@ -69,6 +70,7 @@ AtmosphereLights::AtmosphereLights() : Generator("atmosphere.lights") {
     input(astro::keys::moonMagnitude, {.optional = true});
     input(astro::keys::moonAngularRadius, {.optional = true});
     input(keys::moonEclipseFactor, {.optional = true});
+    input(astro::keys::moonEclipseRefracted, {.optional = true});
     input(skykeys::wavelengths);
     input(skykeys::quality, {.optional = true});
     input(keys::quality);
@@ -150,10 +152,12 @@ void AtmosphereLights::doRun(SkyVars& vars, const Logger& log) {
         }
         const double E = astro::magnitude::illuminanceLux(mag);
         // A lunar eclipse: only moon.eclipse_factor of the sunlight reaches the Moon (the Earth's
-        // umbra and penumbra; the astronomy writes it, 1 outside eclipses or without astronomy).
+        // umbra and penumbra; the astronomy writes it, 1 outside eclipses or without astronomy),
+        // moon.eclipse_refracted of it the atmosphere's reddened light (astro::umbraColour()).
         const double eclipse = std::clamp(vars.getOr(keys::moonEclipseFactor, 1.0), 0.0, 1.0);
+        const double refracted = std::clamp(vars.getOr(astro::keys::moonEclipseRefracted, 0.0), 0.0, eclipse);
         EmoonUneclipsed = E * moonlightColour(a.wavelengthsNm, a.solarIrradiance);
-        Emoon = eclipse * EmoonUneclipsed;
+        Emoon = (eclipse - refracted) * EmoonUneclipsed + refracted * color::luminance(EmoonUneclipsed) * astro::umbraColour();
         double am = vars.getOr(astro::keys::moonAngularRadius, std::asin(std::min(1.0, kMoonRadius / dist)));
         if (am <= 0) am = std::asin(std::min(1.0, kMoonRadius / dist));
         Lmoon = Emoon / (kPi * am * am);

@@ -22,6 +22,10 @@ uniform vec3 u_earthCentre;   // relative to the observer, 1e6 m
 uniform vec3 u_sunPos;        // 1e6 m
 uniform float u_moonDist, u_moonRadius, u_earthRadius, u_sunRadius;  // 1e6 m (Earth's enlarged)
 uniform vec3 u_umbraColour;   // luminance 1
+uniform vec2 u_umbraRefracted;  // refracted light at the umbra's centre and edge (astro/eclipses.hpp)
+uniform vec3 u_coronaAxis;      // corona: the Sun's rotation axis, ENU
+uniform float u_coronaSunRadius;  // corona: the Sun's apparent radius, rad
+uniform float u_coronaFlattening;
 
 in vec2 v_offset;
 flat in vec3 v_flux;
@@ -62,9 +66,10 @@ vec3 planet_eclipse(vec3 n) {
     float sep = atan(length(cross(s, e)), dot(s, e));
     float f = planet_lensFraction(rs, re, sep);
     if (f >= 1.0) return vec3(1.0);
-    // Refracted light: 1e-4 of sunlight at the umbra's edge, 2e-5 at its centre (Danjon L ~ 2).
+    // Refracted light: u_umbraRefracted.y of sunlight at the umbra's edge, .x at its centre
+    // (astro::earthShadowLight, the same formula).
     float depth = clamp(sep / max(re - rs, 1e-6), 0.0, 1.0);
-    return vec3(f) + (1.0 - f) * mix(2e-5, 1e-4, depth * depth) * u_umbraColour;
+    return vec3(f) + (1.0 - f) * mix(u_umbraRefracted.x, u_umbraRefracted.y, depth * depth) * u_umbraColour;
 }
 
 vec3 planet_moon(vec3 d, vec3 n) {
@@ -121,6 +126,18 @@ void main() {
         return;
     }
     float theta = atan(length(cross(dir, u_centre)), dot(dir, u_centre));
+    if (u_kind == 4) {
+        // The corona (planet::coronaRelativeRadiance): v_flux is the disk's mean radiance.
+        float r = theta / u_coronaSunRadius;
+        if (r < 1.0 || theta > asin(min(u_sinRadius, 1.0))) discard;
+        vec3 off = dir - u_centre * dot(dir, u_centre);
+        vec3 ax = u_coronaAxis - u_centre * dot(u_coronaAxis, u_centre);
+        float sinLat = (length(off) > 0.0 && length(ax) > 0.0) ? dot(normalize(off), normalize(ax)) : 0.0;
+        float re = r * (1.0 + u_coronaFlattening * sinLat * sinLat);
+        float k = 1e-6 * (0.0532 * pow(re, -2.5) + 1.425 * pow(re, -7.0) + 2.565 * pow(re, -17.0));
+        welkin_output(v_flux * k, vec3(1.0));
+        return;
+    }
     float alpha = asin(min(u_sinRadius, 1.0));
     float band = 1.5 * v_pixelAngle;
     if (theta > alpha + band) discard;

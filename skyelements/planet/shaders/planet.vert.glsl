@@ -4,7 +4,7 @@
 // stars/point_perceptual.glsl before it (render.point_sources = perceptual).
 uniform vec3 u_centre;      // unit direction to the body's centre, ENU
 uniform float u_sinRadius;  // sin of the apparent angular radius as drawn
-uniform int u_kind;         // 0 Sun, 1 Moon, 2 planet disk, 3 PSF
+uniform int u_kind;         // 0 Sun, 1 Moon, 2 planet disk, 3 PSF, 4 corona
 uniform int u_copies;       // 2 in equirect (the seam twin), else 1
 uniform float u_psfSigma;   // PSF sigma, px
 uniform vec3 u_flux;        // disk: radiance scale (cd/m^2); PSF: illuminance (lux), per channel

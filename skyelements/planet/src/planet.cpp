@@ -1,6 +1,7 @@
 // Planet element: per-frame geometry, the Moon's calibration (a CPU integral of the shader's
 // model), the maps; the model is described in include/welkin/elements/planet.hpp and docs/planet.md.
 #include <welkin/astro/astro_keys.hpp>
+#include <welkin/astro/eclipses.hpp>
 #include <cctype>
 #include <welkin/astro/frames.hpp>
 #include <welkin/color.hpp>
@@ -33,7 +34,6 @@ namespace welkin::elements {
 namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr double kEarthRadiusM = 6371.0e3;      // mean radius (shadow geometry, earthshine)
-constexpr double kEarthShadowEnlargement = 1.02;  // the atmosphere's 2 % (Meeus ch. 54)
 constexpr double kEarthGeometricAlbedo = 0.20;  // Lambert sphere of Bond albedo 0.30 (2/3 x 0.30)
 constexpr double kHapkeCompaction = 0.6;        // Hapke 1966 g, as in Jensen et al. 2001
 constexpr double kPsfFwhmPx = 2.0;              // the Stars' minimum FWHM
@@ -43,9 +43,7 @@ constexpr int kKindSun = 0, kKindMoon = 1, kKindDisk = 2, kKindPsf = 3;
 constexpr double kPlanetBV[7] = {0.93, 0.82, 1.36, 0.83, 1.04, 0.56, 0.41};
 // Earthshine colour (Mueller, Engel and Doellner 2012), normalised below to luminance 1.
 const glm::dvec3 kEarthshineColour{0.88, 0.96, 1.00};
-// The reddened light refracted into the umbra (linear sRGB, normalised to luminance 1 below):
-// sunlight through ~40 air masses of a clear atmosphere, red-orange.
-const glm::dvec3 kUmbraColour{1.0, 0.30, 0.08};
+constexpr int kKindCorona = 4;
 
 std::vector<astro::Body> parseBodies(const std::string& text) {
     std::vector<astro::Body> out;
@@ -131,6 +129,12 @@ double hapkePhase(double g) {
 double lambertPhase(double a) {
     a = std::clamp(a, 0.0, kPi);
     return (std::sin(a) + (kPi - a) * std::cos(a)) / kPi;
+}
+
+double coronaRelativeRadiance(double r, double flattening, double sinFromEquator) {
+    if (!(r >= 1.0)) return 0.0;
+    const double re = r * (1.0 + flattening * sinFromEquator * sinFromEquator);
+    return 1e-6 * (0.0532 * std::pow(re, -2.5) + 1.425 * std::pow(re, -7.0) + 2.565 * std::pow(re, -17.0));
 }
 
 double earthshineRatio(double moonPhaseRad, double d) {
@@ -271,6 +275,8 @@ Planet::Planet(std::string name) : SkyElement(std::move(name)) {
     option(planetkeys::sizeFactor, 1.0);
     option(planetkeys::earthshine, true);
     option(planetkeys::eclipse, true);
+    option(planetkeys::corona, true);
+    option(planetkeys::coronaFlattening, 0.1);
     option(planetkeys::labels, false);
     option(planetkeys::labelMagnitude, false);
     option(planetkeys::labelSize, 0.0);
@@ -294,6 +300,8 @@ Planet::Planet(std::string name) : SkyElement(std::move(name)) {
     reads(generators::lightkeys::sunTransmittance);
     reads(generators::lightkeys::moonIlluminance);
     reads(generators::lightkeys::moonIlluminanceUneclipsed);
+    reads(keys::sunEclipseFraction);
+    reads(astro::keys::starFrameRotation);
     reads(generators::lightkeys::moonTransmittance);
     for (astro::Body b : astro::kAllBodies) {
         if (b == astro::Body::Sun || b == astro::Body::Moon) continue;
@@ -536,12 +544,34 @@ void Planet::doRender(const FrameContext& ctx) {
     };
 
     // The Sun.
+    coronaDrawn_ = false;
+    diamondRing_ = false;
     if (std::find(bodies.begin(), bodies.end(), astro::Body::Sun) != bodies.end() && v.has(lk::sunDiskRadiance)) {
         const glm::dvec3 T = later ? glm::dvec3(1.0) : v.get(lk::sunTransmittance);
         const glm::dvec3 mean = v.get(lk::sunDiskRadiance) * T;
         const double alpha = v.getOr(ak::sunAngularRadius, 4.65e-3);
         const glm::dvec3 a = sunLimbExponents();
         const glm::dvec3 dir = glm::normalize(v.get(keys::sunDirection));
+        // A solar eclipse: the corona (additive, before the disk: the Sun and the dark Moon are
+        // drawn over it) while the Moon overlaps the Sun.
+        const double visible = v.getOr(keys::sunEclipseFraction, 1.0);
+        if (v.get(planetkeys::corona) && visible < 1.0 && (mean != glm::dvec3(0.0) || later)) {
+            const double extent = kCoronaExtentSolarRadii * alpha;
+            if (const auto q = place(kKindCorona, dir, extent, 2.0, false); q && q->onScreen && !q->psf) {
+                bind();
+                // The Sun's rotation axis, taken as the ecliptic's north pole (within 7.25 deg).
+                glm::dvec3 axis(0.0, 0.0, 1.0);
+                if (v.has(ak::starFrameRotation)) {
+                    constexpr double eps = 23.4392911 * kPi / 180.0;  // obliquity J2000 (IAU 1980)
+                    axis = v.get(ak::starFrameRotation) * glm::dvec3(0.0, -std::sin(eps), std::cos(eps));
+                }
+                p.set("u_coronaAxis", glm::vec3(axis));
+                p.set("u_coronaSunRadius", float(alpha));
+                p.set("u_coronaFlattening", float(v.get(planetkeys::coronaFlattening)));
+                draw(kKindCorona, *q, dir, extent, mean, glm::dvec3(0.0));
+                coronaDrawn_ = true;
+            }
+        }
         if (mean != glm::dvec3(0.0) || later)
             if (const auto q = place(kKindSun, dir, alpha, 2.0, false)) {
                 if (q->onScreen) {
@@ -551,6 +581,31 @@ void Planet::doRender(const FrameContext& ctx) {
                 }
                 label(*q, dir, alpha, "Sun");
             }
+        // The diamond ring: the last sliver's glare at the limb point farthest from the Moon.
+        if (v.get(planetkeys::corona) && visible > 0.0 && visible < kDiamondRingFraction && v.has(keys::moonDirection)) {
+            const glm::dvec3 moonDir = glm::normalize(v.get(keys::moonDirection));
+            glm::dvec3 away = dir - moonDir - dir * glm::dot(dir - moonDir, dir);
+            if (glm::length(away) > 1e-12) {
+                away = glm::normalize(away);
+                const glm::dvec3 bead = glm::normalize(dir + std::tan(alpha) * away);
+                if (const auto s = scaleAt(bead)) {
+                    bind();
+                    Placement q;
+                    q.scale = *s;
+                    q.psf = true;
+                    q.onScreen = true;
+                    const double sigmaPx = std::max(alpha * std::sqrt(s->x * s->y), psfSigmaPx);
+                    p.set("u_psfSigma", float(sigmaPx));
+                    const double saved = ppEyeLux;
+                    ppEyeLux = 0.0;
+                    const glm::dvec3 E = kDiamondGlare * visible * mean * kPi * alpha * alpha;
+                    draw(kKindPsf, q, bead, 0.0, E, E);
+                    ppEyeLux = saved;
+                    p.set("u_psfSigma", float(psfSigmaPx));
+                    diamondRing_ = true;
+                }
+            }
+        }
     }
 
     // The planets.
@@ -644,7 +699,7 @@ void Planet::doRender(const FrameContext& ctx) {
                 const glm::dvec3 axis = -glm::normalize(Sg);
                 const double along = glm::dot(Mg, axis);
                 const double off = glm::length(Mg - along * axis);
-                const double Rs = astro::bodyRadiusMeters(astro::Body::Sun), Re = kEarthShadowEnlargement * kEarthRadiusM;
+                const double Rs = astro::bodyRadiusMeters(astro::Body::Sun), Re = astro::kEarthShadowRadiusMeters;
                 const double penumbra = Re + along * (Rs + Re) / glm::length(Sg);
                 nearShadow = along > 0.0 && off < 1.01 * (penumbra + astro::bodyRadiusMeters(astro::Body::Moon) * f);
             }
@@ -653,9 +708,11 @@ void Planet::doRender(const FrameContext& ctx) {
             p.set("u_sunPos", glm::vec3(sunPos / unit));
             p.set("u_moonDist", float(Dm / unit));
             p.set("u_moonRadius", float(astro::bodyRadiusMeters(astro::Body::Moon) / unit));
-            p.set("u_earthRadius", float(kEarthShadowEnlargement * kEarthRadiusM / unit));
+            // One shadow model with the astronomy's moon.eclipse_factor (welkin/astro/eclipses.hpp).
+            p.set("u_earthRadius", float(astro::kEarthShadowRadiusMeters / unit));
+            p.set("u_umbraRefracted", glm::vec2(astro::kUmbraRefractedCentre, astro::kUmbraRefractedEdge));
             p.set("u_sunRadius", float(astro::bodyRadiusMeters(astro::Body::Sun) / unit));
-            p.set("u_umbraColour", glm::vec3(kUmbraColour / color::luminance(kUmbraColour)));
+            p.set("u_umbraColour", glm::vec3(astro::umbraColour()));
             const auto s = scaleAt(g.centre);
             const double rPx = s ? g.angularRadius * std::sqrt(s->x * s->y) : 1.0;
             p.set("u_albedoLod", float(std::max(std::log2(albedoTex_.width() / (2 * kPi * std::max(rPx, 1e-3))), 0.0)));
@@ -703,6 +760,8 @@ void Planet::doStats(nlohmann::json& root) const {
     // moon.illuminated_fraction is the astronomy's (already in the stats).
     root["moon"]["illuminance_lux"] = moonIlluminanceLux_;
     root[name()]["drawn"] = drawn_;
+    root[name()]["corona_drawn"] = coronaDrawn_;
+    root[name()]["diamond_ring"] = diamondRing_;
     root[name()]["labels"] = labelsDrawn_;
 }
 

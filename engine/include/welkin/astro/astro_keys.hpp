@@ -76,15 +76,12 @@ namespace welkin::astro {
 /// I(mu) = I(1) (1 - u (1 - mu)) with u = `limbDarkening` (the Sun in the visible: 0.6). [0, 1];
 /// integrated over 512 rings of the source (analytic arc per ring), error < 1e-4.
 double eclipseVisibleFraction(double sourceRadiusRad, double occulterRadiusRad, double separationRad, double limbDarkening = 0.6);
-/// The fraction of the Earth's atmosphere enlarges its shadow by (Danjon's 1/50 rule): the Earth's
-/// apparent radius seen from the Moon is multiplied by 1 + this in moon.eclipse_factor.
-inline constexpr double kShadowEnlargement = 0.02;
 
 /// Computes every body for the time (keys::timeJdUtc) and observer (observer.*) in `vars`, on the
 /// path chosen by astro.precise, and writes welkin::keys::sunDirection / moonDirection and the keys
 /// above, and the eclipses: sun.eclipse_fraction (the Sun's flux not hidden by the Moon, from their
-/// topocentric airless directions and radii) and moon.eclipse_factor (the solar disk's flux seen
-/// from the Moon's centre past the Earth's disk, enlarged by kShadowEnlargement). Declares astro.precise (false) and the refraction keys (1013.25 hPa, 10 C) if absent.
+/// topocentric airless directions and radii) and moon.eclipse_factor / moon.eclipse_refracted
+/// (the sunlight reaching the Moon's disk past the Earth's shadow: astro::moonShadowLight). Declares astro.precise (false) and the refraction keys (1013.25 hPa, 10 C) if absent.
 void updateSkyVars(SkyVars& vars);
 
 /// updateSkyVars() as a generator ("astronomy"): inputs time.jd_utc, observer.*, astro.*;

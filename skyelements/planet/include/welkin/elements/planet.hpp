@@ -34,9 +34,15 @@
 //    the Earth as a Lambert sphere of Bond albedo 0.30 (geometric 0.20; earthshine measurements,
 //    Goode et al. 2001, Qiu et al. 2003) at its phase seen from the Moon (pi - the Moon's phase
 //    angle), coloured (0.88, 0.96, 1.00) (Mueller et al. 2012). Lunar eclipse: per surface point
-//    the fraction of the Sun's disk not hidden by the Earth, whose radius is enlarged by 2 % for
-//    its atmosphere (Meeus, Astronomical Algorithms ch. 54), plus in the umbra a reddened
-//    refracted light of 1e-4 .. 2e-5 of sunlight (Danjon L ~ 2).
+//    the fraction of the Sun's disk not hidden by the Earth, whose radius is enlarged for its
+//    atmosphere by Danjon's 1.01, plus in the umbra a reddened refracted light of 1e-4 .. 2e-5 of
+//    sunlight (Danjon L ~ 2): astro::earthShadowLight's model and constants
+//    (welkin/astro/eclipses.hpp), which moon.eclipse_factor averages over the disk.
+//  - Solar eclipse (planet.corona): the K+F corona (Baumbach's profile, coronaRelativeRadiance,
+//    times the disk's mean radiance and the Sun's transmittance), additive, drawn before the Sun
+//    while the Moon overlaps it, flattened towards the Sun's poles (taken as the ecliptic's) by
+//    planet.corona_flattening; the dark Moon drawn over both. The diamond ring near C2/C3: the
+//    uncovered sliver's glare at the limb point farthest from the Moon's centre.
 //  - Planets (Mercury .. Neptune): illuminance 2.54e-6 lx x 10^(-0.4 m) (planet.<name>.magnitude,
 //    the Stars' convention), colour from B-V (Allen's Astrophysical Quantities, 4th ed., 12.3:
 //    Mercury 0.93, Venus 0.82, Mars 1.36, Jupiter 0.83, Saturn 1.04, Uranus 0.56, Neptune 0.41)
@@ -80,10 +86,30 @@ inline const Key<double> labelSize{"planet.label_size_px", Range{0, 256}, "label
 /// day sky like ink on a chart; 0: 0.8 of the manual exposure's white, exposure.ev100).
 inline const Key<double> labelLuminance{"planet.label_luminance_cd_m2", Range{0, 1e9}, "label luminance (0: 0.8 of the manual exposure's white)", "cd/m^2"};
 inline const Key<std::string> moonNormals{"planet.moon_normals", "the Moon's tangent-space normal map, same layout ('' = a smooth sphere)"};
+/// The solar corona around the Sun while the Moon overlaps it (coronaRelativeRadiance()).
+inline const Key<bool> corona{"planet.corona", "the solar corona and the diamond ring while the Moon covers the Sun (solar eclipses)"};
+/// The corona's flattening (its solar-cycle shape): an isophote's equatorial radius over its polar
+/// one minus 1, Ludendorff's index a + b: ~0.3 at solar minimum, ~0.05 at maximum; 0 = round.
+inline const Key<double> coronaFlattening{"planet.corona_flattening", Range{0, 0.5}, "the corona's flattening (Ludendorff a+b): ~0.3 at solar minimum, ~0.05 at maximum"};
 }  // namespace planetkeys
 
 inline constexpr const char* kMoonTexturePath = "/usr/share/stellarium/textures/moon_4k.jpg";
 inline constexpr const char* kMoonNormalsPath = "/usr/share/stellarium/textures/moon_normals.png";
+
+/// The K+F corona's radiance over the mean radiance of the solar disk at `rSolarRadii` (>= 1) from
+/// the Sun's centre, in the solar equator's direction: Baumbach's (1937) fit as given in Allen's
+/// Astrophysical Quantities (4th ed., 14.5), 1e-6 (0.0532 r^-2.5 + 1.425 r^-7 + 2.565 r^-17):
+/// 1.3e-6 at 1.1, 1.05e-7 at 1.5, 1.2e-8 at 2 solar radii. Towards the poles r is stretched by
+/// 1 + flattening sin^2(position angle from the equator) (planet.corona_flattening).
+double coronaRelativeRadiance(double rSolarRadii, double flattening = 0.0, double sinFromEquator = 0.0);
+/// Radius, in solar radii, out to which the corona is drawn (its radiance there ~1e-10 of the
+/// disk's, below the darkest totality sky near the Sun).
+inline constexpr double kCoronaExtentSolarRadii = 6.0;
+/// The diamond ring: while 0 < sun.eclipse_fraction < this, the last sliver of photosphere also
+/// spreads kDiamondGlare of its light into a Gaussian glare of sigma = the Sun's radius (the eye's
+/// or the lens' veiling glare: an assumed, not a measured, PSF).
+inline constexpr double kDiamondRingFraction = 0.01;
+inline constexpr double kDiamondGlare = 0.1;
 
 /// Limb-darkening exponent a(lambda) of I(mu)/I(1) = mu^a (Hestroffer & Magnan 1998), lambda in
 /// nm, [300, 2000].
@@ -167,6 +193,7 @@ private:
     int drawn_ = 0;
     double moonScale_ = 0;
     double moonIlluminanceLux_ = 0;
+    bool coronaDrawn_ = false, diamondRing_ = false;  // this frame (stats: sun.corona_drawn, sun.diamond_ring)
     bool moonDrawn_ = false;
     double integral_ = 0, integralKey_[7] = {};
     bool integralValid_ = false;
