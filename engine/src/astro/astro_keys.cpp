@@ -60,6 +60,7 @@ void updateSkyVars(SkyVars& vars) {
     vars.declare(keys::precise, false);
     vars.declare(keys::refractionPressure, 1013.25);
     vars.declare(keys::refractionTemperature, 10.0);
+    vars.declare(keys::eclipses, true);
     const glm::dvec2 jd = vars.get(welkin::keys::timeJdUtc);
     Site site;
     site.latitudeRad = vars.get(welkin::keys::observerLatitude);
@@ -101,7 +102,20 @@ void updateSkyVars(SkyVars& vars) {
     // Eclipses. Solar: the Moon's disk over the Sun's, from the observer (topocentric, airless).
     const double sunRadius = 0.5 * sun.angularDiameterRad, moonRadius = 0.5 * moon.angularDiameterRad;
     const double solarSeparation = std::acos(std::clamp(glm::dot(sun.topo.enuGeometric, moon.topo.enuGeometric), -1.0, 1.0));
-    vars.set(welkin::keys::sunEclipseFraction, eclipseVisibleFraction(sunRadius, moonRadius, solarSeparation));
+    const bool eclipses = vars.get(keys::eclipses);
+    vars.set(welkin::keys::sunEclipseFraction, eclipses ? eclipseVisibleFraction(sunRadius, moonRadius, solarSeparation) : 1.0);
+    {
+        // The Moon's position in the apparent Sun's frame: the airless position turned by the
+        // rotation taking the Sun's airless direction onto its refracted one (Rodrigues).
+        const glm::dvec3 a = sun.topo.enuGeometric, b = sun.topo.enu, axis = glm::cross(a, b);
+        const double s = glm::length(axis), c = glm::dot(a, b);
+        glm::dvec3 m = moon.topo.enuGeometric;
+        if (s > 1e-15) {
+            const glm::dvec3 k = axis / s;
+            m = m * c + glm::cross(k, m) * s + k * glm::dot(k, m) * (1.0 - c);
+        }
+        vars.set(keys::moonPosition, m * moon.topo.distanceMeters);
+    }
     // Lunar: the solar disk seen from the Moon's centre, past the Earth's disk (geocentric
     // positions; the shadow enlarged by the atmosphere).
     {
@@ -111,7 +125,7 @@ void updateSkyVars(SkyVars& vars) {
         const double sunFromMoon = std::asin(std::min(1.0, kSunRadius / glm::length(toSun)));
         const double earthFromMoon = (1.0 + kShadowEnlargement) * std::asin(std::min(1.0, kEarthRadius / glm::length(toEarth)));
         const double sep = std::acos(std::clamp(glm::dot(glm::normalize(toSun), glm::normalize(toEarth)), -1.0, 1.0));
-        vars.set(welkin::keys::moonEclipseFactor, eclipseVisibleFraction(sunFromMoon, earthFromMoon, sep));
+        vars.set(welkin::keys::moonEclipseFactor, eclipses ? eclipseVisibleFraction(sunFromMoon, earthFromMoon, sep) : 1.0);
     }
     // Parallactic angle from the topocentric hour angle: tan q = sin H / (tan phi cos d - sin d cos H).
     const double H = frame.lastRad - moon.topo.raTopocentricRad, d = moon.topo.decTopocentricRad, phi = site.latitudeRad;
@@ -133,7 +147,9 @@ AstronomyGenerator::AstronomyGenerator() : Generator("astronomy") {
     input(keys::precise);
     input(keys::refractionPressure);
     input(keys::refractionTemperature);
+    input(keys::eclipses);
     output(welkin::keys::sunDirection);
+    output(keys::moonPosition);
     output(welkin::keys::moonDirection);
     output(welkin::keys::sunEclipseFraction);
     output(welkin::keys::moonEclipseFactor);
@@ -156,6 +172,7 @@ void AstronomyGenerator::doDeclare(SkyVars& vars) {
     vars.declare(keys::precise, false);
     vars.declare(keys::refractionPressure, 1013.25);
     vars.declare(keys::refractionTemperature, 10.0);
+    vars.declare(keys::eclipses, true);
 }
 
 void AstronomyGenerator::doRun(SkyVars& vars, const Logger&) {
