@@ -41,6 +41,7 @@ struct EclipseBenchOptions {
     int repeats = 10;
     int width = 1280, height = 720;
     bool accuracy = true;
+    std::string sweep;  // comma list of multiple-scattering disk radii (km) to compare (model tuning)
 };
 
 double Y(const glm::dvec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
@@ -116,8 +117,18 @@ int run(const EclipseBenchOptions& o) {
         far.moonPos = -g.moonPos;  // the Moon on the far side: no shadow
         const double modelClear = Y(cpu::radiance(m, cpu::integrateEclipse(m, T, MS, 0.0, dir, sun, far, 256, false, m.sunAngularRadius),
                                                   glm::dot(dir, sun)));
-        std::printf("| %+.0f, %.0f deg | %.3g | %.3f | %.3g | %.3f | %.2e |\n", daz, alt, ref, model / ref, refClear, modelClear / refClear,
+        std::printf("| %+.0f, %.0f deg | %.3g | %.3f | %.3g | %.3f | %.2e |", daz, alt, ref, model / ref, refClear, modelClear / refClear,
                     ref / refClear);
+        for (size_t a = 0, b; a < o.sweep.size(); a = b + 1) {
+            b = o.sweep.find(',', a);
+            if (b == std::string::npos) b = o.sweep.size();
+            cpu::EclipseGeometry gs = g;
+            gs.msRadius = std::stod(o.sweep.substr(a, b - a)) * 1e3;
+            const double ms = Y(cpu::radiance(m, cpu::integrateEclipse(m, T, MS, 0.0, dir, sun, gs, 256, false, m.sunAngularRadius),
+                                              glm::dot(dir, sun)));
+            std::printf(" l=%s km: %.3f |", o.sweep.substr(a, b - a).c_str(), ms / ref);
+        }
+        std::printf("\n");
         std::fflush(stdout);
         worst = std::max(worst, std::abs(model / ref - 1.0));
         worstClear = std::max(worstClear, std::abs(modelClear / refClear - 1.0));
@@ -131,6 +142,7 @@ BenchRegistrar reg("eclipse", "the solar eclipse's sky: frame cost against a nor
     sub.add_option("--repeats", o->repeats, "timed frames per configuration (median reported), [1, 1000]")->capture_default_str();
     sub.add_option("--width", o->width, "frame width, px, [16, 8192]")->capture_default_str();
     sub.add_option("--height", o->height, "frame height, px, [16, 8192]")->capture_default_str();
+    sub.add_option("--ms-radius-sweep", o->sweep, "also the model / reference for these multiple-scattering disk radii, km (comma list)");
     sub.add_option("--accuracy", o->accuracy, "also measure the error against the reference (minutes on the CPU)")->capture_default_str();
     return [o]() { return run(*o); };
 });
