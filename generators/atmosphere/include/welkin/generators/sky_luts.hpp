@@ -365,7 +365,8 @@ private:
 };
 
 /// Radius of the disk of air, across the shadow's axis, over which the eclipse's multiple
-/// scattering averages the Sun's visible fraction (docs/eclipse.md: fitted to the reference), m.
+/// scattering averages the Sun's visible fraction, m. Not fitted: docs/eclipse.md measures the
+/// model against the reference (far too dark inside the umbra at this and any radius <= 300 km).
 inline constexpr double kEclipseMsRadiusMeters = 60e3;
 /// The Sun's radius, m (IAU nominal).
 inline constexpr double kSunRadiusMeters = 6.957e8;
