@@ -61,6 +61,7 @@ void updateSkyVars(SkyVars& vars) {
     vars.declare(keys::precise, false);
     vars.declare(keys::refractionPressure, 1013.25);
     vars.declare(keys::refractionTemperature, 10.0);
+    vars.declare(keys::eclipses, true);
     const glm::dvec2 jd = vars.get(welkin::keys::timeJdUtc);
     Site site;
     site.latitudeRad = vars.get(welkin::keys::observerLatitude);
@@ -102,13 +103,26 @@ void updateSkyVars(SkyVars& vars) {
     // Eclipses. Solar: the Moon's disk over the Sun's, from the observer (topocentric, airless).
     const double sunRadius = 0.5 * sun.angularDiameterRad, moonRadius = 0.5 * moon.angularDiameterRad;
     const double solarSeparation = std::acos(std::clamp(glm::dot(sun.topo.enuGeometric, moon.topo.enuGeometric), -1.0, 1.0));
-    vars.set(welkin::keys::sunEclipseFraction, eclipseVisibleFraction(sunRadius, moonRadius, solarSeparation));
+    const bool eclipses = vars.get(keys::eclipses);
+    vars.set(welkin::keys::sunEclipseFraction, eclipses ? eclipseVisibleFraction(sunRadius, moonRadius, solarSeparation) : 1.0);
+    {
+        // The Moon's position in the apparent Sun's frame: the airless position turned by the
+        // rotation taking the Sun's airless direction onto its refracted one (Rodrigues).
+        const glm::dvec3 a = sun.topo.enuGeometric, b = sun.topo.enu, axis = glm::cross(a, b);
+        const double s = glm::length(axis), c = glm::dot(a, b);
+        glm::dvec3 m = moon.topo.enuGeometric;
+        if (s > 1e-15) {
+            const glm::dvec3 k = axis / s;
+            m = m * c + glm::cross(k, m) * s + k * glm::dot(k, m) * (1.0 - c);
+        }
+        vars.set(keys::moonPosition, m * moon.topo.distanceMeters);
+    }
     // Lunar: the sunlight reaching the Moon's disk past the Earth's shadow (geocentric positions;
     // one model with the Planet element's per-pixel shadow: astro/eclipses.hpp).
     {
         const ShadowLight l = moonShadowLight(moon.directionIcrs * moon.distanceMeters, sun.directionIcrs * sun.distanceMeters);
-        vars.set(welkin::keys::moonEclipseFactor, std::clamp(l.direct + l.refracted, 0.0, 1.0));
-        vars.set(keys::moonEclipseRefracted, std::clamp(l.refracted, 0.0, 1.0));
+        vars.set(welkin::keys::moonEclipseFactor, eclipses ? std::clamp(l.direct + l.refracted, 0.0, 1.0) : 1.0);
+        vars.set(keys::moonEclipseRefracted, eclipses ? std::clamp(l.refracted, 0.0, 1.0) : 0.0);
     }
     // Parallactic angle from the topocentric hour angle: tan q = sin H / (tan phi cos d - sin d cos H).
     const double H = frame.lastRad - moon.topo.raTopocentricRad, d = moon.topo.decTopocentricRad, phi = site.latitudeRad;
@@ -130,7 +144,9 @@ AstronomyGenerator::AstronomyGenerator() : Generator("astronomy") {
     input(keys::precise);
     input(keys::refractionPressure);
     input(keys::refractionTemperature);
+    input(keys::eclipses);
     output(welkin::keys::sunDirection);
+    output(keys::moonPosition);
     output(welkin::keys::moonDirection);
     output(welkin::keys::sunEclipseFraction);
     output(welkin::keys::moonEclipseFactor);
@@ -154,6 +170,7 @@ void AstronomyGenerator::doDeclare(SkyVars& vars) {
     vars.declare(keys::precise, false);
     vars.declare(keys::refractionPressure, 1013.25);
     vars.declare(keys::refractionTemperature, 10.0);
+    vars.declare(keys::eclipses, true);
 }
 
 void AstronomyGenerator::doRun(SkyVars& vars, const Logger&) {

@@ -183,6 +183,56 @@ vec3 atm_segmentFactor(vec3 sigmaT, float dt) {
     return mix(vec3(dt), (1.0 - exp(-x)) / max(sigmaT, vec3(1e-30)), greaterThan(x, vec3(1e-4)));
 }
 
+#ifdef ATM_ECLIPSE
+// A solar eclipse: the Moon's shadow on the air (docs/eclipse.md). Every point of a march sees
+// its own Sun and Moon: their directions and angular radii from that point (the Moon is ~3.8e8 m
+// away, so they change across the hundreds of km a ray spans), and the single scattering and the
+// directly lit ground take the limb-darkened visible fraction of the Sun's disk there. Twin of
+// cpu::eclipseAt() in sky_model.cpp. Positions are ENU metres from the observer.
+uniform vec3 u_eclMoonPos;      // the Moon's centre (the apparent Sun's frame: moon.position_m)
+uniform float u_eclMoonRadius;  // the Moon's radius, m
+uniform vec3 u_eclSunPos;       // the Sun's centre, m (sun.direction x sun.distance_m)
+uniform float u_eclSunRadius;   // the Sun's radius, m
+uniform float u_eclMsRadius;    // multiple scattering: radius of the disk of air it averages the shadow over, m
+vec3 atm_eclOrigin = vec3(0.0);   // the march's origin and unit direction (set by the pass)
+vec3 atm_eclView = vec3(0.0, 0.0, 1.0);
+bool atm_eclOn = true;  // false: a march of another light (the Moon's), which the shadow does not touch
+
+// Visible fraction of a limb-darkened disk (u = 0.6, as astro::eclipseVisibleFraction) of
+// angular radius rs behind a dark disk of radius ro, centres d apart (radians, small angles):
+// 24 rings, an analytic arc per ring.
+float atm_eclipseFraction(float rs, float ro, float d) {
+    float R = ro / rs, D = d / rs;
+    if (D >= 1.0 + R) return 1.0;
+    if (R >= D + 1.0) return 0.0;
+    const int N = 24;
+    float total = 0.0, hidden = 0.0;
+    for (int i = 0; i < N; ++i) {
+        float r = (float(i) + 0.5) / float(N);
+        float w = (1.0 - 0.6 * (1.0 - sqrt(max(1.0 - r * r, 0.0)))) * r;
+        float c = 0.0;
+        if (D + r <= R) c = 1.0;
+        else if (!(D >= r + R || R + D <= r)) c = acos(clamp((r * r + D * D - R * R) / (2.0 * r * D), -1.0, 1.0)) / ATM_PI;
+        total += w;
+        hidden += w * c;
+    }
+    return clamp(1.0 - hidden / total, 0.0, 1.0);
+}
+// At point p: x the visible fraction of the Sun (single scattering, the direct light); y the
+// multiple-scattering model's factor: the fraction averaged over a disk of air of radius
+// u_eclMsRadius across the shadow's axis, taken as the fraction of a Sun widened to
+// sqrt(rs^2 + (u_eclMsRadius / moon distance)^2) (the blur of the shadow by that disk).
+vec2 atm_eclipseAt(vec3 p) {
+    if (!atm_eclOn) return vec2(1.0);
+    vec3 m = u_eclMoonPos - p, s = u_eclSunPos - p;
+    float dm = length(m), ds = length(s);
+    float ro = asin(min(u_eclMoonRadius / dm, 1.0)), rs = u_eclSunRadius / ds;
+    float d = 2.0 * asin(min(0.5 * length(m / dm - s / ds), 1.0));
+    float blur = u_eclMsRadius / dm;
+    return vec2(atm_eclipseFraction(rs, ro, d), atm_eclipseFraction(sqrt(rs * rs + blur * blur), ro, d));
+}
+#endif
+
 #ifdef ATM_USE_TRANSMITTANCE
 // The transmittance LUT on texture unit 4 (define ATM_USE_TRANSMITTANCE before this file).
 layout(binding = WELKIN_BINDING_TRANSMITTANCE_LUT) uniform sampler2D u_atmTransmittance;
@@ -351,6 +401,11 @@ Scattering integrateScattering(float h, float mu, float muS, float nu, float max
         float s0 = float(k) / float(steps), s1 = float(k + 1) / float(steps), sm = (float(k) + 0.5) / float(steps);
         float dt = d * (atm_warp(s1, p) - atm_warp(s0, p)), t = d * atm_warp(sm, p);
         RaySample q = atm_raySample(h, mu, muS, nu, t, dt, lightAngularRadius);
+#ifdef ATM_ECLIPSE
+        vec2 ecl = atm_eclipseAt(atm_eclOrigin + t * atm_eclView);
+        q.Tl *= ecl.x;
+        q.ms *= ecl.y;
+#endif
         o.smooth_ += thrD * (q.sR * q.Tl * phaseR + q.ms) * q.seg;
         o.mieNoPhase += thrD * q.sM * q.Tl * q.seg;
         thr *= exp(-q.sigmaT * dt);
@@ -359,7 +414,15 @@ Scattering integrateScattering(float h, float mu, float muS, float nu, float max
     if (o.hitGround) {
         // The ground: Lambertian, lit by the light and by the sky.
         float muSg = clamp((r * muS + d * nu) / atm_bottom(), -1.0, 1.0);
+#ifdef ATM_ECLIPSE
+        // Direct light by the ground point's own visible fraction, the sky's by the model's.
+        vec2 eg = atm_eclipseAt(atm_eclOrigin + d * atm_eclView);
+        vec3 eDirect = transmittanceToLight(0.0, muSg, lightAngularRadius) * max(muSg, 0.0);
+        vec3 eAll = atm_groundIrradiance(muSg, lightAngularRadius);
+        o.smooth_ += thrD * (eDirect * eg.x + (eAll - eDirect) * eg.y) * atm_groundAlbedo.rgb / ATM_PI;
+#else
         o.smooth_ += thrD * atm_groundIrradiance(muSg, lightAngularRadius) * atm_groundAlbedo.rgb / ATM_PI;
+#endif
     }
     o.transmittance = thr;
     return o;

@@ -16,6 +16,17 @@ uniform vec3 u_sunDir, u_moonDir;  // unit ENU
 uniform vec3 u_sunE, u_moonE;      // lux per channel
 uniform int u_nz, u_na;
 uniform float u_invScale;
+#ifdef SKY_IRRADIANCE_ECLIPSE
+// A solar eclipse: the Sun's tables are sky.eclipse_view_lut (absolute azimuth u = az / 2 pi, the
+// sky view's latitude), summed over the whole circle of azimuth; u_sunDir is the full ENU
+// direction and the direct light keeps the Sun's visible fraction.
+uniform float u_eclipseFraction;
+vec3 eclipseSample(float mu, float az, float nu) {
+    vec2 size = vec2(textureSize(u_sunSmooth, 0));
+    vec2 uv = vec2(az * (0.5 / ATM_PI), skyViewClampHalf(skyViewUv(u_h, mu, 0.0, size), size).y);
+    return (texture(u_sunSmooth, uv).rgb + texture(u_sunMie, uv).rgb * miePhase(nu)) * u_invScale;
+}
+#endif
 shared vec3 s_sun[64];
 shared vec3 s_moon[64];
 
@@ -33,7 +44,14 @@ void main() {
         float az = (float(j) + 0.5) / float(u_na) * ATM_PI;
         float nuS = clamp(sinV * sinS * cos(az) + mu * u_sunDir.z, -1.0, 1.0);
         float nuM = clamp(sinV * sinM * cos(az) + mu * u_moonDir.z, -1.0, 1.0);
+#ifdef SKY_IRRADIANCE_ECLIPSE
+        // (j + 0.5) / na of the whole circle: the same weight per sample as the half circle's.
+        float azE = 2.0 * az;
+        vec3 dirE = vec3(sinV * sin(azE), sinV * cos(azE), mu);
+        sumSun += eclipseSample(mu, azE, clamp(dot(dirE, u_sunDir), -1.0, 1.0));
+#else
         sumSun += skyViewSample(u_sunSmooth, u_sunMie, u_h, mu, az, nuS, u_invScale);
+#endif
         sumMoon += skyViewSample(u_moonSmooth, u_moonMie, u_h, mu, az, nuM, u_invScale);
     }
     s_sun[id] = sumSun;
@@ -53,7 +71,12 @@ void main() {
         o_result[1] = vec4(0.0);
         o_result[2] = vec4(transmittanceToLight(u_h, u_sunDir.z, atm_solarIlluminance.w) * max(u_sunDir.z, 0.0) * u_sunE, 0.0);
         o_result[3] = vec4(transmittanceToLight(u_h, u_moonDir.z, 0.0045) * max(u_moonDir.z, 0.0) * u_moonE, 0.0);
+#ifdef SKY_IRRADIANCE_ECLIPSE
+        o_result[2] *= u_eclipseFraction;
+        vec3 zs = eclipseSample(1.0, 0.0, u_sunDir.z) * u_sunE;
+#else
         vec3 zs = skyViewSample(u_sunSmooth, u_sunMie, u_h, 1.0, 0.0, u_sunDir.z, u_invScale) * u_sunE;
+#endif
         vec3 zm = skyViewSample(u_moonSmooth, u_moonMie, u_h, 1.0, 0.0, u_moonDir.z, u_invScale) * u_moonE;
         o_result[4] = vec4(zs, 0.0);
         o_result[5] = vec4(zm, 0.0);

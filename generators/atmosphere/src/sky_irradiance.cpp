@@ -27,6 +27,8 @@ SkyIrradiance::SkyIrradiance() : SkyGenerator("sky.irradiance") {
     input(skykeys::sunCosZenith, {.tolerance = kCosZenithTolerance});
     input(skykeys::moonCosZenith, {.tolerance = kCosZenithTolerance});
     input(keys::observerHeight);
+    input(skykeys::eclipseViewLut, {.optional = true});  // a solar eclipse: republished every run it is on
+    input(keys::sunEclipseFraction, {.optional = true});
     output(skykeys::horizontalIlluminance);
     output(skykeys::diffuseIrradiance);
     output(skykeys::zenithLuminance);
@@ -34,6 +36,7 @@ SkyIrradiance::SkyIrradiance() : SkyGenerator("sky.irradiance") {
 
 void SkyIrradiance::releaseGl() {
     prog_ = {};
+    eclipseProg_ = {};
     out_ = {};
     releaseCommon();
 }
@@ -47,6 +50,14 @@ void SkyIrradiance::doRun(SkyVars& vars, const Logger&) {
                     .compute("generators/atmosphere.glsl", embedded::atmosphere_shaders("atmosphere.glsl"))
                     .compute("generators/sky_irradiance.glsl", embedded::atmosphere_shaders("sky_irradiance.glsl"))
                     .build();
+    if (!eclipseProg_)
+        eclipseProg_ = gl::ProgramBuilder("SkyIrradiance (eclipse)")
+                           .define("ATM_USE_TRANSMITTANCE")
+                           .define("SKY_IRRADIANCE_GROUPS", kGroups)
+                           .define("SKY_IRRADIANCE_ECLIPSE")
+                           .compute("generators/atmosphere.glsl", embedded::atmosphere_shaders("atmosphere.glsl"))
+                           .compute("generators/sky_irradiance.glsl", embedded::atmosphere_shaders("sky_irradiance.glsl"))
+                           .build();
     if (!out_) out_ = gl::Buffer(sizeof(float) * 4 * (6 + 2 * kGroups));
     const double Ht = model_.topRadius - model_.bottomRadius;
     const double h = std::clamp(vars.getOr(keys::observerHeight, 0.0), 0.0, Ht);
@@ -63,21 +74,25 @@ void SkyIrradiance::doRun(SkyVars& vars, const Logger&) {
         if (k.name != lightkeys::sunIlluminance.name() && k.name != lightkeys::moonIlluminance.name()) gv.push_back(vars.version(k.name));
     if (gv != gpuFor_) {
         gpuFor_ = std::move(gv);
-        glBindTextureUnit(gl::binding::kSunViewLut, vars.get(skykeys::sunViewLut).id);
-        glBindTextureUnit(gl::binding::kSunViewMieLut, vars.get(skykeys::sunViewMieLut).id);
+        // A solar eclipse (EclipseSkyLut on): the Sun's part from its table over the whole circle.
+        const bool eclipse = vars.has(skykeys::eclipseViewLut) && vars.get(skykeys::eclipseViewLut).id != 0;
+        const gl::Program& prog = eclipse ? eclipseProg_ : prog_;
+        glBindTextureUnit(gl::binding::kSunViewLut, vars.get(eclipse ? skykeys::eclipseViewLut : skykeys::sunViewLut).id);
+        glBindTextureUnit(gl::binding::kSunViewMieLut, vars.get(eclipse ? skykeys::eclipseViewMieLut : skykeys::sunViewMieLut).id);
         glBindTextureUnit(gl::binding::kMoonViewLut, vars.get(skykeys::moonViewLut).id);
         glBindTextureUnit(gl::binding::kMoonViewMieLut, vars.get(skykeys::moonViewMieLut).id);
         glBindTextureUnit(gl::binding::kTransmittanceLut, vars.get(skykeys::transmittanceLut).id);
         out_.bindBase(GL_SHADER_STORAGE_BUFFER, gl::binding::kSkyIrradianceSsbo);
-        prog_.use();
-        prog_.set("u_h", float(h));
-        prog_.set("u_sunDir", dirOf(muSun));
-        prog_.set("u_moonDir", dirOf(muMoon));
-        prog_.set("u_sunE", glm::vec3(1.0f));
-        prog_.set("u_moonE", glm::vec3(1.0f));
-        prog_.set("u_nz", q_.irradianceZenith);
-        prog_.set("u_na", q_.irradianceAzimuth);
-        prog_.set("u_invScale", float(1.0 / kLutScale));
+        prog.use();
+        prog.set("u_h", float(h));
+        prog.set("u_sunDir", eclipse ? glm::vec3(glm::normalize(vars.get(keys::sunDirection))) : dirOf(muSun));
+        prog.set("u_moonDir", dirOf(muMoon));
+        prog.set("u_sunE", glm::vec3(1.0f));
+        prog.set("u_moonE", glm::vec3(1.0f));
+        prog.set("u_nz", q_.irradianceZenith);
+        prog.set("u_na", q_.irradianceAzimuth);
+        prog.set("u_invScale", float(1.0 / kLutScale));
+        if (eclipse) prog.set("u_eclipseFraction", float(std::clamp(vars.getOr(keys::sunEclipseFraction, 1.0), 0.0, 1.0)));
         glDispatchCompute(kGroups, 1, 1);
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
         float all[4 * (6 + 2 * kGroups)];

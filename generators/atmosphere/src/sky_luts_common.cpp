@@ -143,6 +143,7 @@ const Key<std::shared_ptr<SkyViewLut>> kGenMoonView{"sky.gen.moon_view"};
 const Key<std::shared_ptr<AerialPerspectiveLut>> kGenAerial{"sky.gen.aerial"};
 const Key<std::shared_ptr<SkyIrradiance>> kGenIrradiance{"sky.gen.irradiance"};
 const Key<std::shared_ptr<LightZenith>> kGenLightZenith{"sky.gen.light_zenith"};
+const Key<std::shared_ptr<EclipseSkyLut>> kGenEclipse{"sky.gen.eclipse_view"};
 }  // namespace
 
 SkyLuts SkyLuts::obtain(SkyVars& vars) {
@@ -155,12 +156,13 @@ SkyLuts SkyLuts::obtain(SkyVars& vars) {
     l.aerial = vars.obtain<AerialPerspectiveLut>(kGenAerial, [] { return std::make_shared<AerialPerspectiveLut>(); });
     l.irradiance = vars.obtain<SkyIrradiance>(kGenIrradiance, [] { return std::make_shared<SkyIrradiance>(); });
     l.lightZenith = LightZenith::obtain(vars);
+    l.eclipse = vars.obtain<EclipseSkyLut>(kGenEclipse, [] { return std::make_shared<EclipseSkyLut>(); });
     return l;
 }
 
 void SkyLuts::releaseGl() {
     for (SkyGenerator* g : std::initializer_list<SkyGenerator*>{transmittance.get(), multiScattering.get(), sh.get(), sunView.get(),
-                                                                moonView.get(), aerial.get(), irradiance.get()})
+                                                                moonView.get(), aerial.get(), irradiance.get(), eclipse.get()})
         if (g) g->releaseGl();
 }
 

@@ -715,6 +715,77 @@ Scattering integrate(const SkyModel& m, const Lut2D& T, const MsField& MS, doubl
     return out;
 }
 
+double eclipseFraction(double rs, double ro, double d, int rings) {
+    if (!(rs > 0.0)) return 1.0;
+    const double R = std::max(ro, 0.0) / rs, D = std::abs(d) / rs;
+    if (D >= 1.0 + R) return 1.0;
+    if (R >= D + 1.0) return 0.0;
+    double total = 0.0, hidden = 0.0;
+    for (int i = 0; i < rings; ++i) {
+        const double r = (i + 0.5) / rings;
+        const double w = (1.0 - 0.6 * (1.0 - safeSqrt(1.0 - r * r))) * r;
+        double c = 0.0;
+        if (D + r <= R) c = 1.0;
+        else if (!(D >= r + R || R + D <= r)) c = std::acos(std::clamp((r * r + D * D - R * R) / (2.0 * r * D), -1.0, 1.0)) / kPi;
+        total += w;
+        hidden += w * c;
+    }
+    return std::clamp(1.0 - hidden / total, 0.0, 1.0);
+}
+
+glm::dvec2 eclipseAt(const EclipseGeometry& g, const glm::dvec3& p, int rings) {
+    const glm::dvec3 mv = g.moonPos - p, sv = g.sunPos - p;
+    const double dm = glm::length(mv), ds = glm::length(sv);
+    const double ro = std::asin(std::min(g.moonRadius / dm, 1.0)), rs = g.sunRadius / ds;
+    const double d = 2.0 * std::asin(std::min(0.5 * glm::length(mv / dm - sv / ds), 1.0));
+    const double blur = g.msRadius / dm;
+    return {eclipseFraction(rs, ro, d, rings), eclipseFraction(std::sqrt(rs * rs + blur * blur), ro, d, rings)};
+}
+
+Scattering integrateEclipse(const SkyModel& m, const Lut2D& T, const MsField& MS, double h, const glm::dvec3& viewDir,
+                            const glm::dvec3& sunDir, const EclipseGeometry& g, int steps, bool quadratic, double lightAngularRadius,
+                            int groundMode) {
+    Scattering out;
+    const double Ht = m.topRadius - m.bottomRadius;
+    h = std::clamp(h, 0.0, Ht);
+    const double mu = std::clamp(viewDir.z, -1.0, 1.0), muS = std::clamp(sunDir.z, -1.0, 1.0);
+    const double nu = std::clamp(glm::dot(viewDir, sunDir), -1.0, 1.0);
+    out.hitGround = groundMode < 0 ? rayIntersectsGround(m, h, mu) : groundMode == 1;
+    const double d = out.hitGround ? distanceToBottom(m, h, mu) : distanceToTop(m, h, mu);
+    const double p = quadratic ? 0.0 : perigeeFraction(m, h, mu, d);
+    const double r = m.bottomRadius + h;
+    const PhaseMoments moments = phaseMoments(m, MS.bands);
+    glm::dvec3 thr(1.0), thrD(1.0);
+    for (int k = 0; k < steps && d > 0.0; ++k) {
+        double s0 = double(k) / steps, s1 = double(k + 1) / steps, sm = (k + 0.5) / steps;
+        double dt = d * (warp(s1, p) - warp(s0, p)), t = d * warp(sm, p);
+        double hp = heightAt(m, h, mu, t);
+        double rp = m.bottomRadius + hp;
+        double muSp = std::clamp((r * muS + t * nu) / rp, -1.0, 1.0);
+        glm::dvec3 sR = m.scatteringRayleigh(hp), sM = m.scatteringMie(hp);
+        glm::dvec3 sigmaT = m.extinction(hp);
+        glm::dvec3 sigmaD = sigmaT - moments.forward * sM;
+        glm::dvec3 seg = segmentFactor(sigmaD, dt);
+        const glm::dvec2 ecl = eclipseAt(g, t * viewDir);
+        glm::dvec3 Tl = transmittanceToLight(m, T, hp, muSp, lightAngularRadius) * ecl.x;
+        double muP = std::clamp((r * mu + t) / rp, -1.0, 1.0);
+        glm::dvec3 ms = msInscatter(m, MS, moments, hp, muP, muSp, nu, sR, sM) * ecl.y;
+        out.smooth += thrD * (sR * Tl * rayleighPhase(nu) + ms) * seg;
+        out.mieNoPhase += thrD * sM * Tl * seg;
+        thr *= glm::exp(-sigmaT * dt);
+        thrD *= glm::exp(-sigmaD * dt);
+    }
+    if (out.hitGround) {
+        double muSg = std::clamp((r * muS + d * nu) / m.bottomRadius, -1.0, 1.0);
+        const glm::dvec2 eg = eclipseAt(g, d * viewDir);
+        const glm::dvec3 eDirect = transmittanceToLight(m, T, 0.0, muSg, lightAngularRadius) * std::max(muSg, 0.0);
+        const glm::dvec3 eAll = groundIrradiance(m, T, MS.ground, muSg, lightAngularRadius);
+        out.smooth += thrD * (eDirect * eg.x + (eAll - eDirect) * eg.y) * m.groundAlbedo / kPi;
+    }
+    out.transmittance = thr;
+    return out;
+}
+
 glm::dvec3 radiance(const SkyModel& m, const Scattering& s, double nu) {
     return s.smooth + s.mieNoPhase * miePhase(nu, m.mieG, m.miePhase);
 }

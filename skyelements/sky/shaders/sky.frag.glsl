@@ -71,6 +71,11 @@ vec3 marchLight(float h, float mu, vec3 dir, vec3 light, float angular, out vec3
     float muS = light.z, nu = clamp(dot(dir, light), -1.0, 1.0);
     transmittance = vec3(1.0);
     ground = false;
+#ifdef ATM_ECLIPSE
+    atm_eclOn = light == u_sunDir;  // the Moon's shadow darkens the Sun's light only
+    atm_eclOrigin = vec3(0.0);
+    atm_eclView = dir;
+#endif
     if (h > Ht) {
         float r = R + h;
         float disc = r * r * mu * mu - (h - Ht) * (2.0 * R + h + Ht);
@@ -80,6 +85,9 @@ vec3 marchLight(float h, float mu, vec3 dir, vec3 light, float angular, out vec3
         mu = clamp((r * mu + t) / rt, -1.0, 1.0);
         muS = clamp((r * muS + t * nu) / rt, -1.0, 1.0);
         h = Ht;
+#ifdef ATM_ECLIPSE
+        atm_eclOrigin = t * dir;  // the march starts where the ray enters the air
+#endif
     }
     Scattering s = integrateScattering(h, mu, muS, nu, 1e30, u_steps, false, angular, -1);
     transmittance = s.transmittance;
@@ -105,7 +113,20 @@ void main() {
     if (ground) T = vec3(0.0);
 #else
     float v, vMoon;
+#ifdef SKY_ECLIPSE
+    // A solar eclipse: the Sun's table over absolute azimuth (sky.eclipse_view_lut, bound on the
+    // Sun's units), u = az / 2 pi from north through east (atan(0, 0) is undefined: 0 at the
+    // zenith and nadir), v the sky view's latitude.
+    {
+        float az = dir.x == 0.0 && dir.y == 0.0 ? 0.0 : atan(dir.x, dir.y);
+        vec2 uvE = vec2(az * (0.5 / ATM_PI), skyViewUvS(u_sH, mu, 1.0, u_lutSize).y);
+        v = uvE.y;
+        L = (texture(u_sunSmooth, uvE).rgb + texture(u_sunMie, uvE).rgb * miePhase(clamp(dot(dir, u_sunDir), -1.0, 1.0))) *
+            (u_sunE * u_invScale);
+    }
+#else
     L = skyViewLight(u_sunSmooth, u_sunMie, dir, u_sunDir, u_sunE * u_invScale, v);
+#endif
 #ifdef SKY_MOON
     // (A separate program variant: llvmpipe evaluates both sides of a branch under a mask.)
     L += skyViewLight(u_moonSmooth, u_moonMie, dir, u_moonDir, u_moonE * u_invScale, vMoon);

@@ -1,3 +1,4 @@
+#include <welkin/astro/astro_keys.hpp>
 #include <welkin/elements/sky.hpp>
 #include <welkin/embedded/atmosphere_shaders.hpp>
 #include <welkin/embedded/sky_shaders.hpp>
@@ -55,6 +56,8 @@ Sky::Sky(const SkyOptions& options, bool force) : SkyElement("sky"), options_(op
     reads(skykeys::shadowLossLut);  // optional: a direct-light shadow (the clouds')
     reads(skykeys::shadowLossMieLut);
     reads(skykeys::shadowLossMoon);
+    reads(skykeys::eclipseViewLut);  // optional: a solar eclipse's sky (EclipseSkyLut)
+    reads(skykeys::eclipseViewMieLut);
 }
 
 namespace {
@@ -87,6 +90,7 @@ void Sky::doInit(InitContext& ctx) {
     addGenerator(luts_.moonView);
     addGenerator(luts_.irradiance);
     addGenerator(luts_.aerial);
+    addGenerator(luts_.eclipse);
     // Every variant compiles on first use (which ones a frame needs depends on the projection,
     // the composition, the Moon and the quality, none known yet); shader errors surface from the
     // first render(), naming the file and line.
@@ -95,14 +99,18 @@ void Sky::doInit(InitContext& ctx) {
             for (int baked = 0; baked < 2; ++baked)
                 for (int sh = 0; sh < 2; ++sh)
                     lutPrograms_[moon][t][baked][sh] = gl::ProjectionPrograms(recipe(false, moon == 1, t == 1, baked == 1, false, 0, sh == 1));
+    for (int moon = 0; moon < 2; ++moon)
+        for (int t = 0; t < 2; ++t) eclipsePrograms_[moon][t] = gl::ProjectionPrograms(recipe(false, moon == 1, t == 1, false, false, 0, false, true));
     marchBands_ = 0;
     ubo_ = gl::Buffer(sizeof(AtmosphereBlock));
 }
 
-gl::ProgramBuilder Sky::recipe(bool perPixel, bool moon, bool transmittance, bool baked, bool spectral, int shBands, bool shadow) {
+gl::ProgramBuilder Sky::recipe(bool perPixel, bool moon, bool transmittance, bool baked, bool spectral, int shBands, bool shadow,
+                               bool eclipse) {
     gl::ProgramBuilder b(std::string(perPixel ? "Sky (per pixel)" : "Sky") + (moon ? " + Moon" : "") +
                          (transmittance ? "" : " (nothing behind)") + (baked ? " (baked phase)" : "") + (spectral ? " spectral" : "") +
-                         (shadow ? " (shadowed)" : ""));
+                         (shadow ? " (shadowed)" : "") + (eclipse ? " (eclipse)" : ""));
+    if (eclipse) b.define(perPixel ? "ATM_ECLIPSE" : "SKY_ECLIPSE");
     b.define("ATM_USE_TRANSMITTANCE");
     if (moon) b.define("SKY_MOON");
     if (transmittance) b.define("SKY_TRANSMITTANCE");
@@ -142,6 +150,7 @@ void Sky::doRender(const FrameContext& ctx) {
             for (int sh = 0; sh < 2; ++sh)
                 marchPrograms_[moon][sh] = gl::ProjectionPrograms(recipe(true, moon == 1, true, false, false, marchBands_, sh == 1));
             spectralPrograms_[moon] = gl::ProjectionPrograms(recipe(true, moon == 1, true, false, true, marchBands_, false));
+            marchEclipsePrograms_[moon] = gl::ProjectionPrograms(recipe(true, moon == 1, true, false, false, marchBands_, false, true));
         }
     }
     AtmosphereBlock block = AtmosphereBlock::from(m, q.shBands);
@@ -184,10 +193,34 @@ void Sky::doRender(const FrameContext& ctx) {
                         v.get(skykeys::shadowLossLut).id != 0 && v.has(skykeys::shadowLossMieLut) &&
                         v.get(skykeys::shadowLossLut).height == q.skyViewH;  // it reuses the sky view's v (a quality change: next run)
     shadowed_ = shadow;
+    // A solar eclipse (sky.eclipse_view_lut, EclipseSkyLut): the Sun's sky from the eclipse's
+    // table over absolute azimuth, or the per-pixel march seeing the Moon's shadow. The clouds'
+    // shadow table is not applied then (it is the uneclipsed sky's loss).
+    const bool eclipse = !sp && h <= m.topRadius - m.bottomRadius - 1.0 && v.has(skykeys::eclipseViewLut) &&
+                         v.get(skykeys::eclipseViewLut).id != 0 && v.get(skykeys::eclipseViewLut).height == q.skyViewH;
+    const bool eclipseMarch = perPixel_ && !sp && luts_.eclipse && luts_.eclipse->active() && v.has(astro::keys::moonPosition);
+    eclipse_ = eclipse;
     if (!perPixel_ || !sp) {
-        const gl::Program& p = perPixel_ ? marchPrograms_[moon][shadow].get(proj)
+        const gl::Program& p = perPixel_ ? (eclipseMarch ? marchEclipsePrograms_[moon].get(proj) : marchPrograms_[moon][shadow].get(proj))
+                               : eclipse ? eclipsePrograms_[moon][ctx.nothingBehind ? 0 : 1].get(proj)
                                          : lutPrograms_[moon][ctx.nothingBehind ? 0 : 1][q.bakedMiePhase][shadow].get(proj);
         setUniforms(p, sunE, moonE);
+        if (eclipse && !perPixel_) {
+            glBindTextureUnit(gl::binding::kSunViewLut, v.get(skykeys::eclipseViewLut).id);
+            glBindTextureUnit(gl::binding::kSunViewMieLut, v.get(skykeys::eclipseViewMieLut).id);
+            ctx.drawFullscreen();
+            return;
+        }
+        if (eclipseMarch) {
+            const glm::dvec3 sd = unit(v.get(keys::sunDirection));
+            p.set("u_eclMoonPos", glm::vec3(v.get(astro::keys::moonPosition)));
+            p.set("u_eclMoonRadius", float(astro::keys::kMoonRadiusMeters));
+            p.set("u_eclSunPos", glm::vec3(sd * v.getOr(astro::keys::sunDistance, 1.496e11)));
+            p.set("u_eclSunRadius", float(kSunRadiusMeters));
+            p.set("u_eclMsRadius", float(kEclipseMsRadiusMeters));
+            ctx.drawFullscreen();
+            return;
+        }
         if (shadow) {
             const TextureRef loss = v.get(skykeys::shadowLossLut);
             const bool lossMoon = v.getOr(skykeys::shadowLossMoon, false);
@@ -246,6 +279,9 @@ void Sky::doRelease() {
     for (auto& row : marchPrograms_)
         for (auto& p : row) p.releasePrograms();
     for (auto& p : spectralPrograms_) p.releasePrograms();
+    for (auto& row : eclipsePrograms_)
+        for (auto& p : row) p.releasePrograms();
+    for (auto& p : marchEclipsePrograms_) p.releasePrograms();
     ubo_ = {};
     luts_.releaseGl();
 }
@@ -257,6 +293,7 @@ void Sky::doStats(nlohmann::json& root) const {
     root["sky"]["diffuse_illuminance_lux"] = diffuse_;
     root["sky"]["per_pixel"] = perPixel_;
     root["sky"]["shadowed"] = shadowed_;
+    root["sky"]["eclipse"] = eclipse_;
 }
 
 }  // namespace welkin::elements

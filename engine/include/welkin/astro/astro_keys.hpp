@@ -28,6 +28,9 @@ inline const Key<bool> precise{"astro.precise", "astronomy path: false fast seri
 inline const Key<double> refractionPressure{"astro.refraction_pressure_hpa", Range{0, 2000}, "pressure for refraction, hPa"};
 /// Surface temperature used for refraction, deg C, [-100, 100].
 inline const Key<double> refractionTemperature{"astro.refraction_temperature_c", Range{-100, 100}, "temperature for refraction, deg C"};
+/// Solar and lunar eclipses on (default true). false: sun.eclipse_fraction and moon.eclipse_factor
+/// stay 1 and the sky ignores the Moon's shadow (the same instant without the eclipse, to compare).
+inline const Key<bool> eclipses{"astro.eclipses", "solar and lunar eclipses on (false: the same sky without them)"};
 
 // --- Sun -------------------------------------------------------------------------------------
 inline const Key<double> sunDistance{"sun.distance_m", Range{1.4e11, 1.6e11}, "observer-Sun distance, m"};
@@ -37,6 +40,12 @@ inline const Key<double> sunAltitude{"sun.altitude_rad", Range{-welkin::keys::kP
 
 // --- Moon ------------------------------------------------------------------------------------
 inline const Key<double> moonDistance{"moon.distance_m", Range{1e7, 1e9}, "observer-Moon distance, m (3.5e8 .. 4.1e8 on the ground)"};
+/// The Moon's centre relative to the observer, ENU metres, in the apparent Sun's frame: the airless
+/// position turned by the rotation that takes the Sun's airless direction to sun.direction, so the
+/// Sun-Moon geometry (the shadow on the atmosphere, docs/eclipse.md) is the airless one.
+inline const Key<glm::dvec3> moonPosition{"moon.position_m", Range{-1e9, 1e9}, "Moon's centre from the observer, ENU m (frame of the apparent Sun: refraction turns both alike)", "m"};
+/// The Moon's mean radius, m (IAU).
+inline constexpr double kMoonRadiusMeters = 1737400.0;
 inline const Key<double> moonAngularRadius{"moon.angular_radius_rad", Range{0, 0.2}, "apparent angular radius of the Moon, rad"};
 inline const Key<double> moonAzimuth{"moon.azimuth_rad", Range{0, 2 * welkin::keys::kPi}, "Moon azimuth from north through east, rad"};
 inline const Key<double> moonAltitude{"moon.altitude_rad", Range{-welkin::keys::kPi / 2, welkin::keys::kPi / 2}, "Moon refracted altitude, rad"};

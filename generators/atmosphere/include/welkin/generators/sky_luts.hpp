@@ -94,6 +94,13 @@ inline const Key<TextureRef> shadowLossLut{"sky.shadow_loss_lut", "single scatte
 inline const Key<TextureRef> shadowLossMieLut{"sky.shadow_loss_mie_lut", "single scattering removed by the direct light's shadow: Mie without phase, absolute azimuth"};
 /// Which light sky.shadow_loss_lut shadows: false the Sun, true the Moon.
 inline const Key<bool> shadowLossMoon{"sky.shadow_loss_moon", "sky.shadow_loss_lut is the Moon's (false: the Sun's)"};
+/// A solar eclipse's sky (EclipseSkyLut): the Sun's sky-view tables over the whole circle of
+/// azimuth, u = az / 2 pi (az from north through east, wrap repeat), v the sky view's latitude
+/// (skyViewUvS().y), every ray seeing the Moon's shadow; per lux of the Sun x kLutScale. R: Rayleigh
+/// with its phase, multiple scattering and the ground; Mie: without its phase. id 0 while the
+/// shadow is nowhere near the visible air (the Sky then reads the ordinary sky view: no cost).
+inline const Key<TextureRef> eclipseViewLut{"sky.eclipse_view_lut", "solar eclipse: the Sun's sky view over absolute azimuth, in the Moon's shadow (id 0: no eclipse)"};
+inline const Key<TextureRef> eclipseViewMieLut{"sky.eclipse_view_mie_lut", "solar eclipse: Mie single scattering without phase, absolute azimuth"};
 inline const Key<TextureRef> aerialInscatter{"sky.aerial_inscatter", "aerial perspective volume: in-scattered radiance per lux x kLutScale"};
 inline const Key<TextureRef> aerialTransmittance{"sky.aerial_transmittance", "aerial perspective volume: transmittance"};
 /// Horizontal illuminance at the observer, lux: (global, direct, diffuse); Sun and Moon.
@@ -357,6 +364,39 @@ private:
     int progBands_ = 0;  // SkyQuality::shBands prog_ was compiled for
 };
 
+/// Radius of the disk of air, across the shadow's axis, over which the eclipse's multiple
+/// scattering averages the Sun's visible fraction, m. Not fitted: docs/eclipse.md measures the
+/// model against the reference (far too dark inside the umbra at this and any radius <= 300 km).
+inline constexpr double kEclipseMsRadiusMeters = 60e3;
+/// The Sun's radius, m (IAU nominal).
+inline constexpr double kSunRadiusMeters = 6.957e8;
+/// The Moon's shadow on the air (docs/eclipse.md): while the shadow's penumbra can reach air that a
+/// sky-view ray crosses (the Sun-Moon separation seen from the observer below the sum of their
+/// radii plus the parallax of the farthest such air), the Sun's sky over the whole circle of
+/// azimuth with every ray's points seeing their own Sun and Moon (eclipse_lut.glsl), rebuilt each
+/// run; publishes skykeys::eclipseViewLut (id 0 otherwise: nothing runs on the GPU). RGB mode only
+/// (spectral mode: the ordinary sky view). Inputs: the Sun's direction and distance,
+/// moon.position_m, astro.eclipses.
+class EclipseSkyLut final : public SkyGenerator {
+public:
+    EclipseSkyLut();
+    const gl::Texture2D& smoothTexture() const { return smooth_; }
+    const gl::Texture2D& mieTexture() const { return mie_; }
+    /// Whether the last run built the tables (an eclipse near).
+    bool active() const { return active_; }
+    void releaseGl() override;
+    /// The activation test: the Sun's apparent direction `sunDir`, its angular radius, the Moon's
+    /// position from the observer (m), the farthest air a ray reaches (m).
+    static bool shadowNear(const glm::dvec3& sunDir, double sunAngularRadius, const glm::dvec3& moonPos, double reachMeters);
+
+private:
+    void doRun(SkyVars& vars, const Logger& log) override;
+    gl::Texture2D smooth_, mie_;
+    gl::Framebuffer fbo_;
+    gl::Program prog_;
+    int progBands_ = 0;
+    bool active_ = false, published_ = false;
+};
 /// Horizontal illuminance at the observer (global/direct/diffuse, Sun and Moon) and the zenith
 /// luminance, integrated on the GPU from the sky-view LUTs; read back (16 floats) only when an
 /// input changed. Publishes skykeys::horizontalIlluminance, diffuseIrradiance, zenithLuminance.
@@ -370,7 +410,7 @@ public:
 
 private:
     void doRun(SkyVars& vars, const Logger& log) override;
-    gl::Program prog_;
+    gl::Program prog_, eclipseProg_;
     gl::Buffer out_;
     glm::dvec3 sunDiffuse_{0.0}, moonDiffuse_{0.0};
     float perLux_[24] = {};           // the GPU pass's results per lux of each light
@@ -397,6 +437,7 @@ struct SkyLuts {
     std::shared_ptr<AerialPerspectiveLut> aerial;
     std::shared_ptr<SkyIrradiance> irradiance;
     std::shared_ptr<LightZenith> lightZenith;
+    std::shared_ptr<EclipseSkyLut> eclipse;
     /// The instances stored in `vars` (created on first request).
     static SkyLuts obtain(SkyVars& vars);
     void releaseGl();

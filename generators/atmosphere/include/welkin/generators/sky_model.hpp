@@ -278,6 +278,29 @@ Scattering integrate(const SkyModel& m, const Lut2D& T, const MsField& MS, doubl
 /// Total radiance per unit illuminance along a ray (smooth + mie * phase).
 glm::dvec3 radiance(const SkyModel& m, const Scattering& s, double nu);
 
+/// A solar eclipse's geometry for the shadow on the air (docs/eclipse.md): positions in ENU
+/// metres from the observer (the frame of the apparent Sun, moon.position_m).
+struct EclipseGeometry {
+    glm::dvec3 moonPos{0.0};    ///< the Moon's centre
+    double moonRadius = 1737400.0;  ///< m
+    glm::dvec3 sunPos{0.0};     ///< the Sun's centre
+    double sunRadius = 6.957e8;     ///< m
+    double msRadius = 60e3;         ///< the multiple-scattering model's disk of air, m (kEclipseMsRadiusMeters)
+};
+/// Visible fraction of a limb-darkened disk (u = 0.6) of angular radius rs behind a dark disk of
+/// radius ro, centres d apart (rad), over `rings` rings of the source (24: the GPU's), [0, 1].
+double eclipseFraction(double rs, double ro, double d, int rings = 24);
+/// At point p (m from the observer): x the Sun's visible fraction there, y the multiple-scattering
+/// model's factor (the fraction of a Sun widened by msRadius / Moon distance). Twin of atm_eclipseAt().
+glm::dvec2 eclipseAt(const EclipseGeometry& g, const glm::dvec3& p, int rings = 24);
+/// integrate() for the Sun at unit ENU `sunDir`, along unit ENU `viewDir` from the observer at
+/// height h (inside the atmosphere), every point seeing the Moon's shadow: single scattering and
+/// the directly lit ground by eclipseAt().x, orders >= 2 and the sky's light on the ground by
+/// eclipseAt().y. Twin of integrateScattering() with ATM_ECLIPSE.
+Scattering integrateEclipse(const SkyModel& m, const Lut2D& T, const MsField& MS, double h, const glm::dvec3& viewDir,
+                            const glm::dvec3& sunDir, const EclipseGeometry& g, int steps, bool quadratic, double lightAngularRadius,
+                            int groundMode = -1);
+
 /// One sky-view texel: RGB = smooth part, and the Mie part (two textures on the GPU).
 struct SkyViewTexel {
     glm::dvec3 smooth{0.0};

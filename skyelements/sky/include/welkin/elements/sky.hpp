@@ -77,6 +77,8 @@ public:
     bool perPixel() const { return perPixel_; }
     /// True if the last frame subtracted a direct-light shadow (sky.shadow_loss_lut: clouds).
     bool shadowed() const { return shadowed_; }
+    /// Whether the last frame drew a solar eclipse's sky (sky.eclipse_view_lut).
+    bool eclipsed() const { return eclipse_; }
 
 private:
     Sky(const SkyOptions& options, bool force);
@@ -90,7 +92,8 @@ private:
     void doValidateOptions(const SkyVars& vars) const override;
     /// shBands: SkyQuality::shBands (read by the per-pixel march only).
     /// shadow: subtract sky.shadow_loss_lut (the direct light's shadow, e.g. the clouds').
-    static gl::ProgramBuilder recipe(bool perPixel, bool moon, bool transmittance, bool baked, bool spectral, int shBands, bool shadow);
+    static gl::ProgramBuilder recipe(bool perPixel, bool moon, bool transmittance, bool baked, bool spectral, int shBands, bool shadow,
+                                     bool eclipse = false);
 
     SkyOptions options_;
     generators::SkyLuts luts_;
@@ -101,11 +104,14 @@ private:
     // last index of lutPrograms_ and marchPrograms_: [without, with] the shadow loss
     // (sky.shadow_loss_lut present: clouds in the scene).
     gl::ProjectionPrograms lutPrograms_[2][2][2][2], marchPrograms_[2][2], spectralPrograms_[2];
+    // A solar eclipse (sky.eclipse_view_lut): [moon][transmittance] on the LUT path, [moon] per pixel.
+    gl::ProjectionPrograms eclipsePrograms_[2][2], marchEclipsePrograms_[2];
     int marchBands_ = 0;
     gl::Buffer ubo_;
     AerialPerspective aerial_;  // applyToScene()'s air pass
     bool perPixel_ = false;
-    bool shadowed_ = false;  // the last frame subtracted sky.shadow_loss_lut
+    bool shadowed_ = false;
+    bool eclipse_ = false;   // the last frame drew the eclipse's table  // the last frame subtracted sky.shadow_loss_lut
     double zenith_ = 0, global_ = 0, direct_ = 0, diffuse_ = 0;
 };
 

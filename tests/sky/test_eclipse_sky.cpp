@@ -1,0 +1,158 @@
+// The solar eclipse's sky (docs/eclipse.md): the Moon's shadow on the air, against the astronomy
+// (the total eclipse of 2026-08-12 over Burgos), physical facts and the CPU twin.
+#include <catch2/catch.hpp>
+
+#include "astronomy_at.hpp"
+#include "gl_test_context.hpp"
+
+#include <welkin/astro/astro_keys.hpp>
+#include <welkin/elements/sky.hpp>
+#include <welkin/elements/sky_offline.hpp>
+#include <welkin/generators/atmosphere.hpp>
+#include <welkin/generators/sky_luts.hpp>
+#include <welkin/keys.hpp>
+
+#include <cmath>
+#include <cstdio>
+
+using namespace welkin;
+using namespace welkin::generators;
+
+namespace {
+constexpr double kDeg = M_PI / 180;
+double Y(const glm::dvec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
+constexpr const char* kTotality = "2026-08-12T18:29:00Z";  // mid-totality near Burgos (the astronomy: fraction 0)
+constexpr double kLat = 42.34, kLon = -3.70;
+
+cpu::EclipseGeometry geometryOf(const SkyVars& v) {
+    return {.moonPos = v.get(astro::keys::moonPosition), .moonRadius = astro::keys::kMoonRadiusMeters,
+            .sunPos = glm::normalize(v.get(keys::sunDirection)) * v.get(astro::keys::sunDistance), .sunRadius = kSunRadiusMeters,
+            .msRadius = kEclipseMsRadiusMeters};
+}
+
+// The Sky element over the astronomy's keys at an instant (eclipses on or off), rendered to a
+// small equirectangular image.
+struct EclipseRig {
+    SkyVars vars;
+    elements::OfflineRenderer r;
+    elements::Sky sky{elements::SkyOptions{.quality = 1, .moon = false}};
+    Camera cam;
+    Image img;
+    EclipseRig(const char* iso, bool eclipses, int w = 64, int h = 32)
+        : vars([&] {
+              SkyVars v = test::astronomyAt(iso, kLat, kLon);
+              if (!eclipses) {
+                  v.set(astro::keys::eclipses, false);
+                  astro::updateSkyVars(v);
+              }
+              return v;
+          }()),
+          r(vars, test::testLogger()) {
+        test::glContext();
+        vars.set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(atmosphere::Atmosphere::earthClear()));
+        cam.projection = Projection::Equirect;
+        cam.width = w;
+        cam.height = h;
+        img = r.render(sky, cam);
+    }
+    ~EclipseRig() {
+        sky.release();
+        r.release();
+    }
+    glm::dvec3 px(int x, int y) const { return {img.at(x, y, 0), img.at(x, y, 1), img.at(x, y, 2)}; }
+    glm::dvec3 dir(int x, int y) const { return *cam.directionAt({x + 0.5, y + 0.5}); }
+    glm::dvec3 horizontal() const { return vars.get(skykeys::horizontalIlluminance); }
+};
+}  // namespace
+
+TEST_CASE("Eclipse sky: the visible fraction at the observer matches the astronomy's sun.eclipse_fraction", "[cpu][eclipse]") {
+    // moon.position_m (the apparent Sun's frame) and the shader's 24-ring fraction give the
+    // astronomy's own value at the observer, through the partial phase and at totality.
+    for (const char* iso : {"2026-08-12T18:05:00Z", "2026-08-12T18:20:00Z", "2026-08-12T18:27:00Z", kTotality}) {
+        const SkyVars v = test::astronomyAt(iso, kLat, kLon);
+        const double f = cpu::eclipseAt(geometryOf(v), glm::dvec3(0.0)).x;
+        INFO(iso << ": twin " << f << ", astronomy " << v.get(keys::sunEclipseFraction));
+        // 24 rings against the astronomy's 512: the ring rule's error, below 0.3 % of the disk
+        // (measured < 0.1 %); the Sun's radius from its distance vs the ephemeris' 1e-4 relative.
+        CHECK(f == Approx(v.get(keys::sunEclipseFraction)).margin(3e-3));
+    }
+    CHECK(test::astronomyAt(kTotality, kLat, kLon).get(keys::sunEclipseFraction) == 0.0);  // total at Burgos
+    // The ring rule against the 512-ring reference over partial geometries.
+    for (double d : {0.0, 0.3, 0.7, 1.0, 1.5, 2.0})
+        for (double ro : {0.5, 0.97, 1.03})
+            // 24 rings against 512: up to 1.7 % of the disk (measured: annular, ro 0.97, where the
+            // Moon's limb cuts few rings); 2 %.
+            CHECK(cpu::eclipseFraction(1.0, ro, d) == Approx(astro::eclipseVisibleFraction(1.0, ro, d)).margin(0.02));
+    SkyVars off = test::astronomyAt(kTotality, kLat, kLon);
+    off.set(astro::keys::eclipses, false);
+    astro::updateSkyVars(off);
+    CHECK(off.get(keys::sunEclipseFraction) == 1.0);
+}
+
+TEST_CASE("Eclipse sky: at totality over Burgos the ground darkens 1000-fold and the horizon outshines the zenith", "[gl][eclipse]") {
+    EclipseRig ecl(kTotality, true), clear(kTotality, false);
+    REQUIRE(ecl.sky.eclipsed());
+    REQUIRE_FALSE(clear.sky.eclipsed());
+    const double eEcl = ecl.horizontal().x, eClear = clear.horizontal().x;
+    std::printf("\ntotality over Burgos: ground illuminance %.4g lx (direct %.3g), without the Moon %.4g lx: 1/%.0f\n", eEcl,
+                ecl.horizontal().y, eClear, eClear / eEcl);
+    CHECK(eClear > 1000.0);  // the Sun ~10 deg up: a bright evening without the Moon
+    CHECK(eEcl * 1e3 < eClear);
+    CHECK(eEcl > 0.0);
+    // Zenith (top row) against the horizon ring (the row just above the horizon), every azimuth.
+    double zenith = 0.0, horizon = 0.0, horizonMin = 1e30;
+    const int yh = ecl.cam.height / 2 - 1;
+    for (int x = 0; x < ecl.cam.width; ++x) {
+        zenith += Y(ecl.px(x, 0)) / ecl.cam.width;
+        horizon += Y(ecl.px(x, yh)) / ecl.cam.width;
+        horizonMin = std::min(horizonMin, Y(ecl.px(x, yh)));
+    }
+    std::printf("zenith %.3g cd/m^2, horizon mean %.3g (least %.3g); the clear sky's zenith %.3g\n", zenith, horizon, horizonMin,
+                Y(clear.px(0, 0)));
+    CHECK(horizon > 2.0 * zenith);  // the ring of light from the air outside the umbra
+    // (Not checked: every azimuth of the horizon brighter than the zenith. The multiple-scattering
+    // model is too dark inside the umbra, docs/eclipse.md: where the horizon ray stays in the umbra
+    // both are ~0 in the fp16 table.)
+}
+
+TEST_CASE("Eclipse sky: the GPU's eclipse table against the CPU twin at totality", "[gl][eclipse]") {
+    EclipseRig ecl(kTotality, true);
+    REQUIRE(ecl.sky.eclipsed());
+    const SkyModel m = SkyModel::fromVars(ecl.vars);
+    const SkyQuality q = SkyQuality::preset(1);
+    const Lut2D T = cpu::transmittanceLut(m, q);
+    const cpu::MsField MS = cpu::msField(m, q, T);
+    const glm::dvec3 sun = glm::normalize(ecl.vars.get(keys::sunDirection));
+    const glm::dvec3 E = ecl.vars.get(lightkeys::sunIlluminance);
+    const cpu::EclipseGeometry g = geometryOf(ecl.vars);
+    double worst = 0.0;
+    for (auto [x, y] : {std::pair{5, 2}, std::pair{20, 8}, std::pair{40, 12}, std::pair{60, 15}, std::pair{10, 15}, std::pair{33, 5}}) {
+        const glm::dvec3 d = ecl.dir(x, y);
+        const glm::dvec3 twin = cpu::radiance(m, cpu::integrateEclipse(m, T, MS, 0.0, d, sun, g, 128, false, m.sunAngularRadius), glm::dot(d, sun)) * E;
+        const double gpu = Y(ecl.px(x, y)), cpuY = Y(twin);
+        INFO("pixel " << x << "," << y << " (alt " << std::asin(d.z) / kDeg << " deg): GPU " << gpu << ", twin " << cpuY);
+        // The table (2x the sky view's width over 360 deg, its latitude rows, fp16, 30 steps per
+        // ray) against a 128-step march: 8 % (the shadow's steep edge across texels near the horizon).
+        CHECK(gpu == Approx(cpuY).epsilon(0.08));
+        worst = std::max(worst, std::abs(gpu / cpuY - 1.0));
+    }
+    std::printf("\neclipse table vs CPU twin at totality: largest difference %.1f %%\n", 100 * worst);
+}
+
+TEST_CASE("Eclipse sky: in the partial phase the direct light is the clear sky's times the visible fraction", "[gl][eclipse]") {
+    const char* partial = "2026-08-12T18:10:00Z";
+    EclipseRig ecl(partial, true, 32, 16), clear(partial, false, 32, 16);
+    const double f = ecl.vars.get(keys::sunEclipseFraction);
+    std::printf("\npartial phase %s: fraction %.4f, direct %.2f lx vs clear %.2f lx\n", partial, f, ecl.horizontal().y, clear.horizontal().y);
+    REQUIRE(f > 0.05);
+    REQUIRE(f < 0.95);
+    REQUIRE(ecl.sky.eclipsed());
+    CHECK(ecl.horizontal().y == Approx(clear.horizontal().y * f).epsilon(0.01));  // the 1 % (float passes, same LUTs)
+    CHECK(ecl.horizontal().z < clear.horizontal().z);  // the shadowed air gives less diffuse light too
+}
+
+TEST_CASE("Eclipse sky: a day without an eclipse builds no eclipse table", "[gl][eclipse]") {
+    EclipseRig day("2026-08-13T18:29:00Z", true, 32, 16);
+    CHECK_FALSE(day.sky.eclipsed());
+    CHECK(day.vars.get(skykeys::eclipseViewLut).id == 0);
+}
