@@ -130,7 +130,7 @@ public:
     virtual double eval(double cosTheta) const = 0;
     /// cos(theta) drawn with density eval(cos) * 2 pi (per unit cos) from u in [0, 1).
     virtual double sampleCos(double u) const = 0;
-    /// Asymmetry parameter <cos theta>.
+    /// Asymmetry parameter g, the mean cosine of the scattering angle.
     virtual double g() const = 0;
 };
 
