@@ -54,12 +54,14 @@ std::vector<VsopTerm> parseVsop87Series(std::string_view text, const std::string
         VsopTerm t{};
         if (!(ls >> t.a >> t.b >> t.c) || !std::isfinite(t.a) || !std::isfinite(t.b) || !std::isfinite(t.c))
             throw Error("vsop87Full(): " + sourceName + ":" + std::to_string(lineNo) + ": expected three numbers \"A B C\"");
-        // Plausible sizes: the kstars-data files reach |A| 30.07 au, |B| 6.29 rad, |C| 94,138
-        // rad/millennium; the evaluator's cosine is accurate for |B + C t| < 6.5e6 (fast_trig.hpp),
-        // which these limits keep over |t| <= 4 millennia. Beyond them a sum turns inf or NaN.
-        if (!(std::fabs(t.a) <= 1e3 && std::fabs(t.b) <= 1e3 && std::fabs(t.c) <= 1e6))
+        // Plausible sizes: the kstars-data files reach |A| 26,088 (Mercury's mean motion, the
+        // constant term of its L1 series in rad/millennium; distances reach 30.07 au), |B| 6.29
+        // rad, |C| 94,138 rad/millennium; the evaluator's cosine is accurate for |B + C t| < 6.5e6
+        // (fast_trig.hpp), which these limits keep over |t| <= 4 millennia. Beyond them a sum
+        // turns inf or NaN.
+        if (!(std::fabs(t.a) <= 1e5 && std::fabs(t.b) <= 1e3 && std::fabs(t.c) <= 1e6))
             throw Error("vsop87Full(): " + sourceName + ":" + std::to_string(lineNo) +
-                        ": term out of range (|A| <= 1000, |B| <= 1000 rad, |C| <= 1e6 rad/millennium)");
+                        ": term out of range (|A| <= 1e5, |B| <= 1000 rad, |C| <= 1e6 rad/millennium)");
         terms.push_back(t);
     }
     std::stable_sort(terms.begin(), terms.end(), [](const VsopTerm& x, const VsopTerm& y) { return std::fabs(x.a) > std::fabs(y.a); });

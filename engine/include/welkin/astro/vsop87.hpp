@@ -53,7 +53,7 @@ const VsopBody& vsop87Full(VsopPlanet p);
 void checkVsop87Files(const std::string& directory);
 /// One series file's text ("A B C" per line, blank lines ignored) as terms sorted by decreasing
 /// |A|; what vsop87Full() reads each file with. Throws welkin::Error "vsop87Full(): source:line:
-/// ..." for a line that is not three finite numbers or a term beyond |A| <= 1000, |B| <= 1000 rad,
+/// ..." for a line that is not three finite numbers or a term beyond |A| <= 1e5, |B| <= 1000 rad,
 /// |C| <= 1e6 rad/millennium (the real files stay below 31, 6.3 and 1e5). `sourceName` names the
 /// text in errors.
 std::vector<VsopTerm> parseVsop87Series(std::string_view text, const std::string& sourceName);
