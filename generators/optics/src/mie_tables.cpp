@@ -1,4 +1,5 @@
 // The Mie phase tables (see mie_tables.hpp).
+#include <welkin/cache.hpp>
 #include <welkin/check.hpp>
 #include <welkin/color.hpp>
 #include <welkin/error.hpp>
@@ -244,10 +245,7 @@ MieTable MieTable::build(const Quality& q, int threads) {
 std::string MieTable::cachePath(const Quality& q) {
     MieTable t;
     t.q = q;
-    std::filesystem::path dir;
-    if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) dir = std::filesystem::path(x) / "welkin";
-    else if (const char* h = std::getenv("HOME"); h && *h) dir = std::filesystem::path(h) / ".cache" / "welkin";
-    else dir = std::filesystem::temp_directory_path() / "welkin";
+    const std::filesystem::path dir = cacheDirectory();
     char name[64];
     std::snprintf(name, sizeof name, "mie-%016llx.bin", static_cast<unsigned long long>(t.hash()));
     return (dir / name).string();

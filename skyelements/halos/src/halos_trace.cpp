@@ -1,4 +1,5 @@
 // The crystal ray tracer of the Halos element (contract in welkin/elements/halos.hpp).
+#include <welkin/cache.hpp>
 #include <welkin/elements/halos.hpp>
 #include <welkin/error.hpp>
 
@@ -515,10 +516,7 @@ HaloTables HaloTables::build(const Quality& q, double plateAspect, double column
 }
 
 std::string HaloTables::cachePath(const HaloTables& t) {
-    std::filesystem::path dir;
-    if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) dir = std::filesystem::path(x) / "welkin";
-    else if (const char* h = std::getenv("HOME"); h && *h) dir = std::filesystem::path(h) / ".cache" / "welkin";
-    else dir = std::filesystem::temp_directory_path() / "welkin";
+    const std::filesystem::path dir = cacheDirectory();
     char name[64];
     std::snprintf(name, sizeof name, "halos-%016llx.bin", static_cast<unsigned long long>(t.hash()));
     return (dir / name).string();
