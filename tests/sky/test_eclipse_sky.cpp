@@ -132,9 +132,11 @@ TEST_CASE("Eclipse sky: the GPU's eclipse table against the CPU twin at totality
         const double gpu = Y(ecl.px(x, y)), cpuY = Y(twin);
         INFO("pixel " << x << "," << y << " (alt " << std::asin(d.z) / kDeg << " deg): GPU " << gpu << ", twin " << cpuY);
         // The table (2x the sky view's width over 360 deg, its latitude rows, fp16, 30 steps per
-        // ray) against a 128-step march: 8 % (the shadow's steep edge across texels near the horizon).
-        CHECK(gpu == Approx(cpuY).epsilon(0.08));
-        worst = std::max(worst, std::abs(gpu / cpuY - 1.0));
+        // ray) against a 128-step march: 8 % (the shadow's steep edge across texels near the horizon),
+        // or 1e-5 cd/m^2 where the twin is ~0 in the umbra (starlight's scale, invisible beside the
+        // stars; an NVIDIA H100 gave 1.6e-7 where the twin gives 0, llvmpipe 0).
+        CHECK(gpu == Approx(cpuY).epsilon(0.08).margin(1e-5));
+        if (cpuY > 1e-5) worst = std::max(worst, std::abs(gpu / cpuY - 1.0));
     }
     std::printf("\neclipse table vs CPU twin at totality: largest difference %.1f %%\n", 100 * worst);
 }
