@@ -26,9 +26,9 @@ TEST_CASE("welkin bench all: bad options are one-line errors", "[cpu][cli][bench
                       {"--size-override 64", "--size-override '64' not WIDTHxHEIGHT in [1, 8192]"},
                       {"--frames 0", "--frames 0 not in [1, 1000]"},
                       {"--framework-frames 1001", "--framework-frames 1001 not in [0, 1000]"},
-                      // (--out given: the default docs/BENCHMARKS.md is checked first, and ctest runs
+                      // (--out and --plots given: the defaults under docs/ are checked first, and ctest runs
                       // in the build folder, which has no docs/)
-                      {"--only nosuch --out '" WELKIN_BINARY_DIR "/b.md'", "--only: unknown element 'nosuch'"},
+                      {"--only nosuch --plots '' --out '" WELKIN_BINARY_DIR "/b.md'", "--only: unknown element 'nosuch'"},
                       {"--plots /nonexistent-dir/bench --out '" WELKIN_BINARY_DIR "/b.md'", "--plots '/nonexistent-dir/bench': no such directory"},
                       {"--out /nonexistent-dir/b.md", "--out '/nonexistent-dir/b.md': no directory '/nonexistent-dir'"}});
     for (const auto& f : failures) FAIL_CHECK(f);  // (INFO inside a loop would vanish with its scope)
