@@ -536,10 +536,14 @@ int run(const AllOptions& o) {
        << "- Date: " << date << "\n- Machine: " << cpuModel() << "; GL renderer: " << renderer << "; load average (1 min) " << loadAtStart << " at the start, " << loadAverage() << " at the end" << "\n- Commit: " << commit
        << "\n- Run: " << (o.quick ? "`--quick` (" : "full (") << frames << " timed frames per measurement, median), " << fmt(seconds, 0)
        << " s in all\n\n"
-       << "This machine renders in software (Mesa llvmpipe) and is shared with other jobs, so milliseconds are noisy; every cost is "
-          "therefore given as a ratio to a trivial fullscreen pass (one constant-cost fragment per pixel into an RGBA32F target) "
-          "timed alternately with it in the same frames, at the same size. Expect ratios to move by 10-30 % between runs on a "
-          "busy machine.\n\n"
+       << (renderer.find("llvmpipe") != std::string::npos
+               ? "This machine renders in software (Mesa llvmpipe) and may be shared with other jobs, so milliseconds are noisy; every cost is "
+                 "therefore given as a ratio to a trivial fullscreen pass (one constant-cost fragment per pixel into an RGBA32F target) "
+                 "timed alternately with it in the same frames, at the same size. Expect ratios to move by 10-30 % between runs on a "
+                 "busy machine.\n\n"
+               : "Every cost is given as a ratio to a trivial fullscreen pass (one constant-cost fragment per pixel into an RGBA32F "
+                 "target) timed alternately with it in the same frames, at the same size; the trivial pass's own milliseconds are in "
+                 "the last column, so the ratios convert to absolute times on this GPU.\n\n")
        << "An element registers its bench from its own folder (`skyelements/<name>/bench/*.cpp`, `welkin/bench.hpp`); an element "
           "that registers none is measured in the default scene.\n\n";
     md << "## Cost per frame, as a ratio to a trivial pass\n\n"
