@@ -14,10 +14,21 @@ namespace {
 // and its verdict are under test here; soaking every element takes `welkin bench soak` itself
 // (minutes to hours on llvmpipe).
 const std::string kShortSoak = "bench soak --frames 30 --day-frames 10 --warmup 10 --rows 2 --size 16x8 --elements grid";
+#if defined(__SANITIZE_ADDRESS__)
+// Under AddressSanitizer (CI's sanitizer step builds the command with it) freed blocks wait in
+// ASan's quarantine (256 MiB by default), so the process's RSS grows by megabytes a frame without
+// a leak (measured: 12 MiB over 20 frames of this soak): the RSS verdict is off there; the GL
+// object counts and the finite pixels are still checked.
+constexpr bool kRssMeaningful = false;
+const std::string kRssOption = " --rss-tolerance 100000";
+#else
+constexpr bool kRssMeaningful = true;
+const std::string kRssOption;
+#endif
 }  // namespace
 
 TEST_CASE("welkin bench soak: a short soak passes; an injected leak fails it, naming what grew", "[gl][cli][bench][soak]") {
-    const welkin::test::CliResult ok = welkin::test::runCli(kShortSoak);
+    const welkin::test::CliResult ok = welkin::test::runCli(kShortSoak + kRssOption);
     INFO(ok.output);
     CHECK(ok.status == 0);
     CHECK(ok.output.find("verdict: PASS") != std::string::npos);
@@ -27,12 +38,12 @@ TEST_CASE("welkin bench soak: a short soak passes; an injected leak fails it, na
     CHECK(ok.output.find("| 30 | ") != std::string::npos);
 
     // 20 frames after the warm-up leak 20 textures and 20 MiB: over the 8 MiB RSS tolerance.
-    const welkin::test::CliResult leak = welkin::test::runCli(kShortSoak + " --inject-leak");
+    const welkin::test::CliResult leak = welkin::test::runCli(kShortSoak + kRssOption + " --inject-leak");
     INFO(leak.output);
     CHECK(leak.status == 2);
     CHECK(leak.output.find("verdict: FAIL") != std::string::npos);
     CHECK(leak.output.find("textures grew from") != std::string::npos);
-    CHECK(leak.output.find("RSS grew from") != std::string::npos);
+    if (kRssMeaningful) CHECK(leak.output.find("RSS grew from") != std::string::npos);
 }
 
 TEST_CASE("welkin bench soak: bad options are one-line errors", "[cpu][cli][bench][soak]") {
