@@ -1,16 +1,7 @@
 #!/usr/bin/env bash
 # Second device run: the [gl] failures in full and the [slow] tests.
 set -u
-root=$(pwd)
-for f in .gl/*.deb; do dpkg -x "$f" /; done; ldconfig
-export __EGL_VENDOR_LIBRARY_FILENAMES=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
-export LD_LIBRARY_PATH=$root/.gpu/lib
-mkdir -p /usr/share/kstars /usr/share/stellarium/textures /usr/share/fonts/truetype/dejavu /work
-cp .gpu/data/kstars/* /usr/share/kstars/; cp .gpu/data/stellarium/* /usr/share/stellarium/textures/
-cp .gpu/data/fonts/* /usr/share/fonts/truetype/dejavu/
-[ "$root" = /work/main ] || ln -sfn "$root" /work/main
-mkdir -p build/bin build/tests
-cp .gpu/bin/welkin build/bin/; cp .gpu/bin/welkin_tests build/tests/
+. .gpu/env.sh
 mkdir -p /tmp/r && cd /tmp/r
 t0=$(date +%s)
 timeout 150 /work/main/build/tests/welkin_tests "[gl]~[slow]" -r compact 2>&1 | grep -v "performance warning" > $OUT/gl.txt
