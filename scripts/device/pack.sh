@@ -20,7 +20,7 @@ cp /usr/share/kstars/*.vsop .gpu/data/kstars/
 for f in stars.dat namedstars.dat unnamedstars.dat clines.dat cnames.dat moonB.dat moonLR.dat; do cp "/usr/share/kstars/$f" .gpu/data/kstars/; done
 cp /usr/share/stellarium/textures/{milkyway.png,moon_4k.jpg,moon_normals.png} .gpu/data/stellarium/
 cp /usr/share/fonts/truetype/dejavu/DejaVuSans.ttf .gpu/data/fonts/
-cp scripts/device/run-*.sh .gpu/
+cp scripts/device/run-*.sh scripts/device/env.sh .gpu/
 if [ ! -d .gl ]; then
   mkdir -p .gl /tmp/amd64/partial
   o='-oAPT::Architecture=amd64 -oAPT::Architectures=amd64 -oDir::State::Lists=/tmp/amd64'
