@@ -46,7 +46,7 @@ echo "== cloud data images: weather map, noise slices, density section (docs/clo
 echo "== the eye's day-to-night strips (docs/eye.md)"
 tmp=$(mktemp -d)
 times=(2026-08-12T17:30:00+02:00 2026-08-12T19:30:00+02:00 2026-08-12T20:10:00+02:00 2026-08-12T20:40:00+02:00 2026-08-27T23:30:00+02:00 2026-08-12T22:30:00+02:00)
-for curve in 0 1; do
+for curve in aces hable; do
   frames=()
   for i in "${!times[@]}"; do
     "$w" render --time "${times[$i]}" --lat 35.9 --lon 14.5 --az 285 --alt 20 --fov 90 --size 192x144 \
@@ -54,7 +54,7 @@ for curve in 0 1; do
     frames+=("$tmp/f$i.png")
   done
   out=docs/images/eye_strip_malta.png
-  [ "$curve" = 1 ] && out=docs/images/eye_strip_malta_hable.png
+  [ "$curve" = hable ] && out=docs/images/eye_strip_malta_hable.png
   oiiotool "${frames[@]}" --mosaic 6x1 -o "$out"
 done
 rm -rf "$tmp"

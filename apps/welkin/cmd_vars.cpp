@@ -32,6 +32,9 @@ struct Row {
     std::set<std::string> options, readers, writers;
 };
 
+// "enum" for a string key with named values, else the value type's name.
+std::string typeText(const KeyInfo& k) { return k.choices.empty() ? std::string(k.typeName) : std::string("enum"); }
+
 std::string rangeText(const std::optional<Range>& r) {
     if (!r) return "";
     char buf[96];
@@ -39,7 +42,8 @@ std::string rangeText(const std::optional<Range>& r) {
     return buf;
 }
 
-std::string join(const std::set<std::string>& s) {
+template <class Strings>
+std::string join(const Strings& s) {
     std::string out;
     for (auto& x : s) out += (out.empty() ? "" : ", ") + x;
     return out;
@@ -80,7 +84,7 @@ int run(const VarsOptions& o) {
         nlohmann::json j = nlohmann::json::array();
         for (auto& [name, r] : rows) {
             nlohmann::json k = {{"name", name},
-                                {"type", r.info.typeName},
+                                {"type", typeText(r.info)},
                                 {"unit", r.info.unit},
                                 {"default", r.value},
                                 {"description", r.info.description},
@@ -90,6 +94,7 @@ int run(const VarsOptions& o) {
                                 {"written_by", r.writers}};
             if (r.info.range) k["range"] = {r.info.range->min, r.info.range->max};
             else k["range"] = nullptr;
+            if (!r.info.choices.empty()) k["choices"] = r.info.choices;
             j.push_back(k);
         }
         std::printf("%s\n", j.dump(2).c_str());
@@ -100,15 +105,15 @@ int run(const VarsOptions& o) {
         std::printf("|---|---|---|---|---|---|---|---|---|\n");
         for (auto& [name, r] : rows) {
             std::string v = r.value.size() > 40 ? r.value.substr(0, 37) + "..." : r.value;
-            std::printf("| `%s` | %s | %s | %s | %s | %s | %s | %s | %s |\n", name.c_str(), r.info.typeName, r.info.unit.c_str(),
-                        rangeText(r.info.range).c_str(), v.c_str(), r.info.description.c_str(), join(r.options).c_str(),
+            std::printf("| `%s` | %s | %s | %s | %s | %s | %s | %s | %s |\n", name.c_str(), typeText(r.info).c_str(), r.info.unit.c_str(),
+                        r.info.choices.empty() ? rangeText(r.info.range).c_str() : join(r.info.choices).c_str(), v.c_str(), r.info.description.c_str(), join(r.options).c_str(),
                         join(r.readers).c_str(), join(r.writers).c_str());
         }
         return 0;
     }
     for (auto& [name, r] : rows) {
-        std::printf("%s  %s%s%s%s%s\n", name.c_str(), r.info.typeName, r.info.unit.empty() ? "" : (" " + r.info.unit).c_str(),
-                    r.info.range ? (" " + rangeText(r.info.range)).c_str() : "", r.value.empty() ? "" : (" = " + r.value).c_str(),
+        std::printf("%s  %s%s%s%s%s\n", name.c_str(), typeText(r.info).c_str(), r.info.unit.empty() ? "" : (" " + r.info.unit).c_str(),
+                    r.info.range ? (" " + rangeText(r.info.range)).c_str() : (r.info.choices.empty() ? "" : (" {" + join(r.info.choices) + "}").c_str()), r.value.empty() ? "" : (" = " + r.value).c_str(),
                     r.options.empty() ? "" : ("  (option of " + join(r.options) + ")").c_str());
         if (!r.info.description.empty()) std::printf("    %s\n", r.info.description.c_str());
         if (!r.readers.empty()) std::printf("    read by: %s\n", join(r.readers).c_str());

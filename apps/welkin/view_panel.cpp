@@ -253,7 +253,7 @@ void ViewPanel::placeSection(SkyProcessor& sky) {
 void ViewPanel::displaySection(SkyProcessor& sky, Camera& camera) {
     SkyVars& v = sky.vars();
     // Quality preset (render.quality).
-    int q = v.has(keys::quality) ? v.get(keys::quality) : 1;
+    int q = keys::quality.valueOr(v, 1);
     const char* qualities[] = {"low", "medium", "high", "reference"};
     ImGui::SetNextItemWidth(-110);
     if (ImGui::Combo("quality", &q, qualities, 4)) v.set(keys::quality, std::clamp(q, 0, 3));

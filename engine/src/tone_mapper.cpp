@@ -22,7 +22,7 @@ ToneSettings ToneSettings::fromVars(const SkyVars& v) {
     s.automatic = v.get(keys::exposureAuto);
     s.ev100 = v.get(keys::exposureEv100);
     s.compensationEv = v.get(eye::keys::compensation);
-    s.curve = v.get(eye::keys::curve);
+    s.curve = eye::keys::curve.value(v);
     s.eye = v.get(eye::keys::adaptation);
     s.adaptationMin = v.get(eye::keys::adaptationMin);
     s.adaptationMax = v.get(eye::keys::adaptationMax);

@@ -20,6 +20,15 @@ void SkyVars::checkScalar(const std::string& name, const std::optional<Range>& r
     }
 }
 
+void SkyVars::checkName(const std::string& name, const std::vector<std::string>& choices, const std::string& value) {
+    if (choices.empty()) return;
+    for (const std::string& c : choices)
+        if (c == value) return;
+    std::string list;
+    for (const std::string& c : choices) list += (list.empty() ? "" : ", ") + c;
+    throw Error("key '" + name + "': '" + value + "' is not one of " + list);
+}
+
 std::vector<std::string> SkyVars::names() const {
     std::vector<std::string> out;
     out.reserve(entries_.size());
@@ -85,10 +94,14 @@ void SkyVars::checkCompatible(Entry& e, const KeyInfo& k) const {
     bool typeOk = e.type == k.type;
     bool rangeOk = !e.range || !k.range || *e.range == *k.range;
     bool unitOk = e.unit.empty() || k.unit.empty() || e.unit == k.unit;
+    bool choicesOk = e.choices.empty() || k.choices.empty() || e.choices == k.choices;
+    if (!choicesOk)
+        throw Error("SkyVars: key '" + k.name + "' declared by '" + e.declarer + "' and by '" + declarer_ + "' with different names of its values");
     if (!typeOk || !rangeOk || !unitOk)
         throw Error("SkyVars: key '" + k.name + "' declared by '" + e.declarer + "' as " + describeDecl(e.typeName, e.range, e.unit) +
                     " and by '" + declarer_ + "' as " + describeDecl(k.typeName, k.range, k.unit));
     if (!e.range && k.range) e.range = k.range;
+    if (e.choices.empty()) e.choices = k.choices;
     if (e.unit.empty()) e.unit = k.unit;
     if (e.description.empty()) e.description = k.description;
 }
@@ -103,7 +116,7 @@ std::optional<KeyInfo> SkyVars::info(std::string_view name) const {
     auto it = entries_.find(name);
     if (it == entries_.end()) return std::nullopt;
     const Entry& e = it->second;
-    return KeyInfo{it->first, e.type, e.typeName, e.range, e.description, e.unit};
+    return KeyInfo{it->first, e.type, e.typeName, e.range, e.description, e.unit, e.choices};
 }
 
 std::vector<double> SkyVars::numeric(std::string_view name) const {
@@ -211,6 +224,7 @@ void SkyVars::setFromString(std::string_view name, std::string_view text) {
         auto c = components(4);
         store(glm::dvec4(c[0], c[1], c[2], c[3]));
     } else if (e.type == typeid(std::string)) {
+        checkName(key, e.choices, t);
         store(t);
     } else {
         throw Error("key '" + key + "' holds " + e.typeName + ", which cannot be set from text");
@@ -220,7 +234,7 @@ void SkyVars::setFromString(std::string_view name, std::string_view text) {
 std::vector<KeyDescription> SkyVars::describe() const {
     std::vector<KeyDescription> out;
     for (const auto& [name, e] : entries_)
-        out.push_back({KeyInfo{name, e.type, e.typeName, e.range, e.description, e.unit}, e.declarer, valueString(name), e.isSet});
+        out.push_back({KeyInfo{name, e.type, e.typeName, e.range, e.description, e.unit, e.choices}, e.declarer, valueString(name), e.isSet});
     return out;
 }
 

@@ -345,8 +345,9 @@ TEST_CASE("welkin render --var and welkin vars", "[gl][cli]") {
         if (k["name"] == "sky.quality") {
             sawQuality = true;
             CHECK(k["option_of"] == nlohmann::json::array({"sky"}));
-            CHECK(k["type"] == "int");
-            CHECK(k["range"] == nlohmann::json::array({-1.0, 3.0}));
+            CHECK(k["type"] == "enum");
+            CHECK(k["range"] == nullptr);
+            CHECK(k["choices"] == nlohmann::json::array({"auto", "low", "medium", "high", "reference"}));
         }
         if (k["name"] == "lights.sun_illuminance") {
             sawLights = true;

@@ -360,7 +360,7 @@ TEST_CASE("Two processors in one process are independent", "[gl][processor]") {
     CHECK(a.readHdr().at(1, 1, 0) == 1.0f);
     CHECK(b.readHdr().at(1, 1, 0) == 2.0f);
     a.vars().set(keys::quality, 3);
-    CHECK(b.vars().get(keys::quality) == 1);
+    CHECK(keys::quality.value(b.vars()) == 1);
 }
 
 TEST_CASE("The astronomy step writes the Sun's direction unless the host owns it", "[gl][processor]") {

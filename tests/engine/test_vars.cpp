@@ -68,9 +68,43 @@ TEST_CASE("SkyVars: unset, wrong type and out-of-range are errors naming the key
     CHECK_THROWS_WITH(v.set(keys::observerLatitude, 2.0), Catch::Contains("observer.latitude_rad"));
 }
 
+TEST_CASE("SkyVars: an enumerated key takes and prints names, the same way everywhere", "[cpu][vars]") {
+    enum class Mode { Fast, Exact };
+    const EnumKey<Mode> kMode{"test.mode", {{"fast", Mode::Fast}, {"exact", Mode::Exact}}, "test enumeration"};
+    SkyVars v;
+    v.declare(kMode, Mode::Exact);
+    CHECK(v.get(kMode) == "exact");  // stored and shown as its name
+    CHECK(v.valueString("test.mode") == "exact");
+    CHECK(kMode.value(v) == Mode::Exact);
+    v.setFromString("test.mode", "fast");  // what --var and JSON do
+    CHECK(kMode.value(v) == Mode::Fast);
+    v.set(kMode, Mode::Exact);  // C++ by value
+    CHECK(v.get(kMode) == "exact");
+    // Any other text, a number included, is refused in one line listing the names; the value stays.
+    CHECK_THROWS_WITH(v.setFromString("test.mode", "1"), "key 'test.mode': '1' is not one of fast, exact");
+    CHECK_THROWS_WITH(v.set(kMode, std::string("slow")), "key 'test.mode': 'slow' is not one of fast, exact");
+    const Key<std::string> plain{"test.mode"};  // a reader without the names still cannot set a bad one
+    CHECK_THROWS_WITH(v.set(plain, std::string("slow")), "key 'test.mode': 'slow' is not one of fast, exact");
+    CHECK(kMode.value(v) == Mode::Exact);
+    CHECK(v.info("test.mode")->choices == std::vector<std::string>{"fast", "exact"});
+    // A second declarer with other names is an error.
+    const EnumKey<int> kOther{"test.mode", {{"a", 0}, {"b", 1}}};
+    CHECK_THROWS_WITH(v.declare(kOther, 0), Catch::Contains("different names"));
+
+    // The engine's enumerated keys: quality presets and curves by name (the integer levels of
+    // earlier versions are refused, naming the accepted names).
+    SkyVars e = SkyVars::earth();
+    e.setFromString("render.quality", "high");
+    CHECK(keys::quality.value(e) == 2);
+    CHECK_THROWS_WITH(e.setFromString("render.quality", "2"), "key 'render.quality': '2' is not one of low, medium, high, reference");
+    e.set(keys::quality, 3);
+    CHECK(e.valueString("render.quality") == "reference");
+    CHECK_THROWS_WITH(e.set(keys::quality, 7), Catch::Contains("no name for the value"));
+}
+
 TEST_CASE("SkyVars::earth() declares the engine keys", "[cpu][vars]") {
     SkyVars v = SkyVars::earth();
-    CHECK(v.get(keys::quality) == 1);
+    CHECK(keys::quality.value(v) == 1);
     CHECK(v.has(keys::observerHeight));
     CHECK(v.typeName("observer.height_m") == "double");
 }

@@ -267,6 +267,11 @@ protected:
     }
     /// Declares an option without a default (listed by `welkin vars` as unset): the element
     /// supplies a value in doInit() when nobody set one (SkyVars::has()), e.g. from a preset.
+    /// An enumerated option, its default given by value (stored as its name).
+    template <class E>
+    void option(const EnumKey<E>& key, E defaultValue, bool force = false) {
+        option(static_cast<const Key<std::string>&>(key), key.nameOf(defaultValue), force);
+    }
     template <class T>
     void optionUnset(const Key<T>& key) {
         optionKeys_.push_back(key.info());

@@ -36,7 +36,7 @@ namespace keys {
 /// Added brightness for automatic exposure, EV, [-10, 10].
 inline const Key<double> compensation{"exposure.compensation_ev", Range{-10, 10}, "added brightness for automatic exposure, EV", "EV"};
 /// Display curve: 0 ACES fit (Narkowicz), 1 Hable filmic, 2 Reinhard on luminance, 3 none (clip).
-inline const Key<int> curve{"exposure.curve", Range{0, 3}, "display curve: 0 ACES fit, 1 Hable filmic, 2 Reinhard (luminance), 3 none"};
+inline const EnumKey<int> curve{"exposure.curve", {{"aces", 0}, {"hable", 1}, {"reinhard", 2}, {"none", 3}}, "display curve: aces (ACES fit), hable (filmic), reinhard (on luminance) or none (clip); levels 0-3 in C++"};
 /// Automatic exposure follows the eye (TVI model); false: a camera's log-average exposure.
 inline const Key<bool> adaptation{"eye.adaptation", "automatic exposure follows the eye's sensitivity (Ferwerda 1996 TVI); false: camera"};
 /// Lowest adaptation luminance, cd/m^2 (absolute threshold of the dark-adapted eye ~1e-6).

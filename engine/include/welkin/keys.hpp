@@ -63,7 +63,7 @@ inline const Key<double> moonEclipseFactor{"moon.eclipse_factor", Range{0, 1}, "
 
 // --- Rendering --------------------------------------------------------------------------------
 /// Quality preset: 0 low, 1 medium (default), 2 high, 3 reference.
-inline const Key<int> quality{"render.quality", Range{0, 3}, "quality preset: 0 low, 1 medium, 2 high, 3 reference"};
+inline const EnumKey<int> quality{"render.quality", {{"low", 0}, {"medium", 1}, {"high", 2}, {"reference", 3}}, "quality preset: low, medium, high or reference (as int levels 0-3 in C++)"};
 /// Manual exposure, EV100, [-20, 30] (used when exposureAuto is false).
 inline const Key<double> exposureEv100{"exposure.ev100", Range{-20, 30}, "exposure value at ISO 100"};
 /// The frames are shown one after another while the time and the camera move (welkin view, a

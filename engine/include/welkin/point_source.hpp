@@ -30,7 +30,7 @@ namespace welkin {
 
 namespace keys {
 /// physical | perceptual (see above); the engine declares it (default physical).
-inline const Key<std::string> pointSources{"render.point_sources",
+inline const Key<std::string> pointSources{"render.point_sources", Choices{{"physical", "perceptual"}},
                                            "stars and unresolved planets: physical (flux per pixel, HDR/EXR output) or perceptual (drawn size "
                                            "and contrast from the eye's point-source threshold over the local sky, displayed images)"};
 /// Weber contrast over the sky behind it of a point at the eye's threshold (perceptual mode).

@@ -8,6 +8,12 @@
 //   uint64_t v = vars.version(kTurbidity);
 //   vars.setFromString("sky.turbidity", "4");   // what `--var sky.turbidity=4` does: parsed by type
 //
+//   // An enumerated key takes and prints names; C++ reads the value it names.
+//   inline const welkin::EnumKey<int> kQuality{"demo.quality", {{"low", 0}, {"high", 1}}, "preset"};
+//   vars.declare(kQuality, 1);                 // by value: stored as "high"
+//   vars.setFromString("demo.quality", "low"); // names only: "ultra" or "2" is refused, listing the names
+//   int q = kQuality.value(vars);              // 0
+//
 // Declarations: a key declared by two parties (elements, generators, the host) must agree on
 // type, range and unit; a disagreement is an error naming both declarers (who is declaring is
 // set by SkyVars::DeclarerScope, which SkyProcessor opens around each element and generator).
@@ -42,6 +48,13 @@ struct TextureRef {
     unsigned target = 0;  ///< GL_TEXTURE_2D, GL_TEXTURE_3D, ...
     int width = 0, height = 0, depth = 0;
     bool operator==(const TextureRef&) const = default;
+};
+
+/// The names a string key accepts (an enumeration): setting any other text is an error that lists
+/// them. Empty: any text.
+struct Choices {
+    std::vector<std::string> names;
+    bool operator==(const Choices&) const = default;
 };
 
 /// Closed numeric range for a key; both ends inclusive.
@@ -83,6 +96,7 @@ struct KeyInfo {
     std::optional<Range> range;
     std::string description;
     std::string unit;  ///< e.g. "m", "rad", "lx", "cd/m^2"; "" for dimensionless or non-numeric values
+    std::vector<std::string> choices;  ///< an enumerated string key's names (empty: any text)
 };
 
 /// The unit implied by a key name's suffix ("observer.height_m" -> "m"), or "".
@@ -100,12 +114,17 @@ public:
     /// A key whose scalar values (or every component of a vector) must lie in `range`.
     Key(std::string name, Range range, std::string description = {}, std::string unit = {})
         : name_(std::move(name)), range_(range), description_(std::move(description)), unit_(unitOr(unit, name_)) {}
+    /// An enumerated string key: its values are one of `choices` (see also EnumKey).
+    Key(std::string name, Choices choices, std::string description = {})
+        requires std::is_same_v<T, std::string>
+        : name_(std::move(name)), description_(std::move(description)), choices_(std::move(choices.names)) {}
 
     const std::string& name() const { return name_; }
     const std::optional<Range>& range() const { return range_; }
     const std::string& description() const { return description_; }
     const std::string& unit() const { return unit_; }
-    KeyInfo info() const { return {name_, typeid(T), detail::TypeName<T>::value, range_, description_, unit_}; }
+    const std::vector<std::string>& choices() const { return choices_; }
+    KeyInfo info() const { return {name_, typeid(T), detail::TypeName<T>::value, range_, description_, unit_, choices_}; }
 
 private:
     static std::string unitOr(const std::string& unit, const std::string& name) { return unit.empty() ? unitFromKeyName(name) : unit; }
@@ -113,7 +132,11 @@ private:
     std::optional<Range> range_;
     std::string description_;
     std::string unit_;
+    std::vector<std::string> choices_;
 };
+
+template <class E>
+class EnumKey;
 
 /// One row of SkyVars::describe(): what `welkin vars` lists.
 struct KeyDescription {
@@ -144,6 +167,7 @@ public:
             checkCompatible(it->second, key.info());
             if (!it->second.isSet) {
                 validate(key.name(), it->second.range, defaultValue);
+                checkChoice(key.name(), it->second.choices, defaultValue);
                 it->second.value = std::move(defaultValue);
                 it->second.isSet = true;
                 ++it->second.version;
@@ -151,8 +175,12 @@ public:
             return;
         }
         validate(key.name(), key.range(), defaultValue);
+        checkChoice(key.name(), key.choices(), defaultValue);
         entries_.emplace(key.name(), makeEntry(key.info(), std::any(std::move(defaultValue)), true));
     }
+    /// Declares an enumerated key with the value named by `defaultValue`.
+    template <class E>
+    void declare(const EnumKey<E>& key, E defaultValue);
 
     /// Declares `key` with no value yet: reading it before set() is an error.
     template <class T>
@@ -185,6 +213,7 @@ public:
     template <class T>
     void set(const Key<T>& key, T value) {
         validate(key.name(), key.range(), value);
+        checkChoice(key.name(), key.choices(), value);
         auto it = entries_.find(key.name());
         if (it == entries_.end()) {
             entries_.emplace(key.name(), makeEntry(key.info(), std::any(std::move(value)), true));
@@ -192,13 +221,18 @@ public:
         }
         Entry& e = it->second;
         checkType<T>(e, key.name());
-        if (e.range != key.range() || e.unit != key.unit()) checkCompatible(e, key.info());
+        if (e.range != key.range() || e.unit != key.unit() || e.choices != key.choices()) checkCompatible(e, key.info());
         if (e.range && !key.range()) validate(key.name(), e.range, value);
+        if (key.choices().empty()) checkChoice(key.name(), e.choices, value);
         if (e.isSet && std::any_cast<const T&>(e.value) == value) return;
         e.value = std::move(value);
         e.isSet = true;
         ++e.version;
     }
+
+    /// Sets an enumerated key to the name of `value` (an error if `value` has no name).
+    template <class E>
+    void set(const EnumKey<E>& key, E value);
 
     /// The value of `key`. Throws welkin::Error naming the key if unset or of another type.
     template <class T>
@@ -286,10 +320,11 @@ private:
         uint64_t version = 0;
         bool isSet = false;
         std::string unit, description, declarer;
+        std::vector<std::string> choices;
     };
 
     Entry makeEntry(const KeyInfo& k, std::any value, bool isSet) const {
-        Entry e{std::move(value), k.type, k.typeName, k.range, isSet ? 1u : 0u, isSet, k.unit, k.description, declarer_};
+        Entry e{std::move(value), k.type, k.typeName, k.range, isSet ? 1u : 0u, isSet, k.unit, k.description, declarer_, k.choices};
         return e;
     }
     /// Throws if `k` disagrees with the entry's type, range or unit, naming both declarers; adopts
@@ -314,9 +349,67 @@ private:
         }
     }
     static void checkScalar(const std::string& name, const std::optional<Range>& range, double v);
+    template <class T>
+    static void checkChoice(const std::string& name, const std::vector<std::string>& choices, const T& value) {
+        if constexpr (std::is_same_v<T, std::string>) checkName(name, choices, value);
+    }
+    /// Throws "key 'NAME': 'VALUE' is not one of a, b, c" unless `choices` is empty or holds it.
+    static void checkName(const std::string& name, const std::vector<std::string>& choices, const std::string& value);
 
     std::map<std::string, Entry, std::less<>> entries_;
     std::string declarer_ = "host";
 };
+
+/// An enumerated key: stored and shown as a name (what `--var`, JSON and `welkin vars` use), read
+/// in C++ as the value the name stands for. `E` is any equality-comparable type (an enum class or
+/// an int level).
+template <class E>
+class EnumKey : public Key<std::string> {
+public:
+    EnumKey(std::string name, std::vector<std::pair<std::string, E>> values, std::string description = {})
+        : Key<std::string>(std::move(name), Choices{namesOf(values)}, std::move(description)), values_(std::move(values)) {}
+
+    /// The value a name stands for; throws naming the key and the accepted names.
+    E valueOf(const std::string& text) const {
+        for (const auto& [n, v] : values_)
+            if (n == text) return v;
+        throw Error("key '" + name() + "': '" + text + "' is not one of " + list());
+    }
+    /// The name of a value; throws if the value has none.
+    const std::string& nameOf(E value) const {
+        for (const auto& [n, v] : values_)
+            if (v == value) return n;
+        throw Error("key '" + name() + "': no name for the value given (names: " + list() + ")");
+    }
+    /// The value of the key in `vars` (throws if unset).
+    E value(const SkyVars& vars) const { return valueOf(vars.get(static_cast<const Key<std::string>&>(*this))); }
+    /// The value of the key in `vars`, or `fallback` if unset.
+    E valueOr(const SkyVars& vars, E fallback) const {
+        return vars.has(static_cast<const Key<std::string>&>(*this)) ? value(vars) : fallback;
+    }
+    const std::vector<std::pair<std::string, E>>& values() const { return values_; }
+
+private:
+    static std::vector<std::string> namesOf(const std::vector<std::pair<std::string, E>>& values) {
+        std::vector<std::string> out;
+        for (const auto& [n, v] : values) out.push_back(n);
+        return out;
+    }
+    std::string list() const {
+        std::string out;
+        for (const auto& [n, v] : values_) out += (out.empty() ? "" : ", ") + n;
+        return out;
+    }
+    std::vector<std::pair<std::string, E>> values_;
+};
+
+template <class E>
+void SkyVars::declare(const EnumKey<E>& key, E defaultValue) {
+    declare(static_cast<const Key<std::string>&>(key), key.nameOf(defaultValue));
+}
+template <class E>
+void SkyVars::set(const EnumKey<E>& key, E value) {
+    set(static_cast<const Key<std::string>&>(key), key.nameOf(value));
+}
 
 }  // namespace welkin

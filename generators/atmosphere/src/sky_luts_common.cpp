@@ -16,8 +16,8 @@
 namespace welkin::generators {
 
 int effectiveQuality(const SkyVars& vars) {
-    const int q = vars.getOr(skykeys::quality, -1);
-    return q >= 0 ? q : vars.getOr(keys::quality, 1);
+    const int q = skykeys::quality.valueOr(vars, -1);
+    return q >= 0 ? q : keys::quality.valueOr(vars, 1);
 }
 
 AtmosphereBlock AtmosphereBlock::from(const SkyModel& m, int shBands) {

@@ -64,7 +64,7 @@ namespace {
 // The element's options as they stand in `v` (checked: a host may have set any value in range).
 SkyOptions optionsFrom(const SkyVars& v) {
     SkyOptions o;
-    o.quality = v.get(skykeys::quality);
+    o.quality = skykeys::quality.value(v);
     o.moon = v.get(skykeys::moonLight);
     o.wavelengths = v.get(skykeys::wavelengths);
     o.aerialPerspective = v.get(skykeys::aerialVolume);

@@ -59,7 +59,7 @@ inline constexpr double kLutScale = 1e4;
 namespace skykeys {
 /// Quality preset of the sky passes: -1 follows render.quality, else 0 low .. 3 reference (an
 /// option of the Sky element). effectiveQuality() resolves it.
-inline const Key<int> quality{"sky.quality", Range{-1, 3}, "sky quality preset: -1 follows render.quality, 0 low, 1 medium, 2 high, 3 reference"};
+inline const EnumKey<int> quality{"sky.quality", {{"auto", -1}, {"low", 0}, {"medium", 1}, {"high", 2}, {"reference", 3}}, "sky quality preset: auto (follows render.quality), low, medium, high or reference (levels -1..3 in C++)"};
 /// The Moon as a second light of the sky (an option of the Sky element).
 inline const Key<bool> moonLight{"sky.moon", "the Moon lights the sky (false: Sun only)"};
 /// The Sky's option: the aerial-perspective volume is built (for a host's geometry:

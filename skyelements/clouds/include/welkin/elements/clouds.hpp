@@ -33,7 +33,7 @@
 namespace welkin::elements {
 
 namespace cloudelemkeys {
-inline const Key<std::string> preset{"clouds.preset", "cloud preset: fair, overcast, scattered-cirrus or clear (sets the cloud keys nobody set)"};
+inline const Key<std::string> preset{"clouds.preset", Choices{{"fair", "overcast", "scattered-cirrus", "clear"}}, "cloud preset: fair, overcast, scattered-cirrus or clear (sets the cloud keys nobody set)"};
 inline const Key<int> samples{"clouds.samples", Range{4, 512}, "ray-march samples per view ray through the cumulus layer"};
 inline const Key<int> lightSamples{"clouds.light_samples", Range{1, 32}, "light-march samples from each sample towards the Sun or Moon (self-shadowing)"};
 inline const Key<bool> reprojection{"clouds.reprojection", "the real-time path: the clouds in a direction-space cache refreshed over clouds.cache_frames frames, which every frame samples; off: every pixel every frame; unset: on when render.interactive (welkin view)"};

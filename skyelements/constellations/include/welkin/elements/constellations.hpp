@@ -48,7 +48,7 @@ inline const Key<std::string> namesFile{"constellations.names_file", "kstars cna
 inline const Key<std::string> culture{"constellations.culture", "sky culture of clines.dat/cnames.dat (Western, Chinese, Norse, ...)"};
 inline const Key<bool> lines{"constellations.lines", "draw the figures' lines"};
 inline const Key<bool> belowHorizon{"constellations.below_horizon", "draw lines and names below the (apparent) horizon too"};
-inline const Key<std::string> labels{"constellations.labels", "figure labels: name (Latin), abbreviation, or none"};
+inline const Key<std::string> labels{"constellations.labels", Choices{{"name", "abbreviation", "none"}}, "figure labels: name (Latin), abbreviation, or none"};
 inline const Key<double> lineWidth{"constellations.line_width_px", Range{0.5, 20}, "line width", "px"};
 inline const Key<double> lineLuminance{"constellations.line_luminance_cd_m2", Range{0, 1e10}, "line luminance; 0 = 60 % of white at the manual exposure"};
 inline const Key<glm::dvec3> lineColour{"constellations.line_colour", Range{0, 1}, "line colour, linear sRGB (scaled to luminance 1)", "1"};

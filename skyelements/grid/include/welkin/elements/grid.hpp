@@ -44,7 +44,7 @@ inline const Key<double> lineWidth{"grid.line_width_px", Range{0.5, 20}, "line w
 inline const Key<double> horizonWidth{"grid.horizon_width_px", Range{0.5, 40}, "horizon line width", "px"};
 inline const Key<double> luminance{"grid.luminance_cd_m2", Range{0, 1e10}, "line luminance; 0 = 80 % of white at the manual exposure"};
 inline const Key<bool> markers{"grid.markers", "draw N, E, S, W at the horizon"};
-inline const Key<std::string> frame{"grid.frame", "which grid: horizontal (altitude/azimuth), equatorial (RA/Dec, J2000) or both"};
+inline const Key<std::string> frame{"grid.frame", Choices{{"horizontal", "equatorial", "both"}}, "which grid: horizontal (altitude/azimuth), equatorial (RA/Dec, J2000) or both"};
 inline const Key<double> raStep{"grid.ra_step_rad", Range{1 * kDeg, 180 * kDeg}, "spacing of hour circles (equatorial; 15 deg = 1 h)"};
 inline const Key<double> decStep{"grid.dec_step_rad", Range{1 * kDeg, 90 * kDeg}, "spacing of declination circles (equatorial)"};
 /// The ecliptic (J2000 mean ecliptic, obliquity 23 deg 26' 21.406"), in any grid.frame.

@@ -46,7 +46,7 @@ namespace welkin::elements {
 
 namespace haloskeys {
 inline constexpr double kDeg = 0.017453292519943295;
-inline const Key<std::string> preset{"halos.preset", "crystal mix for the halos.plates/columns/random/parry nobody set: common (default: 22 deg halo, sundogs, arcs), display (a bright complex display), random (22 and 46 deg halos only)"};
+inline const Key<std::string> preset{"halos.preset", Choices{{"common", "display", "random"}}, "crystal mix for the halos.plates/columns/random/parry nobody set: common (default: 22 deg halo, sundogs, arcs), display (a bright complex display), random (22 and 46 deg halos only)"};
 inline const Key<double> opticalDepth{"halos.optical_depth", Range{0, 5}, "vertical optical depth of a crystal layer at the cirrus height, added to the cirrus' crystals (0: only the cirrus')"};
 inline const Key<double> cirrusFraction{"halos.cirrus_fraction", Range{0, 1}, "share of the cirrus layer's optical depth due to halo-making crystals"};
 inline const Key<double> plates{"halos.plates", Range{0, 1}, "weight of plate-oriented plates in the crystal mix (unset: the preset's)"};
@@ -56,7 +56,7 @@ inline const Key<double> parry{"halos.parry", Range{0, 1}, "weight of Parry-orie
 inline const Key<double> plateAspect{"halos.plate_aspect", Range{0.05, 1}, "plates' length along the c-axis over their diameter (2 x side)"};
 inline const Key<double> columnAspect{"halos.column_aspect", Range{1, 8}, "columns' length along the c-axis over their diameter (also the random population's)"};
 inline const Key<double> tilt{"halos.tilt_rad", Range{0.1 * kDeg, 10 * kDeg}, "spread (Gaussian sigma) of the oriented crystals' axes about their preferred orientation"};
-inline const Key<std::string> tableQuality{"halos.table_quality", "phase tables: low (CI tests), default, high (rays and resolution; docs/halos.md)"};
+inline const Key<std::string> tableQuality{"halos.table_quality", Choices{{"low", "default", "high"}}, "phase tables: low (CI tests), default, high (rays and resolution; docs/halos.md)"};
 }  // namespace haloskeys
 
 namespace halos {
