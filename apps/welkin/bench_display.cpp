@@ -241,7 +241,8 @@ RunResult runTimed(const std::vector<std::string>& argv, const std::string& dir,
         const std::vector<std::int64_t> ns = parseSwapLog(readFile(swapLog), swapLog);
         const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
         if (ns.empty() && waited > o.startTimeout) break;
-        if (!ns.empty() && double(ns.back() - ns.front()) * 1e-9 >= o.warmup + o.seconds) break;
+        const double start = windowStart(ns, o.warmup);
+        if (start == start && double(ns.back()) * 1e-9 >= start + o.seconds) break;
         if (!ns.empty() && waited > o.startTimeout + o.warmup + o.seconds + 60) break;  // a stalled program
     }
     if (!exited) {

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -47,12 +48,21 @@ struct FrameWindow {
     bool complete = false;  ///< the log reaches the window's end (the program ran long enough)
 };
 
-/// Statistics of the swaps in [first + warmupS, first + warmupS + windowS], `first` being the first
-/// swap (warmupS >= 0, windowS > 0, seconds).
-inline FrameWindow frameWindow(const std::vector<std::int64_t>& ns, double warmupS, double windowS) {
+/// When the window starts, s on the log's clock: warmupS after the first swap, and not before the
+/// swap number `warmupFrames` (1-based; a slow start's first frames take seconds each on a loaded
+/// machine). NaN until the log holds that many swaps.
+inline double windowStart(const std::vector<std::int64_t>& ns, double warmupS, int warmupFrames = 5) {
+    const size_t k = size_t(std::max(warmupFrames, 1));
+    if (ns.size() < k) return std::numeric_limits<double>::quiet_NaN();
+    return std::max(double(ns.front()) * 1e-9 + warmupS, double(ns[k - 1]) * 1e-9);
+}
+
+/// Statistics of the swaps in [start, start + windowS], start = windowStart() (warmupS >= 0,
+/// windowS > 0, seconds).
+inline FrameWindow frameWindow(const std::vector<std::int64_t>& ns, double warmupS, double windowS, int warmupFrames = 5) {
     FrameWindow w;
-    if (ns.empty()) return w;
-    const double t0 = double(ns.front()) * 1e-9 + warmupS, t1 = t0 + windowS;
+    const double t0 = windowStart(ns, warmupS, warmupFrames), t1 = t0 + windowS;
+    if (!(t0 == t0)) return w;  // too few swaps
     std::vector<double> t;
     for (std::int64_t v : ns) {
         const double s = double(v) * 1e-9;

@@ -76,3 +76,18 @@ TEST_CASE("bench display: frames in the window after the warm-up, their median a
     CHECK(frameWindow({}, 0, 1).fps == 0);
     CHECK(frameWindow({5}, 0, 1).fps == 0);
 }
+
+TEST_CASE("bench display: a slow start's first frames stay out of the window", "[cpu][bench]") {
+    // A first swap at window creation, then 20 s of start-up (a loaded machine building tables),
+    // then frames every 50 ms: the window must begin at the 5th swap, not 5 s after the first
+    // (which would fall in the gap and count the stall).
+    std::vector<std::int64_t> ns = {0, 20'000'000'000};
+    for (int i = 1; i <= 300; ++i) ns.push_back(20'000'000'000 + std::int64_t(i) * 50'000'000);
+    CHECK(welkin::cli::windowStart(ns, 5.0) == Approx(20.15).epsilon(1e-12));  // the 5th swap, s
+    const welkin::cli::FrameWindow w = frameWindow(ns, 5.0, 10.0);
+    CHECK(w.fps == Approx(20.0).epsilon(1e-9));  // exact 50 ms intervals: only rounding
+    CHECK(w.medianMs == Approx(50.0).epsilon(1e-9));
+    CHECK(w.complete);
+    // Fewer swaps than the warm-up frames: no window yet.
+    CHECK(frameWindow({0, 1'000'000'000, 2'000'000'000}, 0.0, 1.0).frames == 0);
+}
