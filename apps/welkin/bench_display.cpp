@@ -509,7 +509,7 @@ int run(DisplayBenchOptions o) {
        << " cores, load average " << loadStart << " at the start and " << loadAvg() << " at the end, " << fmt(seconds, 0) << " s in all.";
     if (o.sideBySide)
         md << " Warm-up " << fmt(o.warmup, 0) << " s, window " << fmt(o.seconds, 0) << " s, " << o.rounds
-           << " alternations per row; fps and median frame time are the medians over the rounds.";
+           << " round(s) per row (welkin then Stellarium each round); fps and median frame time are the medians over the rounds.";
     md << "\n\n";
     const bool loaded = !cores.empty() && std::atof(loadStart.c_str()) > std::atof(cores.c_str());
     const std::string loadNote = loaded ? "**The machine was loaded by other jobs (load average above its core count): these figures are "
