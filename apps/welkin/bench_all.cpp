@@ -624,6 +624,12 @@ int run(const AllOptions& o) {
         }
     }
     md << plotNotes;
+    {  // `welkin bench display`'s section (apps/welkin/bench_display.cpp) is kept: from its marker to the end
+        std::ifstream old(o.out, std::ios::binary);
+        const std::string text((std::istreambuf_iterator<char>(old)), std::istreambuf_iterator<char>());
+        const size_t at = text.find("<!-- welkin bench display -->");
+        if (at != std::string::npos) md << "\n" << text.substr(at);
+    }
     writeAtomically(o.out, md.str());
     std::printf("welkin bench all: wrote %s (%zu elements, %.0f s)\n", o.out.c_str(), results.size(), seconds);
     return 0;
