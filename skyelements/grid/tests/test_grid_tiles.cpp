@@ -1,0 +1,85 @@
+// Grid element: the lines' shader runs only on the tiles near the lines (Grid::setTiled), and the
+// image is exactly the fullscreen pass's.
+#include <catch2/catch.hpp>
+
+#include "gl_test_context.hpp"
+
+#include <welkin/elements/grid.hpp>
+#include <welkin/processor.hpp>
+
+#include <numbers>
+
+using namespace welkin;
+
+TEST_CASE("Grid: the tiles near the lines give the fullscreen pass's image", "[gl][grid]") {
+    test::glContext();
+    constexpr double kDeg = std::numbers::pi / 180.0;
+    struct Case {
+        const char* what;
+        Projection projection;
+        int w, h;
+        double azDeg, altDeg, fovDeg;
+        const char* frame;
+        double stepDeg, widthPx;
+        double maxShaded;  // largest fraction of the image the tiles may cover
+    };
+    // Every projection, both grids and the ecliptic (refracted lines through the equirect seam,
+    // round a fisheye's rim, past a perspective frame's edge), near the zenith and at a narrow
+    // field on the horizon. The bounds on the shaded fraction: each line marks a band of at most
+    // ~4 tiles (16 px) across at these widths; they fail if the tiles fall back to the whole image.
+    const Case cases[] = {
+        {"perspective, both, ecliptic", Projection::Perspective, 192, 108, 180, 40, 60, "both", 10, 1.5, 0.6},
+        {"perspective, horizontal", Projection::Perspective, 192, 108, 180, 40, 60, "horizontal", 10, 1.5, 0.35},
+        {"perspective near the zenith, wide lines", Projection::Perspective, 160, 90, 30, 80, 120, "horizontal", 7, 4, 0.9},
+        {"perspective 4 deg on the horizon", Projection::Perspective, 160, 90, 95, 1, 4, "both", 10, 1.5, 0.5},
+        {"fisheye, both, ecliptic", Projection::Fisheye, 128, 128, 0, 0, 0, "both", 10, 1.5, 0.9},
+        {"equirect, both", Projection::Equirect, 180, 90, 0, 0, 0, "both", 15, 1.5, 0.9},
+        {"cube face up, both", Projection::CubeFace, 96, 96, 0, 0, 0, "both", 10, 1.5, 0.9},
+    };
+    for (const Case& c : cases) {
+        INFO(c.what);
+        Camera cam;
+        cam.projection = c.projection;
+        cam.width = c.w;
+        cam.height = c.h;
+        cam.azimuthRad = c.azDeg * kDeg;
+        cam.altitudeRad = c.altDeg * kDeg;
+        if (c.fovDeg > 0) cam.verticalFovRad = c.fovDeg * kDeg;
+        cam.cubeFace = 2;
+        elements::GridOptions o;
+        o.frame = c.frame;
+        o.ecliptic = true;
+        o.altitudeStepDeg = o.azimuthStepDeg = c.stepDeg;
+        o.lineWidthPx = c.widthPx;
+        o.luminanceCdM2 = 100.0;
+        long long shaded[2] = {0, 0};
+        Image img[2];
+        for (int tiled = 0; tiled < 2; ++tiled) {
+            SkyProcessor p;
+            p.setTime(UtcInstant::parse("2026-01-15T22:00:00Z"));
+            p.setObserver({35.9 * kDeg, 14.5 * kDeg, 0.0});
+            p.setCamera(cam);
+            auto grid = std::make_unique<elements::Grid>(o);
+            elements::Grid* g = grid.get();
+            g->setTiled(tiled == 1);
+            p.add(std::move(grid));
+            p.renderFrame();
+            img[tiled] = p.readHdr();
+            shaded[tiled] = g->lastShadedPixels();
+        }
+        CHECK(shaded[0] == (long long)c.w * c.h);
+        CHECK(double(shaded[1]) <= c.maxShaded * c.w * c.h);
+        // Exactly the same pixels: the same shader decides each pixel's coverage; the tiles only
+        // leave out pixels it gives no coverage. A pixel left out that should have had some would
+        // differ here.
+        int lit = 0, differ = 0;
+        for (int y = 0; y < c.h; ++y)
+            for (int x = 0; x < c.w; ++x)
+                for (int ch = 0; ch < 3; ++ch) {
+                    if (img[0].at(x, y, ch) > 0) ++lit;
+                    if (img[0].at(x, y, ch) != img[1].at(x, y, ch)) ++differ;
+                }
+        CHECK(lit > 100);  // the lines are there to compare
+        CHECK(differ == 0);
+    }
+}
