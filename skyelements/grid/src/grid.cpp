@@ -50,38 +50,59 @@ struct TileMask {
 // bisects to within 1e-6 rad of where the curve enters or leaves the view (a fisheye's rim, the
 // side of a perspective camera, the equirect seam).
 void traceCurve(TileMask& mask, const Camera& cam, const std::function<glm::dvec3(double)>& curve, double t0, double t1,
-                double halfRad) {
+                double halfRad, double pxRad) {
     constexpr double kMaxStepPx = 0.5 * kTilePx;
-    constexpr double kHiddenStep = 0.25 * std::numbers::pi / 180.0;  // step where the curve is not in view
+    // The step where the curve is not in view: 8 centre pixels (a curve in view for less than
+    // that lies in the margin, not the image), at most 1 deg.
+    const double kHiddenStep = std::clamp(8.0 * pxRad, 1e-5, std::numbers::pi / 180.0);
     constexpr double kMinStep = 1e-6;
-    const double margin = std::max(cam.width, cam.height);  // "in view": within this many pixels of the image
+    constexpr double margin = 64.0;  // "in view": within this many pixels of the image
     const double maxScale = 4.0 * (cam.width + cam.height);  // pixels per radian, cap (equirect poles)
-    auto inView = [&](const glm::dvec3& d) -> std::optional<glm::dvec2> {
+    auto onImage = [&](const glm::dvec3& d) -> std::optional<glm::dvec2> {
         auto p = cam.pixelOf(d);
         if (p && (p->x < -margin || p->y < -margin || p->x > cam.width + margin || p->y > cam.height + margin)) p.reset();
         return p;
     };
-    auto markAt = [&](const glm::dvec3& d, const glm::dvec2& p) {
-        const auto s = cam.pixelScale(d);
-        const double r = halfRad * std::min(s ? s->y : maxScale, maxScale) + kMaxStepPx + 1.5;
-        mask.mark(p, r, r);
+    // The curve's point at t if it is in view; else the edge of its band (the point `halfRad`
+    // across the curve, either side) if that is: a line just off a cube face or below a
+    // fisheye's horizon still reaches into the image by its width.
+    struct Seen {
+        glm::dvec3 d;
+        glm::dvec2 p;
+    };
+    auto inView = [&](double t) -> std::optional<Seen> {
+        const glm::dvec3 d = curve(t);
+        if (auto p = onImage(d)) return Seen{d, *p};
+        const glm::dvec3 n = glm::cross(d, curve(t + 1e-4) - d);
+        if (glm::length(n) < 1e-12) return std::nullopt;
+        for (double side : {-1.0, 1.0}) {
+            const glm::dvec3 e = glm::normalize(d + side * std::tan(halfRad) * glm::normalize(n));
+            if (auto p = onImage(e)) return Seen{e, *p};
+        }
+        return std::nullopt;
+    };
+    auto markAt = [&](const Seen& s) {
+        const auto sc = cam.pixelScale(s.d);
+        // A point of the curve is within half a step of a sample; 0.5 px more for the rounding of
+        // the scale along the step.
+        const double r = halfRad * std::min(sc ? sc->y : maxScale, maxScale) + 0.5 * kMaxStepPx + 0.5;
+        mask.mark(s.p, r, r);
     };
     double t = t0, dt = kHiddenStep;
-    std::optional<glm::dvec2> p = inView(curve(t));
-    if (p) markAt(curve(t), *p);
+    std::optional<Seen> p = inView(t);
+    if (p) markAt(*p);
     while (t < t1) {
         dt = std::min(dt, t1 - t);
-        const glm::dvec3 dn = curve(t + dt);
-        const std::optional<glm::dvec2> pn = inView(dn);
+        const std::optional<Seen> pn = inView(t + dt);
         const bool edge = bool(p) != bool(pn);
-        const bool far = p && pn && glm::length(*pn - *p) > kMaxStepPx;
+        const bool far = p && pn && glm::length(pn->p - p->p) > kMaxStepPx;
         if ((edge || far) && dt > kMinStep) {
             dt *= 0.5;
             continue;
         }
         t += dt;
-        if (pn) markAt(dn, *pn);
-        if (p && pn && glm::length(*pn - *p) < 0.25 * kMaxStepPx) dt *= 2.0;
+        if (pn) markAt(*pn);
+        if (p && pn && glm::length(pn->p - p->p) < 0.25 * kMaxStepPx) dt *= 2.0;
         else if (!p && !pn) dt = std::min(2.0 * dt, kHiddenStep);
         p = pn;
     }
@@ -220,7 +241,7 @@ void Grid::doRender(const FrameContext& ctx) {
     const double lineHalf = half(v.get(gridkeys::lineWidth));
     TileMask mask(cam.width, cam.height);
     constexpr double kPi = std::numbers::pi;
-    auto trace = [&](const std::function<glm::dvec3(double)>& f, double t0, double t1, double h) { traceCurve(mask, cam, f, t0, t1, h); };
+    auto trace = [&](const std::function<glm::dvec3(double)>& f, double t0, double t1, double h) { traceCurve(mask, cam, f, t0, t1, h, pxRad); };
     if (frameBits & 1) {
         const double altStep = v.get(gridkeys::altitudeStep), azStep = v.get(gridkeys::azimuthStep);
         for (int k = -int(std::floor(0.5 * kPi / altStep)); k <= int(std::floor(0.5 * kPi / altStep)); ++k) {
