@@ -1,12 +1,12 @@
-// welkin bench eclipse: the solar eclipse's sky (issue 21 item 1, docs/eclipse.md). (1) Frame
-// cost: the whole frame (astronomy, the sky's tables, the Sky pass; perspective 1280x720 towards
-// the Sun) at mid-totality over Burgos (2026-08-12 18:29 UTC) with the eclipse on and off
-// (astro.eclipses), time running 1 s per frame so the eclipse's table is rebuilt every frame;
-// frames alternated so machine load hits both alike. Target: <= 1.5x. (2) Accuracy at
-// mid-totality: the real-time model (CPU twin, cpu::integrateEclipse, which the GPU pass follows)
-// and the GPU's table (the rendered sky) against the reference integrator extended to the eclipse
-// (atmosphere::eclipseReferenceRadiance), luminance per lux of the Sun, for directions around the
-// sky; and the same directions without the eclipse (the model's clear-sky error, for scale).
+// welkin bench eclipse: the solar eclipse's sky (issue 21, docs/eclipse.md). (1) Frame cost: the
+// whole frame (astronomy, the sky's tables, the Sky pass; perspective towards the Sun) at
+// mid-totality over Burgos (2026-08-12 18:29 UTC): a normal sky (astro.eclipses off), the eclipse
+// with the clock at --seconds-per-frame (the table rebuilt in bands when the shadow has moved), and
+// the eclipse with the clock jumping 60 s per frame (the whole table every frame); frames
+// alternated so machine load hits all alike. Target: <= 1.5x. (2) Accuracy at mid-totality and
+// at the 99 % and 90 % partial phases: the real-time model (CPU twin cpu::integrateEclipse with
+// the multiple-scattering field, which the GPU table follows) against the reference integrator
+// extended to the eclipse (atmosphere::eclipseReferenceRadiance), luminance per lux of the Sun.
 #include "bench_util.hpp"
 #include "command.hpp"
 

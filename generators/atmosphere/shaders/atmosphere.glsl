@@ -196,7 +196,7 @@ uniform float u_eclSunRadius;   // the Sun's radius, m
 // The multiple-scattering field (cpu::EclipseMsTable): D on the plane through the observer
 // perpendicular to the shadow's axis, basis u_eclMsE1/E2, grid centre u_eclMsCentre (m),
 // covering +- u_eclMsHalf m (0: no field); linear filter, clamp to edge; 0 off the grid.
-layout(binding = WELKIN_BINDING_ECLIPSE_MS_FIELD) uniform sampler2D u_eclMsField;
+uniform sampler2D u_eclMsField;  // texture unit kEclipseMsFieldUnit (sky_luts.hpp), set by the pass
 uniform vec3 u_eclMsE1;
 uniform vec3 u_eclMsE2;
 uniform vec2 u_eclMsCentre;

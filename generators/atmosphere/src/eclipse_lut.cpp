@@ -52,7 +52,8 @@ glm::dvec3 axisCrossing(const glm::dvec3& moonPos, const glm::dvec3& sunPos) {
 }  // namespace
 
 void EclipseSkyLut::bindMsField(const gl::Program& p) const {
-    glBindTextureUnit(gl::binding::kEclipseMsField, msTex_.id());
+    glBindTextureUnit(kEclipseMsFieldUnit, msTex_.id());
+    p.set("u_eclMsField", kEclipseMsFieldUnit);
     p.set("u_eclMsE1", glm::vec3(shownMs_.e1));
     p.set("u_eclMsE2", glm::vec3(shownMs_.e2));
     p.set("u_eclMsCentre", glm::vec2(shownMs_.centre));
@@ -79,7 +80,8 @@ void EclipseSkyLut::renderBand(int y0, int y1) {
     prog_.set("u_eclMoonRadius", float(astro::keys::kMoonRadiusMeters));
     prog_.set("u_eclSunPos", glm::vec3(b.sunDir * b.sunDist));
     prog_.set("u_eclSunRadius", float(kSunRadiusMeters));
-    glBindTextureUnit(gl::binding::kEclipseMsField, backMsTex_.id());
+    glBindTextureUnit(kEclipseMsFieldUnit, backMsTex_.id());
+    prog_.set("u_eclMsField", kEclipseMsFieldUnit);
     prog_.set("u_eclMsE1", glm::vec3(buildingMs_.e1));
     prog_.set("u_eclMsE2", glm::vec3(buildingMs_.e2));
     prog_.set("u_eclMsCentre", glm::vec2(buildingMs_.centre));

@@ -46,7 +46,6 @@ inline constexpr int kShGroundLut = 9;             ///< the SH pass's ground-ref
 inline constexpr int kViewTransmittanceLut = 10;   ///< sky.view_transmittance_lut (1-D)
 inline constexpr int kShadowLossLut = 6;           ///< sky.shadow_loss_lut (the Sky pass; shares 6 with the aerial volume: never together)
 inline constexpr int kShadowLossMieLut = 7;        ///< sky.shadow_loss_mie_lut (the Sky pass; shares 7 with the aerial volume)
-inline constexpr int kEclipseMsField = 9;          ///< the eclipse's multiple-scattering field (shares 9 with the SH pass's ground input and the clouds' shadow map: never together)
 // Texture units: the clouds (generators/clouds, skyelements/clouds and their readers, e.g. the
 // Rainbow), sampled together with the sky's LUTs above.
 inline constexpr int kCloudWeatherMap = 11;   ///< clouds.weather_map
@@ -134,7 +133,6 @@ inline constexpr std::array kTable = {
     Entry{"WELKIN_BINDING_VIEW_TRANSMITTANCE_LUT", kViewTransmittanceLut, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_SHADOW_LOSS_LUT", kShadowLossLut, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_SHADOW_LOSS_MIE_LUT", kShadowLossMieLut, Kind::TextureUnit},
-    Entry{"WELKIN_BINDING_ECLIPSE_MS_FIELD", kEclipseMsField, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_CLOUD_WEATHER_MAP", kCloudWeatherMap, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_CLOUD_NOISE_BASE", kCloudNoiseBase, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_CLOUD_NOISE_DETAIL", kCloudNoiseDetail, Kind::TextureUnit},

@@ -376,6 +376,9 @@ inline constexpr double kEclipseRebuildMeters = 2e3;
 /// shown meanwhile; a jump of the shadow by more than kEclipseJumpMeters (time set, not running)
 /// rebuilds it whole at once.
 inline constexpr int kEclipseTimeSlices = 32;
+/// The texture unit of the eclipse's multiple-scattering field (shares 9 with the SH pass's ground
+/// input and the clouds' shadow map, gl::binding: never bound together with them).
+inline constexpr int kEclipseMsFieldUnit = 9;
 inline constexpr double kEclipseJumpMeters = 50e3;
 /// The Sun's radius, m (IAU nominal).
 inline constexpr double kSunRadiusMeters = 6.957e8;
@@ -399,7 +402,7 @@ public:
     /// position from the observer (m), the farthest air a ray reaches (m).
     static bool shadowNear(const glm::dvec3& sunDir, double sunAngularRadius, const glm::dvec3& moonPos, double reachMeters);
     /// Binds the multiple-scattering field of the table now shown (texture unit
-    /// gl::binding::kEclipseMsField) and sets its uniforms on `p` (a program with ATM_ECLIPSE).
+    /// kEclipseMsFieldUnit) and sets its uniforms on `p` (a program with ATM_ECLIPSE).
     void bindMsField(const gl::Program& p) const;
     /// The CPU field of the table now shown.
     const cpu::EclipseMsTable& msTable() const { return shownMs_; }
