@@ -217,7 +217,7 @@ void Sky::doRender(const FrameContext& ctx) {
             p.set("u_eclMoonRadius", float(astro::keys::kMoonRadiusMeters));
             p.set("u_eclSunPos", glm::vec3(sd * v.getOr(astro::keys::sunDistance, 1.496e11)));
             p.set("u_eclSunRadius", float(kSunRadiusMeters));
-            p.set("u_eclMsRadius", float(kEclipseMsRadiusMeters));
+            luts_.eclipse->bindMsField(p);
             ctx.drawFullscreen();
             return;
         }

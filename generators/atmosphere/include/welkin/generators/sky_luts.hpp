@@ -364,17 +364,30 @@ private:
     int progBands_ = 0;  // SkyQuality::shBands prog_ was compiled for
 };
 
-/// Radius of the disk of air, across the shadow's axis, over which the eclipse's multiple
-/// scattering averages the Sun's visible fraction, m. Not fitted: docs/eclipse.md measures the
-/// model against the reference (far too dark inside the umbra at this and any radius <= 300 km).
-inline constexpr double kEclipseMsRadiusMeters = 60e3;
+/// The eclipse's multiple-scattering kernel length L, m (cpu::EclipseMsTable: the air around a
+/// point weighted so that the mass beyond r falls as exp(-r / L)). Calibrated against the eclipse
+/// reference at Burgos' totality (docs/eclipse.md, "Accuracy").
+inline constexpr double kEclipseMsLengthMeters = 40e3;
+/// The eclipse table is rebuilt when the shadow's axis has moved this far across the observer's
+/// air since the last build (m; ~2 s of the shadow's motion): at >= 60 km, where the horizon sees
+/// the umbra's edge, that is <= 2 deg, about one texel of the table's azimuth.
+inline constexpr double kEclipseRebuildMeters = 2e3;
+/// Rebuilds of the eclipse table are spread over this many frames (rows in bands), the old table
+/// shown meanwhile; a jump of the shadow by more than kEclipseJumpMeters (time set, not running)
+/// rebuilds it whole at once.
+inline constexpr int kEclipseTimeSlices = 32;
+/// The texture unit of the eclipse's multiple-scattering field (shares 9 with the SH pass's ground
+/// input and the clouds' shadow map, gl::binding: never bound together with them).
+inline constexpr int kEclipseMsFieldUnit = 9;
+inline constexpr double kEclipseJumpMeters = 50e3;
 /// The Sun's radius, m (IAU nominal).
 inline constexpr double kSunRadiusMeters = 6.957e8;
 /// The Moon's shadow on the air (docs/eclipse.md): while the shadow's penumbra can reach air that a
 /// sky-view ray crosses (the Sun-Moon separation seen from the observer below the sum of their
 /// radii plus the parallax of the farthest such air), the Sun's sky over the whole circle of
-/// azimuth with every ray's points seeing their own Sun and Moon (eclipse_lut.glsl), rebuilt each
-/// run; publishes skykeys::eclipseViewLut (id 0 otherwise: nothing runs on the GPU). RGB mode only
+/// azimuth with every ray's points seeing their own Sun and Moon (eclipse_lut.glsl), rebuilt when
+/// the shadow has moved kEclipseRebuildMeters (in kEclipseTimeSlices bands over as many runs, the
+/// previous table shown meanwhile); publishes skykeys::eclipseViewLut (id 0 otherwise: nothing runs on the GPU). RGB mode only
 /// (spectral mode: the ordinary sky view). Inputs: the Sun's direction and distance,
 /// moon.position_m, astro.eclipses.
 class EclipseSkyLut final : public SkyGenerator {
@@ -388,14 +401,34 @@ public:
     /// The activation test: the Sun's apparent direction `sunDir`, its angular radius, the Moon's
     /// position from the observer (m), the farthest air a ray reaches (m).
     static bool shadowNear(const glm::dvec3& sunDir, double sunAngularRadius, const glm::dvec3& moonPos, double reachMeters);
+    /// Binds the multiple-scattering field of the table now shown (texture unit
+    /// kEclipseMsFieldUnit) and sets its uniforms on `p` (a program with ATM_ECLIPSE).
+    void bindMsField(const gl::Program& p) const;
+    /// The CPU field of the table now shown.
+    const cpu::EclipseMsTable& msTable() const { return shownMs_; }
+    /// Full rebuilds and time-sliced bands rendered so far (bench and tests).
+    int rebuilds() const { return rebuilds_; }
+    /// Bands per rebuild while the shadow moves smoothly (default kEclipseTimeSlices; 1: every
+    /// rebuild whole at once), [1, table height].
+    void setTimeSlices(int n) { slices_ = std::max(n, 1); }
 
 private:
     void doRun(SkyVars& vars, const Logger& log) override;
-    gl::Texture2D smooth_, mie_;
-    gl::Framebuffer fbo_;
+    void renderBand(int y0, int y1);
+    gl::Texture2D smooth_, mie_, backSmooth_, backMie_, msTex_, backMsTex_;
+    gl::Framebuffer fbo_, backFbo_;
     gl::Program prog_;
     int progBands_ = 0;
     bool active_ = false, published_ = false;
+    // The build in progress (the back tables) and the one shown.
+    struct Build {
+        glm::dvec3 sunDir{0.0}, moonPos{0.0};
+        double h = 0.0, sunDist = 1.496e11;
+    };
+    Build shown_, building_;
+    cpu::EclipseMsTable shownMs_, buildingMs_;
+    int nextBand_ = -1;  // the next band of the build in progress; -1 none
+    int slices_ = kEclipseTimeSlices, rebuilds_ = 0;
 };
 /// Horizontal illuminance at the observer (global/direct/diffuse, Sun and Moon) and the zenith
 /// luminance, integrated on the GPU from the sky-view LUTs; read back (16 floats) only when an
