@@ -171,7 +171,13 @@ public:
         for (const std::string& n : b_.scene.with) p->add(elements::makeElement(n));
         SkyElement& e = p->add(elements::makeElement(b_.element));
         for (const auto& [k, v] : b_.scene.vars) p->vars().setFromString(k, v);
-        for (const auto& [k, v] : extra_) p->vars().setFromString(k, v);
+        // A generator's key (sky.keyframe_budget, clouds.shadow_slices) is declared at the first
+        // frame: set after it (the first frame is a still frame, built whole either way).
+        std::vector<std::pair<std::string, std::string>> later;
+        for (const auto& [k, v] : extra_) {
+            if (p->vars().contains(k)) p->vars().setFromString(k, v);
+            else later.push_back({k, v});
+        }
         p->setObserver({.latitudeRad = b_.scene.latitudeDeg * kDeg, .longitudeRad = b_.scene.longitudeDeg * kDeg, .heightMeters = 50});
         p->setExposure({.automatic = true});
         p->vars().set(keys::interactive, true);
@@ -202,6 +208,7 @@ public:
             r.firstFrameMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
             r.firstFrameRatio = r.firstFrameMs / tMs;
             own.take();
+            for (const auto& [k, v] : later) p->vars().setFromString(k, v);  // unknown still: the one-line error
             const nlohmann::json st = p->stats();  // kept: a range-for over a temporary's member dangles
             for (const auto& g : st["generators"]) {
                 const std::string name = g["name"].get<std::string>();
