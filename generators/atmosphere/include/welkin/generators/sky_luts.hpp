@@ -65,6 +65,14 @@ inline const Key<bool> moonLight{"sky.moon", "the Moon lights the sky (false: Su
 /// The Sky's option: the aerial-perspective volume is built (for a host's geometry:
 /// elements::AerialPerspective) only while this is true.
 inline const Key<bool> aerialVolume{"sky.aerial_volume", "build the aerial-perspective volume for the host's geometry (AerialPerspective)"};
+/// Once time runs, the Sky builds every keyframe table of the light's elevation grid in the
+/// background (the prefill, docs/sky.md "While time runs"): at most this many parts of a table
+/// per frame (a table has SkyQuality::keyframeChunks parts: 4 low, 12 medium, 48 high; one
+/// medium part is ~3 ms on llvmpipe), beyond what keeping pace with the light needs. 0: the
+/// whole prefill in the first frame in which the light moves (a freeze of seconds on llvmpipe).
+/// Unset: kKeyframeBudgetDefault.
+inline const Key<int> keyframeBudget{"sky.keyframe_budget", Range{0, 1000},
+                                     "keyframe table parts built per frame in the background once time runs (0: all at the first moving frame)"};
 inline const Key<TextureRef> transmittanceLut{"sky.transmittance_lut", "transmittance LUT (RGB, to the top of the atmosphere)"};
 /// One texture per wavelength triple (RGB mode: one), for the passes after them; in spectral
 /// mode sky.transmittance_lut is the combined one and sky.multiscattering_lut / sky.sh_lut are
@@ -127,6 +135,8 @@ inline constexpr double kDarkBelowCosZenith = -0.342;
 /// built (LightKeyframes::Options::stillRuns): a third of a second at 60 frames per second, so a
 /// Sun drifting at 1 s/s (up to 7e-5 in cos zenith per second) is shown through the grid tables.
 inline constexpr int kKeyframeStillRuns = 20;
+/// skykeys::keyframeBudget when unset: table parts per frame.
+inline constexpr int kKeyframeBudgetDefault = 2;
 
 /// Keyframe tables kept at most per light-dependent generator (LightKeyframes::Options::slots)
 /// for a quality's grid (SkyQuality::keyframeStepRad, keyframeCoarseStepRad): its grid points
