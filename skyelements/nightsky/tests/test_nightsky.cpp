@@ -427,3 +427,100 @@ TEST_CASE("NightSky: every pixel finite at FOV 0.5 and 180 deg, 1x1 to 2048x2048
         CHECK(bad == 0);
     }
 }
+
+TEST_CASE("NightSky: the cube map is rebuilt when the Sun's ecliptic longitude moves > 0.1 deg or a key changes", "[cpu][nightsky]") {
+    const NightCubeInputs built{1.0, 1.0, 1.0, kPanorama, true};
+    CHECK(nightCubeStale(NightCubeInputs{}, built));  // never built
+    CHECK_FALSE(nightCubeStale(built, built));
+    NightCubeInputs now = built;
+    now.sunEclipticLongitudeRad = 1.0 + 0.09 * kDeg;  // within the tolerance: kept
+    CHECK_FALSE(nightCubeStale(built, now));
+    now.sunEclipticLongitudeRad = 1.0 - 0.11 * kDeg;  // beyond it, either way: rebuilt
+    CHECK(nightCubeStale(built, now));
+    // Across the +-pi cut of atan2: 0.06 deg apart, not 360.
+    NightCubeInputs a = built, b = built;
+    a.sunEclipticLongitudeRad = std::numbers::pi - 0.03 * kDeg;
+    b.sunEclipticLongitudeRad = -std::numbers::pi + 0.03 * kDeg;
+    CHECK_FALSE(nightCubeStale(a, b));
+    now = built;
+    now.milkyWayScale = 2.0;
+    CHECK(nightCubeStale(built, now));
+    now = built;
+    now.zodiacalScale = 0.0;
+    CHECK(nightCubeStale(built, now));
+    now = built;
+    now.milkyWayPath = "/elsewhere/milkyway.png";
+    CHECK(nightCubeStale(built, now));
+    now = built;
+    now.milkyWayLoaded = false;
+    CHECK(nightCubeStale(built, now));
+}
+
+namespace {
+// The issue 22 view (Malta 2026-08-12 22:00 UTC, south 30 deg up, 60 deg field) at a small size,
+// night sky alone (it applies the extinction itself), through the cube or the per-pixel lookup.
+struct NightRender {
+    Image img;
+    nlohmann::json stats;
+};
+NightRender renderNight(bool direct, const char* time, Projection proj, int w, int h, int frames = 1, const char* time2 = nullptr) {
+    SkyProcessor p;
+    p.setObserver({.latitudeRad = 35.9 * kDeg, .longitudeRad = 14.5 * kDeg, .heightMeters = 0});
+    p.setTime(UtcInstant::parse(time));
+    Camera cam;
+    cam.projection = proj;
+    cam.azimuthRad = 180 * kDeg;
+    cam.altitudeRad = proj == Projection::Perspective ? 30 * kDeg : 90 * kDeg;
+    cam.verticalFovRad = 60 * kDeg;
+    cam.width = w;
+    cam.height = h;
+    p.setCamera(cam);
+    auto ns = std::make_unique<NightSky>();
+    ns->setDirectLookup(direct);
+    p.add(std::move(ns));
+    for (int i = 0; i < frames; ++i) {
+        if (i > 0 && time2) p.setTime(UtcInstant::parse(time2));
+        p.renderFrame();
+    }
+    return {p.readHdr(), p.stats()};
+}
+}  // namespace
+
+TEST_CASE("NightSky: the cube map matches the per-pixel panorama lookup", "[gl][nightsky]") {
+    if (!std::filesystem::exists(kPanorama)) FAIL("no " << kPanorama << " (Debian: stellarium-data): install it (a missing file fails, never skips)");
+    test::glContext();
+    // The perspective view magnifies the panorama (0.05 deg pixels at 192 px... 0.31 deg at 192x108:
+    // its mips); the fisheye shows the whole sky, the poles and the seam, minified.
+    struct Case { Projection proj; int w, h; };
+    for (Case k : {Case{Projection::Perspective, 192, 108}, Case{Projection::Fisheye, 96, 96}}) {
+        const NightRender ref = renderNight(true, "2026-08-12T22:00:00Z", k.proj, k.w, k.h);
+        const NightRender cube = renderNight(false, "2026-08-12T22:00:00Z", k.proj, k.w, k.h);
+        CHECK(ref.stats["nightsky"]["direct_lookup"].get<bool>());
+        CHECK(cube.stats["nightsky"]["cube_builds"].get<int>() == 1);
+        double sumRel = 0, maxRel = 0;
+        int n = 0;
+        for (int y = 0; y < k.h; ++y)
+            for (int x = 0; x < k.w; ++x) {
+                const double a = lum(ref.img, x, y), b = lum(cube.img, x, y);
+                if (!(a > 0.0)) continue;  // outside the fisheye's circle, below the table's -5 deg
+                const double r = std::abs(b - a) / a;
+                sumRel += r;
+                maxRel = std::max(maxRel, r);
+                ++n;
+            }
+        REQUIRE(n > k.w * k.h / 2);
+        INFO(toString(k.proj) << ": mean relative difference " << sumRel / n << ", max " << maxRel);
+        CHECK(sumRel / n < 0.02);
+        CHECK(maxRel < 0.2);
+    }
+}
+
+TEST_CASE("NightSky: the cube map follows the Sun's ecliptic longitude, not the Earth's rotation", "[gl][nightsky]") {
+    test::glContext();
+    // 1 h later the sky has turned 15 deg (the per-pixel rotation) but the Sun has moved 0.04 deg
+    // along the ecliptic (0.9856 deg a day): the same cube. 3 h: 0.12 deg > 0.1 deg: rebuilt once.
+    const NightRender hour = renderNight(false, "2026-08-12T21:00:00Z", Projection::Perspective, 8, 8, 2, "2026-08-12T22:00:00Z");
+    CHECK(hour.stats["nightsky"]["cube_builds"].get<int>() == 1);
+    const NightRender three = renderNight(false, "2026-08-12T19:00:00Z", Projection::Perspective, 8, 8, 2, "2026-08-12T22:00:00Z");
+    CHECK(three.stats["nightsky"]["cube_builds"].get<int>() == 2);
+}
