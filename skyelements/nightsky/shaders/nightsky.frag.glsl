@@ -3,7 +3,7 @@
 // (cd/m^2, linear sRGB), hides nothing (transmittance 1). The model and its CPU twins:
 // skyelements/nightsky/include/welkin/elements/nightsky.hpp.
 // Two program variants: the default reads the terms fixed to the stars (Milky Way, its floor,
-// zodiacal light) from the ICRS cube map built by nightsky_cube.frag.glsl, one fetch and no
+// zodiacal light) from the ICRS cube maps built by nightsky_cube.frag.glsl, two fetches and no
 // inverse trigonometry per pixel; NIGHT_DIRECT (NightSky::setDirectLookup, the reference the
 // tests compare with) evaluates the panorama's mapping per pixel (an atan and an acos).
 #ifdef NIGHT_DIRECT
@@ -15,8 +15,10 @@ uniform vec3 u_zodi;          // colour x cd/m^2 per Table 17 unit x nightsky.zo
 uniform vec3 u_mwFloor;       // uniform Milky Way floor, cd/m^2 per channel
 uniform float u_mwScale;      // nightsky.milky_way_scale x 1e-4 (the texture's storage scale); 0 off
 #else
-// Milky Way + floor + zodiacal light over ICRS directions, cd/m^2 x 1e4, mipmapped.
+// Milky Way + floor over ICRS directions, cd/m^2 x 1e4, mipmapped; the zodiacal light likewise
+// in a small cube (smooth: 1.4 deg texels, one level).
 layout(binding = WELKIN_BINDING_MILKY_WAY_TEXTURE) uniform samplerCube u_cube;
+layout(binding = WELKIN_BINDING_ZODIACAL_TEXTURE) uniform samplerCube u_zodiCube;
 #endif
 
 uniform mat3 u_enuToIcrs;     // transpose of stars.frame_icrs_to_enu
@@ -70,7 +72,7 @@ void main() {
     if (u_mwScale > 0.0) L += u_mwScale * textureLod(u_mwTex, uv, lod).rgb;
     L += u_mwFloor;
 #else
-    L += 1e-4 * textureLod(u_cube, icrs, lod).rgb;  // kMwStorageScale
+    L += 1e-4 * (textureLod(u_cube, icrs, lod).rgb + textureLod(u_zodiCube, icrs, 0.0).rgb);  // kMwStorageScale
 #endif
     if (u_extinction == 1) L *= night_extinction(night_asin(clamp(dir.z, -1.0, 1.0)));
     welkin_output(L, vec3(1.0));

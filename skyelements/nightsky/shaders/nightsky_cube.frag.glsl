@@ -1,9 +1,11 @@
-// NightSky's table: one face of the cube map, in the ICRS (J2000) frame, of the terms fixed to the
-// stars (the calibrated Milky Way, its floor and the zodiacal light), cd/m^2 x 1e4 (fp16). Built
-// when the Sun's ecliptic longitude or a key moves (src/nightsky.cpp), so the inverse
-// trigonometry of the panorama's mapping runs once per cube texel instead of once per pixel.
+// NightSky's tables: one face of a cube map over ICRS (J2000) directions of the terms fixed to the
+// stars, cd/m^2 x 1e4 (fp16): u_part 0 the calibrated Milky Way and its floor (built once, and
+// when a key or the panorama changes), 1 the zodiacal light (a small cube, rebuilt when the Sun's
+// ecliptic longitude moves: src/nightsky.cpp). The inverse trigonometry of the panorama's mapping
+// runs once per cube texel instead of once per pixel.
 layout(binding = WELKIN_BINDING_MILKY_WAY_TEXTURE) uniform sampler2D u_mwTex;  // calibrated x 1e4
 layout(binding = WELKIN_BINDING_ZODIACAL_TEXTURE) uniform sampler2D u_zodiTex; // Table 17 units
+uniform int u_part;        // 0: Milky Way + floor, 1: zodiacal light
 uniform int u_face;        // 0..5: +X, -X, +Y, -Y, +Z, -Z (GL's cube-map faces, ICRS axes)
 uniform float u_size;      // face size, texels
 uniform vec3 u_zodi;       // colour x cd/m^2 per Table 17 unit x nightsky.zodiacal_scale x 1e4
@@ -30,7 +32,11 @@ void main() {
     d = normalize(d);
     // The panorama's mapping (nightsky.frag.glsl's reference path, milkyWayTexCoord()).
     vec2 uv = vec2(fract((0.5 * kPi - atan(d.y, d.x)) / (2.0 * kPi)), acos(clamp(d.z, -1.0, 1.0)) / kPi);
-    vec3 L = u_zodi * textureLod(u_zodiTex, uv, 0.0).r + u_mwFloor;
+    if (u_part == 1) {
+        o_rgba = vec4(u_zodi * textureLod(u_zodiTex, uv, 0.0).r, 1.0);
+        return;
+    }
+    vec3 L = u_mwFloor;
     // The panorama's level of detail for this texel's angular size (2 / N at the face centre,
     // 1 / (1 + s^2 + t^2) of it radially towards the corners), as the per-pixel path does for a
     // pixel: the cube's mips then filter further.

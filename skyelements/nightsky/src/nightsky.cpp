@@ -181,11 +181,13 @@ glm::dmat3 icrsToEcliptic() {
     return glm::dmat3(1, 0, 0, 0, c, -s, 0, s, c);
 }
 
-bool nightCubeStale(const NightCubeInputs& built, const NightCubeInputs& now) {
-    if (std::isnan(built.sunEclipticLongitudeRad)) return true;
-    if (!(std::abs(std::remainder(now.sunEclipticLongitudeRad - built.sunEclipticLongitudeRad, 2.0 * kPi)) <= kNightCubeSunToleranceRad)) return true;
-    return built.milkyWayScale != now.milkyWayScale || built.zodiacalScale != now.zodiacalScale || built.milkyWayPath != now.milkyWayPath ||
-           built.milkyWayLoaded != now.milkyWayLoaded;
+NightCubeStale nightCubeStale(const NightCubeInputs& built, const NightCubeInputs& now) {
+    NightCubeStale out;
+    out.milkyWay = std::isnan(built.milkyWayScale) || built.milkyWayScale != now.milkyWayScale || built.milkyWayPath != now.milkyWayPath ||
+                   built.milkyWayLoaded != now.milkyWayLoaded;
+    out.zodiacal = std::isnan(built.sunEclipticLongitudeRad) || built.zodiacalScale != now.zodiacalScale ||
+                   !(std::abs(std::remainder(now.sunEclipticLongitudeRad - built.sunEclipticLongitudeRad, 2.0 * kPi)) <= kNightCubeSunToleranceRad);
+    return out;
 }
 
 glm::dvec2 milkyWayTexCoord(const glm::dvec3& p) {
@@ -323,19 +325,18 @@ NightCubeInputs NightSky::cubeInputs(const SkyVars& v) const {
     return {zodiLon_, v.get(nightkeys::milkyWayScale), v.get(nightkeys::zodiacalScale), mwPath_, mwLoaded_};
 }
 
-void NightSky::buildCube(const FrameContext& ctx, const NightCubeInputs& in) {
+void NightSky::buildCube(const FrameContext& ctx, const NightCubeInputs& in, bool zodiacal) {
     const auto t0 = std::chrono::steady_clock::now();
-    const int N = kNightCubeSize;
-    if (cube_.id() == 0) {
+    const int N = zodiacal ? kNightZodiCubeSize : kNightCubeSize;
+    gl::TextureCube& cube = zodiacal ? zodiCube_ : cube_;
+    if (cube.id() == 0) {
         int levels = 1;
-        while ((N >> levels) > 0) ++levels;
-        cube_ = gl::TextureCube(N, GL_RGBA16F, levels);
-        cube_.setFilter(GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR);
-        cube_.setWrap(GL_CLAMP_TO_EDGE);
-        cubeFbo_ = gl::Framebuffer::create();
-        cubeFbo_.attach(GL_COLOR_ATTACHMENT0, cube_, 0, 0);
-        cubeFbo_.checkComplete("nightsky cube");
+        while (!zodiacal && (N >> levels) > 0) ++levels;
+        cube = gl::TextureCube(N, GL_RGBA16F, levels);
+        cube.setFilter(zodiacal ? GL_LINEAR : GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR);
+        cube.setWrap(GL_CLAMP_TO_EDGE);
     }
+    if (cubeFbo_.id() == 0) cubeFbo_ = gl::Framebuffer::create();
     GLint prevFbo = 0, prevViewport[4];
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &prevFbo);
     glGetIntegerv(GL_VIEWPORT, prevViewport);
@@ -346,6 +347,7 @@ void NightSky::buildCube(const FrameContext& ctx, const NightCubeInputs& in) {
     glViewport(0, 0, N, N);
     const gl::Program& p = cubeProgram_;
     p.use();
+    p.set("u_part", zodiacal ? 1 : 0);
     p.set("u_size", float(N));
     p.set("u_zodi", glm::vec3(in.zodiacalScale * zodiacalUnitCdM2() * solarColour() * kMwStorageScale));
     p.set("u_mwFloor", glm::vec3(in.milkyWayScale * milkyWayFloorCdM2() * mwColour_ * kMwStorageScale));
@@ -354,7 +356,8 @@ void NightSky::buildCube(const FrameContext& ctx, const NightCubeInputs& in) {
     zodiTexture_.bind(gl::binding::kZodiacalTexture);
     if (mwLoaded_) mwTexture_.bind(gl::binding::kMilkyWayTexture);
     for (int face = 0; face < 6; ++face) {
-        cubeFbo_.attach(GL_COLOR_ATTACHMENT0, cube_, 0, face);
+        cubeFbo_.attach(GL_COLOR_ATTACHMENT0, cube, 0, face);
+        if (face == 0) cubeFbo_.checkComplete("nightsky cube");
         cubeFbo_.bind();
         p.set("u_face", face);
         ctx.drawFullscreen();
@@ -364,10 +367,20 @@ void NightSky::buildCube(const FrameContext& ctx, const NightCubeInputs& in) {
     if (blend) glEnable(GL_BLEND);
     if (scissor) glEnable(GL_SCISSOR_TEST);
     if (depth) glEnable(GL_DEPTH_TEST);
-    cube_.generateMipmaps();
-    cubeBuiltFor_ = in;
-    ++cubeBuilds_;
-    cubeBuildMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    if (zodiacal) {
+        cubeBuiltFor_.sunEclipticLongitudeRad = in.sunEclipticLongitudeRad;
+        cubeBuiltFor_.zodiacalScale = in.zodiacalScale;
+        ++zodiCubeBuilds_;
+        zodiCubeBuildMs_ = ms;
+    } else {
+        cube.generateMipmaps();
+        cubeBuiltFor_.milkyWayScale = in.milkyWayScale;
+        cubeBuiltFor_.milkyWayPath = in.milkyWayPath;
+        cubeBuiltFor_.milkyWayLoaded = in.milkyWayLoaded;
+        ++cubeBuilds_;
+        cubeBuildMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    }
 }
 
 void NightSky::doUpdate(const FrameContext& ctx) {
@@ -418,7 +431,9 @@ void NightSky::doRender(const FrameContext& ctx) {
     if (!drawn_) return;
     if (!direct_) {
         const NightCubeInputs in = cubeInputs(v);
-        if (nightCubeStale(cubeBuiltFor_, in)) buildCube(ctx, in);
+        const NightCubeStale stale = nightCubeStale(cubeBuiltFor_, in);
+        if (stale.milkyWay) buildCube(ctx, in, false);
+        if (stale.zodiacal) buildCube(ctx, in, true);
     }
     const gl::Program& p = programs_.get(ctx.camera.projection);
     p.use();
@@ -446,6 +461,7 @@ void NightSky::doRender(const FrameContext& ctx) {
         // detail, its level 1 would blur it), mipmapping starts where the panorama's did.
         p.set("u_texelsPerRad", float(mwW_ > 0 ? mwW_ / (2.0 * kPi) : kNightCubeSize / 2.0));
         cube_.bind(gl::binding::kMilkyWayTexture);
+        zodiCube_.bind(gl::binding::kZodiacalTexture);
     }
     p.set("u_extinction", ctx.attenuatedLater ? 0 : 1);
     if (!ctx.attenuatedLater) {
@@ -465,6 +481,7 @@ void NightSky::doRelease() {
     zodiTexture_ = gl::Texture2D();
     zodiLon_ = std::nan("");
     cube_ = gl::TextureCube();
+    zodiCube_ = gl::TextureCube();
     cubeFbo_ = gl::Framebuffer();
     cubeProgram_ = gl::Program();
     cubeBuiltFor_ = NightCubeInputs{};
@@ -489,8 +506,10 @@ void NightSky::doStats(nlohmann::json& root) const {
     j["zodiacal_unit_cd_m2"] = zodiacalUnitCdM2();
     j["direct_lookup"] = direct_;  // true: the per-pixel reference path, else the ICRS cube map
     j["cube_size"] = direct_ ? 0 : kNightCubeSize;
-    j["cube_builds"] = cubeBuilds_;
-    j["cube_build_ms"] = cubeBuildMs_;  // the last build, CPU wall time (without glFinish: queued work)
+    j["cube_builds"] = cubeBuilds_;            // the Milky Way's cube (once, and on a key change)
+    j["zodiacal_cube_builds"] = zodiCubeBuilds_;  // the zodiacal light's (the Sun's longitude moved 0.1 deg)
+    j["cube_build_ms"] = cubeBuildMs_;  // the last builds, CPU wall time (no glFinish: GL work may be queued)
+    j["zodiacal_cube_build_ms"] = zodiCubeBuildMs_;
 }
 
 }  // namespace welkin::elements

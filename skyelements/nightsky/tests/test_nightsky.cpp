@@ -428,32 +428,41 @@ TEST_CASE("NightSky: every pixel finite at FOV 0.5 and 180 deg, 1x1 to 2048x2048
     }
 }
 
-TEST_CASE("NightSky: the cube map is rebuilt when the Sun's ecliptic longitude moves > 0.1 deg or a key changes", "[cpu][nightsky]") {
+TEST_CASE("NightSky: the zodiacal cube follows the Sun's ecliptic longitude beyond 0.1 deg, the Milky Way's only its keys", "[cpu][nightsky]") {
     const NightCubeInputs built{1.0, 1.0, 1.0, kPanorama, true};
-    CHECK(nightCubeStale(NightCubeInputs{}, built));  // never built
-    CHECK_FALSE(nightCubeStale(built, built));
+    const NightCubeStale never = nightCubeStale(NightCubeInputs{}, built);
+    CHECK(never.milkyWay);
+    CHECK(never.zodiacal);
+    auto stale = [&](const NightCubeInputs& now) {
+        const NightCubeStale s = nightCubeStale(built, now);
+        return std::pair<bool, bool>(s.milkyWay, s.zodiacal);
+    };
+    using P = std::pair<bool, bool>;
+    CHECK(stale(built) == P(false, false));
     NightCubeInputs now = built;
     now.sunEclipticLongitudeRad = 1.0 + 0.09 * kDeg;  // within the tolerance: kept
-    CHECK_FALSE(nightCubeStale(built, now));
-    now.sunEclipticLongitudeRad = 1.0 - 0.11 * kDeg;  // beyond it, either way: rebuilt
-    CHECK(nightCubeStale(built, now));
+    CHECK(stale(now) == P(false, false));
+    now.sunEclipticLongitudeRad = 1.0 - 0.11 * kDeg;  // beyond it, either way: the zodiacal cube only
+    CHECK(stale(now) == P(false, true));
+    now.sunEclipticLongitudeRad = 1.0 + 0.11 * kDeg;
+    CHECK(stale(now) == P(false, true));
     // Across the +-pi cut of atan2: 0.06 deg apart, not 360.
     NightCubeInputs a = built, b = built;
     a.sunEclipticLongitudeRad = std::numbers::pi - 0.03 * kDeg;
     b.sunEclipticLongitudeRad = -std::numbers::pi + 0.03 * kDeg;
-    CHECK_FALSE(nightCubeStale(a, b));
+    CHECK_FALSE(nightCubeStale(a, b).zodiacal);
     now = built;
     now.milkyWayScale = 2.0;
-    CHECK(nightCubeStale(built, now));
+    CHECK(stale(now) == P(true, false));
     now = built;
     now.zodiacalScale = 0.0;
-    CHECK(nightCubeStale(built, now));
+    CHECK(stale(now) == P(false, true));
     now = built;
     now.milkyWayPath = "/elsewhere/milkyway.png";
-    CHECK(nightCubeStale(built, now));
+    CHECK(stale(now) == P(true, false));
     now = built;
     now.milkyWayLoaded = false;
-    CHECK(nightCubeStale(built, now));
+    CHECK(stale(now) == P(true, false));
 }
 
 namespace {
@@ -497,6 +506,7 @@ TEST_CASE("NightSky: the cube map matches the per-pixel panorama lookup", "[gl][
         const NightRender cube = renderNight(false, "2026-08-12T22:00:00Z", k.proj, k.w, k.h);
         CHECK(ref.stats["nightsky"]["direct_lookup"].get<bool>());
         CHECK(cube.stats["nightsky"]["cube_builds"].get<int>() == 1);
+        CHECK(cube.stats["nightsky"]["zodiacal_cube_builds"].get<int>() == 1);
         double sumRel = 0, maxRel = 0;
         int n = 0;
         for (int y = 0; y < k.h; ++y)
@@ -515,12 +525,15 @@ TEST_CASE("NightSky: the cube map matches the per-pixel panorama lookup", "[gl][
     }
 }
 
-TEST_CASE("NightSky: the cube map follows the Sun's ecliptic longitude, not the Earth's rotation", "[gl][nightsky]") {
+TEST_CASE("NightSky: the cube maps follow the Sun's ecliptic longitude, not the Earth's rotation", "[gl][nightsky]") {
     test::glContext();
     // 1 h later the sky has turned 15 deg (the per-pixel rotation) but the Sun has moved 0.04 deg
-    // along the ecliptic (0.9856 deg a day): the same cube. 3 h: 0.12 deg > 0.1 deg: rebuilt once.
+    // along the ecliptic (0.9856 deg a day): the same cubes. 3 h: 0.12 deg > 0.1 deg: the
+    // zodiacal cube is rebuilt once, the Milky Way's never.
     const NightRender hour = renderNight(false, "2026-08-12T21:00:00Z", Projection::Perspective, 8, 8, 2, "2026-08-12T22:00:00Z");
     CHECK(hour.stats["nightsky"]["cube_builds"].get<int>() == 1);
+    CHECK(hour.stats["nightsky"]["zodiacal_cube_builds"].get<int>() == 1);
     const NightRender three = renderNight(false, "2026-08-12T19:00:00Z", Projection::Perspective, 8, 8, 2, "2026-08-12T22:00:00Z");
-    CHECK(three.stats["nightsky"]["cube_builds"].get<int>() == 2);
+    CHECK(three.stats["nightsky"]["cube_builds"].get<int>() == 1);
+    CHECK(three.stats["nightsky"]["zodiacal_cube_builds"].get<int>() == 2);
 }
