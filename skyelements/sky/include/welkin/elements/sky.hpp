@@ -46,7 +46,7 @@ namespace welkin::elements {
 /// stays): -21 deg. Measured (docs/sky.md, Malta 2026-08-12, fisheye, medium): the brightest pixel
 /// of the Sun's sky is 7.5e-5 cd/m^2 at -19.6 deg (near the horizon under the Sun; the natural
 /// night sky is 2e-4 at the zenith and ~1e-3 there), below 1e-6 at -20.25 deg and exactly 0 from
-/// -20.6 deg: no air the observer sees is lit, even through one more scattering. The published
+/// -20.6 deg in every pixel (multiple scattering included). The published
 /// photometry (sky.zenith_luminance, ...) is unchanged.
 inline constexpr double kSkySunNightAltitudeRad = -21.0 * 3.14159265358979323846 / 180.0;
 
