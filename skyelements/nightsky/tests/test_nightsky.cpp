@@ -498,8 +498,8 @@ NightRender renderNight(bool direct, const char* time, Projection proj, int w, i
 TEST_CASE("NightSky: the cube map matches the per-pixel panorama lookup", "[gl][nightsky]") {
     if (!std::filesystem::exists(kPanorama)) FAIL("no " << kPanorama << " (Debian: stellarium-data): install it (a missing file fails, never skips)");
     test::glContext();
-    // The perspective view magnifies the panorama (0.05 deg pixels at 192 px... 0.31 deg at 192x108:
-    // its mips); the fisheye shows the whole sky, the poles and the seam, minified.
+    // The perspective view: 0.56 deg pixels at 192x108 (the panorama's level 1-2); the fisheye
+    // (1.9 deg pixels) shows the whole sky, the poles and the panorama's seam, minified.
     struct Case { Projection proj; int w, h; };
     for (Case k : {Case{Projection::Perspective, 192, 108}, Case{Projection::Fisheye, 96, 96}}) {
         const NightRender ref = renderNight(true, "2026-08-12T22:00:00Z", k.proj, k.w, k.h);
@@ -520,8 +520,13 @@ TEST_CASE("NightSky: the cube map matches the per-pixel panorama lookup", "[gl][
             }
         REQUIRE(n > k.w * k.h / 2);
         INFO(toString(k.proj) << ": mean relative difference " << sumRel / n << ", max " << maxRel);
-        CHECK(sumRel / n < 0.02);
-        CHECK(maxRel < 0.2);
+        // Measured (2026-11-26, llvmpipe): mean 0.30 %, max 9.2 % (perspective) and 7.1 %
+        // (fisheye). The mean: 1 %, the existing image tests' tolerances are 2-3 %; the max: 15 %,
+        // a sharp Milky Way detail resampled twice (panorama -> cube texel -> pixel), or filtered
+        // by the cube's mipmaps instead of the panorama's. A wrong face orientation or frame
+        // moves the Milky Way by tens of degrees: differences of order 1 (100 %).
+        CHECK(sumRel / n < 0.01);
+        CHECK(maxRel < 0.15);
     }
 }
 
