@@ -102,7 +102,9 @@ void Sky::doInit(InitContext& ctx) {
     for (int moon = 0; moon < 2; ++moon)
         for (int t = 0; t < 2; ++t) eclipsePrograms_[moon][t] = gl::ProjectionPrograms(recipe(false, moon == 1, t == 1, false, false, 0, false, true));
     for (int moon = 0; moon < 2; ++moon)
-        for (int t = 0; t < 2; ++t) nightPrograms_[moon][t] = gl::ProjectionPrograms(recipe(false, moon == 1, t == 1, false, false, 0, false, false, true));
+        for (int t = 0; t < 2; ++t)
+            for (int baked = 0; baked < 2; ++baked)
+                nightPrograms_[moon][t][baked] = gl::ProjectionPrograms(recipe(false, moon == 1, t == 1, baked == 1, false, 0, false, false, true));
     marchBands_ = 0;
     ubo_ = gl::Buffer(sizeof(AtmosphereBlock));
 }
@@ -209,7 +211,7 @@ void Sky::doRender(const FrameContext& ctx) {
     if (!perPixel_ || !sp) {
         const gl::Program& p = perPixel_ ? (eclipseMarch ? marchEclipsePrograms_[moon].get(proj) : marchPrograms_[moon][shadow].get(proj))
                                : eclipse ? eclipsePrograms_[moon][ctx.nothingBehind ? 0 : 1].get(proj)
-                               : !sunTerm_ ? nightPrograms_[moon][ctx.nothingBehind ? 0 : 1].get(proj)
+                               : !sunTerm_ ? nightPrograms_[moon][ctx.nothingBehind ? 0 : 1][q.bakedMiePhase].get(proj)
                                          : lutPrograms_[moon][ctx.nothingBehind ? 0 : 1][q.bakedMiePhase][shadow].get(proj);
         setUniforms(p, sunE, moonE);
         if (eclipse && !perPixel_) {

@@ -114,8 +114,8 @@ private:
     gl::ProjectionPrograms lutPrograms_[2][2][2][2], marchPrograms_[2][2], spectralPrograms_[2];
     // A solar eclipse (sky.eclipse_view_lut): [moon][transmittance] on the LUT path, [moon] per pixel.
     gl::ProjectionPrograms eclipsePrograms_[2][2], marchEclipsePrograms_[2];
-    // Night, the Sun's term skipped (SKY_NO_SUN): [moon][transmittance], LUT path only.
-    gl::ProjectionPrograms nightPrograms_[2][2];
+    // Night, the Sun's term skipped (SKY_NO_SUN): [moon][transmittance][baked phase], LUT path only.
+    gl::ProjectionPrograms nightPrograms_[2][2][2];
     int marchBands_ = 0;
     gl::Buffer ubo_;
     AerialPerspective aerial_;  // applyToScene()'s air pass
