@@ -33,13 +33,16 @@
 //    (bortleZenithMag()); the artificial part is that minus the dark-sky reference
 //    kDarkSkyZenithMag, brighter towards the horizon by van Rhijn's factor for an 8 km layer
 //    (the air's scale height), in the colour of a 3000 K black body (sodium and warm LEDs).
-//  - Cost: the terms fixed to the stars are read from cube maps over ICRS directions (RGBA16F),
+//  - Cost: by default the panorama is looked up per pixel (an atan and an acos). With
+//    setDirectLookup(false) the terms fixed to the stars are read from cube maps over ICRS directions (RGBA16F),
 //    built on the GPU from the panorama and the baked zodiacal texture: the Milky Way and its
 //    floor (kNightCubeSize texels a face, mipmapped) once and when its keys change, the
 //    zodiacal light (kNightZodiCubeSize, smooth) when the Sun's ecliptic longitude moved
 //    > 0.1 deg (nightCubeStale()). Per pixel: a 3x3 rotation ENU -> ICRS, two cube fetches, two
 //    van Rhijn factors, no inverse trigonometry. The per-pixel panorama lookup (an atan and an
-//    acos) stays as the reference (NightSky::setDirectLookup) the tests compare the cubes with.
+//    acos) is the reference the tests compare the cubes with. Measured on llvmpipe (2 cores) the
+//    cube path cost 8.8x a trivial pass against the direct lookup's 8.2x, and adds a 64 MB cube
+//    and its build to the first frame, so the direct lookup is the default.
 //  - Cost: the pass is skipped when a Sky's zenith luminance exceeds 1e5 x the night sky's (its
 //    pixels would change by < 1e-5 relative).
 //  - Published: nightsky.background_cd_m2, the zenith luminance of all four terms; Stars adds it
@@ -134,8 +137,8 @@ class NightSky final : public SkyElement {
 public:
     NightSky();
 
-    /// true: the per-pixel panorama lookup (an atan and an acos per pixel, the reference the cube
-    /// map is checked against); false (default): the ICRS cube map. Call before init().
+    /// true (default): the per-pixel panorama lookup (an atan and an acos per pixel, the reference
+    /// the cube map is checked against); false: the ICRS cube maps. Call before init().
     void setDirectLookup(bool direct) { direct_ = direct; }
     bool directLookup() const { return direct_; }
     /// How many times the Milky Way's cube (6 faces and the mips) and the zodiacal light's were
@@ -167,7 +170,7 @@ private:
     void buildCube(const FrameContext& ctx, const NightCubeInputs& in, bool zodiacal);
 
     gl::ProjectionPrograms programs_;
-    bool direct_ = false;
+    bool direct_ = true;  // the per-pixel lookup by default: on llvmpipe the cubes measured no cheaper (docs/nightsky.md)
     gl::Program cubeProgram_;
     gl::TextureCube cube_, zodiCube_;
     gl::Framebuffer cubeFbo_;
