@@ -1,7 +1,12 @@
 // welkin bench framework: a fixed scene for counting the framework's CPU instructions per frame
 // with callgrind (welkin bench all runs it so):
 //
-//   valgrind --tool=callgrind --instr-atstart=no welkin bench framework --frames 30
+//   LP_NUM_THREADS=0 welkin bench framework --frames 30     # natively first: fills Mesa's shader cache
+//   LP_NUM_THREADS=0 valgrind --tool=callgrind --instr-atstart=no welkin bench framework --frames 30
+//
+// (LP_NUM_THREADS=0: llvmpipe rasterises on the calling thread.) Under valgrind, llvmpipe's LLVM
+// compiles of every shader variant take most of the run; the native run first leaves them in
+// Mesa's on-disk cache, which llvmpipe reads back.
 //
 // The default elements at Malta, 2026-06-21 08:00 UTC, looking east, at a tiny size (the driver's
 // per-pixel work is not what is measured), time running at 600x real time at 30 frames/s. The
