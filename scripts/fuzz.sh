@@ -4,7 +4,8 @@
 # (tests/fuzz/regressions/<target>/).
 #   scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]      default 10 s, every target
 # Environment: FUZZ_BUILD_DIR (build-fuzz), FUZZ_WORK_DIR (a temporary folder: the corpus each run
-# grows and any crash input, kept when something is found), FUZZ_JOBS (build jobs, nproc).
+# grows and any crash input, kept when something is found), FUZZ_JOBS (build jobs, nproc), FUZZ_SEED
+# (libFuzzer's -seed; unset: a random one).
 # Exit status: 0 when no target found anything, 1 otherwise (the input that did is named).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -43,7 +44,7 @@ for t in "${targets[@]}"; do
   mkdir -p "$work/$t/corpus"
   cp -n tests/fuzz/corpus/"$t"/* "$work/$t/corpus/" 2>/dev/null || true
   if "$bin" "$work/$t/corpus" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2560 -malloc_limit_mb=2048 \
-       -artifact_prefix="$work/$t/" -print_final_stats=1 >"$work/$t.log" 2>&1; then
+       ${FUZZ_SEED:+-seed=$FUZZ_SEED} -artifact_prefix="$work/$t/" -print_final_stats=1 >"$work/$t.log" 2>&1; then
     echo "ok   $t: $(grep -E '^stat::number_of_executed_units' "$work/$t.log" | awk '{print $2}') runs in ${seconds} s"
   else
     echo "FAIL $t: $(ls "$work/$t"/crash-* "$work/$t"/leak-* "$work/$t"/timeout-* "$work/$t"/oom-* 2>/dev/null | head -1) (log: $work/$t.log)"

@@ -13,7 +13,8 @@ packages=(build-essential cmake pkg-config git
   libglfw3-dev libglm-dev libopenimageio-dev openimageio-tools catch2 libepoxy-dev libegl-dev
   libegl-mesa0 libgl1-mesa-dri liberfa-dev libcli11-dev nlohmann-json3-dev libimgui-dev glslang-tools
   xvfb xauth kstars-data stellarium-data libfreetype-dev fonts-dejavu-core python3 python3-matplotlib
-  doxygen libtinygltf-dev ffmpeg)
+  doxygen libtinygltf-dev ffmpeg
+  clang libclang-rt-14-dev)  # the libFuzzer targets (scripts/fuzz.sh); libFuzzer's runtime is only a Recommends of clang
 
 missing=()
 for p in "${packages[@]}"; do

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The whole test suite on an existing build: unit tests ([cpu], [gl], [slow]) through CTest,
 # the examples, an install (its headers self-contained) + find_package(welkin) and pkg-config
-# consumer builds, the API reference (Doxygen), and the sanitizer build's fast tests.
+# consumer builds, the API reference (Doxygen), the sanitizer build's fast tests, and a short
+# fixed run of the libFuzzer targets (clang; WELKIN_FUZZ_SECONDS per target, default 4).
 # Usage: scripts/test.sh [--nightly] BUILD_DIR
 #   --nightly (or WELKIN_NIGHTLY=1): the sanitizer step runs the whole suite, [slow] included,
 #   under ASan + UBSan with LeakSanitizer on (scripts/lsan.supp); too long for CI's 45 minutes on
@@ -105,6 +106,11 @@ if [ -n "$nightly" ]; then
 else
   ASAN_OPTIONS=detect_leaks=0 "$san/tests/welkin_tests" "[cpu]~[slow],[gl]~[slow]"
 fi
+
+step "fuzzing: the libFuzzer targets' saved crash inputs, then each target ${WELKIN_FUZZ_SECONDS:-4} s from its seeds"
+# Builds only the engine and the fuzz targets (clang, -O1, ASan + UBSan + libFuzzer; docs/fuzzing.md).
+# A fixed short run: 10 targets x 4 s plus the replays, about a minute; scripts/fuzz.sh 300 runs long.
+FUZZ_BUILD_DIR=${WELKIN_FUZZ_BUILD_DIR:-$build-fuzz} FUZZ_JOBS=$jobs FUZZ_SEED=${FUZZ_SEED:-1} "$here/scripts/fuzz.sh" "${WELKIN_FUZZ_SECONDS:-4}"
 step ""
 
 echo "== all tests passed in $(( $(date +%s) - start )) s; CPU time (user system) of the script, then of what it ran:"

@@ -1,7 +1,9 @@
 // welkin bench frame: cost of the compositing pipeline itself on this machine: a trivial
 // fullscreen pass into RGBA32F and RGBA16F targets, the tone map (manual and automatic
-// exposure; on a mesopic frame with eye.mesopic off and on) and the Grid element. CPU-timed with glFinish (GL timer queries mean nothing on
-// llvmpipe). Prints a Markdown table; --csv writes the same rows.
+// exposure; on a mesopic frame with eye.mesopic off and on) and the Grid element (on the tiles
+// near its lines and, for comparison, as a fullscreen pass). CPU-timed with glFinish (GL timer
+// queries mean nothing on llvmpipe): elapsed time, or with --clock cpu the process's CPU time
+// (steady on a machine other jobs load). Prints a Markdown table; --csv writes the same rows.
 #include "bench_util.hpp"
 #include "command.hpp"
 
@@ -17,6 +19,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <functional>
 #include <memory>
@@ -29,13 +32,59 @@ struct FrameBenchOptions {
     std::string size = "1280x720";
     int repeats = 10;
     std::string csv;
+    std::string clock = "wall";  ///< "wall" (steady clock) or "cpu" (the process's CPU time, llvmpipe's threads included)
 };
+
+bool gCpuClock = false;  // --clock cpu
+
+double nowMs() {
+    if (!gCpuClock) return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
+}
+
+// medianMs() and alternatedMedianMs() of bench_util.hpp on the clock --clock chose: with "cpu" the
+// work the passes cost (llvmpipe's rasterizer threads are this process's), steady when other jobs
+// load the machine's cores.
+double medianOn(int repeats, const std::function<void()>& fn) {
+    std::vector<double> t;
+    for (int i = 0; i < std::max(repeats, 1); ++i) {
+        glFinish();
+        const double t0 = nowMs();
+        fn();
+        glFinish();
+        t.push_back(nowMs() - t0);
+    }
+    std::sort(t.begin(), t.end());
+    return t[t.size() / 2];
+}
+
+std::vector<double> alternatedOn(int repeats, const std::vector<std::function<void()>>& fns) {
+    std::vector<std::vector<double>> t(fns.size());
+    for (int i = 0; i < std::max(repeats, 1); ++i)
+        for (size_t k = 0; k < fns.size(); ++k) {
+            glFinish();
+            const double t0 = nowMs();
+            fns[k]();
+            glFinish();
+            t[k].push_back(nowMs() - t0);
+        }
+    std::vector<double> medians;
+    for (auto& v : t) {
+        std::sort(v.begin(), v.end());
+        medians.push_back(v[v.size() / 2]);
+    }
+    return medians;
+}
 
 int run(const FrameBenchOptions& o) {
     int w = 0, h = 0;
     std::sscanf(o.size.c_str(), "%dx%d", &w, &h);
     if (w < 1 || h < 1 || w > 8192 || h > 8192) throw Error("--size '" + o.size + "' not WIDTHxHEIGHT in [1, 8192]");
     if (o.repeats < 1 || o.repeats > 1000) throw Error("--repeats " + std::to_string(o.repeats) + " not in [1, 1000]");
+    if (o.clock != "wall" && o.clock != "cpu") throw Error("--clock '" + o.clock + "' not one of wall, cpu");
+    gCpuClock = o.clock == "cpu";
     Logger log;
     auto ctx = gl::HeadlessContext::create({}, log);
     auto vao = gl::VertexArray::create();
@@ -61,7 +110,7 @@ int run(const FrameBenchOptions& o) {
         fbo.attach(GL_COLOR_ATTACHMENT0, target);
         fbo.checkComplete("bench");
         rows.push_back({fmt == GL_RGBA32F ? "blended (dual-source) pass, RGBA32F" : "blended (dual-source) pass, RGBA16F",
-                        medianMs(o.repeats, [&] {
+                        medianOn(o.repeats, [&] {
                             fbo.bind();
                             glViewport(0, 0, w, h);
                             vao.bind();
@@ -78,7 +127,7 @@ int run(const FrameBenchOptions& o) {
         fbo.attach(GL_COLOR_ATTACHMENT0, target);
         fbo.checkComplete("bench");
         const char* name = fmt == GL_RGBA32F ? "trivial pass, RGBA32F" : fmt == GL_RGBA16F ? "trivial pass, RGBA16F" : "trivial pass, RGBA8";
-        rows.push_back({name, medianMs(o.repeats, [&] {
+        rows.push_back({name, medianOn(o.repeats, [&] {
                             fbo.bind();
                             glViewport(0, 0, w, h);
                             vao.bind();
@@ -92,9 +141,11 @@ int run(const FrameBenchOptions& o) {
         cam.width = w;
         cam.height = h;
         sky.setCamera(cam);
-        sky.add(std::make_unique<elements::Grid>());
+        auto gridElement = std::make_unique<elements::Grid>();
+        elements::Grid* grid = gridElement.get();
+        sky.add(std::move(gridElement));
         sky.renderFrame();
-        rows.push_back({"grid element + tone map (renderFrame)", medianMs(o.repeats, [&] { sky.renderFrame(); })});
+        rows.push_back({"grid element + tone map (renderFrame)", medianOn(o.repeats, [&] { sky.renderFrame(); })});
         gl::Texture2D ldr(w, h, GL_RGBA8);
         auto ldrFbo = gl::Framebuffer::create();
         ldrFbo.attach(GL_COLOR_ATTACHMENT0, ldr);
@@ -124,11 +175,33 @@ int run(const FrameBenchOptions& o) {
             copy.use();
             glDrawArrays(GL_TRIANGLES, 0, 3);
         };
+        {
+            // The grid drawn on the tiles near its lines (the default) and as a fullscreen pass
+            // (Grid::setTiled(false): its cost before 2026-11-26), each renderFrame() with manual
+            // exposure, in alternation with the trivial and copy passes.
+            sky.setExposure({.automatic = false});
+            auto gridFrame = [&](bool tiled) {
+                return [&, tiled] {
+                    grid->setTiled(tiled);
+                    sky.renderFrame();
+                };
+            };
+            gridFrame(false)();
+            const std::vector<double> ms = alternatedOn(o.repeats, {drawTrivial, drawCopy, gridFrame(true), gridFrame(false)});
+            grid->setTiled(true);
+            rows.push_back({"grid element + tone map, lines' tiles (renderFrame)", ms[2]});
+            rows.push_back({"grid element + tone map, fullscreen grid (renderFrame)", ms[3]});
+            rows.push_back({"  alternated with them: trivial pass RGBA32F", ms[0]});
+            alternated.push_back({"grid element + tone map, lines' tiles", ms[2] / ms[0]});
+            copyRatio.push_back(ms[2] / ms[1]);
+            alternated.push_back({"grid element + tone map, fullscreen grid", ms[3] / ms[0]});
+            copyRatio.push_back(ms[3] / ms[1]);
+        }
         for (bool automatic : {false, true}) {
             sky.setExposure({.automatic = automatic});
             sky.toneMapInto(ldrFbo.id());
             const std::vector<double> ms =
-                alternatedMedianMs(o.repeats, {drawTrivial, drawCopy, [&] { sky.toneMapInto(ldrFbo.id()); }});
+                alternatedOn(o.repeats, {drawTrivial, drawCopy, [&] { sky.toneMapInto(ldrFbo.id()); }});
             const std::string what = automatic ? "automatic exposure" : "manual exposure";
             rows.push_back({"tone map, " + what, ms[2]});
             rows.push_back({"  alternated with it: trivial pass RGBA32F", ms[0]});
@@ -154,7 +227,7 @@ int run(const FrameBenchOptions& o) {
             };
             toneMap(false)();
             toneMap(true)();
-            const std::vector<double> ms = alternatedMedianMs(o.repeats, {drawTrivial, drawCopy, toneMap(false), toneMap(true)});
+            const std::vector<double> ms = alternatedOn(o.repeats, {drawTrivial, drawCopy, toneMap(false), toneMap(true)});
             rows.push_back({"tone map, mesopic frame, eye.mesopic off", ms[2]});
             rows.push_back({"tone map, mesopic frame, eye.mesopic on", ms[3]});
             rows.push_back({"  alternated with them: trivial pass RGBA32F", ms[0]});
@@ -165,10 +238,10 @@ int run(const FrameBenchOptions& o) {
             }
             night.release();
         }
-        rows.push_back({"read back HDR (RGBA32F -> RGB)", medianMs(std::min(o.repeats, 3), [&] { (void)sky.readHdr(); })});
+        rows.push_back({"read back HDR (RGBA32F -> RGB)", medianOn(std::min(o.repeats, 3), [&] { (void)sky.readHdr(); })});
     }
-    std::printf("welkin bench frame, %dx%d, median of %d, %s\n\n| pass | ms | x trivial RGBA32F |\n|---|---|---|\n", w, h,
-                o.repeats, ctx->description().c_str());
+    std::printf("welkin bench frame, %dx%d, median of %d, %s clock, %s\n\n| pass | ms | x trivial RGBA32F |\n|---|---|---|\n", w, h,
+                o.repeats, o.clock.c_str(), ctx->description().c_str());
     double reference = rows[0].ms;
     for (auto& r : rows)
         if (r.what == "trivial pass, RGBA32F") reference = r.ms;
@@ -189,6 +262,8 @@ BenchRegistrar reg("frame", "cost of the HDR target formats, the tone map and th
     sub.add_option("--size", o->size, "frame size WIDTHxHEIGHT")->capture_default_str();
     sub.add_option("--repeats", o->repeats, "timed repetitions (median reported)")->capture_default_str();
     sub.add_option("--csv", o->csv, "also write the rows as CSV");
+    sub.add_option("--clock", o->clock, "wall (elapsed) or cpu (the process's CPU time, llvmpipe's threads included: steady on a loaded machine)")
+        ->capture_default_str();
     return [o]() { return run(*o); };
 });
 

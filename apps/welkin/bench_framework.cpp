@@ -1,7 +1,14 @@
 // welkin bench framework: a fixed scene for counting the framework's CPU instructions per frame
 // with callgrind (welkin bench all runs it so):
 //
-//   valgrind --tool=callgrind --instr-atstart=no welkin bench framework --frames 30
+//   LP_NUM_THREADS=0 valgrind --tool=none welkin bench framework --frames 30   # fills Mesa's shader cache
+//   LP_NUM_THREADS=0 valgrind --tool=callgrind --instr-atstart=no welkin bench framework --frames 30
+//
+// (LP_NUM_THREADS=0: llvmpipe rasterises on the calling thread.) Under valgrind, llvmpipe's LLVM
+// compiles of every shader variant take most of the run; the first run leaves them in Mesa's
+// on-disk cache, which llvmpipe reads back in the second. The first runs under valgrind too:
+// llvmpipe keys its cached code on the CPU features it detects, and valgrind's virtual CPU has
+// fewer than the machine (no AVX-512), so a native run's entries are not found under valgrind.
 //
 // The default elements at Malta, 2026-06-21 08:00 UTC, looking east, at a tiny size (the driver's
 // per-pixel work is not what is measured), time running at 600x real time at 30 frames/s. The

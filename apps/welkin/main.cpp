@@ -1,6 +1,7 @@
 // welkin: the command-line front end. Subcommands live in cmd_*.cpp and register themselves.
 #include "command.hpp"
 
+#include <welkin/bench.hpp>
 #include <welkin/error.hpp>
 
 #include <algorithm>
@@ -28,6 +29,8 @@ int main(int argc, char** argv) {
     app.set_version_flag("--version", std::string("welkin ") + WELKIN_VERSION);
     app.require_subcommand(1);
 
+    // Benchmark commands registered from the elements' folders (welkin/bench.hpp) join the command's own.
+    for (const welkin::bench::CommandBench& b : welkin::bench::commandBenches()) benchmarks().push_back({b.name, b.description, b.setup});
     auto byName = [](const Command& a, const Command& b) { return a.name < b.name; };
     std::sort(commands().begin(), commands().end(), byName);
     std::sort(benchmarks().begin(), benchmarks().end(), byName);

@@ -51,6 +51,58 @@ TEST_CASE("bench::fitGrowthExponent recovers power laws", "[cpu][bench]") {
     CHECK(welkin::bench::fitGrowthExponent({-1, 2, 4}, {5, 4, 16}) == Approx(2.0).margin(1e-12));
 }
 
+TEST_CASE("bench::parseCallgrind attributes instructions to welkin, the runtime it calls and the driver", "[cpu][bench]") {
+    // A hand-written callgrind output in the format valgrind 3.19 writes (compressed names, a
+    // "calls=" line followed by the call's inclusive cost, relative positions "+1"): welkin's
+    // renderFrame (self 100 + 20) calls malloc (inclusive 40) and the driver's glClear
+    // (inclusive 5000, not welkin's); the driver calls malloc too (1000); malloc's self cost is
+    // both (1040). All counts are integers: exact comparisons.
+    std::istringstream in(R"(version: 1
+creator: callgrind-3.19.0
+events: Ir
+ob=(1) /opt/welkin/bin/welkin
+fl=(1) processor.cpp
+fn=(1) welkin::SkyProcessor::renderFrame()
+10 100
+cob=(2) /lib/x86_64-linux-gnu/libc.so.6
+cfi=(2) ???
+cfn=(2) malloc
+calls=2 0
+10 40
+cob=(3) /usr/lib/x86_64-linux-gnu/libGLX_mesa.so.0
+cfn=(3) glClear
+calls=1 0
+11 5000
++1 20
+
+ob=(2)
+fl=(2)
+fn=(2)
+0 1040
+
+ob=(3)
+fn=(3)
+0 4000
+cob=(2)
+cfn=(2)
+calls=1 0
+0 1000
+
+ob=(4) /usr/lib/x86_64-linux-gnu/libstdc++.so.6.0.30
+fn=(4) std::string::append
+0 7
+totals: 5167
+)");
+    const welkin::bench::CallgrindCosts c = welkin::bench::parseCallgrind(in, "/opt/welkin/bin/welkin");
+    CHECK(c.total == 5167);
+    CHECK(c.own == 120);
+    CHECK(c.ownCalls == 40);
+    CHECK(c.runtime == 1047);
+    CHECK(c.total - c.own - c.runtime == 4000);  // the driver's glClear
+    REQUIRE(c.byFunction.size() == 1);
+    CHECK(c.byFunction.at("welkin::SkyProcessor::renderFrame()") == 160);
+}
+
 TEST_CASE("welkin bench all: it measures every element of the registry", "[cpu][cli][bench]") {
     // --list prints the elements a run measures, one "name: scene" line each: every element of the
     // registry (with its own bench, or the default scene), so a new element folder is measured.

@@ -293,3 +293,57 @@ TEST_CASE("Clouds' shadow on the sky: the Clouds element switches it on, clouds.
         p.release();
     }
 }
+
+TEST_CASE("Clouds' shadow on the sky: a moving light's map and loss table rebuilt over clouds.shadow_slices frames", "[gl][clouds][shadow]") {
+    // One opaque cumulus north of the observer, the Sun 20 deg up in the south; both tables built
+    // whole first. Then, interactive with 4 slices, the Sun moves to 21 deg and stays: each
+    // generator draws one part per frame (never more), the map and its light stay the old ones
+    // until the new map is complete, and once both settle (the map over frames 1-4, the loss
+    // table over 1-4 with the old map and again over 5-8 with the new one) they equal tables
+    // built whole with the same inputs.
+    Rig rig(directionFromAzAlt(180 * kDeg, 20 * kDeg), 0.0);
+    rig.render();  // the sky's LUTs
+    rig.clouds(weather(64, 40e3, {0, 6000}, 1500.0, false), 40e3, 64);
+    const glm::dvec3 oldLight = rig.vars.get(cloudkeys::shadowLight);
+    rig.vars.set(keys::interactive, true);
+    rig.vars.set(cloudkeys::shadowSlices, 4);
+    rig.vars.set(keys::sunDirection, directionFromAzAlt(180 * kDeg, 21 * kDeg));
+    const Logger& log = test::testLogger();
+    int frames = 0;
+    for (; frames < 20 && (rig.map->isDue(rig.vars) || rig.loss->isDue(rig.vars)); ++frames) {
+        const int m0 = rig.map->slicesBuilt(), l0 = rig.loss->slicesBuilt();
+        rig.map->runIfDue(rig.vars, log);
+        rig.loss->runIfDue(rig.vars, log);
+        CHECK(rig.map->slicesBuilt() - m0 <= 1);
+        CHECK(rig.loss->slicesBuilt() - l0 <= 1);
+        if (frames < 3) CHECK(rig.vars.get(cloudkeys::shadowLight) == oldLight);  // the old map, whole, until the new one is
+    }
+    CHECK(frames == 8);
+    CHECK(rig.map->slicesBuilt() == 4);
+    CHECK(rig.loss->slicesBuilt() == 8);
+    const glm::dvec3 newLight = rig.vars.get(cloudkeys::shadowLight);
+    CHECK(newLight.z == Approx(std::sin(21 * kDeg)).margin(1e-12));
+    const std::vector<float> mapSliced = readRgba(rig.vars.get(cloudkeys::shadowMap));
+    const std::vector<float> lossSliced = readRgba(rig.vars.get(skykeys::shadowLossLut));
+    const std::vector<float> mieSliced = readRgba(rig.vars.get(skykeys::shadowLossMieLut));
+    // Whole: one slice (a change of the key reruns both), the same light, offset and layer.
+    rig.vars.set(cloudkeys::shadowSlices, 1);
+    rig.map->runIfDue(rig.vars, log);
+    rig.loss->runIfDue(rig.vars, log);
+    CHECK(rig.map->slicesBuilt() == 4);
+    CHECK(rig.loss->slicesBuilt() == 8);
+    // The same shader on the same inputs, only scissored by rows: equal to float rounding (1e-6
+    // of the table's largest value allows another driver's reassociation).
+    auto worst = [](const std::vector<float>& a, const std::vector<float>& b) {
+        float mx = 0, d = 0;
+        for (size_t i = 0; i < b.size(); ++i) mx = std::max(mx, std::abs(b[i])), d = std::max(d, std::abs(a[i] - b[i]));
+        return mx > 0 ? d / mx : d;
+    };
+    CHECK(worst(mapSliced, readRgba(rig.vars.get(cloudkeys::shadowMap))) <= 1e-6);
+    CHECK(worst(lossSliced, readRgba(rig.vars.get(skykeys::shadowLossLut))) <= 1e-6);
+    CHECK(worst(mieSliced, readRgba(rig.vars.get(skykeys::shadowLossMieLut))) <= 1e-6);
+    // And the map is not trivially flat: the cloud's shadow is in it.
+    float darkest = 1.0f;
+    for (size_t i = 0; i < mapSliced.size(); i += 4) darkest = std::min(darkest, mapSliced[i]);  // R: the transmittance
+    CHECK(darkest < 0.5f);
+}

@@ -215,6 +215,61 @@ TEST_CASE("LightKeyframes: a drifting light builds no exact tables; a resting on
     }
 }
 
+TEST_CASE("LightKeyframes: a spread prefill keeps to its budget per run and fills the grid", "[cpu][sky]") {
+    // Time starts (a light at rest at 6 deg, then setting at 0.02 deg per run) with the prefill
+    // spread at 2 chunks per run over tables of 12 chunks: no run builds more than the budget
+    // (the pace the light needs, ceil(1.25 x 12 x 0.02 / 1) = 1 chunk, is below it), nothing is
+    // built whole through nextPrefill(), only complete tables are shown, and once the queue has
+    // drained every grid table from -20 deg up is there: the light then moves without a build.
+    LightKeyframes::Options op{.stepRad = 1 * kDeg, .coarseStepRad = 3 * kDeg, .chunks = 12, .slots = 64, .stillMuS = 2e-5};
+    op.prefill = true;
+    op.prefillChunksPerRun = 2;
+    LightKeyframes kf(op);
+    BuildLog log;
+    auto p = kf.plan(std::sin(6.0 * kDeg));  // the first run: the exact table, whole (a jump, not time running)
+    log.apply(p);
+    for (int i = 0; i < 5; ++i) log.apply(kf.plan(std::sin(6.0 * kDeg)));  // time stopped
+    int grid = 0;
+    for (double g : kf.grid()) grid += g >= op.prefillLowRad - 1e-9;
+    int runs = 0, worst = 0;
+    double e = 6.0;
+    for (; runs < 1000 && kf.gridTables() < grid; ++runs) {
+        e -= 0.02;
+        p = kf.plan(std::sin(e * kDeg));
+        log.apply(p);
+        if (p.build >= 0) worst = std::max(worst, p.chunkEnd - p.chunkBegin);
+        CHECK(kf.nextPrefill().slot == -1);  // spread: never a whole table at once
+        for (int j = 0; j < p.count; ++j) REQUIRE(log.built[p.slot[size_t(j)]] == 12);
+        if (runs == 0) CHECK(kf.prefillQueued() >= grid - 6);  // queued at the first move
+    }
+    INFO("runs " << runs << ", grid tables " << kf.gridTables() << " of " << grid);
+    CHECK(worst == 2);
+    CHECK(kf.gridTables() == grid);
+    CHECK(kf.prefillQueued() == 0);
+    // 2 chunks per run: at least grid x 12 / 2 runs (less the tables the light's own pace built).
+    CHECK(runs >= grid * 12 / 2 - 12);
+    int builds = 0;
+    for (int i = 1; i <= 40; ++i) {
+        p = kf.plan(std::sin((e + 0.25 * i) * kDeg));  // the light rises back 10 deg
+        log.apply(p);
+        builds += p.build >= 0;
+        for (int j = 0; j < p.count; ++j) REQUIRE(log.built[p.slot[size_t(j)]] == 12);
+    }
+    CHECK(builds == 0);
+    // A fast light (1 deg per run, from 3 deg down where the grid is 1 deg) with a budget of 1:
+    // the tables it needs still come at its pace
+    // (ceil(1.25 x 12 x 1 / 1) = 15, so whole tables, 12 chunks), not at the budget.
+    op.prefillChunksPerRun = 1;
+    LightKeyframes kq(op);
+    kq.plan(std::sin(3.0 * kDeg));
+    int fastWorst = 0;
+    for (int i = 1; i <= 10; ++i) {
+        auto q = kq.plan(std::sin((3.0 - i) * kDeg));
+        if (q.build >= 0) fastWorst = std::max(fastWorst, q.chunkEnd - q.chunkBegin);
+    }
+    CHECK(fastWorst == 12);
+}
+
 namespace {
 struct AnimRig {
     SkyVars vars = SkyVars::earth();
@@ -363,6 +418,61 @@ TEST_CASE("Sky animation: keyframed tables against a fresh rebuild, and exact on
     CHECK(rig.luts.sunView->lastPlan().exact);
     CHECK(worstRel(pixels(rig.luts.sunView->totalTexture()), pixels(fresh.luts.sunView->totalTexture())) < 1e-4);
     CHECK(worstRel(pixels(rig.luts.aerial->inscatter()), pixels(fresh.luts.aerial->inscatter())) < 1e-4);
+}
+
+TEST_CASE("Sky animation: time starts with the prefill spread over frames within sky.keyframe_budget", "[gl][sky]") {
+    // Tiny tables, 3 chunks each, grid 1 deg (3 deg above), prefill on, budget 1 chunk per frame.
+    // The Sun rests at 6 deg, then sets at 0.05 deg per frame (the pace it needs is
+    // ceil(1.25 x 3 x 0.05 / 1) = 1 chunk): no frame builds more than one chunk of a sky-view or
+    // aerial table, and every shown table is finite and >= 0.
+    AnimRig rig(6.0);
+    rig.q.keyframePrefill = true;
+    for (SkyGenerator* g : {(SkyGenerator*)rig.luts.transmittance.get(), (SkyGenerator*)rig.luts.multiScattering.get(),
+                            (SkyGenerator*)rig.luts.sh.get(), (SkyGenerator*)rig.luts.sunView.get(), (SkyGenerator*)rig.luts.moonView.get(),
+                            (SkyGenerator*)rig.luts.aerial.get(), (SkyGenerator*)rig.luts.irradiance.get()})
+        g->setFixedQuality(rig.q);
+    rig.vars.set(skykeys::keyframeBudget, 1);
+    rig.runAll();
+    rig.runAll();
+    const LightKeyframes& kv = rig.luts.sunView->keyframes();
+    int grid = 0;
+    for (double g : kv.grid()) grid += g >= kv.options().prefillLowRad - 1e-9;
+    int frames = 0, worstView = 0, worstAerial = 0;
+    double e = 6.0;
+    for (; frames < 400 && (kv.gridTables() < grid || rig.luts.aerial->keyframes().gridTables() < grid); ++frames) {
+        e -= 0.05;
+        rig.setSun(1.0, e);
+        rig.runAll();
+        const auto& pv = rig.luts.sunView->lastPlan();
+        const auto& pa = rig.luts.aerial->lastPlan();
+        if (pv.build >= 0) worstView = std::max(worstView, pv.chunkEnd - pv.chunkBegin);
+        if (pa.build >= 0) worstAerial = std::max(worstAerial, pa.chunkEnd - pa.chunkBegin);
+        if (frames % 40 == 0) {
+            std::vector<float> px = pixels(rig.luts.sunView->totalTexture());
+            REQUIRE(std::all_of(px.begin(), px.end(), [](float x) { return std::isfinite(x) && x >= 0; }));
+        }
+    }
+    INFO("frames " << frames << ", grid tables " << kv.gridTables() << " of " << grid);
+    CHECK(worstView == 1);
+    CHECK(worstAerial == 1);
+    CHECK(kv.gridTables() == grid);
+    // The whole grid in ~grid x 3 frames (less what the light's own pace built), not at once.
+    CHECK(frames >= grid * 3 - 9);
+    // The filled tables against whole rebuilds: the Sun jumps to the grid point nearest 30 deg,
+    // which the background fill built over 3 frames: shown as it is, with nothing built, equal to a
+    // table built whole at that elevation up to float rounding of the pack and blend passes (1e-3,
+    // as for the grid table in the test above).
+    double node = 0;
+    for (double g : kv.grid())
+        if (std::abs(g - 30 * kDeg) < std::abs(node - 30 * kDeg)) node = g;
+    rig.setSun(1.0, node / kDeg);
+    rig.runAll();
+    CHECK(rig.luts.sunView->lastPlan().build < 0);
+    CHECK(rig.luts.sunView->lastPlan().exact);
+    AnimRig fresh(node / kDeg, 1.0, 3);
+    fresh.runAll();
+    CHECK(worstRel(pixels(rig.luts.sunView->smoothTexture()), pixels(fresh.luts.sunView->smoothTexture())) < 1e-3);
+    CHECK(worstRel(pixels(rig.luts.aerial->inscatter()), pixels(fresh.luts.aerial->inscatter())) < 1e-3);
 }
 
 // The sky view's interpolation in elevation (docs/sky.md "While time runs") against fresh tables

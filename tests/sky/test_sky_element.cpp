@@ -395,3 +395,39 @@ TEST_CASE("Sky: what is behind the sky is attenuated by the ray's transmittance"
         CHECK(checked == cam->height * cam->width / 4);
     }
 }
+
+TEST_CASE("Sky: below -21 deg the Sun's term is skipped; just above it adds < 1e-3 of a night sky", "[gl][sky]") {
+    test::glContext();
+    // A night-sky backdrop (1e-3 cd/m^2, the natural night sky near the horizon; 2e-4 at the
+    // zenith) behind the Sky; no Moon. With the Sun at -20.9 deg the Sun's term is drawn, at
+    // -21.1 deg skipped (kSkySunNightAltitudeRad): the two frames differ by the Sun's sky-view
+    // term at -20.9 deg, which must be below 1e-3 of the backdrop in every pixel (the claim the
+    // threshold rests on), and the transmittance (the backdrop's dimming) must be the same.
+    const float B = 1e-3f;
+    Camera cam;
+    cam.projection = Projection::Fisheye;
+    cam.width = cam.height = 48;
+    auto render = [&](double sunAltDeg, bool& sunTerm) {
+        SkyProcessor p(SkyVars::earth(), Logger(), ProcessorOptions{.astronomy = false});
+        p.vars().set(keys::sunDirection, directionFromAzAlt(M_PI, sunAltDeg * kDeg));
+        p.vars().set(keys::moonDirection, glm::dvec3(0, 0, -1));
+        p.setCamera(cam);
+        p.add(std::make_unique<test::UniformField>(glm::vec3(B), "backdrop"));
+        p.add(std::make_unique<elements::Sky>(elements::SkyOptions{.quality = 1}));
+        p.renderFrame();
+        sunTerm = p.stats()["sky"]["sun_term"].get<bool>();
+        return p.readHdr();
+    };
+    bool drawn = false, skipped = true;
+    const Image a = render(-20.9, drawn), b = render(-21.1, skipped);
+    CHECK(drawn);
+    CHECK_FALSE(skipped);
+    double maxDiff = 0, maxB = 0;
+    for (size_t i = 0; i < a.pixels.size(); ++i) {
+        maxDiff = std::max(maxDiff, double(std::abs(a.pixels[i] - b.pixels[i])));
+        maxB = std::max(maxB, double(b.pixels[i]));
+    }
+    INFO("max |drawn - skipped| " << maxDiff << " cd/m^2, brightest pixel " << maxB);
+    CHECK(maxB > 0.5 * B);  // the backdrop shows through (the zenith transmits ~0.8)
+    CHECK(maxDiff < 1e-3 * B);
+}

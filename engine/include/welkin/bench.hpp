@@ -11,6 +11,13 @@
 //                   .points = {{.vars = {{"stars.magnitude_limit", "4"}}}, {.vars = {{"stars.magnitude_limit", "6"}}}}}},
 //   });
 //
+// A bench with its own options and report (accuracy against a reference, table trace times, docs
+// images) registers a command `welkin bench <name>` from the element's folder the same way:
+//
+//   // skyelements/halos/bench/bench_halos.cpp (compiled into the welkin command, which has CLI11):
+//   static welkin::bench::CommandBenchRegistrar reg({"halos", "halo table trace times ...",
+//       [](CLI::App& sub) { /* add options */ return std::function<int()>([] { /* run */ return 0; }); }});
+//
 // A bench file is compiled into the `welkin` command (not into the library), so its static
 // registrar always runs. Values are strings, as with `--var key=value`, so a bench file needs no
 // header from its element. Costs are measured by the command, never by the bench file: on
@@ -18,9 +25,15 @@
 // fullscreen pass timed alternately with it in the same run.
 #pragma once
 #include <functional>
+#include <iosfwd>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
+
+namespace CLI {
+class App;  // CLI11's subcommand (only the welkin command, which links CLI11, defines command benches)
+}
 
 namespace welkin::bench {
 
@@ -69,6 +82,44 @@ std::vector<ElementBench>& elementBenches();
 struct ElementBenchRegistrar {
     explicit ElementBenchRegistrar(ElementBench b) { elementBenches().push_back(std::move(b)); }
 };
+
+/// A benchmark command `welkin bench <name>`: `setup` adds its options to the subcommand and
+/// returns the action run after parsing (the process exit status; a welkin::Error it throws is
+/// printed as one line and exits with status 1), as the command's own subcommands do.
+struct CommandBench {
+    std::string name;         ///< the subcommand's name ("halos", "cloud-reference")
+    std::string description;  ///< one line for `welkin bench --help`
+    std::function<std::function<int()>(CLI::App& sub)> setup;
+};
+
+/// Every registered command bench (registration order; the command sorts by name).
+std::vector<CommandBench>& commandBenches();
+
+/// A static registrar: one per command bench file.
+struct CommandBenchRegistrar {
+    explicit CommandBenchRegistrar(CommandBench b) { commandBenches().push_back(std::move(b)); }
+};
+
+/// Instructions (callgrind's Ir) of one callgrind output file, attributed for the framework's CPU
+/// cost per frame (`welkin bench all` runs `welkin bench framework` under callgrind):
+///   own      self cost of every function in the object file `ownObject` (the welkin executable:
+///            the processor, SkyVars, the generator graph, the state guard, the elements' and the
+///            generators' CPU work, and the std templates they instantiate; all statically linked);
+///   ownCalls inclusive cost of the calls those functions make into the C/C++ runtime (an object
+///            whose path contains libc.so, libstdc++, libm.so, libgcc or ld-linux: malloc, memcpy,
+///            string and stream code called by welkin);
+///   runtime  self cost in the runtime in all (called by welkin or by the driver);
+///   total    every instruction in the file; total - own - runtime is the driver's (Mesa, LLVM and
+///            its JIT code, libepoxy), whose GL calls welkin makes are not welkin's cost.
+/// welkin's cost is own + ownCalls. byFunction: the same by welkin function (self + its runtime calls).
+struct CallgrindCosts {
+    double total = 0, own = 0, ownCalls = 0, runtime = 0;
+    std::map<std::string, double> byFunction;
+};
+
+/// Parses callgrind's output format (name compression "(id) name", "calls=" lines followed by the
+/// call's inclusive cost, first event = Ir). Lines it does not know are ignored.
+CallgrindCosts parseCallgrind(std::istream& in, const std::string& ownObject);
 
 /// Least-squares slope of log(y) against log(x): the growth exponent of cost y against work x
 /// (1 = linear). Points with x <= 0 or y <= 0 are ignored; NaN with fewer than two distinct x.

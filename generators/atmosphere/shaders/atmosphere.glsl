@@ -193,7 +193,14 @@ uniform vec3 u_eclMoonPos;      // the Moon's centre (the apparent Sun's frame: 
 uniform float u_eclMoonRadius;  // the Moon's radius, m
 uniform vec3 u_eclSunPos;       // the Sun's centre, m (sun.direction x sun.distance_m)
 uniform float u_eclSunRadius;   // the Sun's radius, m
-uniform float u_eclMsRadius;    // multiple scattering: radius of the disk of air it averages the shadow over, m
+// The multiple-scattering field (cpu::EclipseMsTable): D on the plane through the observer
+// perpendicular to the shadow's axis, basis u_eclMsE1/E2, grid centre u_eclMsCentre (m),
+// covering +- u_eclMsHalf m (0: no field); linear filter, clamp to edge; 0 off the grid.
+uniform sampler2D u_eclMsField;  // texture unit kEclipseMsFieldUnit (sky_luts.hpp), set by the pass
+uniform vec3 u_eclMsE1;
+uniform vec3 u_eclMsE2;
+uniform vec2 u_eclMsCentre;
+uniform float u_eclMsHalf;
 vec3 atm_eclOrigin = vec3(0.0);   // the march's origin and unit direction (set by the pass)
 vec3 atm_eclView = vec3(0.0, 0.0, 1.0);
 bool atm_eclOn = true;  // false: a march of another light (the Moon's), which the shadow does not touch
@@ -219,17 +226,21 @@ float atm_eclipseFraction(float rs, float ro, float d) {
     return clamp(1.0 - hidden / total, 0.0, 1.0);
 }
 // At point p: x the visible fraction of the Sun (single scattering, the direct light); y the
-// multiple-scattering model's factor: the fraction averaged over a disk of air of radius
-// u_eclMsRadius across the shadow's axis, taken as the fraction of a Sun widened to
-// sqrt(rs^2 + (u_eclMsRadius / moon distance)^2) (the blur of the shadow by that disk).
+// multiple-scattering model's factor: x plus the field's D (the fraction averaged over the air
+// around p minus the fraction at p; docs/eclipse.md), clamped to [0, 1].
 vec2 atm_eclipseAt(vec3 p) {
     if (!atm_eclOn) return vec2(1.0);
     vec3 m = u_eclMoonPos - p, s = u_eclSunPos - p;
     float dm = length(m), ds = length(s);
     float ro = asin(min(u_eclMoonRadius / dm, 1.0)), rs = u_eclSunRadius / ds;
     float d = 2.0 * asin(min(0.5 * length(m / dm - s / ds), 1.0));
-    float blur = u_eclMsRadius / dm;
-    return vec2(atm_eclipseFraction(rs, ro, d), atm_eclipseFraction(sqrt(rs * rs + blur * blur), ro, d));
+    float f = atm_eclipseFraction(rs, ro, d);
+    float D = 0.0;
+    if (u_eclMsHalf > 0.0) {
+        vec2 uv = (vec2(dot(p, u_eclMsE1), dot(p, u_eclMsE2)) - u_eclMsCentre) / (2.0 * u_eclMsHalf) + 0.5;
+        if (all(greaterThanEqual(uv, vec2(0.0))) && all(lessThanEqual(uv, vec2(1.0)))) D = texture(u_eclMsField, uv).r;
+    }
+    return vec2(f, clamp(f + D, 0.0, 1.0));
 }
 #endif
 

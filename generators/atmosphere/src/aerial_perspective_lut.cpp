@@ -17,6 +17,7 @@ AerialPerspectiveLut::AerialPerspectiveLut() : SkyGenerator("sky.aerial_perspect
     input(skykeys::transmittanceLuts);
     input(skykeys::multiScatteringLuts);
     input(skykeys::shLuts);
+    input(skykeys::keyframeBudget, {.optional = true});  // the background prefill's parts per frame
     input(keys::observerHeight);
     input(skykeys::sunCosZenith, {.tolerance = kCosZenithTolerance});  // the volume's azimuth is from the Sun
     input(skykeys::aerialVolume, {.optional = true});  // the Sky's option: nothing is built while false
@@ -55,7 +56,8 @@ void AerialPerspectiveLut::doRun(SkyVars& vars, const Logger&) {
     // (the same values whatever the elevation; after a reset the first build is whole).
     LightKeyframes::Options ko{.stepRad = q_.keyframeStepRad, .coarseStepRad = q_.keyframeCoarseStepRad, .chunks = spectral_ ? 1 : std::max(1, q_.keyframeChunks),
                                .slots = keyframeSlots(q_), .stillMuS = kCosZenithTolerance, .stillRuns = kKeyframeStillRuns,
-                               .prefill = q_.keyframePrefill};
+                               .prefill = q_.keyframePrefill,
+                               .prefillChunksPerRun = q_.keyframePrefill ? vars.getOr(skykeys::keyframeBudget, kKeyframeBudgetDefault) : 0};
     keyframes_.setOptions(ko);
     const bool resized = !inscatter_ || inscatter_.width() != n;
     if (resized) {
@@ -166,7 +168,8 @@ void AerialPerspectiveLut::doRun(SkyVars& vars, const Logger&) {
         const int m = ko.chunks;
         buildGroups(plan_.build, plan_.buildMuS, plan_.chunkBegin * G / m, plan_.chunkEnd * G / m, plan_.chunkEnd == m);
     }
-    // Prefill (SkyQuality::keyframePrefill): the grid tables queued when the light first moved.
+    // Prefill (SkyQuality::keyframePrefill) with sky.keyframe_budget 0: the grid tables queued
+    // when the light first moved, built whole now (else plan() spreads them).
     for (LightKeyframes::Prefill pf = keyframes_.nextPrefill(); pf.slot >= 0; pf = keyframes_.nextPrefill()) {
         allocateSlots();
         buildGroups(pf.slot, pf.muS, 0, G, true);

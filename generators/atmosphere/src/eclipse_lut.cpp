@@ -30,10 +30,65 @@ EclipseSkyLut::EclipseSkyLut() : SkyGenerator("sky.eclipse_view") {
 void EclipseSkyLut::releaseGl() {
     smooth_ = {};
     mie_ = {};
+    backSmooth_ = {};
+    backMie_ = {};
+    msTex_ = {};
+    backMsTex_ = {};
     fbo_ = {};
+    backFbo_ = {};
     prog_ = {};
     active_ = published_ = false;
+    nextBand_ = -1;
     releaseCommon();
+}
+
+namespace {
+// Where the shadow's axis (the Moon's centre towards the Sun's) crosses the plane through the
+// observer perpendicular to it, ENU m.
+glm::dvec3 axisCrossing(const glm::dvec3& moonPos, const glm::dvec3& sunPos) {
+    const glm::dvec3 a = glm::normalize(sunPos - moonPos);
+    return moonPos - a * glm::dot(moonPos, a);
+}
+}  // namespace
+
+void EclipseSkyLut::bindMsField(const gl::Program& p) const {
+    glBindTextureUnit(kEclipseMsFieldUnit, msTex_.id());
+    p.set("u_eclMsField", kEclipseMsFieldUnit);
+    p.set("u_eclMsE1", glm::vec3(shownMs_.e1));
+    p.set("u_eclMsE2", glm::vec3(shownMs_.e2));
+    p.set("u_eclMsCentre", glm::vec2(shownMs_.centre));
+    p.set("u_eclMsHalf", msTex_ ? float(shownMs_.halfExtentMeters) : 0.0f);
+}
+
+void EclipseSkyLut::renderBand(int y0, int y1) {
+    const int W = backSmooth_.width(), H = backSmooth_.height();
+    backFbo_.bind();
+    glViewport(0, 0, W, H);
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(0, y0, W, y1 - y0);
+    const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glNamedFramebufferDrawBuffers(backFbo_.id(), 2, bufs);
+    const Build& b = building_;
+    prog_.use();
+    prog_.set("u_h", float(b.h));
+    prog_.set("u_sunDir", glm::vec3(b.sunDir));
+    prog_.set("u_steps", q_.skyViewSteps);
+    prog_.set("u_size", glm::ivec2(W, H));
+    prog_.set("u_scale", float(kLutScale));
+    prog_.set("u_angular", float(model_.sunAngularRadius));
+    prog_.set("u_eclMoonPos", glm::vec3(b.moonPos));
+    prog_.set("u_eclMoonRadius", float(astro::keys::kMoonRadiusMeters));
+    prog_.set("u_eclSunPos", glm::vec3(b.sunDir * b.sunDist));
+    prog_.set("u_eclSunRadius", float(kSunRadiusMeters));
+    glBindTextureUnit(kEclipseMsFieldUnit, backMsTex_.id());
+    prog_.set("u_eclMsField", kEclipseMsFieldUnit);
+    prog_.set("u_eclMsE1", glm::vec3(buildingMs_.e1));
+    prog_.set("u_eclMsE2", glm::vec3(buildingMs_.e2));
+    prog_.set("u_eclMsCentre", glm::vec2(buildingMs_.centre));
+    prog_.set("u_eclMsHalf", float(buildingMs_.halfExtentMeters));
+    fullscreen();
+    glDisable(GL_SCISSOR_TEST);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
 }
 
 bool EclipseSkyLut::shadowNear(const glm::dvec3& sunDir, double sunAngularRadius, const glm::dvec3& moonPos, double reachMeters) {
@@ -55,9 +110,9 @@ void EclipseSkyLut::doRun(SkyVars& vars, const Logger&) {
     const bool haveMoon = vars.has(astro::keys::moonPosition) && vars.getOr(astro::keys::eclipses, true);
     const glm::dvec3 moonPos = haveMoon ? vars.get(astro::keys::moonPosition) : glm::dvec3(0.0);
     // The farthest air a sky-view ray reaches: the horizontal ray to the top of the atmosphere
-    // (rays below the horizon end on the ground, nearer), plus the multiple-scattering disk.
-    const double R = model_.bottomRadius, r = R + h, reach = std::sqrt(std::max(model_.topRadius * model_.topRadius - r * r, 0.0)) +
-                                                           kEclipseMsRadiusMeters;
+    // (rays below the horizon end on the ground, nearer). The multiple-scattering field differs
+    // from the fraction only near the umbra, which is inside the penumbra this tests.
+    const double R = model_.bottomRadius, r = R + h, reach = std::sqrt(std::max(model_.topRadius * model_.topRadius - r * r, 0.0));
     const bool want = haveMoon && !spectral_ && sunDir.z > kDarkBelowCosZenith &&
                       shadowNear(sunDir, model_.sunAngularRadius, moonPos, reach);
     if (!want) {
@@ -67,12 +122,13 @@ void EclipseSkyLut::doRun(SkyVars& vars, const Logger&) {
         }
         active_ = false;
         published_ = true;
+        nextBand_ = -1;
         return;
     }
     const int W = 2 * q_.skyViewW, H = q_.skyViewH;
     const GLenum fmt = q_.halfFloat ? GL_RGBA16F : GL_RGBA32F;
     if (!smooth_ || smooth_.width() != W || smooth_.height() != H || smooth_.internalFormat() != fmt) {
-        for (gl::Texture2D* t : {&smooth_, &mie_}) {
+        for (gl::Texture2D* t : {&smooth_, &mie_, &backSmooth_, &backMie_}) {
             *t = gl::Texture2D(W, H, fmt);
             t->setFilter(GL_LINEAR);
             t->setWrap(GL_CLAMP_TO_EDGE);
@@ -82,6 +138,12 @@ void EclipseSkyLut::doRun(SkyVars& vars, const Logger&) {
         fbo_.attach(GL_COLOR_ATTACHMENT0, smooth_);
         fbo_.attach(GL_COLOR_ATTACHMENT1, mie_);
         fbo_.checkComplete("EclipseSkyLut");
+        backFbo_ = gl::Framebuffer::create();
+        backFbo_.attach(GL_COLOR_ATTACHMENT0, backSmooth_);
+        backFbo_.attach(GL_COLOR_ATTACHMENT1, backMie_);
+        backFbo_.checkComplete("EclipseSkyLut (back)");
+        active_ = false;  // nothing shown yet: build whole
+        nextBand_ = -1;
     }
     if (!prog_ || progBands_ != q_.shBands) {
         progBands_ = q_.shBands;
@@ -99,32 +161,64 @@ void EclipseSkyLut::doRun(SkyVars& vars, const Logger&) {
     const skykeys::TextureList T = vars.get(skykeys::transmittanceLuts), MS = vars.get(skykeys::multiScatteringLuts),
                                SH = vars.get(skykeys::shLuts);
     if (T->empty() || MS->empty() || SH->empty()) throw Error("EclipseSkyLut: no input LUTs");
-    fbo_.bind();
-    glViewport(0, 0, W, H);
-    const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-    glNamedFramebufferDrawBuffers(fbo_.id(), 2, bufs);
     glBindTextureUnit(gl::binding::kTransmittanceLut, (*T)[0].id);
     glBindTextureUnit(gl::binding::kMultiScatteringLut, (*MS)[0].id);
     glBindTextureUnit(gl::binding::kShLut, (*SH)[0].id);
-    const double sunDist = vars.getOr(astro::keys::sunDistance, 1.496e11);
-    prog_.use();
-    prog_.set("u_h", float(h));
-    prog_.set("u_sunDir", glm::vec3(sunDir));
-    prog_.set("u_steps", q_.skyViewSteps);
-    prog_.set("u_size", glm::ivec2(W, H));
-    prog_.set("u_scale", float(kLutScale));
-    prog_.set("u_angular", float(model_.sunAngularRadius));
-    prog_.set("u_eclMoonPos", glm::vec3(moonPos));
-    prog_.set("u_eclMoonRadius", float(astro::keys::kMoonRadiusMeters));
-    prog_.set("u_eclSunPos", glm::vec3(sunDir * sunDist));
-    prog_.set("u_eclSunRadius", float(kSunRadiusMeters));
-    prog_.set("u_eclMsRadius", float(kEclipseMsRadiusMeters));
-    fullscreen();
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    const Build now{.sunDir = sunDir, .moonPos = moonPos, .h = h, .sunDist = vars.getOr(astro::keys::sunDistance, 1.496e11)};
+    // How far the shadow has moved across the observer's air since the table shown was built: the
+    // axis' crossing, the Sun's turn seen at the farthest air (reach) and the observer's height.
+    auto moved = [&](const Build& b) {
+        const double axis = glm::length(axisCrossing(now.moonPos, now.sunDir * now.sunDist) - axisCrossing(b.moonPos, b.sunDir * b.sunDist));
+        const double turn = 2.0 * std::asin(std::min(0.5 * glm::length(now.sunDir - b.sunDir), 1.0)) * reach;
+        return axis + turn + std::abs(now.h - b.h);
+    };
+    auto startBuild = [&] {
+        building_ = now;
+        const cpu::EclipseGeometry g{.moonPos = now.moonPos, .moonRadius = astro::keys::kMoonRadiusMeters,
+                                     .sunPos = now.sunDir * now.sunDist, .sunRadius = kSunRadiusMeters};
+        buildingMs_ = cpu::eclipseMsTable(g, kEclipseMsLengthMeters);
+        const int n = buildingMs_.n;
+        if (!backMsTex_ || backMsTex_.width() != n) {
+            backMsTex_ = gl::Texture2D(n, n, GL_R32F);
+            backMsTex_.setFilter(GL_LINEAR);
+            backMsTex_.setWrap(GL_CLAMP_TO_EDGE);
+        }
+        backMsTex_.upload(GL_RED, GL_FLOAT, buildingMs_.d.data());
+        nextBand_ = 0;
+    };
+    bool swapped = false;
+    auto finish = [&] {
+        std::swap(smooth_, backSmooth_);
+        std::swap(mie_, backMie_);
+        std::swap(fbo_, backFbo_);
+        std::swap(msTex_, backMsTex_);
+        shown_ = building_;
+        shownMs_ = buildingMs_;
+        nextBand_ = -1;
+        swapped = true;
+    };
+    const double motion = active_ ? moved(shown_) : 1e30;
+    if (!active_ || motion > kEclipseJumpMeters || (slices_ <= 1 && motion > kEclipseRebuildMeters)) {
+        // Nothing shown, or the shadow jumped (time set): the whole table now.
+        startBuild();
+        renderBand(0, H);
+        ++rebuilds_;
+        finish();
+    } else {
+        if (nextBand_ < 0 && motion > kEclipseRebuildMeters) startBuild();
+        if (nextBand_ >= 0) {
+            const int n = std::clamp(slices_, 1, H);
+            renderBand(nextBand_ * H / n, (nextBand_ + 1) * H / n);
+            ++rebuilds_;
+            if (++nextBand_ >= n) finish();
+        }
+    }
     active_ = true;
+    if (swapped || !published_) {
+        vars.publish(skykeys::eclipseViewLut, smooth_.ref());
+        vars.publish(skykeys::eclipseViewMieLut, mie_.ref());
+    }
     published_ = true;
-    vars.publish(skykeys::eclipseViewLut, smooth_.ref());
-    vars.publish(skykeys::eclipseViewMieLut, mie_.ref());
 }
 
 }  // namespace welkin::generators

@@ -13,11 +13,11 @@ LightKeyframes::LightKeyframes() : LightKeyframes(Options{}) {}
 LightKeyframes::LightKeyframes(Options o) { setOptions(o); }
 
 void LightKeyframes::setOptions(Options o) {
-    if (!(o.stepRad > 0.0) || o.chunks < 1 || o.slots < 6 || !(o.stillMuS >= 0.0) || o.stillRuns < 1) {
-        char buf[200];
+    if (!(o.stepRad > 0.0) || o.chunks < 1 || o.slots < 6 || !(o.stillMuS >= 0.0) || o.stillRuns < 1 || o.prefillChunksPerRun < 0) {
+        char buf[260];
         std::snprintf(buf, sizeof buf,
-                      "LightKeyframes: step %g rad, %d chunks, %d slots, still %g, still runs %d: need step > 0, chunks >= 1, slots >= 6, still >= 0, still runs >= 1",
-                      o.stepRad, o.chunks, o.slots, o.stillMuS, o.stillRuns);
+                      "LightKeyframes: step %g rad, %d chunks, %d slots, still %g, still runs %d, prefill chunks per run %d: need step > 0, chunks >= 1, slots >= 6, still >= 0, still runs >= 1, prefill chunks per run >= 0",
+                      o.stepRad, o.chunks, o.slots, o.stillMuS, o.stillRuns, o.prefillChunksPerRun);
         throw Error(buf);
     }
     const bool same = o.stepRad == o_.stepRad && o.coarseStepRad == o_.coarseStepRad && o.fineTopRad == o_.fineTopRad &&
@@ -68,10 +68,12 @@ void LightKeyframes::reset() {
     lastPlan_ = Plan{};
     prefilled_ = false;
     prefillQueue_.clear();
+    buildingFill_ = false;
     runsSinceReset_ = 0;
 }
 
 LightKeyframes::Prefill LightKeyframes::nextPrefill() {
+    if (o_.prefillChunksPerRun > 0) return {};  // spread: plan() builds the queue
     while (!prefillQueue_.empty()) {
         const int k = prefillQueue_.back();
         prefillQueue_.pop_back();
@@ -226,8 +228,9 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
         const size_t cap = size_t(std::max(0, o_.slots - 6));
         if (ks.size() > cap) ks.erase(ks.begin(), ks.begin() + std::ptrdiff_t(ks.size() - cap));
         prefillQueue_ = std::move(ks);  // popped from the back: nearest first
-        // A grid table half built along the path is built whole with the others instead.
-        if (building_ >= 0 && slots_[size_t(building_)].grid != kNoGrid && slots_[size_t(building_)].e >= o_.prefillLowRad - 1e-9) {
+        // A grid table half built along the path is built whole with the others instead (when
+        // the prefill is built whole; spread, it is finished first).
+        if (o_.prefillChunksPerRun == 0 && building_ >= 0 && slots_[size_t(building_)].grid != kNoGrid && slots_[size_t(building_)].e >= o_.prefillLowRad - 1e-9) {
             slots_[size_t(building_)].done = -1;
             building_ = -1;
         }
@@ -240,7 +243,9 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
     if (find(e, 2.0 * step, true) < 0) {
         if (building_ >= 0 && std::abs(slots_[size_t(building_)].e - e) > 2.0 * step) {
             slots_[size_t(building_)].done = -1;  // far from the light now: abandoned
+            if (buildingFill_) prefillQueue_.push_back(slots_[size_t(building_)].grid);  // queued again
             building_ = -1;
+            buildingFill_ = false;
         }
         const int s = victim({-1, -1, -1, -1}, true);
         slots_[size_t(s)] = Slot{e, kNoGrid, o_.chunks, run_};
@@ -252,7 +257,7 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
         p.weight = {1.0, 0.0, 0.0, 0.0};
         p.count = 1;
         p.exact = true;
-        pending_ = building_ >= 0;
+        pending_ = building_ >= 0 || (o_.prefillChunksPerRun > 0 && !prefillQueue_.empty());
         lastPlan_ = p;
         shownE_ = e;
         return p;
@@ -261,7 +266,14 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
     const std::array<int, 4> needed = {findGrid(k - 1, false), findGrid(k, false), findGrid(k + 1, false), findGrid(k + 2, false)};
     // What to build: a still light wants its exact table; a moving one the grid tables the cubic
     // needs (nearest its direction of motion first), then the next one ahead.
-    if (building_ < 0 && prefillQueue_.empty()) {  // (a queued prefill builds the grid this run)
+    const bool spread = o_.prefillChunksPerRun > 0;
+    // A moving light waits for a grid table of its own while a fill table is being built: the
+    // fill table is then finished at the light's pace.
+    bool pathWaiting = false;
+    if (spread && buildingFill_ && !still && dir_ != 0)
+        for (int c : {k - 1, k, k + 1, k + 2})
+            if (c >= 0 && c < int(nodes_.size()) && findGrid(c, false) < 0) pathWaiting = true;
+    if (building_ < 0 && (spread || prefillQueue_.empty())) {  // (a prefill built whole builds the grid this run)
         double target = NAN;
         int grid = kNoGrid;
         if (still || dir_ == 0) {
@@ -276,11 +288,26 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
                     break;
                 }
         }
+        // Nothing the light needs: the spread prefill's next table, the queued one nearest the
+        // light (the light has moved since the queue was sorted).
+        bool fill = false;
+        while (spread && !std::isfinite(target) && !prefillQueue_.empty()) {
+            auto it = std::min_element(prefillQueue_.begin(), prefillQueue_.end(), [&](int a, int b) {
+                return std::abs(nodes_[size_t(a)] - e) < std::abs(nodes_[size_t(b)] - e);
+            });
+            const int c = *it;
+            prefillQueue_.erase(it);
+            if (findGrid(c, false) >= 0) continue;  // built or being built meanwhile
+            target = nodes_[size_t(c)];
+            grid = c;
+            fill = true;
+        }
         if (std::isfinite(target)) {
             const int s = victim(needed, grid == kNoGrid);
             if (s >= 0) {
                 slots_[size_t(s)] = Slot{target, grid, 0, run_};
                 building_ = s;
+                buildingFill_ = fill;
             }
         }
     }
@@ -303,6 +330,14 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
         if (rate_ > 0.0) perRun = std::max(perRun, int(std::ceil(1.25 * o_.chunks * rate_ / step)));
         const bool late = findGrid(k, true) < 0 || findGrid(k + 1, true) < 0;
         if (late && !still) perRun = std::max(perRun, (remaining + 3) / 4);
+        if (spread) {
+            // The budget: a fill table not (yet) among those the light needs gets the budget; one
+            // it needs, no more than the budget or the pace that keeps up with the light.
+            const int pace = rate_ > 0.0 ? int(std::ceil(1.25 * o_.chunks * rate_ / step)) : 1;
+            const bool needs = b.grid != kNoGrid && b.grid >= k - 1 && b.grid <= k + 2;
+            if (buildingFill_ && !needs) perRun = pathWaiting ? std::max(o_.prefillChunksPerRun, pace) : o_.prefillChunksPerRun;
+            else perRun = std::min(perRun, std::max(o_.prefillChunksPerRun, pace));
+        }
         perRun = std::clamp(perRun, 1, remaining);
         p.build = building_;
         p.buildMuS = std::sin(b.e);
@@ -310,7 +345,7 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
         p.chunkEnd = std::min(b.done + perRun, o_.chunks);
         b.done = p.chunkEnd;
         b.used = run_;
-        if (b.done == o_.chunks) building_ = -1;
+        if (b.done == o_.chunks) building_ = -1, buildingFill_ = false;
     }
 
     // What to show (this run's completed build included).
@@ -318,7 +353,7 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
     for (int i = 0; i < p.count; ++i) slots_[size_t(p.slot[size_t(i)])].used = run_;
     // Work remains while a table is half built, or while a light not shown exactly may yet come
     // to rest (the runs that count its stillness: cheap, Plan::unchanged).
-    pending_ = building_ >= 0 || !p.exact;
+    pending_ = building_ >= 0 || !p.exact || (spread && !prefillQueue_.empty());
     // Unchanged: the same tables, nothing built, and the light within stillMuS of the elevation
     // last mixed (the staleness the generator's input tolerance accepts anyway).
     if (p.build < 0 && lastPlan_.count == p.count && std::abs(muS - std::sin(shownE_)) <= o_.stillMuS) {

@@ -55,6 +55,7 @@ void SkyGenerator::doDeclare(SkyVars& vars) {
     vars.declare(skykeys::quality, -1);
     vars.declare(keys::quality, 1);
     vars.declare(skykeys::wavelengths, 0);
+    vars.declare(skykeys::keyframeBudget, kKeyframeBudgetDefault);
 }
 
 void SkyGenerator::prepare(SkyVars& vars) {

@@ -738,8 +738,86 @@ glm::dvec2 eclipseAt(const EclipseGeometry& g, const glm::dvec3& p, int rings) {
     const double dm = glm::length(mv), ds = glm::length(sv);
     const double ro = std::asin(std::min(g.moonRadius / dm, 1.0)), rs = g.sunRadius / ds;
     const double d = 2.0 * std::asin(std::min(0.5 * glm::length(mv / dm - sv / ds), 1.0));
-    const double blur = g.msRadius / dm;
-    return {eclipseFraction(rs, ro, d, rings), eclipseFraction(std::sqrt(rs * rs + blur * blur), ro, d, rings)};
+    const double f = eclipseFraction(rs, ro, d, rings);
+    return {f, std::clamp(f + (g.ms ? g.ms->sample(p) : 0.0), 0.0, 1.0)};
+}
+
+double EclipseMsTable::sample(const glm::dvec3& p) const {
+    if (n < 2 || !(halfExtentMeters > 0.0) || d.size() != size_t(n) * n) return 0.0;
+    const glm::dvec2 uv = (glm::dvec2(glm::dot(p, e1), glm::dot(p, e2)) - centre) / (2.0 * halfExtentMeters) + 0.5;
+    if (uv.x < 0.0 || uv.x > 1.0 || uv.y < 0.0 || uv.y > 1.0) return 0.0;
+    const double x = std::clamp(uv.x * n - 0.5, 0.0, n - 1.0), y = std::clamp(uv.y * n - 0.5, 0.0, n - 1.0);
+    const int i0 = std::min(int(x), n - 2), j0 = std::min(int(y), n - 2);
+    const double fx = x - i0, fy = y - j0;
+    auto at = [&](int i, int j) { return double(d[size_t(j) * n + i]); };
+    return (1 - fy) * ((1 - fx) * at(i0, j0) + fx * at(i0 + 1, j0)) + fy * ((1 - fx) * at(i0, j0 + 1) + fx * at(i0 + 1, j0 + 1));
+}
+
+EclipseMsTable eclipseMsTable(const EclipseGeometry& g, double lengthMeters, int n, double halfExtentMeters, double verticalMeters) {
+    if (!(lengthMeters > 0.0) || n < 8 || !(halfExtentMeters > 0.0)) throw Error("eclipseMsTable: length, n or extent out of range");
+    EclipseMsTable t;
+    t.n = n;
+    t.halfExtentMeters = halfExtentMeters;
+    // The shadow's axis: from the Moon's centre towards the Sun's.
+    const glm::dvec3 a = glm::normalize(g.sunPos - g.moonPos), up(0.0, 0.0, 1.0);
+    const glm::dvec3 c = glm::cross(a, up);
+    t.e1 = glm::length(c) > 1e-6 ? glm::normalize(c) : glm::dvec3(1.0, 0.0, 0.0);
+    t.e2 = glm::normalize(glm::cross(t.e1, a));
+    t.centre = {glm::dot(g.moonPos, t.e1), glm::dot(g.moonPos, t.e2)};
+    const double texel = 2.0 * halfExtentMeters / n;
+    std::vector<double> f(size_t(n) * n), acc(size_t(n) * n, 0.0), tmp(size_t(n) * n);
+    EclipseGeometry g0 = g;
+    g0.ms = nullptr;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const glm::dvec2 q = t.centre + (glm::dvec2(i, j) + 0.5) * texel - halfExtentMeters;
+            f[size_t(j) * n + i] = eclipseAt(g0, q.x * t.e1 + q.y * t.e2).x;
+        }
+    // The kernel: the air around a point lies in the horizontal layer (isotropic there, radial mass
+    // beyond r ~ exp(-r / L): second-order light from a layer falls as exp(-r / L) / r per unit
+    // area) and spreads `verticalMeters` in height. Four Gaussians whose mass beyond r follows
+    // exp(-r / L) within 25 % out to r = 10 L (a least-squares fit of the tail in ratio). Projected
+    // onto the plane: a horizontal displacement h maps to (h.e1, h.e2), a vertical one to (0, up.e2).
+    constexpr double kSigma[4] = {0.35, 1.0, 2.2, 4.5}, kWeight[4] = {0.4256, 0.4770, 0.0967, 0.0007};
+    const glm::dvec3 hAcross = glm::normalize(glm::cross(up, t.e1));
+    const double h2 = std::abs(glm::dot(hAcross, t.e2)), u2 = std::abs(glm::dot(up, t.e2));
+    auto blur1 = [&](const std::vector<double>& in, std::vector<double>& out, double sigmaTexels, bool alongRows) {
+        if (sigmaTexels < 0.25) {
+            out = in;
+            return;
+        }
+        const int R = std::min(int(std::ceil(3.0 * sigmaTexels)), n - 1);
+        std::vector<double> w(size_t(2 * R + 1));
+        for (int k = -R; k <= R; ++k) w[size_t(k + R)] = std::exp(-0.5 * (k / sigmaTexels) * (k / sigmaTexels));
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                double sum = 0.0, ws = 0.0;
+                for (int k = -R; k <= R; ++k) {
+                    const int ii = alongRows ? i + k : i, jj = alongRows ? j : j + k;
+                    if (ii < 0 || ii >= n || jj < 0 || jj >= n) continue;
+                    sum += w[size_t(k + R)] * in[size_t(jj) * n + ii];
+                    ws += w[size_t(k + R)];
+                }
+                out[size_t(j) * n + i] = sum / ws;  // renormalised at the grid's edge
+            }
+    };
+    std::vector<double> b(size_t(n) * n);
+    for (int k = 0; k < 4; ++k) {
+        const double s = kSigma[k] * lengthMeters;
+        blur1(f, tmp, s / texel, true);
+        blur1(tmp, b, std::hypot(s * h2, verticalMeters * u2) / texel, false);
+        for (size_t i = 0; i < acc.size(); ++i) acc[i] += kWeight[k] * b[i];
+    }
+    // D, faded to 0 over the outer 15 % of the grid (where the renormalised blur is biased).
+    t.d.resize(size_t(n) * n);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const double e = std::max(std::abs((i + 0.5) / n - 0.5), std::abs((j + 0.5) / n - 0.5)) * 2.0;  // 0 centre, 1 edge
+            const double fade = std::clamp((1.0 - e) / 0.15, 0.0, 1.0);
+            const size_t k = size_t(j) * n + i;
+            t.d[k] = float((acc[k] - f[k]) * fade);
+        }
+    return t;
 }
 
 Scattering integrateEclipse(const SkyModel& m, const Lut2D& T, const MsField& MS, double h, const glm::dvec3& viewDir,

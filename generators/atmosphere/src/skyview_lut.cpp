@@ -16,6 +16,7 @@ SkyViewLut::SkyViewLut(Light light) : SkyGenerator(light == Light::Sun ? "sky.su
     input(skykeys::transmittanceLuts);
     input(skykeys::multiScatteringLuts);
     input(skykeys::shLuts);
+    input(skykeys::keyframeBudget, {.optional = true});  // the background prefill's parts per frame
     input(keys::observerHeight);
     if (light == Light::Sun) {
         // The light's elevation only: the table is parameterised by the azimuth from the light.
@@ -82,7 +83,8 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
     // over the whole texture).
     LightKeyframes::Options ko{.stepRad = q_.keyframeStepRad, .coarseStepRad = q_.keyframeCoarseStepRad, .chunks = spectral_ ? 1 : std::max(1, q_.keyframeChunks),
                                .slots = keyframeSlots(q_), .stillMuS = kCosZenithTolerance, .stillRuns = kKeyframeStillRuns,
-                               .prefill = q_.keyframePrefill};
+                               .prefill = q_.keyframePrefill,
+                               .prefillChunksPerRun = q_.keyframePrefill ? vars.getOr(skykeys::keyframeBudget, kKeyframeBudgetDefault) : 0};
     keyframes_.setOptions(ko);
     const bool resized = !smooth_ || smooth_.width() != q_.skyViewW || smooth_.height() != q_.skyViewH || smooth_.internalFormat() != fmt;
     if (resized) {
@@ -242,8 +244,8 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
             buildRows(plan_.build, plan_.buildMuS, plan_.chunkBegin * q_.skyViewH / n, plan_.chunkEnd * q_.skyViewH / n, plan_.chunkEnd == n,
                       plan_.chunkBegin == 0 && plan_.chunkEnd == n);
         }
-        // Prefill (SkyQuality::keyframePrefill): the grid tables queued when the light first
-        // moved, each built whole now.
+        // Prefill (SkyQuality::keyframePrefill) with sky.keyframe_budget 0: the grid tables
+        // queued when the light first moved, each built whole now (else plan() spreads them).
         for (LightKeyframes::Prefill pf = keyframes_.nextPrefill(); pf.slot >= 0; pf = keyframes_.nextPrefill()) {
             allocateSlots();
             buildRows(pf.slot, pf.muS, 0, q_.skyViewH, true, true);

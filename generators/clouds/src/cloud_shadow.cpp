@@ -21,6 +21,10 @@ namespace {
 constexpr double kDefaultExtentM = 40e3;  // a few tens of km around the observer
 constexpr int kDefaultResolution = 256;   // 156 m texels over 40 km
 constexpr int kDefaultSteps = 16;         // through a 1 km layer: 63 m steps at the zenith
+// 8 frames: at 1440x and 30 frames/s the Sun moves ~0.03 rad meanwhile; a cloud 2.5 km up at
+// 30 deg elevation then casts its shadow ~300 m (two texels) from where the map shows it.
+constexpr int kDefaultSlices = 8;
+constexpr double kLightTolerance = 5e-4;  // rad, the lights' change tolerance (see the constructor)
 
 // Exit distance of the unit ray L from the ground point (xy, R) through the sphere R + H (the
 // GLSL's exitDistance(), same stable form).
@@ -76,8 +80,17 @@ glm::dvec2 cloudShadowGroundPoint(glm::dvec3 pos, double observerHeightM, double
 }  // namespace cpu
 
 struct CloudShadowMap::Gl {
-    gl::Texture2D tex;
-    gl::Framebuffer fbo;
+    // Time-sliced rebuilds (clouds.shadow_slices): tex is shown; back is being built; prev is the
+    // map shown before tex, kept intact for one more rebuild (a reader that snapshot it, the
+    // sky's cloud shadow built over as many frames, still finds it whole).
+    gl::Texture2D tex, back, prev;
+    gl::Framebuffer fbo, backFbo, prevFbo;
+    std::vector<float> setup;  // what the shown map was built with, but the light and the offsets
+    bool slicing = false;
+    int sliceRow = 0;
+    glm::dvec3 sliceLight{0.0, 0.0, 1.0};
+    glm::dvec2 sliceOffset{0.0};
+    gl::Buffer sliceUbo;
     gl::Program prog;
     gl::VertexArray vao;  // empty: the fullscreen triangle's vertices come from gl_VertexID
     gl::Buffer ubo;       // CloudLayerBlock
@@ -86,8 +99,8 @@ struct CloudShadowMap::Gl {
 CloudShadowMap::CloudShadowMap() : Generator("clouds.shadow_map") {
     // 5e-4 rad: at 30 deg elevation the shadow of a cloud 2.5 km up moves by h / sin^2(e) x 5e-4
     // = 5 m, a thirtieth of a default texel (156 m).
-    input(keys::sunDirection, {.tolerance = 5e-4, .optional = true});
-    input(keys::moonDirection, {.tolerance = 5e-4, .optional = true});
+    input(keys::sunDirection, {.tolerance = kLightTolerance, .optional = true});
+    input(keys::moonDirection, {.tolerance = kLightTolerance, .optional = true});
     input(cloudkeys::weatherMap, {.optional = true});
     input(cloudkeys::weatherOffset, {.tolerance = kOffsetTolerance, .optional = true});
     // The cirrus drifts on its own offset, which the host's shift does not follow: the map's
@@ -109,6 +122,8 @@ CloudShadowMap::CloudShadowMap() : Generator("clouds.shadow_map") {
     input(cloudkeys::shadowExtent);
     input(cloudkeys::shadowResolution);
     input(cloudkeys::shadowSteps);
+    input(cloudkeys::shadowSlices, {.optional = true});
+    input(keys::interactive, {.optional = true});
     output(cloudkeys::shadowMap);
     output(cloudkeys::shadowLight);
     output(cloudkeys::shadowOffset);
@@ -123,6 +138,7 @@ void CloudShadowMap::doDeclare(SkyVars& vars) {
     vars.declare(cloudkeys::shadowExtent, kDefaultExtentM);
     vars.declare(cloudkeys::shadowResolution, kDefaultResolution);
     vars.declare(cloudkeys::shadowSteps, kDefaultSteps);
+    vars.declare(cloudkeys::shadowSlices, kDefaultSlices);
 }
 
 glm::dvec3 CloudShadowMap::lightDirection(const SkyVars& vars) { return shadowLight(vars); }
@@ -130,18 +146,26 @@ glm::dvec3 CloudShadowMap::lightDirection(const SkyVars& vars) { return shadowLi
 void CloudShadowMap::doRun(SkyVars& vars, const Logger&) {
     const CloudLayerBlock block = CloudLayerBlock::from(vars);  // checks the layer (validateCloudLayer)
     const glm::dvec3 light = shadowLight(vars);
+    const glm::dvec2 offset = vars.getOr(cloudkeys::weatherOffset, glm::dvec2(0.0));
     const int steps = vars.get(cloudkeys::shadowSteps);
     const int n = vars.get(cloudkeys::shadowResolution);
     const double extent = vars.get(cloudkeys::shadowExtent);
+    const int slices = vars.getOr(keys::interactive, false) ? vars.getOr(cloudkeys::shadowSlices, kDefaultSlices) : 1;
     if (!gl_) gl_ = std::make_shared<Gl>();
     Gl& g = *gl_;
+    auto makeTex = [n](gl::Texture2D& t, gl::Framebuffer& fb) {
+        t = gl::Texture2D(n, n, GL_R32F);
+        t.setFilter(GL_LINEAR);
+        t.setWrap(GL_CLAMP_TO_EDGE);
+        fb = gl::Framebuffer::create();
+        fb.attach(GL_COLOR_ATTACHMENT0, t);
+        fb.checkComplete("CloudShadowMap");
+    };
     if (!g.tex || g.tex.width() != n) {
-        g.tex = gl::Texture2D(n, n, GL_R32F);
-        g.tex.setFilter(GL_LINEAR);
-        g.tex.setWrap(GL_CLAMP_TO_EDGE);
-        g.fbo = gl::Framebuffer::create();
-        g.fbo.attach(GL_COLOR_ATTACHMENT0, g.tex);
-        g.fbo.checkComplete("CloudShadowMap");
+        makeTex(g.tex, g.fbo);
+        g.back = {}, g.prev = {}, g.backFbo = {}, g.prevFbo = {};
+        g.setup.clear();
+        g.slicing = false;
     }
     if (!g.vao) g.vao = gl::VertexArray::create();
     if (!g.prog)
@@ -150,41 +174,95 @@ void CloudShadowMap::doRun(SkyVars& vars, const Logger&) {
                      .fragment("generators/cloud_density.glsl", embedded::clouds_shaders("cloud_density.glsl"))
                      .fragment("generators/cloud_shadow_map.glsl", embedded::clouds_shaders("cloud_shadow_map.glsl"))
                      .build();
-    g.ubo = gl::Buffer(sizeof block, &block);
     const TextureRef weather = vars.getOr(cloudkeys::weatherMap, TextureRef{});
     const TextureRef base = vars.getOr(cloudkeys::noiseBase, TextureRef{});
     const TextureRef curl = vars.getOr(cloudkeys::curlNoise, TextureRef{});
     const bool hasClouds = weather.id && base.id;
-    g.fbo.bind();
-    glViewport(0, 0, n, n);
-    glDisable(GL_BLEND);
-    g.prog.use();
-    g.ubo.bindBase(GL_UNIFORM_BUFFER, gl::binding::kCloudUbo);
-    if (weather.id) glBindTextureUnit(gl::binding::kCloudWeatherMap, weather.id);
-    if (base.id) glBindTextureUnit(gl::binding::kCloudNoiseBase, base.id);
-    if (curl.id) glBindTextureUnit(gl::binding::kCloudCurlNoise, curl.id);
-    g.prog.set("u_size", glm::ivec2(n, n));
-    g.prog.set("u_extent", float(extent));
-    g.prog.set("u_cirrusTau", float(kCirrusOpticalDepth));
-    g.prog.set("u_light", glm::vec3(light));
-    g.prog.set("u_steps", steps);
-    g.prog.set("u_hasClouds", hasClouds ? 1 : 0);
-    g.prog.set("u_hasCurl", curl.id ? 1 : 0);
-    g.vao.bind();
     // Nothing to shadow (no cumulus, no cirrus: the clear preset, or no clouds at all): a map of
     // 1 without the march (what the march gives there, at no cost).
     const bool clear = vars.getOr(cloudkeys::coverage, 0.0) <= 0.0 && vars.getOr(cloudkeys::cirrusCoverage, 0.0) <= 0.0;
-    if (clear) {
-        const float one = 1.0f;
-        glClearTexImage(g.tex.id(), 0, GL_RED, GL_FLOAT, &one);
-    } else {
+    // Everything the map depends on but the light and the offsets (the wind): when only those
+    // moved, the map may be rebuilt over several frames.
+    std::vector<float> setup(block.radii, block.radii + 4);
+    setup.insert(setup.end(), block.shape, block.shape + 4);
+    setup.insert(setup.end(), block.noise, block.noise + 4);
+    setup.insert(setup.end(), {block.weather[2], float(steps), float(extent), float(weather.id), float(base.id), float(curl.id), float(clear)});
+    // Rows [r0, r1) of the map into `fb` for `light` with the layer block in `ubo`.
+    auto draw = [&](gl::Framebuffer& fb, gl::Buffer& ubo, glm::dvec3 L, int r0, int r1) {
+        fb.bind();
+        glViewport(0, 0, n, n);
+        glDisable(GL_BLEND);
+        if (clear) {
+            const float one = 1.0f;
+            glClearTexImage(&fb == &g.fbo ? g.tex.id() : g.back.id(), 0, GL_RED, GL_FLOAT, &one);
+            return;
+        }
+        g.prog.use();
+        ubo.bindBase(GL_UNIFORM_BUFFER, gl::binding::kCloudUbo);
+        if (weather.id) glBindTextureUnit(gl::binding::kCloudWeatherMap, weather.id);
+        if (base.id) glBindTextureUnit(gl::binding::kCloudNoiseBase, base.id);
+        if (curl.id) glBindTextureUnit(gl::binding::kCloudCurlNoise, curl.id);
+        g.prog.set("u_size", glm::ivec2(n, n));
+        g.prog.set("u_extent", float(extent));
+        g.prog.set("u_cirrusTau", float(kCirrusOpticalDepth));
+        g.prog.set("u_light", glm::vec3(L));
+        g.prog.set("u_steps", steps);
+        g.prog.set("u_hasClouds", hasClouds ? 1 : 0);
+        g.prog.set("u_hasCurl", curl.id ? 1 : 0);
+        g.vao.bind();
+        const bool part = r0 > 0 || r1 < n;
+        if (part) {
+            glEnable(GL_SCISSOR_TEST);
+            glScissor(0, r0, n, r1 - r0);
+        }
         glDrawArrays(GL_TRIANGLES, 0, 3);
+        if (part) glDisable(GL_SCISSOR_TEST);
+    };
+    auto publish = [&](glm::dvec3 L, glm::dvec2 o) {
+        lastLight_ = L;
+        lastSteps_ = steps;
+        vars.publish(cloudkeys::shadowLight, L);
+        vars.publish(cloudkeys::shadowOffset, o);
+        vars.publish(cloudkeys::shadowMap, g.tex.ref());
+    };
+    if (slices <= 1 || clear || setup != g.setup) {
+        // Whole, now, into the shown map (the first build, a change of the layer, a render).
+        g.slicing = false;
+        g.setup = setup;
+        g.ubo = gl::Buffer(sizeof block, &block);
+        draw(g.fbo, g.ubo, light, 0, n);
+        publish(light, offset);
+        return;
     }
-    lastLight_ = light;
-    lastSteps_ = steps;
-    vars.publish(cloudkeys::shadowLight, light);
-    vars.publish(cloudkeys::shadowOffset, vars.getOr(cloudkeys::weatherOffset, glm::dvec2(0.0)));
-    vars.publish(cloudkeys::shadowMap, g.tex.ref());
+    // Only the light or the wind moved: a 1/slices of the rows per run into the back map, with
+    // the light, offset and layer block of the run that began it; shown when complete.
+    if (!g.slicing) {
+        if (!g.back) makeTex(g.back, g.backFbo);
+        g.slicing = true;
+        g.sliceRow = 0;
+        g.sliceLight = light;
+        g.sliceOffset = offset;
+        g.sliceUbo = gl::Buffer(sizeof block, &block);
+    }
+    const int rows = (n + slices - 1) / slices;
+    const int r1 = std::min(n, g.sliceRow + rows);
+    draw(g.backFbo, g.sliceUbo, g.sliceLight, g.sliceRow, r1);
+    g.sliceRow = r1;
+    ++slicesBuilt_;
+    if (r1 < n) {
+        runAgain();
+        return;
+    }
+    // Complete: back -> shown -> kept -> back.
+    g.slicing = false;
+    std::swap(g.prev, g.tex);
+    std::swap(g.prevFbo, g.fbo);
+    std::swap(g.tex, g.back);
+    std::swap(g.fbo, g.backFbo);
+    publish(g.sliceLight, g.sliceOffset);
+    // Built for a light or an offset that has moved on meanwhile: once more, even if nothing
+    // changes from now on (the inputs' tolerances).
+    if (glm::length(light - g.sliceLight) > kLightTolerance || glm::length(offset - g.sliceOffset) > kOffsetTolerance) runAgain();
 }
 
 void CloudShadowMap::doRelease() { gl_.reset(); }

@@ -19,6 +19,7 @@ namespace welkin::generators {
 
 namespace {
 constexpr double kMoonAngularRadius = 0.0045;  // rad, mean (as the sky view's Moon)
+constexpr double kLightTolerance = 5e-4;       // rad: the lights' change tolerance (as the shadow map's)
 constexpr double kPi = 3.14159265358979323846;
 }
 
@@ -88,10 +89,12 @@ CloudSkyShadow::CloudSkyShadow() : SkyGenerator("sky.shadow_loss") {
     input(cloudkeys::top, {.optional = true});
     // The shadowed light's direction enters the light's transmittance and the phase (same
     // tolerance as the shadow map's: 5e-4 rad).
-    input(keys::sunDirection, {.tolerance = 5e-4, .optional = true});
-    input(keys::moonDirection, {.tolerance = 5e-4, .optional = true});
+    input(keys::sunDirection, {.tolerance = kLightTolerance, .optional = true});
+    input(keys::moonDirection, {.tolerance = kLightTolerance, .optional = true});
     input(keys::observerHeight, {.optional = true});
     input(skykeys::transmittanceLut);
+    input(cloudkeys::shadowSlices, {.optional = true});
+    input(keys::interactive, {.optional = true});
     output(skykeys::shadowLossLut);
     output(skykeys::shadowLossMieLut);
     output(skykeys::shadowLossMoon);
@@ -106,6 +109,11 @@ void CloudSkyShadow::releaseGl() {
     loss_ = {};
     lossMie_ = {};
     fbo_ = {};
+    backLoss_ = {};
+    backLossMie_ = {};
+    backFbo_ = {};
+    slicing_ = false;
+    setup_.clear();
     prog_ = {};
     releaseCommon();
 }
@@ -117,6 +125,8 @@ void CloudSkyShadow::doRun(SkyVars& vars, const Logger&) {
         vars.publish(skykeys::shadowLossLut, TextureRef{});
         vars.publish(skykeys::shadowLossMieLut, TextureRef{});
         vars.publish(skykeys::shadowLossMoon, false);
+        setup_.clear();  // the next table is built whole
+        slicing_ = false;
         return;
     }
     prepare(vars);
@@ -128,18 +138,24 @@ void CloudSkyShadow::doRun(SkyVars& vars, const Logger&) {
     }
     const int W = 2 * q_.skyViewW, H = q_.skyViewH;
     const GLenum fmt = q_.halfFloat ? GL_RGBA16F : GL_RGBA32F;
-    if (!loss_ || loss_.width() != W || loss_.height() != H || loss_.internalFormat() != fmt) {
-        for (gl::Texture2D* t : {&loss_, &lossMie_}) {
+    auto makeTables = [&](gl::Texture2D& a, gl::Texture2D& b, gl::Framebuffer& fb) {
+        for (gl::Texture2D* t : {&a, &b}) {
             *t = gl::Texture2D(W, H, fmt);
             t->setFilter(GL_LINEAR);
             t->setWrap(GL_CLAMP_TO_EDGE);
             // Azimuth wraps around (the seam at north interpolates across it).
             glTextureParameteri(t->id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
         }
-        fbo_ = gl::Framebuffer::create();
-        fbo_.attach(GL_COLOR_ATTACHMENT0, loss_);
-        fbo_.attach(GL_COLOR_ATTACHMENT1, lossMie_);
-        fbo_.checkComplete("CloudSkyShadow");
+        fb = gl::Framebuffer::create();
+        fb.attach(GL_COLOR_ATTACHMENT0, a);
+        fb.attach(GL_COLOR_ATTACHMENT1, b);
+        fb.checkComplete("CloudSkyShadow");
+    };
+    if (!loss_ || loss_.width() != W || loss_.height() != H || loss_.internalFormat() != fmt) {
+        makeTables(loss_, lossMie_, fbo_);
+        backLoss_ = {}, backLossMie_ = {}, backFbo_ = {};
+        slicing_ = false;
+        setup_.clear();
     }
     if (!prog_)
         prog_ = gl::ProgramBuilder("CloudSkyShadow")
@@ -162,28 +178,81 @@ void CloudSkyShadow::doRun(SkyVars& vars, const Logger&) {
     in.bottomM = vars.getOr(cloudkeys::bottom, 2000.0);  // the Clouds element's defaults
     in.topM = std::max(vars.getOr(cloudkeys::top, 3000.0), in.bottomM + 1.0);
     in.observerHeightM = std::clamp(vars.getOr(keys::observerHeight, 0.0), 0.0, model_.topRadius - model_.bottomRadius);
-    in_ = in;
-    fbo_.bind();
-    glViewport(0, 0, W, H);
-    glDisable(GL_BLEND);
-    const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-    glNamedFramebufferDrawBuffers(fbo_.id(), 2, bufs);
-    glBindTextureUnit(gl::binding::kTransmittanceLut, vars.get(skykeys::transmittanceLut).id);
-    glBindTextureUnit(gl::binding::kCloudShadowMap, vars.get(cloudkeys::shadowMap).id);
-    prog_.use();
-    prog_.set("u_h", float(in.observerHeightM));
-    prog_.set("u_light", glm::vec3(in.light));
-    prog_.set("u_mapLight", glm::vec3(in.mapLight));
-    prog_.set("u_map", glm::vec4(float(in.shift.x), float(in.shift.y), float(1.0 / in.extentM), float(in.extentM)));
-    prog_.set("u_layer", glm::vec2(float(in.bottomM), float(in.topM)));
-    prog_.set("u_angular", float(in.moon ? kMoonAngularRadius : model_.sunAngularRadius));
-    prog_.set("u_steps", in.steps);
-    prog_.set("u_size", glm::ivec2(W, H));
-    prog_.set("u_scale", float(kLutScale));
-    fullscreen();
-    vars.publish(skykeys::shadowLossLut, loss_.ref());
-    vars.publish(skykeys::shadowLossMieLut, lossMie_.ref());
-    vars.publish(skykeys::shadowLossMoon, in.moon);
+    const unsigned map = vars.get(cloudkeys::shadowMap).id;
+    const unsigned transmittance = vars.get(skykeys::transmittanceLut).id;
+    // Rows [r0, r1) of the tables into `fb` with `inp` and the shadow map `mapId`.
+    auto draw = [&](gl::Framebuffer& fb, const SkyShadowInputs& inp, unsigned mapId, int r0, int r1) {
+        fb.bind();
+        glViewport(0, 0, W, H);
+        glDisable(GL_BLEND);
+        const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+        glNamedFramebufferDrawBuffers(fb.id(), 2, bufs);
+        glBindTextureUnit(gl::binding::kTransmittanceLut, transmittance);
+        glBindTextureUnit(gl::binding::kCloudShadowMap, mapId);
+        prog_.use();
+        prog_.set("u_h", float(inp.observerHeightM));
+        prog_.set("u_light", glm::vec3(inp.light));
+        prog_.set("u_mapLight", glm::vec3(inp.mapLight));
+        prog_.set("u_map", glm::vec4(float(inp.shift.x), float(inp.shift.y), float(1.0 / inp.extentM), float(inp.extentM)));
+        prog_.set("u_layer", glm::vec2(float(inp.bottomM), float(inp.topM)));
+        prog_.set("u_angular", float(inp.moon ? kMoonAngularRadius : model_.sunAngularRadius));
+        prog_.set("u_steps", inp.steps);
+        prog_.set("u_size", glm::ivec2(W, H));
+        prog_.set("u_scale", float(kLutScale));
+        const bool part = r0 > 0 || r1 < H;
+        if (part) {
+            glEnable(GL_SCISSOR_TEST);
+            glScissor(0, r0, W, r1 - r0);
+        }
+        fullscreen();
+        if (part) glDisable(GL_SCISSOR_TEST);
+    };
+    auto publish = [&](const SkyShadowInputs& inp) {
+        in_ = inp;
+        vars.publish(skykeys::shadowLossLut, loss_.ref());
+        vars.publish(skykeys::shadowLossMieLut, lossMie_.ref());
+        vars.publish(skykeys::shadowLossMoon, inp.moon);
+    };
+    // Everything the tables depend on but the lights, the map and its shift: when only those
+    // moved (time running, the wind), the tables may be rebuilt over several frames. The map
+    // itself: CloudShadowMap keeps the one it replaced whole for one more rebuild over as many
+    // frames, so the map snapshot here stays intact until this rebuild completes.
+    const std::vector<double> setup = {in.extentM, in.bottomM, in.topM, in.observerHeightM, double(in.steps), double(in.moon),
+                                       double(transmittance), model_.sunAngularRadius, double(vars.version(skykeys::transmittanceLut.name()))};
+    const int slices = vars.getOr(keys::interactive, false) ? vars.getOr(cloudkeys::shadowSlices, 8) : 1;
+    if (slices <= 1 || setup != setup_) {
+        slicing_ = false;
+        setup_ = setup;
+        draw(fbo_, in, map, 0, H);
+        publish(in);
+        return;
+    }
+    if (!slicing_) {
+        if (!backLoss_) makeTables(backLoss_, backLossMie_, backFbo_);
+        slicing_ = true;
+        sliceRow_ = 0;
+        sliceIn_ = in;
+        sliceMap_ = map;
+    }
+    const int rows = (H + slices - 1) / slices;
+    const int r1 = std::min(H, sliceRow_ + rows);
+    draw(backFbo_, sliceIn_, sliceMap_, sliceRow_, r1);
+    sliceRow_ = r1;
+    ++slicesBuilt_;
+    if (r1 < H) {
+        runAgain();
+        return;
+    }
+    slicing_ = false;
+    std::swap(loss_, backLoss_);
+    std::swap(lossMie_, backLossMie_);
+    std::swap(fbo_, backFbo_);
+    publish(sliceIn_);
+    // Built for inputs that have moved on meanwhile (a new map, the light beyond the inputs'
+    // tolerance): once more, even if nothing changes from now on.
+    if (map != sliceMap_ || in.mapLight != sliceIn_.mapLight || glm::length(in.light - sliceIn_.light) > kLightTolerance ||
+        glm::length(in.shift - sliceIn_.shift) > kSkyShadowOffsetTolerance)
+        runAgain();
 }
 
 }  // namespace welkin::generators

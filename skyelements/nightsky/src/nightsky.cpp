@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <numbers>
@@ -180,6 +181,15 @@ glm::dmat3 icrsToEcliptic() {
     return glm::dmat3(1, 0, 0, 0, c, -s, 0, s, c);
 }
 
+NightCubeStale nightCubeStale(const NightCubeInputs& built, const NightCubeInputs& now) {
+    NightCubeStale out;
+    out.milkyWay = std::isnan(built.milkyWayScale) || built.milkyWayScale != now.milkyWayScale || built.milkyWayPath != now.milkyWayPath ||
+                   built.milkyWayLoaded != now.milkyWayLoaded;
+    out.zodiacal = std::isnan(built.sunEclipticLongitudeRad) || built.zodiacalScale != now.zodiacalScale ||
+                   !(std::abs(std::remainder(now.sunEclipticLongitudeRad - built.sunEclipticLongitudeRad, 2.0 * kPi)) <= kNightCubeSunToleranceRad);
+    return out;
+}
+
 glm::dvec2 milkyWayTexCoord(const glm::dvec3& p) {
     const double u = (0.5 * kPi - std::atan2(p.y, p.x)) / (2.0 * kPi);
     return {u - std::floor(u), std::acos(std::clamp(p.z, -1.0, 1.0)) / kPi};
@@ -295,13 +305,82 @@ void NightSky::doInit(InitContext& ctx) {
     declareOptions(ctx.vars);
     ctx.vars.declare(nightkeys::background, surfaceBrightnessCdM2(nightkeys::kDarkSkyZenithMag));
     loadMilkyWay(ctx.vars.get(nightkeys::milkyWayTexture), ctx.log);
-    programs_ = gl::ProjectionPrograms(gl::ProgramBuilder("NightSky")
-                                           .define("NIGHT_TABLE_N", kTableN)
+    gl::ProgramBuilder b(direct_ ? "NightSky (direct)" : "NightSky");
+    if (direct_) b.define("NIGHT_DIRECT");
+    programs_ = gl::ProjectionPrograms(b.define("NIGHT_TABLE_N", kTableN)
                                            .fullscreenVertex()
                                            .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
                                            .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
                                            .fragment("nightsky/nightsky.frag.glsl", embedded::nightsky_shaders("nightsky.frag.glsl")));
     programs_.get(Projection::Perspective);  // shader errors surface in init()
+    if (!direct_)
+        cubeProgram_ = gl::ProgramBuilder("NightSky cube")
+                           .fullscreenVertex()
+                           .fragment("nightsky/nightsky_cube.frag.glsl", embedded::nightsky_shaders("nightsky_cube.frag.glsl"))
+                           .build();
+}
+
+NightCubeInputs NightSky::cubeInputs(const SkyVars& v) const {
+    // The zodiacal texture is re-baked (doUpdate) at the same tolerance: the cube follows it.
+    return {zodiLon_, v.get(nightkeys::milkyWayScale), v.get(nightkeys::zodiacalScale), mwPath_, mwLoaded_};
+}
+
+void NightSky::buildCube(const FrameContext& ctx, const NightCubeInputs& in, bool zodiacal) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const int N = zodiacal ? kNightZodiCubeSize : kNightCubeSize;
+    gl::TextureCube& cube = zodiacal ? zodiCube_ : cube_;
+    if (cube.id() == 0) {
+        int levels = 1;
+        while (!zodiacal && (N >> levels) > 0) ++levels;
+        cube = gl::TextureCube(N, GL_RGBA16F, levels);
+        cube.setFilter(zodiacal ? GL_LINEAR : GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR);
+        cube.setWrap(GL_CLAMP_TO_EDGE);
+    }
+    if (cubeFbo_.id() == 0) cubeFbo_ = gl::Framebuffer::create();
+    GLint prevFbo = 0, prevViewport[4];
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &prevFbo);
+    glGetIntegerv(GL_VIEWPORT, prevViewport);
+    const GLboolean blend = glIsEnabled(GL_BLEND), scissor = glIsEnabled(GL_SCISSOR_TEST), depth = glIsEnabled(GL_DEPTH_TEST);
+    glDisable(GL_BLEND);
+    glDisable(GL_SCISSOR_TEST);
+    glDisable(GL_DEPTH_TEST);
+    glViewport(0, 0, N, N);
+    const gl::Program& p = cubeProgram_;
+    p.use();
+    p.set("u_part", zodiacal ? 1 : 0);
+    p.set("u_size", float(N));
+    p.set("u_zodi", glm::vec3(in.zodiacalScale * zodiacalUnitCdM2() * solarColour() * kMwStorageScale));
+    p.set("u_mwFloor", glm::vec3(in.milkyWayScale * milkyWayFloorCdM2() * mwColour_ * kMwStorageScale));
+    p.set("u_mwScale", float(mwLoaded_ ? in.milkyWayScale : 0.0));
+    p.set("u_texelsPerRad", float(mwW_ / (2.0 * kPi)));
+    zodiTexture_.bind(gl::binding::kZodiacalTexture);
+    if (mwLoaded_) mwTexture_.bind(gl::binding::kMilkyWayTexture);
+    for (int face = 0; face < 6; ++face) {
+        cubeFbo_.attach(GL_COLOR_ATTACHMENT0, cube, 0, face);
+        if (face == 0) cubeFbo_.checkComplete("nightsky cube");
+        cubeFbo_.bind();
+        p.set("u_face", face);
+        ctx.drawFullscreen();
+    }
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(prevFbo));
+    glViewport(prevViewport[0], prevViewport[1], prevViewport[2], prevViewport[3]);
+    if (blend) glEnable(GL_BLEND);
+    if (scissor) glEnable(GL_SCISSOR_TEST);
+    if (depth) glEnable(GL_DEPTH_TEST);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    if (zodiacal) {
+        cubeBuiltFor_.sunEclipticLongitudeRad = in.sunEclipticLongitudeRad;
+        cubeBuiltFor_.zodiacalScale = in.zodiacalScale;
+        ++zodiCubeBuilds_;
+        zodiCubeBuildMs_ = ms;
+    } else {
+        cube.generateMipmaps();
+        cubeBuiltFor_.milkyWayScale = in.milkyWayScale;
+        cubeBuiltFor_.milkyWayPath = in.milkyWayPath;
+        cubeBuiltFor_.milkyWayLoaded = in.milkyWayLoaded;
+        ++cubeBuilds_;
+        cubeBuildMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    }
 }
 
 void NightSky::doUpdate(const FrameContext& ctx) {
@@ -350,6 +429,12 @@ void NightSky::doRender(const FrameContext& ctx) {
     const double background = zenith_.airglow + zenith_.zodiacal + zenith_.milkyWay + zenith_.lightPollution;
     drawn_ = !(v.has(generators::skykeys::zenithLuminance) && v.get(generators::skykeys::zenithLuminance) > kSkipRatio * background);
     if (!drawn_) return;
+    if (!direct_) {
+        const NightCubeInputs in = cubeInputs(v);
+        const NightCubeStale stale = nightCubeStale(cubeBuiltFor_, in);
+        if (stale.milkyWay) buildCube(ctx, in, false);
+        if (stale.zodiacal) buildCube(ctx, in, true);
+    }
     const gl::Program& p = programs_.get(ctx.camera.projection);
     p.use();
     const glm::dmat3 R = v.getOr(astro::keys::starFrameRotation, glm::dmat3(1.0));
@@ -362,19 +447,32 @@ void NightSky::doRender(const FrameContext& ctx) {
     p.set("u_airglowR2", r2(v.get(nightkeys::airglowHeight)));
     p.set("u_lp", glm::vec3(zenith_.lightPollution * lightPollutionColour()));
     p.set("u_lpR2", r2(kLightPollutionLayerM));
-    p.set("u_zodi", glm::vec3(v.get(nightkeys::zodiacalScale) * zodiacalUnitCdM2() * solarColour()));
-    zodiTexture_.bind(gl::binding::kZodiacalTexture);
-    const double mwScale = v.get(nightkeys::milkyWayScale);
-    p.set("u_mwFloor", glm::vec3(mwScale * milkyWayFloorCdM2() * mwColour_));
-    p.set("u_mwScale", float(mwLoaded_ ? mwScale / kMwStorageScale : 0.0));
-    p.set("u_texelsPerRad", float(mwW_ / (2.0 * kPi)));
-    if (mwLoaded_) mwTexture_.bind(gl::binding::kMilkyWayTexture);
+    if (direct_) {
+        p.set("u_zodi", glm::vec3(v.get(nightkeys::zodiacalScale) * zodiacalUnitCdM2() * solarColour()));
+        zodiTexture_.bind(gl::binding::kZodiacalTexture);
+        const double mwScale = v.get(nightkeys::milkyWayScale);
+        p.set("u_mwFloor", glm::vec3(mwScale * milkyWayFloorCdM2() * mwColour_));
+        p.set("u_mwScale", float(mwLoaded_ ? mwScale / kMwStorageScale : 0.0));
+        p.set("u_texelsPerRad", float(mwW_ / (2.0 * kPi)));
+        if (mwLoaded_) mwTexture_.bind(gl::binding::kMilkyWayTexture);
+    } else {
+        // The panorama's density, not the cube's (N / 2 = 512 texels/rad at a face's centre): the
+        // cube's level 0 is used wherever the panorama's level 0 was (its finer texels add no
+        // detail, its level 1 would blur it), mipmapping starts where the panorama's did.
+        p.set("u_texelsPerRad", float(mwW_ > 0 ? mwW_ / (2.0 * kPi) : kNightCubeSize / 2.0));
+        cube_.bind(gl::binding::kMilkyWayTexture);
+        zodiCube_.bind(gl::binding::kZodiacalTexture);
+    }
     p.set("u_extinction", ctx.attenuatedLater ? 0 : 1);
     if (!ctx.attenuatedLater) {
         updateExtinction(v);
         glProgramUniform3fv(p.id(), p.location("u_ext"), kTableN, extinction_.data());
     }
+    // Filtering across the cube's faces (global state: restored after the draw).
+    const GLboolean seamless = glIsEnabled(GL_TEXTURE_CUBE_MAP_SEAMLESS);
+    if (!direct_ && !seamless) glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
     ctx.drawFullscreen();
+    if (!direct_ && !seamless) glDisable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
 }
 
 void NightSky::doRelease() {
@@ -382,6 +480,11 @@ void NightSky::doRelease() {
     mwTexture_ = gl::Texture2D();
     zodiTexture_ = gl::Texture2D();
     zodiLon_ = std::nan("");
+    cube_ = gl::TextureCube();
+    zodiCube_ = gl::TextureCube();
+    cubeFbo_ = gl::Framebuffer();
+    cubeProgram_ = gl::Program();
+    cubeBuiltFor_ = NightCubeInputs{};
     mwCpu_.clear();
     mwLoaded_ = false;
     mwPath_.clear();
@@ -401,6 +504,12 @@ void NightSky::doStats(nlohmann::json& root) const {
     j["drawn"] = drawn_;
     j["milky_way_gain_cd_m2"] = mwGain_;  // cd/m^2 = gain x Y^0.5 + floor
     j["zodiacal_unit_cd_m2"] = zodiacalUnitCdM2();
+    j["direct_lookup"] = direct_;  // true: the per-pixel reference path, else the ICRS cube map
+    j["cube_size"] = direct_ ? 0 : kNightCubeSize;
+    j["cube_builds"] = cubeBuilds_;            // the Milky Way's cube (once, and on a key change)
+    j["zodiacal_cube_builds"] = zodiCubeBuilds_;  // the zodiacal light's (the Sun's longitude moved 0.1 deg)
+    j["cube_build_ms"] = cubeBuildMs_;  // the last builds, CPU wall time (no glFinish: GL work may be queued)
+    j["zodiacal_cube_build_ms"] = zodiCubeBuildMs_;
 }
 
 }  // namespace welkin::elements

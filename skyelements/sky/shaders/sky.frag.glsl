@@ -124,6 +124,12 @@ void main() {
         L = (texture(u_sunSmooth, uvE).rgb + texture(u_sunMie, uvE).rgb * miePhase(clamp(dot(dir, u_sunDir), -1.0, 1.0))) *
             (u_sunE * u_invScale);
     }
+#elif defined(SKY_NO_SUN)
+    // Night (the Sun below kSkySunNightAltitudeRad, -21 deg): the Sun's sky-view LUT is 0 there
+    // (docs/sky.md) and not fetched; the transmittance's row v is the sky view's latitude, the
+    // same for any azimuth.
+    L = vec3(0.0);
+    v = skyViewUvS(u_sH, mu, 1.0, u_lutSize).y;
 #else
     L = skyViewLight(u_sunSmooth, u_sunMie, dir, u_sunDir, u_sunE * u_invScale, v);
 #endif

@@ -101,15 +101,20 @@ void Sky::doInit(InitContext& ctx) {
                     lutPrograms_[moon][t][baked][sh] = gl::ProjectionPrograms(recipe(false, moon == 1, t == 1, baked == 1, false, 0, sh == 1));
     for (int moon = 0; moon < 2; ++moon)
         for (int t = 0; t < 2; ++t) eclipsePrograms_[moon][t] = gl::ProjectionPrograms(recipe(false, moon == 1, t == 1, false, false, 0, false, true));
+    for (int moon = 0; moon < 2; ++moon)
+        for (int t = 0; t < 2; ++t)
+            for (int baked = 0; baked < 2; ++baked)
+                nightPrograms_[moon][t][baked] = gl::ProjectionPrograms(recipe(false, moon == 1, t == 1, baked == 1, false, 0, false, false, true));
     marchBands_ = 0;
     ubo_ = gl::Buffer(sizeof(AtmosphereBlock));
 }
 
 gl::ProgramBuilder Sky::recipe(bool perPixel, bool moon, bool transmittance, bool baked, bool spectral, int shBands, bool shadow,
-                               bool eclipse) {
+                               bool eclipse, bool noSun) {
     gl::ProgramBuilder b(std::string(perPixel ? "Sky (per pixel)" : "Sky") + (moon ? " + Moon" : "") +
                          (transmittance ? "" : " (nothing behind)") + (baked ? " (baked phase)" : "") + (spectral ? " spectral" : "") +
-                         (shadow ? " (shadowed)" : "") + (eclipse ? " (eclipse)" : ""));
+                         (shadow ? " (shadowed)" : "") + (eclipse ? " (eclipse)" : "") + (noSun ? " (night)" : ""));
+    if (noSun) b.define("SKY_NO_SUN");
     if (eclipse) b.define(perPixel ? "ATM_ECLIPSE" : "SKY_ECLIPSE");
     b.define("ATM_USE_TRANSMITTANCE");
     if (moon) b.define("SKY_MOON");
@@ -200,9 +205,13 @@ void Sky::doRender(const FrameContext& ctx) {
                          v.get(skykeys::eclipseViewLut).id != 0 && v.get(skykeys::eclipseViewLut).height == q.skyViewH;
     const bool eclipseMarch = perPixel_ && !sp && luts_.eclipse && luts_.eclipse->active() && v.has(astro::keys::moonPosition);
     eclipse_ = eclipse;
+    // Night: below kSkySunNightAltitudeRad (-21 deg) the Sun's sky-view LUT is 0 everywhere
+    // (measured, docs/sky.md): the LUT path skips its term (the Moon's stays).
+    sunTerm_ = perPixel_ || eclipse || shadow || unit(v.get(keys::sunDirection)).z > std::sin(kSkySunNightAltitudeRad);
     if (!perPixel_ || !sp) {
         const gl::Program& p = perPixel_ ? (eclipseMarch ? marchEclipsePrograms_[moon].get(proj) : marchPrograms_[moon][shadow].get(proj))
                                : eclipse ? eclipsePrograms_[moon][ctx.nothingBehind ? 0 : 1].get(proj)
+                               : !sunTerm_ ? nightPrograms_[moon][ctx.nothingBehind ? 0 : 1][q.bakedMiePhase].get(proj)
                                          : lutPrograms_[moon][ctx.nothingBehind ? 0 : 1][q.bakedMiePhase][shadow].get(proj);
         setUniforms(p, sunE, moonE);
         if (eclipse && !perPixel_) {
@@ -217,7 +226,7 @@ void Sky::doRender(const FrameContext& ctx) {
             p.set("u_eclMoonRadius", float(astro::keys::kMoonRadiusMeters));
             p.set("u_eclSunPos", glm::vec3(sd * v.getOr(astro::keys::sunDistance, 1.496e11)));
             p.set("u_eclSunRadius", float(kSunRadiusMeters));
-            p.set("u_eclMsRadius", float(kEclipseMsRadiusMeters));
+            luts_.eclipse->bindMsField(p);
             ctx.drawFullscreen();
             return;
         }
@@ -294,6 +303,7 @@ void Sky::doStats(nlohmann::json& root) const {
     root["sky"]["per_pixel"] = perPixel_;
     root["sky"]["shadowed"] = shadowed_;
     root["sky"]["eclipse"] = eclipse_;
+    root["sky"]["sun_term"] = sunTerm_;  // false: the Sun below kSkySunNightAltitudeRad, its term skipped
 }
 
 }  // namespace welkin::elements

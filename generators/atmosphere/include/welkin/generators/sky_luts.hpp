@@ -65,6 +65,14 @@ inline const Key<bool> moonLight{"sky.moon", "the Moon lights the sky (false: Su
 /// The Sky's option: the aerial-perspective volume is built (for a host's geometry:
 /// elements::AerialPerspective) only while this is true.
 inline const Key<bool> aerialVolume{"sky.aerial_volume", "build the aerial-perspective volume for the host's geometry (AerialPerspective)"};
+/// Once time runs, the Sky builds every keyframe table of the light's elevation grid in the
+/// background (the prefill, docs/sky.md "While time runs"): at most this many parts of a table
+/// per frame (a table has SkyQuality::keyframeChunks parts: 4 low, 12 medium, 48 high; one
+/// medium part is ~3 ms on llvmpipe), beyond what keeping pace with the light needs. 0: the
+/// whole prefill in the first frame in which the light moves (a freeze of seconds on llvmpipe).
+/// Unset: kKeyframeBudgetDefault.
+inline const Key<int> keyframeBudget{"sky.keyframe_budget", Range{0, 1000},
+                                     "keyframe table parts built per frame in the background once time runs (0: all at the first moving frame)"};
 inline const Key<TextureRef> transmittanceLut{"sky.transmittance_lut", "transmittance LUT (RGB, to the top of the atmosphere)"};
 /// One texture per wavelength triple (RGB mode: one), for the passes after them; in spectral
 /// mode sky.transmittance_lut is the combined one and sky.multiscattering_lut / sky.sh_lut are
@@ -127,6 +135,8 @@ inline constexpr double kDarkBelowCosZenith = -0.342;
 /// built (LightKeyframes::Options::stillRuns): a third of a second at 60 frames per second, so a
 /// Sun drifting at 1 s/s (up to 7e-5 in cos zenith per second) is shown through the grid tables.
 inline constexpr int kKeyframeStillRuns = 20;
+/// skykeys::keyframeBudget when unset: table parts per frame.
+inline constexpr int kKeyframeBudgetDefault = 2;
 
 /// Keyframe tables kept at most per light-dependent generator (LightKeyframes::Options::slots)
 /// for a quality's grid (SkyQuality::keyframeStepRad, keyframeCoarseStepRad): its grid points
@@ -364,17 +374,30 @@ private:
     int progBands_ = 0;  // SkyQuality::shBands prog_ was compiled for
 };
 
-/// Radius of the disk of air, across the shadow's axis, over which the eclipse's multiple
-/// scattering averages the Sun's visible fraction, m. Not fitted: docs/eclipse.md measures the
-/// model against the reference (far too dark inside the umbra at this and any radius <= 300 km).
-inline constexpr double kEclipseMsRadiusMeters = 60e3;
+/// The eclipse's multiple-scattering kernel length L, m (cpu::EclipseMsTable: the air around a
+/// point weighted so that the mass beyond r falls as exp(-r / L)). Calibrated against the eclipse
+/// reference at Burgos' totality (docs/eclipse.md, "Accuracy").
+inline constexpr double kEclipseMsLengthMeters = 40e3;
+/// The eclipse table is rebuilt when the shadow's axis has moved this far across the observer's
+/// air since the last build (m; ~2 s of the shadow's motion): at >= 60 km, where the horizon sees
+/// the umbra's edge, that is <= 2 deg, about one texel of the table's azimuth.
+inline constexpr double kEclipseRebuildMeters = 2e3;
+/// Rebuilds of the eclipse table are spread over this many frames (rows in bands), the old table
+/// shown meanwhile; a jump of the shadow by more than kEclipseJumpMeters (time set, not running)
+/// rebuilds it whole at once.
+inline constexpr int kEclipseTimeSlices = 32;
+/// The texture unit of the eclipse's multiple-scattering field (shares 9 with the SH pass's ground
+/// input and the clouds' shadow map, gl::binding: never bound together with them).
+inline constexpr int kEclipseMsFieldUnit = 9;
+inline constexpr double kEclipseJumpMeters = 50e3;
 /// The Sun's radius, m (IAU nominal).
 inline constexpr double kSunRadiusMeters = 6.957e8;
 /// The Moon's shadow on the air (docs/eclipse.md): while the shadow's penumbra can reach air that a
 /// sky-view ray crosses (the Sun-Moon separation seen from the observer below the sum of their
 /// radii plus the parallax of the farthest such air), the Sun's sky over the whole circle of
-/// azimuth with every ray's points seeing their own Sun and Moon (eclipse_lut.glsl), rebuilt each
-/// run; publishes skykeys::eclipseViewLut (id 0 otherwise: nothing runs on the GPU). RGB mode only
+/// azimuth with every ray's points seeing their own Sun and Moon (eclipse_lut.glsl), rebuilt when
+/// the shadow has moved kEclipseRebuildMeters (in kEclipseTimeSlices bands over as many runs, the
+/// previous table shown meanwhile); publishes skykeys::eclipseViewLut (id 0 otherwise: nothing runs on the GPU). RGB mode only
 /// (spectral mode: the ordinary sky view). Inputs: the Sun's direction and distance,
 /// moon.position_m, astro.eclipses.
 class EclipseSkyLut final : public SkyGenerator {
@@ -388,14 +411,34 @@ public:
     /// The activation test: the Sun's apparent direction `sunDir`, its angular radius, the Moon's
     /// position from the observer (m), the farthest air a ray reaches (m).
     static bool shadowNear(const glm::dvec3& sunDir, double sunAngularRadius, const glm::dvec3& moonPos, double reachMeters);
+    /// Binds the multiple-scattering field of the table now shown (texture unit
+    /// kEclipseMsFieldUnit) and sets its uniforms on `p` (a program with ATM_ECLIPSE).
+    void bindMsField(const gl::Program& p) const;
+    /// The CPU field of the table now shown.
+    const cpu::EclipseMsTable& msTable() const { return shownMs_; }
+    /// Full rebuilds and time-sliced bands rendered so far (bench and tests).
+    int rebuilds() const { return rebuilds_; }
+    /// Bands per rebuild while the shadow moves smoothly (default kEclipseTimeSlices; 1: every
+    /// rebuild whole at once), [1, table height].
+    void setTimeSlices(int n) { slices_ = std::max(n, 1); }
 
 private:
     void doRun(SkyVars& vars, const Logger& log) override;
-    gl::Texture2D smooth_, mie_;
-    gl::Framebuffer fbo_;
+    void renderBand(int y0, int y1);
+    gl::Texture2D smooth_, mie_, backSmooth_, backMie_, msTex_, backMsTex_;
+    gl::Framebuffer fbo_, backFbo_;
     gl::Program prog_;
     int progBands_ = 0;
     bool active_ = false, published_ = false;
+    // The build in progress (the back tables) and the one shown.
+    struct Build {
+        glm::dvec3 sunDir{0.0}, moonPos{0.0};
+        double h = 0.0, sunDist = 1.496e11;
+    };
+    Build shown_, building_;
+    cpu::EclipseMsTable shownMs_, buildingMs_;
+    int nextBand_ = -1;  // the next band of the build in progress; -1 none
+    int slices_ = kEclipseTimeSlices, rebuilds_ = 0;
 };
 /// Horizontal illuminance at the observer (global/direct/diffuse, Sun and Moon) and the zenith
 /// luminance, integrated on the GPU from the sky-view LUTs; read back (16 floats) only when an

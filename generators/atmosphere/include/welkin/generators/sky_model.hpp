@@ -278,6 +278,23 @@ Scattering integrate(const SkyModel& m, const Lut2D& T, const MsField& MS, doubl
 /// Total radiance per unit illuminance along a ray (smooth + mie * phase).
 glm::dvec3 radiance(const SkyModel& m, const Scattering& s, double nu);
 
+/// The eclipse's multiple-scattering field (docs/eclipse.md, "Multiple scattering"): in the
+/// plane through the observer perpendicular to the shadow's axis (unit basis e1, horizontal, and
+/// e2), a grid of D = (the Sun's visible fraction averaged over the air around a point, weighted
+/// by a kernel whose mass beyond a distance r falls as exp(-r / L)) minus (the fraction at the
+/// point). The orders >= 2 at p are the clear sky's times clamp(f(p) + D(p), 0, 1); D is 0 off the
+/// grid (far from the umbra the fraction varies slowly and the average equals it). Built on the
+/// CPU (eclipseMsTable(), ~10 ms); the GPU samples the same grid as a texture.
+struct EclipseMsTable {
+    glm::dvec3 e1{1.0, 0.0, 0.0}, e2{0.0, 1.0, 0.0};  ///< unit ENU, perpendicular to the shadow's axis
+    glm::dvec2 centre{0.0};       ///< the grid's centre (the axis' crossing of the plane), m in (e1, e2)
+    double halfExtentMeters = 0;  ///< the grid covers centre +- this on both axes, m (0: no table, D = 0)
+    int n = 0;                    ///< texels per side
+    std::vector<float> d;         ///< D, row-major [e2][e1], texel centres at -half + (i + 0.5) * 2 half / n
+    /// D at the point p (ENU m from the observer), bilinear between texel centres (as the GPU's
+    /// linear filter with clamp to edge), 0 outside the grid.
+    double sample(const glm::dvec3& p) const;
+};
 /// A solar eclipse's geometry for the shadow on the air (docs/eclipse.md): positions in ENU
 /// metres from the observer (the frame of the apparent Sun, moon.position_m).
 struct EclipseGeometry {
@@ -285,14 +302,20 @@ struct EclipseGeometry {
     double moonRadius = 1737400.0;  ///< m
     glm::dvec3 sunPos{0.0};     ///< the Sun's centre
     double sunRadius = 6.957e8;     ///< m
-    double msRadius = 60e3;         ///< the multiple-scattering model's disk of air, m (kEclipseMsRadiusMeters)
+    const EclipseMsTable* ms = nullptr;  ///< the multiple-scattering field (null: orders >= 2 take the point's own fraction)
 };
 /// Visible fraction of a limb-darkened disk (u = 0.6) of angular radius rs behind a dark disk of
 /// radius ro, centres d apart (rad), over `rings` rings of the source (24: the GPU's), [0, 1].
 double eclipseFraction(double rs, double ro, double d, int rings = 24);
 /// At point p (m from the observer): x the Sun's visible fraction there, y the multiple-scattering
-/// model's factor (the fraction of a Sun widened by msRadius / Moon distance). Twin of atm_eclipseAt().
+/// model's factor clamp(x + g.ms->sample(p), 0, 1). Twin of atm_eclipseAt().
 glm::dvec2 eclipseAt(const EclipseGeometry& g, const glm::dvec3& p, int rings = 24);
+/// Builds the multiple-scattering field for the geometry `g` (its `ms` is ignored): kernel length
+/// `lengthMeters` (L, > 0; kEclipseMsLengthMeters), `n` x `n` texels (>= 8) over +- `halfExtentMeters`
+/// around the shadow's axis. `verticalMeters`: the spread of the air around a point in height (the
+/// kernel's extent across the horizontal layer), m.
+EclipseMsTable eclipseMsTable(const EclipseGeometry& g, double lengthMeters, int n = 128, double halfExtentMeters = 600e3,
+                              double verticalMeters = 4e3);
 /// integrate() for the Sun at unit ENU `sunDir`, along unit ENU `viewDir` from the observer at
 /// height h (inside the atmosphere), every point seeing the Moon's shadow: single scattering and
 /// the directly lit ground by eclipseAt().x, orders >= 2 and the sky's light on the ground by

@@ -71,6 +71,11 @@ inline const Key<TextureRef> shadowMap{"clouds.shadow_map", "transmittance of th
 // --- Cloud shadows (generators/clouds/cloud_shadow.hpp) -----------------------------------------
 inline const Key<double> shadowExtent{"clouds.shadow_extent_m", Range{1e3, 5e5}, "side of the square of ground, centred below the observer, that clouds.shadow_map covers"};
 inline const Key<int> shadowResolution{"clouds.shadow_resolution", Range{16, 2048}, "texels per side of clouds.shadow_map"};
+/// With render.interactive, a shadow map whose light (or wind offset) moved is rebuilt over this
+/// many frames into a second texture (a 1/N of its rows per frame) and shown when complete
+/// (clouds.sky_shadow too, into its own second table); meanwhile the last complete map and the
+/// light it was built for stay published. 1: rebuilt whole in the frame (renders always are).
+inline const Key<int> shadowSlices{"clouds.shadow_slices", Range{1, 64}, "frames over which a moving light's cloud shadow map and the sky's cloud shadow are rebuilt with render.interactive (1: whole each frame)"};
 inline const Key<int> shadowSteps{"clouds.shadow_steps", Range{1, 256}, "march steps through the cumulus layer per shadow-map texel"};
 inline const Key<glm::dvec3> shadowLight{"clouds.shadow_light_direction", Range{-1, 1}, "unit vector (ENU) to the light clouds.shadow_map was built for (the Sun, or the Moon at night; elevation clamped to >= 0)"};
 inline const Key<glm::dvec2> shadowOffset{"clouds.shadow_offset_m", Range{-1e12, 1e12}, "clouds.weather_offset_m when clouds.shadow_map was built (the host's lookup shifts by the change since)"};

@@ -84,6 +84,8 @@ public:
     static void hostUniforms(const SkyVars& vars, float m0[4], float m1[4]);
     /// The text of cloud_shadow.glsl (welkin_cloudShadow()), for a host's shader.
     static std::string_view hostGlsl();
+    /// Parts of time-sliced rebuilds drawn so far (clouds.shadow_slices), for tests.
+    int slicesBuilt() const { return slicesBuilt_; }
 
 private:
     void doRun(SkyVars& vars, const Logger& log) override;
@@ -94,6 +96,7 @@ private:
     std::shared_ptr<Gl> gl_;
     glm::dvec3 lastLight_{0.0, 0.0, 1.0};
     int lastSteps_ = 0;
+    int slicesBuilt_ = 0;
 };
 
 }  // namespace welkin::generators

@@ -27,6 +27,7 @@
 // shadow map, its light, the lights, the observer's height, the transmittance LUT or the
 // atmosphere changes, or when the wind moved the clouds by more than kSkyShadowOffsetTolerance.
 #pragma once
+#include <vector>
 #include <welkin/generators/sky_luts.hpp>
 
 #include <functional>
@@ -76,6 +77,8 @@ public:
     const gl::Texture2D& table() const { return loss_; }
     const gl::Texture2D& mieTable() const { return lossMie_; }
     const SkyShadowInputs& inputs() const { return in_; }
+    /// Parts of time-sliced rebuilds drawn so far (clouds.shadow_slices), for tests.
+    int slicesBuilt() const { return slicesBuilt_; }
 
 private:
     void doRun(SkyVars& vars, const Logger& log) override;
@@ -83,6 +86,16 @@ private:
     gl::Framebuffer fbo_;
     gl::Program prog_;
     SkyShadowInputs in_;
+    // Time-sliced rebuilds (clouds.shadow_slices with render.interactive): the tables being built,
+    // the inputs, shadow map and light they are built with, the next row; shown when complete.
+    gl::Texture2D backLoss_, backLossMie_;
+    gl::Framebuffer backFbo_;
+    bool slicing_ = false;
+    int sliceRow_ = 0;
+    SkyShadowInputs sliceIn_;
+    unsigned sliceMap_ = 0;
+    std::vector<double> setup_;  // what the shown tables were built with, but the lights and the map
+    int slicesBuilt_ = 0;
 };
 
 }  // namespace welkin::generators

@@ -27,12 +27,16 @@
 // lines, golden, 1.5 x their width and twice their luminance. The ecliptic of date is within 50" of it for
 // 1900-2100 (it tilts by ~47" a century): the Sun's apparent place (ecliptic latitude < 1") lies on
 // the drawn line to well under a pixel at any ordinary field of view.
+// Cost: the lines' shader runs only on the 4x4-pixel tiles the lines can reach, traced on the CPU
+// each frame (docs/constellations.md, "Grid: cost in proportion to its lines"); the image is the
+// same as a fullscreen pass's (setTiled(false)).
 #pragma once
 #include <welkin/element.hpp>
 #include <welkin/gl/objects.hpp>
 #include <welkin/gl/projection_programs.hpp>
 
 #include <string>
+#include <vector>
 
 namespace welkin::elements {
 
@@ -76,14 +80,27 @@ public:
     /// Altitude of the centres of the cardinal markers, radians (they sit just above the horizon).
     static constexpr double kMarkerAltitudeRad = 0.1396263402;  // 8 deg
 
+    /// true (the default): the lines' shader runs only on the 4x4-pixel tiles that the lines, their
+    /// antialiasing and the markers can reach (cost in proportion to the lines' pixels); false:
+    /// on every pixel, as a fullscreen pass (the reference the tests compare the tiles with; the
+    /// image is the same).
+    void setTiled(bool tiled) { tiled_ = tiled; }
+    /// Pixels the lines' shader ran on in the last render() (the image's size when not tiled).
+    long long lastShadedPixels() const { return shadedPixels_; }
+
 private:
     Grid(const GridOptions& options, bool force);
     void doInit(InitContext& ctx) override;
     void doRender(const FrameContext& ctx) override;
     void doRelease() override;
+    void drawRuns(const std::vector<float>& rects);  // rects: x0, y0, x1, y1 per run (pixels); vao_ bound
     void doValidateOptions(const SkyVars& vars) const override;
 
     gl::ProjectionPrograms programs_;  // one per camera projection
+    gl::VertexArray vao_;              // one vec4 per instance: a run of tiles near the lines (pixels)
+    gl::Buffer buffer_;                // the runs of this frame (grows as needed)
+    bool tiled_ = true;
+    long long shadedPixels_ = 0;
 };
 
 }  // namespace welkin::elements

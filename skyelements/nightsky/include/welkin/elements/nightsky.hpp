@@ -33,6 +33,16 @@
 //    (bortleZenithMag()); the artificial part is that minus the dark-sky reference
 //    kDarkSkyZenithMag, brighter towards the horizon by van Rhijn's factor for an 8 km layer
 //    (the air's scale height), in the colour of a 3000 K black body (sodium and warm LEDs).
+//  - Cost: by default the panorama is looked up per pixel (an atan and an acos). With
+//    setDirectLookup(false) the terms fixed to the stars are read from cube maps over ICRS directions (RGBA16F),
+//    built on the GPU from the panorama and the baked zodiacal texture: the Milky Way and its
+//    floor (kNightCubeSize texels a face, mipmapped) once and when its keys change, the
+//    zodiacal light (kNightZodiCubeSize, smooth) when the Sun's ecliptic longitude moved
+//    > 0.1 deg (nightCubeStale()). Per pixel: a 3x3 rotation ENU -> ICRS, two cube fetches, two
+//    van Rhijn factors, no inverse trigonometry. The per-pixel panorama lookup (an atan and an
+//    acos) is the reference the tests compare the cubes with. Measured on llvmpipe (2 cores) the
+//    cube path cost 8.8x a trivial pass against the direct lookup's 8.2x, and adds a 64 MB cube
+//    and its build to the first frame, so the direct lookup is the default.
 //  - Cost: the pass is skipped when a Sky's zenith luminance exceeds 1e5 x the night sky's (its
 //    pixels would change by < 1e-5 relative).
 //  - Published: nightsky.background_cd_m2, the zenith luminance of all four terms; Stars adds it
@@ -93,9 +103,48 @@ glm::dmat3 icrsToEcliptic();
 /// ICRS unit direction.
 glm::dvec2 milkyWayTexCoord(const glm::dvec3& icrs);
 
+/// Face size of the night sky's Milky Way cube map, texels: the panorama's 2048 columns are 326
+/// texels per radian, a face's centre N / 2 = 512 (a face spans 2 units of tangent over 90 deg),
+/// its corners 3x more: the cube oversamples the panorama everywhere (64 MB with its mips).
+inline constexpr int kNightCubeSize = 1024;
+/// Face size of the zodiacal light's cube map: 1.4 deg texels at a face's centre, as the baked
+/// 256 x 128 texture it is resampled from (Table 17's grid is 5-15 deg).
+inline constexpr int kNightZodiCubeSize = 64;
+/// The zodiacal cube is rebuilt when the Sun's ecliptic longitude moved more than this (rad):
+/// 0.1 deg, 2.4 h of the Sun's motion; 0.07 of a texel of the baked zodiacal light (1.4 deg) and
+/// 1/50 of Table 17's finest step (5 deg), where the table changes by < 1 % (its steepest:
+/// 11500 -> 6400 over 5 deg at 15 deg from the Sun, i.e. 0.1 deg moves it 1 %; 0.1 % at 90 deg).
+/// Nothing else of time or place enters the cubes: the Earth's rotation, the observer's place and
+/// precession are the per-pixel rotation stars.frame_icrs_to_enu.
+inline constexpr double kNightCubeSunToleranceRad = 0.1 * 3.14159265358979323846 / 180.0;
+/// What the night sky's cube maps were built for.
+struct NightCubeInputs {
+    double sunEclipticLongitudeRad = std::nan("");  ///< the Sun's J2000 ecliptic longitude; NaN: never built
+    double milkyWayScale = std::nan("");            ///< nightsky.milky_way_scale; NaN: never built
+    double zodiacalScale = 0;                       ///< nightsky.zodiacal_scale
+    std::string milkyWayPath;                       ///< the panorama's file ("" or missing: only the floor)
+    bool milkyWayLoaded = false;
+};
+/// Which cube a change of inputs makes stale.
+struct NightCubeStale {
+    bool milkyWay = false;  ///< never built, or the Milky Way's scale or panorama changed at all
+    bool zodiacal = false;  ///< never built, the Sun's ecliptic longitude moved more than
+                            ///< kNightCubeSunToleranceRad (either way, across +-pi too), or its scale changed
+};
+NightCubeStale nightCubeStale(const NightCubeInputs& built, const NightCubeInputs& now);
+
 class NightSky final : public SkyElement {
 public:
     NightSky();
+
+    /// true (default): the per-pixel panorama lookup (an atan and an acos per pixel, the reference
+    /// the cube map is checked against); false: the ICRS cube maps. Call before init().
+    void setDirectLookup(bool direct) { direct_ = direct; }
+    bool directLookup() const { return direct_; }
+    /// How many times the Milky Way's cube (6 faces and the mips) and the zodiacal light's were
+    /// built since init.
+    int cubeBuilds() const { return cubeBuilds_; }
+    int zodiCubeBuilds() const { return zodiCubeBuilds_; }
 
     /// The Milky Way panorama was found and loaded (after init).
     bool milkyWayLoaded() const { return mwLoaded_; }
@@ -117,8 +166,17 @@ private:
     void loadMilkyWay(const std::string& path, const Logger& log);
     void updateExtinction(const SkyVars& v);
     void bakeZodiacal(double sunEclipticLongitudeRad);
+    NightCubeInputs cubeInputs(const SkyVars& v) const;
+    void buildCube(const FrameContext& ctx, const NightCubeInputs& in, bool zodiacal);
 
     gl::ProjectionPrograms programs_;
+    bool direct_ = true;  // the per-pixel lookup by default: on llvmpipe the cubes measured no cheaper (docs/nightsky.md)
+    gl::Program cubeProgram_;
+    gl::TextureCube cube_, zodiCube_;
+    gl::Framebuffer cubeFbo_;
+    NightCubeInputs cubeBuiltFor_;
+    int cubeBuilds_ = 0, zodiCubeBuilds_ = 0;
+    double cubeBuildMs_ = 0, zodiCubeBuildMs_ = 0;  // CPU wall time of the last builds (no glFinish), ms
     gl::Texture2D mwTexture_;
     gl::Texture2D zodiTexture_;  // Table 17 units over the panorama's mapping
     double zodiLon_ = std::nan("");  // the Sun's ecliptic longitude it was baked for, rad

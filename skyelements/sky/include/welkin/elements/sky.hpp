@@ -42,6 +42,14 @@
 
 namespace welkin::elements {
 
+/// Below this solar altitude (rad) the Sky's LUT path skips the Sun's term per pixel (the Moon's
+/// stays): -21 deg. Measured (docs/sky.md, Malta 2026-08-12, fisheye, medium): the brightest pixel
+/// of the Sun's sky is 7.5e-5 cd/m^2 at -19.6 deg (near the horizon under the Sun; the natural
+/// night sky is 2e-4 at the zenith and ~1e-3 there), below 1e-6 at -20.25 deg and exactly 0 from
+/// -20.6 deg in every pixel (multiple scattering included). The published
+/// photometry (sky.zenith_luminance, ...) is unchanged.
+inline constexpr double kSkySunNightAltitudeRad = -21.0 * 3.14159265358979323846 / 180.0;
+
 struct SkyOptions {
     int quality = -1;   ///< -1: render.quality; else 0 low, 1 medium, 2 high, 3 reference
     bool moon = true;   ///< the Moon as a second light
@@ -93,7 +101,7 @@ private:
     /// shBands: SkyQuality::shBands (read by the per-pixel march only).
     /// shadow: subtract sky.shadow_loss_lut (the direct light's shadow, e.g. the clouds').
     static gl::ProgramBuilder recipe(bool perPixel, bool moon, bool transmittance, bool baked, bool spectral, int shBands, bool shadow,
-                                     bool eclipse = false);
+                                     bool eclipse = false, bool noSun = false);
 
     SkyOptions options_;
     generators::SkyLuts luts_;
@@ -106,11 +114,14 @@ private:
     gl::ProjectionPrograms lutPrograms_[2][2][2][2], marchPrograms_[2][2], spectralPrograms_[2];
     // A solar eclipse (sky.eclipse_view_lut): [moon][transmittance] on the LUT path, [moon] per pixel.
     gl::ProjectionPrograms eclipsePrograms_[2][2], marchEclipsePrograms_[2];
+    // Night, the Sun's term skipped (SKY_NO_SUN): [moon][transmittance][baked phase], LUT path only.
+    gl::ProjectionPrograms nightPrograms_[2][2][2];
     int marchBands_ = 0;
     gl::Buffer ubo_;
     AerialPerspective aerial_;  // applyToScene()'s air pass
     bool perPixel_ = false;
     bool shadowed_ = false;
+    bool sunTerm_ = true;    // the last frame drew the Sun's term (false: night, kSkySunNightAltitudeRad)
     bool eclipse_ = false;   // the last frame drew the eclipse's table  // the last frame subtracted sky.shadow_loss_lut
     double zenith_ = 0, global_ = 0, direct_ = 0, diffuse_ = 0;
 };

@@ -60,6 +60,13 @@ public:
         /// cost (docs/sky.md), after which time running costs only the per-frame mix. Off: the
         /// grid tables are built along the light's path, a few chunks per run.
         bool prefill = false;
+        /// Spreads the prefill over runs (0: the whole queue at once through nextPrefill()).
+        /// Above 0, plan() itself builds the queued grid tables, nearest the light first, one
+        /// table at a time and at most this many chunks per run, after the tables the light
+        /// needs; and a table the light needs is then built at most max(this, the chunks that
+        /// keep pace with the light's last rate) per run (while it is late the nearest
+        /// complete tables are shown). nextPrefill() then returns none. Chunks per run, >= 0.
+        int prefillChunksPerRun = 0;
         double prefillLowRad = -0.3490658503988659;  ///< rad (-20 deg: below, the Sun's scattered light is negligible)
     };
     /// A grid table to build whole now (Options::prefill).
@@ -95,8 +102,8 @@ public:
     Plan plan(double muS);
     /// Work remains (a table half built, or a still light not yet shown exactly).
     bool pending() const { return pending_; }
-    /// The next queued prefill table (Options::prefill), counted as built: build all of it before
-    /// the next plan(). Call until it returns slot -1.
+    /// The next queued prefill table (Options::prefill with prefillChunksPerRun 0), counted as
+    /// built: build all of it before the next plan(). Call until it returns slot -1.
     Prefill nextPrefill();
     /// Cos zenith of slot i's table, and whether it is complete.
     double slotMuS(int i) const;
@@ -105,6 +112,8 @@ public:
     int slotCount() const { return int(slots_.size()); }
     /// Complete grid tables held.
     int gridTables() const;
+    /// Grid tables still queued by the prefill (not yet begun).
+    int prefillQueued() const { return int(prefillQueue_.size()); }
 
     /// Catmull-Rom weights of p0..p3 at t in [0, 1] between p1 and p2 (uniform knots).
     static std::array<double, 4> catmullRom(double t);
@@ -143,6 +152,7 @@ private:
     bool prefilled_ = false;         // the prefill was queued since the last reset
     int runsSinceReset_ = 0;
     std::vector<int> prefillQueue_;  // grid indices still to build whole
+    bool buildingFill_ = false;      // building_ was taken from the prefill queue (spread prefill)
     uint64_t run_ = 0;
 };
 

@@ -3,8 +3,9 @@
 // of the base, detail and curl noises (level 0, z = 0), and a vertical section of the density
 // function (the CPU twin over the GPU-made textures). Every image is display-encoded [0, 1] data
 // (a 1/2.2 power, so mid-tones show), 8-bit PNG.
-#include "command.hpp"
 
+#include <CLI/CLI.hpp>
+#include <welkin/bench.hpp>
 #include <welkin/error.hpp>
 #include <welkin/generators/cloud_density.hpp>
 #include <welkin/generators/cloud_keys.hpp>
@@ -108,12 +109,12 @@ int run(const CloudDocImagesOptions& o) {
     return 0;
 }
 
-BenchRegistrar reg("cloud-doc-images", "write docs/clouds.md's weather map, noise slices and density section (--out DIR)",
+bench::CommandBenchRegistrar reg({"cloud-doc-images", "write docs/clouds.md's weather map, noise slices and density section (--out DIR)",
                    [](CLI::App& sub) {
                        auto o = std::make_shared<CloudDocImagesOptions>();  // the action below owns it
                        sub.add_option("--out", o->out, "existing directory for the PNGs (docs/images)")->required();
                        return [o]() { return run(*o); };
-                   });
+                   }});
 
 }  // namespace
 }  // namespace welkin::cli

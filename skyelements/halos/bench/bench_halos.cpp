@@ -10,8 +10,9 @@
 // the relative L1 difference of the two tables over the sky, and the sundog's and the 22 deg
 // edge's positions in both.
 #include "bench_util.hpp"
-#include "command.hpp"
 
+#include <CLI/CLI.hpp>
+#include <welkin/bench.hpp>
 #include <welkin/csv.hpp>
 #include <welkin/elements/halos.hpp>
 #include <welkin/error.hpp>
@@ -159,16 +160,16 @@ int run(const HalosBenchOptions& o) {
     return 0;
 }
 
-BenchRegistrar reg("halos", "halo table trace times, the halo pass's cost against a trivial pass, accuracy against a brute-force trace",
+bench::CommandBenchRegistrar reg({"halos", "halo table trace times, the halo pass's cost against a trivial pass, accuracy against a brute-force trace",
                    [](CLI::App& sub) {
-                       auto* o = new HalosBenchOptions();
+                       auto o = std::make_shared<HalosBenchOptions>();  // the action below owns it
                        sub.add_option("--repeats", o->repeats, "timed frames per row (median reported), [1, 1000]")->capture_default_str();
                        sub.add_option("--csv", o->csv, "write the rows as CSV (empty: none)")->capture_default_str();
                        sub.add_option("--qualities", o->qualities, "comma list of table qualities to trace: low, default, high")->capture_default_str();
                        sub.add_option("--accuracy-rays", o->accuracyRays, "rays of the tables' trace in the accuracy check (the brute force: 4x), [3000, 1e8]")
                            ->capture_default_str();
                        return [o]() { return run(*o); };
-                   });
+                   }});
 
 }  // namespace
 }  // namespace welkin::cli

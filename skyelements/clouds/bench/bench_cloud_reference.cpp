@@ -16,8 +16,9 @@
 // 2-8 km away: a few % of their luminance). Writes a side-by-side PNG per scene (--out DIR:
 // reference left, real time right, one exposure) and the table as CSV.
 #include "bench_util.hpp"
-#include "command.hpp"
 
+#include <CLI/CLI.hpp>
+#include <welkin/bench.hpp>
 #include <welkin/camera.hpp>
 #include <welkin/csv.hpp>
 #include <welkin/elements/clouds.hpp>
@@ -336,9 +337,9 @@ int run(const CloudReferenceOptions& o) {
     return 0;
 }
 
-BenchRegistrar reg("cloud-reference", "the real-time clouds against the path-traced reference: RMS and 95th-percentile luminance error",
+bench::CommandBenchRegistrar reg({"cloud-reference", "the real-time clouds against the path-traced reference: RMS and 95th-percentile luminance error",
                    [](CLI::App& sub) {
-                       auto* o = new CloudReferenceOptions();
+                       auto o = std::make_shared<CloudReferenceOptions>();  // the action below owns it
                        sub.add_option("--width", o->width, "image width, px, [8, 1024]")->capture_default_str();
                        sub.add_option("--height", o->height, "image height, px, [8, 1024]")->capture_default_str();
                        sub.add_option("--paths", o->paths, "path-traced paths per pixel, [1, 65536]")->capture_default_str();
@@ -350,7 +351,7 @@ BenchRegistrar reg("cloud-reference", "the real-time clouds against the path-tra
                        sub.add_option("--slab-photons", o->slabPhotons, "> 0: first print the slab table (path tracer against adding-doubling) with this many photons a case, [0, 1e8]")
                            ->capture_default_str();
                        return [o]() { return run(*o); };
-                   });
+                   }});
 
 }  // namespace
 }  // namespace welkin::cli
