@@ -105,8 +105,9 @@ TEST_CASE("Clouds presets and validation", "[cpu][clouds]") {
     p.vars().set(ck::bottom, 2950.0);
     CHECK_THROWS_WITH(e.validateOptions(p.vars()), "clouds.top_m 3000 must be at least clouds.bottom_m + 100 m (3050)");
     p.vars().set(ck::bottom, 1000.0);
-    p.vars().set(ek::preset, std::string("stormy"));
-    CHECK_THROWS_WITH(e.validateOptions(p.vars()), Catch::Contains("clouds.preset: 'stormy'"));
+    // An enumerated key: a name not in the list is refused where it is set, the value unchanged.
+    CHECK_THROWS_WITH(p.vars().set(ek::preset, std::string("stormy")), "key 'clouds.preset': 'stormy' is not one of fair, overcast, scattered-cirrus, clear");
+    CHECK(p.vars().get(ek::preset) == "fair");
 }
 
 TEST_CASE("Clouds lighting math against references", "[cpu][clouds]") {

@@ -279,8 +279,9 @@ TEST_CASE("Point sources: the threshold, the drawn size and contrast, the mode's
     CHECK(pointSourceMode(p.vars()) == PointSourceMode::Physical);
     p.vars().set(keys::pointSources, std::string("perceptual"));
     CHECK(pointSourceMode(p.vars()) == PointSourceMode::Perceptual);
-    p.vars().set(keys::pointSources, std::string("Perceptual"));
-    CHECK_THROWS_WITH(pointSourceMode(p.vars()), Catch::Contains("render.point_sources 'Perceptual' unknown (accepted: physical, perceptual)"));
+    // An enumerated key: names are exact, and anything else is refused where it is set.
+    CHECK_THROWS_WITH(p.vars().set(keys::pointSources, std::string("Perceptual")), "key 'render.point_sources': 'Perceptual' is not one of physical, perceptual");
+    CHECK(pointSourceMode(p.vars()) == PointSourceMode::Perceptual);
 }
 
 TEST_CASE("Point sources: by day a magnitude 6 star is not drawn, a magnitude -6 one is", "[gl][points]") {
