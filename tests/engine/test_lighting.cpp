@@ -17,6 +17,7 @@
 #include <welkin/color.hpp>
 #include <welkin/elements/registry.hpp>
 #include <welkin/generators/lights.hpp>
+#include <welkin/generators/sky_luts.hpp>
 #include <welkin/keys.hpp>
 #include <welkin/lighting.hpp>
 #include <welkin/processor.hpp>
@@ -365,10 +366,19 @@ TEST_CASE("SkyLighting: nothing runs when nothing changed; time-sliced in the in
     CHECK(faces() == settled + 1);
     CHECK(p->stats()["lighting"]["refreshing"].get<bool>());
     for (int i = 0; i < 10; ++i) p->renderFrame();
-    CHECK(faces() == settled + 6);
-    CHECK_FALSE(p->stats()["lighting"]["refreshing"].get<bool>());
-    p->renderFrame();
-    CHECK(faces() == settled + 6);
+    CHECK(faces() >= settled + 6);  // the whole refresh, a slice a frame
+    // The interactive Sky goes on building its keyframe tables in the background after the
+    // light's change (sky.keyframe_budget parts a frame) and re-mixes its shown table while it
+    // does, which restarts the refresh; once the Sky holds still, nothing runs. 1000 frames bound
+    // the background fill (a few hundred at medium).
+    int still = 0, frames = 0;
+    for (int last = faces(); still < 5 && frames < 1000; ++frames) {
+        p->renderFrame();
+        still = faces() == last && !p->stats()["lighting"]["refreshing"].get<bool>() ? still + 1 : 0;
+        last = faces();
+    }
+    CHECK(still == 5);  // settled: five frames in a row with no capture and no refresh running
+    CHECK(frames < 1000);
 }
 
 TEST_CASE("SkyLighting: options are checked at the API boundary", "[cpu][lighting]") {

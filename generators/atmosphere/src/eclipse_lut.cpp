@@ -211,6 +211,7 @@ void EclipseSkyLut::doRun(SkyVars& vars, const Logger&) {
             renderBand(nextBand_ * H / n, (nextBand_ + 1) * H / n);
             ++rebuilds_;
             if (++nextBand_ >= n) finish();
+            else runAgain();  // the next band in the next frame, whether or not an input changed
         }
     }
     active_ = true;

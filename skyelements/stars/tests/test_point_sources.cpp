@@ -358,7 +358,7 @@ TEST_CASE("welkin render: perceptual point sources in a PNG, physical in an EXR,
     auto r = test::runCli(base + "--out " + dir + "/c.png --var render.point_sources=eye");
     INFO(r.output);
     CHECK(r.status != 0);
-    CHECK_THAT(r.output, Catch::Contains("render.point_sources 'eye' unknown (accepted: physical, perceptual)"));
+    CHECK_THAT(r.output, Catch::Contains("key 'render.point_sources': 'eye' is not one of physical, perceptual"));
     CHECK(std::count(r.output.begin(), r.output.end(), '\n') <= 2);
     CHECK_FALSE(std::filesystem::exists(dir + "/c.png"));
 }
