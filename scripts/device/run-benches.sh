@@ -1,21 +1,11 @@
 #!/usr/bin/env bash
 # One prepared device run: [gl] tests and the benches on the GPU; everything lands in $OUT.
 set -u
-root=$(pwd)
 log=$OUT/log.txt
 exec > >(tee -a "$log") 2>&1
 t0=$(date +%s)
 stamp() { echo "== [$(( $(date +%s) - t0 )) s] $*"; }
-for f in .gl/*.deb; do dpkg -x "$f" /; done; ldconfig
-ls /usr/local/nvidia/share/glvnd/egl_vendor.d/ 2>/dev/null && export __EGL_VENDOR_LIBRARY_FILENAMES=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
-export LD_LIBRARY_PATH=$root/.gpu/lib
-mkdir -p /usr/share/kstars /usr/share/stellarium/textures /usr/share/fonts/truetype/dejavu /work
-cp .gpu/data/kstars/* /usr/share/kstars/; cp .gpu/data/stellarium/* /usr/share/stellarium/textures/
-cp .gpu/data/fonts/* /usr/share/fonts/truetype/dejavu/
-[ "$root" = /work/main ] || ln -sfn "$root" /work/main
-mkdir -p build/bin build/tests
-cp .gpu/bin/welkin build/bin/; cp .gpu/bin/welkin_tests build/tests/
-W=/work/main/build/bin/welkin
+. .gpu/env.sh  # glvnd, the carried libraries, data and binaries (scripts/device/env.sh)
 nvidia-smi -L; nvidia-smi --query-gpu=name,driver_version,clocks.sm --format=csv
 stamp "render check"
 $W render --time 2026-06-21T19:30:00+02:00 --lat 35.9 --lon 14.5 --az 290 --alt 10 --fov 70 --size 1280x720 --out $OUT/gpu-default.png --stats 2>&1 | head -40
