@@ -270,6 +270,47 @@ TEST_CASE("LightKeyframes: a spread prefill keeps to its budget per run and fill
     CHECK(fastWorst == 12);
 }
 
+TEST_CASE("LightKeyframes: a resting light's mix is not redone while the background fill builds other tables", "[cpu][sky]") {
+    // Time starts (the light moves for a few runs, which queues the spread prefill) and stops
+    // again at 5.9 deg: the light gets its exact table, and the fill goes on building grid
+    // tables at 2 chunks per run. Those tables are not shown, so once the exact table is shown
+    // the plans say `unchanged` (nothing re-mixed, nothing republished, so readers of the shown
+    // table such as SkyLighting do not refresh) although they build, until the fill is done.
+    LightKeyframes::Options op{.stepRad = 1 * kDeg, .coarseStepRad = 3 * kDeg, .chunks = 12, .slots = 64, .stillMuS = 2e-5};
+    op.prefill = true;
+    op.prefillChunksPerRun = 2;
+    LightKeyframes kf(op);
+    BuildLog log;
+    log.apply(kf.plan(std::sin(6.0 * kDeg)));
+    for (int i = 0; i < 5; ++i) log.apply(kf.plan(std::sin(6.0 * kDeg)));
+    double e = 6.0;
+    for (int i = 0; i < 5; ++i) log.apply(kf.plan(std::sin((e -= 0.02) * kDeg)));
+    REQUIRE(kf.prefillQueued() > 0);  // the fill is queued: what this test is about
+    // At rest: wait for the exact table to be shown (a few runs of stillness, then its chunks).
+    LightKeyframes::Plan p;
+    int runs = 0;
+    do {
+        p = kf.plan(std::sin(e * kDeg));
+        log.apply(p);
+    } while (!(p.exact && p.count == 1) && ++runs < 200);
+    REQUIRE(p.exact);
+    const int shown = p.slot[0];
+    int fillBuilds = 0, remixes = 0;
+    for (runs = 0; runs < 2000 && (kf.prefillQueued() > 0 || kf.pending()); ++runs) {
+        p = kf.plan(std::sin(e * kDeg));
+        log.apply(p);
+        fillBuilds += p.build >= 0;
+        remixes += !p.unchanged;
+        REQUIRE(p.count == 1);
+        REQUIRE(p.slot[0] == shown);  // the exact table stays the one shown
+        REQUIRE(p.build != shown);
+    }
+    INFO("runs " << runs << ", fill builds " << fillBuilds);
+    CHECK(kf.prefillQueued() == 0);  // the fill finished within the bound
+    CHECK(fillBuilds >= 12 / 2);      // at least one whole table built at 2 chunks a run while at rest
+    CHECK(remixes == 0);             // and none of those runs re-mixed the shown table
+}
+
 namespace {
 struct AnimRig {
     SkyVars vars = SkyVars::earth();

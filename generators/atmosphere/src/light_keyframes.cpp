@@ -354,9 +354,14 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
     // Work remains while a table is half built, or while a light not shown exactly may yet come
     // to rest (the runs that count its stillness: cheap, Plan::unchanged).
     pending_ = building_ >= 0 || !p.exact || (spread && !prefillQueue_.empty());
-    // Unchanged: the same tables, nothing built, and the light within stillMuS of the elevation
-    // last mixed (the staleness the generator's input tolerance accepts anyway).
-    if (p.build < 0 && lastPlan_.count == p.count && std::abs(muS - std::sin(shownE_)) <= o_.stillMuS) {
+    // Unchanged: the same tables, none of them written this run, and the light within stillMuS
+    // of the elevation last mixed (the staleness the generator's input tolerance accepts anyway).
+    // A build into a slot that is not shown (the background fill of sky.keyframe_budget, a grid
+    // table ahead of the light) leaves the shown mix as it is: it is not re-mixed or republished.
+    bool buildShown = false;
+    for (int i = 0; i < p.count; ++i) buildShown = buildShown || p.slot[size_t(i)] == p.build;
+    for (int i = 0; i < lastPlan_.count; ++i) buildShown = buildShown || lastPlan_.slot[size_t(i)] == p.build;
+    if ((p.build < 0 || !buildShown) && lastPlan_.count == p.count && std::abs(muS - std::sin(shownE_)) <= o_.stillMuS) {
         bool same = true;
         for (int i = 0; i < p.count; ++i) same = same && p.slot[size_t(i)] == lastPlan_.slot[size_t(i)];
         p.unchanged = same;
