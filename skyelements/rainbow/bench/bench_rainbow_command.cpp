@@ -8,8 +8,9 @@
 // it in the same frames; "x trivial" is the median of per-frame ratios, so other jobs on the
 // machine slow both alike. (3) The same with no rain (the element skips its draw). Target: pass <= 2x trivial.
 #include "bench_util.hpp"
-#include "command.hpp"
 
+#include <CLI/CLI.hpp>
+#include <welkin/bench.hpp>
 #include <welkin/csv.hpp>
 #include <welkin/elements/rainbow.hpp>
 #include <welkin/error.hpp>
@@ -26,6 +27,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <cstdio>
 #include <memory>
 #include <sstream>
@@ -153,13 +155,13 @@ int run(const RainbowBenchOptions& o) {
     return 0;
 }
 
-BenchRegistrar reg("rainbow", "Mie table build times, the rainbow pass's cost against a trivial pass, and with no rain", [](CLI::App& sub) {
+bench::CommandBenchRegistrar reg({"rainbow", "Mie table build times, the rainbow pass's cost against a trivial pass, and with no rain", [](CLI::App& sub) {
     auto o = std::make_shared<RainbowBenchOptions>();  // the action below owns it
     sub.add_option("--repeats", o->repeats, "timed frames per row (median reported), [1, 1000]")->capture_default_str();
     sub.add_option("--csv", o->csv, "write the rows as CSV (empty: none)")->capture_default_str();
     sub.add_option("--qualities", o->qualities, "comma list of table qualities to build: low, default, high")->capture_default_str();
     return [o]() { return run(*o); };
-});
+}});
 
 }  // namespace
 }  // namespace welkin::cli

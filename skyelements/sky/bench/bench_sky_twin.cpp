@@ -11,8 +11,9 @@
 //              256 march steps: where the real-time model departs from the reference.
 // Each row: Y (cd/m^2) of each and their ratio twin / reference. CPU only (no GL); the reference's
 // multiple-scattering tables take the time (--threads).
-#include "command.hpp"
 
+#include <CLI/CLI.hpp>
+#include <welkin/bench.hpp>
 #include <welkin/camera.hpp>
 #include <welkin/error.hpp>
 #include <welkin/generators/atmosphere.hpp>
@@ -21,6 +22,7 @@
 #include <welkin/keys.hpp>
 
 #include <cmath>
+#include <functional>
 #include <cstdio>
 #include <memory>
 #include <sstream>
@@ -155,13 +157,13 @@ int run(const SkyTwinOptions& o) {
     return 0;
 }
 
-BenchRegistrar reg("sky-twin", "the sky model's CPU twin against the reference integrator (Markdown tables)", [](CLI::App& sub) {
+bench::CommandBenchRegistrar reg({"sky-twin", "the sky model's CPU twin against the reference integrator (Markdown tables)", [](CLI::App& sub) {
     auto o = std::make_shared<SkyTwinOptions>();  // the action below owns it
     sub.add_option("--tables", o->tables, "which tables: twin (orders 1 and 60), departure (a map of the ratio)")->capture_default_str();
     sub.add_option("--orders", o->orders, "the twin table's scattering orders, comma-separated, each in [1, 500]")->capture_default_str();
     sub.add_option("--threads", o->threads, "reference precomputation threads, [1, 64]")->capture_default_str();
     return [o]() { return run(*o); };
-});
+}});
 
 }  // namespace
 }  // namespace welkin::cli

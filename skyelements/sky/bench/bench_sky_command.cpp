@@ -8,9 +8,10 @@
 // runs the spectral mode (sky_spectral.hpp) and `--reference spectral` compares with the
 // reference integrator's spectral mode (the atmosphere's 47 wavelengths through the CIE observer).
 #include "bench_util.hpp"
-#include "command.hpp"
 #include "plot.hpp"
 
+#include <CLI/CLI.hpp>
+#include <welkin/bench.hpp>
 #include <welkin/color.hpp>
 #include <welkin/csv.hpp>
 #include <welkin/elements/sky.hpp>
@@ -457,8 +458,8 @@ int run(const SkyBenchOptions& o) {
     return 0;
 }
 
-static BenchRegistrar reg("sky", "real-time sky: LUT build and frame cost per quality preset, error against the reference integrator",
-                          [](CLI::App& sub) -> Action {
+static bench::CommandBenchRegistrar reg({"sky", "real-time sky: LUT build and frame cost per quality preset, error against the reference integrator",
+                          [](CLI::App& sub) -> std::function<int()> {
                               static SkyBenchOptions o;
                               sub.add_option("--csv", o.csv, "CSV output path");
                               sub.add_option("--plot", o.plot,
@@ -486,7 +487,7 @@ static BenchRegistrar reg("sky", "real-time sky: LUT build and frame cost per qu
                               sub.add_flag("--breakdown", o.breakdown, "print each generator's time in a full LUT rebuild (glFinish around each)");
                               sub.add_option("--projection", o.projection, "projection of the 1280x720 frame (perspective: az 0, alt 20 deg, fov 60 deg)");
                               return [] { return run(o); };
-                          });
+                          }});
 
 }  // namespace
 }  // namespace welkin::cli

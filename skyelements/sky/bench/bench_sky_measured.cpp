@@ -21,8 +21,9 @@
 // bilinearly at the sample directions), also scored against the "welkin" reference rows. It is the
 // only part that needs an OpenGL context: --no-realtime skips it, and without a context it is
 // skipped with a warning.
-#include "command.hpp"
 
+#include <CLI/CLI.hpp>
+#include <welkin/bench.hpp>
 #include <welkin/camera.hpp>
 #include <welkin/color.hpp>
 #include <welkin/csv.hpp>
@@ -41,6 +42,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -373,9 +375,9 @@ int run(const Options& o) {
     return 0;
 }
 
-welkin::cli::BenchRegistrar bench("sky-measured",
+welkin::bench::CommandBenchRegistrar reg({"sky-measured",
                                   "reference integrator against the Kider 2013 measured clear sky (luminance RMS, colour)",
-                                  [](CLI::App& sub) -> welkin::cli::Action {
+                                  [](CLI::App& sub) -> std::function<int()> {
                                       static Options o;
                                       sub.add_option("--data", o.data, "directory of the Kider 2013 reference tables");
                                       sub.add_flag("--quick", o.quick, "coarse integrator settings (ReferenceOptions::fast())");
@@ -392,6 +394,6 @@ welkin::cli::BenchRegistrar bench("sky-measured",
                                                      "equirect width of the real-time renders, default 720 (0.5 deg/pixel)")
                                           ->check(CLI::Range(64, 4096));
                                       return [] { return run(o); };
-                                  });
+                                  }});
 
 }  // namespace

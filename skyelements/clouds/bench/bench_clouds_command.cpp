@@ -19,9 +19,10 @@
 // alternated, instrumented) and one rebuild of the shadow's loss table (docs/clouds.md).
 // Writes a CSV and a PNG plot (scripts/plots/plot_bench_clouds.py).
 #include "bench_util.hpp"
-#include "command.hpp"
 #include "plot.hpp"
 
+#include <CLI/CLI.hpp>
+#include <welkin/bench.hpp>
 #include <welkin/csv.hpp>
 #include <welkin/elements/registry.hpp>
 #include <welkin/error.hpp>
@@ -36,6 +37,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -326,7 +328,7 @@ int run(const CloudsBenchOptions& o) {
     return 0;
 }
 
-BenchRegistrar reg("clouds", "cost and error of the clouds by samples per ray, with and without reprojection, and moving", [](CLI::App& sub) {
+bench::CommandBenchRegistrar reg({"clouds", "cost and error of the clouds by samples per ray, with and without reprojection, and moving", [](CLI::App& sub) {
     auto o = std::make_shared<CloudsBenchOptions>();  // the action below owns it
     sub.add_option("--repeats", o->repeats, "timed frames per static row (median reported), [1, 1000]")->capture_default_str();
     sub.add_option("--warmup", o->warmup, "frames rendered before timing a row (reprojection converges), [0, 1000]")->capture_default_str();
@@ -341,7 +343,7 @@ BenchRegistrar reg("clouds", "cost and error of the clouds by samples per ray, w
     sub.add_option("--csv", o->csv, "write the rows as CSV (empty: none)")->capture_default_str();
     sub.add_option("--plot", o->plot, "PNG plot drawn from the CSV by scripts/plots/plot_bench_clouds.py (empty: none)")->capture_default_str();
     return [o]() { return run(*o); };
-});
+}});
 
 }  // namespace
 }  // namespace welkin::cli

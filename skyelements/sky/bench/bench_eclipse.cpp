@@ -8,8 +8,9 @@
 // the multiple-scattering field, which the GPU table follows) against the reference integrator
 // extended to the eclipse (atmosphere::eclipseReferenceRadiance), luminance per lux of the Sun.
 #include "bench_util.hpp"
-#include "command.hpp"
 
+#include <CLI/CLI.hpp>
+#include <welkin/bench.hpp>
 #include <welkin/astro/astro_keys.hpp>
 #include <welkin/elements/sky.hpp>
 #include <welkin/error.hpp>
@@ -27,6 +28,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -185,7 +187,7 @@ int run(const EclipseBenchOptions& o) {
     return 0;
 }
 
-BenchRegistrar reg("eclipse", "the solar eclipse's sky: frame cost against a normal sky, and its error against the reference", [](CLI::App& sub) {
+bench::CommandBenchRegistrar reg({"eclipse", "the solar eclipse's sky: frame cost against a normal sky, and its error against the reference", [](CLI::App& sub) {
     auto* o = new EclipseBenchOptions();
     sub.add_option("--repeats", o->repeats, "timed frames per configuration (median reported), [1, 1000]")->capture_default_str();
     sub.add_option("--width", o->width, "frame width, px, [16, 8192]")->capture_default_str();
@@ -195,7 +197,7 @@ BenchRegistrar reg("eclipse", "the solar eclipse's sky: frame cost against a nor
     sub.add_option("--ms-length-sweep", o->sweep, "also the model / reference for these multiple-scattering kernel lengths L, km (comma list)");
     sub.add_option("--accuracy", o->accuracy, "also measure the error against the reference (minutes on the CPU)")->capture_default_str();
     return [o]() { return run(*o); };
-});
+}});
 
 }  // namespace
 }  // namespace welkin::cli
