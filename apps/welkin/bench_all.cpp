@@ -68,12 +68,6 @@ struct Size {
 
 std::string sizeText(Size s) { return std::to_string(s.w) + "x" + std::to_string(s.h); }
 
-double median(std::vector<double> v) {
-    if (v.empty()) return NAN;
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
-}
-
 std::string fmt(double v, int prec = 2) {
     if (!std::isfinite(v)) return "n/a";
     char b[64];

@@ -85,11 +85,6 @@ struct Row {
     double starsMs = NAN;  // the Stars element's update + render (instrumented rows)
 };
 
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty() ? NAN : v[v.size() / 2];
-}
-
 int run(const NightBenchOptions& o) {
     if (o.repeats < 1 || o.repeats > 1000) throw Error("--repeats " + std::to_string(o.repeats) + " not in [1, 1000]");
     if (!(o.smallCatalogueMag >= -2 && o.smallCatalogueMag <= 9))

@@ -13,12 +13,30 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <functional>
+#include <sstream>
 #include <string>
 #include <vector>
 
 namespace welkin::cli {
+
+/// The median of `v` (the upper one of an even count); NaN when empty.
+inline double median(std::vector<double> v) {
+    if (v.empty()) return NAN;
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+}
+
+/// The items of a comma list, empty ones dropped ("low,,high" -> {"low", "high"}).
+inline std::vector<std::string> splitList(const std::string& s) {
+    std::vector<std::string> out;
+    std::stringstream ss(s);
+    for (std::string item; std::getline(ss, item, ',');)
+        if (!item.empty()) out.push_back(item);
+    return out;
+}
 
 /// A benchmark's output file (`option` names it: "--csv", "--plot") must go to an existing
 /// directory: checked before minutes of measurement, not after. Empty: no output, no check.

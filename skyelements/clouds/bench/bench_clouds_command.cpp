@@ -69,11 +69,6 @@ struct CloudsBenchOptions {
 };
 
 
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty() ? NAN : v[v.size() / 2];
-}
-
 std::vector<double> luminance(const Image& im) {
     std::vector<double> y(size_t(im.width) * size_t(im.height));
     for (size_t i = 0; i < y.size(); ++i) {

@@ -42,24 +42,11 @@ struct HalosBenchOptions {
     long long accuracyRays = 2000000;
 };
 
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty() ? NAN : v[v.size() / 2];
-}
-
-std::vector<std::string> split(const std::string& s) {
-    std::vector<std::string> out;
-    std::stringstream ss(s);
-    for (std::string item; std::getline(ss, item, ',');)
-        if (!item.empty()) out.push_back(item);
-    return out;
-}
-
 int run(const HalosBenchOptions& o) {
     if (o.repeats < 1 || o.repeats > 1000) throw Error("--repeats " + std::to_string(o.repeats) + " not in [1, 1000]");
     if (o.accuracyRays < 3000 || o.accuracyRays > 100000000)
         throw Error("--accuracy-rays " + std::to_string(o.accuracyRays) + " not in [3000, 100000000]");
-    for (const std::string& q : split(o.qualities)) (void)elements::halos::HaloTables::quality(q);
+    for (const std::string& q : splitList(o.qualities)) (void)elements::halos::HaloTables::quality(q);
     checkOutputDirectory("--csv", o.csv);
     Logger log;
     auto ctx = gl::HeadlessContext::create({}, log);
@@ -73,7 +60,7 @@ int run(const HalosBenchOptions& o) {
         if (f) f->row(what, q, v, triv, ratio);
     };
     // (1) Tables.
-    for (const std::string& name : split(o.qualities)) {
+    for (const std::string& name : splitList(o.qualities)) {
         const auto q = elements::halos::HaloTables::quality(name);
         const auto t = elements::halos::HaloTables::build(q, 0.2, 2.0, 1.0 * kDeg);
         emit("phase tables trace, s", name + " (" + std::to_string(q.na) + "x" + std::to_string(q.ne) + " bins, " + std::to_string(q.slices) +

@@ -45,22 +45,9 @@ struct RainbowBenchOptions {
     std::string qualities = "low,default";
 };
 
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty() ? NAN : v[v.size() / 2];
-}
-
-std::vector<std::string> split(const std::string& s) {
-    std::vector<std::string> out;
-    std::stringstream ss(s);
-    for (std::string item; std::getline(ss, item, ',');)
-        if (!item.empty()) out.push_back(item);
-    return out;
-}
-
 int run(const RainbowBenchOptions& o) {
     if (o.repeats < 1 || o.repeats > 1000) throw Error("--repeats " + std::to_string(o.repeats) + " not in [1, 1000]");
-    for (const std::string& q : split(o.qualities))
+    for (const std::string& q : splitList(o.qualities))
         if (q != "low" && q != "default" && q != "high") throw Error("--qualities: '" + q + "' is not one of low, default, high");
     checkOutputDirectory("--csv", o.csv);
     Logger log;
@@ -75,7 +62,7 @@ int run(const RainbowBenchOptions& o) {
         if (f) f->row(what, q, ms, triv, ratio);
     };
     // (1) Tables.
-    for (const std::string& name : split(o.qualities)) {
+    for (const std::string& name : splitList(o.qualities)) {
         const auto q = generators::MieTable::quality(name);
         const generators::MieTable t = generators::MieTable::build(q);
         emit("2-D Mie table build", name + " (" + std::to_string(q.wavelengths) + " wl, " + std::to_string(q.radii) + " radii, " +

@@ -12,6 +12,8 @@
 // Each row: Y (cd/m^2) of each and their ratio twin / reference. CPU only (no GL); the reference's
 // multiple-scattering tables take the time (--threads).
 
+#include "bench_util.hpp"
+
 #include <CLI/CLI.hpp>
 #include <welkin/bench.hpp>
 #include <welkin/camera.hpp>
@@ -43,14 +45,6 @@ struct SkyTwinOptions {
 };
 
 double luminance(const glm::dvec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
-
-std::vector<std::string> split(const std::string& s) {
-    std::vector<std::string> v;
-    std::stringstream ss(s);
-    for (std::string t; std::getline(ss, t, ',');)
-        if (!t.empty()) v.push_back(t);
-    return v;
-}
 
 SkyModel clearModel(const atmosphere::Atmosphere& atm) {
     SkyVars vars = SkyVars::earth();
@@ -132,7 +126,7 @@ void departureTable(int threads) {
 int run(const SkyTwinOptions& o) {
     if (o.threads < 1 || o.threads > 64) throw Error("--threads " + std::to_string(o.threads) + " not in [1, 64]");
     std::vector<int> orderList;
-    for (const std::string& s : split(o.orders)) {
+    for (const std::string& s : splitList(o.orders)) {
         int n = 0;
         try {
             size_t used = 0;
@@ -145,7 +139,7 @@ int run(const SkyTwinOptions& o) {
         orderList.push_back(n);
     }
     bool twin = false, departure = false;
-    for (const std::string& t : split(o.tables)) {
+    for (const std::string& t : splitList(o.tables)) {
         if (t == "twin") twin = true;
         else if (t == "departure") departure = true;
         else throw Error("--tables '" + o.tables + "': a list of twin, departure");
