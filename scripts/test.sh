@@ -35,6 +35,7 @@ ctest --test-dir "$build" --output-on-failure -j "$jobs"
 step "examples"
 "$build/bin/example_embed_headless" "$build/example-embed.png"
 "$build/bin/example_custom_element" "$build/example-custom.png"
+"$build/bin/example_astro_only" >/dev/null  # welkin::astro alone, no GL
 
 step "install and find_package(welkin) from the prefix"
 prefix=$(mktemp -d)
@@ -44,6 +45,7 @@ cmake --install "$build" --prefix "$prefix" >/dev/null
 cmake -S "$here/examples/consumer" -B "$build/consumer" -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
 cmake --build "$build/consumer" -j "$jobs" >/dev/null
 "$build/consumer/welkin_consumer"
+"$build/consumer/welkin_astro_consumer" >/dev/null
 
 step "examples/host copied out of the tree, built against the installed welkin, one headless frame"
 hostsrc=$(mktemp -d)
@@ -54,13 +56,18 @@ cmake --build "$hostsrc/build" -j "$jobs" >/dev/null
 test -s "$build/example-host.png"
 rm -rf "$hostsrc"
 
-step "pkg-config: a program built with 'pkg-config --cflags --libs welkin' from the prefix"
+step "pkg-config: programs built with 'pkg-config --cflags --libs welkin' (and welkin-astro) from the prefix"
 pc_file=$(find "$prefix" -path '*/pkgconfig/welkin.pc' -print -quit)
 [ -n "$pc_file" ] || { echo "pkg-config step: no welkin.pc installed under $prefix" >&2; exit 1; }
 pc_flags=$(PKG_CONFIG_PATH=$(dirname "$pc_file") pkg-config --cflags --libs welkin)
 # shellcheck disable=SC2086  # a list of flags
 ${CXX:-c++} -std=c++20 "$here/examples/consumer/pkg_config_main.cpp" $pc_flags -o "$build/welkin_pkg_config"
 "$build/welkin_pkg_config"
+# The astronomy alone: welkin-astro.pc names no GL library, so a GL symbol reached fails the link.
+astro_flags=$(PKG_CONFIG_PATH=$(dirname "$pc_file") pkg-config --cflags --libs welkin-astro)
+# shellcheck disable=SC2086  # a list of flags
+${CXX:-c++} -std=c++20 "$here/examples/astro_only/main.cpp" $astro_flags -o "$build/welkin_astro_pkg_config"
+"$build/welkin_astro_pkg_config" >/dev/null
 rm -rf "$prefix"
 
 step "API reference: Doxygen over the installed headers, warnings are errors"

@@ -1,3 +1,4 @@
+#include "generator_graph.hpp"
 #include "gl/state_guard.hpp"
 #include "lighting_engine.hpp"
 #include "tone_mapper.hpp"
@@ -16,7 +17,6 @@
 #include <cmath>
 #include <algorithm>
 #include <numbers>
-#include <map>
 #include <tuple>
 #include <optional>
 
@@ -102,7 +102,8 @@ void Observer::validate() const {
 }
 
 SkyProcessor::SkyProcessor(SkyVars vars, Logger log, ProcessorOptions options)
-    : ownVars_(std::move(vars)), log_(std::move(log)), options_(options), toneMapper_(std::make_unique<ToneMapper>()) {
+    : ownVars_(std::move(vars)), log_(std::move(log)), options_(options), graph_(std::make_unique<GeneratorGraph>()),
+      toneMapper_(std::make_unique<ToneMapper>()) {
     deriveVariables();
     declareToneMapKeys();
     declareLightingKeys();
@@ -110,7 +111,8 @@ SkyProcessor::SkyProcessor(SkyVars vars, Logger log, ProcessorOptions options)
 }
 
 SkyProcessor::SkyProcessor(BorrowedVars vars, Logger log, ProcessorOptions options)
-    : vars_(&vars.vars), log_(std::move(log)), options_(options), toneMapper_(std::make_unique<ToneMapper>()) {
+    : vars_(&vars.vars), log_(std::move(log)), options_(options), graph_(std::make_unique<GeneratorGraph>()),
+      toneMapper_(std::make_unique<ToneMapper>()) {
     deriveVariables();
     declareToneMapKeys();
     declareLightingKeys();
@@ -122,22 +124,15 @@ std::unique_ptr<SkyElement> SkyProcessor::remove(std::string_view name) {
         if ((*it)->name() == name) {
             std::unique_ptr<SkyElement> e = std::move(*it);
             elements_.erase(it);
-            orderValid_ = false;
-            order_.clear();
+            graph_->forgetOrder();
             return e;
         }
     return nullptr;
 }
 
-void SkyProcessor::addGenerator(std::shared_ptr<Generator> g) {
-    if (!g) throw Error("SkyProcessor::addGenerator(): null generator");
-    for (auto& existing : generators_)
-        if (existing == g) return;
-    SkyVars::DeclarerScope scope(*vars_, g->name());
-    g->declareKeys(*vars_);
-    generators_.push_back(std::move(g));
-    orderValid_ = false;
-}
+void SkyProcessor::addGenerator(std::shared_ptr<Generator> g) { graph_->add(std::move(g), *vars_); }
+
+const std::vector<Generator*>& SkyProcessor::generatorOrder() const { return graph_->ordered(); }
 
 SkyProcessor::~SkyProcessor() { release(); }
 
@@ -149,12 +144,7 @@ void SkyProcessor::declareToneMapKeys() {
 
 void SkyProcessor::release() {
     for (auto& e : elements_) e->release();
-    // Generators own GL resources too (LUTs); released and invalidated so that init() and the
-    // next frame make them again.
-    for (Generator* g : order_) g->release();
-    for (auto& g : generators_) g->release();
-    order_.clear();
-    orderValid_ = false;
+    graph_->release();  // the generators' GL resources (LUTs): made again by init() and the next frame
     hdr_ = {};
     ldr_ = {};
     hdrFbo_ = {};
@@ -176,7 +166,7 @@ SkyElement& SkyProcessor::add(std::unique_ptr<SkyElement> element) {
         element->declareOptions(*vars_);
     }
     elements_.push_back(std::move(element));
-    orderValid_ = false;
+    graph_->invalidate();
     return *elements_.back();
 }
 
@@ -245,15 +235,6 @@ std::string derivedFrom(std::string_view name) {
     if (name == keys::observerHeight.name()) return "SkyProcessor::setObserver() (welkin: --height)";
     return "";
 }
-
-std::string generatorOutputMessage(std::string_view key, const Generator& g) {
-    return std::string(key) + " is an output of the generator '" + g.name() +
-           "', not an input (it is computed every frame from the time, the place and the generator's inputs: `welkin vars` lists them)";
-}
-
-std::string elementOutputMessage(std::string_view key, const SkyElement& e) {
-    return std::string(key) + " is written by the element '" + e.name() + "' every frame, not an input";
-}
 }  // namespace
 
 void SkyProcessor::setOption(std::string_view name, std::string_view text) {
@@ -261,16 +242,7 @@ void SkyProcessor::setOption(std::string_view name, std::string_view text) {
         const std::string from = derivedFrom(name);
         if (!from.empty()) throw Error(std::string(name) + " is derived from " + from + ", not an input");
     }
-    auto check = [&](const Generator& g) {
-        for (const KeyInfo& k : g.outputs())
-            if (k.name == name) throw Error(generatorOutputMessage(name, g));
-    };
-    for (auto& g : generators_) check(*g);
-    for (auto& e : elements_) {
-        for (auto& g : e->generators()) check(*g);
-        for (const KeyInfo& k : e->writeKeys())
-            if (k.name == name) throw Error(elementOutputMessage(name, *e));
-    }
+    graph_->checkNotAnOutput(name, elements_);
     vars_->setFromString(name, text);
     if (std::find(optionsSet_.begin(), optionsSet_.end(), name) == optionsSet_.end()) optionsSet_.emplace_back(name);
 }
@@ -290,83 +262,11 @@ void SkyProcessor::init() {
             e->declareOptions(*vars_);
             e->init(ctx);
             e->resize(camera_.width, camera_.height);
-            orderValid_ = false;
+            graph_->invalidate();
         }
     }
-    if (!orderValid_) orderGenerators();
+    if (!graph_->valid()) graph_->order(*vars_, elements_, optionsSet_);
     if (host.outermost() || options_.validation) gl::checkError("SkyProcessor::init()");
-}
-
-void SkyProcessor::orderGenerators() {
-    // Every generator once: the processor's, then each element's (shared instances deduplicated).
-    std::vector<Generator*> all;
-    auto addUnique = [&](Generator* g) {
-        if (std::find(all.begin(), all.end(), g) == all.end()) all.push_back(g);
-    };
-    for (auto& g : generators_) addUnique(g.get());
-    for (auto& e : elements_)
-        for (auto& g : e->generators()) addUnique(g.get());
-    for (Generator* g : all) {
-        SkyVars::DeclarerScope scope(*vars_, g->name());
-        g->declareKeys(*vars_);
-    }
-    // Writers: one per key.
-    std::map<std::string, size_t> writer;
-    for (size_t i = 0; i < all.size(); ++i)
-        for (const KeyInfo& k : all[i]->outputs()) {
-            auto [it, inserted] = writer.emplace(k.name, i);
-            if (!inserted && it->second != i)
-                throw Error("SkyProcessor::init(): key '" + k.name + "' is written by two generators, '" + all[it->second]->name() +
-                            "' and '" + all[i]->name() + "'");
-        }
-    // A key the caller set with setOption() must not be a generator's output (an element's
-    // generators are attached at its init(), after the option was set).
-    for (const std::string& k : optionsSet_)
-        if (auto it = writer.find(k); it != writer.end()) throw Error(generatorOutputMessage(k, *all[it->second]));
-    for (auto& e : elements_)
-        for (const KeyInfo& w : e->writeKeys())
-            if (std::find(optionsSet_.begin(), optionsSet_.end(), w.name) != optionsSet_.end()) throw Error(elementOutputMessage(w.name, *e));
-    // Reads: of a key some generator writes (an edge), or of a declared key, or optional.
-    std::vector<std::vector<size_t>> after(all.size());  // after[w] = readers of w's outputs
-    std::vector<int> pending(all.size(), 0);
-    for (size_t i = 0; i < all.size(); ++i) {
-        const auto& ins = all[i]->inputs();
-        std::vector<size_t> deps;
-        for (size_t k = 0; k < ins.size(); ++k) {
-            auto it = writer.find(ins[k].name);
-            if (it != writer.end()) {
-                if (it->second != i && std::find(deps.begin(), deps.end(), it->second) == deps.end()) deps.push_back(it->second);
-                continue;
-            }
-            if (!vars_->contains(ins[k].name) && !all[i]->inputOptions(k).optional)
-                throw Error("SkyProcessor::init(): generator '" + all[i]->name() + "' reads key '" + ins[k].name +
-                            "', which no element, generator or host declares");
-        }
-        for (size_t d : deps) after[d].push_back(i);
-        pending[i] = int(deps.size());
-    }
-    // Kahn's algorithm, always taking the earliest-registered ready generator (stable order).
-    std::vector<Generator*> order;
-    std::vector<bool> done(all.size(), false);
-    while (order.size() < all.size()) {
-        size_t pick = all.size();
-        for (size_t i = 0; i < all.size(); ++i)
-            if (!done[i] && pending[i] == 0) {
-                pick = i;
-                break;
-            }
-        if (pick == all.size()) {
-            std::string cycle;
-            for (size_t i = 0; i < all.size(); ++i)
-                if (!done[i]) cycle += (cycle.empty() ? "" : ", ") + all[i]->name();
-            throw Error("SkyProcessor::init(): generators depend on each other in a cycle: " + cycle);
-        }
-        done[pick] = true;
-        order.push_back(all[pick]);
-        for (size_t r : after[pick]) --pending[r];
-    }
-    order_ = std::move(order);
-    orderValid_ = true;
 }
 
 void SkyProcessor::ensureTargets() {
@@ -385,14 +285,10 @@ void SkyProcessor::ensureTargets() {
 FrameContext SkyProcessor::frameContext() { return FrameContext{*vars_, log_, camera_, seconds(), &emptyVao_}; }
 
 void SkyProcessor::runGenerators() {
-    // Each generator once per frame, in dependency order (orderGenerators()).
-    if (!orderValid_) orderGenerators();
+    // Each generator once per frame, in dependency order (GeneratorGraph::order()).
+    if (!graph_->valid()) graph_->order(*vars_, elements_, optionsSet_);
     auto t0 = std::chrono::steady_clock::now();
-    for (Generator* g : order_) {
-        if (generatorsPaused_) break;
-        g->runIfDue(*vars_, log_, options_.timing);
-        if (options_.validation) gl::checkError(g->name() + "::run()");
-    }
+    if (!generatorsPaused_) graph_->run(*vars_, log_, options_.timing, options_.validation);
     generatorsMs_ = msSince(t0);
 }
 

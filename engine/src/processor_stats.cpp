@@ -33,7 +33,7 @@ nlohmann::json SkyProcessor::stats() const {
     j["timing_includes_gpu"] = options_.timing;
     // Every generator's cost in the order they run, and their own quantities (astronomy: Sun, Moon).
     json gensAll = json::array();
-    for (Generator* g : order_) {
+    for (Generator* g : generatorOrder()) {
         gensAll.push_back({{"name", g->name()}, {"runs", g->runCount()}, {"last_ms", g->timing().lastMs}, {"total_ms", g->timing().totalMs}});
         g->stats(j);
     }

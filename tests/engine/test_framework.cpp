@@ -2,6 +2,7 @@
 // change tolerances, republished textures, the element registry, release and re-init.
 #include <catch2/catch.hpp>
 
+#include "../../engine/src/generator_graph.hpp"
 #include "cli_runner.hpp"
 #include "gl_test_context.hpp"
 
@@ -203,6 +204,39 @@ TEST_CASE("Generator graph errors at init: two writers, undeclared reads, cycles
         p.addGenerator(std::make_shared<Doubler>("ba", kB, kA, nullptr));
         CHECK_THROWS_WITH(p.init(), Catch::Contains("cycle") && Catch::Contains("ab") && Catch::Contains("ba"));
     }
+}
+
+TEST_CASE("GeneratorGraph without GL: stable data order, due runs, options that are outputs", "[cpu][generator]") {
+    const Key<double> kD{"test.d_m", Range{0, 100}, "written by gen D from A"};
+    SkyVars v;
+    v.set(kA, 1.5);
+    std::vector<std::string> ran;
+    GeneratorGraph graph;
+    auto c = std::make_shared<Doubler>("C", kB, kC, &ran);  // reads B's output
+    graph.add(c, v);
+    graph.add(std::make_shared<Doubler>("D", kA, kD, &ran), v);  // independent of B and C
+    graph.add(std::make_shared<Doubler>("B", kA, kB, &ran), v);
+    graph.add(c, v);  // the same instance again: ignored
+    CHECK_FALSE(graph.valid());
+    graph.order(v, {}, {});
+    REQUIRE(graph.ordered().size() == 3);
+    // Kahn's algorithm taking the earliest-registered ready generator: D (registered before B)
+    // first, then B, then C, which waits for B.
+    CHECK(graph.ordered()[0]->name() == "D");
+    CHECK(graph.ordered()[1]->name() == "B");
+    CHECK(graph.ordered()[2]->name() == "C");
+    graph.run(v, Logger(), false, false);
+    CHECK(ran == std::vector<std::string>{"D", "B", "C"});
+    CHECK(v.get(kC) == 6.0);  // 1.5 * 2 * 2 in one run: C saw B's fresh output
+    graph.run(v, Logger(), false, false);  // nothing changed: nothing runs
+    CHECK(ran.size() == 3);
+    // A key the host set as an option must not be a generator's output.
+    CHECK_THROWS_WITH(graph.order(v, {}, {kB.name()}), generatorOutputMessage(kB.name(), *graph.ordered()[1]));
+    CHECK_THROWS_WITH(graph.checkNotAnOutput(kC.name(), {}), Catch::StartsWith("test.c_m is an output of the generator 'C'"));
+    CHECK_NOTHROW(graph.checkNotAnOutput(kA.name(), {}));
+    graph.release();  // forgets the order; the next run needs order() again
+    CHECK_FALSE(graph.valid());
+    CHECK(graph.ordered().empty());
 }
 
 TEST_CASE("Generator inputs: a change within the tolerance does not rebuild", "[cpu][generator]") {

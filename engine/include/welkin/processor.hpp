@@ -64,6 +64,7 @@
 
 namespace welkin {
 
+class GeneratorGraph;
 class ToneMapper;
 class LightingEngine;
 
@@ -154,7 +155,7 @@ public:
     /// Every generator in the order they run: sorted by their inputs and outputs (a generator
     /// that reads another's output runs after it), otherwise in registration order (processor
     /// generators, then each element's). Valid after init().
-    const std::vector<Generator*>& generatorOrder() const { return order_; }
+    const std::vector<Generator*>& generatorOrder() const;
 
     void setTime(const UtcInstant& t);
     const UtcInstant& time() const { return time_; }
@@ -237,7 +238,6 @@ private:
     void ensureTargets();
     void deriveVariables();
     void runGenerators();
-    void orderGenerators();
     /// `clearedToBlack`: the target was just cleared to black (the first element has nothing behind it).
     /// `depth`: the host's depth for the elements (FrameContext::depth), or nullptr.
     void composite(unsigned framebuffer, bool depthTest, bool clearedToBlack, const HostDepth* depth);
@@ -268,9 +268,7 @@ private:
     Logger log_;
     ProcessorOptions options_;
     std::vector<std::unique_ptr<SkyElement>> elements_;
-    std::vector<std::shared_ptr<Generator>> generators_;  // processor-level
-    std::vector<Generator*> order_;
-    bool orderValid_ = false;
+    std::unique_ptr<GeneratorGraph> graph_;  // the generators and their order: engine/src/generator_graph.hpp
     std::vector<std::string> optionsSet_;  // keys setOption() set, checked against the generators' outputs at init()
     bool generatorsPaused_ = false;
     UtcInstant time_ = UtcInstant::parse("2000-01-01T12:00:00Z");

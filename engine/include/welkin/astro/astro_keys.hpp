@@ -59,6 +59,12 @@ inline const Key<double> moonMagnitude{"moon.magnitude", Range{-14, 0}, "visual 
 /// Parallactic angle q at the Moon: rotates the equatorial position angles above into the local
 /// vertical frame (angle from the zenith direction towards east = position angle - q).
 inline const Key<double> moonParallacticAngle{"moon.parallactic_angle_rad", Range{-welkin::keys::kPi, welkin::keys::kPi}, "parallactic angle at the Moon, rad"};
+/// The part of moon.eclipse_factor (welkin::keys::moonEclipseFactor: the fraction of sunlight,
+/// by luminance, reaching the Moon's disk, direct + refracted) that is the atmosphere's reddened
+/// light refracted into the umbra (colour astro::umbraColour(), welkin/astro/eclipses.hpp),
+/// [0, 1]; 0 outside the umbra. Written by the astronomy (astro::moonShadowLight()), read by
+/// atmosphere.lights.
+inline const Key<double> moonEclipseRefracted{"moon.eclipse_refracted", Range{0, 1}, "part of moon.eclipse_factor refracted into the umbra by the Earth's air (reddened)"};
 
 // --- Star frame (for the Stars element: one rotation per frame on the GPU) ----------------------
 /// Rotation ICRS (J2000 axes) -> observer ENU at this instant (bias-precession-nutation, Earth

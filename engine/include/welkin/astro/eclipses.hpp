@@ -25,18 +25,9 @@
 #pragma once
 #include <welkin/astro/bodies.hpp>
 #include <welkin/time.hpp>
-#include <welkin/vars.hpp>
 
 #include <optional>
 #include <vector>
-
-namespace welkin::astro::keys {
-/// The part of moon.eclipse_factor (welkin::keys::moonEclipseFactor: the fraction of sunlight,
-/// by luminance, reaching the Moon's disk, direct + refracted) that is the atmosphere's reddened
-/// light refracted into the umbra (colour umbraColour()), [0, 1]; 0 outside the umbra. Written by
-/// the astronomy (moonShadowLight below), read by atmosphere.lights.
-inline const Key<double> moonEclipseRefracted{"moon.eclipse_refracted", Range{0, 1}, "part of moon.eclipse_factor refracted into the umbra by the Earth's air (reddened)"};
-}  // namespace welkin::astro::keys
 
 namespace welkin::astro {
 

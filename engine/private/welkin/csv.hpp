@@ -1,5 +1,6 @@
 // CSV tables: the one reader (and writer) for every CSV file welkin reads or writes (measured
-// skies, star catalogues, benchmark results).
+// skies, star catalogues, benchmark results). Private to the build tree (engine/private: never
+// installed): the astronomy, the welkin command and the tests link welkin_engine_private.
 //
 //   welkin::CsvTable t = welkin::CsvTable::load("kider2013_scans.csv");
 //   const std::size_t alt = t.column("sun_alt_deg");        // throws if the header lacks it
