@@ -380,15 +380,15 @@ TEST_CASE("The bindings table reaches every stage and fits the context's limits"
     glGetUniformiv(p.id(), p.location("u_lut"), &unit);
     CHECK(blockBinding == gl::binding::kCameraUbo);
     CHECK(unit == gl::binding::kViewTransmittanceLut);
-    // The user ranges exist on this context (GL 4.5 guarantees them; checked, not assumed).
+    // The private ranges (elements' own bindings) exist on this context (GL 4.5 guarantees them; checked, not assumed).
     auto limit = [](GLenum name) {
         GLint v = 0;
         glGetIntegerv(name, &v);
         return v;
     };
-    CHECK(limit(GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS) > gl::binding::kUserTextureUnitLast);
-    CHECK(limit(GL_MAX_IMAGE_UNITS) > gl::binding::kUserImageUnitLast);
-    CHECK(limit(GL_MAX_UNIFORM_BUFFER_BINDINGS) > gl::binding::kUserUboLast);
-    CHECK(limit(GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS) > gl::binding::kUserSsboLast);
+    CHECK(limit(GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS) > gl::binding::kPrivateTextureUnitLast);
+    CHECK(limit(GL_MAX_IMAGE_UNITS) > gl::binding::kPrivateImageUnitLast);
+    CHECK(limit(GL_MAX_UNIFORM_BUFFER_BINDINGS) > gl::binding::kPrivateUboLast);
+    CHECK(limit(GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS) > gl::binding::kPrivateSsboLast);
     gl::checkError("bindings");
 }

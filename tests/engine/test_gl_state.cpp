@@ -11,6 +11,7 @@
 
 #include <welkin/elements/grid.hpp>
 #include <welkin/elements/sky.hpp>
+#include <welkin/gl/bindings.hpp>
 #include <welkin/gl/objects.hpp>
 #include <welkin/error.hpp>
 #include <welkin/gl/shader.hpp>
@@ -27,8 +28,11 @@ using namespace welkin;
 
 namespace {
 
-constexpr int kUnits = 16;     // texture units the engine guards (docs/architecture.md)
-constexpr int kBindings = 8;   // UBO / SSBO indices and image units guarded
+// What the engine guards (docs/architecture.md): the shared bindings and the private ranges.
+constexpr int kUnits = gl::binding::kPrivateTextureUnitLast + 1;  // texture units
+constexpr int kUbos = gl::binding::kPrivateUboLast + 1;           // uniform-buffer indices
+constexpr int kBindings = 8;  // SSBO indices and image units (GL 4.5's minimum; the private ranges end below)
+static_assert(gl::binding::kPrivateSsboLast < kBindings && gl::binding::kPrivateImageUnitLast < kBindings);
 constexpr int kDrawBufs = 8;   // GL_MAX_DRAW_BUFFERS is 8 on llvmpipe
 
 // Every guarded item, by name ("texture unit 4 GL_TEXTURE_BINDING_3D"), as integers.
@@ -114,11 +118,14 @@ Snapshot snapshot(const std::vector<GLuint>& framebuffers) {
         s[n + "GL_SAMPLER_BINDING"] = ints(GL_SAMPLER_BINDING);
     }
     glActiveTexture(GLenum(active));
-    for (GLuint i = 0; i < kBindings; ++i) {
+    for (GLuint i = 0; i < kUbos; ++i) {
         const std::string n = " " + std::to_string(i);
         s["GL_UNIFORM_BUFFER_BINDING" + n] = indexed(GL_UNIFORM_BUFFER_BINDING, i);
         s["GL_UNIFORM_BUFFER_START" + n] = indexed(GL_UNIFORM_BUFFER_START, i);
         s["GL_UNIFORM_BUFFER_SIZE" + n] = indexed(GL_UNIFORM_BUFFER_SIZE, i);
+    }
+    for (GLuint i = 0; i < kBindings; ++i) {
+        const std::string n = " " + std::to_string(i);
         s["GL_SHADER_STORAGE_BUFFER_BINDING" + n] = indexed(GL_SHADER_STORAGE_BUFFER_BINDING, i);
         s["GL_SHADER_STORAGE_BUFFER_START" + n] = indexed(GL_SHADER_STORAGE_BUFFER_START, i);
         s["GL_SHADER_STORAGE_BUFFER_SIZE" + n] = indexed(GL_SHADER_STORAGE_BUFFER_SIZE, i);
@@ -259,18 +266,23 @@ struct Host {
         glBindTextureUnit(9, tCube.id());
         glBindTextureUnit(10, t2d.id());
         glBindTextureUnit(15, tCube.id());
+        glBindTextureUnit(16, t2d.id());   // the private range, where elements bind their own
+        glBindTextureUnit(31, t3d.id());
         for (GLuint u : {0u, 4u, 5u, 9u}) glBindSampler(u, sampler);
         glActiveTexture(GL_TEXTURE3);
         glBindBufferRange(GL_UNIFORM_BUFFER, 1, ubo1.id(), 256, 128);
         glBindBufferBase(GL_UNIFORM_BUFFER, 0, ubo0.id());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ssbo.id());
         glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 2, ubo1.id(), 0, 64);
+        glBindBufferRange(GL_UNIFORM_BUFFER, 8, ubo1.id(), 0, 256);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, ssbo.id());
         glBindBuffer(GL_UNIFORM_BUFFER, ubo1.id());  // generic bindings differ from the indexed ones
         glBindBuffer(GL_SHADER_STORAGE_BUFFER, ubo0.id());
         glBindBuffer(GL_PIXEL_PACK_BUFFER, pack.id());
         glBindBuffer(GL_PIXEL_UNPACK_BUFFER, pack.id());  // would make welkin's uploads read from it
         glBindImageTexture(0, t3d.id(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA8);
         glBindImageTexture(1, t2d.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+        glBindImageTexture(4, t2d.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA8);
         glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
         glPixelStorei(GL_UNPACK_ROW_LENGTH, 7);
         glPixelStorei(GL_PACK_ALIGNMENT, 8);
@@ -301,8 +313,8 @@ struct Host {
         for (GLuint u = 0; u < kUnits; ++u) glBindTextureUnit(u, 0);
         glBindSamplers(0, kUnits, nullptr);
         glActiveTexture(GL_TEXTURE0);
+        for (GLuint i = 0; i < kUbos; ++i) glBindBufferBase(GL_UNIFORM_BUFFER, i, 0);
         for (GLuint i = 0; i < kBindings; ++i) {
-            glBindBufferBase(GL_UNIFORM_BUFFER, i, 0);
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, i, 0);
             glBindImageTexture(i, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R8);
         }
@@ -316,7 +328,8 @@ struct Host {
 };
 
 // Records the depth it is given and reads the host's depth texture at one texel in render();
-// on request binds a texture, a sampler-less unit and a uniform buffer of its own, then throws.
+// on request binds a texture, a uniform buffer and an image on shared units and on units of its
+// own (SkyElement::textureUnit(), ...: the private ranges), then throws.
 class DepthProbe final : public SkyElement {
 public:
     DepthProbe() : SkyElement("depth probe") {}
@@ -329,6 +342,10 @@ private:
     void doInit(InitContext&) override {
         tex_ = gl::Texture2D(2, 2, GL_RGBA8);
         ubo_ = gl::Buffer(64);
+        privateUnit_ = textureUnit("PROBE_TEXTURE");
+        privateUbo_ = uniformBuffer("PROBE_UBO");
+        privateSsbo_ = storageBuffer("PROBE_SSBO");
+        privateImage_ = imageUnit("PROBE_IMAGE");
     }
     void doUpdate(const FrameContext& ctx) override { depthInUpdate = ctx.depth != nullptr; }
     void doRender(const FrameContext& ctx) override {
@@ -339,6 +356,10 @@ private:
             glBindTextureUnit(12, tex_.id());
             ubo_.bindBase(GL_UNIFORM_BUFFER, 3);
             glBindImageTexture(2, tex_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA8);
+            glBindTextureUnit(GLuint(privateUnit_), tex_.id());
+            ubo_.bindBase(GL_UNIFORM_BUFFER, unsigned(privateUbo_));
+            ubo_.bindBase(GL_SHADER_STORAGE_BUFFER, unsigned(privateSsbo_));
+            glBindImageTexture(GLuint(privateImage_), tex_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
             glEnable(GL_BLEND);
             throw Error("DepthProbe: thrown on purpose");
         }
@@ -349,6 +370,7 @@ private:
     }
     gl::Texture2D tex_;
     gl::Buffer ubo_;
+    int privateUnit_ = 0, privateUbo_ = 0, privateSsbo_ = 0, privateImage_ = 0;
 };
 
 std::unique_ptr<SkyProcessor> skyAndGrid(const Camera& cam) {

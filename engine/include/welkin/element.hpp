@@ -4,10 +4,17 @@
 //   public:
 //       Halo() : SkyElement("halo") { reads(welkin::keys::sunDirection); }
 //   private:
-//       void doInit(welkin::InitContext& ctx) override { program_ = /* ProgramBuilder ... */; }
-//       void doRender(const welkin::FrameContext& ctx) override { program_.use(); ctx.drawFullscreen(); }
+//       void doInit(welkin::InitContext& ctx) override {
+//           tableUnit_ = textureUnit("HALO_TABLE");  // a private unit: WELKIN_BINDING_HALO_TABLE
+//           program_ = /* ProgramBuilder(...).bindings(bindings()) ... */;
+//       }
+//       void doRender(const welkin::FrameContext& ctx) override {
+//           program_.use(); glBindTextureUnit(tableUnit_, table_.id()); ctx.drawFullscreen();
+//       }
 //       void doRelease() override { program_ = {}; }
 //       welkin::gl::Program program_;
+//       welkin::gl::Texture2D table_;
+//       int tableUnit_ = 0;
 //   };
 //
 // The public init/update/render/resize/release are non-virtual: they check the element's state,
@@ -18,6 +25,7 @@
 // dst = src.rgb + dst.rgb * T in registration order.
 #pragma once
 #include <welkin/camera.hpp>
+#include <welkin/gl/private_bindings.hpp>
 #include <welkin/host_depth.hpp>
 #include <welkin/log.hpp>
 #include <welkin/vars.hpp>
@@ -27,6 +35,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace welkin {
@@ -225,6 +234,9 @@ public:
         optionsDeclaredIn_ = &vars;
     }
     const std::vector<std::shared_ptr<Generator>>& generators() const { return generators_; }
+    /// The element's own texture units and buffer bindings, assigned by name (textureUnit(), ...):
+    /// give them to its programs with gl::ProgramBuilder::bindings(bindings()).
+    const gl::PrivateBindings& bindings() const { return bindings_; }
 
     /// Adds the element's physical quantities to the --stats JSON (e.g. root["sky"][...]).
     void stats(nlohmann::json& root) const { doStats(root); }
@@ -241,7 +253,7 @@ public:
     const Timing& sceneTiming() const { return sceneTiming_; }
 
 protected:
-    explicit SkyElement(std::string name) : name_(std::move(name)) {}
+    explicit SkyElement(std::string name) : name_(std::move(name)), bindings_("element '" + name_ + "'") {}
     template <class T>
     void reads(const Key<T>& key) { reads_.push_back(key.info()); }
     template <class T>
@@ -280,6 +292,16 @@ protected:
     }
     /// Adds a generator this element depends on (shared instances are run once per frame).
     void addGenerator(std::shared_ptr<Generator> g);
+    /// The element's own GL bindings, asked for by name (in the constructor or doInit(), before
+    /// building the programs that use them; welkin/gl/private_bindings.hpp): the framework
+    /// assigns consecutive values from the private ranges of welkin/gl/bindings.hpp (texture
+    /// units from binding::kPrivateTextureUnitFirst, ...), the same value for the same name, and
+    /// its programs see `WELKIN_BINDING_<NAME>` through ProgramBuilder::bindings(bindings()).
+    /// Throws welkin::Error naming the element, the name and the range when the range is full.
+    int textureUnit(std::string_view name) { return bindings_.textureUnit(name); }
+    int imageUnit(std::string_view name) { return bindings_.imageUnit(name); }
+    int uniformBuffer(std::string_view name) { return bindings_.uniformBuffer(name); }
+    int storageBuffer(std::string_view name) { return bindings_.storageBuffer(name); }
 
 private:
     virtual void doInit(InitContext& ctx) = 0;
@@ -294,6 +316,7 @@ private:
     void requireInitialized(const char* what) const;
 
     std::string name_;
+    gl::PrivateBindings bindings_;  // after name_: built from it
     std::vector<KeyInfo> reads_, writes_, optionKeys_;
     std::vector<std::function<void(SkyVars&)>> optionDeclarers_;
     const SkyVars* optionsDeclaredIn_ = nullptr;

@@ -31,6 +31,20 @@ ProgramBuilder& ProgramBuilder::define(const std::string& name, double value) {
     if (s.find_first_of(".eE") == std::string::npos) s += ".0";
     return define(name, s);
 }
+ProgramBuilder& ProgramBuilder::bindings(const PrivateBindings& b) {
+    for (const auto& a : b.assigned()) {
+        bool known = false;
+        for (const auto& [n, v] : privateBindings_) {
+            if (n != a.glslName) continue;
+            if (v != a.value)
+                throw Error(label_ + ": " + a.glslName + " is " + std::to_string(v) + " in one set of private bindings and " +
+                            std::to_string(a.value) + " in " + b.owner() + "'s");
+            known = true;
+        }
+        if (!known) privateBindings_.emplace_back(a.glslName, a.value);
+    }
+    return *this;
+}
 ProgramBuilder& ProgramBuilder::vertex(std::string name, std::string_view text) {
     vertex_.push_back({std::move(name), std::string(text)});
     return *this;
@@ -54,6 +68,8 @@ std::string ProgramBuilder::header(GLenum stage) const {
                                        : "#define WELKIN_COMPUTE_SHADER 1\n";
     // One table for C++ and GLSL (welkin/gl/bindings.hpp).
     for (const auto& e : binding::kTable) h += "#define " + std::string(e.glslName) + " " + std::to_string(e.value) + "\n";
+    // The element's own (welkin/gl/private_bindings.hpp).
+    for (const auto& [n, v] : privateBindings_) h += "#define " + n + " " + std::to_string(v) + "\n";
     for (const auto& [n, v] : defines_) h += "#define " + n + " " + v + "\n";
     return h;
 }

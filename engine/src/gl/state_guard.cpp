@@ -8,9 +8,9 @@
 
 namespace welkin::gl {
 
-static_assert(GlStateGuard::kUnits > binding::kUserTextureUnitLast && GlStateGuard::kBufferBindings > binding::kUserUboLast &&
-                  GlStateGuard::kSsboBindings > binding::kUserSsboLast && GlStateGuard::kImageUnits > binding::kUserImageUnitLast,
-              "the GL state guard must cover the user binding ranges");
+static_assert(GlStateGuard::kUnits > binding::kPrivateTextureUnitLast && GlStateGuard::kBufferBindings > binding::kPrivateUboLast &&
+                  GlStateGuard::kSsboBindings > binding::kPrivateSsboLast && GlStateGuard::kImageUnits > binding::kPrivateImageUnitLast,
+              "the GL state guard must cover the private binding ranges (elements' own units)");
 
 namespace {
 // Every texture target of GL 4.5, with its binding query (textures_[unit][i]).

@@ -31,12 +31,13 @@ namespace welkin::gl {
 
 class GlStateGuard {
 public:
-    // Every unit and index welkin's own passes use and the user ranges of gl/bindings.hpp (a
-    // user's element binds there: the guard restores those too).
-    static constexpr int kUnits = 32;           ///< texture units guarded (user range 16..31)
-    static constexpr int kBufferBindings = 16;  ///< UBO indices guarded (user range 8..15); SSBO: the first 8
-    static constexpr int kSsboBindings = 8;     ///< SSBO indices guarded (user range 4..7; GL 4.5 guarantees 8)
-    static constexpr int kImageUnits = 8;       ///< image units guarded (user range 4..7)
+    // Every unit and index of gl/bindings.hpp: the shared table and the private ranges that
+    // elements' own bindings are assigned from (gl/private_bindings.hpp; a static_assert in
+    // state_guard.cpp keeps the counts above the ranges' ends).
+    static constexpr int kUnits = 32;           ///< texture units guarded (through binding::kPrivateTextureUnitLast)
+    static constexpr int kBufferBindings = 16;  ///< UBO indices guarded (through kPrivateUboLast); SSBO: the first kSsboBindings
+    static constexpr int kSsboBindings = 8;     ///< SSBO indices guarded (through kPrivateSsboLast; GL 4.5 guarantees 8)
+    static constexpr int kImageUnits = 8;       ///< image units guarded (through kPrivateImageUnitLast)
     static constexpr int kDrawBuffers = 8;      ///< per-draw-buffer state guarded (at most)
 
     /// Saves the state; `framebuffers`: host framebuffer objects whose draw buffers welkin may

@@ -211,6 +211,9 @@ void Clouds::doInit(InitContext& ctx) {
         addGenerator(CloudShadowMap::obtain(v));
         addGenerator(CloudSkyShadow::obtain(v));
     }
+    // The direction cache as its display pass samples it (the real-time path): units of its own.
+    cacheRadianceUnit_ = textureUnit("CLOUD_CACHE_RADIANCE");
+    cacheTransmittanceUnit_ = textureUnit("CLOUD_CACHE_TRANSMITTANCE");
     programs_ = gl::ProjectionPrograms(recipe(false, false));
     statsProgram_ = recipe(true, false).build();
     atmUbo_ = gl::Buffer(sizeof(AtmosphereBlock));
@@ -417,6 +420,7 @@ void Clouds::renderCached(const FrameContext& ctx) {
     if (!cacheFill_) {
         cacheFill_ = recipe(false, true).build();
         cacheShow_ = gl::ProjectionPrograms(gl::ProgramBuilder("Clouds (cache display)")
+                                                .bindings(bindings())
                                                 .define("CLOUDS_CACHE_SHOW")
                                                 .fullscreenVertex()
                                                 .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
@@ -463,8 +467,8 @@ void Clouds::renderCached(const FrameContext& ctx) {
     cachePhase_ = (cachePhase_ + 1) % (n * n);
     const gl::Program& show = cacheShow_.get(ctx.camera.projection);
     show.use();
-    glBindTextureUnit(gl::binding::kCloudCacheRadiance, cacheL_.id());
-    glBindTextureUnit(gl::binding::kCloudCacheTransmittance, cacheT_.id());
+    glBindTextureUnit(GLuint(cacheRadianceUnit_), cacheL_.id());
+    glBindTextureUnit(GLuint(cacheTransmittanceUnit_), cacheT_.id());
     ctx.drawFullscreen();
 }
 

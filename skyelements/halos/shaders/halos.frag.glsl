@@ -1,7 +1,7 @@
 // The Halos element's pass (contract in welkin/elements/halos.hpp). Needs engine/camera.glsl,
 // engine/composite.glsl and generators/clouds' cloud_density.glsl before it.
 // Frame: ENU at the observer's ground point, metres; planet centre at (0, 0, -R).
-layout(binding = HALOS_TABLE_BINDING) uniform sampler2D u_haloTable;  // (azimuth, elevation) at the light's elevation, 1/sr
+layout(binding = WELKIN_BINDING_HALOS_TABLE) uniform sampler2D u_haloTable;  // (azimuth, elevation) at the light's elevation, 1/sr
 
 uniform vec3 u_light;        // unit vector to the light (Sun or Moon), ENU
 uniform vec3 u_E;            // the light's illuminance at the observer, lux per channel

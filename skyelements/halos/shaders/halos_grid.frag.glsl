@@ -1,6 +1,6 @@
 // The Halos element's real-time display: one fetch of the table at the interpolated coordinates
 // (halos_grid.vert.glsl). Needs engine/composite.glsl before it.
-layout(binding = HALOS_TABLE_BINDING) uniform sampler2D u_haloTable;  // (azimuth, elevation) at the light's elevation, 1/sr
+layout(binding = WELKIN_BINDING_HALOS_TABLE) uniform sampler2D u_haloTable;  // (azimuth, elevation) at the light's elevation, 1/sr
 uniform vec3 u_E;                // the light's illuminance at the observer, lux per channel
 uniform float u_below;           // 1: the observer is under the layer (the ground hides it below the horizon)
 noperspective in vec4 v_coord;

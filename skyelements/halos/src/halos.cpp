@@ -23,8 +23,6 @@ namespace lk = generators::lightkeys;
 namespace ck = generators::cloudkeys;
 
 namespace {
-// The pass's own texture unit (no other texture is bound in it but the clouds' curl noise, 14).
-constexpr int kTableUnit = 0;
 // The cirrus height when no clouds.cirrus_height_m is declared (the Clouds element's default).
 constexpr double kDefaultLayerHeightM = 9000.0;
 }  // namespace
@@ -63,15 +61,16 @@ void Halos::doInit(InitContext& ctx) {
     declareOptions(ctx.vars);
     validateOptions(ctx.vars);
     addGenerator(generators::AtmosphereLights::obtain(ctx.vars));
+    tableUnit_ = textureUnit("HALOS_TABLE");  // the table's own unit: WELKIN_BINDING_HALOS_TABLE
     programs_ = gl::ProjectionPrograms(gl::ProgramBuilder("Halos")
+                                           .bindings(bindings())
                                            .fullscreenVertex()
-                                           .define("HALOS_TABLE_BINDING", kTableUnit)
                                            .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
                                            .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
                                            .fragment("generators/cloud_density.glsl", embedded::clouds_shaders("cloud_density.glsl"))
                                            .fragment("halos/halos.frag.glsl", embedded::halos_shaders("halos.frag.glsl")));
     gridPrograms_ = gl::ProjectionPrograms(gl::ProgramBuilder("Halos grid")
-                                               .define("HALOS_TABLE_BINDING", kTableUnit)
+                                               .bindings(bindings())
                                                .vertex("engine/camera.glsl", gl::engineShader("camera.glsl"))
                                                .vertex("halos/halos_grid.vert.glsl", embedded::halos_shaders("halos_grid.vert.glsl"))
                                                .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
@@ -153,7 +152,7 @@ void Halos::doRender(const FrameContext& ctx) {
         // The real-time path: per-vertex coordinates on a grid, one fetch per pixel.
         const gl::Program& g = gridPrograms_.get(ctx.camera.projection);
         g.use();
-        glBindTextureUnit(kTableUnit, table_.id());
+        glBindTextureUnit(GLuint(tableUnit_), table_.id());
         const int gx = (ctx.camera.width + kGridCellPx - 1) / kGridCellPx, gy = (ctx.camera.height + kGridCellPx - 1) / kGridCellPx;
         g.set("u_grid", glm::ivec2(gx, gy));
         g.set("u_cellPx", float(kGridCellPx));
@@ -173,7 +172,7 @@ void Halos::doRender(const FrameContext& ctx) {
     }
     const gl::Program& p = programs_.get(ctx.camera.projection);
     p.use();
-    glBindTextureUnit(kTableUnit, table_.id());
+    glBindTextureUnit(GLuint(tableUnit_), table_.id());
     if (cirrus) {
         const generators::CloudLayerBlock block = generators::CloudLayerBlock::from(v);
         if (!cloudUbo_) cloudUbo_ = gl::Buffer(sizeof block);

@@ -10,7 +10,6 @@
 #include <welkin/generators/atmosphere.hpp>
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/generators/sky_model.hpp>
-#include <welkin/gl/bindings.hpp>
 #include <welkin/gl/shader.hpp>
 #include <welkin/image.hpp>
 #include <welkin/keys.hpp>
@@ -305,7 +304,11 @@ void NightSky::doInit(InitContext& ctx) {
     declareOptions(ctx.vars);
     ctx.vars.declare(nightkeys::background, surfaceBrightnessCdM2(nightkeys::kDarkSkyZenithMag));
     loadMilkyWay(ctx.vars.get(nightkeys::milkyWayTexture), ctx.log);
+    // The Milky Way and the zodiacal light (panoramas, or their cubes) on units of its own.
+    milkyWayUnit_ = textureUnit("MILKY_WAY_TEXTURE");
+    zodiacalUnit_ = textureUnit("ZODIACAL_TEXTURE");
     gl::ProgramBuilder b(direct_ ? "NightSky (direct)" : "NightSky");
+    b.bindings(bindings());
     if (direct_) b.define("NIGHT_DIRECT");
     programs_ = gl::ProjectionPrograms(b.define("NIGHT_TABLE_N", kTableN)
                                            .fullscreenVertex()
@@ -315,6 +318,7 @@ void NightSky::doInit(InitContext& ctx) {
     programs_.get(Projection::Perspective);  // shader errors surface in init()
     if (!direct_)
         cubeProgram_ = gl::ProgramBuilder("NightSky cube")
+                           .bindings(bindings())
                            .fullscreenVertex()
                            .fragment("nightsky/nightsky_cube.frag.glsl", embedded::nightsky_shaders("nightsky_cube.frag.glsl"))
                            .build();
@@ -353,8 +357,8 @@ void NightSky::buildCube(const FrameContext& ctx, const NightCubeInputs& in, boo
     p.set("u_mwFloor", glm::vec3(in.milkyWayScale * milkyWayFloorCdM2() * mwColour_ * kMwStorageScale));
     p.set("u_mwScale", float(mwLoaded_ ? in.milkyWayScale : 0.0));
     p.set("u_texelsPerRad", float(mwW_ / (2.0 * kPi)));
-    zodiTexture_.bind(gl::binding::kZodiacalTexture);
-    if (mwLoaded_) mwTexture_.bind(gl::binding::kMilkyWayTexture);
+    zodiTexture_.bind(zodiacalUnit_);
+    if (mwLoaded_) mwTexture_.bind(milkyWayUnit_);
     for (int face = 0; face < 6; ++face) {
         cubeFbo_.attach(GL_COLOR_ATTACHMENT0, cube, 0, face);
         if (face == 0) cubeFbo_.checkComplete("nightsky cube");
@@ -449,19 +453,19 @@ void NightSky::doRender(const FrameContext& ctx) {
     p.set("u_lpR2", r2(kLightPollutionLayerM));
     if (direct_) {
         p.set("u_zodi", glm::vec3(v.get(nightkeys::zodiacalScale) * zodiacalUnitCdM2() * solarColour()));
-        zodiTexture_.bind(gl::binding::kZodiacalTexture);
+        zodiTexture_.bind(zodiacalUnit_);
         const double mwScale = v.get(nightkeys::milkyWayScale);
         p.set("u_mwFloor", glm::vec3(mwScale * milkyWayFloorCdM2() * mwColour_));
         p.set("u_mwScale", float(mwLoaded_ ? mwScale / kMwStorageScale : 0.0));
         p.set("u_texelsPerRad", float(mwW_ / (2.0 * kPi)));
-        if (mwLoaded_) mwTexture_.bind(gl::binding::kMilkyWayTexture);
+        if (mwLoaded_) mwTexture_.bind(milkyWayUnit_);
     } else {
         // The panorama's density, not the cube's (N / 2 = 512 texels/rad at a face's centre): the
         // cube's level 0 is used wherever the panorama's level 0 was (its finer texels add no
         // detail, its level 1 would blur it), mipmapping starts where the panorama's did.
         p.set("u_texelsPerRad", float(mwW_ > 0 ? mwW_ / (2.0 * kPi) : kNightCubeSize / 2.0));
-        cube_.bind(gl::binding::kMilkyWayTexture);
-        zodiCube_.bind(gl::binding::kZodiacalTexture);
+        cube_.bind(milkyWayUnit_);
+        zodiCube_.bind(zodiacalUnit_);
     }
     p.set("u_extinction", ctx.attenuatedLater ? 0 : 1);
     if (!ctx.attenuatedLater) {

@@ -13,7 +13,6 @@
 #include <welkin/generators/sky_model.hpp>
 #include <welkin/elements/point_sources.hpp>
 #include <welkin/embedded/stars_shaders.hpp>
-#include <welkin/gl/bindings.hpp>
 #include <welkin/gl/shader.hpp>
 #include <welkin/image.hpp>
 #include <welkin/keys.hpp>
@@ -407,7 +406,11 @@ void Planet::loadMoonMaps(const std::string& albedoPath, const std::string& norm
 void Planet::doInit(InitContext& ctx) {
     declareOptions(ctx.vars);
     addGenerator(generators::AtmosphereLights::obtain(ctx.vars));
+    // The Moon's maps on units of the element's own (WELKIN_BINDING_MOON_*_TEXTURE in the shader).
+    moonAlbedoUnit_ = textureUnit("MOON_ALBEDO_TEXTURE");
+    moonNormalUnit_ = textureUnit("MOON_NORMAL_TEXTURE");
     programs_ = gl::ProjectionPrograms(gl::ProgramBuilder("Planet")
+                                           .bindings(bindings())
                                            .vertex("engine/camera.glsl", gl::engineShader("camera.glsl"))
                                            .vertex("stars/point_perceptual.glsl", embedded::stars_shaders("point_perceptual.glsl"))
                                            .vertex("planet/planet.vert.glsl", embedded::planet_shaders("planet.vert.glsl"))
@@ -717,8 +720,8 @@ void Planet::doRender(const FrameContext& ctx) {
             const double rPx = s ? g.angularRadius * std::sqrt(s->x * s->y) : 1.0;
             p.set("u_albedoLod", float(std::max(std::log2(albedoTex_.width() / (2 * kPi * std::max(rPx, 1e-3))), 0.0)));
             p.set("u_normalLod", float(std::max(std::log2(normalTex_.width() / (2 * kPi * std::max(rPx, 1e-3))), 0.0)));
-            albedoTex_.bind(gl::binding::kMoonAlbedoTexture);
-            normalTex_.bind(gl::binding::kMoonNormalTexture);
+            albedoTex_.bind(moonAlbedoUnit_);
+            normalTex_.bind(moonNormalUnit_);
             draw(kKindMoon, *q, g.centre, g.angularRadius, K, E);
             moonDrawn_ = true;
         }

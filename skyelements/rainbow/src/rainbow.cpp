@@ -92,7 +92,9 @@ void Rainbow::doInit(InitContext& ctx) {
                      .compute("rainbow/rainbow_polar.glsl", embedded::rainbow_shaders("rainbow_polar.glsl"))
                      .compute("rainbow/rainbow_cache.comp.glsl", embedded::rainbow_shaders("rainbow_cache.comp.glsl"))
                      .build();
+    cacheUnit_ = textureUnit("RAINBOW_CACHE");  // the cache as the mesh samples it: a unit of its own
     meshPrograms_ = gl::ProjectionPrograms(gl::ProgramBuilder("Rainbow grid")
+                                               .bindings(bindings())
                                                .vertex("engine/camera.glsl", gl::engineShader("camera.glsl"))
                                                .vertex("rainbow/rainbow_polar.glsl", embedded::rainbow_shaders("rainbow_polar.glsl"))
                                                .vertex("rainbow/rainbow_grid.vert.glsl", embedded::rainbow_shaders("rainbow_grid.vert.glsl"))
@@ -235,7 +237,7 @@ void Rainbow::doRender(const FrameContext& ctx) {
         m.set("u_elHiClip", glm::vec2(std::cos(whi), std::sin(whi)));
         m.set("u_sinEl", glm::vec2(std::sin(el.lo), std::sin(el.hi)));
         m.set("u_scale", float(cacheE_ > 0.0 ? eY / cacheE_ : 1.0));
-        glBindTextureUnit(gl::binding::kRainbowCache, cache_.id());
+        glBindTextureUnit(GLuint(cacheUnit_), cache_.id());
         for (int c = 0; c < 3; ++c) glEnable(GL_CLIP_DISTANCE0 + c);
         if (ctx.emptyVao) ctx.emptyVao->bind();
         glDrawArrays(GL_TRIANGLES, 0, GLsizei(6 * gx * gy));

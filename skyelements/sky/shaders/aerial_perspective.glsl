@@ -3,8 +3,9 @@
 // (generators/sky_luts.hpp, AerialPerspectiveLut; Sun light only).
 //
 // Include after generators/atmosphere.glsl (welkin::elements::aerialPerspectiveGlslChunks()
-// returns both in order) and bind: the atmosphere block (binding 1: welkin::elements::
-// AerialPerspective::bindResources() does it), the two volumes on units 6 and 7, and set the
+// returns both in order) and bind: the atmosphere block (WELKIN_BINDING_ATMOSPHERE_UBO:
+// welkin::elements::AerialPerspective::bindResources() does it), the two volumes on units
+// WELKIN_BINDING_AERIAL_INSCATTER_LUT and WELKIN_BINDING_AERIAL_TRANSMITTANCE_LUT, and set the
 // uniforms below (bindResources() too). Then, in the host's fragment shader:
 //
 //   vec3 T;

@@ -11,7 +11,6 @@
 #include <welkin/generators/atmosphere.hpp>
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/generators/sky_model.hpp>
-#include <welkin/gl/bindings.hpp>
 #include <welkin/gl/shader.hpp>
 #include <welkin/keys.hpp>
 #include <welkin/point_source.hpp>
@@ -123,7 +122,9 @@ void Stars::doInit(InitContext& ctx) {
         loadedPath_ = ctx.vars.get(starkeys::catalogue);
         upload(loadCatalogue(loadedPath_));
     }
+    starsSsbo_ = storageBuffer("STARS_SSBO");  // the catalogue's binding point, of its own
     programs_ = gl::ProjectionPrograms(gl::ProgramBuilder("Stars")
+                                           .bindings(bindings())
                                            .define("STARS_TABLE_N", kTableN)
                                            .vertex("engine/camera.glsl", gl::engineShader("camera.glsl"))
                                            .vertex("stars/point_perceptual.glsl", embedded::stars_shaders("point_perceptual.glsl"))
@@ -209,7 +210,7 @@ void Stars::doRender(const FrameContext& ctx) {
         updateExtinction(v);
         glProgramUniform3fv(p.id(), p.location("u_ext"), kTableN, extinction_.data());
     }
-    buffer_.bindBase(GL_SHADER_STORAGE_BUFFER, gl::binding::kUserSsboFirst);
+    buffer_.bindBase(GL_SHADER_STORAGE_BUFFER, unsigned(starsSsbo_));
     glDrawArraysInstanced(GL_TRIANGLES, 0, 6, copies * drawn_);
     labels_.render(ctx, limit_);
 }

@@ -1,6 +1,7 @@
-// Texture units, image units and buffer binding points of welkin's shaders: one table shared by
-// C++ and GLSL, so the two cannot disagree. gl::ProgramBuilder's generated header defines
-// `WELKIN_BINDING_<NAME> <value>` for every entry of kTable, and the C++ binds the same constant:
+// Texture units, image units and buffer binding points that welkin's passes share (elements,
+// generators, the engine): one table for C++ and GLSL, so the two cannot disagree.
+// gl::ProgramBuilder's generated header defines `WELKIN_BINDING_<NAME> <value>` for every entry
+// of kTable, and the C++ binds the same constant:
 //
 //   // GLSL (any stage assembled by ProgramBuilder):
 //   layout(binding = WELKIN_BINDING_TRANSMITTANCE_LUT) uniform sampler2D u_atmTransmittance;
@@ -9,9 +10,10 @@
 //
 // Units of different kinds (texture units, image units, uniform buffers, storage buffers) are
 // separate name spaces in GL. Within one kind, entries that share a value belong to passes that
-// never run together (the tone map's HDR input and a LUT pass's source, say). Your own elements
-// take their bindings from the reserved user ranges (kUser*First..kUser*Last), which the library
-// never uses; docs/writing-an-element.md.
+// never run together (the tone map's HDR input and a LUT pass's source, say). What only one
+// element uses is not here: the element asks for it by name (SkyElement::textureUnit(), ...,
+// <welkin/gl/private_bindings.hpp>) and the framework assigns it from the private ranges
+// (kPrivate*First..kPrivate*Last), above every entry of this table; docs/writing-an-element.md.
 #pragma once
 #include <array>
 #include <string_view>
@@ -53,20 +55,13 @@ inline constexpr int kCloudNoiseBase = 12;    ///< clouds.noise_base (3-D)
 inline constexpr int kCloudNoiseDetail = 13;  ///< clouds.noise_detail (3-D)
 inline constexpr int kCloudCurlNoise = 14;    ///< clouds.curl_noise
 inline constexpr int kCloudPathLut = 15;      ///< clouds.path_lut
-inline constexpr int kCloudCacheRadiance = 0;       ///< the Clouds element's direction cache, radiance (its display pass only)
-inline constexpr int kCloudCacheTransmittance = 1;  ///< the Clouds element's direction cache, transmittance (its display pass only)
 inline constexpr int kCloudShadowMap = 9;     ///< clouds.shadow_map (shares 9 with the SH pass's ground input: never together)
 // Texture units: other passes.
 inline constexpr int kMiePhaseLut = 0;        ///< generators/optics: the 1-D phase LUT for the current drops (Rainbow; no sky view there)
 inline constexpr int kMiePhaseTable = 1;      ///< generators/optics: the 2-D phase table (angle x drop radius)
-inline constexpr int kRainbowCache = 0;       ///< the Rainbow's direction cache (its display pass only)
 inline constexpr int kSceneDepth = 0;     ///< the host's depth texture (aerial perspective applied to a scene)
 inline constexpr int kCombineSource = 0;  ///< the spectral-combine pass's source LUT
-inline constexpr int kMilkyWayTexture = 0;  ///< the night sky's Milky Way panorama (skyelements/nightsky)
-inline constexpr int kZodiacalTexture = 1;  ///< the night sky's baked zodiacal light (skyelements/nightsky)
 inline constexpr int kTextAtlas = 0;      ///< gl::Font's glyph atlas (welkin/gl/text.hpp), bound by TextBatch::draw()
-inline constexpr int kMoonAlbedoTexture = 0;  ///< the Planet element's Moon albedo map
-inline constexpr int kMoonNormalTexture = 1;  ///< the Planet element's Moon normal map
 inline constexpr int kLightingCube = 0;       ///< SkyLighting's captured radiance cube, sampled by the light-map pass
 // The keyframe blend passes (generators/atmosphere/shaders/light_blend.glsl): up to four tables at
 // consecutive elevations (A..D), mixed with weights in elevation.
@@ -89,14 +84,24 @@ inline constexpr int kLightingOutputImage = 0;  ///< SkyLighting: the light map 
 inline constexpr int kLightingSourceImage = 1;  ///< SkyLighting: the radiance cube level a pass reads
 inline constexpr int kHdrImage = 0;  ///< the tone map's read of an RGBA32F HDR frame (imageLoad: half a texelFetch's cost on llvmpipe)
 
-// Reserved for user elements: the library never binds these (inclusive ranges). Each fits the
-// minimum GL 4.5 guarantees: 80 combined texture units, 8 image units, 72 uniform-buffer and 8
-// storage-buffer bindings (checked against the context in the [gl] tests).
-inline constexpr int kUserTextureUnitFirst = 16, kUserTextureUnitLast = 31;
-inline constexpr int kUserImageUnitFirst = 4, kUserImageUnitLast = 7;
-inline constexpr int kUserUboFirst = 8, kUserUboLast = 15;
-inline constexpr int kUserSsboFirst = 4, kUserSsboLast = 7;
+// The private ranges (inclusive): PrivateBindings (<welkin/gl/private_bindings.hpp>) assigns an
+// element's own bindings from them, and nothing in this table falls into them (checked below).
+// Each fits the minimum GL 4.5 guarantees: 80 combined texture units, 8 image units, 72
+// uniform-buffer and 8 storage-buffer bindings (checked against the context in the [gl] tests),
+// and the processor's GL state guard covers them (engine/src/gl/state_guard.hpp).
+inline constexpr int kPrivateTextureUnitFirst = 16, kPrivateTextureUnitLast = 31;
+inline constexpr int kPrivateImageUnitFirst = 4, kPrivateImageUnitLast = 7;
+inline constexpr int kPrivateUboFirst = 8, kPrivateUboLast = 15;
+inline constexpr int kPrivateSsboFirst = 4, kPrivateSsboLast = 7;
+// The former names of the private ranges ("user ranges"), kept so that existing code builds. An
+// element that binds there by hand instead of asking PrivateBindings must not also ask it for
+// bindings of the same kind (they would take the same values).
+inline constexpr int kUserTextureUnitFirst = kPrivateTextureUnitFirst, kUserTextureUnitLast = kPrivateTextureUnitLast;
+inline constexpr int kUserImageUnitFirst = kPrivateImageUnitFirst, kUserImageUnitLast = kPrivateImageUnitLast;
+inline constexpr int kUserUboFirst = kPrivateUboFirst, kUserUboLast = kPrivateUboLast;
+inline constexpr int kUserSsboFirst = kPrivateSsboFirst, kUserSsboLast = kPrivateSsboLast;
 
+/// What a binding is. UserRange: an entry that is a private range's bound, not a binding.
 enum class Kind { TextureUnit, ImageUnit, UniformBuffer, StorageBuffer, UserRange };
 
 struct Entry {
@@ -105,7 +110,8 @@ struct Entry {
     Kind kind;
 };
 
-/// Every binding above, as ProgramBuilder writes it into each stage's generated header.
+/// Every binding above, as ProgramBuilder writes it into each stage's generated header (the
+/// private ranges' bounds too, under their former GLSL names WELKIN_BINDING_USER_*).
 inline constexpr std::array kTable = {
     Entry{"WELKIN_BINDING_CAMERA_UBO", kCameraUbo, Kind::UniformBuffer},
     Entry{"WELKIN_BINDING_ATMOSPHERE_UBO", kAtmosphereUbo, Kind::UniformBuffer},
@@ -139,18 +145,11 @@ inline constexpr std::array kTable = {
     Entry{"WELKIN_BINDING_CLOUD_CURL_NOISE", kCloudCurlNoise, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_CLOUD_PATH_LUT", kCloudPathLut, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_CLOUD_SHADOW_MAP", kCloudShadowMap, Kind::TextureUnit},
-    Entry{"WELKIN_BINDING_CLOUD_CACHE_RADIANCE", kCloudCacheRadiance, Kind::TextureUnit},
-    Entry{"WELKIN_BINDING_RAINBOW_CACHE", kRainbowCache, Kind::TextureUnit},
-    Entry{"WELKIN_BINDING_CLOUD_CACHE_TRANSMITTANCE", kCloudCacheTransmittance, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_MIE_PHASE_LUT", kMiePhaseLut, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_MIE_PHASE_TABLE", kMiePhaseTable, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_SCENE_DEPTH", kSceneDepth, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_COMBINE_SOURCE", kCombineSource, Kind::TextureUnit},
-    Entry{"WELKIN_BINDING_MILKY_WAY_TEXTURE", kMilkyWayTexture, Kind::TextureUnit},
-    Entry{"WELKIN_BINDING_ZODIACAL_TEXTURE", kZodiacalTexture, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_TEXT_ATLAS", kTextAtlas, Kind::TextureUnit},
-    Entry{"WELKIN_BINDING_MOON_ALBEDO_TEXTURE", kMoonAlbedoTexture, Kind::TextureUnit},
-    Entry{"WELKIN_BINDING_MOON_NORMAL_TEXTURE", kMoonNormalTexture, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_BLEND_A", kBlendA, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_BLEND_A_MIE", kBlendAMie, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_BLEND_B", kBlendB, Kind::TextureUnit},
@@ -164,31 +163,31 @@ inline constexpr std::array kTable = {
     Entry{"WELKIN_BINDING_BLEND_AERIAL_D", kBlendAerialD, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_LUT_IMAGE", kLutImage, Kind::ImageUnit},
     Entry{"WELKIN_BINDING_SECOND_LUT_IMAGE", kSecondLutImage, Kind::ImageUnit},
-    Entry{"WELKIN_BINDING_USER_TEXTURE_UNIT_FIRST", kUserTextureUnitFirst, Kind::UserRange},
-    Entry{"WELKIN_BINDING_USER_TEXTURE_UNIT_LAST", kUserTextureUnitLast, Kind::UserRange},
-    Entry{"WELKIN_BINDING_USER_IMAGE_UNIT_FIRST", kUserImageUnitFirst, Kind::UserRange},
-    Entry{"WELKIN_BINDING_USER_IMAGE_UNIT_LAST", kUserImageUnitLast, Kind::UserRange},
-    Entry{"WELKIN_BINDING_USER_UBO_FIRST", kUserUboFirst, Kind::UserRange},
-    Entry{"WELKIN_BINDING_USER_UBO_LAST", kUserUboLast, Kind::UserRange},
-    Entry{"WELKIN_BINDING_USER_SSBO_FIRST", kUserSsboFirst, Kind::UserRange},
-    Entry{"WELKIN_BINDING_USER_SSBO_LAST", kUserSsboLast, Kind::UserRange},
+    Entry{"WELKIN_BINDING_USER_TEXTURE_UNIT_FIRST", kPrivateTextureUnitFirst, Kind::UserRange},
+    Entry{"WELKIN_BINDING_USER_TEXTURE_UNIT_LAST", kPrivateTextureUnitLast, Kind::UserRange},
+    Entry{"WELKIN_BINDING_USER_IMAGE_UNIT_FIRST", kPrivateImageUnitFirst, Kind::UserRange},
+    Entry{"WELKIN_BINDING_USER_IMAGE_UNIT_LAST", kPrivateImageUnitLast, Kind::UserRange},
+    Entry{"WELKIN_BINDING_USER_UBO_FIRST", kPrivateUboFirst, Kind::UserRange},
+    Entry{"WELKIN_BINDING_USER_UBO_LAST", kPrivateUboLast, Kind::UserRange},
+    Entry{"WELKIN_BINDING_USER_SSBO_FIRST", kPrivateSsboFirst, Kind::UserRange},
+    Entry{"WELKIN_BINDING_USER_SSBO_LAST", kPrivateSsboLast, Kind::UserRange},
 };
 
-/// True if every library binding is >= 0 and below its kind's user range.
-constexpr bool libraryBelowUserRanges() {
+/// True if every shared binding is >= 0 and below its kind's private range.
+constexpr bool sharedBelowPrivateRanges() {
     for (const Entry& e : kTable) {
         int first = 0;
         switch (e.kind) {
-            case Kind::TextureUnit: first = kUserTextureUnitFirst; break;
-            case Kind::ImageUnit: first = kUserImageUnitFirst; break;
-            case Kind::UniformBuffer: first = kUserUboFirst; break;
-            case Kind::StorageBuffer: first = kUserSsboFirst; break;
+            case Kind::TextureUnit: first = kPrivateTextureUnitFirst; break;
+            case Kind::ImageUnit: first = kPrivateImageUnitFirst; break;
+            case Kind::UniformBuffer: first = kPrivateUboFirst; break;
+            case Kind::StorageBuffer: first = kPrivateSsboFirst; break;
             case Kind::UserRange: continue;
         }
         if (e.value < 0 || e.value >= first) return false;
     }
     return true;
 }
-static_assert(libraryBelowUserRanges(), "a library binding falls into a user range");
+static_assert(sharedBelowPrivateRanges(), "a shared binding falls into a private range");
 
 }  // namespace welkin::gl::binding

@@ -2,6 +2,7 @@
 //
 //   auto program = welkin::gl::ProgramBuilder("Grid")
 //       .define("GRID_STEP_DEG", 10)                                    // generated header
+//       .bindings(bindings())                                           // the element's own units
 //       .fullscreenVertex()                                             // engine/fullscreen.vert.glsl
 //       .fragment("engine/camera.glsl", engineShader("camera.glsl"))    // shared chunks first
 //       .fragment("engine/composite.glsl", engineShader("composite.glsl"))
@@ -10,12 +11,13 @@
 //
 // Each stage is assembled as: a generated header (`#version 450 core`; the stage's macro,
 // WELKIN_VERTEX_SHADER, WELKIN_FRAGMENT_SHADER or WELKIN_COMPUTE_SHADER; every binding of
-// <welkin/gl/bindings.hpp> as `#define WELKIN_BINDING_<NAME> <value>`; then every define in the
-// order given), then each chunk in the order added, each preceded by `#line <n*100000+1>` so
+// <welkin/gl/bindings.hpp> as `#define WELKIN_BINDING_<NAME> <value>`; then the private bindings
+// given to bindings(), the same way; then every define in the order given), then each chunk in the order added, each preceded by `#line <n*100000+1>` so
 // that the driver's messages can be mapped back whatever the driver: "grid/grid.frag.glsl:12: error: ...".
 #pragma once
 #include <welkin/gl/bindings.hpp>  // the table whose names every generated header defines
 #include <welkin/gl/objects.hpp>
+#include <welkin/gl/private_bindings.hpp>
 
 #include <string>
 #include <string_view>
@@ -33,6 +35,10 @@ public:
     ProgramBuilder& define(const std::string& name, const std::string& value = "1");
     ProgramBuilder& define(const std::string& name, int value);
     ProgramBuilder& define(const std::string& name, double value);
+    /// Defines `WELKIN_BINDING_<NAME> <value>` for every binding `b` has assigned so far (an
+    /// element's own units: SkyElement::bindings()); ask for them before building. Throws
+    /// welkin::Error if a name was already given another value by an earlier call.
+    ProgramBuilder& bindings(const PrivateBindings& b);
     /// A chunk of the vertex stage (e.g. engine/camera.glsl, then your own main() that sets
     /// gl_Position = welkin_clipFromDirection(dir)); or fullscreenVertex().
     ProgramBuilder& vertex(std::string name, std::string_view text);
@@ -53,6 +59,7 @@ private:
     };
     std::string label_;
     std::vector<std::pair<std::string, std::string>> defines_;
+    std::vector<std::pair<std::string, int>> privateBindings_;
     std::vector<Chunk> vertex_, fragment_, compute_;
 
     std::string header(unsigned stage) const;

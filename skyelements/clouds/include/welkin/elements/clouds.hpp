@@ -140,6 +140,7 @@ private:
     // last full fill (a change of any refills it at once).
     gl::Program scenePass_;  // applyToScene()'s shadow pass
     gl::Texture2D cacheL_, cacheT_;
+    int cacheRadianceUnit_ = 0, cacheTransmittanceUnit_ = 0;  // private texture units (SkyElement::textureUnit)
     gl::Program cacheFill_;
     gl::ProjectionPrograms cacheShow_;
     int cachePhase_ = 0;

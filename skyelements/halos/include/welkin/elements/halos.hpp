@@ -212,6 +212,7 @@ private:
 
     gl::ProjectionPrograms programs_, gridPrograms_;
     gl::Texture2D table_;            // the mix at the light's elevation (azimuth x elevation), 1/sr
+    int tableUnit_ = 0;              // its private texture unit (SkyElement::textureUnit)
     gl::Buffer cloudUbo_;
     const halos::HaloTables* tables_ = nullptr;
     std::array<double, 4> mixed_{-1, -1, -1, -1};

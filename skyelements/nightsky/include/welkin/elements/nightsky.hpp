@@ -179,6 +179,7 @@ private:
     double cubeBuildMs_ = 0, zodiCubeBuildMs_ = 0;  // CPU wall time of the last builds (no glFinish), ms
     gl::Texture2D mwTexture_;
     gl::Texture2D zodiTexture_;  // Table 17 units over the panorama's mapping
+    int milkyWayUnit_ = 0, zodiacalUnit_ = 0;  // private texture units (SkyElement::textureUnit)
     double zodiLon_ = std::nan("");  // the Sun's ecliptic longitude it was baked for, rad
     std::string mwPath_;
     bool mwLoaded_ = false;

@@ -187,6 +187,7 @@ private:
     std::optional<std::vector<astro::Body>> own_;
     gl::ProjectionPrograms programs_;
     gl::Texture2D albedoTex_, normalTex_;
+    int moonAlbedoUnit_ = 0, moonNormalUnit_ = 0;  // private texture units (SkyElement::textureUnit)
     MoonMaps maps_;
     std::string loadedAlbedo_, loadedNormals_;
     bool mapsLoaded_ = false;

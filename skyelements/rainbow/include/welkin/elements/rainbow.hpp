@@ -80,6 +80,7 @@ private:
     gl::ProjectionPrograms programs_, cloudPrograms_, meshPrograms_;
     gl::Program cacheFill_;
     gl::Texture2D cache_;
+    int cacheUnit_ = 0;                // its private texture unit (SkyElement::textureUnit)
     std::vector<double> cacheInputs_;  // what the cache was filled with (exact inputs)
     glm::dvec3 cacheLight_{0.0};       // the light's direction then
     double cacheE_ = 0, cacheSkyE_ = 0;  // the light's and the sky's luminance then, lux

@@ -107,6 +107,7 @@ private:
     std::string loadedPath_;
     std::vector<float> mags_;          // sorted, brightest first
     gl::Buffer buffer_;
+    int starsSsbo_ = 0;  // its private storage-buffer binding (SkyElement::storageBuffer)
     gl::ProjectionPrograms programs_;
     std::vector<float> extinction_;    // RGB per altitude sample, no Sky
     double extinctionKey_[2] = {-1, -1};
