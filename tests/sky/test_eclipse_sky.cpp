@@ -254,11 +254,12 @@ TEST_CASE("Eclipse sky: the model against the eclipse reference in the partial p
             const double model = Y(cpu::radiance(m, cpu::integrateEclipse(m, T, MS, 0.0, dir, sun, gm, 128, false, m.sunAngularRadius),
                                                  glm::dot(dir, sun)));
             INFO(iso << ", azimuth from the Sun " << daz << " deg, altitude " << alt << " deg: model " << model << ", reference " << ref);
-            // Measured 0.91 to 1.59 (the largest on the horizon 90 deg from the Sun, where the
-            // clear model alone is 1.09 x the reference); 1.75. The uniform 24-ring fraction it
-            // replaced gave 0.07 towards the Sun at 99.5 % (the crescent's light lost).
-            CHECK(model < ref * 1.75);
-            CHECK(model > ref / 1.75);
+            // Measured 0.99 to 1.04 at this test's quality 1 (0.91 to 1.59 at the default quality,
+            // the bench's table, the largest on the horizon 90 deg from the Sun where the clear
+            // model alone is 1.09 x the reference); 1.25. The uniform 24-ring fraction it replaced
+            // gave 0.07 towards the Sun at 99.5 % (the crescent's light lost).
+            CHECK(model < ref * 1.25);
+            CHECK(model > ref / 1.25);
         }
     }
 }
