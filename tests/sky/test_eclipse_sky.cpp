@@ -14,6 +14,7 @@
 #include <welkin/time.hpp>
 #include <welkin/keys.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -26,10 +27,13 @@ double Y(const glm::dvec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.
 constexpr const char* kTotality = "2026-08-12T18:29:00Z";  // mid-totality near Burgos (the astronomy: fraction 0)
 constexpr double kLat = 42.34, kLon = -3.70;
 // The multiple-scattering model's stated accuracy against the eclipse reference at totality: a
-// factor. Measured with this test's coarse reference (docs/eclipse.md, "Accuracy"): 0.75 to 1.35
-// over zenith, 45 deg and the horizon; 2 leaves room for the reference's own resolution (a few %)
-// while a kernel length off by 2x (ratio 0.16 at 25 km, 4.3 at 70 km) fails.
-constexpr double kEclipseModelFactor = 2.0;
+// factor. Measured with this test's coarse reference (docs/eclipse.md, "Accuracy"): 0.57 to 1.54
+// over the zenith, 45 deg and the horizon across and opposite the Sun at the default quality
+// (welkin bench eclipse), 0.41 to 0.99 at this test's quality 1 (its coarser clear multiple-
+// scattering field moves the reference); 2.5 leaves room for that while a kernel of 25 km or
+// shorter (~0.23 at the zenith) fails. (It does not pin the kernel from above: 40 km gives ~1.1-1.9
+// here; the bench's table does.)
+constexpr double kEclipseModelFactor = 2.5;
 
 cpu::EclipseGeometry geometryOf(const SkyVars& v) {
     return {.moonPos = v.get(astro::keys::moonPosition), .moonRadius = astro::keys::kMoonRadiusMeters,
@@ -93,6 +97,34 @@ TEST_CASE("Eclipse sky: the visible fraction at the observer matches the astrono
     off.set(astro::keys::eclipses, false);
     astro::updateSkyVars(off);
     CHECK(off.get(keys::sunEclipseFraction) == 1.0);
+}
+
+TEST_CASE("Eclipse sky: the visible fraction keeps the thin crescent before second contact", "[cpu][eclipse]") {
+    // An independent reference: the limb-darkened disk (u = 0.6) integrated over 200,000 uniform
+    // rings, each ring's hidden arc exact. Crescents of 0.5 % down to 1e-5 of the disk (the last
+    // ~20 s before C2 at Burgos), a Moon 3.4 % (Burgos) and 0.5 % (a barely total eclipse) larger than the Sun.
+    auto fine = [](double R, double D) {
+        constexpr int n = 200000;
+        double total = 0.0, visible = 0.0;
+        for (int i = 0; i < n; ++i) {
+            const double r = (i + 0.5) / n, w = (1.0 - 0.6 * (1.0 - std::sqrt(1.0 - r * r))) * r;
+            double hidden = 0.0;
+            if (D + r <= R) hidden = 1.0;
+            else if (!(D >= r + R || R + D <= r)) hidden = std::acos(std::clamp((r * r + D * D - R * R) / (2.0 * r * D), -1.0, 1.0)) / M_PI;
+            total += w;
+            visible += w * (1.0 - hidden);
+        }
+        return visible / total;
+    };
+    for (double R : {1.034, 1.005})
+        for (double width : {0.02, 0.005, 0.001}) {  // the crescent's width, in solar radii: D = R - 1 + width
+            const double D = R - 1.0 + width, ref = fine(R, D), f = cpu::eclipseFraction(1.0, R, D);
+            INFO("R " << R << ", crescent " << width << ": rule " << f << ", reference " << ref);
+            REQUIRE(ref > 1e-6);
+            // 1 %: the band rule is within 0.1 % of the fraction (24 nodes on the cut band); the
+            // uniform 24 rings it replaced gave 0.36x at a 0.02-wide crescent and 0 below.
+            CHECK(f == Approx(ref).epsilon(0.01));
+        }
 }
 
 TEST_CASE("Eclipse sky: at totality over Burgos the ground darkens 1000-fold and the horizon outshines the zenith", "[gl][eclipse]") {
@@ -193,6 +225,42 @@ TEST_CASE("Eclipse sky: the multiple-scattering model against the eclipse refere
         // Within kEclipseModelFactor (above); the old model gave 0 at the zenith (a factor of infinity).
         CHECK(model < ref * kEclipseModelFactor);
         CHECK(model > ref / kEclipseModelFactor);
+    }
+}
+
+TEST_CASE("Eclipse sky: the model against the eclipse reference in the partial phases (90 %, 99 %, 99.5 %)", "[cpu][eclipse]") {
+    // The instants where 10 %, 1 % and 0.5 % of the Sun is left before C2 over Burgos (welkin bench
+    // eclipse finds them by bisection), the same coarse reference as at totality.
+    const SkyVars v0 = test::astronomyAt(kTotality, kLat, kLon);
+    const SkyModel m = SkyModel::fromVars(v0);
+    const SkyQuality q = SkyQuality::preset(1);
+    const Lut2D T = cpu::transmittanceLut(m, q);
+    const cpu::MsField MS = cpu::msField(m, q, T);
+    atmosphere::EclipseReferenceOptions ro{.viewSteps = 24, .gatherZenith = 8, .gatherAzimuth = 12, .gatherSteps = 16, .rings = 48};
+    for (auto [iso, fraction] : {std::pair{"2026-08-12T18:27:39Z", 0.005}, std::pair{"2026-08-12T18:27:16Z", 0.01},
+                                 std::pair{"2026-08-12T18:22:25Z", 0.1}}) {
+        const SkyVars v = test::astronomyAt(iso, kLat, kLon);
+        // The phase itself (the bisection's instants rounded to the second: 2 %).
+        REQUIRE(v.get(keys::sunEclipseFraction) == Approx(fraction).epsilon(0.02));
+        const glm::dvec3 sun = glm::normalize(v.get(keys::sunDirection));
+        cpu::EclipseGeometry g = geometryOf(v);
+        const cpu::EclipseMsTable field = cpu::eclipseMsTable(g, kEclipseMsLengthMeters);
+        cpu::EclipseGeometry gm = g;
+        gm.ms = &field;
+        const double sunAz = std::atan2(sun.x, sun.y);
+        for (auto [daz, alt] : {std::pair{0.0, 90.0}, std::pair{90.0, 45.0}, std::pair{0.0, 2.0}, std::pair{90.0, 2.0}}) {
+            const glm::dvec3 dir = directionFromAzAlt(sunAz + daz * kDeg, alt * kDeg);
+            const double ref = Y(atmosphere::eclipseReferenceRadiance(m, T, MS, 0.0, dir, sun, g, ro).radiance);
+            const double model = Y(cpu::radiance(m, cpu::integrateEclipse(m, T, MS, 0.0, dir, sun, gm, 128, false, m.sunAngularRadius),
+                                                 glm::dot(dir, sun)));
+            INFO(iso << ", azimuth from the Sun " << daz << " deg, altitude " << alt << " deg: model " << model << ", reference " << ref);
+            // Measured 0.99 to 1.04 at this test's quality 1 (0.91 to 1.59 at the default quality,
+            // the bench's table, the largest on the horizon 90 deg from the Sun where the clear
+            // model alone is 1.09 x the reference); 1.25. The uniform 24-ring fraction it replaced
+            // gave 0.07 towards the Sun at 99.5 % (the crescent's light lost).
+            CHECK(model < ref * 1.25);
+            CHECK(model > ref / 1.25);
+        }
     }
 }
 

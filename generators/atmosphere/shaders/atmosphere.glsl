@@ -206,24 +206,33 @@ vec3 atm_eclView = vec3(0.0, 0.0, 1.0);
 bool atm_eclOn = true;  // false: a march of another light (the Moon's), which the shadow does not touch
 
 // Visible fraction of a limb-darkened disk (u = 0.6, as astro::eclipseVisibleFraction) of
-// angular radius rs behind a dark disk of radius ro, centres d apart (radians, small angles):
-// 24 rings, an analytic arc per ring.
+// angular radius rs behind a dark disk of radius ro, centres d apart (radians, small angles).
+// Twin of cpu::eclipseFraction(): the rings the Moon's limb does not cut are integrated exactly,
+// the cut band r in [|R - D|, min(1, R + D)] with 24 nodes (cosine-spaced), so the thin crescent
+// before second contact keeps its light (uniform rings lost it).
+float atm_limbFluxInside(float a) {
+    float c = max(1.0 - a * a, 0.0);
+    return 0.2 * a * a + 0.2 * (1.0 - c * sqrt(c));
+}
 float atm_eclipseFraction(float rs, float ro, float d) {
     float R = ro / rs, D = d / rs;
     if (D >= 1.0 + R) return 1.0;
     if (R >= D + 1.0) return 0.0;
-    const int N = 24;
-    float total = 0.0, hidden = 0.0;
-    for (int i = 0; i < N; ++i) {
-        float r = (float(i) + 0.5) / float(N);
-        float w = (1.0 - 0.6 * (1.0 - sqrt(max(1.0 - r * r, 0.0)))) * r;
-        float c = 0.0;
-        if (D + r <= R) c = 1.0;
-        else if (!(D >= r + R || R + D <= r)) c = acos(clamp((r * r + D * D - R * R) / (2.0 * r * D), -1.0, 1.0)) / ATM_PI;
-        total += w;
-        hidden += w * c;
+    float lo = abs(R - D), hi = min(1.0, R + D);
+    float visible = atm_limbFluxInside(clamp(D - R, 0.0, 1.0)) + atm_limbFluxInside(1.0) - atm_limbFluxInside(hi);
+    if (D > 1e-7 && hi > lo) {
+        const int N = 24;
+        float half_ = 0.5 * (hi - lo), band = 0.0;
+        for (int i = 0; i < N; ++i) {
+            float s = ATM_PI * (float(i) + 0.5) / float(N);
+            float r = lo + half_ * (1.0 - cos(s));
+            float w = (1.0 - 0.6 * (1.0 - sqrt(max(1.0 - r * r, 0.0)))) * r;
+            float a = max(R + D - r, 0.0) * max(R - D + r, 0.0), b = max(r + D - R, 0.0) * (r + D + R);
+            band += w * (1.0 - 2.0 * atan(sqrt(a), sqrt(b)) / ATM_PI) * sin(s);
+        }
+        visible += band * half_ * ATM_PI / float(N);
     }
-    return clamp(1.0 - hidden / total, 0.0, 1.0);
+    return clamp(visible / atm_limbFluxInside(1.0), 0.0, 1.0);
 }
 // At point p: x the visible fraction of the Sun (single scattering, the direct light); y the
 // multiple-scattering model's factor: x plus the field's D (the fraction averaged over the air

@@ -305,7 +305,9 @@ struct EclipseGeometry {
     const EclipseMsTable* ms = nullptr;  ///< the multiple-scattering field (null: orders >= 2 take the point's own fraction)
 };
 /// Visible fraction of a limb-darkened disk (u = 0.6) of angular radius rs behind a dark disk of
-/// radius ro, centres d apart (rad), over `rings` rings of the source (24: the GPU's), [0, 1].
+/// radius ro, centres d apart (rad), [0, 1]: the rings the dark disk's limb does not cut in closed
+/// form, the cut band with `rings` nodes (24: the GPU's; within 0.1 % of the fraction itself, thin
+/// crescents near the contacts included).
 double eclipseFraction(double rs, double ro, double d, int rings = 24);
 /// At point p (m from the observer): x the Sun's visible fraction there, y the multiple-scattering
 /// model's factor clamp(x + g.ms->sample(p), 0, 1). Twin of atm_eclipseAt().
