@@ -3,6 +3,8 @@
 #include <welkin/error.hpp>
 
 #include <algorithm>
+#include <mutex>
+#include <utility>
 #include <array>
 #include <cmath>
 #include <string>
@@ -170,8 +172,32 @@ glm::dvec3 cie1931(double nm) {
     return cie1931Sample(i) * (1.0 - f) + cie1931Sample(i + 1) * f;
 }
 
+namespace {
+std::vector<glm::dvec3> computeSpectralToXyzWeights(const std::vector<double>& nm);
+}  // namespace
+
 std::vector<glm::dvec3> spectralToXyzWeights(const std::vector<double>& nm) {
     checkWavelengths(nm, "color::spectralToXyzWeights()");
+    // The weights depend on the wavelengths alone, and a frame asks for the same few sets again
+    // (the Sun's and the Moon's colour, every frame): ~0.8 million instructions per call to
+    // recompute (callgrind, `welkin bench framework`: 8.4 million per frame of 8.8 million of
+    // welkin's own before this cache). The last few sets are kept; same input, same output.
+    static std::mutex mutex;
+    static std::vector<std::pair<std::vector<double>, std::vector<glm::dvec3>>> recent;  // newest last, at most 8
+    {
+        std::lock_guard<std::mutex> lock(mutex);
+        for (const auto& [key, weights] : recent)
+            if (key == nm) return weights;
+    }
+    std::vector<glm::dvec3> w = computeSpectralToXyzWeights(nm);
+    std::lock_guard<std::mutex> lock(mutex);
+    if (recent.size() == 8) recent.erase(recent.begin());
+    recent.emplace_back(nm, w);
+    return w;
+}
+
+namespace {
+std::vector<glm::dvec3> computeSpectralToXyzWeights(const std::vector<double>& nm) {
     // Both the spectrum (through the hats) and the CMFs are piecewise linear: integrate their
     // product with the trapezoidal rule on a 0.05 nm grid (relative error < 1e-6).
     constexpr double kStep = 0.05;
@@ -191,6 +217,7 @@ std::vector<glm::dvec3> spectralToXyzWeights(const std::vector<double>& nm) {
     }
     return w;
 }
+}  // namespace
 
 std::vector<glm::dvec3> spectralToLinearSrgbWeights(const std::vector<double>& nm) {
     std::vector<glm::dvec3> w = spectralToXyzWeights(nm);

@@ -80,3 +80,20 @@ TEST_CASE("color: solar illuminance at the top of the atmosphere", "[cpu][color]
     CHECK(xy.x > 0.318);
     CHECK(xy.x < 0.330);
 }
+
+TEST_CASE("color: the spectral weights are kept per wavelength set and stay exact", "[cpu][color]") {
+    // spectralToXyzWeights() keeps the last 8 wavelength sets it computed: a repeated call must
+    // give the identical weights, and a different set (or more than 8 sets in turn) its own.
+    const std::vector<double> a = {440.0, 550.0, 680.0};
+    const std::vector<double> b = {440.0, 550.0, 681.0};
+    const std::vector<glm::dvec3> wa = color::spectralToXyzWeights(a);
+    const std::vector<glm::dvec3> wb = color::spectralToXyzWeights(b);
+    CHECK(wa != wb);  // the last sample moved by 1 nm: its weight changes
+    CHECK(color::spectralToXyzWeights(a) == wa);
+    for (int i = 0; i < 12; ++i) (void)color::spectralToXyzWeights({400.0 + i, 500.0, 600.0});  // push a and b out
+    CHECK(color::spectralToXyzWeights(a) == wa);  // recomputed: bit-identical
+    CHECK(color::spectralToXyzWeights(b) == wb);
+    // Bad wavelengths are still refused on every call, cached or not.
+    CHECK_THROWS_AS(color::spectralToXyzWeights({550.0, 440.0}), Error);
+    CHECK_THROWS_AS(color::spectralToXyzWeights({550.0, 440.0}), Error);
+}
