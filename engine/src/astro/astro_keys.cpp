@@ -37,24 +37,41 @@ const Key<double>& planetMagnitude(Body planet) { return planetKeys().magnitude[
 const Key<double>& planetAngularDiameter(Body planet) { return planetKeys().diameter[static_cast<int>(planet)]; }
 }  // namespace keys
 
-double eclipseVisibleFraction(double rs, double ro, double d, double u) {
+double eclipseVisibleFraction(double rs, double ro, double d, double u, int bandNodes) {
     if (!(rs > 0.0)) return 1.0;
     const double R = std::max(ro, 0.0) / rs, D = std::abs(d) / rs;
     if (D >= 1.0 + R) return 1.0;  // no overlap
-    constexpr int kRings = 512;
-    double total = 0.0, hidden = 0.0;
-    for (int i = 0; i < kRings; ++i) {
-        const double r = (i + 0.5) / kRings;
-        const double mu = std::sqrt(std::max(0.0, 1.0 - r * r));
-        const double w = (1.0 - u * (1.0 - mu)) * r;  // intensity x ring circumference (2 pi dr cancels)
-        double covered;                               // fraction of the ring inside the occulter
-        if (D + r <= R) covered = 1.0;
-        else if (D >= r + R || R + D <= r) covered = 0.0;
-        else covered = std::acos(std::clamp((r * r + D * D - R * R) / (2.0 * r * D), -1.0, 1.0)) / welkin::keys::kPi;
-        total += w;
-        hidden += w * covered;
+    if (R >= D + 1.0) return 0.0;  // covered
+    constexpr double kPi = welkin::keys::kPi;
+    // The limb-darkened flux inside radius a (0..1) of the source, per 2 pi (intensity 1 at the
+    // centre): the integral of (1 - u (1 - sqrt(1 - r^2))) r dr from 0 to a.
+    auto fluxInside = [u](double a) {
+        const double c = std::max(1.0 - a * a, 0.0);
+        return (1.0 - u) * 0.5 * a * a + u * (1.0 - c * std::sqrt(c)) / 3.0;
+    };
+    // Rings of radius r (units of rs) are wholly visible for r < D - R and r > R + D, wholly
+    // hidden for r < R - D, and cut by the occulter's limb only for r in [|R - D|, min(1, R + D)]:
+    // the whole rings in closed form, the cut ones with the nodes spread over that band alone
+    // (r = lo + (hi - lo)(1 - cos(pi s)) / 2, s by the midpoint rule: the substitution removes the
+    // square-root ends of the cut arc), so a thin crescent near the contacts gets every node.
+    const double lo = std::abs(R - D), hi = std::min(1.0, R + D);
+    double visible = fluxInside(std::clamp(D - R, 0.0, 1.0)) + fluxInside(1.0) - fluxInside(hi);
+    const int n = std::max(bandNodes, 1);
+    if (D > 1e-12 && hi > lo) {
+        const double half = 0.5 * (hi - lo);
+        double band = 0.0;
+        for (int i = 0; i < n; ++i) {
+            const double s = kPi * (i + 0.5) / n;
+            const double r = lo + half * (1.0 - std::cos(s));
+            const double w = (1.0 - u * (1.0 - std::sqrt(std::max(1.0 - r * r, 0.0)))) * r;
+            // The hidden half-angle of the ring, acos((r^2 + D^2 - R^2) / (2 r D)), written with
+            // the factors of 1 -+ that cosine: exact near 0 and pi (thin crescents; float on the GPU).
+            const double a = std::max(R + D - r, 0.0) * std::max(R - D + r, 0.0), b = std::max(r + D - R, 0.0) * (r + D + R);
+            band += w * (1.0 - 2.0 * std::atan2(std::sqrt(a), std::sqrt(b)) / kPi) * std::sin(s);
+        }
+        visible += band * half * kPi / n;
     }
-    return std::clamp(1.0 - hidden / total, 0.0, 1.0);
+    return std::clamp(visible / fluxInside(1.0), 0.0, 1.0);
 }
 
 void updateSkyVars(SkyVars& vars) {

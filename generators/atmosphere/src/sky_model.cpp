@@ -1,5 +1,6 @@
 // CPU double-precision twins of the real-time sky passes (see sky_model.hpp and
 // generators/atmosphere/shaders/atmosphere.glsl, which mirrors every function here).
+#include <welkin/astro/astro_keys.hpp>
 #include <welkin/error.hpp>
 #include <welkin/generators/sky_model.hpp>
 
@@ -715,45 +716,10 @@ Scattering integrate(const SkyModel& m, const Lut2D& T, const MsField& MS, doubl
     return out;
 }
 
-namespace {
-// The limb-darkened flux (u = 0.6) inside radius a (0..1) of the disk, per 2 pi, in units where
-// the intensity at the centre is 1: integral of (1 - u (1 - sqrt(1 - r^2))) r dr from 0 to a.
-double limbFluxInside(double a) {
-    const double c = 1.0 - a * a;
-    return 0.4 * 0.5 * a * a + 0.6 * (1.0 - c * safeSqrt(c)) / 3.0;
-}
-}  // namespace
-
 double eclipseFraction(double rs, double ro, double d, int rings) {
-    if (!(rs > 0.0)) return 1.0;
-    const double R = std::max(ro, 0.0) / rs, D = std::abs(d) / rs;
-    if (D >= 1.0 + R) return 1.0;
-    if (R >= D + 1.0) return 0.0;
-    // Rings of the source (radius r in units of rs) are fully visible for r < D - R and r > R + D,
-    // fully hidden for r < R - D, and cut by the Moon's limb only for r in [|R - D|, min(1, R + D)]:
-    // the whole rings are integrated exactly (limbFluxInside), the cut ones with `rings` nodes
-    // spread over that band alone (r = lo + (hi - lo)(1 - cos(pi s)) / 2, s by the midpoint rule:
-    // the substitution removes the square-root ends of the cut arc). So a thin crescent near the
-    // contacts (a band of 0.5 % of the radius) gets every node, and the rule stays within 0.1 % of
-    // the fraction itself down to 1e-5 of the disk (docs/eclipse.md).
-    const double lo = std::abs(R - D), hi = std::min(1.0, R + D);
-    double visible = limbFluxInside(std::clamp(D - R, 0.0, 1.0)) + limbFluxInside(1.0) - limbFluxInside(hi);
-    if (D > 1e-12 && hi > lo) {
-        const double half = 0.5 * (hi - lo);
-        double band = 0.0;
-        for (int i = 0; i < rings; ++i) {
-            const double s = kPi * (i + 0.5) / rings;
-            const double r = lo + half * (1.0 - std::cos(s));
-            const double w = (1.0 - 0.6 * (1.0 - safeSqrt(1.0 - r * r))) * r;
-            // The hidden half-angle of the ring, acos((r^2 + D^2 - R^2) / (2 r D)) written with the
-            // factors of 1 -+ that cosine, exact near 0 and pi (thin crescents, float on the GPU).
-            const double a = std::max(R + D - r, 0.0) * std::max(R - D + r, 0.0), b = std::max(r + D - R, 0.0) * (r + D + R);
-            const double hiddenFraction = 2.0 * std::atan2(std::sqrt(a), std::sqrt(b)) / kPi;
-            band += w * (1.0 - hiddenFraction) * std::sin(s);
-        }
-        visible += band * half * kPi / rings;
-    }
-    return std::clamp(visible / limbFluxInside(1.0), 0.0, 1.0);
+    // The astronomy's rule (astro::eclipseVisibleFraction), with the GPU's node count: the GLSL
+    // twin is atm_eclipseFraction() in atmosphere.glsl.
+    return astro::eclipseVisibleFraction(rs, ro, d, 0.6, rings);
 }
 
 glm::dvec2 eclipseAt(const EclipseGeometry& g, const glm::dvec3& p, int rings) {
