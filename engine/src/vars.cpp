@@ -1,5 +1,6 @@
 #include <welkin/vars.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cctype>
 #include <cstdio>
@@ -33,6 +34,7 @@ std::vector<std::string> SkyVars::names() const {
     std::vector<std::string> out;
     out.reserve(entries_.size());
     for (const auto& [name, e] : entries_) out.push_back(name);
+    std::sort(out.begin(), out.end());
     return out;
 }
 
@@ -235,6 +237,7 @@ std::vector<KeyDescription> SkyVars::describe() const {
     std::vector<KeyDescription> out;
     for (const auto& [name, e] : entries_)
         out.push_back({KeyInfo{name, e.type, e.typeName, e.range, e.description, e.unit, e.choices}, e.declarer, valueString(name), e.isSet});
+    std::sort(out.begin(), out.end(), [](const KeyDescription& a, const KeyDescription& b) { return a.info.name < b.info.name; });
     return out;
 }
 

@@ -37,6 +37,7 @@
 #include <string>
 #include <string_view>
 #include <typeindex>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -265,7 +266,7 @@ public:
         auto it = entries_.find(key.name());
         return it != entries_.end() && it->second.isSet;
     }
-    bool contains(std::string_view name) const { return entries_.find(std::string(name)) != entries_.end(); }
+    bool contains(std::string_view name) const { return entries_.find(name) != entries_.end(); }
 
     /// Sets a value and always bumps its version (a generator republishing a texture it rewrote
     /// in place: the TextureRef is equal, the contents are new).
@@ -300,7 +301,7 @@ public:
 
     /// Version counter of a key (0 if unset or undeclared); bumped on every change.
     uint64_t version(std::string_view name) const {
-        auto it = entries_.find(std::string(name));
+        auto it = entries_.find(name);  // heterogeneous: no string built
         return it == entries_.end() ? 0 : it->second.version;
     }
     template <class T>
@@ -356,7 +357,15 @@ private:
     /// Throws "key 'NAME': 'VALUE' is not one of a, b, c" unless `choices` is empty or holds it.
     static void checkName(const std::string& name, const std::vector<std::string>& choices, const std::string& value);
 
-    std::map<std::string, Entry, std::less<>> entries_;
+    /// Hashes a key's name; transparent, so a lookup by string_view builds no string.
+    struct NameHash {
+        using is_transparent = void;
+        std::size_t operator()(std::string_view s) const noexcept { return std::hash<std::string_view>{}(s); }
+    };
+    // Hashed rather than ordered: every frame reads and versions a few hundred keys, and an ordered
+    // map's string comparisons were the largest share of the framework's own instructions per frame
+    // (docs/hardening.md). Listings (names(), describe()) sort.
+    std::unordered_map<std::string, Entry, NameHash, std::equal_to<>> entries_;
     std::string declarer_ = "host";
 };
 

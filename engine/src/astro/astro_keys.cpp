@@ -74,7 +74,7 @@ double eclipseVisibleFraction(double rs, double ro, double d, double u, int band
     return std::clamp(visible / fluxInside(1.0), 0.0, 1.0);
 }
 
-void updateSkyVars(SkyVars& vars) {
+void updateSkyVars(SkyVars& vars, Ephemeris* ephemeris) {
     vars.declare(keys::precise, false);
     vars.declare(keys::refractionPressure, 1013.25);
     vars.declare(keys::refractionTemperature, 10.0);
@@ -90,7 +90,8 @@ void updateSkyVars(SkyVars& vars) {
     site.temperatureC = vars.get(keys::refractionTemperature);
     const Path path = vars.get(keys::precise) ? Path::Precise : Path::Fast;
     const ObserverFrame frame = observerFrame(site, timeScales(JulianDate{jd.x, jd.y}.normalized()), path);
-    Ephemeris eph;
+    Ephemeris fresh;
+    Ephemeris& eph = ephemeris ? *ephemeris : fresh;
     eph.update(frame);
 
     const StarFrame sf = starFrame(frame);
@@ -191,7 +192,7 @@ void AstronomyGenerator::doDeclare(SkyVars& vars) {
 }
 
 void AstronomyGenerator::doRun(SkyVars& vars, const Logger&) {
-    updateSkyVars(vars);
+    updateSkyVars(vars, &ephemeris_);
     sunAz_ = vars.get(keys::sunAzimuth);
     sunAlt_ = vars.get(keys::sunAltitude);
     moonAz_ = vars.get(keys::moonAzimuth);

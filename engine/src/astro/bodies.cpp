@@ -73,14 +73,81 @@ struct Shared {
     double tMillennia = 0;   // TT from J2000
     bool haveEarth = false;
     glm::dvec3 earth{0.0};   // heliocentric Earth, au, ICRS axes (VSOP87)
+    // Ephemeris::update's reuse of the last full VSOP87 evaluations (Fast path), or null.
+    std::array<Ephemeris::VsopCache, 8>* vsopCache = nullptr;
+    Ephemeris::MoonCache* moonCache = nullptr;
     bool haveSun = false;
     glm::dvec3 sunGeo{0.0};  // geometric geocentric Sun, au, ICRS axes
     double sunRa = 0, sunDec = 0;  // apparent geocentric Sun, of date
     BodyState sun;
 
+    /// VSOP87 coordinates of `p` at tMillennia (with rates when `rates`). With a cache (Fast path
+    /// only), a full evaluation within Ephemeris::kVsopReuseDays is extrapolated linearly. The
+    /// slope is a forward difference over 10 s of two full evaluations, not evaluate()'s rates:
+    /// those keep only the terms above 1e-4 (enough for light time), which over 5 minutes moves
+    /// the Earth by ~0.01". The neglected second-order term is at most 0.5 L'' dt^2, for Mercury
+    /// near perihelion L'' ~ 2e n^2 = 2e-3 rad/day^2: < 1.2e-8 rad (0.0025") heliocentric at 5
+    /// minutes, less seen from the Earth; the other planets and the Earth far less. The slope's
+    /// own error, 0.5 L'' h dt, is 1e-4" at h = 10 s.
+    VsopState vsop(VsopPlanet p, bool rates) {
+        if (!vsopCache || precise) return evaluate(series(p, precise, tMillennia), tMillennia, rates);
+        Ephemeris::VsopCache& c = (*vsopCache)[std::size_t(p)];
+        const double dtDays = (tMillennia - c.tMillennia) * 365250.0;
+        if (!c.valid || !(std::fabs(dtDays) <= Ephemeris::kVsopReuseDays)) {
+            const VsopBody& ser = series(p, false, tMillennia);
+            const VsopState st = evaluate(ser, tMillennia, rates);  // returned as without the cache
+            constexpr double kSlopeDays = 10.0 / 86400.0;
+            const glm::dvec3 ahead = evaluate(ser, tMillennia + kSlopeDays / 365250.0, false).lbr;
+            c = {true, tMillennia, st.lbr, (ahead - st.lbr) / kSlopeDays, st.rate};
+            return st;
+        }
+        // The rates returned are the full evaluation's (they serve the light time, and over 5
+        // minutes they change by < 1e-5 relative): a reused state differs from a full one only by
+        // the extrapolation.
+        return VsopState{c.lbr + c.rate * dtDays, c.lightRate};
+    }
+
+    /// moonMeeus(T) for the Fast path; with a cache, extrapolated linearly within
+    /// Ephemeris::kVsopReuseDays of a full evaluation, the slope a forward difference over 10 s
+    /// (angles unwrapped, results reduced as moonMeeus reduces them). The neglected term, 0.5
+    /// lambda'' dt^2 with |lambda''| below ~1e-2 rad/day^2 (the elliptic term and the
+    /// variation), is < 0.015" at 5 minutes.
+    MoonEcliptic moon(double T) {
+        if (!vsopCache || !moonCache) return moonMeeus(T);
+        auto pack = [](const MoonEcliptic& m) {
+            return std::array<double, 9>{m.longitude, m.latitude, m.distanceKm, m.meanElongation, m.ascendingNode,
+                                         m.argumentLatitude, m.sunMeanAnomaly, m.moonMeanAnomaly, m.eccentricityFactor};
+        };
+        // Fields that moonMeeus reduces to [0, 2 pi): unwrapped for the slope, reduced after.
+        constexpr std::array<bool, 9> kAngle{true, false, false, true, true, true, true, true, false};
+        constexpr double kTwoPi = 2.0 * std::numbers::pi;
+        Ephemeris::MoonCache& c = *moonCache;
+        const double dt = T - c.tCenturies;
+        if (!c.valid || !(std::fabs(dt) * 36525.0 <= Ephemeris::kVsopReuseDays)) {
+            const MoonEcliptic m = moonMeeus(T);
+            constexpr double kSlopeCenturies = 10.0 / 86400.0 / 36525.0;
+            const std::array<double, 9> v = pack(m), a = pack(moonMeeus(T + kSlopeCenturies));
+            c.valid = true;
+            c.tCenturies = T;
+            c.value = v;
+            for (std::size_t i = 0; i < 9; ++i) {
+                double d = a[i] - v[i];
+                if (kAngle[i]) d -= kTwoPi * std::round(d / kTwoPi);
+                c.slope[i] = d / kSlopeCenturies;
+            }
+            return m;  // as without the cache
+        }
+        std::array<double, 9> x{};
+        for (std::size_t i = 0; i < 9; ++i) {
+            x[i] = c.value[i] + c.slope[i] * dt;
+            if (kAngle[i]) x[i] -= kTwoPi * std::floor(x[i] / kTwoPi);
+        }
+        return MoonEcliptic{x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8]};
+    }
+
     const glm::dvec3& earthHelio() {
         if (!haveEarth) {
-            earth = vsopToEquatorialJ2000(evaluate(series(VsopPlanet::Earth, precise, tMillennia), tMillennia).lbr);
+            earth = vsopToEquatorialJ2000(vsop(VsopPlanet::Earth, false).lbr);
             haveEarth = true;
         }
         return earth;
@@ -194,7 +261,7 @@ BodyState computeMoon(Shared& sh) {
     const double T = f.time.centuriesTT();
     glm::dvec3 tod;
     double dist = 0;
-    const MoonEcliptic m = moonMeeus(T);  // position (Fast) and the arguments of the libration
+    const MoonEcliptic m = sh.precise ? moonMeeus(T) : sh.moon(T);  // position (Fast) and the libration's arguments
     if (sh.precise) {
         double pv[2][3];
         eraMoon98(f.time.tt.day, f.time.tt.fraction, pv);  // GCRS, au, au/day, geometric
@@ -243,7 +310,7 @@ BodyState computePlanet(Shared& sh, Body body) {
     } else {
         // One evaluation with rates; P(t - tau) = P(t) - V tau (the neglected curvature term is
         // < 0.01" even for Mercury); tau from two fixed-point steps.
-        const VsopState st = evaluate(ser, sh.tMillennia, true);
+        const VsopState st = sh.vsop(vsopOf(body), true);
         const glm::dvec3 P0 = vsopToEquatorialJ2000(st.lbr);
         const glm::dvec3 V = vsopRateToEquatorialJ2000(st.lbr, st.rate);
         double tau = glm::length(P0 - E) * kLightDaysPerAu;
@@ -330,6 +397,8 @@ BodyState computeBody(Body body, const ObserverFrame& frame) {
 
 void Ephemeris::update(const ObserverFrame& frame) {
     Shared sh = makeShared(frame);
+    sh.vsopCache = &vsop_;
+    sh.moonCache = &moon_;
     for (Body b : kAllBodies) states_[static_cast<int>(b)] = computeWith(sh, b);
 }
 

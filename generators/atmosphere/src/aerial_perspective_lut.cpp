@@ -55,7 +55,7 @@ void AerialPerspectiveLut::doRun(SkyVars& vars, const Logger&) {
     // the view rays does not depend on the light, and every build writes it into the shown one
     // (the same values whatever the elevation; after a reset the first build is whole).
     LightKeyframes::Options ko{.stepRad = q_.keyframeStepRad, .coarseStepRad = q_.keyframeCoarseStepRad, .chunks = spectral_ ? 1 : std::max(1, q_.keyframeChunks),
-                               .slots = keyframeSlots(q_), .stillMuS = kCosZenithTolerance, .stillRuns = kKeyframeStillRuns,
+                               .slots = keyframeSlots(q_, &keyframes_), .stillMuS = kCosZenithTolerance, .stillRuns = kKeyframeStillRuns,
                                .prefill = q_.keyframePrefill,
                                .prefillChunksPerRun = q_.keyframePrefill ? vars.getOr(skykeys::keyframeBudget, kKeyframeBudgetDefault) : 0};
     keyframes_.setOptions(ko);

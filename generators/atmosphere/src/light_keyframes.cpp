@@ -21,7 +21,7 @@ void LightKeyframes::setOptions(Options o) {
         throw Error(buf);
     }
     const bool same = o.stepRad == o_.stepRad && o.coarseStepRad == o_.coarseStepRad && o.fineTopRad == o_.fineTopRad &&
-                      o.chunks == o_.chunks && o.slots == o_.slots && run_ > 0;
+                      o.chunks == o_.chunks && o.slots == o_.slots && !nodes_.empty();
     o_ = o;
     if (!same) {
         nodes_ = makeGrid(o);

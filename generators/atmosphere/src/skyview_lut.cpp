@@ -82,7 +82,7 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
     // In spectral mode a table is built whole in one run (each triple's pass is combined into it
     // over the whole texture).
     LightKeyframes::Options ko{.stepRad = q_.keyframeStepRad, .coarseStepRad = q_.keyframeCoarseStepRad, .chunks = spectral_ ? 1 : std::max(1, q_.keyframeChunks),
-                               .slots = keyframeSlots(q_), .stillMuS = kCosZenithTolerance, .stillRuns = kKeyframeStillRuns,
+                               .slots = keyframeSlots(q_, &keyframes_), .stillMuS = kCosZenithTolerance, .stillRuns = kKeyframeStillRuns,
                                .prefill = q_.keyframePrefill,
                                .prefillChunksPerRun = q_.keyframePrefill ? vars.getOr(skykeys::keyframeBudget, kKeyframeBudgetDefault) : 0};
     keyframes_.setOptions(ko);

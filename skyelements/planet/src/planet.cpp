@@ -22,6 +22,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -40,6 +41,18 @@ constexpr double kPsfFwhmPx = 2.0;              // the Stars' minimum FWHM
 constexpr int kKindSun = 0, kKindMoon = 1, kKindDisk = 2, kKindPsf = 3;
 // B-V of the planets, Mercury .. Neptune (Allen's Astrophysical Quantities, 4th ed., table 12.3).
 constexpr double kPlanetBV[7] = {0.93, 0.82, 1.36, 0.83, 1.04, 0.56, 0.41};
+
+// The planets' colours from their B-V, computed once: a black body's colour integrates the CIE
+// functions over 471 wavelengths, and doing it per planet per frame was a tenth of the framework's
+// own instructions per frame (docs/hardening.md). A constant table of constants, not state.
+const glm::dvec3& planetColour(astro::Body b) {
+    static const std::array<glm::dvec3, 7> colours = [] {
+        std::array<glm::dvec3, 7> c{};
+        for (int i = 0; i < 7; ++i) c[i] = color::starColourFromBV(kPlanetBV[i]);
+        return c;
+    }();
+    return colours[std::size_t(int(b) - int(astro::Body::Mercury))];
+}
 // Earthshine colour (Mueller, Engel and Doellner 2012), normalised below to luminance 1.
 const glm::dvec3 kEarthshineColour{0.88, 0.96, 1.00};
 constexpr int kKindCorona = 4;
@@ -627,7 +640,7 @@ void Planet::doRender(const FrameContext& ctx) {
         label(*q, dir, radius, astro::bodyName(b));
         if (!q->onScreen) continue;
         bind();
-        const glm::dvec3 E = astro::magnitude::illuminanceLux(m) * color::starColourFromBV(kPlanetBV[int(b) - int(astro::Body::Mercury)]) * T;
+        const glm::dvec3 E = astro::magnitude::illuminanceLux(m) * planetColour(b) * T;
         // Lambert sphere lit from the Sun: L = L0 max(n.s, 0), L0 = E / (Omega (2/3) Phi(a)).
         const double dist = astro::bodyRadiusMeters(b) / std::max(std::tan(0.5 * v.getOr(ak::planetAngularDiameter(b), 1e-9)), 1e-12);
         const glm::dvec3 P = dist * dir;

@@ -101,7 +101,10 @@ double eclipseVisibleFraction(double sourceRadiusRad, double occulterRadiusRad, 
 /// above, and the eclipses: sun.eclipse_fraction (the Sun's flux not hidden by the Moon, from their
 /// topocentric airless directions and radii) and moon.eclipse_factor / moon.eclipse_refracted
 /// (the sunlight reaching the Moon's disk past the Earth's shadow: astro::moonShadowLight). Declares astro.precise (false) and the refraction keys (1013.25 hPa, 10 C) if absent.
-void updateSkyVars(SkyVars& vars);
+///
+/// `ephemeris`: an Ephemeris kept across calls (the generator's), so that its VSOP87 reuse
+/// (Ephemeris::kVsopReuseDays) applies from frame to frame; null: a fresh one.
+void updateSkyVars(SkyVars& vars, Ephemeris* ephemeris = nullptr);
 
 /// updateSkyVars() as a generator ("astronomy"): inputs time.jd_utc, observer.*, astro.*;
 /// outputs the Sun, Moon, planets and the star frame. Its stats: Sun and Moon az/alt, the Moon's
@@ -118,6 +121,7 @@ private:
     double sunAz_ = 0, sunAlt_ = 0, moonAz_ = 0, moonAlt_ = 0, moonPhase_ = 0, moonFraction_ = 0;
     bool precise_ = false;
     bool ran_ = false;
+    Ephemeris ephemeris_;  // kept across runs: the planets' series are summed once per 5 simulated minutes
 };
 
 }  // namespace welkin::astro

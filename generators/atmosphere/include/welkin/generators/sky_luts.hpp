@@ -142,9 +142,16 @@ inline constexpr int kKeyframeBudgetDefault = 2;
 /// for a quality's grid (SkyQuality::keyframeStepRad, keyframeCoarseStepRad): its grid points
 /// from -20 deg to +90 deg of elevation (deeper, the Sun's sky is below the night sky's airglow)
 /// plus 6 (exact tables, margin); beyond, the least recently used are rebuilt when needed again.
-inline int keyframeSlots(const SkyQuality& q) {
+/// `current`: keyframes whose grid is reused when it is this quality's (no grid is built: the
+/// generators ask every frame).
+inline int keyframeSlots(const SkyQuality& q, const LightKeyframes* current = nullptr) {
+    const LightKeyframes::Options o{.stepRad = q.keyframeStepRad, .coarseStepRad = q.keyframeCoarseStepRad};
+    const bool same = current && !current->grid().empty() && current->options().stepRad == o.stepRad &&
+                      current->options().coarseStepRad == o.coarseStepRad && current->options().fineTopRad == o.fineTopRad;
+    std::vector<double> fresh;
+    if (!same) fresh = LightKeyframes::makeGrid(o);
     int n = 6;
-    for (double e : LightKeyframes::makeGrid({.stepRad = q.keyframeStepRad, .coarseStepRad = q.keyframeCoarseStepRad})) n += e >= -0.3491;
+    for (double e : same ? current->grid() : fresh) n += e >= -0.3491;
     return n;
 }
 
