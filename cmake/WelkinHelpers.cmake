@@ -54,6 +54,7 @@ endfunction()
 # the API reference (docs/Doxyfile).
 set(WELKIN_INTERNAL_HEADERS
   welkin/check.hpp                        # precondition messages of the library's own checks
+  welkin/glsl_cpp.hpp                     # the C++ side of the shared GLSL maths (*.shared.glsl)
   welkin/astro/elp.hpp                    # the Moon's series behind astro/bodies.hpp
   welkin/astro/vsop87.hpp                 # the planets' series behind astro/bodies.hpp
   welkin/generators/cloud_noise.hpp       # the Clouds element's noise textures

@@ -45,16 +45,67 @@ ProgramBuilder& ProgramBuilder::bindings(const PrivateBindings& b) {
     }
     return *this;
 }
+namespace {
+// The marker lines around a file that EmbedShaders.cmake expanded in place of `#include "f"`.
+constexpr std::string_view kIncludeBegin = "//@welkin-include-begin ";
+constexpr std::string_view kIncludeEnd = "//@welkin-include-end";
+}  // namespace
+
+std::vector<ProgramBuilder::Chunk> ProgramBuilder::split(const std::string& name, std::string_view text) {
+    // An expanded include becomes a chunk of its own, named after the included file (in the
+    // including chunk's folder), and the including file resumes as a chunk at the line after its
+    // #include: the driver's line numbers map back to each file's own lines.
+    struct Open {
+        std::string name;
+        std::string text;
+        int firstLine;
+        int line;  // the line being read, in this file's numbering
+    };
+    std::vector<Chunk> out;
+    std::vector<Open> stack{{name, {}, 1, 1}};
+    auto flush = [&](Open& o) {
+        if (!o.text.empty()) out.push_back({o.name, std::move(o.text), o.firstLine});
+        o.text.clear();
+    };
+    size_t pos = 0;
+    while (pos < text.size()) {
+        size_t eol = text.find('\n', pos);
+        if (eol == std::string_view::npos) eol = text.size();
+        const std::string_view line = text.substr(pos, eol - pos);
+        pos = eol + 1;
+        if (line.substr(0, kIncludeBegin.size()) == kIncludeBegin) {
+            Open& cur = stack.back();
+            flush(cur);
+            const std::string file(line.substr(kIncludeBegin.size()));
+            const size_t slash = cur.name.rfind('/');
+            stack.push_back({(slash == std::string::npos ? "" : cur.name.substr(0, slash + 1)) + file, {}, 1, 1});
+            continue;
+        }
+        if (line == kIncludeEnd && stack.size() > 1) {
+            flush(stack.back());
+            stack.pop_back();
+            Open& cur = stack.back();
+            cur.firstLine = ++cur.line;  // past the #include line
+            continue;
+        }
+        Open& cur = stack.back();
+        cur.text.append(line).push_back('\n');
+        ++cur.line;
+    }
+    for (auto& o : stack) flush(o);
+    return out;
+}
+
 ProgramBuilder& ProgramBuilder::vertex(std::string name, std::string_view text) {
-    vertex_.push_back({std::move(name), std::string(text)});
+    for (auto& c : split(name, text)) vertex_.push_back(std::move(c));
     return *this;
 }
 ProgramBuilder& ProgramBuilder::fragment(std::string name, std::string_view text) {
-    fragment_.push_back({std::move(name), std::string(text)});
+    for (auto& c : split(name, text)) fragment_.push_back(std::move(c));
     return *this;
 }
 ProgramBuilder& ProgramBuilder::compute(std::string name, std::string_view text) {
-    compute_.push_back({std::move(name), std::string(text)});
+    for (auto& c : split(name, text)) compute_.push_back(std::move(c));
     return *this;
 }
 ProgramBuilder& ProgramBuilder::fullscreenVertex() {
@@ -71,6 +122,8 @@ std::string ProgramBuilder::header(GLenum stage) const {
     // The element's own (welkin/gl/private_bindings.hpp).
     for (const auto& [n, v] : privateBindings_) h += "#define " + n + " " + std::to_string(v) + "\n";
     for (const auto& [n, v] : defines_) h += "#define " + n + " " + v + "\n";
+    // The shared-maths dialect (welkin/glsl_cpp.hpp defines the same names for C++).
+    h += "#define real float\n#define IN(T) in T\n#define OUT(T) out T\n#define INOUT(T) inout T\n";
     return h;
 }
 
@@ -80,7 +133,7 @@ std::vector<std::string> ProgramBuilder::sources(GLenum stage, const std::vector
         // The chunk index is encoded in the line number itself (chunk k starts at line
         // k * kChunkLines + 1): drivers differ in whether they report the source-string number
         // of `#line L S`, but all report line numbers.
-        out.push_back("#line " + std::to_string((i + 1) * kChunkLines + 1) + "\n" + chunks[i].text + "\n");
+        out.push_back("#line " + std::to_string((i + 1) * kChunkLines + size_t(chunks[i].firstLine)) + "\n" + chunks[i].text + "\n");
     }
     return out;
 }

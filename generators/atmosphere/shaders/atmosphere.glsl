@@ -1,7 +1,8 @@
-// The real-time sky model in GLSL: the float twin of generators/atmosphere/src/sky_model.cpp (same function
-// names, same math). Include it before any pass of the sky. The atmosphere arrives in a std140
-// uniform block at binding 1 (welkin::generators::AtmosphereBlock); the LUTs as samplers that
-// each pass declares itself.
+// The real-time sky model in GLSL; its optical functions and LUT parameterisations are
+// atmosphere.shared.glsl (included below), which sky_model.cpp compiles in double as the CPU twin;
+// the marches that remain here mirror sky_model.cpp's (same function names, same maths). Include
+// it before any pass of the sky. The atmosphere arrives in a std140 uniform block at binding 1
+// (welkin::generators::AtmosphereBlock); the LUTs as samplers that each pass declares itself.
 //
 // Geometry: h = height above the ground (m), mu = cos(view zenith), muS = cos(light zenith),
 // nu = cos(view-light angle); r^2 - R^2 is always computed as h (2R + h) so rays grazing the
@@ -19,27 +20,16 @@ layout(std140, binding = WELKIN_BINDING_ATMOSPHERE_UBO) uniform WelkinAtmosphere
     vec4 atm_shFactors2;         // SH convolution: Mie l3 .. l6 (0 beyond ATM_SH_BANDS)
 };
 
-const float ATM_PI = 3.14159265358979;
-
-// Spherical Fibonacci direction i of n (z up): equal-area, deterministic. Twin of
-// cpu::fibonacciDirection() in sky_model.cpp.
-vec3 atm_fibonacciDirection(int i, int n) {
-    const float golden = ATM_PI * (3.0 - sqrt(5.0));
-    float z = 1.0 - (2.0 * float(i) + 1.0) / float(n);
-    float rr = sqrt(max(1.0 - z * z, 0.0));
-    float phi = golden * float(i);
-    return vec3(rr * cos(phi), rr * sin(phi), z);
-}
+// The model's maths (geometry, density profiles, LUT parameterisations, phase functions):
+// atmosphere.shared.glsl, which the CPU twins compile in double. Below, the versions of its
+// functions that take the planet's radii read them from the block, under the same names.
+#include "atmosphere.shared.glsl"
 
 float atm_bottom() { return atm_radii.x; }
 float atm_top() { return atm_radii.y; }
 float atm_thickness() { return atm_radii.z; }
 
-float atm_density(int p, float h) {
-    vec4 a = atm_profiles[3 * p], b = atm_profiles[3 * p + 1], c = atm_profiles[3 * p + 2];
-    float d = h < a.x ? a.y * exp(a.z * h) + a.w * h + b.x : b.y * exp(b.z * h) + b.w * h + c.x;
-    return clamp(d, 0.0, 1.0);
-}
+float atm_density(int p, float h) { return atm_profileDensity(atm_profiles[3 * p], atm_profiles[3 * p + 1], atm_profiles[3 * p + 2], h); }
 vec3 atm_scatteringRayleigh(float h) { return atm_rayleigh.rgb * atm_density(0, h); }
 vec3 atm_scatteringMie(float h) { return atm_mieScattering.rgb * atm_density(1, h); }
 vec3 atm_extinction(float h) {
@@ -47,108 +37,22 @@ vec3 atm_extinction(float h) {
            atm_absorption.rgb * atm_density(2, h);
 }
 
-float atm_rho2(float h) { return h * (2.0 * atm_bottom() + h); }
+float atm_rho2(float h) { return atm_rho2(atm_bottom(), h); }
+float distanceToTop(float h, float mu) { return distanceToTop(atm_bottom(), atm_thickness(), h, mu); }
+float distanceToBottom(float h, float mu) { return distanceToBottom(atm_bottom(), h, mu); }
+bool rayIntersectsGround(float h, float mu) { return rayIntersectsGround(atm_bottom(), h, mu); }
+float heightAt(float h, float mu, float t) { return heightAt(atm_bottom(), h, mu, t); }
 
-float distanceToTop(float h, float mu) {
-    float R = atm_bottom(), r = R + h, Ht = atm_thickness();
-    float disc = r * r * mu * mu - (h - Ht) * (2.0 * R + h + Ht);
-    return max(-r * mu + sqrt(max(disc, 0.0)), 0.0);
-}
-float distanceToBottom(float h, float mu) {
-    float r = atm_bottom() + h;
-    float disc = r * r * mu * mu - atm_rho2(h);
-    return max(-r * mu - sqrt(max(disc, 0.0)), 0.0);
-}
-bool rayIntersectsGround(float h, float mu) {
-    float r = atm_bottom() + h;
-    return mu < 0.0 && r * r * mu * mu - atm_rho2(h) >= 0.0;
-}
-float heightAt(float h, float mu, float t) {
-    float R = atm_bottom(), r = R + h;
-    float q = t * t + 2.0 * r * mu * t + atm_rho2(h);
-    float rt = sqrt(max(q + R * R, 0.0));
-    return q / (rt + R);
-}
-
-float texCoordFromUnit(float x, float size) { return 0.5 / size + x * (1.0 - 1.0 / size); }
-float unitFromTexCoord(float u, float size) { return (u - 0.5 / size) / (1.0 - 1.0 / size); }
-
-vec2 transmittanceUv(float h, float mu, vec2 size) {
-    float R = atm_bottom(), Ht = atm_thickness();
-    float H = sqrt(max(Ht * (2.0 * R + Ht), 0.0));
-    h = clamp(h, 0.0, Ht);
-    float rho = sqrt(max(atm_rho2(h), 0.0));
-    float d = distanceToTop(h, mu);
-    float dMin = Ht - h, dMax = rho + H;
-    float xMu = dMax > dMin ? (d - dMin) / (dMax - dMin) : 0.0;
-    return vec2(texCoordFromUnit(clamp(xMu, 0.0, 1.0), size.x), texCoordFromUnit(rho / H, size.y));
-}
-vec2 transmittanceHMu(vec2 uv, vec2 size) {
-    float R = atm_bottom(), Ht = atm_thickness();
-    float H = sqrt(max(Ht * (2.0 * R + Ht), 0.0));
-    float xMu = clamp(unitFromTexCoord(uv.x, size.x), 0.0, 1.0), xR = clamp(unitFromTexCoord(uv.y, size.y), 0.0, 1.0);
-    float rho = H * xR;
-    float r = sqrt(rho * rho + R * R);
-    float h = rho * rho / (r + R);
-    float dMin = Ht - h, dMax = rho + H;
-    float d = dMin + xMu * (dMax - dMin);
-    float mu = d == 0.0 ? 1.0 : clamp((H * H - rho * rho - d * d) / (2.0 * r * d), -1.0, 1.0);
-    return vec2(h, mu);
-}
-// mu_s axis dense around the horizon: u = 1/2 + atan(mu_s / a) / (2 atan(1 / a)), a = 0.25 from
-// 64 texels up, 0.15 below (see sky_model.cpp); height axis v = sqrt(h / thickness).
-float atm_msA(float width) { return width >= 63.5 ? 0.25 : 0.15; }
-vec2 multiScatteringUv(float h, float muS, vec2 size) {
-    float ATM_MS_A = atm_msA(size.x);
-    float x = 0.5 + 0.5 * atan(clamp(muS, -1.0, 1.0) / ATM_MS_A) / atan(1.0 / ATM_MS_A);
-    return vec2(texCoordFromUnit(clamp(x, 0.0, 1.0), size.x), texCoordFromUnit(sqrt(clamp(h / atm_thickness(), 0.0, 1.0)), size.y));
-}
-vec2 multiScatteringHMuS(vec2 uv, vec2 size) {
-    float ATM_MS_A = atm_msA(size.x);
-    float x = clamp(unitFromTexCoord(uv.x, size.x), 0.0, 1.0);
-    float muS = clamp(ATM_MS_A * tan((2.0 * x - 1.0) * atan(1.0 / ATM_MS_A)), -1.0, 1.0);
-    float y = clamp(unitFromTexCoord(uv.y, size.y), 0.0, 1.0);
-    return vec2(y * y * atm_thickness(), muS);
-}
-float atm_horizonZenith(float h) {
-    float r = atm_bottom() + h;
-    return acos(clamp(-sqrt(max(atm_rho2(max(h, 0.0)), 0.0)) / r, -1.0, 1.0));
-}
+vec2 transmittanceUv(float h, float mu, vec2 size) { return transmittanceUv(atm_bottom(), atm_thickness(), h, mu, size); }
+vec2 transmittanceHMu(vec2 uv, vec2 size) { return transmittanceHMu(atm_bottom(), atm_thickness(), uv, size); }
+vec2 multiScatteringUv(float h, float muS, vec2 size) { return multiScatteringUv(atm_thickness(), h, muS, size); }
+vec2 multiScatteringHMuS(vec2 uv, vec2 size) { return multiScatteringHMuS(atm_thickness(), uv, size); }
+float atm_horizonZenith(float h) { return atm_horizonZenith(atm_bottom(), h); }
 // sin(theta_H / 2) of the observer's horizon (a per-frame constant for pixel shaders).
-float atm_horizonS(float h) {
-    float r = atm_bottom() + h;
-    float muH = -sqrt(max(atm_rho2(max(h, 0.0)), 0.0)) / r;
-    return sqrt(clamp(0.5 - 0.5 * muH, 0.0, 1.0));
-}
-// Sky-view LUT coordinates (twin of cpu::skyViewUvCos): latitude rows [H/2, H) from the horizon
-// (exactly on the first row's centre) up to the zenith, rows [0, H/2) from the horizon down to
-// the nadir, square-root law in s = sin(theta / 2) on each side; azimuth u = sin(az / 2) =
-// sqrt((1 - cos az) / 2). sH = atm_horizonS(h). Square roots only: no acos, no atan per pixel.
-vec2 skyViewUvS(float sH, float mu, float cosAz, vec2 size) {
-    float s = sqrt(clamp(0.5 - 0.5 * mu, 0.0, 1.0));
-    float half_ = floor(size.y / 2.0);
-    bool sky = s <= sH;
-    float x = sqrt(clamp(sky ? (sH - s) / sH : (s - sH) / (1.0 - sH), 0.0, 1.0));
-    float dv = (x * (half_ - 1.0) + 0.5) / size.y;
-    float v = sky ? 0.5 + dv : 0.5 - dv;
-    return vec2(texCoordFromUnit(sqrt(clamp(0.5 - 0.5 * cosAz, 0.0, 1.0)), size.x), v);
-}
+float atm_horizonS(float h) { return atm_horizonS(atm_bottom(), h); }
 vec2 skyViewUvH(float thetaH, float mu, float azimuth, vec2 size) { return skyViewUvS(sin(0.5 * thetaH), mu, cos(azimuth), size); }
 vec2 skyViewUv(float h, float mu, float azimuth, vec2 size) { return skyViewUvS(atm_horizonS(h), mu, cos(azimuth), size); }
-// Inverse (texel centre -> view): returns (mu, azimuth in [0, pi]).
-vec2 skyViewMuAz(float h, vec2 uv, vec2 size) {
-    float sH = atm_horizonS(h);
-    float half_ = floor(size.y / 2.0);
-    float s;
-    if (uv.y >= 0.5) {
-        float x = clamp(((uv.y - 0.5) * size.y - 0.5) / (half_ - 1.0), 0.0, 1.0);
-        s = sH - x * x * sH;
-    } else {
-        float x = clamp(((0.5 - uv.y) * size.y - 0.5) / (half_ - 1.0), 0.0, 1.0);
-        s = sH + x * x * (1.0 - sH);
-    }
-    return vec2(clamp(1.0 - 2.0 * s * s, -1.0, 1.0), 2.0 * asin(clamp(unitFromTexCoord(uv.x, size.x), 0.0, 1.0)));
-}
+vec2 skyViewMuAz(float h, vec2 uv, vec2 size) { return skyViewMuAzS(atm_horizonS(h), uv, size); }
 // Keeps v inside the half (sky or ground) it started in: the halves are never blended.
 vec2 skyViewClampHalf(vec2 uv, vec2 size) {
     float half_ = floor(size.y / 2.0);
@@ -157,27 +61,8 @@ vec2 skyViewClampHalf(vec2 uv, vec2 size) {
     return uv;
 }
 
-float rayleighPhase(float nu) { return 3.0 / (16.0 * ATM_PI) * (1.0 + nu * nu); }
-float miePhase(float nu) {
-    float g = atm_rayleigh.w, g2 = g * g;
-    float d = max(1.0 + g2 - 2.0 * g * nu, 1e-12);
-    float denom = d * sqrt(d);
-    if (atm_radii.w < 0.5) return (1.0 - g2) / (4.0 * ATM_PI * denom);
-    return 3.0 / (8.0 * ATM_PI) * (1.0 - g2) * (1.0 + nu * nu) / ((2.0 + g2) * denom);
-}
-
-// Sample spacing: s in [0, 1] -> fraction of the ray, dense at the perigee fraction p.
-float atm_warp(float s, float p) {
-    if (s < p) {
-        float a = (p - s) / p;
-        return p - p * a * a;
-    }
-    float a = p < 1.0 ? (s - p) / (1.0 - p) : 0.0;
-    return p + (1.0 - p) * a * a;
-}
-float atm_perigeeFraction(float h, float mu, float d) {
-    return d <= 0.0 ? 0.0 : clamp(-(atm_bottom() + h) * mu / d, 0.0, 1.0);
-}
+float miePhase(float nu) { return miePhase(nu, atm_rayleigh.w, atm_radii.w < 0.5 ? 0 : 1); }
+float atm_perigeeFraction(float h, float mu, float d) { return atm_perigeeFraction(atm_bottom(), h, mu, d); }
 vec3 atm_segmentFactor(vec3 sigmaT, float dt) {
     vec3 x = sigmaT * dt;
     return mix(vec3(dt), (1.0 - exp(-x)) / max(sigmaT, vec3(1e-30)), greaterThan(x, vec3(1e-4)));
@@ -261,15 +146,8 @@ vec3 transmittanceFromLut(float h, float mu) {
     return texture(ATM_TRANSMITTANCE_LUT, transmittanceUv(h, mu, vec2(textureSize(ATM_TRANSMITTANCE_LUT, 0)))).rgb;
 }
 vec3 transmittanceToLight(float h, float muS, float angularRadius) {
-    float R = atm_bottom();
     h = max(h, 0.0);
-    float r = R + h;
-    float sinH = R / r;
-    float cosH = -sqrt(max(atm_rho2(h), 0.0)) / r;
-    float a = sinH * angularRadius;
-    float f = clamp((muS - cosH + a) / (2.0 * a), 0.0, 1.0);
-    f = f * f * (3.0 - 2.0 * f);
-    return transmittanceFromLut(h, muS) * f;
+    return transmittanceFromLut(h, muS) * atm_lightAboveHorizon(atm_bottom(), h, muS, angularRadius);
 }
 #endif
 

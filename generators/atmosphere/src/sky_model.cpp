@@ -1,27 +1,36 @@
-// CPU double-precision twins of the real-time sky passes (see sky_model.hpp and
-// generators/atmosphere/shaders/atmosphere.glsl, which mirrors every function here).
+// CPU double-precision twins of the real-time sky passes (see sky_model.hpp): the optical
+// functions and LUT parameterisations are atmosphere.shared.glsl compiled in double (the GPU's own
+// text, welkin/glsl_cpp.hpp); the marches here mirror generators/atmosphere/shaders/atmosphere.glsl.
 #include <welkin/astro/astro_keys.hpp>
 #include <welkin/error.hpp>
 #include <welkin/generators/sky_model.hpp>
+#include <welkin/glsl_cpp.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 
+namespace welkin::glsl::dp::atmosphere_shared {
+#include "atmosphere.shared.glsl"
+}  // namespace welkin::glsl::dp::atmosphere_shared
+
 namespace welkin::generators {
+
+namespace shared = glsl::dp::atmosphere_shared;
 
 namespace {
 constexpr double kPi = std::numbers::pi;
-double clamp01(double x) { return std::clamp(x, 0.0, 1.0); }
 double safeSqrt(double x) { return std::sqrt(std::max(x, 0.0)); }
 }  // namespace
 
 // --- Density ----------------------------------------------------------------------------------
 
 double DensityProfile::density(double h) const {
-    const DensityLayer& l = h < layers[0].width ? layers[0] : layers[1];
-    return clamp01(l.expTerm * std::exp(l.expScale * h) + l.linearTerm * h + l.constantTerm);
+    // Packed as the GLSL block packs it (AtmosphereBlock::profiles).
+    const DensityLayer &l0 = layers[0], &l1 = layers[1];
+    return shared::atm_profileDensity({l0.width, l0.expTerm, l0.expScale, l0.linearTerm},
+                                      {l0.constantTerm, l1.expTerm, l1.expScale, l1.linearTerm}, {l1.constantTerm, 0.0, 0.0, 0.0}, h);
 }
 
 DensityProfile DensityProfile::exponential(double scaleHeightM) {
@@ -135,172 +144,56 @@ glm::dvec3 Lut2D::sample(glm::dvec2 uv) const {
     return glm::mix(glm::mix(at(x0, y0), at(x1, y0), fx), glm::mix(at(x0, y1), at(x1, y1), fx), fy);
 }
 
-// --- Parameterisations ------------------------------------------------------------------------
+// --- Parameterisations (atmosphere.shared.glsl) ---------------------------------------------
 
-double texCoordFromUnit(double x, int size) { return 0.5 / size + x * (1.0 - 1.0 / size); }
-double unitFromTexCoord(double u, int size) { return (u - 0.5 / size) / (1.0 - 1.0 / size); }
+double texCoordFromUnit(double x, int size) { return shared::texCoordFromUnit(x, double(size)); }
+double unitFromTexCoord(double u, int size) { return shared::unitFromTexCoord(u, double(size)); }
 
 namespace {
-// r^2 - R^2 for a height h above the sphere of radius R, without cancellation.
-double rho2(double R, double h) { return h * (2.0 * R + h); }
+double thickness(const SkyModel& m) { return m.topRadius - m.bottomRadius; }
+glm::dvec2 size2(int w, int hgt) { return {double(w), double(hgt)}; }
 }  // namespace
 
 glm::dvec2 transmittanceUv(const SkyModel& m, double h, double mu, int w, int hgt) {
-    const double R = m.bottomRadius, Ht = m.topRadius - R;
-    const double H = safeSqrt(rho2(R, Ht));
-    h = std::clamp(h, 0.0, Ht);
-    const double rho = safeSqrt(rho2(R, h));
-    const double d = cpu::distanceToTop(m, h, mu);
-    const double dMin = Ht - h, dMax = rho + H;
-    const double xMu = dMax > dMin ? (d - dMin) / (dMax - dMin) : 0.0;
-    const double xR = rho / H;
-    return {texCoordFromUnit(clamp01(xMu), w), texCoordFromUnit(xR, hgt)};
+    return shared::transmittanceUv(m.bottomRadius, thickness(m), h, mu, size2(w, hgt));
 }
-
 glm::dvec2 transmittanceHMu(const SkyModel& m, glm::dvec2 uv, int w, int hgt) {
-    const double R = m.bottomRadius, Ht = m.topRadius - R;
-    const double H = safeSqrt(rho2(R, Ht));
-    const double xMu = clamp01(unitFromTexCoord(uv.x, w)), xR = clamp01(unitFromTexCoord(uv.y, hgt));
-    const double rho = H * xR;
-    const double r = std::sqrt(rho * rho + R * R);
-    const double h = rho * rho / (r + R);  // r - R without cancellation
-    const double dMin = Ht - h, dMax = rho + H;
-    const double d = dMin + xMu * (dMax - dMin);
-    const double mu = d == 0.0 ? 1.0 : std::clamp((H * H - rho * rho - d * d) / (2.0 * r * d), -1.0, 1.0);
-    return {h, mu};
+    return shared::transmittanceHMu(m.bottomRadius, thickness(m), uv, size2(w, hgt));
 }
-
-// mu_s axis: u = 1/2 + atan(mu_s / a) / (2 atan(1 / a)), denser than linear around the horizon
-// (the terminator sweeps the low atmosphere there: twilight) by 1 / (a atan(1 / a)): a = 0.25
-// (3 times) from 64 texels up, a = 0.15 (4.7 times) for narrower LUTs (low), which need the
-// texels at the terminator more. With 64 texels a = 0.15 left too few for a high Sun: the sky at
-// Sun 60 deg was 2 % RMS off from interpolation along mu_s alone (1 % with a = 0.25 or with twice
-// the texels); at Sun 0 to -4 deg the RMS moved by 0.1 point (medium 1.8-2.4 %).
-// Height axis: v = sqrt(h / thickness), dense near the ground where the aerosols are.
-namespace {
-double msA(int w) { return w >= 64 ? 0.25 : 0.15; }
-}  // namespace
 glm::dvec2 multiScatteringUv(const SkyModel& m, double h, double muS, int w, int hgt) {
-    const double Ht = m.topRadius - m.bottomRadius;
-    const double kMsA = msA(w);
-    double x = 0.5 + 0.5 * std::atan(std::clamp(muS, -1.0, 1.0) / kMsA) / std::atan(1.0 / kMsA);
-    return {texCoordFromUnit(clamp01(x), w), texCoordFromUnit(std::sqrt(clamp01(h / Ht)), hgt)};
+    return shared::multiScatteringUv(thickness(m), h, muS, size2(w, hgt));
 }
-
 glm::dvec2 multiScatteringHMuS(const SkyModel& m, glm::dvec2 uv, int w, int hgt) {
-    const double Ht = m.topRadius - m.bottomRadius;
-    const double kMsA = msA(w);
-    double x = clamp01(unitFromTexCoord(uv.x, w));
-    double muS = std::clamp(kMsA * std::tan((2.0 * x - 1.0) * std::atan(1.0 / kMsA)), -1.0, 1.0);
-    const double y = clamp01(unitFromTexCoord(uv.y, hgt));
-    return {y * y * Ht, muS};
+    return shared::multiScatteringHMuS(thickness(m), uv, size2(w, hgt));
 }
-
-// Latitude: the upper half (rows H/2 .. H-1) covers [horizon, zenith], the lower half (rows
-// H/2-1 .. 0) covers [horizon, nadir]; within each half x = sqrt(distance from the horizon /
-// span) is spread over the half's texel centres, so both halves have a row exactly at the
-// horizon. The distance is measured in s = sin(theta / 2) (theta: view zenith angle), which is
-// within 1.4x of linear in theta and costs one square root per pixel instead of an acos:
-// s = sqrt((1 - mu) / 2). Azimuth: u = sin(azimuth / 2) = sqrt((1 - cos azimuth) / 2), from the
-// cosine without an atan, twice as dense as linear at the light's vertical plane (where the
-// aureole is) and coarse only opposite the light, where the sky is smooth in azimuth.
 glm::dvec2 skyViewUv(const SkyModel& m, double h, double mu, double azimuth, int w, int hgt) {
     return skyViewUvCos(m, h, mu, std::cos(azimuth), w, hgt);
 }
-
-double skyViewHorizonS(const SkyModel& m, double h) {
-    const double R = m.bottomRadius;
-    const double r = R + h;
-    const double muH = -safeSqrt(rho2(R, std::max(h, 0.0))) / r;  // cos of the horizon's zenith angle
-    return std::sqrt(std::clamp(0.5 - 0.5 * muH, 0.0, 1.0));
-}
-
+double skyViewHorizonS(const SkyModel& m, double h) { return shared::atm_horizonS(m.bottomRadius, h); }
 glm::dvec2 skyViewUvCos(const SkyModel& m, double h, double mu, double cosAzimuth, int w, int hgt) {
-    const double sH = skyViewHorizonS(m, h);
-    const double sv = std::sqrt(std::clamp(0.5 - 0.5 * mu, 0.0, 1.0));
-    const int half = hgt / 2;
-    double v;
-    if (sv <= sH) {
-        double x = std::sqrt(clamp01((sH - sv) / sH));
-        v = 0.5 + (x * (half - 1) + 0.5) / hgt;
-    } else {
-        double x = std::sqrt(clamp01((sv - sH) / (1.0 - sH)));
-        v = 0.5 - (x * (half - 1) + 0.5) / hgt;
-    }
-    const double u = texCoordFromUnit(std::sqrt(clamp01(0.5 - 0.5 * cosAzimuth)), w);
-    return {u, v};
+    return shared::skyViewUvS(skyViewHorizonS(m, h), mu, cosAzimuth, size2(w, hgt));
 }
-
 glm::dvec2 skyViewMuAz(const SkyModel& m, double h, glm::dvec2 uv, int w, int hgt) {
-    const double sH = skyViewHorizonS(m, h);
-    const int half = hgt / 2;
-    double sv;
-    if (uv.y >= 0.5) {
-        double x = clamp01(((uv.y - 0.5) * hgt - 0.5) / (half - 1));
-        sv = sH - x * x * sH;
-    } else {
-        double x = clamp01(((0.5 - uv.y) * hgt - 0.5) / (half - 1));
-        sv = sH + x * x * (1.0 - sH);
-    }
-    const double az = 2.0 * std::asin(clamp01(unitFromTexCoord(uv.x, w)));
-    return {std::clamp(1.0 - 2.0 * sv * sv, -1.0, 1.0), az};
+    return shared::skyViewMuAzS(skyViewHorizonS(m, h), uv, size2(w, hgt));
 }
 
-// --- Phase functions --------------------------------------------------------------------------
+// --- Phase functions (atmosphere.shared.glsl) --------------------------------------------------
 
-double rayleighPhase(double nu) { return 3.0 / (16.0 * kPi) * (1.0 + nu * nu); }
-
-double miePhase(double nu, double g, int kind) {
-    const double g2 = g * g;
-    const double denom = std::pow(std::max(1.0 + g2 - 2.0 * g * nu, 1e-12), 1.5);
-    if (kind == 0) return (1.0 - g2) / (4.0 * kPi * denom);
-    return 3.0 / (8.0 * kPi) * (1.0 - g2) * (1.0 + nu * nu) / ((2.0 + g2) * denom);
-}
+double rayleighPhase(double nu) { return shared::rayleighPhase(nu); }
+double miePhase(double nu, double g, int kind) { return shared::miePhase(nu, g, kind); }
 
 namespace cpu {
 
 // --- Geometry ---------------------------------------------------------------------------------
 
-double distanceToTop(const SkyModel& m, double h, double mu) {
-    const double R = m.bottomRadius, r = R + h, Ht = m.topRadius - R;
-    // r^2 mu^2 - (r^2 - Rt^2) with r^2 - Rt^2 = (h - Ht)(2R + h + Ht).
-    const double disc = r * r * mu * mu - (h - Ht) * (2.0 * R + h + Ht);
-    return std::max(-r * mu + safeSqrt(disc), 0.0);
-}
-
-double distanceToBottom(const SkyModel& m, double h, double mu) {
-    const double R = m.bottomRadius, r = R + h;
-    const double disc = r * r * mu * mu - rho2(R, h);
-    return std::max(-r * mu - safeSqrt(disc), 0.0);
-}
-
-bool rayIntersectsGround(const SkyModel& m, double h, double mu) {
-    const double R = m.bottomRadius, r = R + h;
-    return mu < 0.0 && r * r * mu * mu - rho2(R, h) >= 0.0;
-}
-
-double heightAt(const SkyModel& m, double h, double mu, double t) {
-    const double R = m.bottomRadius, r = R + h;
-    const double q = t * t + 2.0 * r * mu * t + rho2(R, h);  // r_t^2 - R^2
-    const double rt = std::sqrt(std::max(q + R * R, 0.0));
-    return q / (rt + R);
-}
+double distanceToTop(const SkyModel& m, double h, double mu) { return shared::distanceToTop(m.bottomRadius, thickness(m), h, mu); }
+double distanceToBottom(const SkyModel& m, double h, double mu) { return shared::distanceToBottom(m.bottomRadius, h, mu); }
+bool rayIntersectsGround(const SkyModel& m, double h, double mu) { return shared::rayIntersectsGround(m.bottomRadius, h, mu); }
+double heightAt(const SkyModel& m, double h, double mu, double t) { return shared::heightAt(m.bottomRadius, h, mu, t); }
 
 namespace {
-// Sample spacing along a ray of length d: s in [0, 1] -> fraction of d, dense at the perigee
-// fraction p (p = 0: dense at the origin, p = 1: dense at the end).
-double warp(double s, double p) {
-    if (s < p) {
-        double a = (p - s) / p;
-        return p - p * a * a;
-    }
-    double a = p < 1.0 ? (s - p) / (1.0 - p) : 0.0;
-    return p + (1.0 - p) * a * a;
-}
-double perigeeFraction(const SkyModel& m, double h, double mu, double d) {
-    if (d <= 0.0) return 0.0;
-    return clamp01(-(m.bottomRadius + h) * mu / d);
-}
+double warp(double s, double p) { return shared::atm_warp(s, p); }
+double perigeeFraction(const SkyModel& m, double h, double mu, double d) { return shared::atm_perigeeFraction(m.bottomRadius, h, mu, d); }
 }  // namespace
 
 glm::dvec3 transmittanceToTop(const SkyModel& m, double h, double mu, int steps) {
@@ -331,28 +224,13 @@ glm::dvec3 transmittanceFromLut(const SkyModel& m, const Lut2D& T, double h, dou
 }
 
 glm::dvec3 transmittanceToLight(const SkyModel& m, const Lut2D& T, double h, double muS, double angularRadius) {
-    const double R = m.bottomRadius, r = R + std::max(h, 0.0);
-    const double sinH = R / r;
-    const double cosH = -safeSqrt(rho2(R, std::max(h, 0.0))) / r;
-    const double a = sinH * angularRadius;
-    const double x = muS - cosH;
-    // smoothstep(-a, a, x): the fraction of the light's disk above the planet's horizon.
-    double f = clamp01((x + a) / (2.0 * a));
-    f = f * f * (3.0 - 2.0 * f);
-    return transmittanceFromLut(m, T, h, muS) * f;
+    return transmittanceFromLut(m, T, h, muS) * shared::atm_lightAboveHorizon(m.bottomRadius, h, muS, angularRadius);
 }
 
 // --- Multiple scattering ------------------------------------------------------------------------
 
 namespace {
-// Spherical Fibonacci direction i of n (z up): equal-area, deterministic.
-glm::dvec3 fibonacciDirection(int i, int n) {
-    const double golden = kPi * (3.0 - std::sqrt(5.0));
-    double z = 1.0 - (2.0 * i + 1.0) / n;
-    double rr = safeSqrt(1.0 - z * z);
-    double phi = golden * i;
-    return {rr * std::cos(phi), rr * std::sin(phi), z};
-}
+glm::dvec3 fibonacciDirection(int i, int n) { return shared::atm_fibonacciDirection(i, n); }
 glm::dvec3 segmentFactor(const glm::dvec3& sigmaT, double dt) {
     // (1 - exp(-sigma dt)) / sigma, with the limit dt as sigma -> 0.
     glm::dvec3 f;

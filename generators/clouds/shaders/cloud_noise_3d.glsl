@@ -1,5 +1,6 @@
 // Cloud noise pass (compute, after cloud_noise.glsl): one texel of the 3-D base or detail noise
-// per invocation, written to an rgba8 image. Twin: cpu::baseNoise(), cpu::detailNoise().
+// per invocation, written to an rgba8 image: cloudBaseNoise() or cloudDetailNoise() of
+// cloud_noise.shared.glsl, which cpu::baseNoise() and cpu::detailNoise() compile in double.
 //   base   (u_kind 0): R Perlin-Worley (Perlin fBm, 4 cells, 4 octaves, dilated by Worley fBm at 4
 //          cells: remap(perlin, 0, 1, worley, 1), Schneider & Vos 2015), GBA Worley fBm at 8, 16,
 //          32 cells per tile (2x, 4x, 8x).
@@ -10,17 +11,6 @@ uniform int u_size;   // texels per edge
 uniform uint u_seed;  // clouds.seed
 uniform int u_kind;   // 0 base, 1 detail
 uniform int u_z0;     // first slice of this dispatch
-
-vec4 cloudBaseNoise(vec3 p, uint seed) {
-    float perlin = cn_perlinFbm(p, 4, 4, seed);
-    float worley = cn_worleyFbm(p, 4, seed + 10u);
-    float pw = clamp(worley + perlin * (1.0 - worley), 0.0, 1.0);
-    return vec4(pw, cn_worleyFbm(p, 8, seed + 20u), cn_worleyFbm(p, 16, seed + 30u), cn_worleyFbm(p, 32, seed + 40u));
-}
-
-vec4 cloudDetailNoise(vec3 p, uint seed) {
-    return vec4(cn_worleyFbm(p, 2, seed + 60u), cn_worleyFbm(p, 4, seed + 70u), cn_worleyFbm(p, 8, seed + 80u), 1.0);
-}
 
 void main() {
     ivec3 t = ivec3(gl_GlobalInvocationID) + ivec3(0, 0, u_z0);

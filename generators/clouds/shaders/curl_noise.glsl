@@ -2,20 +2,11 @@
 // HIGH_ALTITUDE_CLOUD_MAP). Potential psi = 2-D Perlin fBm (4 cells, 5 octaves); RG = its curl
 // (d psi/dy, -d psi/dx) by central differences over one texel, divided by 8 (|v| <= ~0.6 with the
 // default seed: none clamped, tested), clamped, encoded 0.5 + 0.5 v; B = psi in [0, 1]; A = 1. Bridson et al. 2007.
-// Twin: cpu::curlNoise().
+// The texel is cloudCurlNoise() of cloud_noise.shared.glsl, which cpu::curlNoise() compiles in double.
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(rgba8, binding = WELKIN_BINDING_LUT_IMAGE) uniform writeonly image2D o_curl;
 uniform int u_size;
 uniform uint u_seed;
-
-float cloudCurlPotential(vec2 p, uint seed) { return cn_perlinFbm2(p, 4, 5, seed + 50u); }
-
-vec4 cloudCurlNoise(vec2 p, float e, uint seed) {
-    float dx = (cloudCurlPotential(p + vec2(e, 0.0), seed) - cloudCurlPotential(p - vec2(e, 0.0), seed)) / (2.0 * e);
-    float dy = (cloudCurlPotential(p + vec2(0.0, e), seed) - cloudCurlPotential(p - vec2(0.0, e), seed)) / (2.0 * e);
-    vec2 v = clamp(vec2(dy, -dx) / 8.0, -1.0, 1.0);
-    return vec4(0.5 + 0.5 * v, clamp(cloudCurlPotential(p, seed), 0.0, 1.0), 1.0);
-}
 
 void main() {
     ivec2 t = ivec2(gl_GlobalInvocationID.xy);

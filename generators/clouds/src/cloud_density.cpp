@@ -1,10 +1,11 @@
-// CPU twin of shaders/cloud_density.glsl (double precision, the same formulas) and the
-// CloudLayerBlock's construction from the keys.
+// CPU twin of shaders/cloud_density.glsl: its maths, cloud_density.shared.glsl, compiled in double
+// (welkin/glsl_cpp.hpp) on read-back textures; and the CloudLayerBlock's construction from the keys.
 #include <welkin/check.hpp>
 #include <welkin/error.hpp>
 #include <welkin/generators/cloud_density.hpp>
 #include <welkin/generators/cloud_keys.hpp>
 #include <welkin/generators/lights.hpp>
+#include <welkin/glsl_cpp.hpp>
 #include <welkin/gl/bindings.hpp>
 
 #include <epoxy/gl.h>
@@ -12,17 +13,27 @@
 #include <algorithm>
 #include <cmath>
 
+// The density's maths: cloud_density.shared.glsl in double, on cpu::Image as the samplers.
+namespace welkin::glsl::dp::cloud_density_shared {
+using sampler2D = generators::cpu::Image;
+using sampler3D = generators::cpu::Image;
+inline vec4 textureLod(const sampler2D& s, vec2 uv, real) { return s.sample2D(uv); }
+inline vec4 textureLod(const sampler3D& s, vec3 uvw, real) { return s.sample3D(uvw); }
+#include "cloud_density.shared.glsl"
+}  // namespace welkin::glsl::dp::cloud_density_shared
+
 namespace welkin::generators {
+
+// The header's constants are the shared file's (one set of numbers for GLSL and C++).
+static_assert(kShapeLo == CLD_SHAPE_LO && kShapeHi == CLD_SHAPE_HI && kCuBaseRamp == CLD_CU_BASE &&
+              kCuTopStart == CLD_CU_TOP0 && kScBaseRamp == CLD_SC_BASE && kScTopStart == CLD_SC_TOP0 &&
+              kErosion == CLD_EROSION && kDetailFlip == CLD_DETAIL_FLIP);
+static_assert(int(CloudLod::Cheap) == CLOUD_LOD_CHEAP && int(CloudLod::Full) == CLOUD_LOD_FULL);
 
 namespace {
 double wrapMod(double v, double period) {
     double m = std::fmod(v, period);
     return m < 0 ? m + period : m;
-}
-double sat(double v) { return std::clamp(v, 0.0, 1.0); }
-double smooth(double e0, double e1, double x) {
-    double t = sat((x - e0) / (e1 - e0));
-    return t * t * (3.0 - 2.0 * t);
 }
 }  // namespace
 
@@ -128,118 +139,33 @@ glm::dvec4 Image::sample3D(glm::dvec3 uvw) const {
     return glm::mix(plane(iz), plane(iz + 1), az);
 }
 
-double remap(double v, double lo, double hi, double newLo, double newHi) { return (v - lo) / (hi - lo) * (newHi - newLo) + newLo; }
-
-double cloudAltitude(const CloudLayerBlock& b, glm::dvec3 p) {
-    const double R = b.radii[0];
-    const glm::dvec3 q = p + glm::dvec3(0, 0, R);
-    // |q| - R = (|q|^2 - R^2) / (|q| + R), with |q|^2 - R^2 = x^2 + y^2 + z^2 + 2 R z: no cancellation.
-    return (glm::dot(p, p) + 2.0 * R * p.z) / (glm::length(q) + R);
-}
-
-glm::dvec2 weatherUv(const CloudLayerBlock& b, glm::dvec3 p) {
-    return (glm::dvec2(p.x, p.y) + glm::dvec2(b.weather[0], b.weather[1])) * double(b.weather[3]);
-}
-
-glm::dvec2 heightGradient(double a, double wb, double wt, double type) {
-    // Two cloud types, blended by `type` (clouds.cloud_type), as Schneider & Vos 2015 and
-    // Schneider (GPU Pro 7, 2016) select a vertical density gradient per cloud type:
-    // - stratocumulus (0): a sheet between the weather map's base wb and top wt (Papp eq. 5.2's
-    //   H_scale), full within 10 % of its thickness above the base and rounded over its top 35 %;
-    // - cumulus (1): every base at the layer's bottom, the lifting condensation level that the
-    //   fair-weather cumulus of one air mass share (WMO International Cloud Atlas 2017, "Cumulus":
-    //   "flat bases"); the weather map's top wt (its domes) is the tower's height. Full density
-    //   within 7 % of the height above the base (a sharp, flat base), then a long taper over
-    //   50-100 % of the height: the coverage remap cuts ever more of the Perlin-Worley shape
-    //   upwards, leaving rounded turrets (cauliflower tops) rather than a flat lid.
-    const double tS = (a - wb) / std::max(wt - wb, 1e-3);
-    const double tC = a / std::max(wt, 1e-3);
-    const double pS = smooth(0.0, kScBaseRamp, tS) * (1.0 - smooth(kScTopStart, 1.0, tS));
-    const double pC = smooth(0.0, kCuBaseRamp, tC) * (1.0 - smooth(kCuTopStart, 1.0, tC));
-    const double t = sat(glm::mix(tS, tC, type));
-    // H_gradient (Papp eq. 5.3): denser upwards in the cloud, 0.75 at its base to 1 at its top.
-    return {glm::mix(pS, pC, type) * (0.75 + 0.25 * t), t};
-}
-
-double cloudDensity(const CloudLayerBlock& b, const CloudTextures& t, glm::dvec3 p, CloudLod lod) {
-    const double h = cloudAltitude(b, p);
-    const double bottom = double(b.radii[1]) - double(b.radii[0]), top = double(b.radii[2]) - double(b.radii[0]);
-    if (h < bottom || h > top) return 0.0;
-    const double a = (h - bottom) / (top - bottom);  // Papp eq. 5.1: altitude fraction in the layer
-    const glm::dvec4 w = t.weather.sample2D(weatherUv(b, p));
-    // Coverage (Papp eq. 5.4): the weather map's density scaled by clouds.coverage.
-    const double cov = sat(w.r) * sat(double(b.shape[0]));
-    if (cov <= 0.0) return 0.0;
-    const glm::dvec2 hg = heightGradient(a, sat(w.g), sat(w.b), sat(double(b.noise[3])));
-    if (hg.x <= 0.0) return 0.0;
-    // Base shape (Schneider & Vos 2015): the Perlin-Worley R eroded by its Worley fBm GBA,
-    // remap(R, fbm - 1, 1, 0, 1); then stretched from its measured range [kShapeLo, kShapeHi] to
-    // [0, 1] so that the coverage cut below bites (see kShapeLo), times the height gradient.
-    const glm::dvec3 pb = (glm::dvec3(p.x, p.y, h) + glm::dvec3(b.scrollBase[0], b.scrollBase[1], b.scrollBase[2])) / double(b.noise[0]);
-    const glm::dvec4 n = t.base.sample3D(pb);
-    const double fbm = 0.625 * n.g + 0.25 * n.b + 0.125 * n.a;
-    const double pw = remap(n.r, fbm - 1.0, 1.0, 0.0, 1.0);
-    const double shape = sat(remap(pw, kShapeLo, kShapeHi, 0.0, 1.0)) * hg.x;
-    // Coverage cut into the shape: remap(shape, 1 - cov, 1, 0, 1) * cov = shape - (1 - cov): where
-    // the weather map is thin only the shape's highest lobes survive (billowy edges).
-    const double base = std::max(shape + cov - 1.0, 0.0);
-    if (lod == CloudLod::Cheap || base <= 0.0) return base;
-    // Erosion by the detail noise (Papp eq. 5.5, in Schneider's remap form): the Worley fBm near
-    // the cloud's base (eroding the cells' cores leaves wisps), its inverse above (eroding the cell
-    // borders leaves round billows: cauliflower), switching over the lowest 1/kDetailFlip of the
-    // cloud; strength kErosion x clouds.detail_scale.
-    const glm::dvec3 pd =
-        (glm::dvec3(p.x, p.y, h) + glm::dvec3(b.scrollDetail[0], b.scrollDetail[1], b.scrollDetail[2])) / double(b.noise[1]);
-    const glm::dvec4 dn = t.detail.sample3D(pd);
-    const double dfbm = 0.625 * dn.r + 0.25 * dn.g + 0.125 * dn.b;
-    const double mod = glm::mix(dfbm, 1.0 - dfbm, sat(hg.y * kDetailFlip));
-    const double e = std::min(kErosion * double(b.shape[1]) * mod, 0.9);
-    return sat((base - e) / (1.0 - e));
-}
-
 namespace {
-// Both roots of |r + t d| = s, near first, cancellation-free (Numerical Recipes 5.6); the twin of
-// cld_sphereRoots() in the GLSL. No root: x > y.
-glm::dvec2 sphereRoots(double r, double mu, double s) {
-    const double b = r * mu, c = (r - s) * (r + s);
-    const double disc = b * b - c;
-    if (disc < 0.0) return {1.0, -1.0};
-    const double q = -(b + (b >= 0.0 ? std::sqrt(disc) : -std::sqrt(disc)));
-    const double t2 = q != 0.0 ? c / q : 0.0;
-    return {std::min(q, t2), std::max(q, t2)};
+using glsl::dp::cloud_density_shared::CloudLayer;
+CloudLayer layer(const CloudLayerBlock& b) {
+    auto v = [](const float* f) { return glm::dvec4(f[0], f[1], f[2], f[3]); };
+    return {v(b.radii), v(b.shape), v(b.weather), v(b.noise), v(b.scrollBase), v(b.scrollDetail), v(b.cirrus)};
 }
 }  // namespace
 
-glm::dvec2 shellIntersect(double R, double rb, double rt, double r, double mu) {
-    const glm::dvec2 miss(-1.0, -1.0);
-    const glm::dvec2 g = sphereRoots(r, mu, R), lb = sphereRoots(r, mu, rb), lt = sphereRoots(r, mu, rt);
-    if (r < rb) {
-        if (r >= R && mu < 0.0 && g.x <= g.y) return miss;  // the ground comes first
-        return {lb.y, lt.y};
-    }
-    if (r <= rt) {
-        if (mu < 0.0 && lb.x <= lb.y) return {0.0, lb.x};  // leaves through the base
-        return {0.0, lt.y};
-    }
-    if (mu >= 0.0 || lt.x > lt.y) return miss;
-    if (lb.x <= lb.y) return {lt.x, lb.x};
-    return {lt.x, lt.y};
+double remap(double v, double lo, double hi, double newLo, double newHi) {
+    return glsl::dp::cloud_density_shared::cld_remap(v, lo, hi, newLo, newHi);
 }
-
+double cloudAltitude(const CloudLayerBlock& b, glm::dvec3 p) { return glsl::dp::cloud_density_shared::cld_layerAltitude(layer(b), p); }
+glm::dvec2 weatherUv(const CloudLayerBlock& b, glm::dvec3 p) { return glsl::dp::cloud_density_shared::cld_layerWeatherUv(layer(b), p); }
+glm::dvec2 heightGradient(double a, double wb, double wt, double type) {
+    return glsl::dp::cloud_density_shared::cloudHeightGradient(a, wb, wt, type);
+}
+double cloudDensity(const CloudLayerBlock& b, const CloudTextures& t, glm::dvec3 p, CloudLod lod) {
+    return glsl::dp::cloud_density_shared::cld_layerDensity(layer(b), t.weather, t.base, t.detail, p, int(lod));
+}
+glm::dvec2 shellIntersect(double R, double rb, double rt, double r, double mu) {
+    return glsl::dp::cloud_density_shared::cloudShellIntersectRadii(R, rb, rt, r, mu);
+}
 glm::dvec2 cloudShellIntersect(const CloudLayerBlock& b, double r, double mu) {
     return shellIntersect(b.radii[0], b.radii[1], b.radii[2], r, mu);
 }
-
 double cirrusDensity(const CloudLayerBlock& b, const Image& curl, glm::dvec2 xy) {
-    const double cc = sat(double(b.shape[3]));
-    if (cc <= 0.0) return 0.0;
-    // The curl noise's RG (a divergence-free field, encoded 0.5 + 0.5 v) advects the lookup of
-    // its B (the fBm potential): streaky, sheared fibres (SevenSky's high-altitude map, Papp 6.3).
-    const glm::dvec2 uv = (xy + glm::dvec2(b.cirrus[0], b.cirrus[1])) / double(b.noise[2]);
-    const glm::dvec4 c = curl.sample2D(uv);
-    const glm::dvec2 warp = (glm::dvec2(c.r, c.g) * 2.0 - 1.0) * 0.05;
-    const double n = curl.sample2D(uv + warp).b;
-    return sat(n + cc - 1.0);
+    return glsl::dp::cloud_density_shared::cld_layerCirrus(layer(b), curl, xy);
 }
 
 }  // namespace cpu

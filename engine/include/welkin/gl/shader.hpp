@@ -12,8 +12,13 @@
 // Each stage is assembled as: a generated header (`#version 450 core`; the stage's macro,
 // WELKIN_VERTEX_SHADER, WELKIN_FRAGMENT_SHADER or WELKIN_COMPUTE_SHADER; every binding of
 // <welkin/gl/bindings.hpp> as `#define WELKIN_BINDING_<NAME> <value>`; then the private bindings
-// given to bindings(), the same way; then every define in the order given), then each chunk in the order added, each preceded by `#line <n*100000+1>` so
+// given to bindings(), the same way; then every define in the order given; then the shared-maths
+// dialect of <welkin/glsl_cpp.hpp>: `real` as float, IN(T)/OUT(T)/INOUT(T) as in/out/inout T),
+// then each chunk in the order added, each preceded by `#line <n*100000+first line>` so
 // that the driver's messages can be mapped back whatever the driver: "grid/grid.frag.glsl:12: error: ...".
+// A file that an embedded shader `#include`s (EmbedShaders.cmake expands it between marker
+// comments) becomes a chunk of its own named after it in the includer's folder
+// ("generators/cloud_noise.shared.glsl:40: error: ..."), and the includer resumes after it.
 #pragma once
 #include <welkin/gl/bindings.hpp>  // the table whose names every generated header defines
 #include <welkin/gl/objects.hpp>
@@ -56,7 +61,9 @@ private:
     struct Chunk {
         std::string name;
         std::string text;
+        int firstLine = 1;  ///< the line of `name` that text starts at
     };
+    static std::vector<Chunk> split(const std::string& name, std::string_view text);
     std::string label_;
     std::vector<std::pair<std::string, std::string>> defines_;
     std::vector<std::pair<std::string, int>> privateBindings_;

@@ -2,7 +2,9 @@
 // presets (SkyQuality), the LUT parameterisations and the double-precision CPU twins of every
 // GPU pass (namespace welkin::generators::cpu). The GLSL twin of this file is
 // generators/atmosphere/shaders/atmosphere.glsl: every function here has a GLSL function of the same name
-// and the same math (float), so a GPU texel can be checked against its CPU twin.
+// and the same math (float), so a GPU texel can be checked against its CPU twin. The optical
+// functions and LUT parameterisations are one text for both, atmosphere.shared.glsl, which
+// sky_model.cpp compiles as C++ (docs/architecture.md, "One source").
 //
 //   auto model = welkin::generators::SkyModel::fromVars(vars);        // or SkyModel::earthClear()
 //   auto q = welkin::generators::SkyQuality::preset(1);              // medium

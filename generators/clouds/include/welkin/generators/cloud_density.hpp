@@ -1,6 +1,7 @@
 // The cloud density function, shared by everything that reads the clouds: its parameters as a
 // std140 uniform block (CloudLayerBlock, binding WELKIN_BINDING_CLOUD_UBO = 2) and the CPU twin
-// (double precision) of generators/clouds/shaders/cloud_density.glsl, the same formulas.
+// (double precision) of generators/clouds/shaders/cloud_density.glsl: the shader's own maths,
+// cloud_density.shared.glsl, compiled as C++ (docs/architecture.md, "One source").
 //
 //   using namespace welkin::generators;
 //   CloudLayerBlock b = CloudLayerBlock::from(vars);          // keys of cloud_keys.hpp
@@ -96,7 +97,8 @@ static_assert(sizeof(CloudLayerBlock) == 7 * 16, "CloudLayerBlock: std140 layout
 
 enum class CloudLod { Cheap = 0, Full = 1 };
 
-/// The density's shape constants (cloud_density.glsl's CLD_* defines are the same numbers).
+/// The density's shape constants (cloud_density.shared.glsl's CLD_* defines, checked equal at
+/// compile time).
 /// The eroded Perlin-Worley base shape remap(R, fbm - 1, 1, 0, 1) of the generated noise
 /// (CloudNoise, 128^3, seed 1) is narrow and bright: its 1st, 5th, 50th and 99th percentiles are
 /// 0.69, 0.735, 0.83, 0.93. Stretched from [kShapeLo, kShapeHi] to [0, 1] (the median to 0.63,

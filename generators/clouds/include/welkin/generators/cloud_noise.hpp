@@ -1,6 +1,7 @@
 // The clouds' noise textures (Generator CloudNoise): tileable 3-D base and detail noise and the
 // 2-D curl noise of the cirrus, computed on the GPU (shaders/cloud_noise*.glsl, curl_noise.glsl)
-// from clouds.seed, mipmapped, GL_REPEAT. cpu:: holds the twin of each texel's formula.
+// from clouds.seed, mipmapped, GL_REPEAT. cpu:: holds the twin of each texel's formula: the
+// shaders' cloud_noise.shared.glsl compiled as C++ in double.
 //
 //   auto noise = welkin::generators::CloudNoise::obtain(vars);   // one per SkyVars
 //   element.addGenerator(noise);                                  // in doInit
@@ -65,7 +66,7 @@ glm::dvec4 baseNoise(int x, int y, int z, int size, uint32_t seed);
 glm::dvec4 detailNoise(int x, int y, int z, int size, uint32_t seed);
 /// Texel (x, y) of the curl noise of `size`^2 texels.
 glm::dvec4 curlNoise(int x, int y, int size, uint32_t seed);
-/// The primitives at a normalised point p (period 1), f cells per tile (cloud_noise.glsl).
+/// The primitives at a normalised point p (period 1), f cells per tile (cloud_noise.shared.glsl).
 uint32_t noiseHash(uint32_t x);
 double worley(glm::dvec3 p, int f, uint32_t seed);
 double worleyFbm(glm::dvec3 p, int f, uint32_t seed);

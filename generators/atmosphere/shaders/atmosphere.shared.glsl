@@ -1,0 +1,179 @@
+// The sky model's optical functions and LUT parameterisations, one source for GLSL and C++
+// (welkin/glsl_cpp.hpp): atmosphere.glsl includes it and wraps the functions that need the
+// planet's radii with versions of the same name that read them from its uniform block; the CPU
+// twins (sky_model.hpp) compile it in double and pass a SkyModel's radii.
+//
+// Geometry: R = ground radius, Ht = top - ground (m), h = height above the ground (m), mu =
+// cos(view zenith), muS = cos(light zenith), nu = cos(view-light angle); r^2 - R^2 is always
+// computed as h (2R + h) so rays grazing the ground keep their precision in float. LUT sizes are
+// texels as reals (vec2(width, height)).
+
+const real ATM_PI = 3.141592653589793;
+
+// Spherical Fibonacci direction i of n (z up): equal-area, deterministic.
+vec3 atm_fibonacciDirection(int i, int n) {
+    const real golden = ATM_PI * (3.0 - sqrt(5.0));
+    real z = 1.0 - (2.0 * real(i) + 1.0) / real(n);
+    real rr = sqrt(max(1.0 - z * z, 0.0));
+    real phi = golden * real(i);
+    return vec3(rr * cos(phi), rr * sin(phi), z);
+}
+
+// A density profile (Bruneton 2017's two layers, clamped to [0, 1]) packed as three vec4:
+// a = (width0, exp0, scale0 (1/m), linear0 (1/m)), b = (constant0, exp1, scale1, linear1),
+// c = (constant1, 0, 0, 0); layer 0 below width0, layer 1 above.
+real atm_profileDensity(vec4 a, vec4 b, vec4 c, real h) {
+    real d = h < a.x ? a.y * exp(a.z * h) + a.w * h + b.x : b.y * exp(b.z * h) + b.w * h + c.x;
+    return clamp(d, 0.0, 1.0);
+}
+
+real atm_rho2(real R, real h) { return h * (2.0 * R + h); }
+
+real distanceToTop(real R, real Ht, real h, real mu) {
+    real r = R + h;
+    // r^2 mu^2 - (r^2 - Rt^2) with r^2 - Rt^2 = (h - Ht)(2R + h + Ht).
+    real disc = r * r * mu * mu - (h - Ht) * (2.0 * R + h + Ht);
+    return max(-r * mu + sqrt(max(disc, 0.0)), 0.0);
+}
+real distanceToBottom(real R, real h, real mu) {
+    real r = R + h;
+    real disc = r * r * mu * mu - atm_rho2(R, h);
+    return max(-r * mu - sqrt(max(disc, 0.0)), 0.0);
+}
+bool rayIntersectsGround(real R, real h, real mu) {
+    real r = R + h;
+    return mu < 0.0 && r * r * mu * mu - atm_rho2(R, h) >= 0.0;
+}
+// Height at distance t along the ray (r_t - R without cancellation).
+real heightAt(real R, real h, real mu, real t) {
+    real r = R + h;
+    real q = t * t + 2.0 * r * mu * t + atm_rho2(R, h);  // r_t^2 - R^2
+    real rt = sqrt(max(q + R * R, 0.0));
+    return q / (rt + R);
+}
+
+// Texel-centre mapping of [0, 1] onto a LUT axis of `size` texels, and its inverse.
+real texCoordFromUnit(real x, real size) { return 0.5 / size + x * (1.0 - 1.0 / size); }
+real unitFromTexCoord(real u, real size) { return (u - 0.5 / size) / (1.0 - 1.0 / size); }
+
+// Transmittance LUT (Bruneton 2017): x = distance to the top between its extremes, y = rho / H.
+vec2 transmittanceUv(real R, real Ht, real h, real mu, vec2 size) {
+    real H = sqrt(max(Ht * (2.0 * R + Ht), 0.0));
+    h = clamp(h, 0.0, Ht);
+    real rho = sqrt(max(atm_rho2(R, h), 0.0));
+    real d = distanceToTop(R, Ht, h, mu);
+    real dMin = Ht - h, dMax = rho + H;
+    real xMu = dMax > dMin ? (d - dMin) / (dMax - dMin) : 0.0;
+    return vec2(texCoordFromUnit(clamp(xMu, 0.0, 1.0), size.x), texCoordFromUnit(rho / H, size.y));
+}
+vec2 transmittanceHMu(real R, real Ht, vec2 uv, vec2 size) {
+    real H = sqrt(max(Ht * (2.0 * R + Ht), 0.0));
+    real xMu = clamp(unitFromTexCoord(uv.x, size.x), 0.0, 1.0), xR = clamp(unitFromTexCoord(uv.y, size.y), 0.0, 1.0);
+    real rho = H * xR;
+    real r = sqrt(rho * rho + R * R);
+    real h = rho * rho / (r + R);  // r - R without cancellation
+    real dMin = Ht - h, dMax = rho + H;
+    real d = dMin + xMu * (dMax - dMin);
+    real mu = d == 0.0 ? 1.0 : clamp((H * H - rho * rho - d * d) / (2.0 * r * d), -1.0, 1.0);
+    return vec2(h, mu);
+}
+
+// Multiple-scattering LUT. mu_s axis: u = 1/2 + atan(mu_s / a) / (2 atan(1 / a)), denser than
+// linear around the horizon (the terminator sweeps the low atmosphere there: twilight) by
+// 1 / (a atan(1 / a)): a = 0.25 (3 times) from 64 texels up, a = 0.15 (4.7 times) for narrower
+// LUTs (low), which need the texels at the terminator more. With 64 texels a = 0.15 left too few
+// for a high Sun: the sky at Sun 60 deg was 2 % RMS off from interpolation along mu_s alone (1 %
+// with a = 0.25 or with twice the texels); at Sun 0 to -4 deg the RMS moved by 0.1 point (medium
+// 1.8-2.4 %). Height axis: v = sqrt(h / thickness), dense near the ground where the aerosols are.
+real atm_msA(real width) { return width >= 63.5 ? 0.25 : 0.15; }
+vec2 multiScatteringUv(real Ht, real h, real muS, vec2 size) {
+    real a = atm_msA(size.x);
+    real x = 0.5 + 0.5 * atan(clamp(muS, -1.0, 1.0) / a) / atan(1.0 / a);
+    return vec2(texCoordFromUnit(clamp(x, 0.0, 1.0), size.x), texCoordFromUnit(sqrt(clamp(h / Ht, 0.0, 1.0)), size.y));
+}
+vec2 multiScatteringHMuS(real Ht, vec2 uv, vec2 size) {
+    real a = atm_msA(size.x);
+    real x = clamp(unitFromTexCoord(uv.x, size.x), 0.0, 1.0);
+    real muS = clamp(a * tan((2.0 * x - 1.0) * atan(1.0 / a)), -1.0, 1.0);
+    real y = clamp(unitFromTexCoord(uv.y, size.y), 0.0, 1.0);
+    return vec2(y * y * Ht, muS);
+}
+
+// The zenith angle of the observer's horizon, and sin(theta_H / 2) of it.
+real atm_horizonZenith(real R, real h) {
+    real r = R + h;
+    return acos(clamp(-sqrt(max(atm_rho2(R, max(h, 0.0)), 0.0)) / r, -1.0, 1.0));
+}
+real atm_horizonS(real R, real h) {
+    real r = R + h;
+    real muH = -sqrt(max(atm_rho2(R, max(h, 0.0)), 0.0)) / r;  // cos of the horizon's zenith angle
+    return sqrt(clamp(0.5 - 0.5 * muH, 0.0, 1.0));
+}
+
+// Sky-view LUT. Latitude: the upper half (rows H/2 .. H-1) covers [horizon, zenith], the lower
+// half (rows H/2-1 .. 0) covers [horizon, nadir]; within each half x = sqrt(distance from the
+// horizon / span) is spread over the half's texel centres, so both halves have a row exactly at
+// the horizon. The distance is measured in s = sin(theta / 2) (theta: view zenith angle), which
+// is within 1.4x of linear in theta and costs one square root per pixel instead of an acos:
+// s = sqrt((1 - mu) / 2). Azimuth: u = sin(azimuth / 2) = sqrt((1 - cos azimuth) / 2), from the
+// cosine without an atan, twice as dense as linear at the light's vertical plane (where the
+// aureole is) and coarse only opposite the light, where the sky is smooth in azimuth.
+// sH = atm_horizonS(R, h).
+vec2 skyViewUvS(real sH, real mu, real cosAz, vec2 size) {
+    real s = sqrt(clamp(0.5 - 0.5 * mu, 0.0, 1.0));
+    real half_ = floor(size.y / 2.0);
+    bool sky = s <= sH;
+    real x = sqrt(clamp(sky ? (sH - s) / sH : (s - sH) / (1.0 - sH), 0.0, 1.0));
+    real dv = (x * (half_ - 1.0) + 0.5) / size.y;
+    real v = sky ? 0.5 + dv : 0.5 - dv;
+    return vec2(texCoordFromUnit(sqrt(clamp(0.5 - 0.5 * cosAz, 0.0, 1.0)), size.x), v);
+}
+// Inverse (texel centre -> view): returns (mu, azimuth in [0, pi]).
+vec2 skyViewMuAzS(real sH, vec2 uv, vec2 size) {
+    real half_ = floor(size.y / 2.0);
+    real s;
+    if (uv.y >= 0.5) {
+        real x = clamp(((uv.y - 0.5) * size.y - 0.5) / (half_ - 1.0), 0.0, 1.0);
+        s = sH - x * x * sH;
+    } else {
+        real x = clamp(((0.5 - uv.y) * size.y - 0.5) / (half_ - 1.0), 0.0, 1.0);
+        s = sH + x * x * (1.0 - sH);
+    }
+    return vec2(clamp(1.0 - 2.0 * s * s, -1.0, 1.0), 2.0 * asin(clamp(unitFromTexCoord(uv.x, size.x), 0.0, 1.0)));
+}
+
+// Phase functions (1/sr): Rayleigh; Mie of asymmetry g as Henyey-Greenstein (kind 0) or
+// Cornette-Shanks (kind 1).
+real rayleighPhase(real nu) { return 3.0 / (16.0 * ATM_PI) * (1.0 + nu * nu); }
+real miePhase(real nu, real g, int kind) {
+    real g2 = g * g;
+    real d = max(1.0 + g2 - 2.0 * g * nu, 1e-12);
+    real denom = d * sqrt(d);
+    if (kind == 0) return (1.0 - g2) / (4.0 * ATM_PI * denom);
+    return 3.0 / (8.0 * ATM_PI) * (1.0 - g2) * (1.0 + nu * nu) / ((2.0 + g2) * denom);
+}
+
+// Sample spacing along a ray: s in [0, 1] -> fraction of the ray, dense at the perigee fraction
+// p (p = 0: dense at the origin, p = 1: dense at the end).
+real atm_warp(real s, real p) {
+    if (s < p) {
+        real a = (p - s) / p;
+        return p - p * a * a;
+    }
+    real a = p < 1.0 ? (s - p) / (1.0 - p) : 0.0;
+    return p + (1.0 - p) * a * a;
+}
+// Where along a ray of length d its lowest point lies, as a fraction in [0, 1].
+real atm_perigeeFraction(real R, real h, real mu, real d) { return d <= 0.0 ? 0.0 : clamp(-(R + h) * mu / d, 0.0, 1.0); }
+
+// The fraction of a light's disk (angular radius, rad) above the planet's horizon at height h
+// seen at cos zenith muS: smoothstep(-a, a, muS - cos(horizon)), a = sin(horizon) x radius.
+real atm_lightAboveHorizon(real R, real h, real muS, real angularRadius) {
+    h = max(h, 0.0);
+    real r = R + h;
+    real sinH = R / r;
+    real cosH = -sqrt(max(atm_rho2(R, h), 0.0)) / r;
+    real a = sinH * angularRadius;
+    real f = clamp((muS - cosH + a) / (2.0 * a), 0.0, 1.0);
+    return f * f * (3.0 - 2.0 * f);
+}
