@@ -68,6 +68,17 @@ vec3 cld_lightAt(vec3 p, float hp, vec3 l, vec3 E) {
 // Scaled optical depth from p towards the light l through the cumulus (cheap density): n
 // steps over at most 3 km (Schneider & Vos 2015 march ~6 samples over a few cloud cells), the
 // steps growing geometrically (x1.5) so near self-shadowing is resolved.
+// Scaled optical depth from p to the cloud's far side along -l, without a march (a march there
+// doubled the frame's cost on llvmpipe): the local extinction sigmaT over the distance to the
+// shell's exit along -l, at most 3 km (exact in a uniform deck).
+float cld_backDepth(vec3 p, vec3 l, float sigmaT) {
+    vec3 q = p + vec3(0.0, 0.0, cld_radii.x);
+    float r = length(q);
+    vec2 seg = cloudShellIntersect(r, -dot(q, l) / r);
+    float len = seg.y > 0.0 ? min(seg.y, 3000.0) : 0.0;
+    return sigmaT * len;
+}
+
 float cld_lightDepth(vec3 p, vec3 l, int n) {
     float sigma = cld_shape.z * CLD_W_DRAINE;  // delta-M scaled
     float total = 3000.0;
@@ -109,11 +120,11 @@ vec3 cld_source(vec3 p, float hp, float a, vec3 dir, float sigmaT) {
     vec3 S = vec3(0.0);
     if (any(greaterThan(u_sunE, vec3(0.0)))) {
         vec3 E = cld_lightAt(p, hp, u_sunDir, u_sunE);
-        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightTransfer(dot(dir, u_sunDir), cld_lightDepth(p, u_sunDir, u_lightSamples), cld_lightDepth(p, -u_sunDir, max(2, u_lightSamples / 2)), u_sunDir.z);
+        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightTransfer(dot(dir, u_sunDir), cld_lightDepth(p, u_sunDir, u_lightSamples), cld_backDepth(p, u_sunDir, sigmaT), u_sunDir.z);
     }
     if (any(greaterThan(u_moonE, vec3(0.0)))) {
         vec3 E = cld_lightAt(p, hp, u_moonDir, u_moonE);
-        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightTransfer(dot(dir, u_moonDir), cld_lightDepth(p, u_moonDir, u_lightSamples), cld_lightDepth(p, -u_moonDir, max(2, u_lightSamples / 2)), u_moonDir.z);
+        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightTransfer(dot(dir, u_moonDir), cld_lightDepth(p, u_moonDir, u_lightSamples), cld_backDepth(p, u_moonDir, sigmaT), u_moonDir.z);
     }
     // Ambient: the sky's radiance over the upper hemisphere, E_diffuse / pi, reaches the cloud's
     // top and less of it its base (linear in the layer fraction a from 0.25 to 1: the cloud above
@@ -158,7 +169,7 @@ bool cld_cumulus(vec3 dir, vec2 px, out vec3 L, out float T, out float dMean) {
         dMean += w * t;
         wSum += w;
         T *= Ts;
-        if (T < 1e-3) { T = 0.0; break; }
+        if (T < CLD_T_CUT) { T = 0.0; break; }
     }
     dMean = wSum > 0.0 ? dMean / wSum : t0;
     return wSum > 0.0;

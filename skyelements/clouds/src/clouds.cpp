@@ -43,6 +43,8 @@ constexpr double kMsH = 1.5;     // the net flux's share: anisotropy towards the
 constexpr double kMsC = 0.2;     // thin-cloud onset per optical depth
 constexpr double kMsQ = 0.75;    // exponent of the light's cos(zenith) (a deck's flux per area)
 constexpr double kMsMuMin = 0.2;  // the cos(zenith) below which the factor stays constant
+// The view transmittance at which the march stops.
+constexpr double kTransmittanceCut = 1e-3;
 
 // Side of the photometry pass's grid of hemisphere directions (even: no direction on the
 // concentric map's axes). 16 x 16 = 256 directions: the cosine-weighted mean of a sky of
@@ -248,6 +250,7 @@ gl::ProgramBuilder Clouds::recipe(bool stats, bool cacheFill) const {
     b.define("CLD_G_PEAK", kDropletGPeak).define("CLD_G_DRAINE", kDropletGDraine).define("CLD_ALPHA_DRAINE", kDropletAlphaDraine);
     b.define("CLD_W_DRAINE", kDropletWDraine).define("CLD_MS_S", kMsS).define("CLD_MS_K", kMsK).define("CLD_MS_Z", kMsZ);
     b.define("CLD_MS_A", kMsA).define("CLD_MS_H", kMsH).define("CLD_MS_C", kMsC / kDropletWDraine).define("CLD_MS_Q", kMsQ).define("CLD_MS_MU_MIN", kMsMuMin);
+    b.define("CLD_T_CUT", kTransmittanceCut);
     if (stats) b.define("CLOUDS_STATS");
     if (cacheFill) {
         b.define("CLOUDS_CACHE_FILL");
