@@ -113,7 +113,11 @@ int run(const CloudReferenceOptions& o) {
     if (!o.out.empty() && !std::filesystem::is_directory(o.out)) throw Error("--out '" + o.out + "': not an existing directory");
     checkOutputDirectory("--csv", o.csv);
     if (o.slabPhotons < 0 || o.slabPhotons > 100000000) throw Error("--slab-photons " + std::to_string(o.slabPhotons) + " not in [0, 1e8]");
-    if (!(o.truncateDeg >= 0 && o.truncateDeg <= 20)) throw Error("--truncate-deg " + std::to_string(o.truncateDeg) + " not in [0, 20]");
+    if (!(o.truncateDeg >= 0 && o.truncateDeg <= 20)) {
+        char buf[48];
+        std::snprintf(buf, sizeof buf, "%g", o.truncateDeg);
+        throw Error(std::string("--truncate-deg ") + buf + " not in [0, 20]");
+    }
     std::vector<std::string> scenes;
     if (!o.scenes.empty()) {
         std::stringstream ss(o.scenes);
