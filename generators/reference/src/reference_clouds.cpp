@@ -474,6 +474,28 @@ TabulatedPhase cloudDropletPhase(double rEffM, double vEff, double wavelengthNm,
     return TabulatedPhase(th, sum);
 }
 
+TruncatedPhase truncatePhase(const PhaseFunction& phase, double thetaCutRad, int angles) {
+    if (!(thetaCutRad > 0.0 && thetaCutRad < 0.5 * kPi)) throw Error("cloudref::truncatePhase: thetaCutRad must be in (0, pi/2)");
+    if (angles < 100) throw Error("cloudref::truncatePhase: angles must be >= 100");
+    // Angles: a quadratic spacing over [0, pi] (dense near the peak).
+    std::vector<double> th(static_cast<size_t>(angles)), v(static_cast<size_t>(angles));
+    const double clip = phase.eval(std::cos(thetaCutRad));
+    for (int i = 0; i < angles; ++i) {
+        const double x = double(i) / (angles - 1);
+        th[size_t(i)] = kPi * x * x;
+        v[size_t(i)] = std::min(phase.eval(std::cos(th[size_t(i)])), clip);
+    }
+    // The removed fraction: int over the cone of (p - clip) 2 pi sin(theta) dtheta (midpoint rule,
+    // 20000 steps across the cone).
+    double removed = 0.0;
+    const int n = 20000;
+    for (int i = 0; i < n; ++i) {
+        const double t = (i + 0.5) * thetaCutRad / n;
+        removed += std::max(phase.eval(std::cos(t)) - clip, 0.0) * 2.0 * kPi * std::sin(t) * thetaCutRad / n;
+    }
+    return {TabulatedPhase(th, v), std::clamp(removed, 0.0, 0.999999)};
+}
+
 // ---- Estimators ---------------------------------------------------------------------------------
 
 Estimate radiance(const Scene& scene, const glm::dvec3& origin, const glm::dvec3& dir, int paths, uint64_t seed, uint64_t stream) {

@@ -65,6 +65,7 @@ struct CloudReferenceOptions {
     std::string out;              // directory for the side-by-side PNGs (empty: none)
     std::string csv = "bench_cloud_reference.csv";
     long slabPhotons = 0;         // > 0: first the slab table (path tracer against adding-doubling)
+    double truncateDeg = 0;       // > 0: the droplet phase's forward peak truncated at this angle (cloudref::truncatePhase), deg
 };
 
 /// A GL texture (by name) read back as the density twin's image, level 0.
@@ -112,6 +113,11 @@ int run(const CloudReferenceOptions& o) {
     if (!o.out.empty() && !std::filesystem::is_directory(o.out)) throw Error("--out '" + o.out + "': not an existing directory");
     checkOutputDirectory("--csv", o.csv);
     if (o.slabPhotons < 0 || o.slabPhotons > 100000000) throw Error("--slab-photons " + std::to_string(o.slabPhotons) + " not in [0, 1e8]");
+    if (!(o.truncateDeg >= 0 && o.truncateDeg <= 20)) {
+        char buf[48];
+        std::snprintf(buf, sizeof buf, "%g", o.truncateDeg);
+        throw Error(std::string("--truncate-deg ") + buf + " not in [0, 20]");
+    }
     std::vector<std::string> scenes;
     if (!o.scenes.empty()) {
         std::stringstream ss(o.scenes);
@@ -222,7 +228,15 @@ int run(const CloudReferenceOptions& o) {
                                      nd = readBack(v.get(ck::noiseDetail)), cn = readBack(v.get(ck::curlNoise));
         const generators::cpu::CloudTextures tex{w, nb, nd, cn};
         const cloudref::CloudFieldMedium medium(block, tex);
-        const cloudref::TabulatedPhase phase = cloudref::cloudDropletPhase();
+        // With --truncate-deg, the peak's fraction f of the scattering treated as unscattered: the
+        // truncated phase in a medium of extinction x (1 - f). The cloud pixels are chosen by the
+        // full medium's transmittance either way.
+        const cloudref::TabulatedPhase mie = cloudref::cloudDropletPhase();
+        const cloudref::TruncatedPhase cut = o.truncateDeg > 0 ? cloudref::truncatePhase(mie, o.truncateDeg * kDeg) : cloudref::TruncatedPhase{mie, 0.0};
+        auto scaledBlock = block;
+        scaledBlock.shape[2] *= float(1.0 - cut.removedFraction);
+        const cloudref::CloudFieldMedium scaledMedium(scaledBlock, tex);
+        const cloudref::TabulatedPhase& phase = cut.phase;
 
         // The lights: the Sun above the layer, the clear sky (tabulated from the ground), the ground.
         const glm::dvec3 e0 = v.get(keys::sunIlluminance);
@@ -233,7 +247,7 @@ int run(const CloudReferenceOptions& o) {
             for (int i = 0; i < na; ++i)
                 skyTab[size_t(j) * na + i] = refSky.radiance(0.0, directionFromAzAlt(2.0 * M_PI * (i + 0.5) / na, 0.5 * M_PI * (j + 0.5) / nz), sun);
         cloudref::Scene s;
-        s.medium = &medium;
+        s.medium = &scaledMedium;
         s.phase = &phase;
         const glm::dvec3 ga = atm->rgb().groundAlbedo;
         s.ground = {cloudref::Ground::Kind::Sphere, 0.0, 6360e3, (ga.r + ga.g + ga.b) / 3.0};
@@ -347,6 +361,7 @@ bench::CommandBenchRegistrar reg({"cloud-reference", "the real-time clouds again
                        sub.add_option("--seed", o->seed, "path tracer seed")->capture_default_str();
                        sub.add_option("--scenes", o->scenes, "comma list of deck, cumulus-side (empty: none)")->capture_default_str();
                        sub.add_option("--out", o->out, "directory for the side-by-side PNGs (empty: none)")->capture_default_str();
+                       sub.add_option("--truncate-deg", o->truncateDeg, "the path tracer's droplet phase: its forward peak truncated at this angle, the medium's extinction scaled (delta-M; less noise), [0, 20], 0: the full phase")->capture_default_str();
                        sub.add_option("--csv", o->csv, "write the table as CSV (empty: none)")->capture_default_str();
                        sub.add_option("--slab-photons", o->slabPhotons, "> 0: first print the slab table (path tracer against adding-doubling) with this many photons a case, [0, 1e8]")
                            ->capture_default_str();

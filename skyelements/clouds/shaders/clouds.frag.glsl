@@ -27,17 +27,30 @@ float cld_hg(float nu, float g) {
     float d = 1.0 + g * g - 2.0 * g * nu;
     return (1.0 - g * g) / (4.0 * CLD_PI * d * sqrt(d));
 }
-// Two lobes (0.7 forward g = 0.8, 0.3 backward g = -0.3; the classic cloud fit, e.g. Hillaire
-// 2016 §5.6.2, Schneider & Vos 2015): twin of cloudcpu::cloudPhase.
-float cld_phase(float nu, float gScale) { return 0.7 * cld_hg(nu, 0.8 * gScale) + 0.3 * cld_hg(nu, -0.3 * gScale); }
-// Wrenninge et al. 2013 octaves (a = b = c = 0.5): twin of cloudcpu::multipleScattering.
-float cld_multiScatter(float nu, float tau) {
-    float s = 0.0, a = 1.0, b = 1.0, c = 1.0;
-    for (int i = 0; i < 3; ++i) {
-        s += a * cld_phase(nu, c) * exp(-b * tau);
-        a *= 0.5; b *= 0.5; c *= 0.5;
-    }
-    return s;
+// The cloud droplets' phase function: the fit of Jendersie & d'Eon 2023 ("An approximate Mie
+// scattering function for fog and cloud rendering", SIGGRAPH talk) to Lorenz-Mie at droplet
+// diameter 20 um (r_eff 10 um), (1 - w_D) HG(g_peak) + w_D Draine(g_D, alpha): a sharp diffraction
+// peak (g_peak 0.9946, within ~1 deg) and a Draine lobe (the forward lobe and the backward rise
+// towards the fogbow and the glory). The constants CLD_G_PEAK, CLD_W_DRAINE, CLD_G_DRAINE,
+// CLD_ALPHA_DRAINE and the transfer's CLD_MS_* come from clouds.cpp (cloudcpu, one source).
+// Delta-M (Wiscombe 1977): the peak's share 1 - w_D of the extinction scatters within a degree, so
+// it is treated as unscattered: the march uses the scaled extinction w_D sigma and the Draine lobe
+// alone as the phase (twin of cloudcpu::scaledPhase).
+float cld_draine(float nu, float g, float a) { return cld_hg(nu, g) * (1.0 + a * nu * nu) / (1.0 + a * (1.0 + 2.0 * g * g) / 3.0); }
+float cld_scaledPhase(float nu) { return cld_draine(nu, CLD_G_DRAINE, CLD_ALPHA_DRAINE); }
+// Light transfer (docs/clouds.md, "Model"), per lux of a light and per unit scaled extinction,
+// 1/sr, at a point with scaled optical depths tauL towards the light and tauB away from it (to
+// the cloud's far side) and the light's cos(zenith) muL: the single scattering of the beam plus
+// the multiple-scattered radiance of a slab along the light axis (diffusion in the transport
+// optical depths s = CLD_MS_S tau: a mean radiance falling linearly from the lit side, plus the
+// net flux's share towards the light's direction, nu), calibrated against adding-doubling. Twin of
+// cloudcpu::lightTransfer.
+float cld_lightTransfer(float nu, float tauL, float tauB, float muL) {
+    float single = cld_scaledPhase(nu) * exp(-tauL);
+    float sL = CLD_MS_S * tauL, sB = CLD_MS_S * tauB;
+    float multi = CLD_MS_K / CLD_PI * pow(max(muL, CLD_MS_MU_MIN), CLD_MS_Q) * (1.0 - exp(-CLD_MS_C * (tauL + tauB)))
+                * max(sB + CLD_MS_Z + CLD_MS_H * nu, 0.0) / (sL + sB + CLD_MS_A);
+    return single + multi;
 }
 
 // Interleaved gradient noise (Jimenez 2014, "Next generation post processing in Call of Duty:
@@ -52,20 +65,31 @@ vec3 cld_lightAt(vec3 p, float hp, vec3 l, vec3 E) {
     return E * transmittanceToLight(hp, dot(up, l), CLD_LIGHT_RADIUS);
 }
 
-// Optical depth from p towards the light l through the cumulus (cheap density): u_lightSamples
+// Scaled optical depth from p towards the light l through the cumulus (cheap density): n
 // steps over at most 3 km (Schneider & Vos 2015 march ~6 samples over a few cloud cells), the
 // steps growing geometrically (x1.5) so near self-shadowing is resolved.
-float cld_lightDepth(vec3 p, vec3 l) {
-    float sigma = cld_shape.z;
+// Scaled optical depth from p to the cloud's far side along -l, without a march (a march there
+// doubled the frame's cost on llvmpipe): the local extinction sigmaT over the distance to the
+// shell's exit along -l, at most 3 km (exact in a uniform deck).
+float cld_backDepth(vec3 p, vec3 l, float sigmaT) {
+    vec3 q = p + vec3(0.0, 0.0, cld_radii.x);
+    float r = length(q);
+    vec2 seg = cloudShellIntersect(r, -dot(q, l) / r);
+    float len = seg.y > 0.0 ? min(seg.y, 3000.0) : 0.0;
+    return sigmaT * len;
+}
+
+float cld_lightDepth(vec3 p, vec3 l, int n) {
+    float sigma = cld_shape.z * CLD_W_DRAINE;  // delta-M scaled
     float total = 3000.0;
     vec3 q = p + vec3(0.0, 0.0, cld_radii.x);
     float r = length(q);
     vec2 seg = cloudShellIntersect(r, dot(q, l) / r);
     if (seg.y > 0.0) total = min(total, seg.y);
     // sum of 1.5^i for i < n: (1.5^n - 1) / 0.5
-    float first = total * 0.5 / (pow(1.5, float(u_lightSamples)) - 1.0);
+    float first = total * 0.5 / (pow(1.5, float(n)) - 1.0);
     float t = 0.0, ds = first, tau = 0.0;
-    for (int i = 0; i < u_lightSamples; ++i) {
+    for (int i = 0; i < n; ++i) {
         vec3 s = p + l * (t + 0.5 * ds);
         tau += cloudDensity(s, CLOUD_LOD_CHEAP) * sigma * ds;
         t += ds;
@@ -96,11 +120,11 @@ vec3 cld_source(vec3 p, float hp, float a, vec3 dir, float sigmaT) {
     vec3 S = vec3(0.0);
     if (any(greaterThan(u_sunE, vec3(0.0)))) {
         vec3 E = cld_lightAt(p, hp, u_sunDir, u_sunE);
-        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_multiScatter(dot(dir, u_sunDir), cld_lightDepth(p, u_sunDir));
+        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightTransfer(dot(dir, u_sunDir), cld_lightDepth(p, u_sunDir, u_lightSamples), cld_backDepth(p, u_sunDir, sigmaT), u_sunDir.z);
     }
     if (any(greaterThan(u_moonE, vec3(0.0)))) {
         vec3 E = cld_lightAt(p, hp, u_moonDir, u_moonE);
-        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_multiScatter(dot(dir, u_moonDir), cld_lightDepth(p, u_moonDir));
+        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightTransfer(dot(dir, u_moonDir), cld_lightDepth(p, u_moonDir, u_lightSamples), cld_backDepth(p, u_moonDir, sigmaT), u_moonDir.z);
     }
     // Ambient: the sky's radiance over the upper hemisphere, E_diffuse / pi, reaches the cloud's
     // top and less of it its base (linear in the layer fraction a from 0.25 to 1: the cloud above
@@ -124,7 +148,7 @@ bool cld_cumulus(vec3 dir, vec2 px, out vec3 L, out float T, out float dMean) {
     if (seg.y <= 0.0) return false;
     float t0 = max(seg.x, 0.0), t1 = min(seg.y, t0 + u_maxDistance);
     if (t1 <= t0) return false;
-    float sigma = cld_shape.z;
+    float sigma = cld_shape.z * CLD_W_DRAINE;  // delta-M scaled extinction
     float bottom = cld_radii.y - cld_radii.x, top = cld_radii.z - cld_radii.x;
     float dt = (t1 - t0) / float(u_samples);
     float t = t0 + dt * cld_dither(px);
@@ -145,7 +169,7 @@ bool cld_cumulus(vec3 dir, vec2 px, out vec3 L, out float T, out float dMean) {
         dMean += w * t;
         wSum += w;
         T *= Ts;
-        if (T < 1e-3) { T = 0.0; break; }
+        if (T < CLD_T_CUT) { T = 0.0; break; }
     }
     dMean = wSum > 0.0 ? dMean / wSum : t0;
     return wSum > 0.0;
@@ -208,7 +232,8 @@ void cloudsShade(vec3 dir, vec2 px, bool haze, out vec3 L, out vec3 T) {
         if (cu) {
             vec3 a = cld_airTransmittance(dir.z, dc);
             LcA = a * Lc + nearDisk * (1.0 - a) * (1.0 - Tc) * haze;
-            TcA = mix(1.0 - a * (1.0 - Tc), vec3(Tc), nearDisk);
+            // near a disk the full (unscaled) extinction: the peak's light leaves the disk's 0.5 deg
+            TcA = mix(1.0 - a * (1.0 - Tc), vec3(pow(Tc, 1.0 / CLD_W_DRAINE)), nearDisk);
         }
         if (ci) {
             vec3 a = cld_airTransmittance(dir.z, di);

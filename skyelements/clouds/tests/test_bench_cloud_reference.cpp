@@ -15,6 +15,7 @@ TEST_CASE("welkin bench cloud-reference: bad options are one-line errors", "[cpu
                                   {"--threads 65", "--threads 65 not in [1, 64]"},
                                   {"--scenes deck,tower", "--scenes: 'tower' not one of deck, cumulus-side"},
                                   {"--slab-photons -1", "--slab-photons -1 not in [0, 1e8]"},
+                                  {"--truncate-deg 30", "--truncate-deg 30 not in [0, 20]"},
                                   {"--out /nonexistent-dir", "--out '/nonexistent-dir': not an existing directory"}});
     std::string report;
     for (const auto& f : failures) report += f + "\n";

@@ -170,6 +170,19 @@ private:
 TabulatedPhase cloudDropletPhase(double rEffM = 10e-6, double vEff = 0.1, double wavelengthNm = 550.0, int radii = 48,
                                  int angles = 3000);
 
+/// A phase function with its forward peak truncated (the delta-M idea for Monte Carlo: Iwabuchi
+/// 2006): the phase clipped to its value at thetaCutRad inside that cone, renormalised, and the
+/// fraction f of the scattering that the clip removed (the light scattered by less than the cut,
+/// treated as unscattered). Scale the medium's extinction by 1 - f with it: fluxes and radiances
+/// away from the light's direction keep their values (to the truncation's error), the variance of
+/// next-event estimation towards a delta light drops with the peak. thetaCutRad in (0, pi/2);
+/// tabulated on `angles` angles (>= 100), denser near 0.
+struct TruncatedPhase {
+    TabulatedPhase phase;
+    double removedFraction = 0.0;  ///< f in [0, 1)
+};
+TruncatedPhase truncatePhase(const PhaseFunction& phase, double thetaCutRad, int angles = 3000);
+
 /// The ground: none, a plane z = height, or the planet's sphere (centre (0, 0, -radius)); a
 /// Lambertian reflector of albedo [0, 1].
 struct Ground {

@@ -67,14 +67,28 @@ std::vector<std::string> cloudPresetNames();
 namespace cloudcpu {
 /// Henyey-Greenstein phase function (1/sr) for cos(angle) nu and asymmetry g in (-1, 1).
 double henyeyGreenstein(double nu, double g);
-/// The clouds' two-lobe phase (1/sr): mix of HG(g = 0.8) forward and HG(g = -0.3) backward with
-/// weights 0.7 / 0.3, with every g scaled by `gScale` (the multiple-scattering octaves).
-double cloudPhase(double nu, double gScale = 1.0);
-/// The multiple-scattering approximation of Wrenninge et al. 2013 ("Oz: the great and
-/// volumetric", SIGGRAPH talk; also Hillaire 2016 §5.6): the in-scattered radiance per lux of
-/// the light and per unit scattering coefficient, sum over octaves i < n of
-/// a^i * phase(nu, c^i) * exp(-b^i * tauLight), a = b = c = 0.5 (1/sr).
-double multipleScattering(double nu, double tauLight, int octaves = 3);
+/// The cloud droplets' phase function: the fit of Jendersie & d'Eon 2023 ("An approximate Mie
+/// scattering function for fog and cloud rendering") to Lorenz-Mie at droplet diameter 20 um
+/// (r_eff 10 um), (1 - w_D) HG(g_peak) + w_D Draine(g_D, alpha_D).
+inline constexpr double kDropletGPeak = 0.9946;       ///< the diffraction peak's HG asymmetry
+inline constexpr double kDropletGDraine = 0.5938;     ///< the Draine lobe's g
+inline constexpr double kDropletAlphaDraine = 27.11;  ///< the Draine lobe's alpha
+inline constexpr double kDropletWDraine = 0.4982;     ///< the Draine lobe's weight w_D (delta-M: 1 - f)
+/// The droplets' phase function (1/sr) at cos(scattering angle) nu in [-1, 1]: the diffraction
+/// peak, the forward lobe and the backward rise (asymmetry 0.88). Integrates to 1.
+double cloudPhase(double nu);
+/// The delta-M scaled phase function (1/sr): the Draine lobe alone (the peak's share of the
+/// extinction treated as unscattered). Integrates to 1.
+double scaledPhase(double nu);
+/// The light transfer of the real-time clouds (docs/clouds.md, "Model"): the in-scattered
+/// radiance per lux of a light and per unit scaled extinction w_D sigma (1/sr) at a point with
+/// scaled optical depths tauL towards the light and tauB away from it (>= 0), cos(scattering
+/// angle) nu and the light's cos(zenith) muL in [-1, 1]: the single scattering
+/// scaledPhase(nu) e^(-tauL) plus a diffusion term along the light axis,
+/// k/pi max(muL, 0.2)^q (1 - e^(-c (tauL + tauB) / w_D)) max(sB + z + h nu, 0) / (sL + sB + A),
+/// s = (1 - 0.86) tau / w_D (the transport optical depth, g 0.86 the Mie droplets'), the constants
+/// fitted to adding-doubling (docs/clouds.md).
+double lightTransfer(double nu, double tauL, double tauB, double muL);
 /// Energy-conserving integration of one step (Hillaire 2016, "Physically based sky, atmosphere
 /// and cloud rendering in Frostbite", eq. at §5.6.3): the radiance in-scattered over a step of
 /// length dt with source S (cd/m^2 per m) and extinction sigmaT (1/m): (S - S e^-sigmaT dt)/sigmaT.
