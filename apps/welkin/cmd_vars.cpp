@@ -101,7 +101,8 @@ void printMarkdown(const Rows& rows) {
 }
 
 // --keys-of: one table per owner; before each table of a list, a line naming its file.
-int runKeysOf(const VarsOptions& o, Logger& log) {
+// The owners --keys-of names, checked (before any GL context is made).
+std::vector<std::string> keysOfOwners(const VarsOptions& o) {
     if (!o.json && !o.markdown) throw Error("--keys-of: give --markdown or --json");
     if (!o.elements.empty()) throw Error("--keys-of: --elements does not apply (each table has its own scene)");
     std::vector<std::string> owners;
@@ -111,6 +112,10 @@ int runKeysOf(const VarsOptions& o, Logger& log) {
         }
         owners.push_back(n);
     }
+    return owners;
+}
+
+int runKeysOf(const VarsOptions& o, const std::vector<std::string>& owners, Logger& log) {
     const Rows engine = collect({}, log);
     nlohmann::json all = nlohmann::json::object();
     for (size_t i = 0; i < owners.size(); ++i) {
@@ -137,8 +142,9 @@ int runKeysOf(const VarsOptions& o, Logger& log) {
 
 int run(const VarsOptions& o) {
     Logger log;
+    const std::vector<std::string> owners = o.keysOf.empty() ? std::vector<std::string>{} : keysOfOwners(o);
     auto ctx = gl::HeadlessContext::create({}, log);
-    if (!o.keysOf.empty()) return runKeysOf(o, log);
+    if (!o.keysOf.empty()) return runKeysOf(o, owners, log);
     std::vector<std::string> names = o.elements.empty() ? elements::knownElements() : elements::expandElementList(o.elements);
     const Rows rows = collect(names, log);
     if (o.json) {

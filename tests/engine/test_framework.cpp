@@ -438,6 +438,10 @@ TEST_CASE("Keys tables: docs/keys.md and every element folder's keys.md are welk
         INFO(file << " is stale: " << regenerate);
         CHECK(doc.substr(table) == expected);
     }
+    // Bad input: one line naming the option, status 1 (checked before any scene is built).
+    CHECK(test::badOptionFailures("vars", {{"--markdown --keys-of nope", "--keys-of: 'nope' is neither 'engine' nor a known element (known: "},
+                                           {"--keys-of engine", "--keys-of: give --markdown or --json"}})
+              .empty());
 }
 
 TEST_CASE("FrameContext::attenuatedLater follows the compositing order", "[gl][processor]") {

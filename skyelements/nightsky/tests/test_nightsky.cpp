@@ -2,6 +2,7 @@
 // airglow's zenith brightness and van Rhijn gradient, light pollution hiding stars, finite output.
 #include <catch2/catch.hpp>
 
+#include "cli_runner.hpp"
 #include "elements_present.hpp"
 #include "gl_test_context.hpp"
 
@@ -86,9 +87,9 @@ void onlyAirglow(SkyVars& v, int bortle = 1) {
 // is Schaefer's threshold as a magnitude, m = -16.57 - 2.5 log10 I(B) (welkin/point_source.hpp).
 double schaeferLimit(double backgroundCdM2) { return -16.57 - 2.5 * std::log10(pointThresholdFootCandles(backgroundCdM2)); }
 
-// Adds the Stars element with a one-star catalogue (a HYG CSV, RA 0 h) in a temporary file.
+// Adds the Stars element with a one-star catalogue (a HYG CSV, RA 0 h) in the test's own folder.
 void addOneStar(SkyProcessor& p, const char* fileTag, double decDeg, double magnitude) {
-    const std::filesystem::path path = std::filesystem::temp_directory_path() / (std::string("welkin_nightsky_") + fileTag + ".csv");
+    const std::filesystem::path path = std::filesystem::path(test::scratchDir(std::string("nightsky_") + fileTag)) / "one_star.csv";
     std::ofstream(path) << "ra,dec,mag\n0," << decDeg << "," << magnitude << "\n";
     p.add(makeElement("stars"));
     p.vars().setFromString("stars.catalogue", path.string());
