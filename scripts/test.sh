@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The whole test suite on an existing build: unit tests ([cpu], [gl], [slow]) through CTest,
 # the examples, an install (its headers self-contained) + find_package(welkin) and pkg-config
-# consumer builds, the API reference (Doxygen), the sanitizer build's fast tests, and a short
+# consumer builds, the API reference (Doxygen), the sanitizer build's fast tests (with the element
+# template examples/elements/halo copied into skyelements/ for that build), and a short
 # fixed run of the libFuzzer targets (clang; WELKIN_FUZZ_SECONDS per target, default 4).
 # Usage: scripts/test.sh [--nightly] BUILD_DIR
 #   --nightly (or WELKIN_NIGHTLY=1): the sanitizer step runs the whole suite, [slow] included,
@@ -73,33 +74,25 @@ rm -rf "$prefix"
 step "API reference: Doxygen over the installed headers, warnings are errors"
 "$here/scripts/docs.sh" "$build" >/dev/null
 
-step "element template: examples/elements/halo copied into skyelements/, nothing else changed"
-# A new element is one folder: copy the template, reconfigure, build, render it with an option
-# set by --var, run its own test; then remove it again.
+san=${WELKIN_SAN_BUILD_DIR:-$build-asan}
+if [ -n "$nightly" ]; then
+  step "sanitizers (ASan + UBSan + LeakSanitizer): the whole suite, with the element template in skyelements/"
+else
+  step "sanitizers (ASan + UBSan): fast tests, with the element template in skyelements/"
+fi
+# The element template: a new element is one folder. examples/elements/halo is copied into
+# skyelements/ (and nothing else may change) before the sanitizer build, so that this build and its
+# tests - the whole step's suite, the keys tables' test included - run with the template in place;
+# then its render with an option set by --var and `welkin vars` on the same build. No second
+# build of the tree for it. Removed again at the end of the step (and on any failure).
 tmpl="$here/skyelements/halo"
 if [ -e "$tmpl" ]; then echo "skyelements/halo already exists" >&2; exit 1; fi
-cleanup_template() { rm -rf "$tmpl"; cmake -S "$here" -B "$build" >/dev/null 2>&1 || true; }
+cleanup_template() { rm -rf "$tmpl"; cmake -S "$here" -B "$san" >/dev/null 2>&1 || true; }
 trap cleanup_template EXIT
 cp -r "$here/examples/elements/halo" "$tmpl"
 if git -C "$here" rev-parse >/dev/null 2>&1; then
   changed=$(git -C "$here" status --porcelain --untracked-files=all | grep -v "^?? skyelements/halo/" || true)
   if [ -n "$changed" ] && [ -z "${WELKIN_ALLOW_DIRTY:-}" ]; then echo "template step: files other than skyelements/halo changed:" >&2; echo "$changed" >&2; exit 1; fi
-fi
-cmake -S "$here" -B "$build" >/dev/null
-cmake --build "$build" -j "$jobs" >/dev/null
-"$build/bin/welkin" render --time 2026-06-21T10:00:00Z --lat 48 --lon 2 --elements sky,halo --projection fisheye \
-  --size 128x128 --var halo.radius_rad=22deg --var halo.gain_per_sr=0.05 --out "$build/template-halo.png"
-"$build/bin/welkin" vars --elements halo --json > "$build/template-vars.json"
-grep -q '"halo.gain_per_sr"' "$build/template-vars.json"
-"$build/tests/welkin_tests" "[halo]"
-cleanup_template  # (the build tree is rebuilt without the template by the next build)
-trap - EXIT
-
-san=${WELKIN_SAN_BUILD_DIR:-$build-asan}
-if [ -n "$nightly" ]; then
-  step "sanitizers (ASan + UBSan + LeakSanitizer): the whole suite"
-else
-  step "sanitizers (ASan + UBSan): fast tests"
 fi
 # -O0 with line tables only (-g1): enough for the reports' stack traces, and the build is the
 # longest step (full -g costs about 10% more compile time, -O1 twice as much under ASan).
@@ -112,6 +105,21 @@ cmake -S "$here" -B "$san" -DCMAKE_BUILD_TYPE=Debug -DWELKIN_SANITIZE=ON -DWELKI
   -DWELKIN_IMAGE_IO=builtin -DCMAKE_CXX_FLAGS_DEBUG=-g1 -DCMAKE_C_FLAGS_DEBUG=-g1 >/dev/null
 cmake --build "$san" -j "$jobs" >/dev/null
 export UBSAN_OPTIONS=print_stacktrace=1
+# LeakSanitizer on in the nightly run: welkin's own leaks fail it; scripts/lsan.supp lists the
+# Mesa/EGL ones. The CLI runs the tests start inherit these options (built with the sanitizers too).
+if [ -n "$nightly" ]; then
+  san_env=(ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS="suppressions=$here/scripts/lsan.supp:print_suppressions=0")
+else
+  san_env=(ASAN_OPTIONS=detect_leaks=0)
+fi
+# The template in this build: it renders with its option set by --var, `welkin vars` lists its
+# keys, and its own test is among the tests below.
+env "${san_env[@]}" "$san/bin/welkin" render --time 2026-06-21T10:00:00Z --lat 48 --lon 2 --elements sky,halo --projection fisheye \
+  --size 128x128 --var halo.radius_rad=22deg --var halo.gain_per_sr=0.05 --out "$san/template-halo.png"
+env "${san_env[@]}" "$san/bin/welkin" vars --elements halo --json > "$san/template-vars.json"
+grep -q '"halo.gain_per_sr"' "$san/template-vars.json"
+{ env "${san_env[@]}" "$san/tests/welkin_tests" "[halo]" --list-test-names-only || true; } | grep -q . ||
+  { echo "template step: the sanitizer build's tests hold no [halo] test" >&2; exit 1; }
 # The test binary runs as two processes side by side: one process keeps about one core busy
 # (the [cpu] tests and the CLI runs are single-threaded, llvmpipe's shader compiles too), so on
 # CI's 2 cores the pair takes about the longer one's time. Under ASan the [gl] tests take about
@@ -152,13 +160,9 @@ run_halves() {
   done
   return $rc
 }
-if [ -n "$nightly" ]; then
-  # LeakSanitizer on: welkin's own leaks fail the run; scripts/lsan.supp lists the Mesa/EGL ones.
-  # The CLI runs the tests start inherit these options (it is built with the sanitizers too).
-  run_halves ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS="suppressions=$here/scripts/lsan.supp:print_suppressions=0"
-else
-  run_halves ASAN_OPTIONS=detect_leaks=0
-fi
+run_halves "${san_env[@]}"
+cleanup_template  # (the sanitizer tree is rebuilt without the template by its next build)
+trap - EXIT
 
 step "fuzzing: the libFuzzer targets' saved crash inputs, then each target ${WELKIN_FUZZ_SECONDS:-4} s from its seeds"
 # Builds only the engine and the fuzz targets (clang, -O1, ASan + UBSan + libFuzzer; docs/fuzzing.md).

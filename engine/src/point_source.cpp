@@ -1,5 +1,5 @@
 // Point sources as people see them: the threshold and the perceptual size and contrast
-// (welkin/point_source.hpp; shaders: skyelements/stars/shaders/point_perceptual.glsl).
+// (welkin/point_source.hpp; shaders: generators/atmosphere/shaders/point_perceptual.glsl).
 #include <welkin/error.hpp>
 #include <welkin/point_source.hpp>
 

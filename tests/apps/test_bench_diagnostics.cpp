@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include "cli_runner.hpp"
+#include "elements_present.hpp"
 
 #include <string>
 
@@ -20,6 +21,7 @@ TEST_CASE("welkin bench sky-twin: bad options are one-line errors", "[cpu][cli][
     CHECK(failures.empty());
 }
 
+#if defined(WELKIN_HAS_ELEMENT_clouds)  // the bench is the Clouds element's (skyelements/clouds/bench)
 TEST_CASE("welkin bench cloud-doc-images: --out must be an existing directory", "[cpu][cli][bench]") {
     const auto failures = welkin::test::badOptionFailures(
         "bench cloud-doc-images", {{"--out /nonexistent-dir", "--out '/nonexistent-dir': not an existing directory"}});
@@ -28,3 +30,4 @@ TEST_CASE("welkin bench cloud-doc-images: --out must be an existing directory", 
     INFO(report);
     CHECK(failures.empty());
 }
+#endif

@@ -4,13 +4,12 @@
 
 #include "../../engine/src/generator_graph.hpp"
 #include "cli_runner.hpp"
+#include "elements_present.hpp"
 #include "gl_test_context.hpp"
 
 #include <welkin/astro/astro_keys.hpp>
 #include <welkin/element.hpp>
-#include <welkin/elements/grid.hpp>
 #include <welkin/elements/registry.hpp>
-#include <welkin/elements/sky.hpp>
 #include <welkin/generators/lights.hpp>
 #include <welkin/keys.hpp>
 #include <welkin/processor.hpp>
@@ -19,6 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iterator>
@@ -285,9 +285,19 @@ TEST_CASE("Element registry: generated from the folders, ordered by layer", "[cp
     // Options are keys declared when the element is added.
     SkyProcessor p = cpuProcessor();
     p.add(elements::makeElement("grid"));
-    CHECK(p.vars().get(elements::gridkeys::altitudeStep) == Approx(10 * M_PI / 180));
+    REQUIRE(p.vars().numeric("grid.altitude_step_rad").size() == 1);
+    CHECK(p.vars().numeric("grid.altitude_step_rad")[0] == Approx(10 * M_PI / 180));
     p.vars().setFromString("grid.altitude_step_rad", "30deg");
-    CHECK(p.vars().get(elements::gridkeys::altitudeStep) == Approx(M_PI / 6));
+    REQUIRE(p.vars().numeric("grid.altitude_step_rad").size() == 1);
+    CHECK(p.vars().numeric("grid.altitude_step_rad")[0] == Approx(M_PI / 6));
+    // The tests' guards (elements_present.hpp: WELKIN_HAS_ELEMENT_<name> around the cases that
+    // need another element) see the same folders as the registry: a stale header would compile
+    // such a case in where its element is gone, or leave it out where it is there.
+    std::vector<std::string> known = elements::knownElements();
+    std::sort(known.begin(), known.end());
+    std::string joined;
+    for (const auto& n : known) joined += (joined.empty() ? "" : ",") + n;
+    CHECK(joined == WELKIN_ELEMENTS_PRESENT);
 }
 
 TEST_CASE("release() then init() renders the same frame again", "[gl][processor]") {
@@ -393,17 +403,45 @@ TEST_CASE("welkin render --var and welkin vars", "[gl][cli]") {
     CHECK(sawLights);
 }
 
-TEST_CASE("docs/keys.md is the current output of welkin vars --markdown", "[gl][cli][docs]") {
-    // The key table in the docs is generated; a key added, renamed or re-ranged without
-    // regenerating it fails here. Regenerate: the table of docs/keys.md = `welkin vars --markdown`.
-    auto r = test::runCli("vars --markdown");
+TEST_CASE("Keys tables: docs/keys.md and every element folder's keys.md are welkin vars --keys-of", "[gl][cli][docs]") {
+    // The key tables of the docs are generated, one per owner, each from a scene of its own (so no
+    // table depends on which other element folders exist): the engine's in docs/keys.md, each
+    // element's in skyelements/<name>/keys.md. A key added, renamed or re-ranged without
+    // regenerating its table fails here, and so does an element folder without its table.
+    std::vector<std::string> owners{"engine"};
+    for (const std::string& n : elements::knownElements()) owners.push_back(n);
+    std::string list;
+    for (const auto& o : owners) list += (list.empty() ? "" : ",") + o;
+    auto r = test::runCli("vars --markdown --keys-of " + list);
     REQUIRE(r.status == 0);
-    std::ifstream f(std::string(WELKIN_SOURCE_DIR) + "/docs/keys.md");
-    REQUIRE(f);
-    std::string doc((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-    const size_t table = doc.find("| key |");
-    REQUIRE(table != std::string::npos);
-    CHECK(doc.substr(table) == r.output);
+    for (size_t i = 0; i < owners.size(); ++i) {
+        const std::string file = owners[i] == "engine" ? "docs/keys.md" : "skyelements/" + owners[i] + "/keys.md";
+        const std::string marker = "<!-- keys of " + owners[i] + ": " + file + " -->\n";
+        const size_t at = r.output.find(marker);
+        REQUIRE(at != std::string::npos);
+        const size_t begin = at + marker.size();
+        const size_t end = i + 1 < owners.size() ? r.output.find("\n<!-- keys of ", begin) : r.output.size();
+        const std::string expected = r.output.substr(begin, end - begin);
+        const std::string regenerate = "regenerate it: scripts/keys-tables.sh (or replace its table, from the line starting "
+                                       "'| key |' to the end, with the output of `welkin vars --markdown --keys-of " + owners[i] + "`)";
+        std::ifstream f(std::string(WELKIN_SOURCE_DIR) + "/" + file);
+        if (!f) {
+            FAIL_CHECK(file << " is missing: " << regenerate);
+            continue;
+        }
+        std::string doc((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+        const size_t table = doc.find("| key |");
+        if (table == std::string::npos) {
+            FAIL_CHECK(file << " has no table (no line starting '| key |'): " << regenerate);
+            continue;
+        }
+        INFO(file << " is stale: " << regenerate);
+        CHECK(doc.substr(table) == expected);
+    }
+    // Bad input: one line naming the option, status 1 (checked before any scene is built).
+    CHECK(test::badOptionFailures("vars", {{"--markdown --keys-of nope", "--keys-of: 'nope' is neither 'engine' nor a known element (known: "},
+                                           {"--keys-of engine", "--keys-of: give --markdown or --json"}})
+              .empty());
 }
 
 TEST_CASE("FrameContext::attenuatedLater follows the compositing order", "[gl][processor]") {

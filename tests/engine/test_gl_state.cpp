@@ -9,8 +9,7 @@
 #include <epoxy/gl.h>
 #include <nlohmann/json.hpp>
 
-#include <welkin/elements/grid.hpp>
-#include <welkin/elements/sky.hpp>
+#include <welkin/elements/registry.hpp>
 #include <welkin/gl/bindings.hpp>
 #include <welkin/gl/objects.hpp>
 #include <welkin/error.hpp>
@@ -379,8 +378,9 @@ std::unique_ptr<SkyProcessor> skyAndGrid(const Camera& cam) {
     p->setTime(UtcInstant::parse("2026-06-21T17:30:00+02:00"));  // Sun about 20 deg up: every LUT matters
     p->setCamera(cam);
     p->setAnimationTime(0.0);
-    p->add(std::make_unique<elements::Sky>(elements::SkyOptions{.quality = 0}));  // low: the cheapest generators
-    p->add(std::make_unique<elements::Grid>());
+    p->add(elements::makeElement("sky"));  // by name (the registry): no element's header here
+    p->vars().setFromString("sky.quality", "low");  // the cheapest generators
+    p->add(elements::makeElement("grid"));
     return p;
 }
 

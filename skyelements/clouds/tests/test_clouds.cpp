@@ -10,7 +10,7 @@
 
 #include <welkin/camera.hpp>
 #include <welkin/elements/clouds.hpp>
-#include <welkin/elements/sky.hpp>
+#include <welkin/elements/registry.hpp>
 #include <welkin/generators/atmosphere.hpp>
 #include <welkin/generators/cloud_keys.hpp>
 #include <welkin/generators/reference_clouds.hpp>
@@ -66,7 +66,10 @@ struct Scene {
         cam.width = width;
         cam.height = height;
         p.setCamera(cam);
-        if (withSky) p.add(std::make_unique<elements::Sky>(elements::SkyOptions{.quality = 0}));
+        if (withSky) {  // the Sky by name (the registry), at quality low
+            p.add(elements::makeElement("sky"));
+            p.vars().setFromString("sky.quality", "low");
+        }
         auto c = std::make_unique<elements::Clouds>();
         clouds = c.get();
         p.add(std::move(c));
@@ -341,7 +344,8 @@ TEST_CASE("Clouds: the overcast preset at noon gives an overcast day's illuminan
     cam.projection = Projection::Fisheye;
     cam.width = cam.height = 8;
     p.setCamera(cam);
-    p.add(std::make_unique<elements::Sky>(elements::SkyOptions{.quality = 0}));
+    p.add(elements::makeElement("sky"));
+    p.vars().setFromString("sky.quality", "low");
     auto c = std::make_unique<elements::Clouds>();
     auto* clouds = c.get();
     p.add(std::move(c));

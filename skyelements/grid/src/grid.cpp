@@ -145,6 +145,7 @@ Grid::Grid(const GridOptions& o, bool force) : SkyElement("grid") {
     option(gridkeys::raStep, o.raStepDeg * gridkeys::kDeg, force);
     option(gridkeys::decStep, o.decStepDeg * gridkeys::kDeg, force);
     option(gridkeys::ecliptic, o.ecliptic, force);
+    option(gridkeys::tiled, true);
     reads(keys::exposureEv100);
     reads(astro::keys::starFrameRotation);
     reads(astro::keys::refractionPressure);
@@ -215,7 +216,7 @@ void Grid::doRender(const FrameContext& ctx) {
     program_.set("u_sizePx", glm::vec2(float(ctx.camera.width), float(ctx.camera.height)));
 
     vao_.bind();
-    if (!tiled_) {  // the whole image: one run per row of tiles
+    if (!(tiled_ && ctx.vars.get(gridkeys::tiled))) {  // the whole image: one run per row of tiles
         std::vector<float> rows;
         for (int y = 0; y < ctx.camera.height; y += kTilePx)
             for (float f : {0.0f, float(y), float(ctx.camera.width), float(std::min(y + kTilePx, ctx.camera.height))}) rows.push_back(f);

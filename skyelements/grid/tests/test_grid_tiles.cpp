@@ -1,4 +1,4 @@
-// Grid element: the lines' shader runs only on the tiles near the lines (Grid::setTiled), and the
+// Grid element: the lines' shader runs only on the tiles near the lines (Grid::setTiled, grid.tiled), and the
 // image is exactly the fullscreen pass's.
 #include <catch2/catch.hpp>
 
@@ -42,8 +42,13 @@ TEST_CASE("Grid: the tiles near the lines give the fullscreen pass's image", "[g
         // Lines just off the face whose width reaches into it (a pinhole face: nothing beyond).
         {"cube face down, equatorial, thin", Projection::CubeFace, 96, 96, 3, 0, 0, "equatorial", 10, 0.5, 0},
     };
+    int index = 0;
     for (const Case& c : cases) {
         INFO(c.what);
+        // The fullscreen reference by the member (setTiled) in even cases, by the key (grid.tiled,
+        // as `welkin bench frame` sets it by name) in odd ones: both must give the same image.
+        const bool byKey = index++ % 2 == 1;
+        INFO("fullscreen by " << (byKey ? "grid.tiled=false" : "setTiled(false)"));
         Camera cam;
         cam.projection = c.projection;
         cam.width = c.w;
@@ -67,8 +72,9 @@ TEST_CASE("Grid: the tiles near the lines give the fullscreen pass's image", "[g
             p.setCamera(cam);
             auto grid = std::make_unique<elements::Grid>(o);
             elements::Grid* g = grid.get();
-            g->setTiled(tiled == 1);
+            if (!byKey) g->setTiled(tiled == 1);
             p.add(std::move(grid));
+            if (byKey) p.vars().set(elements::gridkeys::tiled, tiled == 1);
             p.renderFrame();
             img[tiled] = p.readHdr();
             shaded[tiled] = g->lastShadedPixels();

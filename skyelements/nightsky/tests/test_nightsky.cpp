@@ -2,6 +2,8 @@
 // airglow's zenith brightness and van Rhijn gradient, light pollution hiding stars, finite output.
 #include <catch2/catch.hpp>
 
+#include "cli_runner.hpp"
+#include "elements_present.hpp"
 #include "gl_test_context.hpp"
 
 #include <welkin/astro/astro_keys.hpp>
@@ -10,11 +12,11 @@
 #include <welkin/color.hpp>
 #include <welkin/elements/nightsky.hpp>
 #include <welkin/elements/registry.hpp>
-#include <welkin/elements/stars.hpp>
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/generators/sky_model.hpp>
 #include <welkin/image.hpp>
 #include <welkin/keys.hpp>
+#include <welkin/point_source.hpp>
 #include <welkin/processor.hpp>
 #include <welkin/time.hpp>
 
@@ -22,6 +24,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <numbers>
 
 using namespace welkin;
@@ -78,6 +81,20 @@ void onlyAirglow(SkyVars& v, int bortle = 1) {
     v.set(nightkeys::zodiacalScale, 0.0);
     v.set(nightkeys::bortle, bortle);
 }
+
+#ifdef WELKIN_HAS_ELEMENT_stars
+// The Stars element reached by name (its folder's headers are its own): its limiting magnitude
+// is Schaefer's threshold as a magnitude, m = -16.57 - 2.5 log10 I(B) (welkin/point_source.hpp).
+double schaeferLimit(double backgroundCdM2) { return -16.57 - 2.5 * std::log10(pointThresholdFootCandles(backgroundCdM2)); }
+
+// Adds the Stars element with a one-star catalogue (a HYG CSV, RA 0 h) in the test's own folder.
+void addOneStar(SkyProcessor& p, const char* fileTag, double decDeg, double magnitude) {
+    const std::filesystem::path path = std::filesystem::path(test::scratchDir(std::string("nightsky_") + fileTag)) / "one_star.csv";
+    std::ofstream(path) << "ra,dec,mag\n0," << decDeg << "," << magnitude << "\n";
+    p.add(makeElement("stars"));
+    p.vars().setFromString("stars.catalogue", path.string());
+}
+#endif
 }  // namespace
 
 TEST_CASE("NightSky: surface brightness, van Rhijn, Bortle classes", "[cpu][nightsky]") {
@@ -85,10 +102,6 @@ TEST_CASE("NightSky: surface brightness, van Rhijn, Bortle classes", "[cpu][nigh
     // 2600), to the 3 digits of that constant.
     CHECK(surfaceBrightnessCdM2(22.0) == Approx(1.08e5 * std::pow(10.0, -8.8)).epsilon(0.003));
     CHECK(surfaceBrightnessMag(surfaceBrightnessCdM2(21.3)) == Approx(21.3).margin(1e-12));  // inverse (rounding)
-    // One source of truth: Stars' default floor is the dark-sky reference.
-    SkyVars v = SkyVars::earth();
-    Stars().declareOptions(v);
-    CHECK(v.get(starkeys::backgroundFloor) == surfaceBrightnessCdM2(nightkeys::kDarkSkyZenithMag));
     // Van Rhijn: 1 at the zenith; at z = 80 deg for h = 90 km, by hand: R/(R+h) = 6371/6461,
     // 1 / sqrt(1 - 0.986070^2 x 0.984808^2) = 4.1888 (4 digits of the hand computation).
     CHECK(vanRhijn(0.0, 90e3) == 1.0);
@@ -101,6 +114,17 @@ TEST_CASE("NightSky: surface brightness, van Rhijn, Bortle classes", "[cpu][nigh
     for (int c = 2; c <= 9; ++c) CHECK(bortleZenithMag(c) < bortleZenithMag(c - 1));
     CHECK_THROWS_WITH(bortleZenithMag(10), Catch::Contains("not in [1, 9]"));
 }
+
+#ifdef WELKIN_HAS_ELEMENT_stars
+TEST_CASE("NightSky: the Stars' default floor is the dark-sky reference", "[cpu][nightsky]") {
+    // One source of truth: the floor the Stars use without this element.
+    SkyVars v = SkyVars::earth();
+    makeElement("stars")->declareOptions(v);
+    const std::vector<double> floor = v.numeric("stars.background_floor_cd_m2");
+    REQUIRE(floor.size() == 1);
+    CHECK(floor[0] == surfaceBrightnessCdM2(nightkeys::kDarkSkyZenithMag));
+}
+#endif
 
 TEST_CASE("NightSky: galactic and ecliptic frames", "[cpu][nightsky]") {
     const glm::dmat3 M = icrsToGalactic();
@@ -286,6 +310,7 @@ TEST_CASE("NightSky: airglow at the zenith equals its key; van Rhijn's gradient 
     CHECK(p.vars().get(nightkeys::background) == Approx(surfaceBrightnessCdM2(21.0)).epsilon(1e-12));
 }
 
+#ifdef WELKIN_HAS_ELEMENT_stars
 TEST_CASE("NightSky: Bortle 9 brightens the background and hides stars (Schaefer)", "[gl][nightsky]") {
     test::glContext();
     auto run = [](int bortle) {
@@ -297,10 +322,7 @@ TEST_CASE("NightSky: Bortle 9 brightens the background and hides stars (Schaefer
         cam.width = cam.height = 63;
         p.setCamera(cam);
         p.add(makeElement("nightsky"));
-        astro::Star s;  // one star at the NCP, enough for the limiting magnitude
-        s.decJ2000Rad = 89 * kDeg;
-        s.magnitudeV = 2.0f;
-        p.add(std::make_unique<Stars>(std::vector<astro::Star>{s}));
+        addOneStar(p, "bortle", 89.0, 2.0);  // one star near the NCP, enough for the limiting magnitude
         p.vars().set(nightkeys::bortle, bortle);
         p.renderFrame();
         const Image img = p.readHdr();
@@ -312,8 +334,8 @@ TEST_CASE("NightSky: Bortle 9 brightens the background and hides stars (Schaefer
     // The added zenith luminance is the class's total (< 18, the table: 17.5) minus the dark-sky 22.0.
     CHECK(b9 - b1 == Approx(surfaceBrightnessCdM2(17.5) - surfaceBrightnessCdM2(22.0)).epsilon(1e-9));
     // Stars' limit follows Schaefer's law of the published background (no Sky: nothing else).
-    CHECK(m1 == Approx(limitingMagnitude(b1)).margin(1e-9));
-    CHECK(m9 == Approx(limitingMagnitude(b9)).margin(1e-9));
+    CHECK(m1 == Approx(schaeferLimit(b1)).margin(1e-9));
+    CHECK(m9 == Approx(schaeferLimit(b9)).margin(1e-9));
     CHECK(m9 < m1 - 1.5);  // a city hides the stars fainter than ~4.5 (Bortle: 4-4.5 in class 9)
     CHECK(m9 < 4.7);
     CHECK(m1 > 6.0);  // a dark site shows stars to ~6.5
@@ -323,7 +345,9 @@ TEST_CASE("NightSky: Bortle 9 brightens the background and hides stars (Schaefer
     CHECK(z9 - z1 < 1.0 * (b9 - b1));
 }
 
-TEST_CASE("NightSky: zodiacal light at the zenith matches its CPU twin; Stars keep their floor alone", "[gl][nightsky]") {
+#endif
+
+TEST_CASE("NightSky: zodiacal light at the zenith matches its CPU twin", "[gl][nightsky]") {
     test::glContext();
     for (const char* when : {"2026-08-12T22:00:00Z", "2026-03-20T20:00:00Z"}) {
         SkyProcessor p;
@@ -348,17 +372,21 @@ TEST_CASE("NightSky: zodiacal light at the zenith matches its CPU twin; Stars ke
         CHECK(lum(img, 31, 31) == Approx(cpu * T).epsilon(0.03));
         CHECK(cpu > surfaceBrightnessCdM2(24.0));  // zodiacal light is never fainter than the pole's 77 units (23.3)
     }
+}
+
+#ifdef WELKIN_HAS_ELEMENT_stars
+TEST_CASE("NightSky: without the element the Stars keep their floor", "[gl][nightsky]") {
+    test::glContext();
     // Without the element Stars use their floor, the dark-sky reference (22 mag/arcsec^2).
     SkyProcessor p(SkyVars::earth(), Logger(), ProcessorOptions{.astronomy = false});
     Camera cam;
     cam.width = cam.height = 8;
     p.setCamera(cam);
-    astro::Star s;
-    s.magnitudeV = 1.0f;
-    p.add(std::make_unique<Stars>(std::vector<astro::Star>{s}));
+    addOneStar(p, "floor", 0.0, 1.0);
     p.renderFrame();
-    CHECK(p.stats()["stars"]["limiting_magnitude"].get<double>() == Approx(limitingMagnitude(surfaceBrightnessCdM2(22.0))).margin(1e-9));
+    CHECK(p.stats()["stars"]["limiting_magnitude"].get<double>() == Approx(schaeferLimit(surfaceBrightnessCdM2(22.0))).margin(1e-9));
 }
+#endif
 
 TEST_CASE("NightSky: skipped in daylight, drawn at night, under the Sky", "[gl][nightsky]") {
     test::glContext();

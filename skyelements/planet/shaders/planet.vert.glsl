@@ -1,7 +1,7 @@
 // Planet: one screen quad around a body (and, in equirect, its twin across the seam). Needs
 // engine/camera.glsl before it. A disk's quad covers its apparent radius at the largest local
 // pixel scale plus 2 px; a PSF's covers 4 sigma of the Gaussian. See planet.frag.glsl. Needs
-// stars/point_perceptual.glsl before it (render.point_sources = perceptual).
+// atmosphere/point_perceptual.glsl before it (render.point_sources = perceptual).
 uniform vec3 u_centre;      // unit direction to the body's centre, ENU
 uniform float u_sinRadius;  // sin of the apparent angular radius as drawn
 uniform int u_kind;         // 0 Sun, 1 Moon, 2 planet disk, 3 PSF, 4 corona

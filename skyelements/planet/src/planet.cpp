@@ -11,8 +11,8 @@
 #include <welkin/generators/atmosphere.hpp>
 #include <welkin/generators/lights.hpp>
 #include <welkin/generators/sky_model.hpp>
-#include <welkin/elements/point_sources.hpp>
-#include <welkin/embedded/stars_shaders.hpp>
+#include <welkin/embedded/atmosphere_shaders.hpp>
+#include <welkin/generators/point_sources.hpp>
 #include <welkin/gl/shader.hpp>
 #include <welkin/image.hpp>
 #include <welkin/keys.hpp>
@@ -425,7 +425,7 @@ void Planet::doInit(InitContext& ctx) {
     programs_ = gl::ProjectionPrograms(gl::ProgramBuilder("Planet")
                                            .bindings(bindings())
                                            .vertex("engine/camera.glsl", gl::engineShader("camera.glsl"))
-                                           .vertex("stars/point_perceptual.glsl", embedded::stars_shaders("point_perceptual.glsl"))
+                                           .vertex("atmosphere/point_perceptual.glsl", embedded::atmosphere_shaders("point_perceptual.glsl"))
                                            .vertex("planet/planet.vert.glsl", embedded::planet_shaders("planet.vert.glsl"))
                                            .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
                                            .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
@@ -485,7 +485,7 @@ void Planet::doRender(const FrameContext& ctx) {
         p.use();
         p.set("u_copies", copies);
         p.set("u_psfSigma", float(psfSigmaPx));
-        perceptual = setPerceptualPointUniforms(p, v, later);
+        perceptual = generators::setPerceptualPointUniforms(p, v, later);
     };
     // Perceptual point sources (welkin/point_source.hpp): an unresolved planet's illuminance at
     // the eye (lux), its colour (luminance 1), the transmittance the Sky applies later, and its

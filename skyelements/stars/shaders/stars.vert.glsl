@@ -2,7 +2,7 @@
 // engine/camera.glsl before it. Star i is 3 vec4 in the storage buffer: (J2000 ICRS unit
 // direction, V magnitude), (proper motion, rad per Julian year, ICRS axes; 0), (linear sRGB of
 // luminance 1; 0). See skyelements/stars/include/welkin/elements/stars.hpp for the model.
-// Needs stars/point_perceptual.glsl before it (render.point_sources = perceptual).
+// Needs atmosphere/point_perceptual.glsl before it (render.point_sources = perceptual).
 layout(std430, binding = WELKIN_BINDING_STARS_SSBO) readonly buffer StarBuffer { vec4 u_star[]; };
 
 uniform mat3 u_icrsToEnu;    // ICRS -> observer ENU, this frame

@@ -4,11 +4,12 @@
 #include <welkin/astro/bodies.hpp>
 #include <welkin/astro/frames.hpp>
 #include <welkin/color.hpp>
-#include <welkin/elements/point_sources.hpp>
 #include <welkin/elements/stars.hpp>
+#include <welkin/embedded/atmosphere_shaders.hpp>
 #include <welkin/embedded/stars_shaders.hpp>
 #include <welkin/error.hpp>
 #include <welkin/generators/atmosphere.hpp>
+#include <welkin/generators/point_sources.hpp>
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/generators/sky_model.hpp>
 #include <welkin/gl/shader.hpp>
@@ -127,7 +128,7 @@ void Stars::doInit(InitContext& ctx) {
                                            .bindings(bindings())
                                            .define("STARS_TABLE_N", kTableN)
                                            .vertex("engine/camera.glsl", gl::engineShader("camera.glsl"))
-                                           .vertex("stars/point_perceptual.glsl", embedded::stars_shaders("point_perceptual.glsl"))
+                                           .vertex("atmosphere/point_perceptual.glsl", embedded::atmosphere_shaders("point_perceptual.glsl"))
                                            .vertex("stars/stars.vert.glsl", embedded::stars_shaders("stars.vert.glsl"))
                                            .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
                                            .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
@@ -205,7 +206,7 @@ void Stars::doRender(const FrameContext& ctx) {
     // Without a Sky composited over the stars, the atmosphere's extinction is applied here; the
     // perceptual mode needs it either way (the eye's threshold is for the light that reaches it).
     p.set("u_extinction", attenuatedLater ? 0 : 1);
-    perceptual_ = setPerceptualPointUniforms(p, v, attenuatedLater);
+    perceptual_ = generators::setPerceptualPointUniforms(p, v, attenuatedLater);
     if (perceptual_ || !attenuatedLater) {
         updateExtinction(v);
         glProgramUniform3fv(p.id(), p.location("u_ext"), kTableN, extinction_.data());

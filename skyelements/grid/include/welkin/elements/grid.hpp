@@ -52,6 +52,7 @@ inline const Key<std::string> frame{"grid.frame", Choices{{"horizontal", "equato
 inline const Key<double> raStep{"grid.ra_step_rad", Range{1 * kDeg, 180 * kDeg}, "spacing of hour circles (equatorial; 15 deg = 1 h)"};
 inline const Key<double> decStep{"grid.dec_step_rad", Range{1 * kDeg, 90 * kDeg}, "spacing of declination circles (equatorial)"};
 /// The ecliptic (J2000 mean ecliptic, obliquity 23 deg 26' 21.406"), in any grid.frame.
+inline const Key<bool> tiled{"grid.tiled", "the lines' shader runs only on the tiles near the lines (false: on every pixel, a fullscreen pass; the same image, its cost before 2026-11-26)"};
 inline const Key<bool> ecliptic{"grid.ecliptic", "draw the ecliptic (J2000), the Sun's yearly path, where the planets wander"};
 }  // namespace gridkeys
 
@@ -83,7 +84,8 @@ public:
     /// true (the default): the lines' shader runs only on the 4x4-pixel tiles that the lines, their
     /// antialiasing and the markers can reach (cost in proportion to the lines' pixels); false:
     /// on every pixel, as a fullscreen pass (the reference the tests compare the tiles with; the
-    /// image is the same).
+    /// image is the same). The key grid.tiled (default true) does the same by name; the lines are
+    /// tiled when both are true.
     void setTiled(bool tiled) { tiled_ = tiled; }
     /// Pixels the lines' shader ran on in the last render() (the image's size when not tiled).
     long long lastShadedPixels() const { return shadedPixels_; }

@@ -1,8 +1,7 @@
-// Perceptual point sources: the per-frame uniforms of stars/shaders/point_perceptual.glsl.
+// Perceptual point sources: the per-frame uniforms of atmosphere/shaders/point_perceptual.glsl.
 #include <welkin/astro/bodies.hpp>
-#include <welkin/elements/point_sources.hpp>
-#include <welkin/elements/stars.hpp>
 #include <welkin/generators/lights.hpp>
+#include <welkin/generators/point_sources.hpp>
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/generators/sky_model.hpp>
 #include <welkin/gl/bindings.hpp>
@@ -12,12 +11,14 @@
 #include <epoxy/gl.h>
 
 #include <algorithm>
+#include <vector>
 
-namespace welkin::elements {
+namespace welkin::generators {
 
 double nightSkyBackgroundCdM2(const SkyVars& v) {
     if (v.has(keys::nightBackground)) return v.get(keys::nightBackground);
-    if (v.has(starkeys::backgroundFloor)) return v.get(starkeys::backgroundFloor);
+    // The Stars' option by name: this file is shared, the Stars' folder is theirs.
+    if (const std::vector<double> floor = v.numeric("stars.background_floor_cd_m2"); floor.size() == 1) return floor[0];
     return astro::magnitude::surfaceBrightnessCdM2(astro::magnitude::kDarkSkyZenithMag);
 }
 
@@ -56,4 +57,4 @@ bool setPerceptualPointUniforms(const gl::Program& p, const SkyVars& v, bool sky
     return true;
 }
 
-}  // namespace welkin::elements
+}  // namespace welkin::generators

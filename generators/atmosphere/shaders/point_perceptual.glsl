@@ -1,7 +1,7 @@
 // Perceptual point sources (welkin/point_source.hpp is the model and its CPU twin): the sky's
 // luminance behind a point, the eye's threshold for it, and the drawn size and contrast. Shared
 // by the Stars and the Planet (its unresolved bodies); the uniforms are set by
-// welkin::elements::PerceptualPointUniforms (welkin/elements/point_sources.hpp).
+// welkin::generators::setPerceptualPointUniforms (welkin/generators/point_sources.hpp).
 layout(binding = WELKIN_BINDING_SUN_VIEW_LUT) uniform sampler2D u_ppSunLut;    // sky.sun_view_total_lut
 layout(binding = WELKIN_BINDING_MOON_VIEW_LUT) uniform sampler2D u_ppMoonLut;  // sky.moon_view_total_lut
 uniform int u_ppMode;        // 0 physical (nothing here is used), 1 perceptual

@@ -11,7 +11,7 @@
 #include <epoxy/gl.h>
 
 #include <welkin/elements/nightsky.hpp>
-#include <welkin/elements/sky.hpp>
+#include <welkin/elements/registry.hpp>
 #include <welkin/keys.hpp>
 #include <welkin/processor.hpp>
 #include <welkin/time.hpp>
@@ -73,7 +73,7 @@ TEST_CASE("Night timing: cube map vs per-pixel lookup, Sky with and without the 
             p.vars().set(keys::sunDirection, glm::dvec3(0.0, -std::cos(sunAltDeg * M_PI / 180), std::sin(sunAltDeg * M_PI / 180)));
             p.vars().set(keys::moonDirection, glm::dvec3(0, 0, -1));
             p.add(std::make_unique<test::UniformField>(glm::vec3(1e-3f)));
-            p.add(std::make_unique<elements::Sky>());
+            p.add(elements::makeElement("sky"));  // by name: no other folder's header
         };
     };
     ps.emplace_back("uniform field + sky, Sun -20.9 deg (Sun's term drawn)", make(sky(-20.9), false));
