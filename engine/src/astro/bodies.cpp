@@ -82,36 +82,38 @@ struct Shared {
     BodyState sun;
 
     /// VSOP87 coordinates of `p` at tMillennia (with rates when `rates`). With a cache (Fast path
-    /// only), a full evaluation within Ephemeris::kVsopReuseDays is extrapolated linearly. The
-    /// slope is a forward difference over 10 s of two full evaluations, not evaluate()'s rates:
-    /// those keep only the terms above 1e-4 (enough for light time), which over 5 minutes moves
-    /// the Earth by ~0.01". The neglected second-order term is at most 0.5 L'' dt^2, for Mercury
-    /// near perihelion L'' ~ 2e n^2 = 2e-3 rad/day^2: < 1.2e-8 rad (0.0025") heliocentric at 5
-    /// minutes, less seen from the Earth; the other planets and the Earth far less. The slope's
-    /// own error, 0.5 L'' h dt, is 1e-4" at h = 10 s.
+    /// only), once two full evaluations lie within Ephemeris::kVsopReuseDays of each other, later
+    /// times within the span of the last are extrapolated linearly along their secant. (Not
+    /// evaluate()'s rates: those keep only the terms above 1e-4, enough for light time, and over
+    /// 5 minutes that moves the Earth by ~0.01".) The error of a secant over D extrapolated by dt
+    /// is 0.5 L'' dt (dt + D); Mercury's |L''| reaches ~1e-2 rad/day^2 near perihelion (h / r^2
+    /// changing fastest), so < 1.2e-7 rad heliocentric at dt = D = 5 minutes and < 0.015" seen
+    /// from the Earth; the other planets and the Earth far less.
     VsopState vsop(VsopPlanet p, bool rates) {
         if (!vsopCache || precise) return evaluate(series(p, precise, tMillennia), tMillennia, rates);
         Ephemeris::VsopCache& c = (*vsopCache)[std::size_t(p)];
         const double dtDays = (tMillennia - c.tMillennia) * 365250.0;
-        if (!c.valid || !(std::fabs(dtDays) <= Ephemeris::kVsopReuseDays)) {
-            const VsopBody& ser = series(p, false, tMillennia);
-            const VsopState st = evaluate(ser, tMillennia, rates);  // returned as without the cache
-            constexpr double kSlopeDays = 10.0 / 86400.0;
-            const glm::dvec3 ahead = evaluate(ser, tMillennia + kSlopeDays / 365250.0, false).lbr;
-            c = {true, tMillennia, st.lbr, (ahead - st.lbr) / kSlopeDays, st.rate};
-            return st;
-        }
-        // The rates returned are the full evaluation's (they serve the light time, and over 5
-        // minutes they change by < 1e-5 relative): a reused state differs from a full one only by
-        // the extrapolation.
-        return VsopState{c.lbr + c.rate * dtDays, c.lightRate};
+        const bool near = c.valid && std::fabs(dtDays) <= Ephemeris::kVsopReuseDays;
+        if (near && c.hasSlope)
+            // The rates returned are the full evaluation's (they serve the light time, and over 5
+            // minutes they change by < 1e-5 relative): a reused state differs from a full one
+            // only by the extrapolation.
+            return VsopState{c.lbr + c.rate * dtDays, c.lightRate};
+        const VsopState st = evaluate(series(p, false, tMillennia), tMillennia, rates);
+        c.hasSlope = near && dtDays != 0.0;
+        if (c.hasSlope) c.rate = (st.lbr - c.lbr) / dtDays;
+        c.valid = true;
+        c.tMillennia = tMillennia;
+        c.lbr = st.lbr;
+        c.lightRate = st.rate;
+        return st;
     }
 
-    /// moonMeeus(T) for the Fast path; with a cache, extrapolated linearly within
-    /// Ephemeris::kVsopReuseDays of a full evaluation, the slope a forward difference over 10 s
-    /// (angles unwrapped, results reduced as moonMeeus reduces them). The neglected term, 0.5
-    /// lambda'' dt^2 with |lambda''| below ~1e-2 rad/day^2 (the elliptic term and the
-    /// variation), is < 0.015" at 5 minutes.
+    /// moonMeeus(T) for the Fast path; with a cache, extrapolated like vsop() along the secant
+    /// of the last two full evaluations within Ephemeris::kVsopReuseDays (angles unwrapped,
+    /// results reduced as moonMeeus reduces them). The neglected term, 0.5 lambda'' dt (dt + D)
+    /// with |lambda''| below ~1e-2 rad/day^2 (the elliptic term and the variation), is < 0.03"
+    /// at dt = D = 5 minutes.
     MoonEcliptic moon(double T) {
         if (!vsopCache || !moonCache) return moonMeeus(T);
         auto pack = [](const MoonEcliptic& m) {
@@ -123,26 +125,28 @@ struct Shared {
         constexpr double kTwoPi = 2.0 * std::numbers::pi;
         Ephemeris::MoonCache& c = *moonCache;
         const double dt = T - c.tCenturies;
-        if (!c.valid || !(std::fabs(dt) * 36525.0 <= Ephemeris::kVsopReuseDays)) {
-            const MoonEcliptic m = moonMeeus(T);
-            constexpr double kSlopeCenturies = 10.0 / 86400.0 / 36525.0;
-            const std::array<double, 9> v = pack(m), a = pack(moonMeeus(T + kSlopeCenturies));
-            c.valid = true;
-            c.tCenturies = T;
-            c.value = v;
+        const bool near = c.valid && std::fabs(dt) * 36525.0 <= Ephemeris::kVsopReuseDays;
+        if (near && c.hasSlope) {
+            std::array<double, 9> x{};
             for (std::size_t i = 0; i < 9; ++i) {
-                double d = a[i] - v[i];
-                if (kAngle[i]) d -= kTwoPi * std::round(d / kTwoPi);
-                c.slope[i] = d / kSlopeCenturies;
+                x[i] = c.value[i] + c.slope[i] * dt;
+                if (kAngle[i]) x[i] -= kTwoPi * std::floor(x[i] / kTwoPi);
             }
-            return m;  // as without the cache
+            return MoonEcliptic{x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8]};
         }
-        std::array<double, 9> x{};
-        for (std::size_t i = 0; i < 9; ++i) {
-            x[i] = c.value[i] + c.slope[i] * dt;
-            if (kAngle[i]) x[i] -= kTwoPi * std::floor(x[i] / kTwoPi);
-        }
-        return MoonEcliptic{x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8]};
+        const MoonEcliptic m = moonMeeus(T);
+        const std::array<double, 9> v = pack(m);
+        c.hasSlope = near && dt != 0.0;
+        if (c.hasSlope)
+            for (std::size_t i = 0; i < 9; ++i) {
+                double d = v[i] - c.value[i];
+                if (kAngle[i]) d -= kTwoPi * std::round(d / kTwoPi);
+                c.slope[i] = d / dt;
+            }
+        c.valid = true;
+        c.tCenturies = T;
+        c.value = v;
+        return m;
     }
 
     const glm::dvec3& earthHelio() {

@@ -81,24 +81,27 @@ public:
     const std::array<BodyState, kBodyCount>& states() const { return states_; }
 
     /// TT span (days) within which update() on the Fast path extrapolates a planet's (and the
-    /// Earth's) VSOP87 coordinates and the Moon's series linearly from their last full
-    /// evaluation: 5 minutes, an error below 0.005" for the planets and 0.05" for the Moon
-    /// (tested against full evaluations in [astro]), far below the truncated series' own
-    /// (about 1" and 10"). With time running, the series are summed once per 5 minutes of
-    /// simulated time instead of every frame.
+    /// Earth's) VSOP87 coordinates and the Moon's series linearly from their last two full
+    /// evaluations (their secant, both within the span): 5 minutes, an error below 0.015" for the
+    /// planets and 0.05" for the Moon (tested against full evaluations in [astro]), far below the
+    /// truncated series' own (about 1" and 10"). With time running, the series are summed twice
+    /// per 5 minutes of simulated time instead of every frame; an update far from the last one
+    /// (time jumped, or scattered instants) costs one full evaluation as before.
     static constexpr double kVsopReuseDays = 300.0 / 86400.0;
     /// (Internal) the last full VSOP87 evaluation of one VsopPlanet.
     struct VsopCache {
         bool valid = false;
+        bool hasSlope = false;   ///< `rate` is the secant from the evaluation before (within the span)
         double tMillennia = 0;   ///< TT of the evaluation, Julian millennia from J2000
         glm::dvec3 lbr{0.0};     ///< L, B (rad), R (au)
-        glm::dvec3 rate{0.0};    ///< slope for the extrapolation (a forward difference), per day
+        glm::dvec3 rate{0.0};    ///< slope for the extrapolation, per day
         glm::dvec3 lightRate{0.0};  ///< evaluate()'s rates at tMillennia (light time, as a full evaluation)
     };
 
     /// (Internal) the last full evaluation of the Moon's series (moonMeeus) and its slope.
     struct MoonCache {
         bool valid = false;
+        bool hasSlope = false;
         double tCenturies = 0;                  ///< TT of the evaluation, Julian centuries from J2000
         std::array<double, 9> value{}, slope{};  ///< MoonEcliptic's fields in order; slope per century
     };
