@@ -6,6 +6,7 @@
 
 #include "elements_present.hpp"
 #include "gl_test_context.hpp"
+#include "malta_night.hpp"
 
 #include <welkin/astro/astro_keys.hpp>
 #include <welkin/astro/earth.hpp>
@@ -40,41 +41,13 @@ bool haveKStars() {
 }
 bool haveFont() { return std::filesystem::exists(gl::kDefaultFontPath); }
 
-double lum(const Image& img, int x, int y) {
-    if (x < 0 || y < 0 || x >= img.width || y >= img.height) return 0.0;
-    return 0.2126 * img.at(x, y, 0) + 0.7152 * img.at(x, y, 1) + 0.0722 * img.at(x, y, 2);
-}
-
-// The CPU reference of a J2000 direction's apparent place: the astronomy's observer frame (its
-// own code path, not the processor's keys), then astro::refraction at the default 1013.25 hPa, 10 C.
-struct Sky {
-    astro::ObserverFrame frame;
-    glm::dvec3 apparent(const glm::dvec3& icrs) const {
-        const astro::Topocentric t = astro::topocentricFromIcrs(frame, icrs);
-        return directionFromAzAlt(t.azimuthRad, t.altitudeRad);
-    }
-};
-
-const UtcInstant kWhen = UtcInstant::parse("2026-08-12T22:00:00Z");
-const double kLat = 35.9 * kDeg, kLon = 14.5 * kDeg;
-
-Sky maltaSky() {
-    const astro::Site site{kLat, kLon, 0.0};
-    return Sky{astro::observerFrame(site, astro::timeScales(kWhen), astro::Path::Fast)};
-}
-
-Camera fisheye(int size) {
-    Camera cam;
-    cam.projection = Projection::Fisheye;
-    cam.width = cam.height = size;
-    return cam;
-}
-
-void atMalta(SkyProcessor& p, const Camera& cam) {
-    p.setObserver({.latitudeRad = kLat, .longitudeRad = kLon, .heightMeters = 0});
-    p.setTime(kWhen);
-    p.setCamera(cam);
-}
+using test::atMalta;
+using test::fisheye;
+using test::lum;
+using Sky = test::MaltaSky;
+const UtcInstant kWhen = test::kMaltaNight;
+const double kLat = test::kMaltaLatRad, kLon = test::kMaltaLonRad;
+Sky maltaSky() { return test::maltaSky(); }
 
 // Draws one string with the engine's text API, as an element would.
 class TextProbe final : public SkyElement {
