@@ -86,3 +86,15 @@ function(welkin_check_internal_headers)
     endif()
   endforeach()
 endfunction()
+
+# Writes CONTENT to FILE only when it differs from what is there, so a reconfigure that generates
+# the same text does not touch the file (and rebuild what includes it).
+function(welkin_write_if_changed file content)
+  set(old "")
+  if(EXISTS ${file})
+    file(READ ${file} old)
+  endif()
+  if(NOT old STREQUAL content)
+    file(WRITE ${file} "${content}")
+  endif()
+endfunction()
