@@ -9,13 +9,17 @@
 // ratio to a trivial fullscreen pass timed alternately with it in the same frames (software
 // rendering: ratios hold on a loaded machine where milliseconds do not); the first frame (tables
 // and generators built); the generators' first build and rebuild cost; cost against work with a
-// fitted growth exponent (pixels for every element, and each element's sweeps); and the
-// framework's CPU instructions per frame under callgrind (`welkin bench framework`).
+// fitted growth exponent (pixels for every element, and each element's sweeps); the
+// framework's CPU instructions per frame under callgrind (`welkin bench framework`); and the
+// tables an element's own bench names for this file (`CommandBench::reports`: the accuracy of each
+// quality preset against its reference, table build times against table size and wavelengths),
+// each bench run as a child process and its CSV printed as a Markdown table.
 #include "bench_util.hpp"
 #include "command.hpp"
 #include "plot.hpp"
 
 #include <welkin/bench.hpp>
+#include <welkin/csv.hpp>
 #include <welkin/elements/registry.hpp>
 #include <welkin/error.hpp>
 #include <welkin/gl/context.hpp>
@@ -60,6 +64,7 @@ struct AllOptions {
     int frameworkFrames = -1;                 // frames under callgrind; 0: skip; -1: 10 (--quick) or 30
     std::vector<std::string> vars;            // KEY=VALUE applied to every scene after its own settings
     bool list = false;                        // print the elements and their scenes, measure nothing
+    bool noReports = false;                   // skip the command benches' report tables (accuracy, table costs)
 };
 
 struct Size {
@@ -407,6 +412,110 @@ std::string frameworkSection(int frames, const std::function<void(const std::str
     return md + "\n";
 }
 
+/// A number from a CSV field for the Markdown: 4 significant digits, "n/a" for NaN or empty.
+std::string cellNumber(std::string_view text, double scale) {
+    double v = NAN;
+    const std::string t(text);
+    char* end = nullptr;
+    if (!t.empty()) v = std::strtod(t.c_str(), &end);
+    if (t.empty() || end == t.c_str() || *end != '\0') return t;  // not a number: the text as it is
+    if (!std::isfinite(v)) return "n/a";
+    v *= scale;
+    char b[64];
+    if (v != 0 && (std::abs(v) >= 1e6 || std::abs(v) < 1e-3)) std::snprintf(b, sizeof b, "%.3g", v);
+    else std::snprintf(b, sizeof b, "%.4g", v);
+    return b;
+}
+
+std::string shellQuote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+/// The command benches' report tables (bench.hpp ReportTable): each bench run as a child process
+/// of this executable, its CSV printed as a Markdown table. A bench that fails is reported as such
+/// (its exit status and last output line) and the run goes on.
+std::string reportsSection(bool quick, const std::set<std::string>& only, const std::function<void(const std::string&)>& progress) {
+    std::vector<std::pair<std::string, bench::ReportTable>> todo;  // (command, table)
+    for (const bench::CommandBench& b : bench::commandBenches())
+        for (const bench::ReportTable& t : b.reports)
+            if (only.empty() || only.count(t.element)) todo.push_back({b.name, t});
+    if (todo.empty()) return "";
+    std::sort(todo.begin(), todo.end(), [](const auto& a, const auto& b) { return a.second.element < b.second.element; });
+    const std::string self_exe = std::filesystem::canonical("/proc/self/exe").string();
+    const std::filesystem::path tmp = std::filesystem::temp_directory_path() / ("welkin_bench_reports_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(tmp);
+    std::string md = "## Accuracy and table costs, from the elements' own benches\n\n"
+                     "Each element can name tables of its own bench (`welkin bench <name>`, registered from its folder with "
+                     "`CommandBench::reports`, welkin/bench.hpp) for this file: the bench runs with the arguments shown and its CSV "
+                     "is printed as it is. Costs in these tables are the bench's own (each states its reference pass); errors are "
+                     "against the reference named.\n\n";
+    size_t k = 0;
+    for (const auto& [cmd, t] : todo) {
+        ++k;
+        const std::vector<std::string>& args = quick && !t.quickArgs.empty() ? t.quickArgs : t.args;
+        std::string argText;
+        for (const std::string& a : args) argText += " " + (a.find_first_of(" '\"$;&|<>*?") == std::string::npos && !a.empty() ? a : shellQuote(a));
+        const std::string csv = (tmp / ("report_" + std::to_string(k) + ".csv")).string();
+        const std::string log = (tmp / ("report_" + std::to_string(k) + ".log")).string();
+        progress("report " + std::to_string(k) + " of " + std::to_string(todo.size()) + ": welkin bench " + cmd + argText);
+        const auto t0 = std::chrono::steady_clock::now();
+        const int rc = std::system((shellQuote(self_exe) + " bench " + cmd + argText + " --csv " + shellQuote(csv) + " > " + shellQuote(log) + " 2>&1").c_str());
+        const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        md += "### " + t.title + "\n\n" + t.what + "\n\n";
+        std::string body;
+        try {
+            if (rc != 0) throw Error("exit status " + std::to_string(rc));
+            const CsvTable table = CsvTable::load(csv);
+            struct Col {
+                size_t index;
+                double scale;
+                std::string heading;
+            };
+            std::vector<Col> cols;
+            if (t.columns.empty())
+                for (size_t c = 0; c < table.header().size(); ++c) cols.push_back({c, 1.0, table.header()[c]});
+            for (const std::string& spec : t.columns) {
+                const size_t colon = spec.find(':');
+                std::string name = spec.substr(0, colon), heading = colon == std::string::npos ? "" : spec.substr(colon + 1);
+                double scale = 1.0;
+                if (const size_t star = name.find('*'); star != std::string::npos) {
+                    scale = std::stod(name.substr(star + 1));
+                    name = name.substr(0, star);
+                }
+                cols.push_back({table.column(name), scale, heading.empty() ? name : heading});
+            }
+            body += "|";
+            for (const Col& c : cols) body += " " + c.heading + " |";
+            body += "\n|";
+            for (size_t c = 0; c < cols.size(); ++c) body += "---|";
+            body += "\n";
+            for (const CsvRow& row : table) {
+                body += "|";
+                for (const Col& c : cols) {
+                    std::string cell = cellNumber(row.text(c.index), c.scale);
+                    for (char& ch : cell)
+                        if (ch == '|') ch = '/';
+                    body += " " + cell + " |";
+                }
+                body += "\n";
+            }
+            if (table.rowCount() == 0) throw Error("no rows in its CSV");
+        } catch (const std::exception& e) {
+            std::string last;
+            std::ifstream lf(log);
+            for (std::string line; std::getline(lf, line);)
+                if (!line.empty()) last = line;
+            body = std::string("Not measured: the bench failed (") + e.what() + ")" + (last.empty() ? "" : ": " + last) + "\n";
+            std::fprintf(stderr, "welkin bench all: warning: welkin bench %s failed (%s)\n", cmd.c_str(), e.what());
+        }
+        md += body + "\n*`welkin bench " + cmd + argText + " --csv FILE` (" + fmt(sec, 0) + " s in this run)*\n\n";
+    }
+    std::filesystem::remove_all(tmp);
+    return md;
+}
+
 void writeAtomically(const std::string& path, const std::string& text) {
     const std::filesystem::path target(path);
     const std::filesystem::path tmp = target.parent_path() / ("." + target.filename().string() + ".tmp");
@@ -495,6 +604,12 @@ int run(const AllOptions& o) {
     }
     ctx.reset();
     const std::string fwSection = frameworkSection(fwFrames, progress);
+    std::string reports;
+    if (!o.noReports) {
+        std::set<std::string> only;
+        if (!o.only.empty()) only.insert(names.begin(), names.end());
+        reports = reportsSection(o.quick, only, progress);
+    }
 
     // The Markdown.
     char date[64];
@@ -507,7 +622,8 @@ int run(const AllOptions& o) {
     std::string cmdline = std::string("welkin bench all") + (o.quick ? " --quick" : "") +
                           (o.sizeOverride.empty() ? "" : " --size-override " + o.sizeOverride) + (o.only.empty() ? "" : " --only " + o.only) +
                           (o.frames >= 0 ? " --frames " + std::to_string(o.frames) : "") +
-                          (o.frameworkFrames >= 0 ? " --framework-frames " + std::to_string(o.frameworkFrames) : "");
+                          (o.frameworkFrames >= 0 ? " --framework-frames " + std::to_string(o.frameworkFrames) : "") +
+                          (o.noReports ? " --no-reports" : "");
     for (const std::string& v : o.vars) cmdline += " --var " + v;
     if (o.out != "docs/BENCHMARKS.md") cmdline += " --out " + o.out;
     if (o.plots != "docs/images/bench") cmdline += " --plots '" + o.plots + "'";
@@ -593,9 +709,7 @@ int run(const AllOptions& o) {
         }
     md << "\n![Cost against work](" << plotRel << "/bench_all_work.png)\n\n*`" << cmdline << "` (this run; scripts/plots/plot_bench_all.py)*\n\n";
     md << fwSection;
-    md << "## Not yet measured here\n\n"
-       << "The accuracy of each quality preset against its reference, the Mie and crystal table sizes and the wavelengths as work: "
-          "see `welkin bench sky`, `welkin bench rainbow` and `welkin bench clouds`, which report them in their own formats.\n";
+    md << (o.noReports ? std::string("## Accuracy and table costs\n\nNot measured in this run (`--no-reports`).\n\n") : reports);
 
     // Plots: CSV beside the PNGs, drawn by scripts/plots/plot_bench_all.py.
     std::string plotNotes;
@@ -651,6 +765,7 @@ BenchRegistrar reg("all", "every element's benchmark in one run: docs/BENCHMARKS
                    "frames counted under callgrind, in [0, 1000] (0: skip; default 10 with --quick, else 30)");
     sub.add_option("--var", o->vars, "KEY=VALUE set in every scene after its own settings (repeatable), e.g. rain.table_quality=low");
     sub.add_flag("--list", o->list, "print the elements measured and their scenes, and exit");
+    sub.add_flag("--no-reports", o->noReports, "skip the elements' report tables (accuracy against references, table build costs)");
     return [o]() { return run(*o); };
 });
 

@@ -171,6 +171,47 @@ TEST_CASE("welkin bench all: a tiny run writes a row per element with finite pos
 }
 #endif
 
+#if defined(WELKIN_HAS_ELEMENT_halos)  // --only halos: its bench command names a report table
+TEST_CASE("welkin bench all: an element's report table comes from its own bench's CSV", "[gl][cli][bench]") {
+    // The Halos register `welkin bench halos` with a ReportTable (skyelements/halos/bench): bench
+    // all runs it with the table's --quick arguments (low tables: seconds) and prints its CSV as a
+    // Markdown table under the table's title, with the command that made it.
+    const std::string dir = welkin::test::scratchDir("bench_all_reports");
+    const std::string out = dir + "/BENCHMARKS.md";
+    const auto r = runCli("bench all --quick --only halos --size-override 32x16 --frames 1 --framework-frames 0 --plots '' "
+                          "--var halos.table_quality=low --out '" + out + "'");
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    std::ifstream f(out);
+    REQUIRE(f);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    const std::string md = ss.str();
+    const size_t at = md.find("### Halos: crystal tables by quality, the pass, and accuracy");
+    REQUIRE(at != std::string::npos);
+    const std::string section = md.substr(at, md.find("\n## ", at) - at);
+    INFO(section);
+    CHECK(section.find("Not measured") == std::string::npos);
+    // The columns as the table names them, then rows of the bench's CSV: the low tables' trace
+    // time in seconds (a positive number) and the pass's ratio to the trivial pass.
+    CHECK(section.find("| what | quality, size or rays | value | trivial pass ms | x trivial pass |") != std::string::npos);
+    const size_t trace = section.find("| phase tables trace, s | low (");
+    REQUIRE(trace != std::string::npos);
+    std::vector<std::string> cells;
+    {
+        std::istringstream ls(section.substr(trace + 1, section.find('\n', trace) - trace - 1));
+        for (std::string c; std::getline(ls, c, '|');) cells.push_back(c);
+    }
+    REQUIRE(cells.size() >= 3);
+    const double seconds = std::atof(cells[2].c_str());
+    CHECK(seconds > 0.0);
+    CHECK(std::isfinite(seconds));
+    CHECK(section.find("| halo pass, crystal layer tau 0.3, ms | 800x450 |") != std::string::npos);
+    // The command with the quick arguments, for anyone to repeat it.
+    CHECK(section.find("*`welkin bench halos --qualities low --repeats 1 --accuracy-rays 200000 --csv FILE`") != std::string::npos);
+}
+#endif
+
 TEST_CASE("plot_bench_all.py draws both plots from bench all's CSVs", "[cpu][plot][bench]") {
     if (!welkin::cli::findPythonWithMatplotlib()) FAIL("no python3 with matplotlib (Debian: python3-matplotlib): install it (scripts/setup.sh installs it; a missing module fails, never skips)");
     const std::string dir = welkin::test::scratchDir("plot_bench_all");

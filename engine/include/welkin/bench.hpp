@@ -83,6 +83,27 @@ struct ElementBenchRegistrar {
     explicit ElementBenchRegistrar(ElementBench b) { elementBenches().push_back(std::move(b)); }
 };
 
+/// A table that `welkin bench all` adds to docs/BENCHMARKS.md from a command bench's CSV (the
+/// accuracy of each quality preset against its reference, table build times against table size):
+/// `welkin bench all` runs `welkin bench <name> <args...> --csv <temporary file>` as a child
+/// process, then prints the CSV's rows as a Markdown table under `title`, with the command line.
+///
+///   .reports = {{.element = "rainbow", .title = "Rainbow: Mie tables by quality",
+///                .what = "Build time of the droplet tables ...",
+///                .args = {"--qualities", "low,default,high", "--repeats", "5"},
+///                .quickArgs = {"--qualities", "low", "--repeats", "1"},
+///                .columns = {"what", "quality_or_size:quality or size", "ms", "ratio_trivial:x trivial pass"}}}
+struct ReportTable {
+    std::string element;                 ///< the element it belongs to (`bench all --only` selects by it)
+    std::string title;                   ///< the section's heading
+    std::string what;                    ///< a paragraph: what is measured, against which reference
+    std::vector<std::string> args;       ///< the bench's arguments in a full run (`--csv` is added)
+    std::vector<std::string> quickArgs;  ///< with `bench all --quick` (empty: `args`)
+    /// CSV columns shown, in order (empty: all), each "name", "name:heading" or "name*scale:heading"
+    /// (a number multiplied by scale, e.g. "rms_rel*100:RMS error %").
+    std::vector<std::string> columns;
+};
+
 /// A benchmark command `welkin bench <name>`: `setup` adds its options to the subcommand and
 /// returns the action run after parsing (the process exit status; a welkin::Error it throws is
 /// printed as one line and exits with status 1), as the command's own subcommands do.
@@ -90,6 +111,7 @@ struct CommandBench {
     std::string name;         ///< the subcommand's name ("halos", "cloud-reference")
     std::string description;  ///< one line for `welkin bench --help`
     std::function<std::function<int()>(CLI::App& sub)> setup;
+    std::vector<ReportTable> reports;  ///< tables `welkin bench all` writes from this command's CSV (none: not run by it)
 };
 
 /// Every registered command bench (registration order; the command sorts by name).

@@ -338,7 +338,19 @@ bench::CommandBenchRegistrar reg({"clouds", "cost and error of the clouds by sam
     sub.add_option("--csv", o->csv, "write the rows as CSV (empty: none)")->capture_default_str();
     sub.add_option("--plot", o->plot, "PNG plot drawn from the CSV by scripts/plots/plot_bench_clouds.py (empty: none)")->capture_default_str();
     return [o]() { return run(*o); };
-}});
+},
+// The table `welkin bench all` writes into docs/BENCHMARKS.md from this bench.
+{{.element = "clouds",
+  .title = "Clouds: samples per ray against a converged march",
+  .what = "The default preset at 512x256 (Malta, morning) with each number of samples per view ray, with and without "
+          "reprojection: cost against a trivial pass and against the sky frame, and the RMS relative luminance error "
+          "against the same model marched with many samples (the light transport's own error against the path tracer is "
+          "in docs/clouds.md, `welkin bench cloud-reference`).",
+  .args = {"--sizes", "512x256", "--samples", "8,16,32,64,128", "--repeats", "3", "--moving-frames", "0", "--sky-shadow-repeats", "0",
+           "--plot", ""},
+  .quickArgs = {"--sizes", "256x128", "--samples", "8,32", "--repeats", "1", "--moving-frames", "0", "--sky-shadow-repeats", "0",
+                "--reference-samples", "128", "--plot", ""},
+  .columns = {"size", "mode", "samples", "reprojection", "ratio_trivial:x trivial pass", "ratio_sky:x sky frame", "rms_rel*100:RMS error %"}}}});
 
 }  // namespace
 }  // namespace welkin::cli

@@ -156,7 +156,16 @@ bench::CommandBenchRegistrar reg({"halos", "halo table trace times, the halo pas
                        sub.add_option("--accuracy-rays", o->accuracyRays, "rays of the tables' trace in the accuracy check (the brute force: 4x), [3000, 1e8]")
                            ->capture_default_str();
                        return [o]() { return run(*o); };
-                   }});
+                   },
+                   // The table `welkin bench all` writes into docs/BENCHMARKS.md from this bench (crystal table sizes as work).
+                   {{.element = "halos",
+                     .title = "Halos: crystal tables by quality, the pass, and accuracy",
+                     .what = "The crystal populations' ray trace at each table quality (rays traced: the tables' size as work), the "
+                             "halo pass against a trivial pass timed alternately with it, and the tables against a brute-force trace "
+                             "with four times the rays.",
+                     .args = {"--qualities", "low,default", "--repeats", "5"},
+                     .quickArgs = {"--qualities", "low", "--repeats", "1", "--accuracy-rays", "200000"},
+                     .columns = {"what", "quality_or_size:quality, size or rays", "value", "trivial_ms:trivial pass ms", "ratio_trivial:x trivial pass"}}}});
 
 }  // namespace
 }  // namespace welkin::cli

@@ -148,7 +148,17 @@ bench::CommandBenchRegistrar reg({"rainbow", "Mie table build times, the rainbow
     sub.add_option("--csv", o->csv, "write the rows as CSV (empty: none)")->capture_default_str();
     sub.add_option("--qualities", o->qualities, "comma list of table qualities to build: low, default, high")->capture_default_str();
     return [o]() { return run(*o); };
-}});
+},
+// The table `welkin bench all` writes into docs/BENCHMARKS.md from this bench (Mie table sizes as work).
+{{.element = "rainbow",
+  .title = "Rainbow: the Mie tables by quality, and the pass",
+  .what = "The Mie tables' build time at each table quality (their size, in the row, grows with the quality: wavelengths, "
+          "radii, angles) and the droplet distribution's 1-D table, then the rainbow pass's cost against a trivial fullscreen "
+          "pass timed alternately with it. The high quality's table (40 wl, 96 radii, 1024 angles) takes minutes to build on 2 "
+          "cores and is left out here: `welkin bench rainbow --qualities high`.",
+  .args = {"--qualities", "low,default", "--repeats", "5"},
+  .quickArgs = {"--qualities", "low", "--repeats", "1"},
+  .columns = {"what", "quality_or_size:quality or size", "ms", "trivial_ms:trivial pass ms", "ratio_trivial:x trivial pass"}}}});
 
 }  // namespace
 }  // namespace welkin::cli

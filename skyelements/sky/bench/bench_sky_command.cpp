@@ -487,7 +487,29 @@ static bench::CommandBenchRegistrar reg({"sky", "real-time sky: LUT build and fr
                               sub.add_flag("--breakdown", o.breakdown, "print each generator's time in a full LUT rebuild (glFinish around each)");
                               sub.add_option("--projection", o.projection, "projection of the 1280x720 frame (perspective: az 0, alt 20 deg, fov 60 deg)");
                               return [] { return run(o); };
-                          }});
+                          },
+                          // The tables `welkin bench all` writes into docs/BENCHMARKS.md from this bench.
+                          {{.element = "sky",
+                            .title = "Sky: each quality preset against the reference integrator",
+                            .what = "Every scattering order integrated along each view ray in double precision (`atmosphere::ReferenceSky`, "
+                                    "RGB mode: the same three channels), against the real-time sky of each preset (0 low, 1 medium, "
+                                    "2 high, 3 reference quality) at seven Sun altitudes: RMS and largest relative luminance error over the "
+                                    "upper hemisphere above 2 deg outside 2 deg from the Sun (64x32 probe), mean CIE xy distance; the "
+                                    "LUTs' full rebuild and the Sun-dependent part in ms; the frame as a multiple of a trivial pass timed "
+                                    "alternately with it. Errors at -18 deg are relative to a sky of ~1e-3 cd/m2.",
+                            .args = {"--presets", "0,1,2,3", "--repeats", "3", "--plot", ""},
+                            .quickArgs = {"--presets", "0,1", "--repeats", "1", "--plot", ""},
+                            .columns = {"preset", "sun_alt_deg:Sun altitude deg", "all_luts_ms:all LUTs ms", "sun_luts_ms:Sun-dependent LUTs ms",
+                                        "ratio_512x256:512x256 x trivial", "ratio_1280x720:1280x720 x trivial", "rms_rel*100:RMS error %",
+                                        "max_rel*100:largest error %", "mean_dxy:mean xy distance"}},
+                           {.element = "sky",
+                            .title = "Sky: wavelengths as work",
+                            .what = "The medium preset with its LUTs computed on 3 (RGB), 6, 12 and 24 wavelengths: build cost, frame cost "
+                                    "and error against the reference integrator (RGB mode, as above).",
+                            .args = {"--presets", "1", "--wavelengths", "3,6,12,24", "--repeats", "3", "--plot", ""},
+                            .quickArgs = {"--presets", "1", "--wavelengths", "3,12", "--repeats", "1", "--plot", ""},
+                            .columns = {"wavelengths", "sun_alt_deg:Sun altitude deg", "all_luts_ms:all LUTs ms", "sun_luts_ms:Sun-dependent LUTs ms",
+                                        "ratio_512x256:512x256 x trivial", "rms_rel*100:RMS error %", "max_rel*100:largest error %"}}}});
 
 }  // namespace
 }  // namespace welkin::cli
