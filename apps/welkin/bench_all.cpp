@@ -754,7 +754,7 @@ int run(const AllOptions& o) {
 }
 
 BenchRegistrar reg("all", "every element's benchmark in one run: docs/BENCHMARKS.md and its plots", [](CLI::App& sub) {
-    auto* o = new AllOptions();
+    auto o = std::make_shared<AllOptions>();  // owned by the action returned below (LeakSanitizer)
     sub.add_flag("--quick", o->quick, "fewer frames per measurement and under callgrind (a few minutes)");
     sub.add_option("--out", o->out, "the Markdown file written (atomically)")->capture_default_str();
     sub.add_option("--plots", o->plots, "existing directory for the PNG plots and their CSV (empty: no plots)")->capture_default_str();

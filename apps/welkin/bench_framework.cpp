@@ -18,6 +18,7 @@
 // command prints the wall time per frame.
 #include "command.hpp"
 
+#include <memory>
 #include <welkin/elements/registry.hpp>
 #include <welkin/error.hpp>
 #include <welkin/gl/context.hpp>
@@ -97,7 +98,7 @@ int run(const FrameworkOptions& o) {
 }
 
 BenchRegistrar reg("framework", "a fixed scene for counting the framework's instructions per frame under callgrind", [](CLI::App& sub) {
-    auto* o = new FrameworkOptions();
+    auto o = std::make_shared<FrameworkOptions>();  // owned by the action returned below (LeakSanitizer)
     sub.add_option("--frames", o->frames, "measured frames (instrumented under callgrind), in [1, 10000]")->capture_default_str();
     sub.add_option("--warmup", o->warmup, "uninstrumented frames before them, in [1, 1000]")->capture_default_str();
     sub.add_option("--size", o->size, "frame size WIDTHxHEIGHT")->capture_default_str();

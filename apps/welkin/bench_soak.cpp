@@ -12,6 +12,7 @@
 #include "command.hpp"
 #include "scene_options.hpp"
 
+#include <memory>
 #include <welkin/astro/bodies.hpp>
 #include <welkin/elements/registry.hpp>
 #include <welkin/error.hpp>
@@ -347,7 +348,7 @@ int run(SoakOptions o) {
 
 BenchRegistrar reg("soak", "many frames with time running through every element: GL objects, memory and finite pixels must hold",
                    [](CLI::App& sub) {
-    auto* o = new SoakOptions();  // lives for the whole process
+    auto o = std::make_shared<SoakOptions>();  // owned by the action returned below (LeakSanitizer)
     o->scene.size = "64x32";
     o->scene.time = "2026-03-20T00:00:00Z";
     o->scene.latDeg = 48.0;

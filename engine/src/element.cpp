@@ -34,10 +34,19 @@ void FrameContext::drawFullscreen() const {
 
 // --- Generator ---------------------------------------------------------------------------------
 
+uint64_t Generator::inputVersion(const SkyVars& vars, size_t i) const {
+    if (slotsOf_ != vars.identity() || slots_.size() != inputs_.size()) {
+        slots_.assign(inputs_.size(), nullptr);
+        slotsOf_ = vars.identity();
+    }
+    if (!slots_[i]) slots_[i] = vars.versionSlot(inputs_[i].name);  // declared since: found now
+    return slots_[i] ? *slots_[i] : 0;
+}
+
 bool Generator::isDue(const SkyVars& vars) const {
     if (invalidated_ || timing_.calls == 0 || seen_.size() != inputs_.size()) return true;
     for (size_t i = 0; i < inputs_.size(); ++i) {
-        if (vars.version(inputs_[i].name) == seen_[i]) continue;
+        if (inputVersion(vars, i) == seen_[i]) continue;
         const double tol = inputOptions_[i].tolerance;
         if (tol <= 0.0) return true;
         std::vector<double> now = vars.numeric(inputs_[i].name);
@@ -66,7 +75,7 @@ void Generator::run(SkyVars& vars, const Logger& log, bool finish) {
     seen_.resize(inputs_.size());
     seenValues_.resize(inputs_.size());
     for (size_t i = 0; i < inputs_.size(); ++i) {
-        seen_[i] = vars.version(inputs_[i].name);
+        seen_[i] = inputVersion(vars, i);
         if (inputOptions_[i].tolerance > 0.0) seenValues_[i] = vars.numeric(inputs_[i].name);
     }
 }

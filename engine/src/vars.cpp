@@ -1,3 +1,4 @@
+#include <atomic>
 #include <welkin/vars.hpp>
 
 #include <algorithm>
@@ -28,6 +29,11 @@ void SkyVars::checkName(const std::string& name, const std::vector<std::string>&
     std::string list;
     for (const std::string& c : choices) list += (list.empty() ? "" : ", ") + c;
     throw Error("key '" + name + "': '" + value + "' is not one of " + list);
+}
+
+uint64_t SkyVars::newIdentity() {
+    static std::atomic<uint64_t> next{1};  // process-wide: identities are never reused
+    return next.fetch_add(1, std::memory_order_relaxed);
 }
 
 std::vector<std::string> SkyVars::names() const {

@@ -177,6 +177,12 @@ private:
     std::vector<InputOptions> inputOptions_;
     std::vector<uint64_t> seen_;
     std::vector<std::vector<double>> seenValues_;  // for inputs with a tolerance
+    /// Where each input's version lives in the SkyVars last asked (SkyVars::versionSlot(); nullptr:
+    /// undeclared then, looked up by name) and that SkyVars' identity: no hashed lookup per input
+    /// per frame.
+    mutable std::vector<const uint64_t*> slots_;
+    mutable uint64_t slotsOf_ = 0;
+    uint64_t inputVersion(const SkyVars& vars, size_t i) const;
     bool invalidated_ = false;
     bool again_ = false;
     Timing timing_;

@@ -38,6 +38,8 @@
 #include <string_view>
 #include <typeindex>
 #include <unordered_map>
+#include <bit>
+#include <cstring>
 #include <utility>
 #include <vector>
 
@@ -149,11 +151,26 @@ struct KeyDescription {
 
 class SkyVars {
 public:
-    SkyVars() = default;
+    SkyVars() : identity_(newIdentity()) {}
     SkyVars(const SkyVars&) = delete;
     SkyVars& operator=(const SkyVars&) = delete;
-    SkyVars(SkyVars&&) = default;
-    SkyVars& operator=(SkyVars&&) = default;
+    /// The entries move with their identity (versionSlot() pointers stay valid); the moved-from
+    /// object is empty, with an identity of its own.
+    SkyVars(SkyVars&& o) noexcept
+        : entries_(std::move(o.entries_)), declarer_(std::move(o.declarer_)), identity_(o.identity_) {
+        o.entries_.clear();
+        o.identity_ = newIdentity();
+    }
+    SkyVars& operator=(SkyVars&& o) noexcept {
+        if (this != &o) {
+            entries_ = std::move(o.entries_);
+            declarer_ = std::move(o.declarer_);
+            identity_ = o.identity_;
+            o.entries_.clear();
+            o.identity_ = newIdentity();
+        }
+        return *this;
+    }
 
     /// Earth defaults: observer, time, camera, exposure and quality keys (and, as elements are
     /// added to the library, their shared keys such as the atmosphere).
@@ -306,6 +323,17 @@ public:
     }
     template <class T>
     uint64_t version(const Key<T>& key) const { return version(key.name()); }
+    /// Where the version counter of a declared key lives (nullptr if undeclared): the pointer stays
+    /// valid, and the counter current, for this object's lifetime (keys are never removed) and
+    /// through a move. For readers that poll many versions every frame without a lookup each (the
+    /// generator graph); remember identity() with it.
+    const uint64_t* versionSlot(std::string_view name) const {
+        auto it = entries_.find(name);
+        return it == entries_.end() ? nullptr : &it->second.version;
+    }
+    /// This object's identity, unique in the process (never reused, not even at the same address):
+    /// a cache of versionSlot() pointers checks it before use.
+    uint64_t identity() const { return identity_; }
 
     /// Names of all declared keys, sorted.
     std::vector<std::string> names() const;
@@ -357,16 +385,32 @@ private:
     /// Throws "key 'NAME': 'VALUE' is not one of a, b, c" unless `choices` is empty or holds it.
     static void checkName(const std::string& name, const std::vector<std::string>& choices, const std::string& value);
 
-    /// Hashes a key's name; transparent, so a lookup by string_view builds no string.
+    /// Hashes a key's name; transparent, so a lookup by string_view builds no string. Inline, eight
+    /// bytes a step (a multiply-rotate mix per word; the names are short ASCII and differ anywhere):
+    /// about a third of the instructions of the library's std::hash call for a 20-character name.
     struct NameHash {
         using is_transparent = void;
-        std::size_t operator()(std::string_view s) const noexcept { return std::hash<std::string_view>{}(s); }
+        std::size_t operator()(std::string_view s) const noexcept {
+            uint64_t h = 0x9E3779B97F4A7C15ull ^ s.size();
+            size_t i = 0;
+            for (; i + 8 <= s.size(); i += 8) {
+                uint64_t w;
+                std::memcpy(&w, s.data() + i, 8);
+                h = std::rotl((h ^ w) * 0xBF58476D1CE4E5B9ull, 29);
+            }
+            uint64_t w = 0;
+            for (size_t k = 0; i + k < s.size(); ++k) w |= uint64_t(static_cast<unsigned char>(s[i + k])) << (8 * k);
+            h = (h ^ w) * 0x94D049BB133111EBull;
+            return size_t(h ^ (h >> 31));
+        }
     };
     // Hashed rather than ordered: every frame reads and versions a few hundred keys, and an ordered
     // map's string comparisons were the largest share of the framework's own instructions per frame
     // (docs/hardening.md). Listings (names(), describe()) sort.
     std::unordered_map<std::string, Entry, NameHash, std::equal_to<>> entries_;
     std::string declarer_ = "host";
+    uint64_t identity_;
+    static uint64_t newIdentity();
 };
 
 /// An enumerated key: stored and shown as a name (what `--var`, JSON and `welkin vars` use), read

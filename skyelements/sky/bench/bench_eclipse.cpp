@@ -195,7 +195,7 @@ int run(const EclipseBenchOptions& o) {
 }
 
 bench::CommandBenchRegistrar reg({"eclipse", "the solar eclipse's sky: frame cost against a normal sky, and its error against the reference", [](CLI::App& sub) {
-    auto* o = new EclipseBenchOptions();
+    auto o = std::make_shared<EclipseBenchOptions>();  // owned by the action returned below (LeakSanitizer)
     sub.add_option("--repeats", o->repeats, "timed frames per configuration (median reported), [1, 1000]")->capture_default_str();
     sub.add_option("--width", o->width, "frame width, px, [16, 8192]")->capture_default_str();
     sub.add_option("--height", o->height, "frame height, px, [16, 8192]")->capture_default_str();
