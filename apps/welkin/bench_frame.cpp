@@ -1,7 +1,9 @@
 // welkin bench frame: cost of the compositing pipeline itself on this machine: a trivial
 // fullscreen pass into RGBA32F and RGBA16F targets, the tone map (manual and automatic
 // exposure; on a mesopic frame with eye.mesopic off and on) and the Grid element (on the tiles
-// near its lines and, for comparison, as a fullscreen pass). CPU-timed with glFinish (GL timer
+// near its lines and, for comparison, as a fullscreen pass), and the floor under any tone map
+// (the "floor" rows: write formats, copies by each fetch instruction and source format, blended
+// passes; docs/eye.md). CPU-timed with glFinish (GL timer
 // queries mean nothing on llvmpipe): elapsed time, or with --clock cpu the process's CPU time
 // (steady on a machine other jobs load). Prints a Markdown table; --csv writes the same rows.
 #include "bench_util.hpp"
