@@ -335,7 +335,10 @@ int run(const FrameBenchOptions& o) {
                 {"floor: dual-source blended pass RGBA32F (welkin_output)", blendedPass(true)},
             };
             std::vector<std::function<void()>> fns;
-            for (auto& f : floor) fns.push_back(f.second);
+            for (auto& f : floor) {
+                f.second();  // warm-up: llvmpipe compiles a program (and its blend state) at first draw
+                fns.push_back(f.second);
+            }
             const std::vector<double> ms = alternatedOn(o.repeats, fns);
             for (size_t i = 0; i < floor.size(); ++i) {
                 rows.push_back({floor[i].first, ms[i]});
