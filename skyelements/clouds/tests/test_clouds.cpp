@@ -619,3 +619,107 @@ TEST_CASE("Clouds: the real-time path's direction cache", "[gl][clouds]") {
         CHECK_THROWS_WITH(c.validateOptions(v), "clouds.cache_frames 8 not one of 1, 4, 16, 64 (the Bayer orders)");
     }
 }
+
+TEST_CASE("Clouds: a single cumulus is as bright as a real one", "[gl][clouds]") {
+    // One cumulus (the bench cloud-reference's `cumulus-side` cloud: a Gaussian blob ~2.4 km across
+    // on the weather map, 4 km north of the observer, 1.5-3.5 km, the generated noise, 0.05 /m).
+    // Each view is rendered with the clouds and without them (coverage 0: the Sky alone), so the
+    // cloud's pixels are those it changes by more than 5 %.
+    Weather blob(128, [](double u, double v) {
+        const double x = (u - 0.5) * 20000.0, y = (v - 0.5) * 20000.0 - 4000.0;
+        const double r2 = (x * x + y * y) / (1200.0 * 1200.0);
+        return glm::vec4(float(std::exp(-r2 * r2)), 0.0f, 0.9f, 0.0f);
+    });
+    const int W = 48, H = 36;
+    Scene s(60, blob, Projection::Perspective, W, H);
+    s.p.vars().set(ck::weatherOffset, glm::dvec2(10000, 10000));  // the blob's centre 4 km north
+    s.p.vars().set(ck::coverage, 1.0);
+    s.p.vars().set(ck::cloudType, 1.0);
+    s.p.vars().set(ck::cirrusCoverage, 0.0);
+    s.p.vars().set(ck::bottom, 1500.0);
+    s.p.vars().set(ck::top, 3500.0);
+    s.p.vars().set(ck::scattering, 0.05);
+    s.p.vars().set(ek::samples, 32);
+    s.p.vars().set(ek::lightSamples, 6);
+    // Without the clouds' shadow on the air's in-scattering: the clear-sky frames (coverage 0) must
+    // show the same air as the frames with the cloud, so that only the cloud's pixels differ.
+    s.p.vars().set(ek::skyShadow, false);
+    struct View {
+        Image clouds, sky;
+        bool cloud(int x, int y) const { return std::abs(luminance(clouds, x, y) - luminance(sky, x, y)) > 0.05 * luminance(sky, x, y); }
+    };
+    auto render = [&](glm::dvec3 sun, double camAltDeg, double fovDeg) {
+        s.p.vars().set(keys::sunDirection, sun);
+        Camera cam;
+        cam.projection = Projection::Perspective;
+        cam.width = W;
+        cam.height = H;
+        cam.azimuthRad = 0;  // north, at the cloud
+        cam.altitudeRad = camAltDeg * kDeg;
+        cam.verticalFovRad = fovDeg * kDeg;
+        s.p.setCamera(cam);
+        View v;
+        s.p.vars().set(ck::coverage, 1.0);
+        v.clouds = s.render();
+        s.p.vars().set(ck::coverage, 0.0);
+        v.sky = s.render();
+        return v;
+    };
+    SECTION("lit from the side: a bright sunlit side, a base brighter than the sky beside it") {
+        // The Sun 60 deg up in the east, 90 deg from the view (north).
+        const View v = render(directionFromAzAlt(90 * kDeg, 60 * kDeg), 28, 36);
+        std::vector<double> east;
+        double base = 0, skyBeside = 0;
+        int nBase = 0, nBeside = 0, lowest = -1;  // the cloud's lowest row (the image's top row is y = 0)
+        for (int y = 0; y < H; ++y)
+            for (int x = 0; x < W; ++x)
+                if (v.cloud(x, y)) lowest = std::max(lowest, y);
+        for (int y = 0; y < H; ++y)
+            for (int x = 0; x < W; ++x) {
+                const double l = luminance(v.clouds, x, y);
+                if (v.cloud(x, y) && x >= W / 2) east.push_back(l);
+                // The base: the cloud's lowest three rows of pixels, and the clear sky in the same rows.
+                if (y > lowest - 3) {
+                    if (v.cloud(x, y)) { base += l; ++nBase; }
+                    else { skyBeside += l; ++nBeside; }
+                }
+            }
+        REQUIRE(east.size() > 20);
+        REQUIRE(nBase > 3);
+        REQUIRE(nBeside > 3);
+        std::sort(east.begin(), east.end());
+        const double litSide = east[east.size() * 3 / 4];
+        INFO("sunlit side (75th percentile of the east half) " << litSide << " cd/m^2, base " << base / nBase << ", sky beside it " << skyBeside / nBeside);
+        // Real sunlit cumulus: 10,000-30,000 cd/m^2 (a white Lambertian surface under a 90,000 lx
+        // beam is 28,600 cd/m^2); the 75th percentile of the sunlit half, not its brightest pixel.
+        CHECK(litSide > 10000.0);
+        CHECK(litSide < 40000.0);  // and not brighter than any sunlit white surface can be
+        CHECK(base / nBase > skyBeside / nBeside);
+    }
+    SECTION("the Sun behind the cloud: a silver lining") {
+        // The Sun 30 deg up in the north, behind the cloud's middle (2.5 km up, 4 km away: 32 deg).
+        const View v = render(directionFromAzAlt(0, 30 * kDeg), 30, 50);
+        double edge = 0, centre = 0;
+        int ne = 0, nc = 0;
+        for (int y = 0; y < H; ++y)
+            for (int x = 0; x < W; ++x) {
+                if (!v.cloud(x, y)) continue;
+                // Distance (pixels, Chebyshev) to the nearest clear pixel: 1 at the silhouette.
+                int d = 1;
+                for (bool inside = true; inside && d < 8; d += inside ? 1 : 0) {
+                    for (int j = -d; j <= d && inside; ++j)
+                        for (int i = -d; i <= d && inside; ++i) {
+                            const int xx = x + i, yy = y + j;
+                            if (xx >= 0 && yy >= 0 && xx < W && yy < H && !v.cloud(xx, yy)) inside = false;
+                        }
+                }
+                const double l = luminance(v.clouds, x, y);
+                if (d == 1) { edge += l; ++ne; }
+                else if (d >= 4) { centre += l; ++nc; }
+            }
+        REQUIRE(ne > 10);
+        REQUIRE(nc > 10);
+        INFO("edge " << edge / ne << " centre " << centre / nc << " cd/m^2");
+        CHECK(edge / ne > centre / nc);
+    }
+}
