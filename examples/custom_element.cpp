@@ -24,7 +24,8 @@ int main(int argc, char** argv) {
         welkin::SkyProcessor sky(welkin::SkyVars::earth(), log);
         sky.add(welkin::elements::makeElement("sky"));     // farthest first
         sky.add(std::make_unique<welkin::elements::Halo>());
-        sky.add(welkin::elements::makeElement("grid"));    // overlay last
+        if (welkin::elements::findDescriptor("grid"))      // overlay last, where its folder is in the tree
+            sky.add(welkin::elements::makeElement("grid"));
         sky.vars().set(welkin::elements::halokeys::gain, 0.15);          // per sr; bright, for the picture
         sky.vars().setFromString("halo.width_rad", "1deg");              // what --var does
         welkin::Camera camera;

@@ -17,9 +17,10 @@ int main(int argc, char** argv) {
         welkin::Logger log;
         auto context = welkin::gl::HeadlessContext::create({}, log);
         welkin::SkyProcessor sky(welkin::SkyVars::earth(), log);
-        // The default set (the registry's order: background first), then a grid overlay.
+        // The default set (the registry's order: background first), then a grid overlay (where
+        // the Grid's folder is in the tree: elements are found by name).
         for (const auto& name : welkin::elements::defaultElements()) sky.add(welkin::elements::makeElement(name));
-        sky.add(welkin::elements::makeElement("grid"));
+        if (welkin::elements::findDescriptor("grid")) sky.add(welkin::elements::makeElement("grid"));
 
         constexpr double deg = std::numbers::pi / 180;
         sky.setObserver({.latitudeRad = 35.9 * deg, .longitudeRad = 14.5 * deg, .heightMeters = 50});

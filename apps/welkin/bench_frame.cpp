@@ -1,7 +1,9 @@
 // welkin bench frame: cost of the compositing pipeline itself on this machine: a trivial
 // fullscreen pass into RGBA32F and RGBA16F targets, the tone map (manual and automatic
 // exposure; on a mesopic frame with eye.mesopic off and on) and the Grid element (on the tiles
-// near its lines and, for comparison, as a fullscreen pass). CPU-timed with glFinish (GL timer
+// near its lines and, for comparison, as a fullscreen pass), and the floor under any tone map
+// (the "floor" rows: write formats, copies by each fetch instruction and source format, blended
+// passes; docs/eye.md). CPU-timed with glFinish (GL timer
 // queries mean nothing on llvmpipe): elapsed time, or with --clock cpu the process's CPU time
 // (steady on a machine other jobs load). Prints a Markdown table; --csv writes the same rows.
 #include "bench_util.hpp"
@@ -237,6 +239,112 @@ int run(const FrameBenchOptions& o) {
                 copyRatio.push_back(ms[2 + m] / ms[1]);
             }
             night.release();
+        }
+        // The floor under any tone map on this machine: what reading the HDR texel and writing the
+        // display format cost by themselves, each variant in alternation with the trivial pass.
+        {
+            gl::Texture2D half(w, h, GL_RGBA16F);
+            auto halfFbo = gl::Framebuffer::create();
+            halfFbo.attach(GL_COLOR_ATTACHMENT0, half);
+            gl::Texture2D floatOut(w, h, GL_RGBA32F);
+            auto floatOutFbo = gl::Framebuffer::create();
+            floatOutFbo.attach(GL_COLOR_ATTACHMENT0, floatOut);
+            auto prog = [](const char* name, const char* src) {
+                return gl::ProgramBuilder(name).fullscreenVertex().fragment(name, src).build();
+            };
+            auto constant8 = prog("const.frag", "out vec4 o; void main() { o = vec4(0.25, 0.5, 0.75, 1.0); }");
+            auto image8 = prog("image.frag", "layout(binding = 0, rgba32f) readonly uniform image2D u_img; out vec4 o;\n"
+                                             "void main() { o = vec4(imageLoad(u_img, ivec2(gl_FragCoord.xy)).rgb * 1e-3, 1.0); }");
+            auto fetchNoScale = prog("fetch.frag", "layout(binding = 0) uniform sampler2D u_hdr; out vec4 o;\n"
+                                                  "void main() { o = texelFetch(u_hdr, ivec2(gl_FragCoord.xy), 0); }");
+            auto sampled = prog("sampled.frag", "layout(binding = 0) uniform sampler2D u_hdr; uniform vec2 u_inv; out vec4 o;\n"
+                                                "void main() { o = vec4(textureLod(u_hdr, gl_FragCoord.xy * u_inv, 0.0).rgb * 1e-3, 1.0); }");
+            auto pass = [&](const gl::Framebuffer& fbo, gl::Program& p, unsigned tex, bool image) {
+                return [&, tex, image] {
+                    fbo.bind();
+                    glViewport(0, 0, w, h);
+                    vao.bind();
+                    if (image)
+                        glBindImageTexture(0, tex, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+                    else
+                        glBindTextureUnit(0, tex);
+                    p.use();
+                    if (&p == &sampled) p.set("u_inv", glm::vec2(1.0f / w, 1.0f / h));
+                    glDrawArrays(GL_TRIANGLES, 0, 3);
+                };
+            };
+            gl::Texture2D srgb8(w, h, GL_SRGB8_ALPHA8), rgb10(w, h, GL_RGB10_A2);
+            auto srgbFbo = gl::Framebuffer::create();
+            srgbFbo.attach(GL_COLOR_ATTACHMENT0, srgb8);
+            auto rgb10Fbo = gl::Framebuffer::create();
+            rgb10Fbo.attach(GL_COLOR_ATTACHMENT0, rgb10);
+            auto trivialInto = [&](const gl::Framebuffer& fbo) {
+                return [&] {
+                    fbo.bind();
+                    glViewport(0, 0, w, h);
+                    vao.bind();
+                    trivial.use();
+                    glDrawArrays(GL_TRIANGLES, 0, 3);
+                };
+            };
+            auto trivial8 = [&] {
+                ldrFbo.bind();
+                glViewport(0, 0, w, h);
+                vao.bind();
+                trivial.use();
+                glDrawArrays(GL_TRIANGLES, 0, 3);
+            };
+            trivialTarget.setFilter(GL_NEAREST);
+            // fill the half-float source once
+            halfFbo.bind();
+            glViewport(0, 0, w, h);
+            vao.bind();
+            trivial.use();
+            glDrawArrays(GL_TRIANGLES, 0, 3);
+            auto blendedPass = [&](bool dualSource) {
+                return [&, dualSource] {
+                    trivialFbo.bind();
+                    glViewport(0, 0, w, h);
+                    vao.bind();
+                    glEnable(GL_BLEND);
+                    if (dualSource) {
+                        blended.use();
+                        glBlendFuncSeparate(GL_ONE, GL_SRC1_COLOR, GL_ZERO, GL_ONE);
+                    } else {
+                        trivial.use();
+                        glBlendFunc(GL_ONE, GL_ONE);
+                    }
+                    glDrawArrays(GL_TRIANGLES, 0, 3);
+                    glDisable(GL_BLEND);
+                };
+            };
+            const std::vector<std::pair<std::string, std::function<void()>>> floor = {
+                {"floor: trivial pass RGBA32F (reference)", drawTrivial},
+                {"floor: trivial pass RGBA8", trivial8},
+                {"floor: constant colour RGBA8", pass(ldrFbo, constant8, 0, false)},
+                {"floor: trivial pass SRGB8_ALPHA8", trivialInto(srgbFbo)},
+                {"floor: trivial pass RGB10_A2", trivialInto(rgb10Fbo)},
+                {"floor: copy texelFetch RGBA32F -> RGBA8", drawCopy},
+                {"floor: copy imageLoad RGBA32F -> RGBA8", pass(ldrFbo, image8, trivialTarget.id(), true)},
+                {"floor: copy textureLod (nearest) RGBA32F -> RGBA8", pass(ldrFbo, sampled, trivialTarget.id(), false)},
+                {"floor: copy texelFetch RGBA16F -> RGBA8", pass(ldrFbo, copy, half.id(), false)},
+                {"floor: copy texelFetch RGBA32F -> RGBA32F", pass(floatOutFbo, fetchNoScale, trivialTarget.id(), false)},
+                {"floor: tone map (automatic exposure) into RGBA8", [&] { sky.toneMapInto(ldrFbo.id()); }},
+                {"floor: tone map (automatic exposure) into RGBA32F", [&] { sky.toneMapInto(floatOutFbo.id()); }},
+                {"floor: additive blended pass RGBA32F (ONE, ONE)", blendedPass(false)},
+                {"floor: dual-source blended pass RGBA32F (welkin_output)", blendedPass(true)},
+            };
+            std::vector<std::function<void()>> fns;
+            for (auto& f : floor) {
+                f.second();  // warm-up: llvmpipe compiles a program (and its blend state) at first draw
+                fns.push_back(f.second);
+            }
+            const std::vector<double> ms = alternatedOn(o.repeats, fns);
+            for (size_t i = 0; i < floor.size(); ++i) {
+                rows.push_back({floor[i].first, ms[i]});
+                alternated.push_back({floor[i].first, ms[i] / ms[0]});
+                copyRatio.push_back(ms[i] / ms[5]);
+            }
         }
         rows.push_back({"read back HDR (RGBA32F -> RGB)", medianOn(std::min(o.repeats, 3), [&] { (void)sky.readHdr(); })});
     }

@@ -7,6 +7,7 @@
 #include <catch2/catch.hpp>
 
 #include "astronomy_at.hpp"
+#include "elements_present.hpp"
 #include "gl_test_context.hpp"
 #include "uniform_field.hpp"
 
@@ -260,6 +261,7 @@ TEST_CASE("SkyLighting: the six axis lights are the irradiance along the axes", 
     }
 }
 
+#ifdef WELKIN_HAS_ELEMENT_clouds  // the Clouds element, by name
 TEST_CASE("SkyLighting: overcast clouds lower the Sun's light", "[gl][lighting][clouds]") {
     test::glContext();
     auto sunLux = [](const char* preset) {
@@ -281,6 +283,7 @@ TEST_CASE("SkyLighting: overcast clouds lower the Sun's light", "[gl][lighting][
     CHECK(overcast < 0.1 * clear);  // a stratocumulus deck: optical depth > 10 on the ray
     CHECK(overcast == Approx(clear * overcastT).epsilon(1e-9));  // exactly the photometry's transmittance
 }
+#endif
 
 TEST_CASE("Eclipses: the Sun's visible fraction and the sunlight reaching the Moon", "[cpu][lighting][astro]") {
     // Geometry alone: concentric equal disks hide everything; disjoint ones nothing; a uniform

@@ -136,6 +136,11 @@ vec2 atm_eclipseAt(vec3 p) {
     }
     return vec2(f, clamp(f + D, 0.0, 1.0));
 }
+// The multiple-scattering model's weight along a view ray (nu: the cosine of its angle to the
+// Sun; twin of the axis weight in cpu::integrateEclipse()): the orders >= 2 take
+// mix(f, f + D, w), w = the sine of that angle. A ray near the shadow's axis gathers light
+// scattered in the air along the axis, as dark as the point itself; across it, the kernel's average.
+float atm_eclMsAxisWeight(float nu) { return sqrt(max(1.0 - nu * nu, 0.0)); }
 #endif
 
 #ifdef ATM_USE_TRANSMITTANCE
@@ -295,6 +300,9 @@ Scattering integrateScattering(float h, float mu, float muS, float nu, float max
     float r = atm_bottom() + h;
     float phaseR = rayleighPhase(nu);
     vec3 thr = vec3(1.0), thrD = vec3(1.0);  // exact (background) and delta-M (scattered light)
+#ifdef ATM_ECLIPSE
+    float eclAxis = atm_eclMsAxisWeight(nu);
+#endif
     for (int k = 0; k < steps && d > 0.0; ++k) {
         float s0 = float(k) / float(steps), s1 = float(k + 1) / float(steps), sm = (float(k) + 0.5) / float(steps);
         float dt = d * (atm_warp(s1, p) - atm_warp(s0, p)), t = d * atm_warp(sm, p);
@@ -302,7 +310,7 @@ Scattering integrateScattering(float h, float mu, float muS, float nu, float max
 #ifdef ATM_ECLIPSE
         vec2 ecl = atm_eclipseAt(atm_eclOrigin + t * atm_eclView);
         q.Tl *= ecl.x;
-        q.ms *= ecl.y;
+        q.ms *= mix(ecl.x, ecl.y, eclAxis);
 #endif
         o.smooth_ += thrD * (q.sR * q.Tl * phaseR + q.ms) * q.seg;
         o.mieNoPhase += thrD * q.sM * q.Tl * q.seg;

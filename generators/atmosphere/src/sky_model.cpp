@@ -700,6 +700,11 @@ Scattering integrateEclipse(const SkyModel& m, const Lut2D& T, const MsField& MS
     const double p = quadratic ? 0.0 : perigeeFraction(m, h, mu, d);
     const double r = m.bottomRadius + h;
     const PhaseMoments moments = phaseMoments(m, MS.bands);
+    // The orders >= 2 along this view ray take mix(f, f + D, w), w = sin of the ray's angle to the
+    // Sun (docs/eclipse.md): the light a ray near the shadow's axis gathers was scattered in the
+    // air along that axis, as dark as the point itself; across the axis, the kernel's average.
+    // Twin of atm_eclMsAxisWeight().
+    const double axisWeight = std::sqrt(std::max(1.0 - nu * nu, 0.0));
     glm::dvec3 thr(1.0), thrD(1.0);
     for (int k = 0; k < steps && d > 0.0; ++k) {
         double s0 = double(k) / steps, s1 = double(k + 1) / steps, sm = (k + 0.5) / steps;
@@ -714,7 +719,7 @@ Scattering integrateEclipse(const SkyModel& m, const Lut2D& T, const MsField& MS
         const glm::dvec2 ecl = eclipseAt(g, t * viewDir);
         glm::dvec3 Tl = transmittanceToLight(m, T, hp, muSp, lightAngularRadius) * ecl.x;
         double muP = std::clamp((r * mu + t) / rp, -1.0, 1.0);
-        glm::dvec3 ms = msInscatter(m, MS, moments, hp, muP, muSp, nu, sR, sM) * ecl.y;
+        glm::dvec3 ms = msInscatter(m, MS, moments, hp, muP, muSp, nu, sR, sM) * (ecl.x + (ecl.y - ecl.x) * axisWeight);
         out.smooth += thrD * (sR * Tl * rayleighPhase(nu) + ms) * seg;
         out.mieNoPhase += thrD * sM * Tl * seg;
         thr *= glm::exp(-sigmaT * dt);

@@ -11,7 +11,7 @@ uniform vec3 u_moonDir;
 uniform vec3 u_sunE;         // illuminance above the atmosphere, lux per channel (0: no light)
 uniform vec3 u_moonE;
 uniform vec3 u_ambientE;     // the clear sky's diffuse horizontal illuminance at the ground, lux
-uniform vec3 u_groundE;      // global horizontal illuminance at the ground (sky + Sun), lux
+uniform vec3 u_groundE;      // global horizontal illuminance at the ground under the clouds, lux
 uniform int u_samples;       // view-ray samples through the cumulus layer
 uniform int u_lightSamples;  // light-march samples
 uniform float u_maxDistance; // longest march through the shell (m): beyond, the haze hides it
@@ -50,6 +50,20 @@ float cld_lightTransfer(float nu, float tauL, float tauB, float muL) {
     float sL = CLD_MS_S * tauL, sB = CLD_MS_S * tauB;
     float multi = CLD_MS_K / CLD_PI * pow(max(muL, CLD_MS_MU_MIN), CLD_MS_Q) * (1.0 - exp(-CLD_MS_C * (tauL + tauB)))
                 * max(sB + CLD_MS_Z + CLD_MS_H * nu, 0.0) / (sL + sB + CLD_MS_A);
+    return single + multi;
+}
+
+// The ambient light's transfer (twin of cloudcpu::ambientTransfer), per lux of horizontal
+// illuminance arriving as a uniform hemisphere from one side of the layer and per unit scaled
+// extinction, 1/sr: the single scattering of the hemisphere (a share 1/2 + (F - 1/2) nu of it
+// towards the view, attenuated by the diffusivity factor) plus the diffusion term at the diffuse
+// field's slant depths (1.66 x the vertical), per horizontal lux (x 2 / (1 + q)). tauN, tauF: scaled vertical depths to the
+// lit side and to the other; nu: cosine between the view ray and the direction to the lit side.
+float cld_ambientTransfer(float nu, float tauN, float tauF) {
+    float single = (0.5 + (CLD_AMB_FORWARD - 0.5) * nu) / CLD_PI * exp(-CLD_DIFFUSIVITY * tauN);
+    float sN = CLD_DIFFUSIVITY * CLD_MS_S * tauN, sF = CLD_DIFFUSIVITY * CLD_MS_S * tauF;  // slant depths
+    float multi = CLD_MS_AMBIENT * CLD_MS_K / CLD_PI * (1.0 - exp(-CLD_MS_C * (tauN + tauF)))
+                * max(sF + CLD_MS_Z + CLD_MS_H * nu, 0.0) / (sN + sF + CLD_MS_A);
     return single + multi;
 }
 
@@ -116,7 +130,7 @@ vec3 cld_airTransmittance(float mu, float d) {
 }
 
 // In-scattered source of one sample (cd/m^2 per m) at p with extinction sigmaT (albedo 1).
-vec3 cld_source(vec3 p, float hp, float a, vec3 dir, float sigmaT) {
+vec3 cld_source(vec3 p, float hp, vec3 dir, float sigmaT) {
     vec3 S = vec3(0.0);
     if (any(greaterThan(u_sunE, vec3(0.0)))) {
         vec3 E = cld_lightAt(p, hp, u_sunDir, u_sunE);
@@ -126,13 +140,17 @@ vec3 cld_source(vec3 p, float hp, float a, vec3 dir, float sigmaT) {
         vec3 E = cld_lightAt(p, hp, u_moonDir, u_moonE);
         if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightTransfer(dot(dir, u_moonDir), cld_lightDepth(p, u_moonDir, u_lightSamples), cld_backDepth(p, u_moonDir, sigmaT), u_moonDir.z);
     }
-    // Ambient: the sky's radiance over the upper hemisphere, E_diffuse / pi, reaches the cloud's
-    // top and less of it its base (linear in the layer fraction a from 0.25 to 1: the cloud above
-    // shades its own base, Schneider & Vos 2015's height gradient); the ground's reflected light
-    // E_global rho / pi lights the base from below. Half of an isotropically scattering
-    // particle's phase integral faces each hemisphere.
-    S += 0.5 * u_ambientE / CLD_PI * mix(0.25, 1.0, a);
-    S += 0.5 * CLD_GROUND_ALBEDO * u_groundE / CLD_PI * mix(1.0, 0.25, a);
+    // Ambient (docs/clouds.md, "Ambient"): the clear sky's diffuse light from above the layer and
+    // the ground's from below it (albedo x the global illuminance under the clouds, which the
+    // photometry pass solves for: the ground is lit by what came through them), each a uniform
+    // hemisphere carried into the cloud by cld_ambientTransfer through the vertical optical depths
+    // to the layer's top and bottom (the local extinction over the distances: exact in a deck).
+    vec3 up = normalize(p + vec3(0.0, 0.0, cld_radii.x));
+    float layerTop = cld_radii.z - cld_radii.x, layerBottom = cld_radii.y - cld_radii.x;
+    float tauUp = sigmaT * max(layerTop - hp, 0.0), tauDown = sigmaT * max(hp - layerBottom, 0.0);
+    float nuUp = dot(dir, up);
+    S += u_ambientE * cld_ambientTransfer(nuUp, tauUp, tauDown);
+    S += CLD_GROUND_ALBEDO * u_groundE * cld_ambientTransfer(-nuUp, tauDown, tauUp);
     return S * sigmaT;
 }
 
@@ -149,7 +167,6 @@ bool cld_cumulus(vec3 dir, vec2 px, out vec3 L, out float T, out float dMean) {
     float t0 = max(seg.x, 0.0), t1 = min(seg.y, t0 + u_maxDistance);
     if (t1 <= t0) return false;
     float sigma = cld_shape.z * CLD_W_DRAINE;  // delta-M scaled extinction
-    float bottom = cld_radii.y - cld_radii.x, top = cld_radii.z - cld_radii.x;
     float dt = (t1 - t0) / float(u_samples);
     float t = t0 + dt * cld_dither(px);
     vec3 o = vec3(0.0, 0.0, u_h);
@@ -160,8 +177,7 @@ bool cld_cumulus(vec3 dir, vec2 px, out vec3 L, out float T, out float dMean) {
         if (d <= 0.0) continue;
         float sigmaT = d * sigma;
         float hp = cloudAltitude(p);
-        float a = clamp((hp - bottom) / (top - bottom), 0.0, 1.0);
-        vec3 S = cld_source(p, hp, a, dir, sigmaT);
+        vec3 S = cld_source(p, hp, dir, sigmaT);
         float Ts = exp(-sigmaT * dt);
         // Hillaire 2016 energy-conserving step: int_0^dt S e^(-sigmaT s) ds = (S - S Ts) / sigmaT
         L += T * (S - S * Ts) / sigmaT;

@@ -27,8 +27,9 @@ uniform float u_airglowR2;    // (R / (R + h))^2 of the airglow layer
 uniform vec3 u_lp;            // light pollution at the zenith, cd/m^2 per channel
 uniform float u_lpR2;         // (R / (R + h))^2 of the light-pollution layer
 uniform float u_texelsPerRad; // panorama width / 2 pi (both paths: the cube's level 0 where the panorama's)
-uniform int u_extinction;     // 1: apply u_ext (nothing attenuates this element later)
+#ifdef NIGHT_EXTINCTION  // the program used when nothing attenuates this element later
 uniform vec3 u_ext[NIGHT_TABLE_N];  // transmittance at altitude -5 deg + 95 deg u^2, u = i / (N - 1)
+#endif
 
 const float kTableLo = -0.0872664626;  // -5 deg
 const float kTableSpan = 1.6580627894; // 95 deg
@@ -42,12 +43,14 @@ float night_asin(float x) {
     return x < 0.0 ? -r : r;
 }
 
+#ifdef NIGHT_EXTINCTION
 vec3 night_extinction(float h) {
     if (h < kTableLo) return vec3(0.0);
     float x = sqrt(clamp((h - kTableLo) / kTableSpan, 0.0, 1.0)) * float(NIGHT_TABLE_N - 1);
     int i = min(int(x), NIGHT_TABLE_N - 2);
     return mix(u_ext[i], u_ext[i + 1], x - float(i));
 }
+#endif
 
 // Van Rhijn's factor of a thin shell: 1 / sqrt(1 - r2 sin^2 z), sin^2 z = 1 - d.z^2.
 float night_vanRhijn(float cz, float r2) { return inversesqrt(max(1.0 - r2 * (1.0 - cz * cz), 1e-6)); }
@@ -74,6 +77,8 @@ void main() {
 #else
     L += 1e-4 * (textureLod(u_cube, icrs, lod).rgb + textureLod(u_zodiCube, icrs, 0.0).rgb);  // kMwStorageScale
 #endif
-    if (u_extinction == 1) L *= night_extinction(night_asin(clamp(dir.z, -1.0, 1.0)));
+#ifdef NIGHT_EXTINCTION
+    L *= night_extinction(night_asin(clamp(dir.z, -1.0, 1.0)));
+#endif
     welkin_output(L, vec3(1.0));
 }

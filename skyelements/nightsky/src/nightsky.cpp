@@ -307,15 +307,21 @@ void NightSky::doInit(InitContext& ctx) {
     // The Milky Way and the zodiacal light (panoramas, or their cubes) on units of its own.
     milkyWayUnit_ = textureUnit("MILKY_WAY_TEXTURE");
     zodiacalUnit_ = textureUnit("ZODIACAL_TEXTURE");
-    gl::ProgramBuilder b(direct_ ? "NightSky (direct)" : "NightSky");
-    b.bindings(bindings());
-    if (direct_) b.define("NIGHT_DIRECT");
-    programs_ = gl::ProjectionPrograms(b.define("NIGHT_TABLE_N", kTableN)
-                                           .fullscreenVertex()
-                                           .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
-                                           .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
-                                           .fragment("nightsky/nightsky.frag.glsl", embedded::nightsky_shaders("nightsky.frag.glsl")));
-    programs_.get(Projection::Perspective);  // shader errors surface in init()
+    // Two recipes: with and without the element's own extinction (compiled in, not a uniform
+    // branch: llvmpipe runs both sides of a branch, so the table's lookup cost every pixel under a
+    // Sky too).
+    for (int extinction = 0; extinction < 2; ++extinction) {
+        gl::ProgramBuilder b(direct_ ? "NightSky (direct)" : "NightSky");
+        b.bindings(bindings());
+        if (direct_) b.define("NIGHT_DIRECT");
+        if (extinction) b.define("NIGHT_EXTINCTION");
+        programs_[extinction] = gl::ProjectionPrograms(b.define("NIGHT_TABLE_N", kTableN)
+                                                           .fullscreenVertex()
+                                                           .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
+                                                           .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
+                                                           .fragment("nightsky/nightsky.frag.glsl", embedded::nightsky_shaders("nightsky.frag.glsl")));
+    }
+    programs_[0].get(Projection::Perspective);  // shader errors surface in init() (the other variant: first use)
     if (!direct_)
         cubeProgram_ = gl::ProgramBuilder("NightSky cube")
                            .bindings(bindings())
@@ -439,7 +445,7 @@ void NightSky::doRender(const FrameContext& ctx) {
         if (stale.milkyWay) buildCube(ctx, in, false);
         if (stale.zodiacal) buildCube(ctx, in, true);
     }
-    const gl::Program& p = programs_.get(ctx.camera.projection);
+    const gl::Program& p = programs_[ctx.attenuatedLater ? 0 : 1].get(ctx.camera.projection);
     p.use();
     const glm::dmat3 R = v.getOr(astro::keys::starFrameRotation, glm::dmat3(1.0));
     p.set("u_enuToIcrs", glm::mat3(glm::transpose(R)));
@@ -467,7 +473,6 @@ void NightSky::doRender(const FrameContext& ctx) {
         cube_.bind(milkyWayUnit_);
         zodiCube_.bind(zodiacalUnit_);
     }
-    p.set("u_extinction", ctx.attenuatedLater ? 0 : 1);
     if (!ctx.attenuatedLater) {
         updateExtinction(v);
         glProgramUniform3fv(p.id(), p.location("u_ext"), kTableN, extinction_.data());
@@ -480,7 +485,7 @@ void NightSky::doRender(const FrameContext& ctx) {
 }
 
 void NightSky::doRelease() {
-    programs_.releasePrograms();
+    for (auto& programs : programs_) programs.releasePrograms();
     mwTexture_ = gl::Texture2D();
     zodiTexture_ = gl::Texture2D();
     zodiLon_ = std::nan("");

@@ -34,6 +34,16 @@ double median(std::vector<double> v) {
     std::sort(v.begin(), v.end());
     return v[v.size() / 2];
 }
+// Declares that it attenuates what is behind it (as the Sky does) and draws nothing.
+class Attenuator final : public SkyElement {
+public:
+    Attenuator() : SkyElement("attenuator") { setAttenuatesBehind(true); }
+
+private:
+    void doInit(InitContext&) override {}
+    void doRender(const FrameContext&) override {}
+    void doRelease() override {}
+};
 Camera issueView() {
     Camera cam;
     cam.projection = Projection::Perspective;
@@ -78,6 +88,16 @@ TEST_CASE("Night timing: cube map vs per-pixel lookup, Sky with and without the 
     };
     ps.emplace_back("uniform field + sky, Sun -20.9 deg (Sun's term drawn)", make(sky(-20.9), false));
     ps.emplace_back("uniform field + sky, Sun -21.1 deg (skipped)", make(sky(-21.1), false));
+    // The night sky as under a Sky (FrameContext::attenuatedLater: no extinction of its own, the
+    // default scene's case) without the Sky's cost: a later element that declares it attenuates
+    // and draws nothing. The night sky's cost is the difference of these two frames.
+    ps.emplace_back("attenuator alone (draws nothing)", make([](SkyProcessor& p) { p.add(std::make_unique<Attenuator>()); }));
+    ps.emplace_back("nightsky per-pixel, attenuated later", make([](SkyProcessor& p) {
+        auto n = std::make_unique<elements::NightSky>();
+        n->setDirectLookup(true);
+        p.add(std::move(n));
+        p.add(std::make_unique<Attenuator>());
+    }));
     std::vector<std::vector<double>> ms(ps.size());
     for (int f = 0; f < 9; ++f)
         for (size_t i = 0; i < ps.size(); ++i) {
@@ -91,5 +111,8 @@ TEST_CASE("Night timing: cube map vs per-pixel lookup, Sky with and without the 
     for (size_t i = 0; i < ps.size(); ++i)
         std::printf("  %-55s %8.2f ms frame, %8.2f ms over the empty frame = %.2f x trivial\n", ps[i].first.c_str(), median(ms[i]), median(ms[i]) - empty,
                     (median(ms[i]) - empty) / trivial);
+    const size_t n = ps.size();
+    std::printf("  nightsky attenuated later: %.2f ms = %.2f x trivial\n", median(ms[n - 1]) - median(ms[n - 2]),
+                (median(ms[n - 1]) - median(ms[n - 2])) / trivial);
     CHECK(trivial > 0.0);
 }

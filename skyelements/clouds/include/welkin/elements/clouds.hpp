@@ -89,6 +89,23 @@ double scaledPhase(double nu);
 /// s = (1 - 0.86) tau / w_D (the transport optical depth, g 0.86 the Mie droplets'), the constants
 /// fitted to adding-doubling (docs/clouds.md).
 double lightTransfer(double nu, double tauL, double tauB, double muL);
+/// The share of the Draine lobe's scattering into the forward hemisphere, integral over nu in
+/// [0, 1] of 2 pi scaledPhase(nu) (0.938; checked by the tests): what a particle lit by a uniform
+/// hemisphere sends along the hemisphere's axis, per unit radiance.
+inline constexpr double kDraineForwardFraction = 0.938;
+/// The diffusivity factor (Elsasser 1942): diffuse light through an optical depth tau is
+/// attenuated about as a beam through 1.66 tau.
+inline constexpr double kDiffusivity = 1.66;
+/// The ambient light's transfer (docs/clouds.md, "Ambient"): the in-scattered radiance per lux of
+/// horizontal illuminance arriving as a uniform hemisphere of radiance E/pi from one side of the
+/// layer (the sky from above, the ground from below) and per unit scaled extinction (1/sr), at a
+/// point with scaled vertical optical depths tauN to that side and tauF to the other (>= 0), nu the
+/// cosine between the view ray and the direction towards the lit side, in [-1, 1]:
+/// (1/pi) (1/2 + (F - 1/2) nu) e^(-1.66 tauN) (single scattering, F = kDraineForwardFraction)
+/// plus lightTransfer()'s diffusion term at the slant transport depths 1.66 s, times 2 / (1 + q)
+/// (its mu^q averaged over a diffuse field's mu, per horizontal lux). Fluxes of slabs of
+/// tau 3-100 within 0.86-1.16x (T) and 0.87-1.09x (R) of adding-doubling's for diffuse light.
+double ambientTransfer(double nu, double tauN, double tauF);
 /// Energy-conserving integration of one step (Hillaire 2016, "Physically based sky, atmosphere
 /// and cloud rendering in Frostbite", eq. at §5.6.3): the radiance in-scattered over a step of
 /// length dt with source S (cd/m^2 per m) and extinction sigmaT (1/m): (S - S e^-sigmaT dt)/sigmaT.
@@ -113,6 +130,10 @@ public:
         double sunTransmittance = 1;  ///< the clouds' transmittance along the ray to the Sun
         double moonTransmittance = 1;  ///< the clouds' transmittance along the ray to the Moon
         bool valid = false;
+        /// The ground's global illuminance under the clouds (luminance, lux) that lights their
+        /// bases (albedo 0.2): the photometry's fixed point on the ground (equals `global` for an
+        /// observer on the ground).
+        double groundLux = 0;
     };
     const Photometry& photometry() const { return photometry_; }
     /// True if the last render() drew (coverage > 0 or cirrus coverage > 0).
@@ -143,6 +164,7 @@ private:
     gl::Texture2D statsTex_;
     gl::Framebuffer statsFbo_;
     Photometry photometry_;
+    glm::dvec3 groundE_{0.0};  // the ground's global illuminance under the clouds, lux per channel (the bases' light from below)
     std::vector<double> photometryInputs_;
     struct PhotometryLast {  // the moving inputs of the last photometry pass (compared by tolerance)
         glm::dvec3 sunDir{0.0}, moonDir{0.0}, sunE{0.0}, moonE{0.0}, skyE{0.0};

@@ -169,7 +169,7 @@ private:
     NightCubeInputs cubeInputs(const SkyVars& v) const;
     void buildCube(const FrameContext& ctx, const NightCubeInputs& in, bool zodiacal);
 
-    gl::ProjectionPrograms programs_;
+    gl::ProjectionPrograms programs_[2];  // [1]: with the element's own extinction (NIGHT_EXTINCTION)
     bool direct_ = true;  // the per-pixel lookup by default: on llvmpipe the cubes measured no cheaper (docs/nightsky.md)
     gl::Program cubeProgram_;
     gl::TextureCube cube_, zodiCube_;
