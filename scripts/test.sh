@@ -118,6 +118,11 @@ env "${san_env[@]}" "$san/bin/welkin" render --time 2026-06-21T10:00:00Z --lat 4
   --size 128x128 --var halo.radius_rad=22deg --var halo.gain_per_sr=0.05 --out "$san/template-halo.png"
 env "${san_env[@]}" "$san/bin/welkin" vars --elements halo --json > "$san/template-vars.json"
 grep -q '"halo.gain_per_sr"' "$san/template-vars.json"
+# One start of the command with LeakSanitizer on, in CI too: every subcommand and bench registers
+# its options at start-up, so an option struct leaked by a registrar fails here (the nightly run
+# found four); `vars` needs no GL, so the driver's own allocations do not enter.
+ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS="suppressions=$here/scripts/lsan.supp:print_suppressions=0" \
+  "$san/bin/welkin" vars --elements sky >/dev/null
 { env "${san_env[@]}" "$san/tests/welkin_tests" "[halo]" --list-test-names-only || true; } | grep -q . ||
   { echo "template step: the sanitizer build's tests hold no [halo] test" >&2; exit 1; }
 # The test binary runs as two processes side by side: one process keeps about one core busy

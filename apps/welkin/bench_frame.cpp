@@ -287,13 +287,7 @@ int run(const FrameBenchOptions& o) {
                     glDrawArrays(GL_TRIANGLES, 0, 3);
                 };
             };
-            auto trivial8 = [&] {
-                ldrFbo.bind();
-                glViewport(0, 0, w, h);
-                vao.bind();
-                trivial.use();
-                glDrawArrays(GL_TRIANGLES, 0, 3);
-            };
+            auto trivial8 = trivialInto(ldrFbo);
             trivialTarget.setFilter(GL_NEAREST);
             // fill the half-float source once
             halfFbo.bind();

@@ -104,6 +104,21 @@ totals: 5167
     CHECK(c.byFunction.at("welkin::SkyProcessor::renderFrame()") == 160);
 }
 
+namespace {
+/// Runs `welkin bench all ARGS --out DIR/BENCHMARKS.md` (which must succeed) and returns the file.
+[[maybe_unused]] std::string benchAllMarkdown(const std::string& dir, const std::string& args) {
+    const std::string out = dir + "/BENCHMARKS.md";
+    const auto r = runCli("bench all " + args + " --out '" + out + "'");
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    std::ifstream f(out);
+    REQUIRE(f);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+}
+}  // namespace
+
 TEST_CASE("welkin bench all: it measures every element of the registry", "[cpu][cli][bench]") {
     // --list prints the elements a run measures, one "name: scene" line each: every element of the
     // registry (with its own bench, or the default scene), so a new element folder is measured.
@@ -126,15 +141,7 @@ TEST_CASE("welkin bench all: a tiny run writes a row per element with finite pos
     // Two elements (the grid: default bench; the stars: their own bench and sweep) at 32x16: the
     // whole registry takes minutes here (the rainbow's Mie table, the clouds' noise volumes).
     const std::string dir = welkin::test::scratchDir("bench_all");
-    const std::string out = dir + "/BENCHMARKS.md";
-    const auto r = runCli("bench all --only grid,stars --size-override 32x16 --frames 1 --framework-frames 0 --plots '' --out '" + out + "'");
-    INFO(r.output);
-    REQUIRE(r.status == 0);
-    std::ifstream f(out);
-    REQUIRE(f);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    const std::string md = ss.str();
+    const std::string md = benchAllMarkdown(dir, "--only grid,stars --size-override 32x16 --frames 1 --framework-frames 0 --plots ''");
     CHECK(md.find("- Date: ") != std::string::npos);
     CHECK(md.find("- Commit: ") != std::string::npos);
     CHECK(md.find("GL renderer: ") != std::string::npos);
@@ -176,17 +183,9 @@ TEST_CASE("welkin bench all: an element's report table comes from its own bench'
     // The Halos register `welkin bench halos` with a ReportTable (skyelements/halos/bench): bench
     // all runs it with the table's --quick arguments (low tables: seconds) and prints its CSV as a
     // Markdown table under the table's title, with the command that made it.
-    const std::string dir = welkin::test::scratchDir("bench_all_reports");
-    const std::string out = dir + "/BENCHMARKS.md";
-    const auto r = runCli("bench all --quick --only halos --size-override 32x16 --frames 1 --framework-frames 0 --plots '' "
-                          "--var halos.table_quality=low --out '" + out + "'");
-    INFO(r.output);
-    REQUIRE(r.status == 0);
-    std::ifstream f(out);
-    REQUIRE(f);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    const std::string md = ss.str();
+    const std::string md = benchAllMarkdown(welkin::test::scratchDir("bench_all_reports"),
+                                            "--quick --only halos --size-override 32x16 --frames 1 --framework-frames 0 --plots '' "
+                                            "--var halos.table_quality=low");
     const size_t at = md.find("### Halos: crystal tables by quality, the pass, and accuracy");
     REQUIRE(at != std::string::npos);
     const std::string section = md.substr(at, md.find("\n## ", at) - at);
