@@ -30,6 +30,15 @@
 namespace welkin::cli {
 namespace {
 
+/// A colour target: a texture of the frame's size and the framebuffer that draws into it.
+struct ColorTarget {
+    gl::Texture2D texture;
+    gl::Framebuffer fbo;
+    ColorTarget(int w, int h, GLenum format) : texture(w, h, format), fbo(gl::Framebuffer::create()) {
+        fbo.attach(GL_COLOR_ATTACHMENT0, texture);
+    }
+};
+
 struct FrameBenchOptions {
     std::string size = "1280x720";
     int repeats = 10;
@@ -148,15 +157,14 @@ int run(const FrameBenchOptions& o) {
         sky.add(elements::makeElement("grid"));  // by name: options through its keys (grid.tiled)
         sky.renderFrame();
         rows.push_back({"grid element + tone map (renderFrame)", medianOn(o.repeats, [&] { sky.renderFrame(); })});
-        gl::Texture2D ldr(w, h, GL_RGBA8);
-        auto ldrFbo = gl::Framebuffer::create();
-        ldrFbo.attach(GL_COLOR_ATTACHMENT0, ldr);
+        const ColorTarget ldr(w, h, GL_RGBA8);
+        const gl::Framebuffer& ldrFbo = ldr.fbo;
         // The tone map against the trivial pass and a copy pass (fetch the HDR texel, write RGBA8:
         // the memory traffic any tone map has), timed in alternation: the ratio is the tone map's
         // own arithmetic, steady on a loaded machine.
-        gl::Texture2D trivialTarget(w, h, GL_RGBA32F);
-        auto trivialFbo = gl::Framebuffer::create();
-        trivialFbo.attach(GL_COLOR_ATTACHMENT0, trivialTarget);
+        ColorTarget trivialColor(w, h, GL_RGBA32F);
+        gl::Texture2D& trivialTarget = trivialColor.texture;
+        const gl::Framebuffer& trivialFbo = trivialColor.fbo;
         auto copy = gl::ProgramBuilder("copy")
                         .fullscreenVertex()
                         .fragment("copy.frag", "layout(binding = 0) uniform sampler2D u_hdr; out vec4 o;\n"
@@ -243,12 +251,7 @@ int run(const FrameBenchOptions& o) {
         // The floor under any tone map on this machine: what reading the HDR texel and writing the
         // display format cost by themselves, each variant in alternation with the trivial pass.
         {
-            gl::Texture2D half(w, h, GL_RGBA16F);
-            auto halfFbo = gl::Framebuffer::create();
-            halfFbo.attach(GL_COLOR_ATTACHMENT0, half);
-            gl::Texture2D floatOut(w, h, GL_RGBA32F);
-            auto floatOutFbo = gl::Framebuffer::create();
-            floatOutFbo.attach(GL_COLOR_ATTACHMENT0, floatOut);
+            const ColorTarget half(w, h, GL_RGBA16F), floatOut(w, h, GL_RGBA32F);
             auto prog = [](const char* name, const char* src) {
                 return gl::ProgramBuilder(name).fullscreenVertex().fragment(name, src).build();
             };
@@ -273,11 +276,7 @@ int run(const FrameBenchOptions& o) {
                     glDrawArrays(GL_TRIANGLES, 0, 3);
                 };
             };
-            gl::Texture2D srgb8(w, h, GL_SRGB8_ALPHA8), rgb10(w, h, GL_RGB10_A2);
-            auto srgbFbo = gl::Framebuffer::create();
-            srgbFbo.attach(GL_COLOR_ATTACHMENT0, srgb8);
-            auto rgb10Fbo = gl::Framebuffer::create();
-            rgb10Fbo.attach(GL_COLOR_ATTACHMENT0, rgb10);
+            const ColorTarget srgb8(w, h, GL_SRGB8_ALPHA8), rgb10(w, h, GL_RGB10_A2);
             auto trivialInto = [&](const gl::Framebuffer& fbo) {
                 return [&] {
                     fbo.bind();
@@ -290,7 +289,7 @@ int run(const FrameBenchOptions& o) {
             auto trivial8 = trivialInto(ldrFbo);
             trivialTarget.setFilter(GL_NEAREST);
             // fill the half-float source once
-            halfFbo.bind();
+            half.fbo.bind();
             glViewport(0, 0, w, h);
             vao.bind();
             trivial.use();
@@ -316,15 +315,15 @@ int run(const FrameBenchOptions& o) {
                 {"floor: trivial pass RGBA32F (reference)", drawTrivial},
                 {"floor: trivial pass RGBA8", trivial8},
                 {"floor: constant colour RGBA8", pass(ldrFbo, constant8, 0, false)},
-                {"floor: trivial pass SRGB8_ALPHA8", trivialInto(srgbFbo)},
-                {"floor: trivial pass RGB10_A2", trivialInto(rgb10Fbo)},
+                {"floor: trivial pass SRGB8_ALPHA8", trivialInto(srgb8.fbo)},
+                {"floor: trivial pass RGB10_A2", trivialInto(rgb10.fbo)},
                 {"floor: copy texelFetch RGBA32F -> RGBA8", drawCopy},
                 {"floor: copy imageLoad RGBA32F -> RGBA8", pass(ldrFbo, image8, trivialTarget.id(), true)},
                 {"floor: copy textureLod (nearest) RGBA32F -> RGBA8", pass(ldrFbo, sampled, trivialTarget.id(), false)},
-                {"floor: copy texelFetch RGBA16F -> RGBA8", pass(ldrFbo, copy, half.id(), false)},
-                {"floor: copy texelFetch RGBA32F -> RGBA32F", pass(floatOutFbo, fetchNoScale, trivialTarget.id(), false)},
+                {"floor: copy texelFetch RGBA16F -> RGBA8", pass(ldrFbo, copy, half.texture.id(), false)},
+                {"floor: copy texelFetch RGBA32F -> RGBA32F", pass(floatOut.fbo, fetchNoScale, trivialTarget.id(), false)},
                 {"floor: tone map (automatic exposure) into RGBA8", [&] { sky.toneMapInto(ldrFbo.id()); }},
-                {"floor: tone map (automatic exposure) into RGBA32F", [&] { sky.toneMapInto(floatOutFbo.id()); }},
+                {"floor: tone map (automatic exposure) into RGBA32F", [&] { sky.toneMapInto(floatOut.fbo.id()); }},
                 {"floor: additive blended pass RGBA32F (ONE, ONE)", blendedPass(false)},
                 {"floor: dual-source blended pass RGBA32F (welkin_output)", blendedPass(true)},
             };
