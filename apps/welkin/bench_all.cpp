@@ -442,7 +442,8 @@ std::string reportsSection(bool quick, const std::set<std::string>& only, const 
         for (const bench::ReportTable& t : b.reports)
             if (only.empty() || only.count(t.element)) todo.push_back({b.name, t});
     if (todo.empty()) return "";
-    std::sort(todo.begin(), todo.end(), [](const auto& a, const auto& b) { return a.second.element < b.second.element; });
+    // By element; an element's tables keep the order it registered them in.
+    std::stable_sort(todo.begin(), todo.end(), [](const auto& a, const auto& b) { return a.second.element < b.second.element; });
     const std::string self_exe = std::filesystem::canonical("/proc/self/exe").string();
     const std::filesystem::path tmp = std::filesystem::temp_directory_path() / ("welkin_bench_reports_" + std::to_string(::getpid()));
     std::filesystem::create_directories(tmp);
