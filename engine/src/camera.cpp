@@ -165,11 +165,13 @@ glm::dmat3 Camera::basis() const {
         r = glm::length(r) > 1e-9 ? glm::normalize(r) : glm::normalize(glm::cross(f, t[1]));
         return glm::dmat3(r, glm::cross(r, f), f);
     }
+    if (basisMemo.valid && basisMemo.azimuthRad == azimuthRad && basisMemo.altitudeRad == altitudeRad) return basisMemo.basis;
     glm::dvec3 f = directionFromAzAlt(azimuthRad, altitudeRad);
     // Horizontal right vector defined from the azimuth so it stays valid looking straight up.
     glm::dvec3 r{std::cos(azimuthRad), -std::sin(azimuthRad), 0.0};
     glm::dvec3 u = glm::cross(r, f);
-    return glm::dmat3(r, u, f);
+    basisMemo = {azimuthRad, altitudeRad, glm::dmat3(r, u, f), true};
+    return basisMemo.basis;
 }
 
 namespace {

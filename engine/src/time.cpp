@@ -2,6 +2,7 @@
 #include <welkin/time.hpp>
 
 #include <charconv>
+#include <cstdlib>
 #include <cmath>
 #include <cstdio>
 
@@ -234,16 +235,43 @@ UtcInstant UtcInstant::parse(std::string_view iso, Calendar calendar) {
 }
 
 std::string UtcInstant::toIso() const {
-    char buf[64];
+    // Digits written by hand, not snprintf: the processor publishes time.iso every frame while
+    // time runs, and snprintf's format parsing was ~5,000 instructions of the framework's frame
+    // (docs/hardening.md). Same text: [-]YYYY-MM-DDThh:mm:ss[.mmm]Z, the year at least 4 digits.
     const DateTime& d = utc_;
     int whole = int(std::floor(d.second));
     int millis = int(std::lround((d.second - whole) * 1000.0));
     if (millis == 1000) millis = 999;  // never print 60.000 for 59.9996
-    const char* fmt = d.year < 0 ? "-%04d-%02d-%02dT%02d:%02d:%02d" : "%04d-%02d-%02dT%02d:%02d:%02d";
-    int n = std::snprintf(buf, sizeof buf, fmt, std::abs(d.year), d.month, d.day, d.hour, d.minute, whole);
-    if (millis) n += std::snprintf(buf + n, sizeof buf - n, ".%03d", millis);
-    std::snprintf(buf + n, sizeof buf - n, "Z");
-    return buf;
+    std::string out;
+    out.reserve(32);
+    auto put = [&out](long long v, int width) {
+        char digits[24];
+        int n = 0;
+        do {
+            digits[n++] = char('0' + v % 10);
+            v /= 10;
+        } while (v > 0);
+        while (n < width) digits[n++] = '0';
+        while (n > 0) out.push_back(digits[--n]);
+    };
+    if (d.year < 0) out.push_back('-');
+    put(std::llabs(d.year), 4);
+    out.push_back('-');
+    put(d.month, 2);
+    out.push_back('-');
+    put(d.day, 2);
+    out.push_back('T');
+    put(d.hour, 2);
+    out.push_back(':');
+    put(d.minute, 2);
+    out.push_back(':');
+    put(whole, 2);
+    if (millis) {
+        out.push_back('.');
+        put(millis, 3);
+    }
+    out.push_back('Z');
+    return out;
 }
 
 UtcInstant UtcInstant::plusSeconds(double seconds) const {

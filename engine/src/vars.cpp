@@ -10,16 +10,14 @@
 
 namespace welkin {
 
-void SkyVars::checkScalar(const std::string& name, const std::optional<Range>& range, double v) {
+void SkyVars::failScalar(const std::string& name, const std::optional<Range>& range, double v) {
     char buf[96];
     if (!std::isfinite(v)) {
         std::snprintf(buf, sizeof buf, "%g", v);
         throw Error("SkyVars: key '" + name + "': " + buf + " is not finite");
     }
-    if (range && !(v >= range->min && v <= range->max)) {
-        std::snprintf(buf, sizeof buf, "%g not in [%g, %g]", v, range->min, range->max);
-        throw Error("SkyVars: key '" + name + "': " + buf);
-    }
+    std::snprintf(buf, sizeof buf, "%g not in [%g, %g]", v, range ? range->min : 0.0, range ? range->max : 0.0);
+    throw Error("SkyVars: key '" + name + "': " + buf);
 }
 
 void SkyVars::checkName(const std::string& name, const std::vector<std::string>& choices, const std::string& value) {
@@ -29,6 +27,11 @@ void SkyVars::checkName(const std::string& name, const std::vector<std::string>&
     std::string list;
     for (const std::string& c : choices) list += (list.empty() ? "" : ", ") + c;
     throw Error("key '" + name + "': '" + value + "' is not one of " + list);
+}
+
+uint64_t detail::nextKeySerial() {
+    static std::atomic<uint64_t> next{1};  // process-wide; 0 marks an empty cache line
+    return next.fetch_add(1, std::memory_order_relaxed);
 }
 
 uint64_t SkyVars::newIdentity() {

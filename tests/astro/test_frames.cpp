@@ -133,6 +133,43 @@ TEST_CASE("Earth orientation far from J2000: years -2000 and +6000", "[cpu][astr
     }
 }
 
+TEST_CASE("Earth orientation: the series reused along their secant within 5 minutes match full evaluations", "[cpu][astro]") {
+    // As a frame loop with time running at 600x (20 s of TT per frame at 30 frames/s) does:
+    // EarthSeriesCache extrapolates nutation and the CIO locator along the secant of its last two
+    // full evaluations. Bound: 0.5 |f''| dt (dt + D), dt, D <= 300 s; the fastest nutation terms
+    // (13.66 d, 0.23"; 9.13 d, 0.03"; 27.6 d, 0.07") give |f''| < 0.1"/day^2, so < 2e-6" — checked
+    // at 1e-5" (5x margin for the smaller terms not summed). A wrong or missing slope fails it:
+    // holding the value for 300 s errs by |f'| x 300 s ~ 3e-4".
+    EarthSeriesCache cache;
+    const UtcInstant start = UtcInstant::parse("2026-08-12T17:00:00Z");
+    double worstNpb = 0, worstGast = 0, worstDpsi = 0;
+    int reused = 0, full = 0;
+    for (int frame = 0; frame < 400; ++frame) {  // 8000 s: 26 spans of 5 minutes
+        const TimeScales ts = timeScales(start.plusSeconds(20.0 * frame));
+        const bool wasValid = cache.valid;
+        const double before = cache.tCenturies;
+        const EarthOrientation cached = earthOrientation(ts, Path::Fast, &cache);
+        const EarthOrientation fresh = earthOrientation(ts, Path::Fast);
+        (wasValid && cache.tCenturies == before ? reused : full)++;
+        worstNpb = std::max(worstNpb, rotationDifference(cached.celestialToTrueOfDate, fresh.celestialToTrueOfDate));
+        worstGast = std::max(worstGast, std::abs(wrapPi(cached.gast - fresh.gast)));
+        worstDpsi = std::max(worstDpsi, std::abs(cached.nutation.dpsi - fresh.nutation.dpsi));
+    }
+    std::printf("earth series reuse over 400 frames: %d full, %d reused; NPB %.2e\", GAST %.2e\", dpsi %.2e\"\n", full, reused,
+                worstNpb / kArcsec, worstGast / kArcsec, worstDpsi / kArcsec);
+    CHECK(worstNpb < 1e-5 * kArcsec);
+    CHECK(worstGast < 1e-5 * kArcsec);
+    CHECK(worstDpsi < 1e-5 * kArcsec);
+    // The reuse happens: two full evaluations per 15 frames (300 s / 20 s), not one per frame.
+    CHECK(reused > 300);
+    // A jump beyond the span evaluates in full and is exact.
+    const TimeScales far = timeScales(UtcInstant::parse("2027-08-02T10:00:00Z"));
+    const EarthOrientation jumped = earthOrientation(far, Path::Fast, &cache);
+    const EarthOrientation exact = earthOrientation(far, Path::Fast);
+    CHECK(jumped.gast == exact.gast);
+    CHECK(jumped.nutation.dpsi == exact.nutation.dpsi);
+}
+
 TEST_CASE("Apparent place of a star: Meeus example 23.a (theta Persei)", "[cpu][astro]") {
     // theta Per, J2000 (FK5): RA 2h44m11.986s, Dec +49 13 42.48, pm +0.03425 s/yr in RA and
     // -0.0895"/yr in Dec; 2028 November 13.19 TD. Meeus: apparent RA 2h46m14.390s,

@@ -53,6 +53,73 @@ TEST_CASE("SkyVars: versions bump on change only", "[cpu][vars]") {
     CHECK(v.version(kColour) == c1 + 1);
 }
 
+TEST_CASE("SkyVars: the lookup cache never answers for another key, another object or a moved-from one", "[cpu][vars]") {
+    // get()/set()/has()/version() find a key's entry through a per-object cache keyed on the Key
+    // object's serial (docs/hardening.md). Each section would read a wrong value or crash if the
+    // cache answered by address, outlived a move or cached a miss.
+    SECTION("a key object made later at a freed one's address is a different key") {
+        SkyVars v;
+        v.set(Key<double>("test.a"), 1.0);
+        v.set(Key<double>("test.b"), 2.0);
+        for (int i = 0; i < 3; ++i) {  // the temporaries below reuse the same stack slot
+            CHECK(v.get(Key<double>("test.a")) == 1.0);
+            CHECK(v.get(Key<double>("test.b")) == 2.0);
+        }
+        CHECK_FALSE(v.has(Key<double>("test.c")));
+    }
+    SECTION("a miss is not cached: a key read before it exists is found once declared") {
+        SkyVars v;
+        CHECK_FALSE(v.has(kTurbidity));
+        CHECK(v.version(kTurbidity) == 0);
+        v.declare(kTurbidity, 4.0);
+        CHECK(v.has(kTurbidity));
+        CHECK(v.get(kTurbidity) == 4.0);
+    }
+    SECTION("two objects, one key: each its own value; a move carries them, the moved-from is empty") {
+        SkyVars a, b;
+        a.set(kTurbidity, 2.0);
+        b.set(kTurbidity, 7.0);
+        CHECK(a.get(kTurbidity) == 2.0);
+        CHECK(b.get(kTurbidity) == 7.0);
+        SkyVars c(std::move(a));
+        CHECK(c.get(kTurbidity) == 2.0);
+        CHECK_FALSE(a.has(kTurbidity));  // NOLINT(bugprone-use-after-move): moved-from is empty by contract
+        a.set(kTurbidity, 9.0);
+        CHECK(a.get(kTurbidity) == 9.0);
+        CHECK(c.get(kTurbidity) == 2.0);
+        b = std::move(c);
+        CHECK(b.get(kTurbidity) == 2.0);
+        CHECK_FALSE(c.has(kTurbidity));  // NOLINT(bugprone-use-after-move)
+    }
+    SECTION("more keys than cache lines: every one keeps its own value") {
+        SkyVars v;
+        std::vector<Key<double>> keys;
+        for (int i = 0; i < 1000; ++i) keys.emplace_back("test.many" + std::to_string(i));
+        for (int round = 0; round < 2; ++round)
+            for (int i = 0; i < 1000; ++i) v.set(keys[size_t(i)], double(i + round));
+        for (int i = 0; i < 1000; ++i) REQUIRE(v.get(keys[size_t(i)]) == double(i + 1));
+    }
+    SECTION("a vector changed in place bumps the version; the same value does not") {
+        SkyVars v;
+        v.set(kColour, glm::dvec3(0.1));
+        const uint64_t before = v.version(kColour);
+        const glm::dvec3* where = &v.get(kColour);
+        v.set(kColour, glm::dvec3(0.2));
+        CHECK(v.version(kColour) == before + 1);
+        CHECK(&v.get(kColour) == where);  // assigned in place, not reallocated
+        CHECK(v.get(kColour) == glm::dvec3(0.2));
+        CHECK_THROWS_WITH(v.set(kColour, glm::dvec3(2.0)), Catch::Contains("test.colour"));
+        CHECK(v.get(kColour) == glm::dvec3(0.2));
+    }
+    SECTION("a key of another type under the same name is still refused after the cache knows the first") {
+        SkyVars v;
+        v.set(kTurbidity, 3.0);
+        CHECK(v.get(kTurbidity) == 3.0);
+        CHECK_THROWS_WITH(v.get(kTurbidityAsInt), Catch::Contains("holds double"));
+        CHECK_THROWS_WITH(v.set(kTurbidityAsInt, 3), Catch::Contains("holds double"));
+    }
+}
+
 TEST_CASE("SkyVars: unset, wrong type and out-of-range are errors naming the key", "[cpu][vars]") {
     SkyVars v;
     CHECK_THROWS_WITH(v.get(kLabel), Catch::Contains("test.label") && Catch::Contains("not set"));

@@ -96,6 +96,15 @@ struct Camera {
     /// Set by fromViewProjection() (Projection::Perspective only): the host's matrices replace
     /// azimuthRad/altitudeRad/verticalFovRad for every mapping between pixels and directions.
     std::optional<HostProjection> host;
+    /// Internal: basis() remembers its last result for the azimuth and altitude it was computed
+    /// from (the elements ask for it dozens of times a frame; each time cost four sines and
+    /// cosines). Recomputed whenever either angle differs; not used for a host camera.
+    struct BasisMemo {
+        double azimuthRad = 0.0, altitudeRad = 0.0;
+        glm::dmat3 basis{0.0};
+        bool valid = false;
+    };
+    mutable BasisMemo basisMemo{};
 
     /// The host's camera from its view matrix (host world -> view space, OpenGL convention: the
     /// camera looks down -z), its projection matrix (view -> clip: any perspective, off-axis or

@@ -29,6 +29,8 @@
 #include <glm/glm.hpp>
 
 #include <any>
+#include <cmath>
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -105,6 +107,12 @@ struct KeyInfo {
 /// The unit implied by a key name's suffix ("observer.height_m" -> "m"), or "".
 std::string unitFromKeyName(std::string_view name);
 
+namespace detail {
+/// A new key serial, unique in the process (never 0, never reused): SkyVars' lookup cache is keyed
+/// on it, so a key object made later at a freed key's address is never mistaken for it.
+uint64_t nextKeySerial();
+}  // namespace detail
+
 /// A typed key. Name them `area.quantity_unit` (e.g. "observer.height_m", "sun.direction").
 template <class T>
 class Key {
@@ -127,6 +135,9 @@ public:
     const std::string& description() const { return description_; }
     const std::string& unit() const { return unit_; }
     const std::vector<std::string>& choices() const { return choices_; }
+    /// Unique in the process and shared by copies (same name, range and unit): what SkyVars'
+    /// lookup cache is keyed on.
+    uint64_t serial() const { return serial_; }
     KeyInfo info() const { return {name_, typeid(T), detail::TypeName<T>::value, range_, description_, unit_, choices_}; }
 
 private:
@@ -136,6 +147,7 @@ private:
     std::string description_;
     std::string unit_;
     std::vector<std::string> choices_;
+    uint64_t serial_ = detail::nextKeySerial();
 };
 
 template <class E>
@@ -157,17 +169,20 @@ public:
     /// The entries move with their identity (versionSlot() pointers stay valid); the moved-from
     /// object is empty, with an identity of its own.
     SkyVars(SkyVars&& o) noexcept
-        : entries_(std::move(o.entries_)), declarer_(std::move(o.declarer_)), identity_(o.identity_) {
+        : entries_(std::move(o.entries_)), declarer_(std::move(o.declarer_)), identity_(o.identity_), cache_(o.cache_) {
         o.entries_.clear();
         o.identity_ = newIdentity();
+        o.cache_.fill({});
     }
     SkyVars& operator=(SkyVars&& o) noexcept {
         if (this != &o) {
             entries_ = std::move(o.entries_);
             declarer_ = std::move(o.declarer_);
             identity_ = o.identity_;
+            cache_ = o.cache_;
             o.entries_.clear();
             o.identity_ = newIdentity();
+            o.cache_.fill({});
         }
         return *this;
     }
@@ -180,15 +195,14 @@ public:
     /// existing value is kept and shared; a different type is an error naming the key.
     template <class T>
     void declare(const Key<T>& key, T defaultValue) {
-        auto it = entries_.find(key.name());
-        if (it != entries_.end()) {
-            checkCompatible(it->second, key.info());
-            if (!it->second.isSet) {
-                validate(key.name(), it->second.range, defaultValue);
-                checkChoice(key.name(), it->second.choices, defaultValue);
-                it->second.value = std::move(defaultValue);
-                it->second.isSet = true;
-                ++it->second.version;
+        if (Entry* e = find(key)) {
+            checkCompatible(*e, key.info());
+            if (!e->isSet) {
+                validate(key.name(), e->range, defaultValue);
+                checkChoice(key.name(), e->choices, defaultValue);
+                e->value = std::move(defaultValue);
+                e->isSet = true;
+                ++e->version;
             }
             return;
         }
@@ -203,9 +217,8 @@ public:
     /// Declares `key` with no value yet: reading it before set() is an error.
     template <class T>
     void declareUnset(const Key<T>& key) {
-        auto it = entries_.find(key.name());
-        if (it != entries_.end()) {
-            checkCompatible(it->second, key.info());
+        if (Entry* e = find(key)) {
+            checkCompatible(*e, key.info());
             return;
         }
         entries_.emplace(key.name(), makeEntry(key.info(), std::any(), false));
@@ -232,18 +245,29 @@ public:
     void set(const Key<T>& key, T value) {
         validate(key.name(), key.range(), value);
         checkChoice(key.name(), key.choices(), value);
-        auto it = entries_.find(key.name());
-        if (it == entries_.end()) {
+        CacheLine* line = nullptr;
+        Entry* found = find(key, &line);
+        if (!found) {
             entries_.emplace(key.name(), makeEntry(key.info(), std::any(std::move(value)), true));
             return;
         }
-        Entry& e = it->second;
+        Entry& e = *found;
         checkType<T>(e, key.name());
-        if (e.range != key.range() || e.unit != key.unit() || e.choices != key.choices()) checkCompatible(e, key.info());
+        // The key's declaration against the entry's: once agreed, they keep agreeing (a Key is
+        // immutable and an entry only adopts a range, unit or names it lacked), so the cache line
+        // remembers it and later sets skip the comparison (and the KeyInfo it may build).
+        if (!line || !line->agreed) {
+            if (e.range != key.range() || e.unit != key.unit() || e.choices != key.choices()) checkCompatible(e, key.info());
+            if (line) line->agreed = true;
+        }
         if (e.range && !key.range()) validate(key.name(), e.range, value);
         if (key.choices().empty()) checkChoice(key.name(), e.choices, value);
-        if (e.isSet && std::any_cast<const T&>(e.value) == value) return;
-        e.value = std::move(value);
+        if (T* held = std::any_cast<T>(&e.value)) {
+            if (e.isSet && *held == value) return;
+            *held = std::move(value);  // in place: a dvec3 or a matrix is not reallocated per change
+        } else {
+            e.value = std::move(value);
+        }
         e.isSet = true;
         ++e.version;
     }
@@ -255,11 +279,10 @@ public:
     /// The value of `key`. Throws welkin::Error naming the key if unset or of another type.
     template <class T>
     const T& get(const Key<T>& key) const {
-        auto it = entries_.find(key.name());
-        if (it == entries_.end() || !it->second.isSet)
-            throw Error("SkyVars: key '" + key.name() + "' is not set");
-        checkType<T>(it->second, key.name());
-        return std::any_cast<const T&>(it->second.value);
+        const Entry* e = find(key);
+        if (!e || !e->isSet) throw Error("SkyVars: key '" + key.name() + "' is not set");
+        checkType<T>(*e, key.name());
+        return *std::any_cast<T>(&e->value);
     }
 
     /// The value of `key`, or `fallback` if it is not set (wrong type is still an error).
@@ -280,8 +303,8 @@ public:
 
     template <class T>
     bool has(const Key<T>& key) const {
-        auto it = entries_.find(key.name());
-        return it != entries_.end() && it->second.isSet;
+        const Entry* e = find(key);
+        return e && e->isSet;
     }
     bool contains(std::string_view name) const { return entries_.find(name) != entries_.end(); }
 
@@ -322,7 +345,10 @@ public:
         return it == entries_.end() ? 0 : it->second.version;
     }
     template <class T>
-    uint64_t version(const Key<T>& key) const { return version(key.name()); }
+    uint64_t version(const Key<T>& key) const {
+        const Entry* e = find(key);
+        return e ? e->version : 0;
+    }
     /// Where the version counter of a declared key lives (nullptr if undeclared): the pointer stays
     /// valid, and the counter current, for this object's lifetime (keys are never removed) and
     /// through a move. For readers that poll many versions every frame without a lookup each (the
@@ -377,7 +403,13 @@ private:
                 for (int r = 0; r < T::length(); ++r) checkScalar(name, range, value[c][r]);
         }
     }
-    static void checkScalar(const std::string& name, const std::optional<Range>& range, double v);
+    // Inline: every set() of a number checks each component (dmat4: 16); only failures go out of line.
+    static void checkScalar(const std::string& name, const std::optional<Range>& range, double v) {
+        if (std::isfinite(v) && (!range || (v >= range->min && v <= range->max))) [[likely]]
+            return;
+        failScalar(name, range, v);
+    }
+    [[noreturn]] static void failScalar(const std::string& name, const std::optional<Range>& range, double v);
     template <class T>
     static void checkChoice(const std::string& name, const std::vector<std::string>& choices, const T& value) {
         if constexpr (std::is_same_v<T, std::string>) checkName(name, choices, value);
@@ -411,6 +443,36 @@ private:
     std::string declarer_ = "host";
     uint64_t identity_;
     static uint64_t newIdentity();
+
+    // Lookup cache: a key object's serial -> its entry, direct-mapped. The elements and generators
+    // read and set a few hundred keys by Key object every frame; a hit costs a mask and a compare
+    // where the hashed lookup hashed and compared the name (docs/hardening.md). Only entries that
+    // exist are cached, and entries are never removed (unordered_map nodes keep their address
+    // through rehashes and moves of the map), so a cached pointer stays valid for this object's
+    // life. Serials are never reused, so a stale line cannot match another key. Consequence: even
+    // const reads write the cache, so a SkyVars must not be used from two threads at once.
+    struct CacheLine {
+        uint64_t serial = 0;    ///< 0: empty
+        Entry* entry = nullptr;
+        bool agreed = false;    ///< set() found this key's declaration compatible with the entry
+    };
+    static constexpr size_t kCacheLines = 256;
+    mutable std::array<CacheLine, kCacheLines> cache_{};
+
+    template <class T>
+    Entry* find(const Key<T>& key, CacheLine** lineOut = nullptr) const {
+        CacheLine& line = cache_[key.serial() & (kCacheLines - 1)];
+        if (lineOut) *lineOut = &line;
+        if (line.serial == key.serial()) return line.entry;
+        auto it = entries_.find(key.name());
+        if (it == entries_.end()) {
+            if (lineOut) *lineOut = nullptr;
+            return nullptr;
+        }
+        Entry* e = const_cast<Entry*>(&it->second);
+        line = {key.serial(), e, false};
+        return e;
+    }
 };
 
 /// An enumerated key: stored and shown as a name (what `--var`, JSON and `welkin vars` use), read

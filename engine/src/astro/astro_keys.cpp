@@ -89,9 +89,9 @@ void updateSkyVars(SkyVars& vars, Ephemeris* ephemeris) {
     site.pressureHpa = vars.get(keys::refractionPressure);
     site.temperatureC = vars.get(keys::refractionTemperature);
     const Path path = vars.get(keys::precise) ? Path::Precise : Path::Fast;
-    const ObserverFrame frame = observerFrame(site, timeScales(JulianDate{jd.x, jd.y}.normalized()), path);
     Ephemeris fresh;
     Ephemeris& eph = ephemeris ? *ephemeris : fresh;
+    const ObserverFrame frame = observerFrame(site, timeScales(JulianDate{jd.x, jd.y}.normalized()), path, &eph.earthSeries());
     eph.update(frame);
 
     const StarFrame sf = starFrame(frame);

@@ -150,15 +150,21 @@ double cioSeries(const Delaunay& fa, const CioTerm (&terms)[N]) {
     return w;
 }
 
-// Greenwich apparent sidereal time the CIO way (as ERFA gst06): GAST = ERA - EO, with the
-// equation of the origins EO from the bias-precession-nutation matrix and the CIO locator s.
-double gastFromCio(double era, const glm::dmat3& npb, const Delaunay& fa, double t) {
-    auto r = [&](int i, int j) { return npb[j][i]; };  // row i, column j
-    const double x = r(2, 0), y = r(2, 1);
+// The CIO locator's series part, s + XY/2 (rad), at `t` (TT centuries from J2000).
+double cioPolynomial(const Delaunay& fa, double t) {
     const double w0 = 94.00 + cioSeries(fa, kCio0), w1 = 3808.65 + cioSeries(fa, kCio1);
     const double w2 = -122.68 + cioSeries(fa, kCio2), w3 = -72574.11 + cioSeries(fa, kCio3);
     const double w4 = 27.98 + cioSeries(fa, kCio4), w5 = 15.62;
-    const double s = (w0 + (w1 + (w2 + (w3 + (w4 + w5 * t) * t) * t) * t) * t) * 1e-6 * kArcsec - x * y / 2.0;
+    return (w0 + (w1 + (w2 + (w3 + (w4 + w5 * t) * t) * t) * t) * t) * 1e-6 * kArcsec;
+}
+
+// Greenwich apparent sidereal time the CIO way (as ERFA gst06): GAST = ERA - EO, with the
+// equation of the origins EO from the bias-precession-nutation matrix and the CIO locator s
+// (`sPoly` = s + XY/2 from cioPolynomial()).
+double gastFromCio(double era, const glm::dmat3& npb, double sPoly) {
+    auto r = [&](int i, int j) { return npb[j][i]; };  // row i, column j
+    const double x = r(2, 0), y = r(2, 1);
+    const double s = sPoly - x * y / 2.0;
     const double ax = x / (1.0 + r(2, 2));
     const double xs = 1.0 - ax * x, ys = -ax * y, zs = -x;
     const double p = r(0, 0) * xs + r(0, 1) * ys + r(0, 2) * zs;
@@ -224,7 +230,9 @@ double gast(const TimeScales& ts, Path path) { return earthOrientation(ts, path)
 
 glm::dmat3 celestialToTrueOfDate(const TimeScales& ts, Path path) { return earthOrientation(ts, path).celestialToTrueOfDate; }
 
-EarthOrientation earthOrientation(const TimeScales& ts, Path path) {
+EarthOrientation earthOrientation(const TimeScales& ts, Path path) { return earthOrientation(ts, path, nullptr); }
+
+EarthOrientation earthOrientation(const TimeScales& ts, Path path, EarthSeriesCache* cache) {
     EarthOrientation eo;
     const double t = ts.centuriesTT();
     if (path == Path::Precise) {
@@ -239,13 +247,36 @@ EarthOrientation earthOrientation(const TimeScales& ts, Path path) {
         eo.gast = eraGst06(ts.ut1.day, ts.ut1.fraction, ts.tt.day, ts.tt.fraction, r);
     } else {
         const FWAngles a = fukushimaWilliams(t);
-        const Delaunay fa(t);
-        eo.nutation = nutation2000B(fa, t);
+        double v[3];
+        auto full = [&] {
+            const Delaunay fa(t);
+            const Nutation n = nutation2000B(fa, t);
+            v[0] = n.dpsi;
+            v[1] = n.deps;
+            v[2] = cioPolynomial(fa, t);
+        };
+        const double span = EarthSeriesCache::kReuseDays / 36525.0;
+        if (!cache) {
+            full();
+        } else if (cache->valid && cache->hasSlope && std::abs(t - cache->tCenturies) <= span) {
+            for (int i = 0; i < 3; ++i) v[i] = cache->value[i] + cache->slope[i] * (t - cache->tCenturies);
+        } else {
+            full();
+            const double dt = t - cache->tCenturies;
+            cache->hasSlope = cache->valid && dt != 0.0 && std::abs(dt) <= span;
+            for (int i = 0; i < 3; ++i) {
+                if (cache->hasSlope) cache->slope[i] = (v[i] - cache->value[i]) / dt;
+                cache->value[i] = v[i];
+            }
+            cache->valid = true;
+            cache->tCenturies = t;
+        }
+        eo.nutation = {v[0], v[1]};
         eo.celestialToTrueOfDate = fwMatrix(a.gamb, a.phib, a.psib + eo.nutation.dpsi, a.epsa + eo.nutation.deps);
         eo.meanObliquity = a.epsa;
         const double era = earthRotationAngle(ts);
         eo.gmst = gmstFromEra(era, t);
-        eo.gast = gastFromCio(era, eo.celestialToTrueOfDate, fa, t);
+        eo.gast = gastFromCio(era, eo.celestialToTrueOfDate, v[2]);
     }
     eo.trueObliquity = eo.meanObliquity + eo.nutation.deps;
     return eo;

@@ -169,13 +169,15 @@ glm::dvec3 earthVelocity(const TimeScales& ts, Path path) {
     return v;
 }
 
-ObserverFrame observerFrame(const Site& site, const TimeScales& ts, Path path) {
+ObserverFrame observerFrame(const Site& site, const TimeScales& ts, Path path) { return observerFrame(site, ts, path, nullptr); }
+
+ObserverFrame observerFrame(const Site& site, const TimeScales& ts, Path path, EarthSeriesCache* cache) {
     validate(site);
     ObserverFrame f;
     f.site = site;
     f.time = ts;
     f.path = path;
-    f.earth = earthOrientation(ts, path);
+    f.earth = earthOrientation(ts, path, cache);
     const glm::dmat3 todToItrs = rotationZ(f.earth.gast);
     const glm::dmat3 itrsToTod = glm::transpose(todToItrs);
     f.trueOfDateToEnu = itrsToEnu(site) * todToItrs;

@@ -220,11 +220,38 @@ void GlStateGuard::restore() const {
     glPolygonMode(GL_FRONT_AND_BACK, GLenum(polygonMode_[0]));
     for (size_t i = 0; i < clipDistances_.size(); ++i) enable(GL_CLIP_DISTANCE0 + GLenum(i), clipDistances_[i]);
 
+    // Textures: the multi-bind calls (GL 4.4) restore a unit that had at most one target bound (the
+    // usual case) in one batch: every target of every unit unbound, then each unit's one texture
+    // bound to its own target. A unit that had several targets bound is restored target by target.
+    // (Two calls instead of kUnits x 11 binds and kUnits active-unit switches: the guard runs
+    // every frame, docs/hardening.md.)
+    std::array<GLuint, kUnits> single{};
+    std::array<GLuint, kUnits> samplers{};
+    std::array<bool, kUnits> several{};
+    bool anySeveral = false;
     for (int u = 0; u < kUnits; ++u) {
-        glActiveTexture(GL_TEXTURE0 + GLenum(u));
-        for (size_t t = 0; t < kTargets.size(); ++t) glBindTexture(kTargets[t].first, liveTexture(textures_[size_t(u)][t], kTargets[t].first));
+        int bound = 0;
+        for (size_t t = 0; t < kTargets.size(); ++t) {
+            const GLuint n = liveTexture(textures_[size_t(u)][t], kTargets[t].first);
+            if (n) {
+                single[size_t(u)] = n;
+                ++bound;
+            }
+        }
+        several[size_t(u)] = bound > 1;
+        anySeveral = anySeveral || bound > 1;
         const GLint s = samplers_[size_t(u)];
-        glBindSampler(GLuint(u), s && glIsSampler(GLuint(s)) ? GLuint(s) : 0);
+        samplers[size_t(u)] = s && glIsSampler(GLuint(s)) ? GLuint(s) : 0;
+    }
+    glBindTextures(0, kUnits, nullptr);
+    glBindTextures(0, kUnits, single.data());
+    glBindSamplers(0, kUnits, samplers.data());
+    if (anySeveral) {
+        for (int u = 0; u < kUnits; ++u) {
+            if (!several[size_t(u)]) continue;
+            glActiveTexture(GL_TEXTURE0 + GLenum(u));
+            for (size_t t = 0; t < kTargets.size(); ++t) glBindTexture(kTargets[t].first, liveTexture(textures_[size_t(u)][t], kTargets[t].first));
+        }
     }
     glActiveTexture(GLenum(activeTexture_));
 

@@ -107,10 +107,15 @@ void AtmosphereLights::doDeclare(SkyVars& vars) {
 }
 
 void AtmosphereLights::doRun(SkyVars& vars, const Logger& log) {
-    SkyModel m = SkyModel::fromVars(vars);
     std::shared_ptr<const atmosphere::Atmosphere> atm;
     if (vars.has(atmosphere::kAtmosphere)) atm = vars.get(atmosphere::kAtmosphere);
     const atmosphere::Atmosphere& a = atm ? *atm : atmosphere::Atmosphere::earthClear();
+    if (!model_ || !atm || atm != modelOf_) {
+        model_ = SkyModel::fromVars(vars);
+        moonColour_ = moonlightColour(a.wavelengthsNm, a.solarIrradiance);
+        modelOf_ = atm;
+    }
+    const SkyModel& m = *model_;
     double h = vars.getOr(keys::observerHeight, 0.0);
     if (h < 0.0) {
         char buf[160];
@@ -163,7 +168,7 @@ void AtmosphereLights::doRun(SkyVars& vars, const Logger& log) {
         // moon.eclipse_refracted of it the atmosphere's reddened light (astro::umbraColour()).
         const double eclipse = std::clamp(vars.getOr(keys::moonEclipseFactor, 1.0), 0.0, 1.0);
         const double refracted = std::clamp(vars.getOr(astro::keys::moonEclipseRefracted, 0.0), 0.0, eclipse);
-        EmoonUneclipsed = E * moonlightColour(a.wavelengthsNm, a.solarIrradiance);
+        EmoonUneclipsed = E * moonColour_;
         Emoon = (eclipse - refracted) * EmoonUneclipsed + refracted * color::luminance(EmoonUneclipsed) * astro::umbraColour();
         double am = vars.getOr(astro::keys::moonAngularRadius, std::asin(std::min(1.0, kMoonRadius / dist)));
         if (am <= 0) am = std::asin(std::min(1.0, kMoonRadius / dist));

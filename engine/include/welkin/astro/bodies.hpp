@@ -106,8 +106,13 @@ public:
         std::array<double, 9> value{}, slope{};  ///< MoonEcliptic's fields in order; slope per century
     };
 
+    /// The Earth orientation's series reuse (observerFrame(..., &earthSeries())), kept with the
+    /// bodies' so that one Ephemeris carries all of the astronomy's frame-to-frame reuse.
+    EarthSeriesCache& earthSeries() { return earth_; }
+
 private:
     std::array<BodyState, kBodyCount> states_{};
+    EarthSeriesCache earth_{};
     std::array<VsopCache, 8> vsop_{};  ///< per VsopPlanet, Mercury .. Neptune (Earth included)
     MoonCache moon_{};
 };

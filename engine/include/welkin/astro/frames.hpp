@@ -67,6 +67,8 @@ struct ObserverFrame {
 /// Saturn reflex, circular Moon: 0.002" of aberration vs eraEpv00); Precise: eraEpv00. Throws
 /// welkin::Error for an invalid site.
 ObserverFrame observerFrame(const Site& site, const TimeScales& ts, Path path);
+/// The same with the Earth orientation's series reused through `cache` (earthOrientation()).
+ObserverFrame observerFrame(const Site& site, const TimeScales& ts, Path path, EarthSeriesCache* cache);
 
 /// Earth's barycentric velocity divided by c, ICRS axes (Fast: analytic; Precise: eraEpv00).
 glm::dvec3 earthVelocity(const TimeScales& ts, Path path);

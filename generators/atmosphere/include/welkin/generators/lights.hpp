@@ -30,9 +30,11 @@
 #pragma once
 #include <welkin/element.hpp>
 #include <welkin/generators/atmosphere.hpp>
+#include <welkin/generators/sky_model.hpp>
 #include <welkin/keys.hpp>
 
 #include <memory>
+#include <optional>
 
 namespace welkin::generators {
 
@@ -70,6 +72,13 @@ private:
     void doRun(SkyVars& vars, const Logger& log) override;
     void doDeclare(SkyVars& vars) override;
     bool moon_ = true;
+    // What depends on the atmosphere alone, kept while `atmosphere.model` holds the same object
+    // (held here, so its address cannot be reused by another): its RGB model (validated spectra,
+    // coefficients at three wavelengths) and the moonlight's colour. This generator runs every
+    // frame while time runs; rebuilding them was ~11,000 instructions a frame (docs/hardening.md).
+    std::shared_ptr<const atmosphere::Atmosphere> modelOf_;
+    std::optional<SkyModel> model_;
+    glm::dvec3 moonColour_{0.0};
 };
 
 }  // namespace welkin::generators
