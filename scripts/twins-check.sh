@@ -40,7 +40,7 @@ normalise() { sed -E 's/^(atm|cld|welkin|pp|planet|rainbow|night|stars|lighting|
 # GLSL: top-level `TYPE NAME(` lines of every shader, the shared ones included.
 glsl_defs() {
   find engine generators skyelements -name '*.glsl' -print0 | sort -z |
-    xargs -0 grep -HoP '^(?:(?:highp|mediump|lowp|precise)\s+)?[A-Za-z_]\w*\s+\K[A-Za-z_]\w*(?=\s*\()' |
+    xargs -0 grep -HoP '^(?:(?:highp|mediump|lowp|precise)\s+)?[A-Za-z_]\w*(?:\[\w+\])?\s+\K[A-Za-z_]\w*(?=\s*\()' |
     grep -v ':main$' || true
 }
 # C++: `TYPE NAME(` where TYPE is a type (qualified, templated, pointer or reference), in the
