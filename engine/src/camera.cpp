@@ -36,10 +36,7 @@ Projection parseProjection(std::string_view n) {
     throw Error("projection '" + std::string(n) + "' unknown (accepted: perspective, fisheye, equirect, cube)");
 }
 
-glm::dvec3 directionFromAzAlt(double az, double alt) {
-    double c = std::cos(alt);
-    return {c * std::sin(az), c * std::cos(az), std::sin(alt)};
-}
+glm::dvec3 directionFromAzAlt(double az, double alt) { return glsl::dp::lighting_cube_shared::welkin_directionFromAzAlt(az, alt); }
 
 glm::dvec2 azAltFromDirection(const glm::dvec3& d) {
     double h = std::hypot(d.x, d.y);
