@@ -18,19 +18,9 @@ uniform float u_kappa;        // V'/Y of the sRGB white
 in vec2 v_ndc;
 out vec4 o_state;
 
-float welkin_coneThresholdLog10(float La) {  // Ferwerda et al. 1996
-    float l = log(La) / log(10.0);
-    if (l <= -2.6) return -0.72;
-    if (l >= 1.9) return l - 1.255;
-    return pow(0.249 * l + 0.65, 2.7) - 0.72;
-}
-
-float welkin_rodThresholdLog10(float Las) {
-    float l = log(Las) / log(10.0);
-    if (l <= -3.94) return -2.86;
-    if (l >= -1.44) return l - 0.395;
-    return pow(0.405 * l + 1.6, 2.18) - 2.86;
-}
+// The cones' and rods' thresholds (welkin_coneThresholdLog10, welkin_rodThresholdLog10):
+// eye_thresholds.shared.glsl, which eye.cpp compiles in double.
+#include "eye_thresholds.shared.glsl"
 
 float welkin_approach(float from, float to, float tau) {  // exponential in log luminance
     if (tau <= 0.0) return to;

@@ -39,10 +39,9 @@ int welkin_projectionType() {
 vec2 welkin_pixel() { return vec2(gl_FragCoord.x, welkin_viewport.y - gl_FragCoord.y); }
 #endif
 
-vec3 welkin_directionFromAzAlt(float az, float alt) {
-    float c = cos(alt);
-    return vec3(c * sin(az), c * cos(az), sin(alt));
-}
+// welkin_directionFromAzAlt(az, alt): lighting_cube.shared.glsl (camera.cpp's directionFromAzAlt()
+// compiles it in double).
+#include "lighting_cube.shared.glsl"
 
 // Unit world direction through `pixel`; returns false outside a fisheye's image circle.
 bool welkin_viewDirection(vec2 pixel, out vec3 dir) {

@@ -3,18 +3,9 @@
 // x east, y up, z south; texel row 0 at t = -1) and their exact solid angles.
 const float LIGHTING_PI = 3.14159265358979;
 
-// Direction (cube axes) of face coordinates (s, t) in [-1, 1], OpenGL's cube-map convention.
-vec3 lighting_cubeDir(int face, float s, float t) {
-    if (face == 0) return vec3(1.0, -t, -s);
-    if (face == 1) return vec3(-1.0, -t, s);
-    if (face == 2) return vec3(s, 1.0, t);
-    if (face == 3) return vec3(s, -1.0, -t);
-    if (face == 4) return vec3(s, -t, 1.0);
-    return vec3(-s, -t, -1.0);
-}
-// Cube axes (x east, y up, z south) -> ENU, and back.
-vec3 lighting_cubeToEnu(vec3 c) { return vec3(c.x, -c.z, c.y); }
-vec3 lighting_enuToCube(vec3 e) { return vec3(e.x, e.z, -e.y); }
+// The cube's axes and faces (lighting_cubeDir, lighting_cubeToEnu, lighting_enuToCube):
+// lighting_cube.shared.glsl, which camera.cpp compiles in double.
+#include "lighting_cube.shared.glsl"
 // Unit ENU direction through the centre of texel (i, j) of a face of size n.
 vec3 lighting_texelDirection(int face, ivec2 ij, int n) {
     vec2 st = 2.0 * (vec2(ij) + 0.5) / float(n) - 1.0;

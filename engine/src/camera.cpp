@@ -1,10 +1,15 @@
 #include <welkin/camera.hpp>
 #include <welkin/check.hpp>
 #include <welkin/error.hpp>
+#include <welkin/glsl_cpp.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+
+namespace welkin::glsl::dp::lighting_cube_shared {
+#include "../shaders/lighting_cube.shared.glsl"
+}  // namespace welkin::glsl::dp::lighting_cube_shared
 
 namespace welkin {
 
@@ -31,10 +36,7 @@ Projection parseProjection(std::string_view n) {
     throw Error("projection '" + std::string(n) + "' unknown (accepted: perspective, fisheye, equirect, cube)");
 }
 
-glm::dvec3 directionFromAzAlt(double az, double alt) {
-    double c = std::cos(alt);
-    return {c * std::sin(az), c * std::cos(az), std::sin(alt)};
-}
+glm::dvec3 directionFromAzAlt(double az, double alt) { return glsl::dp::lighting_cube_shared::welkin_directionFromAzAlt(az, alt); }
 
 glm::dvec2 azAltFromDirection(const glm::dvec3& d) {
     double h = std::hypot(d.x, d.y);
@@ -175,20 +177,11 @@ glm::dmat3 Camera::basis() const {
 }
 
 namespace {
-// Cube axes (x east, y up, z south) -> ENU.
-glm::dvec3 cubeToEnu(const glm::dvec3& c) { return {c.x, -c.z, c.y}; }
-glm::dvec3 enuToCube(const glm::dvec3& e) { return {e.x, e.z, -e.y}; }
-// Direction of a face texel coordinate (s, t) in [-1, 1], OpenGL cube-map convention.
-glm::dvec3 cubeDir(int face, double s, double t) {
-    switch (face) {
-        case 0: return {1, -t, -s};
-        case 1: return {-1, -t, s};
-        case 2: return {s, 1, t};
-        case 3: return {s, -1, -t};
-        case 4: return {s, -t, 1};
-        default: return {-s, -t, -1};
-    }
-}
+// Cube axes (x east, y up, z south) <-> ENU, and the direction of a face texel coordinate (s, t)
+// in [-1, 1], OpenGL cube-map convention: the shaders' text (lighting_cube.shared.glsl).
+glm::dvec3 cubeToEnu(const glm::dvec3& c) { return glsl::dp::lighting_cube_shared::lighting_cubeToEnu(c); }
+glm::dvec3 enuToCube(const glm::dvec3& e) { return glsl::dp::lighting_cube_shared::lighting_enuToCube(e); }
+glm::dvec3 cubeDir(int face, double s, double t) { return glsl::dp::lighting_cube_shared::lighting_cubeDir(face, s, t); }
 // The host camera's pinhole rows: clip = (a.d, b.d, f.d) for an ENU direction d, from the rows
 // 0, 1 and 3 of the projection's 3x3 part applied to the view-space direction (w = 0: at infinity).
 glm::dmat3 hostClipRows(const Camera& c) {

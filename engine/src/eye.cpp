@@ -1,12 +1,17 @@
 #include <welkin/color.hpp>
 #include <welkin/error.hpp>
 #include <welkin/eye.hpp>
+#include <welkin/glsl_cpp.hpp>
 #include <welkin/keys.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <string>
+
+namespace welkin::glsl::dp::eye_shared {
+#include "../shaders/eye_thresholds.shared.glsl"
+}  // namespace welkin::glsl::dp::eye_shared
 
 namespace welkin::eye {
 
@@ -49,18 +54,12 @@ void declareKeys(SkyVars& v) {
 
 double coneThresholdLog10(double La) {
     if (!(La > 0)) throw Error("eye::coneThresholdLog10(): adaptation luminance " + shown(La) + " not > 0");
-    const double l = std::log10(La);
-    if (l <= -2.6) return -0.72;
-    if (l >= 1.9) return l - 1.255;
-    return std::pow(0.249 * l + 0.65, 2.7) - 0.72;
+    return glsl::dp::eye_shared::welkin_coneThresholdLog10(La);  // the adaptation pass's text
 }
 
 double rodThresholdLog10(double Las) {
     if (!(Las > 0)) throw Error("eye::rodThresholdLog10(): adaptation luminance " + shown(Las) + " not > 0");
-    const double l = std::log10(Las);
-    if (l <= -3.94) return -2.86;
-    if (l >= -1.44) return l - 0.395;
-    return std::pow(0.405 * l + 1.6, 2.18) - 2.86;
+    return glsl::dp::eye_shared::welkin_rodThresholdLog10(Las);  // the adaptation pass's text
 }
 
 double scotopicLuminance(const glm::dvec3& rgb) {

@@ -22,7 +22,7 @@
 // - Float literals as `1.0` (never `1.0f`, never an int where a real is meant: GLM's templates do
 //   not mix int and double), unsigned ones as `1u`. Components as .x .y .z .w / .r .g .b .a only:
 //   no swizzles (`vec2(p.x, p.y)`, not `p.xy`).
-// - Built-ins: GLM's (min, max, clamp, mix, step, smoothstep, floor, fract, mod, abs, sign, sqrt,
+// - Built-ins: GLM's (degrees, radians, min, max, clamp, mix, step, smoothstep, floor, fract, mod, abs, sign, sqrt,
 //   inversesqrt, exp, log, pow, sin, cos, tan, asin, acos, atan, dot, cross, length, distance,
 //   normalize, any, all, lessThan, greaterThanEqual, ...); `textureLod(s, p, lod)` on a CPU sampler
 //   type the including file provides (a free function textureLod(const S&, vecN, real) found
@@ -64,7 +64,7 @@ using bvec4 = glm::bvec4;
 // Scalars through <cmath> (GLM's versions of these take vectors), vectors through GLM.
 using std::abs, std::acos, std::asin, std::atan, std::cos, std::exp, std::floor, std::log, std::pow, std::sin,
     std::sqrt, std::tan;
-using glm::abs, glm::acos, glm::all, glm::any, glm::asin, glm::atan, glm::clamp, glm::cos, glm::cross,
+using glm::abs, glm::acos, glm::all, glm::degrees, glm::radians, glm::any, glm::asin, glm::atan, glm::clamp, glm::cos, glm::cross,
     glm::distance, glm::dot, glm::equal, glm::exp, glm::floor, glm::fract, glm::greaterThan, glm::greaterThanEqual,
     glm::inversesqrt, glm::length, glm::lessThan, glm::lessThanEqual, glm::log, glm::max, glm::min, glm::mix,
     glm::mod, glm::normalize, glm::notEqual, glm::pow, glm::sign, glm::sin, glm::smoothstep, glm::sqrt, glm::step,

@@ -28,6 +28,7 @@ layout(std140, binding = WELKIN_BINDING_ATMOSPHERE_UBO) uniform WelkinAtmosphere
 float atm_bottom() { return atm_radii.x; }
 float atm_top() { return atm_radii.y; }
 float atm_thickness() { return atm_radii.z; }
+vec3 atm_groundAlbedoRgb() { return atm_groundAlbedo.rgb; }
 
 float atm_density(int p, float h) { return atm_profileDensity(atm_profiles[3 * p], atm_profiles[3 * p + 1], atm_profiles[3 * p + 2], h); }
 vec3 atm_scatteringRayleigh(float h) { return atm_rayleigh.rgb * atm_density(0, h); }
@@ -53,20 +54,9 @@ float atm_horizonS(float h) { return atm_horizonS(atm_bottom(), h); }
 vec2 skyViewUvH(float thetaH, float mu, float azimuth, vec2 size) { return skyViewUvS(sin(0.5 * thetaH), mu, cos(azimuth), size); }
 vec2 skyViewUv(float h, float mu, float azimuth, vec2 size) { return skyViewUvS(atm_horizonS(h), mu, cos(azimuth), size); }
 vec2 skyViewMuAz(float h, vec2 uv, vec2 size) { return skyViewMuAzS(atm_horizonS(h), uv, size); }
-// Keeps v inside the half (sky or ground) it started in: the halves are never blended.
-vec2 skyViewClampHalf(vec2 uv, vec2 size) {
-    float half_ = floor(size.y / 2.0);
-    uv.y = uv.y >= 0.5 ? clamp(uv.y, (half_ + 0.5) / size.y, 1.0 - 0.5 / size.y)
-                       : clamp(uv.y, 0.5 / size.y, (half_ - 0.5) / size.y);
-    return uv;
-}
 
 float miePhase(float nu) { return miePhase(nu, atm_rayleigh.w, atm_radii.w < 0.5 ? 0 : 1); }
 float atm_perigeeFraction(float h, float mu, float d) { return atm_perigeeFraction(atm_bottom(), h, mu, d); }
-vec3 atm_segmentFactor(vec3 sigmaT, float dt) {
-    vec3 x = sigmaT * dt;
-    return mix(vec3(dt), (1.0 - exp(-x)) / max(sigmaT, vec3(1e-30)), greaterThan(x, vec3(1e-4)));
-}
 
 #ifdef ATM_ECLIPSE
 // A solar eclipse: the Moon's shadow on the air (docs/eclipse.md). Every point of a march sees
@@ -90,45 +80,17 @@ vec3 atm_eclOrigin = vec3(0.0);   // the march's origin and unit direction (set 
 vec3 atm_eclView = vec3(0.0, 0.0, 1.0);
 bool atm_eclOn = true;  // false: a march of another light (the Moon's), which the shadow does not touch
 
-// Visible fraction of a limb-darkened disk (u = 0.6, as astro::eclipseVisibleFraction) of
-// angular radius rs behind a dark disk of radius ro, centres d apart (radians, small angles).
-// Twin of cpu::eclipseFraction(): the rings the Moon's limb does not cut are integrated exactly,
-// the cut band r in [|R - D|, min(1, R + D)] with 24 nodes (cosine-spaced), so the thin crescent
-// before second contact keeps its light (uniform rings lost it).
-float atm_limbFluxInside(float a) {
-    float c = max(1.0 - a * a, 0.0);
-    return 0.2 * a * a + 0.2 * (1.0 - c * sqrt(c));
-}
-float atm_eclipseFraction(float rs, float ro, float d) {
-    float R = ro / rs, D = d / rs;
-    if (D >= 1.0 + R) return 1.0;
-    if (R >= D + 1.0) return 0.0;
-    float lo = abs(R - D), hi = min(1.0, R + D);
-    float visible = atm_limbFluxInside(clamp(D - R, 0.0, 1.0)) + atm_limbFluxInside(1.0) - atm_limbFluxInside(hi);
-    if (D > 1e-7 && hi > lo) {
-        const int N = 24;
-        float half_ = 0.5 * (hi - lo), band = 0.0;
-        for (int i = 0; i < N; ++i) {
-            float s = ATM_PI * (float(i) + 0.5) / float(N);
-            float r = lo + half_ * (1.0 - cos(s));
-            float w = (1.0 - 0.6 * (1.0 - sqrt(max(1.0 - r * r, 0.0)))) * r;
-            float a = max(R + D - r, 0.0) * max(R - D + r, 0.0), b = max(r + D - R, 0.0) * (r + D + R);
-            band += w * (1.0 - 2.0 * atan(sqrt(a), sqrt(b)) / ATM_PI) * sin(s);
-        }
-        visible += band * half_ * ATM_PI / float(N);
-    }
-    return clamp(visible / atm_limbFluxInside(1.0), 0.0, 1.0);
-}
+// The visible fraction of the limb-darkened Sun behind the Moon at a point,
+// atm_eclipseVisibleAt(p, ...) (and atm_eclipseFraction() of the disks' radii and separation):
+// atmosphere.shared.glsl (cpu::eclipseAt(), cpu::eclipseFraction() compile it in double). 24 nodes
+// over the band the Moon's limb cuts (cpu::eclipseFraction()'s default).
+#define ATM_ECLIPSE_NODES 24
 // At point p: x the visible fraction of the Sun (single scattering, the direct light); y the
 // multiple-scattering model's factor: x plus the field's D (the fraction averaged over the air
 // around p minus the fraction at p; docs/eclipse.md), clamped to [0, 1].
 vec2 atm_eclipseAt(vec3 p) {
     if (!atm_eclOn) return vec2(1.0);
-    vec3 m = u_eclMoonPos - p, s = u_eclSunPos - p;
-    float dm = length(m), ds = length(s);
-    float ro = asin(min(u_eclMoonRadius / dm, 1.0)), rs = u_eclSunRadius / ds;
-    float d = 2.0 * asin(min(0.5 * length(m / dm - s / ds), 1.0));
-    float f = atm_eclipseFraction(rs, ro, d);
+    float f = atm_eclipseVisibleAt(p, u_eclMoonPos, u_eclMoonRadius, u_eclSunPos, u_eclSunRadius, ATM_ECLIPSE_NODES);
     float D = 0.0;
     if (u_eclMsHalf > 0.0) {
         vec2 uv = (vec2(dot(p, u_eclMsE1), dot(p, u_eclMsE2)) - u_eclMsCentre) / (2.0 * u_eclMsHalf) + 0.5;

@@ -153,6 +153,15 @@ real miePhase(real nu, real g, int kind) {
     return 3.0 / (8.0 * ATM_PI) * (1.0 - g2) * (1.0 + nu * nu) / ((2.0 + g2) * denom);
 }
 
+// Keeps v inside the half (sky or ground) of a sky-view LUT of `size` texels that it started in:
+// the halves are never blended.
+vec2 skyViewClampHalf(vec2 uv, vec2 size) {
+    real half_ = floor(size.y / 2.0);
+    uv.y = uv.y >= 0.5 ? clamp(uv.y, (half_ + 0.5) / size.y, 1.0 - 0.5 / size.y)
+                       : clamp(uv.y, 0.5 / size.y, (half_ - 0.5) / size.y);
+    return uv;
+}
+
 // Sample spacing along a ray: s in [0, 1] -> fraction of the ray, dense at the perigee fraction
 // p (p = 0: dense at the origin, p = 1: dense at the end).
 real atm_warp(real s, real p) {
@@ -162,6 +171,16 @@ real atm_warp(real s, real p) {
     }
     real a = p < 1.0 ? (s - p) / (1.0 - p) : 0.0;
     return p + (1.0 - p) * a * a;
+}
+// (1 - exp(-sigmaT dt)) / sigmaT per channel, the integral of exp(-sigmaT s) over a segment of
+// length dt (m); its limit dt where sigmaT dt is at most ATM_SEGMENT_LINEAR (in float below 1e-4
+// the difference 1 - exp(-x) has lost its digits; the double twin defines 1e-7 before the include).
+#ifndef ATM_SEGMENT_LINEAR
+#define ATM_SEGMENT_LINEAR 1e-4
+#endif
+vec3 atm_segmentFactor(vec3 sigmaT, real dt) {
+    vec3 x = sigmaT * dt;
+    return mix(vec3(dt), (1.0 - exp(-x)) / max(sigmaT, vec3(1e-30)), greaterThan(x, vec3(ATM_SEGMENT_LINEAR)));
 }
 // Where along a ray of length d its lowest point lies, as a fraction in [0, 1].
 real atm_perigeeFraction(real R, real h, real mu, real d) { return d <= 0.0 ? 0.0 : clamp(-(R + h) * mu / d, 0.0, 1.0); }
@@ -176,4 +195,48 @@ real atm_lightAboveHorizon(real R, real h, real muS, real angularRadius) {
     real a = sinH * angularRadius;
     real f = clamp((muS - cosH + a) / (2.0 * a), 0.0, 1.0);
     return f * f * (3.0 - 2.0 * f);
+}
+
+// Visible fraction of a limb-darkened disk (linear law, u = 0.6) of angular radius rs behind a
+// dark disk of radius ro, centres d apart (radians, small angles; rs > 0): the sky's eclipse
+// (atmosphere.glsl's atm_eclipseAt(); C++: cpu::eclipseFraction()). The rings the Moon's limb does
+// not cut are integrated exactly, the cut band r in [|R - D|, min(1, R + D)] with `nodes` nodes
+// (cosine-spaced), so the thin crescent before second contact keeps its light (uniform rings lost
+// it). astro::eclipseVisibleFraction() (welkin_astro: any u) is the same rule written apart, the
+// reference the tests compare this with.
+real atm_limbFluxInside(real a) {
+    real c = max(1.0 - a * a, 0.0);
+    return 0.2 * a * a + 0.2 * (1.0 - c * sqrt(c));
+}
+real atm_eclipseFraction(real rs, real ro, real d, int nodes) {
+    real R = ro / rs, D = d / rs;
+    if (D >= 1.0 + R) return 1.0;
+    if (R >= D + 1.0) return 0.0;
+    real lo = abs(R - D), hi = min(1.0, R + D);
+    real visible = atm_limbFluxInside(clamp(D - R, 0.0, 1.0)) + atm_limbFluxInside(1.0) - atm_limbFluxInside(hi);
+    if (D > 1e-7 && hi > lo) {
+        real half_ = 0.5 * (hi - lo), band = 0.0;
+        for (int i = 0; i < nodes; ++i) {
+            real s = ATM_PI * (real(i) + 0.5) / real(nodes);
+            real r = lo + half_ * (1.0 - cos(s));
+            real w = (1.0 - 0.6 * (1.0 - sqrt(max(1.0 - r * r, 0.0)))) * r;
+            real a = max(R + D - r, 0.0) * max(R - D + r, 0.0), b = max(r + D - R, 0.0) * (r + D + R);
+            band += w * (1.0 - 2.0 * atan(sqrt(a), sqrt(b)) / ATM_PI) * sin(s);
+        }
+        visible += band * half_ * ATM_PI / real(nodes);
+    }
+    return clamp(visible / atm_limbFluxInside(1.0), 0.0, 1.0);
+}
+// The visible fraction of the Sun (centre sunPos, radius sunRadius, m) seen from the point p behind
+// the Moon (moonPos, moonRadius), all in one frame (m): their angular radii and separation from p,
+// then atm_eclipseFraction().
+real atm_eclipseVisibleAt(vec3 p, vec3 moonPos, real moonRadius, vec3 sunPos, real sunRadius, int nodes) {
+    vec3 m = moonPos - p;
+    vec3 s = sunPos - p;
+    real dm = length(m);
+    real ds = length(s);
+    real ro = asin(min(moonRadius / dm, 1.0));
+    real rs = sunRadius / ds;
+    real d = 2.0 * asin(min(0.5 * length(m / dm - s / ds), 1.0));
+    return atm_eclipseFraction(rs, ro, d, nodes);
 }

@@ -27,41 +27,23 @@ uniform ivec2 u_size;  // texels: mu_s, height
 layout(binding = WELKIN_BINDING_SH_GROUND_LUT) uniform sampler2D u_groundLut;
 #endif
 
-// Radiance per lux arriving at (h, muS) from direction v; twin of incidentRadiance() in
-// sky_model.cpp.
-vec3 atm_incidentRadiance(float h, float muS, vec3 v) {
-    float angular = atm_solarIlluminance.w;
-    float r = atm_bottom() + h;
-    vec2 msSize = vec2(textureSize(ATM_MULTISCATTERING_LUT, 0));
-    float mu = v.z, nu = v.x * sqrt(max(1.0 - muS * muS, 0.0)) + v.z * muS;
-    float pR = rayleighPhase(nu), pM = miePhase(nu);
-    bool ground = rayIntersectsGround(h, mu);
-    float d = ground ? distanceToBottom(h, mu) : distanceToTop(h, mu);
-    float p = atm_perigeeFraction(h, mu, d);
-    vec3 thr = vec3(1.0), L = vec3(0.0);
-    for (int k = 0; k < u_steps; ++k) {
-        float s0 = float(k) / float(u_steps), s1 = float(k + 1) / float(u_steps), sm = (float(k) + 0.5) / float(u_steps);
-        float dt = d * (atm_warp(s1, p) - atm_warp(s0, p)), t = d * atm_warp(sm, p);
-        float hp = heightAt(h, mu, t);
-        float rp = atm_bottom() + hp;
-        float muSp = clamp((r * muS + t * nu) / rp, -1.0, 1.0);
-        vec3 sR = atm_scatteringRayleigh(hp), sM = atm_scatteringMie(hp);
-        vec3 sigmaT = atm_extinction(hp) - atm_shFactors.w * sM;  // delta-M (see sky_model.cpp)
-        vec3 seg = atm_segmentFactor(sigmaT, dt);
-        vec3 Tl = transmittanceToLight(hp, muSp, angular);
-        vec3 ps = texture(ATM_MULTISCATTERING_LUT, multiScatteringUv(hp, muSp, msSize)).rgb;
-        L += thr * ((sR * pR + sM * pM) * Tl + (sR + sM) * ps) * seg;
-        thr *= exp(-sigmaT * dt);
-    }
-    if (ground) {
-        float muSg = clamp((r * muS + d * nu) / atm_bottom(), -1.0, 1.0);
-        vec3 e = transmittanceToLight(0.0, muSg, angular) * max(muSg, 0.0);
+// What the incident-radiance march reads: the multiple-scattering LUT and the ground row.
+vec3 atm_msLutAt(float h, float muS) {
+    return texture(ATM_MULTISCATTERING_LUT, multiScatteringUv(h, muS, vec2(textureSize(ATM_MULTISCATTERING_LUT, 0)))).rgb;
+}
+vec3 atm_groundSkyAt(float muS) {
 #ifndef SH_GROUND_PASS
-        e += texture(u_groundLut, vec2(multiScatteringUv(0.0, muSg, vec2(u_size.x, 2.0)).x, 0.5)).rgb;
+    return texture(u_groundLut, vec2(multiScatteringUv(0.0, muS, vec2(u_size.x, 2.0)).x, 0.5)).rgb;
+#else
+    return vec3(0.0);
 #endif
-        L += thr * e * atm_groundAlbedo.rgb / ATM_PI;
-    }
-    return L;
+}
+// Radiance per lux arriving at (h, muS) from direction v: atm_incidentRadiance() of
+// atmosphere_march.shared.glsl (C++: incidentRadiance() in sky_model.cpp, the same text).
+#define ATM_MARCH_INCIDENT
+#include "atmosphere_march.shared.glsl"
+vec3 atm_incidentRadiance(float h, float muS, vec3 v) {
+    return atm_incidentRadiance(h, muS, v, u_steps, atm_solarIlluminance.w, atm_shFactors.w);
 }
 
 #ifdef SH_GROUND_PASS

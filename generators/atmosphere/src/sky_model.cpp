@@ -1,6 +1,7 @@
 // CPU double-precision twins of the real-time sky passes (see sky_model.hpp): the optical
 // functions and LUT parameterisations are atmosphere.shared.glsl compiled in double (the GPU's own
-// text, welkin/glsl_cpp.hpp); the marches here mirror generators/atmosphere/shaders/atmosphere.glsl.
+// text, welkin/glsl_cpp.hpp), the transmittance and multiple-scattering marches
+// atmosphere_march.shared.glsl; the other marches here mirror generators/atmosphere/shaders/atmosphere.glsl.
 #include <welkin/astro/astro_keys.hpp>
 #include <welkin/error.hpp>
 #include <welkin/generators/sky_model.hpp>
@@ -12,7 +13,41 @@
 #include <numbers>
 
 namespace welkin::glsl::dp::atmosphere_shared {
+#define ATM_SEGMENT_LINEAR 1e-7  // atm_segmentFactor()'s linear limit: double keeps 1 - exp(-x) to here
 #include "atmosphere.shared.glsl"
+}  // namespace welkin::glsl::dp::atmosphere_shared
+
+// The LUT marches: atmosphere_march.shared.glsl (the passes' text) as members of SkyMarch, whose
+// other members are what the marches call of the atmosphere: the GLSL block wrappers' twins on a
+// SkyModel and its transmittance LUT.
+namespace welkin::glsl::dp::atmosphere_shared {
+struct SkyMarch {
+    const generators::SkyModel& m;
+    const generators::Lut2D* T = nullptr;       // the transmittance LUT (atm_multiScatteringTexel(), atm_incidentRadiance())
+    const generators::Lut2D* psi = nullptr;     // the multiple-scattering LUT (atm_incidentRadiance())
+    const generators::Lut2D* ground = nullptr;  // the ground-irradiance row, or empty (atm_incidentRadiance())
+    real atm_bottom() const { return m.bottomRadius; }
+    vec3 atm_groundAlbedoRgb() const { return m.groundAlbedo; }
+    vec3 atm_extinction(real h) const { return m.extinction(h); }
+    vec3 atm_scatteringRayleigh(real h) const { return m.scatteringRayleigh(h); }
+    vec3 atm_scatteringMie(real h) const { return m.scatteringMie(h); }
+    real distanceToTop(real h, real mu) const { return generators::cpu::distanceToTop(m, h, mu); }
+    real distanceToBottom(real h, real mu) const { return generators::cpu::distanceToBottom(m, h, mu); }
+    bool rayIntersectsGround(real h, real mu) const { return generators::cpu::rayIntersectsGround(m, h, mu); }
+    real heightAt(real h, real mu, real t) const { return generators::cpu::heightAt(m, h, mu, t); }
+    real atm_perigeeFraction(real h, real mu, real d) const { return atmosphere_shared::atm_perigeeFraction(m.bottomRadius, h, mu, d); }
+    vec3 transmittanceToLight(real h, real muS, real angular) const { return generators::cpu::transmittanceToLight(m, *T, h, muS, angular); }
+    real miePhase(real nu) const { return atmosphere_shared::miePhase(nu, m.mieG, m.miePhase); }
+    vec3 atm_msLutAt(real h, real muS) const { return psi->sample(generators::multiScatteringUv(m, h, muS, psi->width, psi->height)); }
+    vec3 atm_groundSkyAt(real muS) const {
+        return ground->texels.empty() ? vec3(0.0) : ground->sample({generators::multiScatteringUv(m, 0.0, muS, ground->width, 2).x, 0.5});
+    }
+#define ATM_USE_TRANSMITTANCE
+#define ATM_MARCH_INCIDENT
+#include "atmosphere_march.shared.glsl"
+#undef ATM_MARCH_INCIDENT
+#undef ATM_USE_TRANSMITTANCE
+};
 }  // namespace welkin::glsl::dp::atmosphere_shared
 
 namespace welkin::generators {
@@ -197,15 +232,7 @@ double perigeeFraction(const SkyModel& m, double h, double mu, double d) { retur
 }  // namespace
 
 glm::dvec3 transmittanceToTop(const SkyModel& m, double h, double mu, int steps) {
-    const double d = distanceToTop(m, h, mu);
-    const double p = perigeeFraction(m, h, mu, d);
-    glm::dvec3 depth(0.0);
-    for (int i = 0; i < steps; ++i) {
-        double s0 = double(i) / steps, s1 = double(i + 1) / steps, sm = (i + 0.5) / steps;
-        double dt = d * (warp(s1, p) - warp(s0, p));
-        depth += m.extinction(heightAt(m, h, mu, d * warp(sm, p))) * dt;
-    }
-    return glm::exp(-depth);
+    return shared::SkyMarch{m}.transmittanceToTop(h, mu, steps);
 }
 
 Lut2D transmittanceLut(const SkyModel& m, const SkyQuality& q) {
@@ -231,12 +258,7 @@ glm::dvec3 transmittanceToLight(const SkyModel& m, const Lut2D& T, double h, dou
 
 namespace {
 glm::dvec3 fibonacciDirection(int i, int n) { return shared::atm_fibonacciDirection(i, n); }
-glm::dvec3 segmentFactor(const glm::dvec3& sigmaT, double dt) {
-    // (1 - exp(-sigma dt)) / sigma, with the limit dt as sigma -> 0.
-    glm::dvec3 f;
-    for (int c = 0; c < 3; ++c) f[c] = sigmaT[c] * dt > 1e-7 ? (1.0 - std::exp(-sigmaT[c] * dt)) / sigmaT[c] : dt;
-    return f;
-}
+glm::dvec3 segmentFactor(const glm::dvec3& sigmaT, double dt) { return shared::atm_segmentFactor(sigmaT, dt); }
 }  // namespace
 
 glm::dvec3 fibonacciDirectionPublic(int i, int n) { return fibonacciDirection(i, n); }
@@ -245,43 +267,7 @@ double warpPublic(double s, double p) { return warp(s, p); }
 double perigeeFractionPublic(const SkyModel& m, double h, double mu, double d) { return perigeeFraction(m, h, mu, d); }
 
 glm::dvec3 multiScatteringTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, double h, double muS) {
-    const int n = q.multiScatteringDirections, steps = q.multiScatteringSteps;
-    const glm::dvec3 sun(safeSqrt(1.0 - muS * muS), 0.0, muS);
-    glm::dvec3 L2(0.0), fms(0.0);
-    for (int i = 0; i < n; ++i) {
-        glm::dvec3 v = fibonacciDirection(i, n);
-        double mu = v.z, nu = glm::dot(v, sun);
-        bool ground = rayIntersectsGround(m, h, mu);
-        double d = ground ? distanceToBottom(m, h, mu) : distanceToTop(m, h, mu);
-        double p = perigeeFraction(m, h, mu, d);
-        glm::dvec3 thr(1.0), L(0.0), f(0.0);
-        const double r = m.bottomRadius + h;
-        for (int k = 0; k < steps; ++k) {
-            double s0 = double(k) / steps, s1 = double(k + 1) / steps, sm = (k + 0.5) / steps;
-            double dt = d * (warp(s1, p) - warp(s0, p)), t = d * warp(sm, p);
-            double hp = heightAt(m, h, mu, t);
-            double rp = m.bottomRadius + hp;
-            double muSp = std::clamp((r * muS + t * nu) / rp, -1.0, 1.0);
-            glm::dvec3 sigmaS = m.scatteringRayleigh(hp) + m.scatteringMie(hp);
-            glm::dvec3 sigmaT = m.extinction(hp);
-            glm::dvec3 seg = segmentFactor(sigmaT, dt);
-            glm::dvec3 Tl = transmittanceToLight(m, T, hp, muSp, m.sunAngularRadius);
-            L += thr * sigmaS * Tl * seg / (4.0 * kPi);
-            f += thr * sigmaS * seg;
-            thr *= glm::exp(-sigmaT * dt);
-        }
-        if (ground) {
-            double muSg = std::clamp((r * muS + d * nu) / m.bottomRadius, -1.0, 1.0);
-            glm::dvec3 Tg = transmittanceToLight(m, T, 0.0, muSg, m.sunAngularRadius);
-            L += thr * Tg * std::max(muSg, 0.0) * m.groundAlbedo / kPi;
-        }
-        L2 += L;
-        fms += f;
-    }
-    // Isotropic phase 1/(4 pi) times the solid angle 4 pi / n of each direction.
-    L2 /= double(n);
-    fms /= double(n);
-    return L2 / (1.0 - glm::min(fms, glm::dvec3(0.999)));
+    return shared::SkyMarch{m, &T}.atm_multiScatteringTexel(h, muS, q.multiScatteringDirections, q.multiScatteringSteps, m.sunAngularRadius);
 }
 
 Lut2D multiScatteringLut(const SkyModel& m, const SkyQuality& q, const Lut2D& T) {
@@ -390,32 +376,7 @@ namespace {
 // by `ground`'s sky irradiance. The gather shared by the SH and ground-irradiance texels.
 glm::dvec3 incidentRadiance(const SkyModel& m, int steps, const Lut2D& T, const Lut2D& psi, const Lut2D& ground, double h,
                             double muS, const glm::dvec3& v, double fDelta) {
-    const double r = m.bottomRadius + h;
-    double mu = v.z, nu = v.x * safeSqrt(1.0 - muS * muS) + v.z * muS;
-    double pR = rayleighPhase(nu), pM = miePhase(nu, m.mieG, m.miePhase);
-    bool hits = cpu::rayIntersectsGround(m, h, mu);
-    double d = hits ? cpu::distanceToBottom(m, h, mu) : cpu::distanceToTop(m, h, mu);
-    double p = perigeeFraction(m, h, mu, d);
-    glm::dvec3 thr(1.0), L(0.0);
-    for (int k = 0; k < steps; ++k) {
-        double s0 = double(k) / steps, s1 = double(k + 1) / steps, sm = (k + 0.5) / steps;
-        double dt = d * (warp(s1, p) - warp(s0, p)), t = d * warp(sm, p);
-        double hp = cpu::heightAt(m, h, mu, t);
-        double rp = m.bottomRadius + hp;
-        double muSp = std::clamp((r * muS + t * nu) / rp, -1.0, 1.0);
-        glm::dvec3 sR = m.scatteringRayleigh(hp), sM = m.scatteringMie(hp), sigmaT = m.extinction(hp);
-        glm::dvec3 sigmaD = sigmaT - fDelta * sM;
-        glm::dvec3 seg = cpu::segmentFactorPublic(sigmaD, dt);
-        glm::dvec3 Tl = cpu::transmittanceToLight(m, T, hp, muSp, m.sunAngularRadius);
-        glm::dvec3 ps = psi.sample(multiScatteringUv(m, hp, muSp, psi.width, psi.height));
-        L += thr * ((sR * pR + sM * pM) * Tl + (sR + sM) * ps) * seg;
-        thr *= glm::exp(-sigmaD * dt);
-    }
-    if (hits) {
-        double muSg = std::clamp((r * muS + d * nu) / m.bottomRadius, -1.0, 1.0);
-        L += thr * cpu::groundIrradiance(m, T, ground, muSg, m.sunAngularRadius) * m.groundAlbedo / kPi;
-    }
-    return L;
+    return shared::SkyMarch{m, &T, &psi, &ground}.atm_incidentRadiance(h, muS, v, steps, m.sunAngularRadius, fDelta);  // the SH pass's text
 }
 }  // namespace
 
@@ -595,17 +556,13 @@ Scattering integrate(const SkyModel& m, const Lut2D& T, const MsField& MS, doubl
 }
 
 double eclipseFraction(double rs, double ro, double d, int rings) {
-    // The astronomy's rule (astro::eclipseVisibleFraction), with the GPU's node count: the GLSL
-    // twin is atm_eclipseFraction() in atmosphere.glsl.
-    return astro::eclipseVisibleFraction(rs, ro, d, 0.6, rings);
+    // The shader's text (atmosphere.shared.glsl); astro::eclipseVisibleFraction() is the same rule
+    // written apart (the tests' reference).
+    return shared::atm_eclipseFraction(rs, ro, d, rings);
 }
 
 glm::dvec2 eclipseAt(const EclipseGeometry& g, const glm::dvec3& p, int rings) {
-    const glm::dvec3 mv = g.moonPos - p, sv = g.sunPos - p;
-    const double dm = glm::length(mv), ds = glm::length(sv);
-    const double ro = std::asin(std::min(g.moonRadius / dm, 1.0)), rs = g.sunRadius / ds;
-    const double d = 2.0 * std::asin(std::min(0.5 * glm::length(mv / dm - sv / ds), 1.0));
-    const double f = eclipseFraction(rs, ro, d, rings);
+    const double f = shared::atm_eclipseVisibleAt(p, g.moonPos, g.moonRadius, g.sunPos, g.sunRadius, rings);  // the shader's text
     return {f, std::clamp(f + (g.ms ? g.ms->sample(p) : 0.0), 0.0, 1.0)};
 }
 
@@ -751,10 +708,7 @@ SkyViewTexel skyViewTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T
 }
 
 glm::dvec3 skyViewSample(const SkyModel& m, const Lut2D& smooth, const Lut2D& mie, double h, double mu, double az, double nu) {
-    glm::dvec2 uv = skyViewUv(m, h, mu, az, smooth.width, smooth.height);
-    const double H = smooth.height, half = std::floor(H / 2.0);
-    if (uv.y >= 0.5) uv.y = std::clamp(uv.y, (half + 0.5) / H, 1.0 - 0.5 / H);
-    else uv.y = std::clamp(uv.y, 0.5 / H, (half - 0.5) / H);
+    const glm::dvec2 uv = shared::skyViewClampHalf(skyViewUv(m, h, mu, az, smooth.width, smooth.height), size2(smooth.width, smooth.height));
     return smooth.sample(uv) + mie.sample(uv) * miePhase(nu, m.mieG, m.miePhase);
 }
 

@@ -7,30 +7,25 @@
 #include <welkin/generators/lights.hpp>
 #include <welkin/gl/bindings.hpp>
 #include <welkin/gl/shader.hpp>
+#include <welkin/glsl_cpp.hpp>
 
 #include <epoxy/gl.h>
 
 #include <algorithm>
 #include <cmath>
 
+namespace welkin::glsl::dp::cloud_path_shared {
+#include "cloud_path.shared.glsl"
+}  // namespace welkin::glsl::dp::cloud_path_shared
+
 namespace welkin::generators {
 
-double cloudPathX(double mu) { return 0.5 + 0.5 * (mu < 0 ? -1.0 : (mu > 0 ? 1.0 : 0.0)) * std::sqrt(std::abs(mu)); }
-double cloudPathMu(double x) {
-    const double s = 2.0 * x - 1.0;
-    return (s < 0 ? -1.0 : 1.0) * s * s;
-}
-double cloudPathY(double h, double bottom, double top) {
-    if (h < bottom) return std::max(h, 0.0) / bottom / 3.0;
-    if (h <= top) return (1.0 + (h - bottom) / (top - bottom)) / 3.0;
-    return (2.0 + std::min((h - top) / kCloudPathAboveM, 1.0)) / 3.0;
-}
-double cloudPathAltitude(double y, double bottom, double top) {
-    const double t = 3.0 * y;
-    if (t < 1.0) return t * bottom;
-    if (t <= 2.0) return bottom + (t - 1.0) * (top - bottom);
-    return top + (t - 2.0) * kCloudPathAboveM;
-}
+// The mapping: cloud_path.shared.glsl (the shaders' text) in double.
+static_assert(kCloudPathAboveM == CLOUD_PATH_ABOVE_M);
+double cloudPathX(double mu) { return glsl::dp::cloud_path_shared::cloudPathX(mu); }
+double cloudPathMu(double x) { return glsl::dp::cloud_path_shared::cloudPathMu(x); }
+double cloudPathY(double h, double bottom, double top) { return glsl::dp::cloud_path_shared::cloudPathY(h, bottom, top); }
+double cloudPathAltitude(double y, double bottom, double top) { return glsl::dp::cloud_path_shared::cloudPathAltitude(y, bottom, top); }
 
 CloudPathLut::CloudPathLut(int width, int height) : Generator("clouds.path_lut"), w_(width), h_(height) {
     checkRange("CloudPathLut", "width", width, 3, 8192);

@@ -7,6 +7,7 @@
 #include <welkin/gl/bindings.hpp>
 #include <welkin/gl/objects.hpp>
 #include <welkin/gl/shader.hpp>
+#include <welkin/glsl_cpp.hpp>
 #include <welkin/keys.hpp>
 
 #include <epoxy/gl.h>
@@ -14,6 +15,19 @@
 
 #include <algorithm>
 #include <cmath>
+
+// The column's optical depth: cloud_shadow.shared.glsl (the pass's text) in double, as members of
+// ShadowColumn, whose other members read the shared density (cloud_density.cpp) on the CPU textures.
+namespace welkin::glsl::dp::cloud_shadow_shared {
+struct ShadowColumn {
+    const generators::CloudLayerBlock& b;
+    const generators::cpu::CloudTextures& t;
+    static constexpr int CLOUD_LOD_CHEAP = int(generators::CloudLod::Cheap);
+    real cloudDensity(vec3 p, int lod) const { return generators::cpu::cloudDensity(b, t, p, generators::CloudLod(lod)); }
+    real cirrusDensity(vec2 xy) const { return generators::cpu::cirrusDensity(b, t.curl, xy); }
+#include "cloud_shadow.shared.glsl"
+};
+}  // namespace welkin::glsl::dp::cloud_shadow_shared
 
 namespace welkin::generators {
 
@@ -25,15 +39,6 @@ constexpr int kDefaultSteps = 16;         // through a 1 km layer: 63 m steps at
 // 30 deg elevation then casts its shadow ~300 m (two texels) from where the map shows it.
 constexpr int kDefaultSlices = 8;
 constexpr double kLightTolerance = 5e-4;  // rad, the lights' change tolerance (see the constructor)
-
-// Exit distance of the unit ray L from the ground point (xy, R) through the sphere R + H (the
-// GLSL's exitDistance(), same stable form).
-double exitDistance(glm::dvec2 xy, glm::dvec3 L, double R, double H) {
-    const double b = glm::dot(xy, glm::dvec2(L)) + R * L.z;
-    const double q = glm::dot(xy, xy) - H * (2.0 * R + H);
-    const double s = std::sqrt(std::max(b * b - q, 0.0));
-    return b > 0.0 ? -q / (b + s) : s - b;
-}
 
 glm::dvec3 shadowLight(const SkyVars& vars) {
     glm::dvec3 sun = vars.getOr(keys::sunDirection, glm::dvec3(0, 0, 1));
@@ -52,24 +57,10 @@ glm::dvec3 shadowLight(const SkyVars& vars) {
 namespace cpu {
 
 double cloudShadowTransmittance(const CloudLayerBlock& b, const CloudTextures& t, glm::dvec3 L, int steps, glm::dvec2 xy) {
-    const double R = b.radii[0];
-    double tau = 0.0;
-    if (!t.weather.rgba.empty() && !t.base.rgba.empty() && b.shape[0] > 0.0f && b.shape[2] > 0.0f) {
-        const double t0 = exitDistance(xy, L, R, double(b.radii[1]) - R), t1 = exitDistance(xy, L, R, double(b.radii[2]) - R);
-        const double dt = (t1 - t0) / steps;
-        for (int i = 0; i < steps; ++i) {
-            const double s = t0 + (i + 0.5) * dt;
-            tau += double(b.shape[2]) * cloudDensity(b, t, glm::dvec3(xy, 0.0) + s * L, CloudLod::Cheap) * dt;
-        }
-    }
-    if (!t.curl.rgba.empty() && b.shape[3] > 0.0f) {
-        const double rc = b.radii[3];
-        const double tc = exitDistance(xy, L, R, rc - R);
-        const glm::dvec3 k = glm::cross(glm::dvec3(xy, R), L);
-        const double mu = std::sqrt(std::max(1.0 - glm::dot(k, k) / (rc * rc), 0.0));
-        tau += kCirrusOpticalDepth * cirrusDensity(b, t.curl, xy + tc * glm::dvec2(L)) / std::max(mu, 1e-3);
-    }
-    return std::exp(-tau);
+    glsl::dp::cloud_shadow_shared::ShadowColumn c{b, t};
+    const bool clouds = !t.weather.rgba.empty() && !t.base.rgba.empty(), cirrus = !t.curl.rgba.empty();
+    const glm::dvec4 radii(b.radii[0], b.radii[1], b.radii[2], b.radii[3]), shape(b.shape[0], b.shape[1], b.shape[2], b.shape[3]);
+    return std::exp(-c.cld_shadowOpticalDepth(xy, L, radii, shape, steps, clouds, cirrus, kCirrusOpticalDepth));
 }
 
 glm::dvec2 cloudShadowGroundPoint(glm::dvec3 pos, double observerHeightM, double bottomM, glm::dvec3 light) {

@@ -5,6 +5,7 @@
 #include <welkin/error.hpp>
 #include <welkin/generators/mie.hpp>
 #include <welkin/generators/mie_tables.hpp>
+#include <welkin/glsl_cpp.hpp>
 
 #include <algorithm>
 #include <atomic>
@@ -22,11 +23,16 @@
 
 #include <unistd.h>
 
+namespace welkin::glsl::dp::mie_angle_shared {
+#include "mie_angle.shared.glsl"
+}  // namespace welkin::glsl::dp::mie_angle_shared
+
 namespace welkin::generators {
 
 namespace {
 constexpr double kDeg = M_PI / 180.0;
-// Knots of the angle mapping (u, theta in degrees); mie_angle.glsl holds the same numbers.
+// Knots of the angle mapping (u, theta in degrees) for its inverse mieAngleFromU();
+// mie_angle.shared.glsl (mieUFromAngle) holds the same numbers.
 constexpr double kU[5] = {0.0, 0.25, 0.70, 0.80, 1.0};
 constexpr double kTheta[5] = {0.0, 120.0, 150.0, 175.0, 180.0};
 constexpr double kWaterDensity = 998.2;  // kg/m^3 at 20 degC
@@ -54,13 +60,8 @@ double mieAngleFromU(double u) {
     return (kTheta[i] + t * (kTheta[i + 1] - kTheta[i])) * kDeg;
 }
 
-double mieUFromAngle(double theta) {
-    const double d = std::clamp(theta / kDeg, 0.0, 180.0);
-    int i = 0;
-    while (i < 3 && d > kTheta[i + 1]) ++i;
-    const double t = (d - kTheta[i]) / (kTheta[i + 1] - kTheta[i]);
-    return kU[i] + t * (kU[i + 1] - kU[i]);
-}
+// The shaders' text, mie_angle.shared.glsl, in double (the knots below hold the same numbers).
+double mieUFromAngle(double theta) { return glsl::dp::mie_angle_shared::welkin_mieUFromAngle(theta); }
 
 // --- Distributions ------------------------------------------------------------------------------
 

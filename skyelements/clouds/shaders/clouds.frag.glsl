@@ -22,50 +22,11 @@ const float CLD_PI = 3.14159265358979;
 const float CLD_LIGHT_RADIUS = 0.00465;
 const float CLD_GROUND_ALBEDO = 0.2;  // reflectance of the ground lighting the cloud bases (grass, soil)
 
-// Henyey-Greenstein, 1/sr.
-float cld_hg(float nu, float g) {
-    float d = 1.0 + g * g - 2.0 * g * nu;
-    return (1.0 - g * g) / (4.0 * CLD_PI * d * sqrt(d));
-}
-// The cloud droplets' phase function: the fit of Jendersie & d'Eon 2023 ("An approximate Mie
-// scattering function for fog and cloud rendering", SIGGRAPH talk) to Lorenz-Mie at droplet
-// diameter 20 um (r_eff 10 um), (1 - w_D) HG(g_peak) + w_D Draine(g_D, alpha): a sharp diffraction
-// peak (g_peak 0.9946, within ~1 deg) and a Draine lobe (the forward lobe and the backward rise
-// towards the fogbow and the glory). The constants CLD_G_PEAK, CLD_W_DRAINE, CLD_G_DRAINE,
-// CLD_ALPHA_DRAINE and the transfer's CLD_MS_* come from clouds.cpp (cloudcpu, one source).
-// Delta-M (Wiscombe 1977): the peak's share 1 - w_D of the extinction scatters within a degree, so
-// it is treated as unscattered: the march uses the scaled extinction w_D sigma and the Draine lobe
-// alone as the phase (twin of cloudcpu::scaledPhase).
-float cld_draine(float nu, float g, float a) { return cld_hg(nu, g) * (1.0 + a * nu * nu) / (1.0 + a * (1.0 + 2.0 * g * g) / 3.0); }
-float cld_scaledPhase(float nu) { return cld_draine(nu, CLD_G_DRAINE, CLD_ALPHA_DRAINE); }
-// Light transfer (docs/clouds.md, "Model"), per lux of a light and per unit scaled extinction,
-// 1/sr, at a point with scaled optical depths tauL towards the light and tauB away from it (to
-// the cloud's far side) and the light's cos(zenith) muL: the single scattering of the beam plus
-// the multiple-scattered radiance of a slab along the light axis (diffusion in the transport
-// optical depths s = CLD_MS_S tau: a mean radiance falling linearly from the lit side, plus the
-// net flux's share towards the light's direction, nu), calibrated against adding-doubling. Twin of
-// cloudcpu::lightTransfer.
-float cld_lightTransfer(float nu, float tauL, float tauB, float muL) {
-    float single = cld_scaledPhase(nu) * exp(-tauL);
-    float sL = CLD_MS_S * tauL, sB = CLD_MS_S * tauB;
-    float multi = CLD_MS_K / CLD_PI * pow(max(muL, CLD_MS_MU_MIN), CLD_MS_Q) * (1.0 - exp(-CLD_MS_C * (tauL + tauB)))
-                * max(sB + CLD_MS_Z + CLD_MS_H * nu, 0.0) / (sL + sB + CLD_MS_A);
-    return single + multi;
-}
-
-// The ambient light's transfer (twin of cloudcpu::ambientTransfer), per lux of horizontal
-// illuminance arriving as a uniform hemisphere from one side of the layer and per unit scaled
-// extinction, 1/sr: the single scattering of the hemisphere (a share 1/2 + (F - 1/2) nu of it
-// towards the view, attenuated by the diffusivity factor) plus the diffusion term at the diffuse
-// field's slant depths (1.66 x the vertical), per horizontal lux (x 2 / (1 + q)). tauN, tauF: scaled vertical depths to the
-// lit side and to the other; nu: cosine between the view ray and the direction to the lit side.
-float cld_ambientTransfer(float nu, float tauN, float tauF) {
-    float single = (0.5 + (CLD_AMB_FORWARD - 0.5) * nu) / CLD_PI * exp(-CLD_DIFFUSIVITY * tauN);
-    float sN = CLD_DIFFUSIVITY * CLD_MS_S * tauN, sF = CLD_DIFFUSIVITY * CLD_MS_S * tauF;  // slant depths
-    float multi = CLD_MS_AMBIENT * CLD_MS_K / CLD_PI * (1.0 - exp(-CLD_MS_C * (tauN + tauF)))
-                * max(sF + CLD_MS_Z + CLD_MS_H * nu, 0.0) / (sN + sF + CLD_MS_A);
-    return single + multi;
-}
+// The droplets' phase functions and the light transfer (cld_hg, cld_draine, cld_scaledPhase,
+// cld_lightTransfer, cld_ambientTransfer): clouds_transfer.shared.glsl, which clouds.cpp compiles
+// in double as cloudcpu:: (one text). Its constants CLD_G_PEAK ... CLD_DIFFUSIVITY come from
+// clouds.cpp as defines.
+#include "clouds_transfer.shared.glsl"
 
 // Interleaved gradient noise (Jimenez 2014, "Next generation post processing in Call of Duty:
 // Advanced Warfare"): the ray offset in [0, 1), deterministic per pixel.

@@ -14,6 +14,7 @@
 #include <welkin/generators/weather_map.hpp>
 #include <welkin/gl/bindings.hpp>
 #include <welkin/gl/shader.hpp>
+#include <welkin/glsl_cpp.hpp>
 #include <welkin/keys.hpp>
 
 #include <epoxy/gl.h>
@@ -102,32 +103,54 @@ std::vector<std::string> cloudPresetNames() {
     return n;
 }
 
+}  // namespace welkin::elements
+
+// The droplets' phase functions and the light transfer: the shader's text,
+// clouds_transfer.shared.glsl, compiled in double (welkin/glsl_cpp.hpp) with the constants above.
+namespace welkin::glsl::dp::clouds_transfer_shared {
+#define CLD_PI std::numbers::pi
+#define CLD_G_DRAINE welkin::elements::cloudcpu::kDropletGDraine
+#define CLD_ALPHA_DRAINE welkin::elements::cloudcpu::kDropletAlphaDraine
+#define CLD_MS_S welkin::elements::kMsS
+#define CLD_MS_K welkin::elements::kMsK
+#define CLD_MS_Z welkin::elements::kMsZ
+#define CLD_MS_A welkin::elements::kMsA
+#define CLD_MS_H welkin::elements::kMsH
+#define CLD_MS_C (welkin::elements::kMsC / welkin::elements::cloudcpu::kDropletWDraine)
+#define CLD_MS_Q welkin::elements::kMsQ
+#define CLD_MS_MU_MIN welkin::elements::kMsMuMin
+#define CLD_MS_AMBIENT welkin::elements::kMsAmbient
+#define CLD_AMB_FORWARD welkin::elements::cloudcpu::kDraineForwardFraction
+#define CLD_DIFFUSIVITY welkin::elements::cloudcpu::kDiffusivity
+#include "../shaders/clouds_transfer.shared.glsl"
+#undef CLD_PI
+#undef CLD_G_DRAINE
+#undef CLD_ALPHA_DRAINE
+#undef CLD_MS_S
+#undef CLD_MS_K
+#undef CLD_MS_Z
+#undef CLD_MS_A
+#undef CLD_MS_H
+#undef CLD_MS_C
+#undef CLD_MS_Q
+#undef CLD_MS_MU_MIN
+#undef CLD_MS_AMBIENT
+#undef CLD_AMB_FORWARD
+#undef CLD_DIFFUSIVITY
+}  // namespace welkin::glsl::dp::clouds_transfer_shared
+
+namespace welkin::elements {
+
 namespace cloudcpu {
-double henyeyGreenstein(double nu, double g) {
-    const double d = 1.0 + g * g - 2.0 * g * nu;
-    return (1.0 - g * g) / (4.0 * kPi * d * std::sqrt(d));
-}
-double draine(double nu, double g, double alpha) {
-    return henyeyGreenstein(nu, g) * (1.0 + alpha * nu * nu) / (1.0 + alpha * (1.0 + 2.0 * g * g) / 3.0);
-}
+namespace transfer = glsl::dp::clouds_transfer_shared;
+double henyeyGreenstein(double nu, double g) { return transfer::cld_hg(nu, g); }
+double draine(double nu, double g, double alpha) { return transfer::cld_draine(nu, g, alpha); }
 double cloudPhase(double nu) {
     return (1.0 - kDropletWDraine) * henyeyGreenstein(nu, kDropletGPeak) + kDropletWDraine * scaledPhase(nu);
 }
-double scaledPhase(double nu) { return draine(nu, kDropletGDraine, kDropletAlphaDraine); }
-double lightTransfer(double nu, double tauL, double tauB, double muL) {
-    const double single = scaledPhase(nu) * std::exp(-tauL);
-    const double sL = kMsS * tauL, sB = kMsS * tauB;
-    const double multi = kMsK / kPi * std::pow(std::max(muL, kMsMuMin), kMsQ) * (1.0 - std::exp(-kMsC / kDropletWDraine * (tauL + tauB))) *
-                         std::max(sB + kMsZ + kMsH * nu, 0.0) / (sL + sB + kMsA);
-    return single + multi;
-}
-double ambientTransfer(double nu, double tauN, double tauF) {
-    const double single = (0.5 + (kDraineForwardFraction - 0.5) * nu) / kPi * std::exp(-kDiffusivity * tauN);
-    const double sN = kDiffusivity * kMsS * tauN, sF = kDiffusivity * kMsS * tauF;  // the diffuse field's slant depths
-    const double multi = kMsAmbient * kMsK / kPi * (1.0 - std::exp(-kMsC / kDropletWDraine * (tauN + tauF))) *
-                         std::max(sF + kMsZ + kMsH * nu, 0.0) / (sN + sF + kMsA);
-    return single + multi;
-}
+double scaledPhase(double nu) { return transfer::cld_scaledPhase(nu); }
+double lightTransfer(double nu, double tauL, double tauB, double muL) { return transfer::cld_lightTransfer(nu, tauL, tauB, muL); }
+double ambientTransfer(double nu, double tauN, double tauF) { return transfer::cld_ambientTransfer(nu, tauN, tauF); }
 double integrateStep(double source, double sigmaT, double dt) {
     if (sigmaT <= 0) return source * dt;
     return (source - source * std::exp(-sigmaT * dt)) / sigmaT;

@@ -52,8 +52,9 @@ vec3 night_extinction(float h) {
 }
 #endif
 
-// Van Rhijn's factor of a thin shell: 1 / sqrt(1 - r2 sin^2 z), sin^2 z = 1 - d.z^2.
-float night_vanRhijn(float cz, float r2) { return inversesqrt(max(1.0 - r2 * (1.0 - cz * cz), 1e-6)); }
+// Van Rhijn's factor of a thin shell, night_vanRhijn(cos z, r2): nightsky_vanrhijn.shared.glsl, which
+// nightsky.cpp's vanRhijn() compiles in double.
+#include "nightsky_vanrhijn.shared.glsl"
 
 void main() {
     vec3 dir;

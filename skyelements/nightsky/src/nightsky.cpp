@@ -11,6 +11,7 @@
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/generators/sky_model.hpp>
 #include <welkin/gl/shader.hpp>
+#include <welkin/glsl_cpp.hpp>
 #include <welkin/image.hpp>
 #include <welkin/keys.hpp>
 
@@ -22,6 +23,10 @@
 #include <cmath>
 #include <filesystem>
 #include <numbers>
+
+namespace welkin::glsl::dp::nightsky_vanrhijn_shared {
+#include "../shaders/nightsky_vanrhijn.shared.glsl"
+}  // namespace welkin::glsl::dp::nightsky_vanrhijn_shared
 
 namespace welkin::elements {
 
@@ -130,8 +135,8 @@ double zodiacalAt(const glm::dvec3& icrs, double sunLon) {
 double vanRhijn(double z, double h) {
     if (!(z >= 0.0 && z <= kPi / 2 + 1e-12)) throw Error("vanRhijn(): zenith angle not in [0, pi/2] rad");
     if (!(h > 0.0)) throw Error("vanRhijn(): layer height not > 0 m");
-    const double r = kEarthRadiusM / (kEarthRadiusM + h), s = std::sin(z);
-    return 1.0 / std::sqrt(1.0 - r * r * s * s);
+    const double r = kEarthRadiusM / (kEarthRadiusM + h);
+    return glsl::dp::nightsky_vanrhijn_shared::night_vanRhijn(std::cos(z), r * r);  // the shader's text
 }
 
 double bortleZenithMag(int c) {

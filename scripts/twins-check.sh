@@ -1,0 +1,96 @@
+#!/usr/bin/env bash
+# Which functions are written twice, once in a shader and once in C++? (issue 24 item 3: "grep
+# finds no duplicated optical function between *.glsl and *.cpp")
+#
+#   scripts/twins-check.sh          # list every name defined in a *.glsl and in a *.cpp/*.hpp file
+#   scripts/twins-check.sh --check  # exit 1 when a name is neither shared nor in the allowed list
+#
+# A function is "defined" in a file when a line of it reads `TYPE NAME(` at the start of a
+# declaration (GLSL: a top-level line; C++: any line whose first word is not a statement keyword).
+# Names are compared after dropping the shaders' family prefixes (atm_, cld_, welkin_, pp_,
+# planet_, rainbow_, night_, stars_, lighting_, clouds_) and case, so `atm_segmentFactor` and a
+# C++ `segmentFactor` are one name. The `*.shared.glsl` files are the one source both languages
+# compile (docs/architecture.md, "One source for the GPU maths"): they count as shaders, so a C++
+# function named like a shared one is listed too (a wrapper that calls it, or a copy). `main` and
+# the C++ of tests and benches (which compare the twins, they hold none) are left out.
+#
+# scripts/twins-allowed.txt lists the names that may stay in both languages, one per line:
+# `name  kind  reason`, kind being
+#   wrapper    the C++ side (and the shader's, when it is not the shared file itself) only calls the
+#              same shared function (the GLSL one passes its uniform block, the C++ one its members);
+#   reference  the C++ side is a deliberately different computation (an independent double
+#              precision reference the tests compare the shader with);
+#   unrelated  only the name is shared (different functions);
+#   pending    still a hand-mirrored copy (the work left of issue 24 item 3).
+# Output: one line per duplicated name, `name  [kind]  glsl-files  |  cpp-files`; then the counts.
+# --check fails on a duplicated name the list does not know (a new copy: move the function to a
+# shared file, or list it with its reason) and on a listed name that is no longer duplicated
+# (keep the list true).
+set -euo pipefail
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+check=""
+if [ "${1:-}" = "--check" ]; then check=1; shift; fi
+if [ $# -gt 0 ]; then echo "twins-check.sh: the only option is --check" >&2; exit 2; fi
+allowed="$here/scripts/twins-allowed.txt"
+cd "$here"
+
+# key = lower-case name without a family prefix
+normalise() { sed -E 's/^(atm|cld|welkin|pp|planet|rainbow|night|stars|lighting|clouds)_//' | tr 'A-Z' 'a-z'; }
+
+# GLSL: top-level `TYPE NAME(` lines of every shader, the shared ones included.
+glsl_defs() {
+  find engine generators skyelements -name '*.glsl' -print0 | sort -z |
+    xargs -0 grep -HoP '^(?:(?:highp|mediump|lowp|precise)\s+)?[A-Za-z_]\w*(?:\[\w+\])?\s+\K[A-Za-z_]\w*(?=\s*\()' |
+    grep -v ':main$' || true
+}
+# C++: `TYPE NAME(` where TYPE is a type (qualified, templated, pointer or reference), in the
+# library's and apps' sources (tests and benches compare twins, they do not hold them).
+cpp_defs() {
+  find engine generators skyelements apps examples \( -name '*.cpp' -o -name '*.hpp' \) \
+      ! -path '*/tests/*' ! -path '*/bench/*' -print0 | sort -z |
+    xargs -0 grep -HoP '^\s*(?:(?:static|inline|constexpr|virtual|explicit|friend|extern|\[\[nodiscard\]\])\s+)*(?!(?:return|else|if|while|for|switch|case|new|delete|throw|using|typedef|goto|co_return|sizeof|do|not|and|or)\b)[A-Za-z_][\w:]*(?:<[^;()]*>)?(?:\s*[*&]+\s*|\s+)(?:[A-Za-z_]\w*::)*\K[A-Za-z_]\w*(?=\s*\((?!.*\)\s*[,;]\s*$))' |
+    grep -v ':main$' | grep -vE ':(operator|TEST_CASE|SECTION)$' || true
+}
+
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+glsl_defs | awk -F: '{print $NF"\t"$1}' > "$tmp/glsl.raw"
+cpp_defs | awk -F: '{print $NF"\t"$1}' > "$tmp/cpp.raw"
+for side in glsl cpp; do
+  paste <(cut -f1 "$tmp/$side.raw" | normalise) "$tmp/$side.raw" | sort -u > "$tmp/$side"
+done
+join -t$'\t' -o 0 <(cut -f1 "$tmp/glsl" | sort -u) <(cut -f1 "$tmp/cpp" | sort -u) > "$tmp/both"
+
+declare -A kind
+if [ -f "$allowed" ]; then
+  while read -r name k _; do
+    case "$name" in ''|'#'*) continue ;; esac
+    case "$k" in wrapper|reference|unrelated|pending) ;; *) echo "twins-check.sh: $allowed: '$name' has kind '$k' (wrapper, reference, unrelated or pending)" >&2; exit 2 ;; esac
+    kind[$(printf '%s' "$name" | normalise)]=$k
+  done < "$allowed"
+fi
+
+declare -A count=([wrapper]=0 [reference]=0 [unrelated]=0 [pending]=0 [new]=0)
+declare -A seen
+while read -r key; do
+  k=${kind[$key]:-new}
+  seen[$key]=1
+  count[$k]=$((count[$k] + 1))
+  g=$(awk -F'\t' -v k="$key" '$1 == k {print $3}' "$tmp/glsl" | sort -u | paste -sd' ' -)
+  c=$(awk -F'\t' -v k="$key" '$1 == k {print $3}' "$tmp/cpp" | sort -u | paste -sd' ' -)
+  printf '%-28s [%s]  %s  |  %s\n' "$key" "$k" "$g" "$c"
+done < "$tmp/both"
+stale=0
+for key in "${!kind[@]}"; do
+  if [ -z "${seen[$key]:-}" ]; then
+    echo "twins-check.sh: '$key' is in scripts/twins-allowed.txt but no longer defined in both languages: remove it from the list" >&2
+    stale=$((stale + 1))
+  fi
+done
+echo "duplicated names: $(wc -l < "$tmp/both") (wrapper ${count[wrapper]}, reference ${count[reference]}, unrelated ${count[unrelated]}, pending ${count[pending]}, new ${count[new]})"
+if [ -n "$check" ]; then
+  if [ "${count[new]}" -gt 0 ]; then
+    echo "twins-check.sh: ${count[new]} function(s) defined in both a shader and C++ ([new] above): write it once in a *.shared.glsl file (docs/architecture.md, \"One source\") or list it in scripts/twins-allowed.txt with its reason" >&2
+  fi
+  [ "${count[new]}" -eq 0 ] && [ "$stale" -eq 0 ] || exit 1
+fi
