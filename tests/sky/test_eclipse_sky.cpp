@@ -286,7 +286,10 @@ TEST_CASE("Eclipse sky: the eclipse table is rebuilt only when the shadow moves,
     CHECK(ecl.vars.get(skykeys::eclipseViewLut).id == id0);
     for (int i = 0; i < 3; ++i) at(4.0);
     CHECK(lut->rebuilds() == n0 + 4);
-    CHECK(ecl.vars.get(skykeys::eclipseViewLut).id != id0);  // the 4th band: the new table shown
+    CHECK(ecl.vars.get(skykeys::eclipseViewLut).id == id0);  // the 4th band rendered, not yet shown
+    at(4.0);
+    CHECK(lut->rebuilds() == n0 + 4);                        // no band in the swap's frame
+    CHECK(ecl.vars.get(skykeys::eclipseViewLut).id != id0);  // the frame after the 4th band: the new table shown
     const int n1 = lut->rebuilds();
     at(300.0);  // a jump (> kEclipseJumpMeters): the whole table at once, shown at once
     CHECK(lut->rebuilds() == n1 + 1);
