@@ -32,8 +32,9 @@ constexpr double kLat = 42.34, kLon = -3.70;
 // 45 deg across and the horizon opposite the Sun at this test's quality 1 (its coarser clear
 // multiple-scattering field moves the reference); 2 leaves room for that while the isotropic
 // factor it replaced (0.41 at 45 deg across at this quality, L = 30 km) fails.
-// (The horizon beneath the Sun is left out: at quality 1 the reference there is 3.8x the bench's,
-// and the model 0.13 of it.)
+// (The horizon beneath the Sun is left out here: on this case's SkyModel::earthClear() the model
+// is 0.13 of the reference there, its axis weight fitted to the renderer's more forward-scattering
+// aerosol; the next case checks it on the renderer's atmosphere. docs/eclipse.md "Accuracy".)
 constexpr double kEclipseModelFactor = 2.0;
 
 cpu::EclipseGeometry geometryOf(const SkyVars& v) {
@@ -229,6 +230,46 @@ TEST_CASE("Eclipse sky: the multiple-scattering model against the eclipse refere
     }
 }
 
+TEST_CASE("Eclipse sky: the model against the eclipse reference at totality on the renderer's atmosphere: towards the Sun", "[cpu][eclipse]") {
+    // The case above integrates SkyModel::earthClear() (no atmosphere key: Hillaire's aerosol,
+    // clear horizon towards the Sun 0.18 cd/m^2 per lx); the Sky element draws
+    // atmosphere::Atmosphere::earthClear() (the key EclipseRig sets: 0.84 there, its aerosol far
+    // more forward-scattering). The horizon beneath the Sun is where the two part: the reference's
+    // "3.8x" there (5.6e-6 against 1.49e-6 cd/m^2 per lx, docs/eclipse.md) is the atmosphere, not
+    // the integrator (welkin bench eclipse --coarse true with and without --plain-model). On the
+    // atmosphere the renderer draws, the direction the case above leaves out, beneath the Sun, and
+    // the sky above it towards the Sun.
+    SkyVars v = test::astronomyAt(kTotality, kLat, kLon);
+    v.set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(atmosphere::Atmosphere::earthClear()));
+    const SkyModel m = SkyModel::fromVars(v);
+    const SkyQuality q = SkyQuality::preset(1);
+    const Lut2D T = cpu::transmittanceLut(m, q);
+    const cpu::MsField MS = cpu::msField(m, q, T);
+    const glm::dvec3 sun = glm::normalize(v.get(keys::sunDirection));
+    cpu::EclipseGeometry g = geometryOf(v);
+    const cpu::EclipseMsTable field = cpu::eclipseMsTable(g, kEclipseMsLengthMeters);
+    cpu::EclipseGeometry gm = g;
+    gm.ms = &field;
+    atmosphere::EclipseReferenceOptions ro{.viewSteps = 24, .gatherZenith = 8, .gatherAzimuth = 12, .gatherSteps = 16, .rings = 48};
+    const double sunAz = std::atan2(sun.x, sun.y);
+    for (auto [daz, alt] : {std::pair{0.0, 2.0}, std::pair{0.0, 45.0}}) {
+        const glm::dvec3 dir = directionFromAzAlt(sunAz + daz * kDeg, alt * kDeg);
+        const atmosphere::EclipseReferenceRadiance r = atmosphere::eclipseReferenceRadiance(m, T, MS, 0.0, dir, sun, g, ro);
+        const double ref = Y(r.radiance);
+        const double model = Y(cpu::radiance(m, cpu::integrateEclipse(m, T, MS, 0.0, dir, sun, gm, 128, false, m.sunAngularRadius),
+                                             glm::dot(dir, sun)));
+        INFO("azimuth from the Sun " << daz << " deg, altitude " << alt << " deg: model " << model << ", reference " << ref
+                                     << " (order 2: " << Y(r.second) / ref << " of it)");
+        // Measured 1.31 beneath the Sun and 1.10 at 45 deg (here, 128 steps, as the bench's 256);
+        // kEclipseModelFactor, the stated accuracy at totality.
+        CHECK(model < ref * kEclipseModelFactor);
+        CHECK(model > ref / kEclipseModelFactor);
+        // The reference there is exact where it matters: its second order, computed exactly,
+        // carries most of the light beneath the Sun (measured 0.95; 0.79 on SkyModel::earthClear()).
+        if (alt < 10.0) CHECK(Y(r.second) > 0.75 * ref);
+    }
+}
+
 TEST_CASE("Eclipse sky: the model against the eclipse reference in the partial phases (90 %, 99 %, 99.5 %)", "[cpu][eclipse]") {
     // The instants where 10 %, 1 % and 0.5 % of the Sun is left before C2 over Burgos (welkin bench
     // eclipse finds them by bisection), the same coarse reference as at totality.
@@ -286,7 +327,10 @@ TEST_CASE("Eclipse sky: the eclipse table is rebuilt only when the shadow moves,
     CHECK(ecl.vars.get(skykeys::eclipseViewLut).id == id0);
     for (int i = 0; i < 3; ++i) at(4.0);
     CHECK(lut->rebuilds() == n0 + 4);
-    CHECK(ecl.vars.get(skykeys::eclipseViewLut).id != id0);  // the 4th band: the new table shown
+    CHECK(ecl.vars.get(skykeys::eclipseViewLut).id == id0);  // the 4th band rendered, not yet shown
+    at(4.0);
+    CHECK(lut->rebuilds() == n0 + 4);                        // no band in the swap's frame
+    CHECK(ecl.vars.get(skykeys::eclipseViewLut).id != id0);  // the frame after the 4th band: the new table shown
     const int n1 = lut->rebuilds();
     at(300.0);  // a jump (> kEclipseJumpMeters): the whole table at once, shown at once
     CHECK(lut->rebuilds() == n1 + 1);

@@ -19,8 +19,8 @@ uniform float u_invScale;
 #ifdef SKY_IRRADIANCE_ECLIPSE
 // A solar eclipse: the Sun's tables are sky.eclipse_view_lut (absolute azimuth u = az / 2 pi, the
 // sky view's latitude), summed over the whole circle of azimuth; u_sunDir is the full ENU
-// direction and the direct light keeps the Sun's visible fraction.
-uniform float u_eclipseFraction;
+// direction. (The direct light's visible fraction, sun.eclipse_fraction, is applied on the CPU:
+// it changes every frame of a partial phase, the tables only every ~2 s.)
 vec3 eclipseSample(float mu, float az, float nu) {
     vec2 size = vec2(textureSize(u_sunSmooth, 0));
     vec2 uv = vec2(az * (0.5 / ATM_PI), skyViewClampHalf(skyViewUv(u_h, mu, 0.0, size), size).y);
@@ -72,7 +72,6 @@ void main() {
         o_result[2] = vec4(transmittanceToLight(u_h, u_sunDir.z, atm_solarIlluminance.w) * max(u_sunDir.z, 0.0) * u_sunE, 0.0);
         o_result[3] = vec4(transmittanceToLight(u_h, u_moonDir.z, 0.0045) * max(u_moonDir.z, 0.0) * u_moonE, 0.0);
 #ifdef SKY_IRRADIANCE_ECLIPSE
-        o_result[2] *= u_eclipseFraction;
         vec3 zs = eclipseSample(1.0, 0.0, u_sunDir.z) * u_sunE;
 #else
         vec3 zs = skyViewSample(u_sunSmooth, u_sunMie, u_h, 1.0, 0.0, u_sunDir.z, u_invScale) * u_sunE;

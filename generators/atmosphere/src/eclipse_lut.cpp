@@ -25,13 +25,16 @@ EclipseSkyLut::EclipseSkyLut() : SkyGenerator("sky.eclipse_view") {
     input(astro::keys::eclipses, {.optional = true});
     output(skykeys::eclipseViewLut);
     output(skykeys::eclipseViewMieLut);
+    output(skykeys::eclipseViewTotalLut);
 }
 
 void EclipseSkyLut::releaseGl() {
     smooth_ = {};
     mie_ = {};
+    total_ = {};
     backSmooth_ = {};
     backMie_ = {};
+    backTotal_ = {};
     msTex_ = {};
     backMsTex_ = {};
     fbo_ = {};
@@ -66,8 +69,8 @@ void EclipseSkyLut::renderBand(int y0, int y1) {
     glViewport(0, 0, W, H);
     glEnable(GL_SCISSOR_TEST);
     glScissor(0, y0, W, y1 - y0);
-    const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-    glNamedFramebufferDrawBuffers(backFbo_.id(), 2, bufs);
+    const GLenum bufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+    glNamedFramebufferDrawBuffers(backFbo_.id(), 3, bufs);
     const Build& b = building_;
     prog_.use();
     prog_.set("u_h", float(b.h));
@@ -119,6 +122,7 @@ void EclipseSkyLut::doRun(SkyVars& vars, const Logger&) {
         if (active_ || !published_) {
             vars.publish(skykeys::eclipseViewLut, TextureRef{});
             vars.publish(skykeys::eclipseViewMieLut, TextureRef{});
+            vars.publish(skykeys::eclipseViewTotalLut, TextureRef{});
         }
         active_ = false;
         published_ = true;
@@ -128,7 +132,7 @@ void EclipseSkyLut::doRun(SkyVars& vars, const Logger&) {
     const int W = 2 * q_.skyViewW, H = q_.skyViewH;
     const GLenum fmt = q_.halfFloat ? GL_RGBA16F : GL_RGBA32F;
     if (!smooth_ || smooth_.width() != W || smooth_.height() != H || smooth_.internalFormat() != fmt) {
-        for (gl::Texture2D* t : {&smooth_, &mie_, &backSmooth_, &backMie_}) {
+        for (gl::Texture2D* t : {&smooth_, &mie_, &total_, &backSmooth_, &backMie_, &backTotal_}) {
             *t = gl::Texture2D(W, H, fmt);
             t->setFilter(GL_LINEAR);
             t->setWrap(GL_CLAMP_TO_EDGE);
@@ -137,10 +141,12 @@ void EclipseSkyLut::doRun(SkyVars& vars, const Logger&) {
         fbo_ = gl::Framebuffer::create();
         fbo_.attach(GL_COLOR_ATTACHMENT0, smooth_);
         fbo_.attach(GL_COLOR_ATTACHMENT1, mie_);
+        fbo_.attach(GL_COLOR_ATTACHMENT2, total_);
         fbo_.checkComplete("EclipseSkyLut");
         backFbo_ = gl::Framebuffer::create();
         backFbo_.attach(GL_COLOR_ATTACHMENT0, backSmooth_);
         backFbo_.attach(GL_COLOR_ATTACHMENT1, backMie_);
+        backFbo_.attach(GL_COLOR_ATTACHMENT2, backTotal_);
         backFbo_.checkComplete("EclipseSkyLut (back)");
         active_ = false;  // nothing shown yet: build whole
         nextBand_ = -1;
@@ -190,6 +196,7 @@ void EclipseSkyLut::doRun(SkyVars& vars, const Logger&) {
     auto finish = [&] {
         std::swap(smooth_, backSmooth_);
         std::swap(mie_, backMie_);
+        std::swap(total_, backTotal_);
         std::swap(fbo_, backFbo_);
         std::swap(msTex_, backMsTex_);
         shown_ = building_;
@@ -208,16 +215,25 @@ void EclipseSkyLut::doRun(SkyVars& vars, const Logger&) {
         if (nextBand_ < 0 && motion > kEclipseRebuildMeters) startBuild();
         if (nextBand_ >= 0) {
             const int n = std::clamp(slices_, 1, H);
-            renderBand(nextBand_ * H / n, (nextBand_ + 1) * H / n);
-            ++rebuilds_;
-            if (++nextBand_ >= n) finish();
-            else runAgain();  // the next band in the next frame, whether or not an input changed
+            if (nextBand_ >= n) {
+                // The last band was rendered in the previous run: show the new table now, in a
+                // run that renders no band (sampling a table in the frame that rendered it makes
+                // llvmpipe finish that band before the Sky pass can start: the swap frame cost
+                // 1.6-1.7x a normal frame with the band in it; docs/eclipse.md "Frame cost").
+                finish();
+            } else {
+                renderBand(nextBand_ * H / n, (nextBand_ + 1) * H / n);
+                ++rebuilds_;
+                ++nextBand_;
+                runAgain();  // the next band (or the swap) in the next frame, whether or not an input changed
+            }
         }
     }
     active_ = true;
     if (swapped || !published_) {
         vars.publish(skykeys::eclipseViewLut, smooth_.ref());
         vars.publish(skykeys::eclipseViewMieLut, mie_.ref());
+        vars.publish(skykeys::eclipseViewTotalLut, total_.ref());
     }
     published_ = true;
 }

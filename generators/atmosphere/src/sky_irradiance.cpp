@@ -68,14 +68,17 @@ void SkyIrradiance::doRun(SkyVars& vars, const Logger&) {
     glm::dvec3 sunE = vars.getOr(lightkeys::sunIlluminance, model_.solarIlluminance);
     glm::dvec3 moonE = vars.getOr(skykeys::moonLit, true) ? vars.getOr(lightkeys::moonIlluminance, glm::dvec3(0.0)) : glm::dvec3(0.0);
     // The GPU pass gives values per lux of each light; it runs again only when a table, an
-    // elevation or the height changed, not when only the lights' illuminances did.
+    // elevation or the height changed, not when only the lights' illuminances or the Sun's
+    // visible fraction did (a partial eclipse changes it every frame: applied below, on the CPU).
     std::vector<uint64_t> gv;
     for (const KeyInfo& k : inputs())
-        if (k.name != lightkeys::sunIlluminance.name() && k.name != lightkeys::moonIlluminance.name()) gv.push_back(vars.version(k.name));
+        if (k.name != lightkeys::sunIlluminance.name() && k.name != lightkeys::moonIlluminance.name() && k.name != keys::sunEclipseFraction.name())
+            gv.push_back(vars.version(k.name));
     if (gv != gpuFor_) {
         gpuFor_ = std::move(gv);
         // A solar eclipse (EclipseSkyLut on): the Sun's part from its table over the whole circle.
         const bool eclipse = vars.has(skykeys::eclipseViewLut) && vars.get(skykeys::eclipseViewLut).id != 0;
+        eclipseRun_ = eclipse;
         const gl::Program& prog = eclipse ? eclipseProg_ : prog_;
         glBindTextureUnit(gl::binding::kSunViewLut, vars.get(eclipse ? skykeys::eclipseViewLut : skykeys::sunViewLut).id);
         glBindTextureUnit(gl::binding::kSunViewMieLut, vars.get(eclipse ? skykeys::eclipseViewMieLut : skykeys::sunViewMieLut).id);
@@ -92,7 +95,6 @@ void SkyIrradiance::doRun(SkyVars& vars, const Logger&) {
         prog.set("u_nz", q_.irradianceZenith);
         prog.set("u_na", q_.irradianceAzimuth);
         prog.set("u_invScale", float(1.0 / kLutScale));
-        if (eclipse) prog.set("u_eclipseFraction", float(std::clamp(vars.getOr(keys::sunEclipseFraction, 1.0), 0.0, 1.0)));
         glDispatchCompute(kGroups, 1, 1);
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
         float all[4 * (6 + 2 * kGroups)];
@@ -105,7 +107,11 @@ void SkyIrradiance::doRun(SkyVars& vars, const Logger&) {
     // Rows 0, 2, 4 per lux of the Sun; 1, 3, 5 of the Moon.
     const float* r = perLux_;
     auto perLux = [&](int i) { return glm::max(glm::dvec3(r[4 * i], r[4 * i + 1], r[4 * i + 2]), glm::dvec3(0.0)); };
-    auto v = [&](int i) { return i == 4 ? perLux(4) * sunE + perLux(5) * moonE : perLux(i) * (i % 2 == 0 ? sunE : moonE); };
+    // The direct sunlight (row 2) keeps the Sun's visible fraction while the eclipse table is used.
+    const double directFraction = eclipseRun_ ? std::clamp(vars.getOr(keys::sunEclipseFraction, 1.0), 0.0, 1.0) : 1.0;
+    auto v = [&](int i) {
+        return i == 4 ? perLux(4) * sunE + perLux(5) * moonE : perLux(i) * (i % 2 == 0 ? sunE : moonE) * (i == 2 ? directFraction : 1.0);
+    };
     sunDiffuse_ = v(0);
     moonDiffuse_ = v(1);
     auto Y = [](glm::dvec3 c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; };

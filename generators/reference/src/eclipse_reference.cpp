@@ -121,9 +121,12 @@ EclipseReferenceRadiance eclipseReferenceRadiance(const SkyModel& m, const Lut2D
         const glm::dvec3 up = glm::normalize(p - c);
         const double muP = std::clamp(glm::dot(up, view), -1.0, 1.0), muSp = std::clamp(glm::dot(up, sun), -1.0, 1.0);
         const glm::dvec3 msClear = cpu::msInscatter(m, MS, moments, hp, muP, muSp, glm::dot(view, sun), sR, sM);
-        const glm::dvec3 multiple = (o.eclipse ? J2 : J2clear) + glm::max(msClear - J2clear, glm::dvec3(0.0)) * (o.eclipse ? rho : glm::dvec3(1.0));
+        const glm::dvec3 second = o.eclipse ? J2 : J2clear;
+        const glm::dvec3 higher = glm::max(msClear - J2clear, glm::dvec3(0.0)) * (o.eclipse ? rho : glm::dvec3(1.0));
         out.single += thr * single * seg;
-        out.multiple += thr * multiple * seg;
+        out.multiple += thr * (second + higher) * seg;
+        out.second += thr * second * seg;
+        out.higher += thr * higher * seg;
         thr *= glm::exp(-sigmaT * dt);
     }
     out.radiance = out.single + out.multiple;

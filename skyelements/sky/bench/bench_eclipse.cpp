@@ -46,8 +46,13 @@ struct EclipseBenchOptions {
     bool accuracy = true;
     bool cost = true;     // false: skip the frame cost (accuracy only)
     bool coarse = false;  // the reference at the [eclipse] test's resolution (seconds) instead of its defaults (minutes)
+    bool plainModel = false;  // the accuracy part on SkyModel::earthClear() (the [eclipse] tests' CPU cases)
+    int quality = -1;     // the sky quality of the accuracy part (-1: the processor's)
+    int cycleFrames = 0;  // > 0: time every frame of this many at --seconds-per-frame, by kind
     std::string sweep;  // comma list of multiple-scattering kernel lengths L (km) to compare (model tuning)
 };
+
+UtcInstant t0Cycle(const UtcInstant& t0, double secondsPerFrame, int frame) { return t0.plusSeconds(secondsPerFrame * frame); }
 
 double Y(const glm::dvec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
 
@@ -67,6 +72,8 @@ int run(const EclipseBenchOptions& o) {
     if (o.repeats < 1 || o.repeats > 1000) throw Error("--repeats " + std::to_string(o.repeats) + " not in [1, 1000]");
     if (o.width < 16 || o.width > 8192 || o.height < 16 || o.height > 8192) throw Error("--width/--height not in [16, 8192]");
     if (!(o.secondsPerFrame >= 0.0 && o.secondsPerFrame <= 600.0)) throw Error("--seconds-per-frame not in [0, 600]");
+    if (o.quality < -1 || o.quality > 3) throw Error("--quality " + std::to_string(o.quality) + " not in [0, 3] (or -1: the default)");
+    if (o.cycleFrames < 0 || o.cycleFrames > 100000) throw Error("--cycle-frames " + std::to_string(o.cycleFrames) + " not in [0, 100000]");
     Logger log;
     auto ctx = gl::HeadlessContext::create({}, log);
     if (!o.cost && !o.accuracy) throw Error("--cost false and --accuracy false: nothing to measure");
@@ -113,13 +120,75 @@ int run(const EclipseBenchOptions& o) {
     std::printf("| eclipse sky, clock 60 s per frame (the whole table every frame) | %.2f | %.2f |\n", ms[2], ms[2] / ms[0]);
     std::printf("\nthe whole table's extra time: %.2f ms; target <= 1.5x: %s\n\n", ms[2] - ms[0], ms[1] / ms[0] <= 1.5 ? "met" : "NOT met");
     }
+    if (o.cost && o.cycleFrames > 0) {
+        // (1b) Every frame of a rebuild cycle: the clock at --seconds-per-frame for --cycle-frames
+        // frames, each eclipse frame timed right after a normal one (paired: the load they see is
+        // the same), classified by what the eclipse table did in it: nothing (the shadow moved <
+        // kEclipseRebuildMeters), the first band of a rebuild (with the multiple-scattering
+        // field's CPU table), a later band, or the swap (the new table shown, the frame after its
+        // last band: the irradiance pass re-runs).
+        auto a = makeProcessor(false), b = makeProcessor(true);
+        struct Cat {
+            const char* name;
+            std::vector<double> normal, eclipse, ratio;
+        };
+        Cat cats[4] = {{"no band (the shadow moved < 2 km)"}, {"first band of a rebuild (+ the field's CPU table)"}, {"later band"},
+                       {"the swap (the new table shown; the irradiance pass)"}};
+        int fa = 0, fb = 0;
+        bool inBuild = false;
+        for (int i = 0; i < o.cycleFrames; ++i) {
+            glFinish();
+            auto c0 = std::chrono::steady_clock::now();
+            a->setTime(t0Cycle(t0, o.secondsPerFrame, ++fa));
+            a->renderFrame();
+            glFinish();
+            auto t1 = std::chrono::steady_clock::now();
+            const int r0 = lutOf(*b)->rebuilds();
+            const uint32_t id0 = b->vars().get(generators::skykeys::eclipseViewLut).id;
+            b->setTime(t0Cycle(t0, o.secondsPerFrame, ++fb));
+            b->renderFrame();
+            glFinish();
+            auto t2 = std::chrono::steady_clock::now();
+            const bool band = lutOf(*b)->rebuilds() != r0, swapped = b->vars().get(generators::skykeys::eclipseViewLut).id != id0;
+            const int k = swapped ? 3 : !band ? 0 : !inBuild ? 1 : 2;
+            inBuild = lutOf(*b)->building();
+            const double msA = std::chrono::duration<double, std::milli>(t1 - c0).count(), msB = std::chrono::duration<double, std::milli>(t2 - t1).count();
+            cats[k].normal.push_back(msA);
+            cats[k].eclipse.push_back(msB);
+            cats[k].ratio.push_back(msB / msA);
+        }
+        std::printf("every frame of %d at %.4g s per frame (%dx%d), each eclipse frame paired with the normal frame timed just before it:\n\n",
+                    o.cycleFrames, o.secondsPerFrame, o.width, o.height);
+        std::printf("| eclipse frame | frames | normal ms (median) | eclipse ms (median) | eclipse / normal, median | max |\n|---|---|---|---|---|---|\n");
+        double worst = 0.0;
+        for (const Cat& c : cats) {
+            if (c.ratio.empty()) {
+                std::printf("| %s | 0 | | | | |\n", c.name);
+                continue;
+            }
+            const double mx = *std::max_element(c.ratio.begin(), c.ratio.end());
+            worst = std::max(worst, median(c.ratio));
+            std::printf("| %s | %zu | %.2f | %.2f | %.2f | %.2f |\n", c.name, c.ratio.size(), median(c.normal), median(c.eclipse), median(c.ratio), mx);
+        }
+        std::printf("\nlargest median ratio of a kind of frame: %.2f; target <= 1.5x: %s\n", worst, worst <= 1.5 ? "met" : "NOT met");
+        // The multiple-scattering field's CPU table alone (built in the first band's frame).
+        const SkyVars& vb = b->vars();
+        const generators::cpu::EclipseGeometry gb{.moonPos = vb.get(astro::keys::moonPosition), .moonRadius = astro::keys::kMoonRadiusMeters,
+                                      .sunPos = glm::normalize(vb.get(keys::sunDirection)) * vb.get(astro::keys::sunDistance),
+                                      .sunRadius = generators::kSunRadiusMeters};
+        const double fieldMs = medianMs(9, [&] { (void)generators::cpu::eclipseMsTable(gb, generators::kEclipseMsLengthMeters); });
+        std::printf("the field's CPU table (cpu::eclipseMsTable, 128 x 128): %.2f ms (median of 9)\n\n", fieldMs);
+    }
     if (!o.accuracy) return 0;
     // (2) Accuracy: mid-totality and the partial phases where 10 %, 1 % and 0.5 % of the Sun is
     // left (90 %, 99 % and 99.5 % obscured; found by bisection before second contact).
     using namespace generators;
     SkyVars& v0 = on->vars();
-    const SkyModel m = SkyModel::fromVars(v0);
-    const SkyQuality q = SkyQuality::preset(effectiveQuality(v0));
+    // The processor's atmosphere (the renderer's), or with --plain-model the CPU default with no
+    // atmosphere key (SkyModel::earthClear(): what the [eclipse] tests' CPU cases integrate).
+    const SkyModel m = o.plainModel ? SkyModel::earthClear() : SkyModel::fromVars(v0);
+    const int quality = o.quality >= 0 ? o.quality : effectiveQuality(v0);
+    const SkyQuality q = SkyQuality::preset(quality);
     const Lut2D T = cpu::transmittanceLut(m, q);
     const cpu::MsField MS = cpu::msField(m, q, T);
     auto instantOf = [&](double fraction) {
@@ -143,12 +212,13 @@ int run(const EclipseBenchOptions& o) {
     }
     atmosphere::EclipseReferenceOptions refOptions;
     if (o.coarse) refOptions = {.viewSteps = 24, .gatherZenith = 8, .gatherAzimuth = 12, .gatherSteps = 16, .rings = 48};
-    std::printf("reference: eclipseReferenceRadiance (%s); model: cpu::integrateEclipse, 256 steps, L = %.0f km\n\n",
-                o.coarse ? "the [eclipse] test's resolution" : "defaults", kEclipseMsLengthMeters / 1e3);
+    std::printf("reference: eclipseReferenceRadiance (%s); model: cpu::integrateEclipse, 256 steps, L = %.0f km; sky quality %d; %s\n\n",
+                o.coarse ? "the [eclipse] test's resolution" : "defaults", kEclipseMsLengthMeters / 1e3, quality,
+                o.plainModel ? "SkyModel::earthClear()" : "the renderer's atmosphere");
     std::printf("| phase (UTC, sun.eclipse_fraction) | direction (az from the Sun, alt) | reference (cd/m^2 per lx) | model / ref. | "
-                "ref., no eclipse | model / ref., no eclipse | eclipse / no eclipse (ref.) |");
+                "ref., no eclipse | model / ref., no eclipse | eclipse / no eclipse (ref.) | ref. order 1 / 2 / >= 3 (share) | ref. clear >= 3 |");
     for (double L : lengths) std::printf(" L = %.0f km |", L / 1e3);
-    std::printf("\n|---|---|---|---|---|---|---|");
+    std::printf("\n|---|---|---|---|---|---|---|---|---|");
     for (size_t i = 0; i < lengths.size(); ++i) std::printf("---|");
     std::printf("\n");
     double worst = 0.0, worstRatio = 1.0;
@@ -165,9 +235,11 @@ int run(const EclipseBenchOptions& o) {
                                 std::pair{0.0, 2.0}, std::pair{90.0, 2.0}, std::pair{180.0, 2.0}, std::pair{270.0, 2.0}}) {
             const glm::dvec3 dir = directionFromAzAlt(sunAz + daz * kDeg, alt * kDeg);
             atmosphere::EclipseReferenceOptions ro = refOptions;
-            const double ref = Y(atmosphere::eclipseReferenceRadiance(m, T, MS, 0.0, dir, sun, g, ro).radiance);
+            const atmosphere::EclipseReferenceRadiance rr = atmosphere::eclipseReferenceRadiance(m, T, MS, 0.0, dir, sun, g, ro);
+            const double ref = Y(rr.radiance);
             ro.eclipse = false;
-            const double refClear = Y(atmosphere::eclipseReferenceRadiance(m, T, MS, 0.0, dir, sun, g, ro).radiance);
+            const atmosphere::EclipseReferenceRadiance rc = atmosphere::eclipseReferenceRadiance(m, T, MS, 0.0, dir, sun, g, ro);
+            const double refClear = Y(rc.radiance);
             const double nu = glm::dot(dir, sun);
             const double model = Y(cpu::radiance(m, cpu::integrateEclipse(m, T, MS, 0.0, dir, sun, gm, 256, false, m.sunAngularRadius), nu));
             cpu::EclipseGeometry far = g;
@@ -176,6 +248,7 @@ int run(const EclipseBenchOptions& o) {
                 Y(cpu::radiance(m, cpu::integrateEclipse(m, T, MS, 0.0, dir, sun, far, 256, false, m.sunAngularRadius), nu));
             std::printf("| %s (%s, %.4f) | %+.0f, %.0f deg | %.3g | %.3f | %.3g | %.3f | %.2e |", ph.name.c_str(), ph.t.toIso().c_str(),
                         v.get(keys::sunEclipseFraction), daz, alt, ref, model / ref, refClear, modelClear / refClear, ref / refClear);
+            std::printf(" %.2f / %.2f / %.2f | %.3g |", Y(rr.single) / ref, Y(rr.second) / ref, Y(rr.higher) / ref, Y(rc.higher));
             for (double L : lengths) {
                 const cpu::EclipseMsTable fl = cpu::eclipseMsTable(g, L);
                 cpu::EclipseGeometry gl = g;
@@ -201,6 +274,14 @@ bench::CommandBenchRegistrar reg({"eclipse", "the solar eclipse's sky: frame cos
     sub.add_option("--height", o->height, "frame height, px, [16, 8192]")->capture_default_str();
     sub.add_option("--seconds-per-frame", o->secondsPerFrame, "clock step per frame, s, [0, 600] (1/60: real time at 60 frames/s)")
         ->capture_default_str();
+    sub.add_option("--cycle-frames", o->cycleFrames,
+                   "also time every frame of this many at --seconds-per-frame, paired with a normal frame and classified by the "
+                   "eclipse table's work in it (0: off; 300 covers a rebuild at real time), [0, 100000]")
+        ->capture_default_str();
+    sub.add_option("--plain-model", o->plainModel,
+                   "the accuracy part on SkyModel::earthClear() (no atmosphere key: the [eclipse] tests' CPU cases) instead of the renderer's atmosphere")
+        ->capture_default_str();
+    sub.add_option("--quality", o->quality, "the sky quality of the accuracy part, [0, 3] (-1: the processor's default)")->capture_default_str();
     sub.add_option("--ms-length-sweep", o->sweep, "also the model / reference for these multiple-scattering kernel lengths L, km (comma list)");
     sub.add_option("--accuracy", o->accuracy, "also measure the error against the reference (minutes on the CPU)")->capture_default_str();
     sub.add_option("--cost", o->cost, "measure the frame cost (false: accuracy only)")->capture_default_str();

@@ -121,8 +121,12 @@ void main() {
         float az = dir.x == 0.0 && dir.y == 0.0 ? 0.0 : atan(dir.x, dir.y);
         vec2 uvE = vec2(az * (0.5 / ATM_PI), skyViewUvS(u_sH, mu, 1.0, u_lutSize).y);
         v = uvE.y;
+#ifdef SKY_BAKED_PHASE
+        L = texture(u_sunSmooth, uvE).rgb * (u_sunE * u_invScale);  // the total table (sky.eclipse_view_total_lut)
+#else
         L = (texture(u_sunSmooth, uvE).rgb + texture(u_sunMie, uvE).rgb * miePhase(clamp(dot(dir, u_sunDir), -1.0, 1.0))) *
             (u_sunE * u_invScale);
+#endif
     }
 #elif defined(SKY_NO_SUN)
     // Night (the Sun below kSkySunNightAltitudeRad, -21 deg): the Sun's sky-view LUT is 0 there

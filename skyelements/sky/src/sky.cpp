@@ -58,6 +58,7 @@ Sky::Sky(const SkyOptions& options, bool force) : SkyElement("sky"), options_(op
     reads(skykeys::shadowLossMoon);
     reads(skykeys::eclipseViewLut);  // optional: a solar eclipse's sky (EclipseSkyLut)
     reads(skykeys::eclipseViewMieLut);
+    reads(skykeys::eclipseViewTotalLut);
 }
 
 namespace {
@@ -100,7 +101,9 @@ void Sky::doInit(InitContext& ctx) {
                 for (int sh = 0; sh < 2; ++sh)
                     lutPrograms_[moon][t][baked][sh] = gl::ProjectionPrograms(recipe(false, moon == 1, t == 1, baked == 1, false, 0, sh == 1));
     for (int moon = 0; moon < 2; ++moon)
-        for (int t = 0; t < 2; ++t) eclipsePrograms_[moon][t] = gl::ProjectionPrograms(recipe(false, moon == 1, t == 1, false, false, 0, false, true));
+        for (int t = 0; t < 2; ++t)
+            for (int baked = 0; baked < 2; ++baked)
+                eclipsePrograms_[moon][t][baked] = gl::ProjectionPrograms(recipe(false, moon == 1, t == 1, baked == 1, false, 0, false, true));
     for (int moon = 0; moon < 2; ++moon)
         for (int t = 0; t < 2; ++t)
             for (int baked = 0; baked < 2; ++baked)
@@ -210,12 +213,13 @@ void Sky::doRender(const FrameContext& ctx) {
     sunTerm_ = perPixel_ || eclipse || shadow || unit(v.get(keys::sunDirection)).z > std::sin(kSkySunNightAltitudeRad);
     if (!perPixel_ || !sp) {
         const gl::Program& p = perPixel_ ? (eclipseMarch ? marchEclipsePrograms_[moon].get(proj) : marchPrograms_[moon][shadow].get(proj))
-                               : eclipse ? eclipsePrograms_[moon][ctx.nothingBehind ? 0 : 1].get(proj)
+                               : eclipse ? eclipsePrograms_[moon][ctx.nothingBehind ? 0 : 1][q.bakedMiePhase].get(proj)
                                : !sunTerm_ ? nightPrograms_[moon][ctx.nothingBehind ? 0 : 1][q.bakedMiePhase].get(proj)
                                          : lutPrograms_[moon][ctx.nothingBehind ? 0 : 1][q.bakedMiePhase][shadow].get(proj);
         setUniforms(p, sunE, moonE);
         if (eclipse && !perPixel_) {
-            glBindTextureUnit(gl::binding::kSunViewLut, v.get(skykeys::eclipseViewLut).id);
+            // With the phase baked in, one fetch of the total table (as the ordinary sky view).
+            glBindTextureUnit(gl::binding::kSunViewLut, v.get(q.bakedMiePhase ? skykeys::eclipseViewTotalLut : skykeys::eclipseViewLut).id);
             glBindTextureUnit(gl::binding::kSunViewMieLut, v.get(skykeys::eclipseViewMieLut).id);
             ctx.drawFullscreen();
             return;
@@ -289,7 +293,8 @@ void Sky::doRelease() {
         for (auto& p : row) p.releasePrograms();
     for (auto& p : spectralPrograms_) p.releasePrograms();
     for (auto& row : eclipsePrograms_)
-        for (auto& p : row) p.releasePrograms();
+        for (auto& col : row)
+            for (auto& p : col) p.releasePrograms();
     for (auto& p : marchEclipsePrograms_) p.releasePrograms();
     ubo_ = {};
     luts_.releaseGl();

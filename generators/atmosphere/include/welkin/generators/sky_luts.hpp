@@ -109,6 +109,8 @@ inline const Key<bool> shadowLossMoon{"sky.shadow_loss_moon", "sky.shadow_loss_l
 /// shadow is nowhere near the visible air (the Sky then reads the ordinary sky view: no cost).
 inline const Key<TextureRef> eclipseViewLut{"sky.eclipse_view_lut", "solar eclipse: the Sun's sky view over absolute azimuth, in the Moon's shadow (id 0: no eclipse)"};
 inline const Key<TextureRef> eclipseViewMieLut{"sky.eclipse_view_mie_lut", "solar eclipse: Mie single scattering without phase, absolute azimuth"};
+inline const Key<TextureRef> eclipseViewTotalLut{"sky.eclipse_view_total_lut",
+                                                 "solar eclipse: the Sun's sky view with the Mie phase at each texel's angle, absolute azimuth"};
 inline const Key<TextureRef> aerialInscatter{"sky.aerial_inscatter", "aerial perspective volume: in-scattered radiance per lux x kLutScale"};
 inline const Key<TextureRef> aerialTransmittance{"sky.aerial_transmittance", "aerial perspective volume: transmittance"};
 /// Horizontal illuminance at the observer, lux: (global, direct, diffuse); Sun and Moon.
@@ -412,6 +414,7 @@ public:
     EclipseSkyLut();
     const gl::Texture2D& smoothTexture() const { return smooth_; }
     const gl::Texture2D& mieTexture() const { return mie_; }
+    const gl::Texture2D& totalTexture() const { return total_; }
     /// Whether the last run built the tables (an eclipse near).
     bool active() const { return active_; }
     void releaseGl() override;
@@ -425,6 +428,8 @@ public:
     const cpu::EclipseMsTable& msTable() const { return shownMs_; }
     /// Full rebuilds and time-sliced bands rendered so far (bench and tests).
     int rebuilds() const { return rebuilds_; }
+    /// Whether a time-sliced rebuild is in progress (bands still to render).
+    bool building() const { return nextBand_ >= 0; }
     /// Bands per rebuild while the shadow moves smoothly (default kEclipseTimeSlices; 1: every
     /// rebuild whole at once), [1, table height].
     void setTimeSlices(int n) { slices_ = std::max(n, 1); }
@@ -432,7 +437,7 @@ public:
 private:
     void doRun(SkyVars& vars, const Logger& log) override;
     void renderBand(int y0, int y1);
-    gl::Texture2D smooth_, mie_, backSmooth_, backMie_, msTex_, backMsTex_;
+    gl::Texture2D smooth_, mie_, total_, backSmooth_, backMie_, backTotal_, msTex_, backMsTex_;
     gl::Framebuffer fbo_, backFbo_;
     gl::Program prog_;
     int progBands_ = 0;
@@ -465,6 +470,7 @@ private:
     glm::dvec3 sunDiffuse_{0.0}, moonDiffuse_{0.0};
     float perLux_[24] = {};           // the GPU pass's results per lux of each light
     std::vector<uint64_t> gpuFor_;    // input versions of the last GPU pass
+    bool eclipseRun_ = false;         // the last GPU pass used the eclipse table
 };
 
 namespace cpu {

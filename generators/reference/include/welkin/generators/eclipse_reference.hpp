@@ -46,6 +46,8 @@ struct EclipseReferenceRadiance {
     glm::dvec3 radiance{0.0};  ///< total, per lux of the Sun above the air (cd/m^2 / lx)
     glm::dvec3 single{0.0};    ///< order 1
     glm::dvec3 multiple{0.0};  ///< orders >= 2
+    glm::dvec3 second{0.0};    ///< order 2 (the exact gather; part of `multiple`)
+    glm::dvec3 higher{0.0};    ///< orders >= 3 (the clear sky's scaled by the gathered fluence's ratio; part of `multiple`)
 };
 
 /// Radiance along unit ENU `view` (mu >= 0) from height h (m) with the Sun at unit ENU `sun`,

@@ -113,7 +113,7 @@ private:
     // (sky.shadow_loss_lut present: clouds in the scene).
     gl::ProjectionPrograms lutPrograms_[2][2][2][2], marchPrograms_[2][2], spectralPrograms_[2];
     // A solar eclipse (sky.eclipse_view_lut): [moon][transmittance] on the LUT path, [moon] per pixel.
-    gl::ProjectionPrograms eclipsePrograms_[2][2], marchEclipsePrograms_[2];
+    gl::ProjectionPrograms eclipsePrograms_[2][2][2], marchEclipsePrograms_[2];  // eclipse: [moon][transmittance][baked phase]
     // Night, the Sun's term skipped (SKY_NO_SUN): [moon][transmittance][baked phase], LUT path only.
     gl::ProjectionPrograms nightPrograms_[2][2][2];
     int marchBands_ = 0;
