@@ -232,7 +232,9 @@ void Rainbow::doRender(const FrameContext& ctx) {
         // or a first frame: the whole cache now. The light moving past kLightTolerance, its or the
         // sky's illuminance by 2 %, the clouds' shadow map rebuilt (time running): a refill over
         // rain.cache_slices frames into back_, the cache drawn meanwhile.
-        const bool whole = in != cacheInputs_ || glm::dot(L, cacheLight_) < std::cos(kLightJump);
+        const bool jump = glm::dot(L, lastLight_) < std::cos(kLightJump);  // since the last frame (the cache may lag more)
+        lastLight_ = L;
+        const bool whole = in != cacheInputs_ || jump;
         const bool moved = glm::dot(L, cacheLight_) < std::cos(kLightTolerance) || std::abs(eY - cacheE_) > 0.02 * cacheE_ ||
                            std::abs(skyY - cacheSkyE_) > 0.02 * std::max(cacheSkyE_, 1e-9) || shadowVersion != cacheShadowVersion_;
         const int slices = std::clamp(v.getOr(rainbowkeys::cacheSlices, rainbowkeys::kCacheSlicesDefault), 1, 32);

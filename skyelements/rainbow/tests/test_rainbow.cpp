@@ -387,10 +387,12 @@ TEST_CASE("Rainbow: time running refills the direction cache over rain.cache_sli
     CHECK(e.drawn > 2000);
     // The cache lags the light by up to 2 x slices frames (a refill started with the light of its
     // first frame, shown once complete): 2.6 deg here. The bows are placed around the current
-    // anti-light point, so what lags is the curtain's light path and the light's transmittance:
-    // measured mean 0.0 % (see the message), bounded at 1 %.
-    CHECK(e.mean < 0.01);
-    CHECK(e.over5 < 0.02);
+    // anti-light point, so what lags is the curtain's light path and the light's transmittance,
+    // which in this thick curtain barely change: measured mean 0.008 %, no pixel above 5 %. A
+    // cache drawn around the anti-light point it was filled for would put the bows 2.6 deg off:
+    // a coordinate off by one cache texel (0.06 deg) already gives > 2.5 % (the test above).
+    CHECK(e.mean < 0.005);
+    CHECK(e.over5 < 0.01);
     // A jump of the light (a new time): the whole cache at once.
     v.set(keys::sunDirection, directionFromAzAlt(az + 5.0 * kDeg, alt * kDeg));
     s.render();

@@ -83,8 +83,9 @@ public:
     static constexpr int kCacheU = 2048, kCachePsi = 256, kGridCellPx = 64;
     /// The light's motion (rad) that refills the cache (0.02 deg: 1/27 of the Sun's diameter).
     static constexpr double kLightTolerance = 3.5e-4;
-    /// The light's motion (rad) beyond which the cache is refilled whole at once (a new time, not
-    /// time running): 1 deg (at 1440x and 30 frames/s the Sun moves at most 0.2 deg a frame).
+    /// The light's motion (rad) from one frame to the next beyond which the cache is refilled whole
+    /// at once (a new time, not time running): 1 deg (at 1440x and 30 frames/s the Sun moves at
+    /// most 0.2 deg a frame).
     static constexpr double kLightJump = 0.01745;
 
 private:
@@ -111,6 +112,7 @@ private:
     double backE_ = 0, backSkyE_ = 0;
     uint64_t backShadowVersion_ = 0;
     glm::dvec3 backEColour_{0.0}, backSkyColour_{0.0};
+    glm::dvec3 lastLight_{0.0};  // the light of the last frame drawn through the cache (a jump: kLightJump)
     bool drew_ = false, cached_ = false;
 };
 
