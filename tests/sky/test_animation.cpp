@@ -643,7 +643,18 @@ TEST_CASE("Sky animation: the grid tables from the disk cache: time starts witho
 
     AnimRig b(6.0);
     prefillRig(b, 1);
-    b.runAll();
+    {  // its first run, with the generators' debug line (how long the reading took) captured
+        Logger& log = test::testLogger();
+        const LogLevel level = log.minLevel();
+        std::string said;
+        log.setCallback([&](LogLevel, std::string_view m) { said += std::string(m) + "\n"; });
+        log.setMinLevel(LogLevel::Debug);
+        b.runAll();
+        log.setCallback({});
+        log.setMinLevel(level);
+        INFO(said);
+        CHECK(said.find(std::to_string(grid) + " keyframe tables read from the disk cache") != std::string::npos);
+    }
     CHECK(b.luts.sunView->cacheReads() == grid);
     CHECK(b.luts.sunView->lastPlan().exact);  // the first frame: its exact table, as without the cache
     b.runAll();

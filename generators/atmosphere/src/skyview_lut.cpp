@@ -10,6 +10,7 @@
 #include <epoxy/gl.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -69,12 +70,14 @@ std::string SkyViewLut::cacheFolder(const SkyVars& vars) const {
     return (cacheDirectory() / name).string();
 }
 
-void SkyViewLut::preloadFromCache() {
+void SkyViewLut::preloadFromCache(const Logger& log) {
     // Every grid table of the prefill's range found in the folder, into a slot of its own (kept
     // out of the schedule until the light needs it: LightKeyframes::preload).
     if (cacheFolder_.empty()) return;
     std::error_code ec;
     if (!std::filesystem::is_directory(cacheFolder_, ec)) return;
+    const auto t0 = std::chrono::steady_clock::now();
+    const int before = cacheReads_;
     const std::vector<double>& grid = keyframes_.grid();
     const size_t texels = size_t(q_.skyViewW) * size_t(q_.skyViewH) * 4;
     std::vector<uint32_t> data(texels);
@@ -101,6 +104,12 @@ void SkyViewLut::preloadFromCache() {
         glTextureSubImage2D(slots_[size_t(s)].packed.id(), 0, 0, 0, q_.skyViewW, q_.skyViewH, GL_RGBA_INTEGER, GL_UNSIGNED_INT, data.data());
         ++cacheReads_;
     }
+    glFinish();  // the uploads done: the time below is theirs (once per processor)
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "%s: %d keyframe tables read from the disk cache (%.1f MB) in %.1f ms", name().c_str(), cacheReads_ - before,
+                  double(cacheReads_ - before) * double(texels * sizeof(uint32_t)) / 1e6,
+                  std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    log.debug(buf);
 }
 
 void SkyViewLut::writeToCache(int slot) {
@@ -185,7 +194,7 @@ void SkyViewLut::releaseGl() {
     releaseCommon();
 }
 
-void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
+void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
     prepare(vars);
     // Even heights: the two halves (sky, ground) then have the same rows and the pixel shaders'
     // mapping stays inside its half without a clamp.
@@ -290,7 +299,7 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
             // The grid tables this atmosphere, quality and height had on disk (sky.keyframe_cache).
             preloadDue_ = false;
             cacheFolder_ = cacheFolder(vars);
-            preloadFromCache();
+            preloadFromCache(log);
         }
         plan_ = keyframes_.plan(muS_);
         auto allocateSlots = [&] {

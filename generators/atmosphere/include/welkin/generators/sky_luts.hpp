@@ -364,7 +364,7 @@ private:
     std::string cacheFolder_;    // this run's folder ("" : no cache)
     int cacheReads_ = 0, cacheWrites_ = 0;
     std::string cacheFolder(const SkyVars& vars) const;
-    void preloadFromCache();
+    void preloadFromCache(const Logger& log);
     void writeToCache(int slot);
 
 public:
