@@ -207,7 +207,10 @@ void Rainbow::doRender(const FrameContext& ctx) {
             t.setWrap(GL_REPEAT);  // psi goes round; x is clamped below
             glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
         };
+        // Both textures at the first real-time frame (8 MB each): the first refill spread over
+        // frames, when time starts, then allocates nothing.
         if (!cache_) makeCache(cache_);
+        if (!back_) makeCache(back_);
         // Rows [y0, y1) of `target` for the light Lx (its illuminance Ex, the sky's skyEx).
         auto fillRows = [&](const gl::Texture2D& target, int y0, int y1, const glm::dvec3& Lx, const glm::dvec3& Ex, const glm::dvec3& skyEx) {
             glm::dvec3 fA, f1, f2;
@@ -249,7 +252,6 @@ void Rainbow::doRender(const FrameContext& ctx) {
             ++cacheFills_;
         } else {
             if (moved && backRow_ < 0) {  // a refill starts, with this frame's light
-                if (!back_) makeCache(back_);
                 backRow_ = 0;
                 backLight_ = L;
                 backE_ = eY;

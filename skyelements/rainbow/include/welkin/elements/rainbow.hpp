@@ -52,7 +52,7 @@ inline const Key<bool> directionCache{"rain.direction_cache",
 /// Rainbow::kLightJump), a change of the rain or the curtain, and the first frame fill it whole.
 inline const Key<int> cacheSlices{"rain.cache_slices", Range{1, 32},
                                   "frames over which the direction cache is refilled while the light moves (1: at once)"};
-inline constexpr int kCacheSlicesDefault = 16;
+inline constexpr int kCacheSlicesDefault = 32;
 }  // namespace rainbowkeys
 
 class Rainbow final : public SkyElement {
