@@ -13,8 +13,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <string>
 #include <map>
+
+#include <unistd.h>
 
 using namespace welkin;
 using namespace welkin::generators;
@@ -311,6 +315,81 @@ TEST_CASE("LightKeyframes: a resting light's mix is not redone while the backgro
     CHECK(remixes == 0);             // and none of those runs re-mixed the shown table
 }
 
+TEST_CASE("LightKeyframes: preloaded grid tables (the disk cache) are adopted when time starts, within the budget", "[cpu][sky]") {
+    // Issue 22 item 4: with every grid table from -20 deg up preloaded (what SkyViewLut reads
+    // from sky.keyframe_cache), the first run and a still light plan exactly as without them (the
+    // exact table built whole at once: still images unchanged), and once time runs no run builds
+    // any chunk: the light is shown through complete grid tables (the cubic of four, or one alone
+    // at a grid point) from its first moving run.
+    // With half the grid preloaded, no run builds more than the budget of 2 chunks. Work is
+    // counted in chunks, not timed.
+    LightKeyframes::Options op{.stepRad = 1 * kDeg, .coarseStepRad = 3 * kDeg, .chunks = 12, .slots = 64, .stillMuS = 2e-5};
+    op.prefill = true;
+    op.prefillChunksPerRun = 2;
+    auto gridFrom = [&](const LightKeyframes& kf) {
+        std::vector<int> ks;
+        for (int k = 0; k < int(kf.grid().size()); ++k)
+            if (kf.grid()[size_t(k)] >= op.prefillLowRad - 1e-9) ks.push_back(k);
+        return ks;
+    };
+    for (int every : {1, 2}) {
+        DYNAMIC_SECTION("preloaded: every " << every << " grid table") {
+            LightKeyframes plain(op), kf(op);
+            const std::vector<int> ks = gridFrom(kf);
+            int preloaded = 0;
+            for (size_t i = 0; i < ks.size(); i += size_t(every)) preloaded += kf.preload(ks[i]) >= 0;
+            CHECK(preloaded == int((ks.size() + size_t(every) - 1) / size_t(every)));
+            CHECK(kf.gridTables() == 0);  // preloaded: not shown, not counted, until adopted
+            BuildLog log, plainLog;
+            // The first run and five still runs: the same plans as without the cache (slots aside).
+            for (int i = 0; i < 6; ++i) {
+                const auto a = kf.plan(std::sin(6.0 * kDeg)), b = plain.plan(std::sin(6.0 * kDeg));
+                log.apply(a), plainLog.apply(b);
+                CHECK((a.build >= 0) == (b.build >= 0));
+                CHECK(a.chunkEnd - a.chunkBegin == b.chunkEnd - b.chunkBegin);
+                CHECK(a.exact == b.exact);
+                CHECK(a.count == b.count);
+            }
+            CHECK(kf.adoptedTables() == 0);
+            // A jump (20 deg away, not time running): an exact table built whole, as without the cache.
+            {
+                const auto a = kf.plan(std::sin(26.0 * kDeg)), b = plain.plan(std::sin(26.0 * kDeg));
+                log.apply(a), plainLog.apply(b);
+                CHECK(a.build >= 0);
+                CHECK(a.chunkEnd - a.chunkBegin == 12);
+                CHECK(a.exact == b.exact);
+                const auto c = kf.plan(std::sin(6.0 * kDeg)), d = plain.plan(std::sin(6.0 * kDeg));  // and back
+                log.apply(c), plainLog.apply(d);
+                CHECK(c.exact == d.exact);
+            }
+            // Time runs: the light sets at 0.1 deg per run (600x at 30 frames/s is ~0.08), from 6 to -14 deg.
+            double e = 6.0;
+            int worst = 0, chunks = 0, grids = 0;
+            const int runs = 200;
+            for (int r = 0; r < runs; ++r) {
+                e -= 0.1;
+                const auto p = kf.plan(std::sin(e * kDeg));
+                log.apply(p);
+                if (p.build >= 0) worst = std::max(worst, p.chunkEnd - p.chunkBegin), chunks += p.chunkEnd - p.chunkBegin;
+                // Shown through grid tables: the cubic of four, or one alone where e is a grid point.
+                grids += p.cubic || (p.exact && p.count == 1 && kf.slotGrid(p.slot[0]) >= 0);
+                for (int j = 0; j < p.count; ++j) REQUIRE(kf.complete(p.slot[size_t(j)]));  // only complete tables shown
+            }
+            INFO("chunks built " << chunks << ", adopted " << kf.adoptedTables() << ", grid " << ks.size());
+            if (every == 1) {
+                CHECK(chunks == 0);     // nothing built while time runs
+                CHECK(grids == runs);   // complete grid tables from the first moving run
+                CHECK(kf.adoptedTables() == int(ks.size()));
+            } else {
+                CHECK(worst <= 2);  // within sky.keyframe_budget (the light's pace, 2 chunks, is within it)
+                CHECK(kf.adoptedTables() == preloaded);
+                CHECK(chunks <= (int(ks.size()) - preloaded) * 12);  // at most the missing tables
+                CHECK(kf.gridTables() == int(ks.size()));            // and the grid filled within the 200 runs
+            }
+        }
+    }
+}
+
 namespace {
 struct AnimRig {
     SkyVars vars = SkyVars::earth();
@@ -473,6 +552,7 @@ TEST_CASE("Sky animation: time starts with the prefill spread over frames within
                             (SkyGenerator*)rig.luts.aerial.get(), (SkyGenerator*)rig.luts.irradiance.get()})
         g->setFixedQuality(rig.q);
     rig.vars.set(skykeys::keyframeBudget, 1);
+    rig.vars.set(skykeys::keyframeCache, false);  // the tables built here, not read from an earlier run's disk cache
     rig.runAll();
     rig.runAll();
     const LightKeyframes& kv = rig.luts.sunView->keyframes();
@@ -514,6 +594,95 @@ TEST_CASE("Sky animation: time starts with the prefill spread over frames within
     fresh.runAll();
     CHECK(worstRel(pixels(rig.luts.sunView->smoothTexture()), pixels(fresh.luts.sunView->smoothTexture())) < 1e-3);
     CHECK(worstRel(pixels(rig.luts.aerial->inscatter()), pixels(fresh.luts.aerial->inscatter())) < 1e-3);
+}
+
+TEST_CASE("Sky animation: the grid tables from the disk cache: time starts without building a table", "[gl][sky]") {
+    // sky.keyframe_cache (issue 22 item 4): a first processor fills the grid (whole, budget 0) and
+    // writes each grid table to the cache folder (WELKIN_CACHE_DIR, a fresh temporary folder
+    // here); a second one reads them all at its first run, and when time starts it builds no
+    // chunk of a sky-view table (counted from its plans), shows the cubic of complete tables
+    // from the first moving frame, and shows exactly what the first one shows (the same bits:
+    // the files hold the packed tables as built).
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("welkin-test-kfcache-" + std::to_string(::getpid()));
+    std::filesystem::remove_all(dir);
+    const char* old = std::getenv("WELKIN_CACHE_DIR");
+    const std::string oldValue = old ? old : "";
+    ::setenv("WELKIN_CACHE_DIR", dir.c_str(), 1);
+    struct Restore {
+        bool had;
+        std::string v;
+        std::filesystem::path d;
+        ~Restore() {
+            if (had) ::setenv("WELKIN_CACHE_DIR", v.c_str(), 1);
+            else ::unsetenv("WELKIN_CACHE_DIR");
+            std::error_code ec;
+            std::filesystem::remove_all(d, ec);
+        }
+    } restore{old != nullptr, oldValue, dir};
+    auto prefillRig = [](AnimRig& rig, int budget) {
+        rig.q.keyframePrefill = true;
+        for (SkyGenerator* g : {(SkyGenerator*)rig.luts.transmittance.get(), (SkyGenerator*)rig.luts.multiScattering.get(),
+                                (SkyGenerator*)rig.luts.sh.get(), (SkyGenerator*)rig.luts.sunView.get(), (SkyGenerator*)rig.luts.moonView.get(),
+                                (SkyGenerator*)rig.luts.aerial.get(), (SkyGenerator*)rig.luts.irradiance.get()})
+            g->setFixedQuality(rig.q);
+        rig.vars.set(skykeys::keyframeBudget, budget);
+        rig.vars.set(generators::skykeys::aerialVolume, false);
+    };
+    AnimRig a(6.0);
+    prefillRig(a, 0);
+    a.runAll();
+    a.runAll();
+    const LightKeyframes& ka = a.luts.sunView->keyframes();
+    int grid = 0;
+    for (double g : ka.grid()) grid += g >= ka.options().prefillLowRad - 1e-9;
+    CHECK(a.luts.sunView->cacheReads() == 0);  // an empty folder
+    a.setSun(1.0, 5.95);
+    a.runAll();  // time starts: the whole grid, built and written
+    CHECK(ka.gridTables() == grid);
+    CHECK(a.luts.sunView->cacheWrites() == grid);
+
+    AnimRig b(6.0);
+    prefillRig(b, 1);
+    {  // its first run, with the generators' debug line (how long the reading took) captured
+        Logger& log = test::testLogger();
+        const LogLevel level = log.minLevel();
+        std::string said;
+        log.setCallback([&](LogLevel, std::string_view m) { said += std::string(m) + "\n"; });
+        log.setMinLevel(LogLevel::Debug);
+        b.runAll();
+        log.setCallback({});
+        log.setMinLevel(level);
+        INFO(said);
+        CHECK(said.find(std::to_string(grid) + " keyframe tables read from the disk cache") != std::string::npos);
+    }
+    CHECK(b.luts.sunView->cacheReads() == grid);
+    CHECK(b.luts.sunView->lastPlan().exact);  // the first frame: its exact table, as without the cache
+    b.runAll();
+    auto elev = [](int i) { return 5.95 - 0.05 * i; };  // deg: the Sun sets at 0.05 deg per frame
+    int chunks = 0, cubic = 0;
+    for (int i = 0; i < 40; ++i) {
+        b.setSun(1.0, elev(i));
+        b.runAll();
+        const auto& p = b.luts.sunView->lastPlan();
+        if (p.build >= 0) chunks += p.chunkEnd - p.chunkBegin;
+        // Through grid tables: the cubic of four, or one alone at a grid point (5 and 4 deg).
+        cubic += p.cubic || (p.exact && p.count == 1 && b.luts.sunView->keyframes().slotGrid(p.slot[0]) >= 0);
+    }
+    CHECK(chunks == 0);
+    CHECK(cubic == 40);
+    CHECK(b.luts.sunView->cacheWrites() == 0);
+    for (int i = 1; i < 40; ++i) {  // the first processor along the same path (elev(0) was its first move)
+        a.setSun(1.0, elev(i));
+        a.runAll();
+    }
+    {  // the same mix: as many tables, the same weights (their slots are numbered differently)
+        const auto &pa = a.luts.sunView->lastPlan(), &pb = b.luts.sunView->lastPlan();
+        CHECK(pa.count == pb.count);
+        CHECK(pa.weight == pb.weight);
+        for (int j = 0; j < pa.count; ++j)
+            CHECK(ka.slotMuS(pa.slot[size_t(j)]) == b.luts.sunView->keyframes().slotMuS(pb.slot[size_t(j)]));
+    }
+    CHECK(pixels(a.luts.sunView->totalTexture()) == pixels(b.luts.sunView->totalTexture()));
 }
 
 // The sky view's interpolation in elevation (docs/sky.md "While time runs") against fresh tables

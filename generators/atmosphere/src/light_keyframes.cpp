@@ -78,12 +78,43 @@ LightKeyframes::Prefill LightKeyframes::nextPrefill() {
         const int k = prefillQueue_.back();
         prefillQueue_.pop_back();
         if (findGrid(k, false) >= 0) continue;  // built or being built meanwhile
+        if (adopt(k) >= 0) continue;            // preloaded: complete now
         const int s = victim({-1, -1, -1, -1}, false);
         if (s < 0) return {};
         slots_[size_t(s)] = Slot{nodes_[size_t(k)], k, o_.chunks, run_};
         return {s, std::sin(nodes_[size_t(k)])};
     }
     return {};
+}
+
+int LightKeyframes::preload(int k) {
+    if (k < 0 || k >= int(nodes_.size()) || findGrid(k, false) >= 0) return -1;
+    for (const Slot& s : slots_)
+        if (s.cached && s.grid == k) return -1;
+    int v = -1;
+    for (int i = 0; i < int(slots_.size()) && v < 0; ++i)
+        if (i != building_ && slots_[size_t(i)].done < 0 && !slots_[size_t(i)].cached) v = i;
+    if (v < 0) {
+        if (int(slots_.size()) >= o_.slots) return -1;
+        slots_.push_back(Slot{});
+        v = int(slots_.size()) - 1;
+    }
+    slots_[size_t(v)] = Slot{nodes_[size_t(k)], k, -1, run_, true};
+    return v;
+}
+
+int LightKeyframes::adopt(int k) {
+    for (int i = 0; i < int(slots_.size()); ++i) {
+        Slot& s = slots_[size_t(i)];
+        if (s.cached && s.grid == k && s.done < 0) {
+            s.cached = false;
+            s.done = o_.chunks;
+            s.used = run_;
+            ++adopted_;
+            return i;
+        }
+    }
+    return -1;
 }
 
 double LightKeyframes::slotMuS(int i) const { return std::sin(slots_.at(size_t(i)).e); }
@@ -122,7 +153,7 @@ int LightKeyframes::findGrid(int k, bool completeOnly) const {
 int LightKeyframes::victim(const std::array<int, 4>& keep, bool exactTable) {
     auto kept = [&](int i) { return i == building_ || std::find(keep.begin(), keep.end(), i) != keep.end(); };
     for (int i = 0; i < int(slots_.size()); ++i)
-        if (!kept(i) && slots_[size_t(i)].done < 0) return i;
+        if (!kept(i) && slots_[size_t(i)].done < 0 && !slots_[size_t(i)].cached) return i;
     // An exact table replaces another exact table (they are transient: a light at rest, a jump)
     // before it takes a new slot; a grid table takes a new slot while under the cap.
     int v = -1;
@@ -263,6 +294,10 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
         return p;
     }
 
+    // A moving light adopts the preloaded tables around it at once (they cost nothing now).
+    if (!still && dir_ != 0)
+        for (int c = k - 2; c <= k + 3; ++c)
+            if (c >= 0 && c < int(nodes_.size()) && findGrid(c, false) < 0) adopt(c);
     const std::array<int, 4> needed = {findGrid(k - 1, false), findGrid(k, false), findGrid(k + 1, false), findGrid(k + 2, false)};
     // What to build: a still light wants its exact table; a moving one the grid tables the cubic
     // needs (nearest its direction of motion first), then the next one ahead.
@@ -283,6 +318,7 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
                                                       : std::array<int, 5>{k, k + 1, k - 1, k + 2, k - 2};
             for (int c : cands)
                 if (c >= 0 && c < int(nodes_.size()) && findGrid(c, false) < 0) {
+                    if (adopt(c) >= 0) continue;  // preloaded: complete now, the next one
                     target = nodes_[size_t(c)];
                     grid = c;
                     break;
@@ -298,6 +334,7 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
             const int c = *it;
             prefillQueue_.erase(it);
             if (findGrid(c, false) >= 0) continue;  // built or being built meanwhile
+            if (adopt(c) >= 0) continue;            // preloaded: complete now
             target = nodes_[size_t(c)];
             grid = c;
             fill = true;

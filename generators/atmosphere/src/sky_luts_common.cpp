@@ -56,6 +56,7 @@ void SkyGenerator::doDeclare(SkyVars& vars) {
     vars.declare(keys::quality, 1);
     vars.declare(skykeys::wavelengths, 0);
     vars.declare(skykeys::keyframeBudget, kKeyframeBudgetDefault);
+    vars.declare(skykeys::keyframeCache, true);
 }
 
 void SkyGenerator::prepare(SkyVars& vars) {

@@ -1,5 +1,6 @@
 // Sky-view LUT generator, one instance per light (GPU pass skyview_lut.glsl; CPU twin
 // cpu::skyViewTexel).
+#include <welkin/cache.hpp>
 #include <welkin/embedded/atmosphere_shaders.hpp>
 #include <welkin/error.hpp>
 #include <welkin/generators/sky_luts.hpp>
@@ -9,14 +10,148 @@
 #include <epoxy/gl.h>
 
 #include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <thread>
+
+#include <unistd.h>
 
 namespace welkin::generators {
+
+namespace {
+// FNV-1a, 64 bits: the disk cache's key over everything a keyframe table depends on.
+struct Fnv {
+    uint64_t h = 1469598103934665603ull;
+    void bytes(const void* p, size_t n) {
+        const auto* b = static_cast<const unsigned char*>(p);
+        for (size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 1099511628211ull;
+    }
+    void d(double v) { bytes(&v, sizeof v); }
+    void i(int64_t v) { bytes(&v, sizeof v); }
+    void v3(const glm::dvec3& v) { d(v.x), d(v.y), d(v.z); }
+    void s(const std::string& t) { i(int64_t(t.size())), bytes(t.data(), t.size()); }
+    void profile(const DensityProfile& p) {
+        for (const DensityLayer& l : p.layers) d(l.width), d(l.expTerm), d(l.expScale), d(l.linearTerm), d(l.constantTerm);
+    }
+};
+constexpr uint32_t kCacheMagic = 0x314b5653u;  // "SVK1": bump with the file's layout
+}  // namespace
+
+std::string SkyViewLut::cacheFolder(const SkyVars& vars) const {
+    // Sun only (the Moon's tables are forgotten whenever it gives no light), RGB mode (a spectral
+    // table is built whole), the presets that prefill the grid.
+    if (light_ != Light::Sun || spectral_ || !q_.keyframePrefill || !vars.getOr(skykeys::keyframeCache, true)) return {};
+    Fnv f;
+    f.i(kCacheMagic);
+    for (const char* sh : {"atmosphere.glsl", "skyview_lut.glsl", "light_blend.glsl", "transmittance_lut.glsl", "multiscattering_lut.glsl", "sh_lut.glsl"})
+        f.s(std::string(embedded::atmosphere_shaders(sh)));
+    for (GLenum e : {GL_VENDOR, GL_RENDERER, GL_VERSION}) {
+        const GLubyte* t = glGetString(e);
+        f.s(t ? reinterpret_cast<const char*>(t) : "");
+    }
+    const SkyModel& m = model_;
+    f.d(m.bottomRadius), f.d(m.topRadius), f.v3(m.rayleighScattering), f.profile(m.rayleighDensity), f.v3(m.mieScattering);
+    f.v3(m.mieExtinction), f.profile(m.mieDensity), f.d(m.mieG), f.i(m.miePhase), f.v3(m.absorptionExtinction);
+    f.profile(m.absorptionDensity), f.v3(m.groundAlbedo), f.v3(m.solarIlluminance), f.d(m.sunAngularRadius);
+    const SkyQuality& q = q_;
+    for (int v : {q.transmittanceW, q.transmittanceH, q.transmittanceSteps, q.multiScatteringMuS, q.multiScatteringSize,
+                  q.multiScatteringDirections, q.multiScatteringSteps, int(q.directionalMs), q.shBands, q.shDirections, q.shIterations,
+                  q.shIterationDirections, q.shIterationSteps, q.skyViewW, q.skyViewH, q.skyViewSteps, int(q.halfFloat), int(q.bakedMiePhase),
+                  q.keyframeChunks})
+        f.i(v);
+    f.d(q.keyframeStepRad), f.d(q.keyframeCoarseStepRad), f.d(h_), f.d(kLutScale);
+    char name[48];
+    std::snprintf(name, sizeof name, "sky-keyframes-%016llx", static_cast<unsigned long long>(f.h));
+    return (cacheDirectory() / name).string();
+}
+
+void SkyViewLut::preloadFromCache(const Logger& log) {
+    // Every grid table of the prefill's range found in the folder, into a slot of its own (kept
+    // out of the schedule until the light needs it: LightKeyframes::preload).
+    if (cacheFolder_.empty()) return;
+    std::error_code ec;
+    if (!std::filesystem::is_directory(cacheFolder_, ec)) return;
+    const auto t0 = std::chrono::steady_clock::now();
+    const int before = cacheReads_;
+    const std::vector<double>& grid = keyframes_.grid();
+    const size_t texels = size_t(q_.skyViewW) * size_t(q_.skyViewH) * 4;
+    std::vector<uint32_t> data(texels);
+    for (int k = 0; k < int(grid.size()); ++k) {
+        if (grid[size_t(k)] < keyframes_.options().prefillLowRad - 1e-9) continue;
+        char file[16];
+        std::snprintf(file, sizeof file, "%03d.bin", k);
+        std::ifstream in(std::filesystem::path(cacheFolder_) / file, std::ios::binary);
+        if (!in) continue;
+        uint32_t hdr[4] = {};
+        in.read(reinterpret_cast<char*>(hdr), sizeof hdr);
+        if (!in || hdr[0] != kCacheMagic || hdr[1] != uint32_t(q_.skyViewW) || hdr[2] != uint32_t(q_.skyViewH) || hdr[3] != uint32_t(k)) continue;
+        in.read(reinterpret_cast<char*>(data.data()), std::streamsize(texels * sizeof(uint32_t)));
+        if (!in || in.peek() != std::char_traits<char>::eof()) continue;
+        const int s = keyframes_.preload(k);
+        if (s < 0) break;  // no slot left
+        while (int(slots_.size()) < keyframes_.slotCount()) {
+            Slot& sl = slots_.emplace_back();
+            sl.packed = gl::Texture2D(q_.skyViewW, q_.skyViewH, GL_RGBA32UI);
+            sl.packed.setFilter(GL_NEAREST);
+            sl.packed.setWrap(GL_CLAMP_TO_EDGE);
+        }
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+        glTextureSubImage2D(slots_[size_t(s)].packed.id(), 0, 0, 0, q_.skyViewW, q_.skyViewH, GL_RGBA_INTEGER, GL_UNSIGNED_INT, data.data());
+        ++cacheReads_;
+    }
+    glFinish();  // the uploads done: the time below is theirs (once per processor)
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "%s: %d keyframe tables read from the disk cache (%.1f MB) in %.1f ms", name().c_str(), cacheReads_ - before,
+                  double(cacheReads_ - before) * double(texels * sizeof(uint32_t)) / 1e6,
+                  std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    log.debug(buf);
+}
+
+void SkyViewLut::writeToCache(int slot) {
+    // A grid table just completed (built, not read): written once, atomically (a temporary name
+    // renamed over the final one), so concurrent processes see a whole file or none.
+    const int k = keyframes_.slotGrid(slot);
+    if (cacheFolder_.empty() || k < 0 || keyframes_.grid()[size_t(k)] < keyframes_.options().prefillLowRad - 1e-9) return;
+    char file[16];
+    std::snprintf(file, sizeof file, "%03d.bin", k);
+    const std::filesystem::path path = std::filesystem::path(cacheFolder_) / file;
+    std::error_code ec;
+    if (std::filesystem::exists(path, ec)) return;
+    std::filesystem::create_directories(cacheFolder_, ec);
+    const size_t texels = size_t(q_.skyViewW) * size_t(q_.skyViewH) * 4;
+    std::vector<uint32_t> data(texels);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glGetTextureImage(slots_[size_t(slot)].packed.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, GLsizei(texels * sizeof(uint32_t)), data.data());
+    const std::string tmp = path.string() + ".tmp" + std::to_string(::getpid()) + "-" +
+                            std::to_string(std::hash<std::thread::id>{}(std::this_thread::get_id()));
+    {
+        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+        if (!out) return;
+        const uint32_t hdr[4] = {kCacheMagic, uint32_t(q_.skyViewW), uint32_t(q_.skyViewH), uint32_t(k)};
+        out.write(reinterpret_cast<const char*>(hdr), sizeof hdr);
+        out.write(reinterpret_cast<const char*>(data.data()), std::streamsize(texels * sizeof(uint32_t)));
+        if (!out) {
+            out.close();
+            std::filesystem::remove(tmp, ec);
+            return;
+        }
+    }
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) std::filesystem::remove(tmp, ec);
+    else ++cacheWrites_;
+}
 
 SkyViewLut::SkyViewLut(Light light) : SkyGenerator(light == Light::Sun ? "sky.sun_view" : "sky.moon_view"), light_(light) {
     input(skykeys::transmittanceLuts);
     input(skykeys::multiScatteringLuts);
     input(skykeys::shLuts);
     input(skykeys::keyframeBudget, {.optional = true});  // the background prefill's parts per frame
+    input(skykeys::keyframeCache, {.optional = true});   // the grid tables in the disk cache
     input(keys::observerHeight);
     if (light == Light::Sun) {
         // The light's elevation only: the table is parameterised by the azimuth from the light.
@@ -54,11 +189,12 @@ void SkyViewLut::releaseGl() {
     blendProg_ = {};
     toLogProg_ = {};
     keyframes_.reset();
+    preloadDue_ = true;
     viewTH_ = -1.0;
     releaseCommon();
 }
 
-void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
+void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
     prepare(vars);
     // Even heights: the two halves (sky, ground) then have the same rows and the pixel shaders'
     // mapping stays inside its half without a clamp.
@@ -126,7 +262,7 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
         v.push_back(uint64_t(q_.skyViewSteps));
         v.push_back(uint64_t(std::llround(q_.keyframeStepRad * 1e9)));
         v.push_back(uint64_t(std::llround(q_.keyframeCoarseStepRad * 1e9)));
-        if (v != validFor_ || resized) keyframes_.reset();
+        if (v != validFor_ || resized) keyframes_.reset(), preloadDue_ = true;
         validFor_ = std::move(v);
     }
     // Spectral mode: each triple's pass goes to the scratch textures, then is added to the RGB
@@ -159,6 +295,12 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
         shownOnce_ = false;
     } else {
         darkShown_ = false;
+        if (preloadDue_) {
+            // The grid tables this atmosphere, quality and height had on disk (sky.keyframe_cache).
+            preloadDue_ = false;
+            cacheFolder_ = cacheFolder(vars);
+            preloadFromCache(log);
+        }
         plan_ = keyframes_.plan(muS_);
         auto allocateSlots = [&] {
             // A packed texture for each slot the schedule uses (allocated as it grows).
@@ -243,12 +385,14 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger&) {
             const int n = ko.chunks;
             buildRows(plan_.build, plan_.buildMuS, plan_.chunkBegin * q_.skyViewH / n, plan_.chunkEnd * q_.skyViewH / n, plan_.chunkEnd == n,
                       plan_.chunkBegin == 0 && plan_.chunkEnd == n);
+            if (plan_.chunkEnd == n) writeToCache(plan_.build);
         }
         // Prefill (SkyQuality::keyframePrefill) with sky.keyframe_budget 0: the grid tables
         // queued when the light first moved, each built whole now (else plan() spreads them).
         for (LightKeyframes::Prefill pf = keyframes_.nextPrefill(); pf.slot >= 0; pf = keyframes_.nextPrefill()) {
             allocateSlots();
             buildRows(pf.slot, pf.muS, 0, q_.skyViewH, true, true);
+            writeToCache(pf.slot);
         }
         // The shown table: the plan's slots mixed with its weights (the Mie phase applied at the
         // current elevation). Only complete slots are ever read here; unused inputs repeat the

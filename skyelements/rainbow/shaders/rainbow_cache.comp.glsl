@@ -7,6 +7,7 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = WELKIN_BINDING_LUT_IMAGE, rgba32f) writeonly uniform image2D u_cache;
 uniform ivec2 u_cacheSize;            // texels: u, psi
+uniform int u_rowOffset;              // first row (psi) of this dispatch (a refill spread over frames)
 uniform float u_sinElLo, u_sinElHi;   // the curtain's elevation range (sines), inset by a hair
 uniform float u_halfWidth;            // the curtain's azimuthal half-width, rad, inset by a hair
 
@@ -25,7 +26,7 @@ vec3 rainbow_clampToCurtain(vec3 d) {
 }
 
 void main() {
-    ivec2 ij = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 ij = ivec2(gl_GlobalInvocationID.xy) + ivec2(0, u_rowOffset);
     if (any(greaterThanEqual(ij, u_cacheSize))) return;
     float x = (float(ij.x) + 0.5) / float(u_cacheSize.x);
     float psi = rainbow_psiFromY((float(ij.y) + 0.5) / float(u_cacheSize.y));

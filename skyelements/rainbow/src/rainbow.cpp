@@ -33,6 +33,7 @@ Rainbow::Rainbow() : SkyElement("rainbow") {
     option(rainbowkeys::height, 1500.0);
     option(rainbowkeys::halfWidth, 90.0 * rainbowkeys::kDeg);
     optionUnset(rainbowkeys::directionCache);  // unset: follows render.interactive
+    option(rainbowkeys::cacheSlices, rainbowkeys::kCacheSlicesDefault);
     reads(keys::interactive);
     reads(keys::sunDirection);
     reads(keys::moonDirection);
@@ -128,6 +129,7 @@ ElevationRange curtainElevations(double h0, double dist, double depth, double H)
 void Rainbow::doRender(const FrameContext& ctx) {
     drew_ = false;
     cached_ = false;
+    rowsLast_ = 0;
     const SkyVars& v = ctx.vars;
     // The light: the Sun, or the Moon when the Sun gives no light at the observer (moonbows).
     glm::dvec3 E = v.get(lk::sunIlluminance) * v.get(lk::sunTransmittance);
@@ -154,24 +156,27 @@ void Rainbow::doRender(const FrameContext& ctx) {
     const glm::dvec3 ext = v.get(rk::extinction);
     // Grey extinction (rainbow_curtain.glsl): the luminance-weighted mean of the channels.
     const double extGrey = luminance(ext);
-    auto setCurtain = [&](const gl::Program& p) {
+    auto setCurtainWith = [&](const gl::Program& p, const glm::dvec3& Lc, const glm::dvec3& Ec, const glm::dvec3& skyEc) {
+        glm::dvec2 ax(-Lc.x, -Lc.y);
+        ax = glm::length(ax) > 1e-9 ? glm::normalize(ax) : glm::dvec2(0.0, 1.0);
         glBindTextureUnit(gl::binding::kMiePhaseLut, v.get(rk::phaseLut).id);
-        p.set("u_light", glm::vec3(L));
-        p.set("u_E", glm::vec3(E));
+        p.set("u_light", glm::vec3(Lc));
+        p.set("u_E", glm::vec3(Ec));
         p.set("u_sca", glm::vec3(v.get(rk::scattering)));
         p.set("u_ext", float(extGrey));
         p.set("u_dist", float(dist));
         p.set("u_depth", float(v.get(rainbowkeys::depth)));
         p.set("u_height", float(v.get(rainbowkeys::height)));
-        p.set("u_axis", glm::vec2(axis));
+        p.set("u_axis", glm::vec2(ax));
         p.set("u_cosHalfWidth", float(std::cos(v.get(rainbowkeys::halfWidth))));
         p.set("u_obsHeight", float(h0));
         // The Sky's diffuse illuminance when a Sky runs (optional: 0 otherwise).
-        p.set("u_skyE", glm::vec3(skyE));
+        p.set("u_skyE", glm::vec3(skyEc));
         // The clouds' shadow, once its map exists (before, and without clouds: no shadow).
         p.set("u_shadow", shadow ? 1 : 0);
         if (shadow) generators::CloudShadowMap::bindForHost(v, p.id());
     };
+    auto setCurtain = [&](const gl::Program& p) { setCurtainWith(p, L, E, skyE); };
 
     // The real-time path: the curtain alone (the clouds' rain is marched per pixel), perspective
     // projection (the grid's interpolation and clip distances rely on rays affine in the pixel).
@@ -187,39 +192,90 @@ void Rainbow::doRender(const FrameContext& ctx) {
                                   shadow ? 1.0 : 0.0};
         const double eY = luminance(E), skyY = luminance(skyE);
         const uint64_t shadowVersion = shadow ? v.version(generators::cloudkeys::shadowMap) : 0;
-        const bool stale = in != cacheInputs_ || glm::dot(L, cacheLight_) < std::cos(kLightTolerance) ||
-                           std::abs(eY - cacheE_) > 0.02 * cacheE_ || std::abs(skyY - cacheSkyE_) > 0.02 * std::max(cacheSkyE_, 1e-9) ||
-                           shadowVersion != cacheShadowVersion_;
-        // The polar frame around the anti-light point.
-        const glm::dvec3 A = -L;
-        const glm::dvec3 e1 = glm::normalize(std::abs(A.z) < 0.999 ? glm::cross(glm::dvec3(0, 0, 1), A) : glm::dvec3(1, 0, 0));
-        const glm::dvec3 e2 = glm::cross(A, e1);
-        if (!cache_) {
-            cache_ = gl::Texture2D(kCacheU, kCachePsi, GL_RGBA32F);
-            cache_.setFilter(GL_LINEAR);
-            cache_.setWrap(GL_REPEAT);  // psi goes round; x is clamped below
-            glTextureParameteri(cache_.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-        }
-        if (stale) {  // always on the first frame: cacheInputs_ starts empty
+        rowsLast_ = 0;
+        auto polar = [](const glm::dvec3& Lx, glm::dvec3& A, glm::dvec3& e1, glm::dvec3& e2) {
+            A = -Lx;
+            e1 = glm::normalize(std::abs(A.z) < 0.999 ? glm::cross(glm::dvec3(0, 0, 1), A) : glm::dvec3(1, 0, 0));
+            e2 = glm::cross(A, e1);
+        };
+        // The polar frame around the anti-light point (the display's: always the current light).
+        glm::dvec3 A, e1, e2;
+        polar(L, A, e1, e2);
+        auto makeCache = [](gl::Texture2D& t) {
+            t = gl::Texture2D(kCacheU, kCachePsi, GL_RGBA32F);
+            t.setFilter(GL_LINEAR);
+            t.setWrap(GL_REPEAT);  // psi goes round; x is clamped below
+            glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        };
+        // Both textures at the first real-time frame (8 MB each): the first refill spread over
+        // frames, when time starts, then allocates nothing.
+        if (!cache_) makeCache(cache_);
+        if (!back_) makeCache(back_);
+        // Rows [y0, y1) of `target` for the light Lx (its illuminance Ex, the sky's skyEx).
+        auto fillRows = [&](const gl::Texture2D& target, int y0, int y1, const glm::dvec3& Lx, const glm::dvec3& Ex, const glm::dvec3& skyEx) {
+            glm::dvec3 fA, f1, f2;
+            polar(Lx, fA, f1, f2);
             cacheFill_.use();
-            setCurtain(cacheFill_);
-            cacheFill_.set("u_polarA", glm::vec3(A));
-            cacheFill_.set("u_polarE1", glm::vec3(e1));
-            cacheFill_.set("u_polarE2", glm::vec3(e2));
+            setCurtainWith(cacheFill_, Lx, Ex, skyEx);
+            cacheFill_.set("u_polarA", glm::vec3(fA));
+            cacheFill_.set("u_polarE1", glm::vec3(f1));
+            cacheFill_.set("u_polarE2", glm::vec3(f2));
             cacheFill_.set("u_cacheSize", glm::ivec2(kCacheU, kCachePsi));
+            cacheFill_.set("u_rowOffset", y0);
             // Inset by 1e-4 rad so that the clamped directions lie strictly inside the curtain.
             cacheFill_.set("u_sinElLo", float(std::sin(std::min(el.lo + 1e-4, 0.5 * (el.lo + el.hi)))));
             cacheFill_.set("u_sinElHi", float(std::sin(std::max(el.hi - 1e-4, 0.5 * (el.lo + el.hi)))));
             cacheFill_.set("u_halfWidth", float(std::max(v.get(rainbowkeys::halfWidth) - 1e-4, 0.0)));
-            glBindImageTexture(gl::binding::kLutImage, cache_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-            glDispatchCompute(GLuint((kCacheU + 7) / 8), GLuint((kCachePsi + 7) / 8), 1);
+            glBindImageTexture(gl::binding::kLutImage, target.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+            glDispatchCompute(GLuint((kCacheU + 7) / 8), GLuint((y1 - y0 + 7) / 8), 1);
             glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+            rowsLast_ += y1 - y0;
+        };
+        // What is stale: anything but the light (and the illuminances) exactly, the light by a jump,
+        // or a first frame: the whole cache now. The light moving past kLightTolerance, its or the
+        // sky's illuminance by 2 %, the clouds' shadow map rebuilt (time running): a refill over
+        // rain.cache_slices frames into back_, the cache drawn meanwhile.
+        const bool jump = glm::dot(L, lastLight_) < std::cos(kLightJump);  // since the last frame (the cache may lag more)
+        lastLight_ = L;
+        const bool whole = in != cacheInputs_ || jump;
+        const bool moved = glm::dot(L, cacheLight_) < std::cos(kLightTolerance) || std::abs(eY - cacheE_) > 0.02 * cacheE_ ||
+                           std::abs(skyY - cacheSkyE_) > 0.02 * std::max(cacheSkyE_, 1e-9) || shadowVersion != cacheShadowVersion_;
+        const int slices = std::clamp(v.getOr(rainbowkeys::cacheSlices, rainbowkeys::kCacheSlicesDefault), 1, 32);
+        if (whole || (moved && slices == 1 && backRow_ < 0)) {  // always on the first frame: cacheInputs_ starts empty
+            backRow_ = -1;  // a refill in progress is superseded
+            fillRows(cache_, 0, kCachePsi, L, E, skyE);
             cacheInputs_ = in;
             cacheLight_ = L;
             cacheE_ = eY;
             cacheSkyE_ = skyY;
             cacheShadowVersion_ = shadowVersion;
             ++cacheFills_;
+        } else {
+            if (moved && backRow_ < 0) {  // a refill starts, with this frame's light
+                backRow_ = 0;
+                backLight_ = L;
+                backE_ = eY;
+                backSkyE_ = skyY;
+                backShadowVersion_ = shadowVersion;
+                ++cacheFills_;
+                // The light's colour and the sky's of the refill's start (one light for every band).
+                backEColour_ = E;
+                backSkyColour_ = skyE;
+            }
+            if (backRow_ >= 0) {
+                const int rows = ((kCachePsi + slices - 1) / slices + 7) / 8 * 8;
+                const int y1 = std::min(backRow_ + rows, kCachePsi);
+                fillRows(back_, backRow_, y1, backLight_, backEColour_, backSkyColour_);
+                backRow_ = y1;
+                if (backRow_ >= kCachePsi) {  // complete: drawn from this frame on
+                    std::swap(cache_, back_);
+                    backRow_ = -1;
+                    cacheLight_ = backLight_;
+                    cacheE_ = backE_;
+                    cacheSkyE_ = backSkyE_;
+                    cacheShadowVersion_ = backShadowVersion_;
+                }
+            }
         }
         const gl::Program& m = meshPrograms_.get(ctx.camera.projection);
         m.use();

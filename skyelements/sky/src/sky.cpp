@@ -45,6 +45,10 @@ Sky::Sky(const SkyOptions& options, bool force) : SkyElement("sky"), options_(op
     option(skykeys::moonLight, options_.moon, force);
     option(skykeys::wavelengths, options_.wavelengths, force);
     option(skykeys::aerialVolume, options_.aerialPerspective, force);
+    // Time running (docs/sky.md): the keyframe tables' budget and disk cache, options here so that
+    // `--var` sets them before the first frame (the generators declare them too, alike).
+    option(skykeys::keyframeBudget, kKeyframeBudgetDefault);
+    option(skykeys::keyframeCache, true);
     setAttenuatesBehind(true);  // its transmittance output: stars and planets drawn before it
     reads(keys::sunDirection);
     reads(keys::moonDirection);

@@ -48,6 +48,7 @@
 #include <cmath>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace welkin::generators {
@@ -73,6 +74,13 @@ inline const Key<bool> aerialVolume{"sky.aerial_volume", "build the aerial-persp
 /// Unset: kKeyframeBudgetDefault.
 inline const Key<int> keyframeBudget{"sky.keyframe_budget", Range{0, 1000},
                                      "keyframe table parts built per frame in the background once time runs (0: all at the first moving frame)"};
+/// The Sun's sky-view keyframe tables of the elevation grid (from -20 deg up) are written to the
+/// disk cache (welkin::cacheDirectory(), folder sky-keyframes-<hash of the atmosphere, quality,
+/// observer height, shaders and GL renderer>) as they are built, and read back into the GPU at
+/// the first run of a later processor with the same hash (a one-time cost in that first frame,
+/// measured in docs/sky.md), so that when time starts the grid is there and running costs only
+/// the per-frame mix. Unset: true. false: neither read nor written.
+inline const Key<bool> keyframeCache{"sky.keyframe_cache", "read and write the Sun's keyframe tables in the disk cache (docs/sky.md, While time runs)"};
 inline const Key<TextureRef> transmittanceLut{"sky.transmittance_lut", "transmittance LUT (RGB, to the top of the atmosphere)"};
 /// One texture per wavelength triple (RGB mode: one), for the passes after them; in spectral
 /// mode sky.transmittance_lut is the combined one and sky.multiscattering_lut / sky.sh_lut are
@@ -353,6 +361,18 @@ private:
     gl::Program prog_;
     int progBands_ = 0;  // SkyQuality::shBands prog_ was compiled for
     double h_ = 0.0, muS_ = 1.0;
+    // The disk cache of the grid tables (skykeys::keyframeCache; Sun, RGB mode, prefill presets).
+    bool preloadDue_ = true;     // the keyframes were reset: read the cache at the next lit run
+    std::string cacheFolder_;    // this run's folder ("" : no cache)
+    int cacheReads_ = 0, cacheWrites_ = 0;
+    std::string cacheFolder(const SkyVars& vars) const;
+    void preloadFromCache(const Logger& log);
+    void writeToCache(int slot);
+
+public:
+    /// Tables read from and written to the disk cache (sky.keyframe_cache) since construction.
+    int cacheReads() const { return cacheReads_; }
+    int cacheWrites() const { return cacheWrites_; }
 };
 
 /// Aerial perspective volume, camera-independent: (azimuth from the Sun, horizon-dense

@@ -44,6 +44,15 @@ inline const Key<bool> directionCache{"rain.direction_cache",
                                       "the light moves 0.02 deg or the rain changes) drawn by a clipped screen grid, one fetch a pixel "
                                       "(perspective projection, the curtain only); off: every pixel every frame; unset: "
                                       "on when render.interactive (welkin view)"};
+/// While the light moves (time running), the direction cache is refilled over this many frames
+/// (a band of its rows a frame, into a second texture; the cache filled before is drawn until the
+/// new one is complete). The display places the bows around the *current* anti-light point, so
+/// the bows never lag; only the curtain's light path does (measured in docs/rainbow.md). 1: the
+/// whole cache in the frame the light moved past the tolerance. A jump of the light (more than
+/// Rainbow::kLightJump), a change of the rain or the curtain, and the first frame fill it whole.
+inline const Key<int> cacheSlices{"rain.cache_slices", Range{1, 32},
+                                  "frames over which the direction cache is refilled while the light moves (1: at once)"};
+inline constexpr int kCacheSlicesDefault = 32;
 }  // namespace rainbowkeys
 
 class Rainbow final : public SkyElement {
@@ -61,14 +70,23 @@ public:
     bool drewLastFrame() const { return drew_; }
     /// True if the last render() drew through the direction cache (rain.direction_cache).
     bool cachedLastFrame() const { return cached_; }
-    /// How many times the direction cache has been filled (tests: what triggers a refill).
+    /// How many times the direction cache has been filled (tests: what triggers a refill); a
+    /// refill spread over frames counts when it starts.
     int cacheFills() const { return cacheFills_; }
+    /// Rows of the direction cache (of kCachePsi) filled by the last render() (work counted).
+    int cacheRowsLastFrame() const { return rowsLast_; }
+    /// A refill spread over frames is in progress.
+    bool refilling() const { return backRow_ >= 0; }
 
     /// The direction cache's size (texels: angle from the anti-light point, position angle around
     /// it) and the display grid's cell (pixels). docs/rainbow.md gives their measured error.
     static constexpr int kCacheU = 2048, kCachePsi = 256, kGridCellPx = 64;
     /// The light's motion (rad) that refills the cache (0.02 deg: 1/27 of the Sun's diameter).
     static constexpr double kLightTolerance = 3.5e-4;
+    /// The light's motion (rad) from one frame to the next beyond which the cache is refilled whole
+    /// at once (a new time, not time running): 1 deg (at 1440x and 30 frames/s the Sun moves at
+    /// most 0.2 deg a frame).
+    static constexpr double kLightJump = 0.01745;
 
 private:
     void doInit(InitContext& ctx) override;
@@ -86,6 +104,15 @@ private:
     double cacheE_ = 0, cacheSkyE_ = 0;  // the light's and the sky's luminance then, lux
     uint64_t cacheShadowVersion_ = 0;
     int cacheFills_ = 0;
+    // The refill spread over frames: rows [backRow_, kCachePsi) of back_ are still to fill with
+    // the inputs below (taken when it started); -1: none in progress.
+    gl::Texture2D back_;
+    int backRow_ = -1, rowsLast_ = 0;
+    glm::dvec3 backLight_{0.0};
+    double backE_ = 0, backSkyE_ = 0;
+    uint64_t backShadowVersion_ = 0;
+    glm::dvec3 backEColour_{0.0}, backSkyColour_{0.0};
+    glm::dvec3 lastLight_{0.0};  // the light of the last frame drawn through the cache (a jump: kLightJump)
     bool drew_ = false, cached_ = false;
 };
 

@@ -105,6 +105,21 @@ public:
     /// The next queued prefill table (Options::prefill with prefillChunksPerRun 0), counted as
     /// built: build all of it before the next plan(). Call until it returns slot -1.
     Prefill nextPrefill();
+    /// A grid table kept outside the schedule (read from a disk cache, SkyViewLut): returns the
+    /// slot whose texture the caller fills now with grid point k's table (-1: k has a table
+    /// already, or no slot is free). The table is not shown and nothing is planned around it
+    /// until the schedule would build grid point k (the light's path, the prefill): then it is
+    /// adopted as complete in place of the build (adoptedTables()). A first run or a jump still
+    /// builds its exact table, so what a frame shows differs from the uncached schedule's only in
+    /// which grid tables are complete when. reset() forgets preloaded tables too.
+    int preload(int k);
+    /// Preloaded tables adopted since construction (instead of being built).
+    int adoptedTables() const { return adopted_; }
+    /// Grid point of slot i's table (-1: an exact table or an empty slot).
+    int slotGrid(int i) const {
+        const Slot& s = slots_.at(std::size_t(i));
+        return s.grid == kNoGrid || (s.done < 0 && !s.cached) ? -1 : s.grid;
+    }
     /// Cos zenith of slot i's table, and whether it is complete.
     double slotMuS(int i) const;
     bool complete(int i) const { return slots_.at(std::size_t(i)).done == o_.chunks; }
@@ -129,7 +144,9 @@ private:
         int grid = kNoGrid;   // grid index k (e = k step) or kNoGrid for an exact table
         int done = -1;        // chunks built; -1 empty
         uint64_t used = 0;    // last run that showed or built it
+        bool cached = false;  // holds grid table `grid`, preloaded, not adopted yet (done -1)
     };
+    int adopt(int k);  // a preloaded table of grid point k made complete (its slot), or -1
     int find(double e, double tol, bool completeOnly) const;
     int findGrid(int k, bool completeOnly) const;
     int victim(const std::array<int, 4>& keep, bool exactTable);
@@ -154,6 +171,7 @@ private:
     std::vector<int> prefillQueue_;  // grid indices still to build whole
     bool buildingFill_ = false;      // building_ was taken from the prefill queue (spread prefill)
     uint64_t run_ = 0;
+    int adopted_ = 0;
 };
 
 }  // namespace welkin::generators
