@@ -132,6 +132,7 @@ double integrateStep(double source, double sigmaT, double dt) {
     if (sigmaT <= 0) return source * dt;
     return (source - source * std::exp(-sigmaT * dt)) / sigmaT;
 }
+int backSamples(int lightSamples) { return std::max(2, (lightSamples + 1) / 2); }
 double twoStreamTransmission(double tau, double g) { return 1.0 / (1.0 + 0.75 * (1.0 - g) * tau); }
 }  // namespace cloudcpu
 
@@ -265,7 +266,7 @@ gl::ProgramBuilder Clouds::recipe(bool stats, bool cacheFill) const {
     b.define("CLD_W_DRAINE", kDropletWDraine).define("CLD_MS_S", kMsS).define("CLD_MS_K", kMsK).define("CLD_MS_Z", kMsZ);
     b.define("CLD_MS_A", kMsA).define("CLD_MS_H", kMsH).define("CLD_MS_C", kMsC / kDropletWDraine).define("CLD_MS_Q", kMsQ).define("CLD_MS_MU_MIN", kMsMuMin);
     b.define("CLD_MS_AMBIENT", kMsAmbient).define("CLD_AMB_FORWARD", kDraineForwardFraction).define("CLD_DIFFUSIVITY", kDiffusivity);
-    b.define("CLD_T_CUT", kTransmittanceCut);
+    b.define("CLD_T_CUT", kTransmittanceCut).define("CLD_MARCH_MAX_M", kMarchMaxM);
     if (stats) b.define("CLOUDS_STATS");
     if (cacheFill) {
         b.define("CLOUDS_CACHE_FILL");
@@ -325,6 +326,7 @@ void Clouds::setUniforms(const gl::Program& p, const FrameContext& ctx) const {
     p.set("u_groundE", glm::vec3(groundE_));
     p.set("u_samples", v.get(cloudelemkeys::samples));
     p.set("u_lightSamples", v.get(cloudelemkeys::lightSamples));
+    p.set("u_backSamples", backSamples(v.get(cloudelemkeys::lightSamples)));
     p.set("u_maxDistance", kMaxDistance);
     p.set("u_cirrusTau", kCirrusTau);
 }
