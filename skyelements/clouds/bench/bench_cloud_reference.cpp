@@ -149,6 +149,7 @@ struct Row {
     int pixels = 0;
     double rms = 0, rmsDenoised = 0, p95 = 0, bias = 0, noise = 0, meanRef = 0, meanRt = 0, refSeconds = 0;
     double frameMs = NAN, trivialMs = NAN, ratioTrivial = NAN;
+    double edgeRef = NAN, edgeRt = NAN;  // silhouette over inside luminance, reference and real time
 };
 
 int run(const CloudReferenceOptions& o) {
@@ -397,6 +398,33 @@ int run(const CloudReferenceOptions& o) {
             ++r.pixels;
         }
         if (r.pixels == 0) throw Error("bench cloud-reference: scene " + name + " has no cloud pixels");
+        // The silhouette against the inside: the mean luminance of the cloud pixels next to a clear
+        // one (8-neighbourhood) over that of the pixels >= 3 px from any clear one, in each image
+        // (a silver lining when > 1; the Sun's 3 deg excluded as above).
+        {
+            auto isCloud = [&](int x, int y) { return x >= 0 && y >= 0 && x < o.width && y < o.height && trans[size_t(y) * o.width + x] < 0.5; };
+            double eRef = 0, eRt = 0, cRef = 0, cRt = 0;
+            int ne = 0, nc = 0;
+            for (int y = 0; y < o.height; ++y)
+                for (int x = 0; x < o.width; ++x) {
+                    if (!isCloud(x, y)) continue;
+                    const auto d = cam.directionAt({x + 0.5, y + 0.5});
+                    if (d && glm::dot(*d, sun) > cosSunCut) continue;
+                    int dist = 1;
+                    for (bool inside = true; inside && dist <= 3; dist += inside ? 1 : 0)
+                        for (int j = -dist; j <= dist && inside; ++j)
+                            for (int i = -dist; i <= dist && inside; ++i)
+                                if (!isCloud(x + i, y + j) && x + i >= 0 && y + j >= 0 && x + i < o.width && y + j < o.height) inside = false;
+                    const double yr = lum(ref[size_t(y) * o.width + x]);
+                    const double yt = 0.2126 * rt.at(x, y, 0) + 0.7152 * rt.at(x, y, 1) + 0.0722 * rt.at(x, y, 2);
+                    if (dist == 1) eRef += yr, eRt += yt, ++ne;
+                    else if (dist > 3) cRef += yr, cRt += yt, ++nc;
+                }
+            if (ne > 0 && nc > 0) {
+                r.edgeRef = (eRef / ne) / (cRef / nc);
+                r.edgeRt = (eRt / ne) / (cRt / nc);
+            }
+        }
         std::sort(rel.begin(), rel.end());
         r.meanRef = sRef / r.pixels;
         r.meanRt = sRt / r.pixels;
@@ -424,9 +452,9 @@ int run(const CloudReferenceOptions& o) {
             r.ratioTrivial = median(ratio);
         }
         rows.push_back(r);
-        std::printf("%-14s %-7s cloud px %5d  mean Y ref %9.0f rt %9.0f cd/m^2  bias %.3f  RMS %5.1f %% (noise removed %5.1f %%)  p95 %5.1f %%  ref noise %4.1f %%  (ref %.0f s)  frame %.1f ms = %.1fx trivial\n",
+        std::printf("%-14s %-7s cloud px %5d  mean Y ref %9.0f rt %9.0f cd/m^2  bias %.3f  RMS %5.1f %% (noise removed %5.1f %%)  p95 %5.1f %%  ref noise %4.1f %%  (ref %.0f s)  frame %.1f ms = %.1fx trivial  edge/inside ref %.2f rt %.2f\n",
                     name.c_str(), r.quality.c_str(), r.pixels, r.meanRef, r.meanRt, r.bias, 100 * r.rms, 100 * r.rmsDenoised, 100 * r.p95, 100 * r.noise, refSeconds,
-                    r.frameMs, r.ratioTrivial);
+                    r.frameMs, r.ratioTrivial, r.edgeRef, r.edgeRt);
         std::fflush(stdout);
         if (!o.out.empty() && q == qualities.front()) {
             // Side by side, one exposure: 1 - exp(-L / (the reference cloud pixels' mean Y)), sRGB-encoded.
@@ -452,12 +480,13 @@ int run(const CloudReferenceOptions& o) {
     }
     if (!o.csv.empty()) {
         CsvWriter f(o.csv, {"scene", "quality", "samples", "light_samples", "cloud_pixels", "mean_ref_cd_m2", "mean_rt_cd_m2", "bias", "rms_rel",
-                            "rms_rel_noise_removed", "p95_rel", "ref_noise_rel", "ref_seconds", "frame_ms", "trivial_ms", "ratio_trivial"});
+                            "rms_rel_noise_removed", "p95_rel", "ref_noise_rel", "ref_seconds", "frame_ms", "trivial_ms", "ratio_trivial", "edge_inside_ref",
+                            "edge_inside_rt"});
         f.comment("welkin bench cloud-reference, " + std::to_string(o.width) + "x" + std::to_string(o.height) + ", " +
                   std::to_string(o.paths) + " paths per pixel, seed " + std::to_string(o.seed) + ", " + ctx->description());
         for (const Row& r : rows)
             f.row(r.scene, r.quality, r.samples, r.lightSamples, r.pixels, r.meanRef, r.meanRt, r.bias, r.rms, r.rmsDenoised, r.p95, r.noise,
-                  r.refSeconds, r.frameMs, r.trivialMs, r.ratioTrivial);
+                  r.refSeconds, r.frameMs, r.trivialMs, r.ratioTrivial, r.edgeRef, r.edgeRt);
         f.close();
         std::printf("wrote %s\n", o.csv.c_str());
     }

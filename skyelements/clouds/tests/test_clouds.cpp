@@ -720,6 +720,12 @@ TEST_CASE("Clouds: a single cumulus is as bright as a real one", "[gl][clouds]")
         REQUIRE(ne > 10);
         REQUIRE(nc > 10);
         INFO("edge " << edge / ne << " centre " << centre / nc << " cd/m^2");
+        // Measured 23,300 against 20,300 (1.15x; 1.14x before the far side's depth was marched). The
+        // path tracer's cloud lit from behind has a much stronger rim and is 2.2x brighter in all
+        // (bench cloud-reference, cumulus-behind; docs/clouds.md "Brightness against real cumulus"):
+        // the low orders of forward scattering are missing from the transport. 1.1: the rim there is
+        // now kept from fading (a guard on the present transport), not the real margin.
         CHECK(edge / ne > centre / nc);
+        CHECK(edge / ne > 1.1 * (centre / nc));
     }
 }
