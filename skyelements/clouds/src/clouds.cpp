@@ -74,7 +74,7 @@ const std::vector<CloudPreset>& presets() {
     // Overcast: 0.13 /m, a little above a real stratocumulus' 0.05-0.1 /m: the deck's mean density
     // is ~0.3 (its carved cells and the weather map's faded cell edges), so its mean vertical
     // optical depth is ~45, and its thin cells pass more light than a uniform sheet. At 0.1 /m it
-    // passes 0.42 of the clear sky's light, at 0.13 /m 0.37 (an overcast day: 0.2-0.4; the test).
+    // passes 0.42 of the clear sky's light, at 0.13 /m 0.34 (an overcast day: 0.2-0.4; the test).
     static const std::vector<CloudPreset> p{
         {"fair", 0.75, 1500, 3000, 0.5, 9000, 0.05, 1.0, 0.0, 150, 700, 2500},
         {"overcast", 0.9, 800, 2000, 0.0, 8000, 0.13, 0.6, 0.3, 800, 4000, 9000, 0.0},
