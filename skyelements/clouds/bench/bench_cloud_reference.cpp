@@ -68,6 +68,7 @@ struct CloudReferenceOptions {
     std::string out;              // directory for the side-by-side PNGs (empty: none)
     std::string csv = "bench_cloud_reference.csv";
     long slabPhotons = 0;         // > 0: first the slab table (path tracer against adding-doubling)
+    long maxScatterings = 1000000;  // the path tracer's scattering orders kept (1: single scattering; cloudref::Scene)
     double truncateDeg = 0;       // > 0: the droplet phase's forward peak truncated at this angle (cloudref::truncatePhase), deg
 };
 
@@ -196,6 +197,8 @@ int run(const CloudReferenceOptions& o) {
             throw Error("--cost-size '" + o.costSize + "': not WxH with W and H in [8, 4096] (empty: no timing)");
     }
     if (o.repeats < 1 || o.repeats > 1000) throw Error("--repeats " + std::to_string(o.repeats) + " not in [1, 1000]");
+    if (o.maxScatterings < 1 || o.maxScatterings > 1000000)
+        throw Error("--max-scatterings " + std::to_string(o.maxScatterings) + " not in [1, 1000000]");
     if (o.slabPhotons > 0) {
         // HG g = 0.85, conservative scattering, black ground: the photon tracer against adding-doubling.
         std::printf("slabs, HG g = 0.85, %ld photons a case: transmission (direct + diffuse), fractions of the incident flux\n", o.slabPhotons);
@@ -325,6 +328,7 @@ int run(const CloudReferenceOptions& o) {
         cloudref::Scene s;
         s.medium = &scaledMedium;
         s.phase = &phase;
+        s.maxScatterings = o.maxScatterings;
         const glm::dvec3 ga = atm->rgb().groundAlbedo;
         s.ground = {cloudref::Ground::Kind::Sphere, 0.0, 6360e3, (ga.r + ga.g + ga.b) / 3.0};
         s.lights.sunDirection = sun;
@@ -504,6 +508,7 @@ bench::CommandBenchRegistrar reg({"cloud-reference", "the real-time clouds again
                        sub.add_option("--scenes", o->scenes, "comma list of " + sceneNames() + " (empty: none)")->capture_default_str();
                        sub.add_option("--qualities", o->qualities, "comma list of low (16 samples, 3 light samples), default (48, 6), high (128, 12)")->capture_default_str();
                        sub.add_option("--cost-size", o->costSize, "WxH at which each quality's frame is timed against a trivial pass (empty: not timed)")->capture_default_str();
+                       sub.add_option("--max-scatterings", o->maxScatterings, "the path tracer's scattering orders kept (1: single scattering), [1, 1e6]")->capture_default_str();
                        sub.add_option("--repeats", o->repeats, "timed frame pairs per row (median), [1, 1000]")->capture_default_str();
                        sub.add_option("--out", o->out, "directory for the side-by-side PNGs (empty: none)")->capture_default_str();
                        sub.add_option("--truncate-deg", o->truncateDeg, "the path tracer's droplet phase: its forward peak truncated at this angle, the medium's extinction scaled (delta-M; less noise), [0, 20], 0: the full phase")->capture_default_str();
