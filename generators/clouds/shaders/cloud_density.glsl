@@ -7,6 +7,10 @@
 //   vec2  cloudShellIntersect(float r, float mu)  entry, exit distance (m) through the layer from
 //                                            radius r (m from the planet's centre), cos zenith mu;
 //                                            exit < 0: no crossing; first crossing only
+//   float cloudDepthAlong(vec3 p, vec3 dir, int n, float maxDist)  density x m from p along the
+//                                            unit dir through the layer (cheap LOD, n steps growing
+//                                            x1.5 over min(maxDist, the shell's exit)); x extinction
+//                                            per unit density = optical depth
 //   float cirrusDensity(vec2 xy)             cirrus relative density in [0, 1] at ENU (x, y)
 // p is ENU metres relative to the observer's ground point (observer at (0, 0, height), planet
 // centre at (0, 0, -R)). Extinction = density * cld_shape.z (1/m). The maths is
@@ -40,5 +44,9 @@ float cloudDensity(vec3 p, int lod) {
 }
 
 vec2 cloudShellIntersect(float r, float mu) { return cloudShellIntersectRadii(cld_radii.x, cld_radii.y, cld_radii.z, r, mu); }
+
+float cloudDepthAlong(vec3 p, vec3 dir, int n, float maxDist) {
+    return cld_layerDepthAlong(cld_layer(), u_cloudWeather, u_cloudNoiseBase, u_cloudNoiseDetail, p, dir, n, maxDist);
+}
 
 float cirrusDensity(vec2 xy) { return cld_layerCirrus(cld_layer(), u_cloudCurl, xy); }

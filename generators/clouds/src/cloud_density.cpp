@@ -164,6 +164,9 @@ glm::dvec2 shellIntersect(double R, double rb, double rt, double r, double mu) {
 glm::dvec2 cloudShellIntersect(const CloudLayerBlock& b, double r, double mu) {
     return shellIntersect(b.radii[0], b.radii[1], b.radii[2], r, mu);
 }
+double cloudDepthAlong(const CloudLayerBlock& b, const CloudTextures& t, glm::dvec3 p, glm::dvec3 dir, int n, double maxDist) {
+    return glsl::dp::cloud_density_shared::cld_layerDepthAlong(layer(b), t.weather, t.base, t.detail, p, dir, n, maxDist);
+}
 double cirrusDensity(const CloudLayerBlock& b, const Image& curl, glm::dvec2 xy) {
     return glsl::dp::cloud_density_shared::cld_layerCirrus(layer(b), curl, xy);
 }

@@ -14,6 +14,7 @@ uniform vec3 u_ambientE;     // the clear sky's diffuse horizontal illuminance a
 uniform vec3 u_groundE;      // global horizontal illuminance at the ground under the clouds, lux
 uniform int u_samples;       // view-ray samples through the cumulus layer
 uniform int u_lightSamples;  // light-march samples
+uniform int u_backSamples;   // march samples to the cloud's far side (cloudcpu::backSamples)
 uniform float u_maxDistance; // longest march through the shell (m): beyond, the haze hides it
 uniform float u_cirrusTau;   // vertical optical depth of cirrus at relative density 1
 
@@ -42,36 +43,14 @@ vec3 cld_lightAt(vec3 p, float hp, vec3 l, vec3 E) {
 
 // Scaled optical depth from p towards the light l through the cumulus (cheap density): n
 // steps over at most 3 km (Schneider & Vos 2015 march ~6 samples over a few cloud cells), the
-// steps growing geometrically (x1.5) so near self-shadowing is resolved.
-// Scaled optical depth from p to the cloud's far side along -l, without a march (a march there
-// doubled the frame's cost on llvmpipe): the local extinction sigmaT over the distance to the
-// shell's exit along -l, at most 3 km (exact in a uniform deck).
-float cld_backDepth(vec3 p, vec3 l, float sigmaT) {
-    vec3 q = p + vec3(0.0, 0.0, cld_radii.x);
-    float r = length(q);
-    vec2 seg = cloudShellIntersect(r, -dot(q, l) / r);
-    float len = seg.y > 0.0 ? min(seg.y, 3000.0) : 0.0;
-    return sigmaT * len;
-}
+// steps growing geometrically (x1.5) so near self-shadowing is resolved (cloudDepthAlong, the
+// shared density file's march).
+float cld_lightDepth(vec3 p, vec3 l, int n) { return cloudDepthAlong(p, l, n, CLD_MARCH_MAX_M) * cld_shape.z * CLD_W_DRAINE; }
 
-float cld_lightDepth(vec3 p, vec3 l, int n) {
-    float sigma = cld_shape.z * CLD_W_DRAINE;  // delta-M scaled
-    float total = 3000.0;
-    vec3 q = p + vec3(0.0, 0.0, cld_radii.x);
-    float r = length(q);
-    vec2 seg = cloudShellIntersect(r, dot(q, l) / r);
-    if (seg.y > 0.0) total = min(total, seg.y);
-    // sum of 1.5^i for i < n: (1.5^n - 1) / 0.5
-    float first = total * 0.5 / (pow(1.5, float(n)) - 1.0);
-    float t = 0.0, ds = first, tau = 0.0;
-    for (int i = 0; i < n; ++i) {
-        vec3 s = p + l * (t + 0.5 * ds);
-        tau += cloudDensity(s, CLOUD_LOD_CHEAP) * sigma * ds;
-        t += ds;
-        ds *= 1.5;
-    }
-    return tau;
-}
+// Scaled optical depth from p to the cloud's far side along -l: the same march away from the
+// light with u_backSamples steps over at most 3 km (to the shell's exit), so that the clear air
+// behind an isolated cumulus counts as clear (exact in a uniform deck, as the light march).
+float cld_backDepth(vec3 p, vec3 l) { return cloudDepthAlong(p, -l, u_backSamples, CLD_MARCH_MAX_M) * cld_shape.z * CLD_W_DRAINE; }
 
 // Transmittance of the air between the observer (h, mu) and the point at distance d along the
 // ray, from the transmittance LUT: the ratio of the two paths to the top of the atmosphere (rays
@@ -95,11 +74,11 @@ vec3 cld_source(vec3 p, float hp, vec3 dir, float sigmaT) {
     vec3 S = vec3(0.0);
     if (any(greaterThan(u_sunE, vec3(0.0)))) {
         vec3 E = cld_lightAt(p, hp, u_sunDir, u_sunE);
-        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightTransfer(dot(dir, u_sunDir), cld_lightDepth(p, u_sunDir, u_lightSamples), cld_backDepth(p, u_sunDir, sigmaT), u_sunDir.z);
+        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightTransfer(dot(dir, u_sunDir), cld_lightDepth(p, u_sunDir, u_lightSamples), cld_backDepth(p, u_sunDir), u_sunDir.z);
     }
     if (any(greaterThan(u_moonE, vec3(0.0)))) {
         vec3 E = cld_lightAt(p, hp, u_moonDir, u_moonE);
-        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightTransfer(dot(dir, u_moonDir), cld_lightDepth(p, u_moonDir, u_lightSamples), cld_backDepth(p, u_moonDir, sigmaT), u_moonDir.z);
+        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightTransfer(dot(dir, u_moonDir), cld_lightDepth(p, u_moonDir, u_lightSamples), cld_backDepth(p, u_moonDir), u_moonDir.z);
     }
     // Ambient (docs/clouds.md, "Ambient"): the clear sky's diffuse light from above the layer and
     // the ground's from below it (albedo x the global illuminance under the clouds, which the

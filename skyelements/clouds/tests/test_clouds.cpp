@@ -425,7 +425,8 @@ TEST_CASE("Clouds: the overcast preset at noon gives an overcast day's illuminan
     // Since the light transport of 2026-11-26 (energy kept): 68 klux at the preset's former
     // scattering 0.04 /m, 33.9 klux (Sun's beam 0) at 0.2 /m. Since the ambient from the sky the
     // clouds are under (the ground lit through the deck, the skylight carried through it by the
-    // ambient transfer; 2026-11-27): 38.5 klux at 0.13 /m (44 klux at 0.1 /m).
+    // ambient transfer; 2026-11-27): 38.5 klux at 0.13 /m (44 klux at 0.1 /m); 36.2 klux with the
+    // depth to the far side marched (2026-11-27).
     // The right reason: the deck's bases are lit by the ground under the deck (the photometry's
     // fixed point: the same global illuminance), not by the clear sky's ~105 klux; the flux balance
     // itself is checked against adding-doubling by the uniform slab test below.
@@ -500,7 +501,7 @@ TEST_CASE("Clouds: a uniform slab transmits what adding-doubling says", "[gl][cl
         (tBeam * ph.clearDirect + tDiffuse * ph.clearDiffuse) / ph.clearGlobal / (1.0 - 0.2 * (1.0 - tDiffuse));
     const double measured = ph.global / ph.clearGlobal;
     INFO("global/clear " << measured << " adding-doubling " << expected << " (beam " << tBeam << ", diffuse " << tDiffuse << ")");
-    // Tolerance: measured 0.668 against 0.651 (1.03x; 0.64 with the former ambient, the clear sky's
+    // Tolerance: measured 0.656 against 0.651 (1.01x; 0.668 before the far side's depth was marched; 0.64 with the former ambient, the clear sky's
     // E_d / pi by height and the ground lit by the clear sky's global light). The transfer's fit to
     // adding-doubling at tau 10 is 0.91x for the beam (the CPU slab test) and 1.06x for the
     // skylight (the CPU ambient test), the ground's light reflected back by the same ambient
@@ -720,6 +721,12 @@ TEST_CASE("Clouds: a single cumulus is as bright as a real one", "[gl][clouds]")
         REQUIRE(ne > 10);
         REQUIRE(nc > 10);
         INFO("edge " << edge / ne << " centre " << centre / nc << " cd/m^2");
+        // Measured 23,300 against 20,300 (1.15x; 1.14x before the far side's depth was marched). The
+        // path tracer's cloud lit from behind has a much stronger rim and is 2.2x brighter in all
+        // (bench cloud-reference, cumulus-behind; docs/clouds.md "Brightness against real cumulus"):
+        // the low orders of forward scattering are missing from the transport. 1.1: the rim there is
+        // now kept from fading (a guard on the present transport), not the real margin.
         CHECK(edge / ne > centre / nc);
+        CHECK(edge / ne > 1.1 * (centre / nc));
     }
 }

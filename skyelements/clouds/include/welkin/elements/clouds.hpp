@@ -110,6 +110,12 @@ double ambientTransfer(double nu, double tauN, double tauF);
 /// and cloud rendering in Frostbite", eq. at §5.6.3): the radiance in-scattered over a step of
 /// length dt with source S (cd/m^2 per m) and extinction sigmaT (1/m): (S - S e^-sigmaT dt)/sigmaT.
 double integrateStep(double source, double sigmaT, double dt);
+/// The longest light march and march to a cloud's far side (m; to the shell's exit if nearer).
+inline constexpr double kMarchMaxM = 3000.0;
+/// Steps of the march to a cloud's far side (generators::cpu::cloudDepthAlong along -l, x1.5
+/// growth over kMarchMaxM) for clouds.light_samples = lightSamples: half as many, at least 2 (the
+/// far side's depth enters only the diffusion term, smoothly; the light's sets the beam's e^-tauL).
+int backSamples(int lightSamples);
 /// Two-stream transmission (direct + diffuse) of a conservative-scattering slab of optical
 /// depth tau and asymmetry g (Bohren 1987, "Multiple scattering of light and some of its
 /// observable consequences", Am. J. Phys. 55, 524: T = 1 / (1 + 0.75 (1 - g) tau) at normal
