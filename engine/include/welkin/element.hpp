@@ -166,6 +166,9 @@ protected:
     /// From doRun(): the generator has more work pending (a table built over several frames) and
     /// is due again at the next run whatever its inputs.
     void runAgain() { again_ = true; }
+    /// The version of inputs()[i] in `vars` (0 if undeclared), read through a pointer kept per
+    /// SkyVars: for a generator that fingerprints its inputs every run without a lookup by name.
+    uint64_t inputVersion(const SkyVars& vars, size_t i) const;
 
 private:
     virtual void doRun(SkyVars& vars, const Logger& log) = 0;
@@ -182,7 +185,6 @@ private:
     /// per frame.
     mutable std::vector<const uint64_t*> slots_;
     mutable uint64_t slotsOf_ = 0;
-    uint64_t inputVersion(const SkyVars& vars, size_t i) const;
     bool invalidated_ = false;
     bool again_ = false;
     Timing timing_;

@@ -14,6 +14,9 @@
 //   vars.setFromString("demo.quality", "low"); // names only: "ultra" or "2" is refused, listing the names
 //   int q = kQuality.value(vars);              // 0
 //
+// Threads: a SkyVars is used from one thread at a time, reads included (a read updates its lookup
+// cache); share values between threads by copying them out.
+//
 // Declarations: a key declared by two parties (elements, generators, the host) must agree on
 // type, range and unit; a disagreement is an error naming both declarers (who is declaring is
 // set by SkyVars::DeclarerScope, which SkyProcessor opens around each element and generator).
@@ -312,9 +315,9 @@ public:
     /// in place: the TextureRef is equal, the contents are new).
     template <class T>
     void publish(const Key<T>& key, T value) {
-        const uint64_t before = version(key.name());
+        const uint64_t before = version(key);
         set(key, std::move(value));
-        if (version(key.name()) == before) touch(key.name());
+        if (Entry* e = find(key); e && e->version == before) ++e->version;
     }
 
     /// Bumps the version of a declared key without changing its value: a generator that rewrote a
@@ -456,7 +459,7 @@ private:
         Entry* entry = nullptr;
         bool agreed = false;    ///< set() found this key's declaration compatible with the entry
     };
-    static constexpr size_t kCacheLines = 256;
+    static constexpr size_t kCacheLines = 512;
     mutable std::array<CacheLine, kCacheLines> cache_{};
 
     template <class T>

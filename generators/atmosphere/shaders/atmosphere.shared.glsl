@@ -220,9 +220,9 @@ real atm_eclipseFraction(real rs, real ro, real d, int nodes) {
         // two transcendentals per call instead of two per node (llvmpipe does not fold them out of
         // the loop; the eclipse sky evaluates this at every step of its rays). Rounding drift over
         // 24 steps ~1e-6 in float, far below the rule's own 1e-3.
-        real step = ATM_PI / real(nodes);
-        real cs = cos(0.5 * step), sn = sin(0.5 * step);
-        real cd = cos(step), sd = sin(step);
+        real dS = ATM_PI / real(nodes);
+        real cs = cos(0.5 * dS), sn = sin(0.5 * dS);
+        real cd = cos(dS), sd = sin(dS);
         for (int i = 0; i < nodes; ++i) {
             real r = lo + half_ * (1.0 - cs);
             real w = (1.0 - 0.6 * (1.0 - sqrt(max(1.0 - r * r, 0.0)))) * r;

@@ -71,9 +71,11 @@ void SkyIrradiance::doRun(SkyVars& vars, const Logger&) {
     // elevation or the height changed, not when only the lights' illuminances or the Sun's
     // visible fraction did (a partial eclipse changes it every frame: applied below, on the CPU).
     std::vector<uint64_t> gv;
-    for (const KeyInfo& k : inputs())
-        if (k.name != lightkeys::sunIlluminance.name() && k.name != lightkeys::moonIlluminance.name() && k.name != keys::sunEclipseFraction.name())
-            gv.push_back(vars.version(k.name));
+    for (size_t i = 0; i < inputs().size(); ++i) {
+        const std::string& name = inputs()[i].name;
+        if (name != lightkeys::sunIlluminance.name() && name != lightkeys::moonIlluminance.name() && name != keys::sunEclipseFraction.name())
+            gv.push_back(inputVersion(vars, i));
+    }
     if (gv != gpuFor_) {
         gpuFor_ = std::move(gv);
         // A solar eclipse (EclipseSkyLut on): the Sun's part from its table over the whole circle.

@@ -16,6 +16,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <functional>
 #include <thread>
 
@@ -124,9 +125,11 @@ void SkyViewLut::writeToCache(int slot) {
     if (std::filesystem::exists(path, ec)) return;
     std::filesystem::create_directories(cacheFolder_, ec);
     const size_t texels = size_t(q_.skyViewW) * size_t(q_.skyViewH) * 4;
-    std::vector<uint32_t> data(texels);
+    // Not zero-filled (the read overwrites every texel): a vector's zeroing of these 0.3-1.3 MB was
+    // the largest CPU cost of a frame that completes a grid table (docs/hardening.md).
+    std::unique_ptr<uint32_t[]> data(new uint32_t[texels]);
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    glGetTextureImage(slots_[size_t(slot)].packed.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, GLsizei(texels * sizeof(uint32_t)), data.data());
+    glGetTextureImage(slots_[size_t(slot)].packed.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, GLsizei(texels * sizeof(uint32_t)), data.get());
     const std::string tmp = path.string() + ".tmp" + std::to_string(::getpid()) + "-" +
                             std::to_string(std::hash<std::thread::id>{}(std::this_thread::get_id()));
     {
@@ -134,7 +137,7 @@ void SkyViewLut::writeToCache(int slot) {
         if (!out) return;
         const uint32_t hdr[4] = {kCacheMagic, uint32_t(q_.skyViewW), uint32_t(q_.skyViewH), uint32_t(k)};
         out.write(reinterpret_cast<const char*>(hdr), sizeof hdr);
-        out.write(reinterpret_cast<const char*>(data.data()), std::streamsize(texels * sizeof(uint32_t)));
+        out.write(reinterpret_cast<const char*>(data.get()), std::streamsize(texels * sizeof(uint32_t)));
         if (!out) {
             out.close();
             std::filesystem::remove(tmp, ec);
@@ -257,8 +260,10 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
     // (not the light's elevation) forgets them.
     {
         std::vector<uint64_t> v;
-        for (const KeyInfo& k : inputs())
-            if (k.name != skykeys::sunCosZenith.name() && k.name != skykeys::moonCosZenith.name()) v.push_back(vars.version(k.name));
+        for (size_t i = 0; i < inputs().size(); ++i) {
+            const std::string& name = inputs()[i].name;
+            if (name != skykeys::sunCosZenith.name() && name != skykeys::moonCosZenith.name()) v.push_back(inputVersion(vars, i));
+        }
         v.push_back(uint64_t(q_.skyViewSteps));
         v.push_back(uint64_t(std::llround(q_.keyframeStepRad * 1e9)));
         v.push_back(uint64_t(std::llround(q_.keyframeCoarseStepRad * 1e9)));
@@ -427,7 +432,7 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
         // mode, solar-weighted combined) transmittance LUT; the geometry is every triple's. It
         // does not depend on the Sun: rebuilt only with the height or the transmittance.
         const int nT = 4 * q_.skyViewH;
-        const uint64_t tv = vars.version(skykeys::transmittanceLut.name());
+        const uint64_t tv = vars.version(skykeys::transmittanceLut);
         if (!viewT_ || viewT_.width() != nT || viewTH_ != h_ || viewTVersion_ != tv) {
             viewTH_ = h_;
             viewTVersion_ = tv;
