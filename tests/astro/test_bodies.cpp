@@ -376,3 +376,27 @@ TEST_CASE("Ephemeris: the VSOP87 reuse within 5 minutes against a full evaluatio
     CHECK(worstMoon < 0.05 * kArcsecB);
     CHECK(worstMoon > 0.0);  // the Moon's reuse did happen too
 }
+
+TEST_CASE("SecantCache: answers only after two evaluations within the span, and unwraps angles", "[cpu][astro][bodies]") {
+    // The one secant-reuse rule behind the planets', the Moon's and the Earth's series caches.
+    // A linear function is reproduced exactly (up to rounding, 1e-12); an angle field crossing
+    // 2 pi between the two evaluations keeps the true slope (unwrapped) and comes back reduced.
+    constexpr double kTwoPi = 2.0 * std::numbers::pi;
+    SecantCache<2> c;
+    c.angle = {false, true};
+    std::array<double, 2> out{-1.0, -1.0};
+    CHECK_FALSE(c.reuse(0.0, 1.0, out));  // nothing recorded
+    c.record(0.0, 1.0, {1.0, kTwoPi - 0.1});
+    CHECK_FALSE(c.reuse(0.5, 1.0, out));  // one evaluation: no slope yet
+    CHECK(out[0] == -1.0);                // and `out` untouched
+    c.record(0.5, 1.0, {2.0, 0.1});       // the angle wrapped: its true change is +0.2 over 0.5
+    REQUIRE(c.reuse(1.0, 1.0, out));
+    CHECK(out[0] == Approx(3.0).margin(1e-12));
+    CHECK(out[1] == Approx(0.3).margin(1e-12));  // 0.1 + 0.4, not 0.1 - 2 pi ...
+    REQUIRE(c.reuse(-0.25, 1.0, out));
+    CHECK(out[1] == Approx(kTwoPi - 0.2).margin(1e-12));  // reduced back into [0, 2 pi)
+    CHECK_FALSE(c.reuse(1.6, 1.0, out));  // beyond the span of the last evaluation
+    c.record(3.0, 1.0, {7.0, 1.0});       // far from the last: a value, but no slope
+    CHECK_FALSE(c.hasSlope);
+    CHECK_FALSE(c.reuse(3.1, 1.0, out));
+}

@@ -147,10 +147,10 @@ TEST_CASE("Earth orientation: the series reused along their secant within 5 minu
     for (int frame = 0; frame < 400; ++frame) {  // 8000 s: 26 spans of 5 minutes
         const TimeScales ts = timeScales(start.plusSeconds(20.0 * frame));
         const bool wasValid = cache.valid;
-        const double before = cache.tCenturies;
+        const double before = cache.t;
         const EarthOrientation cached = earthOrientation(ts, Path::Fast, &cache);
         const EarthOrientation fresh = earthOrientation(ts, Path::Fast);
-        (wasValid && cache.tCenturies == before ? reused : full)++;
+        (wasValid && cache.t == before ? reused : full)++;
         worstNpb = std::max(worstNpb, rotationDifference(cached.celestialToTrueOfDate, fresh.celestialToTrueOfDate));
         worstGast = std::max(worstGast, std::abs(wrapPi(cached.gast - fresh.gast)));
         worstDpsi = std::max(worstDpsi, std::abs(cached.nutation.dpsi - fresh.nutation.dpsi));

@@ -92,19 +92,15 @@ struct Shared {
     VsopState vsop(VsopPlanet p, bool rates) {
         if (!vsopCache || precise) return evaluate(series(p, precise, tMillennia), tMillennia, rates);
         Ephemeris::VsopCache& c = (*vsopCache)[std::size_t(p)];
-        const double dtDays = (tMillennia - c.tMillennia) * 365250.0;
-        const bool near = c.valid && std::fabs(dtDays) <= Ephemeris::kVsopReuseDays;
-        if (near && c.hasSlope)
+        const double span = Ephemeris::kVsopReuseDays / 365250.0;
+        std::array<double, 3> lbr;
+        if (c.reuse(tMillennia, span, lbr))
             // The rates returned are the full evaluation's (they serve the light time, and over 5
             // minutes they change by < 1e-5 relative): a reused state differs from a full one
             // only by the extrapolation.
-            return VsopState{c.lbr + c.rate * dtDays, c.lightRate};
+            return VsopState{glm::dvec3(lbr[0], lbr[1], lbr[2]), c.lightRate};
         const VsopState st = evaluate(series(p, false, tMillennia), tMillennia, rates);
-        c.hasSlope = near && dtDays != 0.0;
-        if (c.hasSlope) c.rate = (st.lbr - c.lbr) / dtDays;
-        c.valid = true;
-        c.tMillennia = tMillennia;
-        c.lbr = st.lbr;
+        c.record(tMillennia, span, {st.lbr.x, st.lbr.y, st.lbr.z});
         c.lightRate = st.rate;
         return st;
     }
@@ -120,32 +116,13 @@ struct Shared {
             return std::array<double, 9>{m.longitude, m.latitude, m.distanceKm, m.meanElongation, m.ascendingNode,
                                          m.argumentLatitude, m.sunMeanAnomaly, m.moonMeanAnomaly, m.eccentricityFactor};
         };
-        // Fields that moonMeeus reduces to [0, 2 pi): unwrapped for the slope, reduced after.
-        constexpr std::array<bool, 9> kAngle{true, false, false, true, true, true, true, true, false};
-        constexpr double kTwoPi = 2.0 * std::numbers::pi;
+        // The angles (MoonCache::angle) are unwrapped for the slope and reduced after.
         Ephemeris::MoonCache& c = *moonCache;
-        const double dt = T - c.tCenturies;
-        const bool near = c.valid && std::fabs(dt) * 36525.0 <= Ephemeris::kVsopReuseDays;
-        if (near && c.hasSlope) {
-            std::array<double, 9> x{};
-            for (std::size_t i = 0; i < 9; ++i) {
-                x[i] = c.value[i] + c.slope[i] * dt;
-                if (kAngle[i]) x[i] -= kTwoPi * std::floor(x[i] / kTwoPi);
-            }
-            return MoonEcliptic{x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8]};
-        }
+        const double span = Ephemeris::kVsopReuseDays / 36525.0;
+        std::array<double, 9> x;
+        if (c.reuse(T, span, x)) return MoonEcliptic{x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8]};
         const MoonEcliptic m = moonMeeus(T);
-        const std::array<double, 9> v = pack(m);
-        c.hasSlope = near && dt != 0.0;
-        if (c.hasSlope)
-            for (std::size_t i = 0; i < 9; ++i) {
-                double d = v[i] - c.value[i];
-                if (kAngle[i]) d -= kTwoPi * std::round(d / kTwoPi);
-                c.slope[i] = d / dt;
-            }
-        c.valid = true;
-        c.tCenturies = T;
-        c.value = v;
+        c.record(T, span, pack(m));
         return m;
     }
 

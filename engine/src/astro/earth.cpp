@@ -6,6 +6,7 @@
 
 #include <erfa.h>
 
+#include <array>
 #include <cmath>
 #include <iterator>
 #include <numbers>
@@ -247,29 +248,13 @@ EarthOrientation earthOrientation(const TimeScales& ts, Path path, EarthSeriesCa
         eo.gast = eraGst06(ts.ut1.day, ts.ut1.fraction, ts.tt.day, ts.tt.fraction, r);
     } else {
         const FWAngles a = fukushimaWilliams(t);
-        double v[3];
-        auto full = [&] {
+        std::array<double, 3> v;
+        const double span = EarthSeriesCache::kReuseDays / 36525.0;
+        if (!cache || !cache->reuse(t, span, v)) {
             const Delaunay fa(t);
             const Nutation n = nutation2000B(fa, t);
-            v[0] = n.dpsi;
-            v[1] = n.deps;
-            v[2] = cioPolynomial(fa, t);
-        };
-        const double span = EarthSeriesCache::kReuseDays / 36525.0;
-        if (!cache) {
-            full();
-        } else if (cache->valid && cache->hasSlope && std::abs(t - cache->tCenturies) <= span) {
-            for (int i = 0; i < 3; ++i) v[i] = cache->value[i] + cache->slope[i] * (t - cache->tCenturies);
-        } else {
-            full();
-            const double dt = t - cache->tCenturies;
-            cache->hasSlope = cache->valid && dt != 0.0 && std::abs(dt) <= span;
-            for (int i = 0; i < 3; ++i) {
-                if (cache->hasSlope) cache->slope[i] = (v[i] - cache->value[i]) / dt;
-                cache->value[i] = v[i];
-            }
-            cache->valid = true;
-            cache->tCenturies = t;
+            v = {n.dpsi, n.deps, cioPolynomial(fa, t)};
+            if (cache) cache->record(t, span, v);
         }
         eo.nutation = {v[0], v[1]};
         eo.celestialToTrueOfDate = fwMatrix(a.gamb, a.phib, a.psib + eo.nutation.dpsi, a.epsa + eo.nutation.deps);

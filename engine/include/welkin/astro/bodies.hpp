@@ -89,21 +89,16 @@ public:
     /// (time jumped, or scattered instants) costs one full evaluation as before.
     static constexpr double kVsopReuseDays = 300.0 / 86400.0;
     /// (Internal) the last full VSOP87 evaluation of one VsopPlanet.
-    struct VsopCache {
-        bool valid = false;
-        bool hasSlope = false;   ///< `rate` is the secant from the evaluation before (within the span)
-        double tMillennia = 0;   ///< TT of the evaluation, Julian millennia from J2000
-        glm::dvec3 lbr{0.0};     ///< L, B (rad), R (au)
-        glm::dvec3 rate{0.0};    ///< slope for the extrapolation, per day
-        glm::dvec3 lightRate{0.0};  ///< evaluate()'s rates at tMillennia (light time, as a full evaluation)
+    /// Fields L, B (rad), R (au); t in TT Julian millennia from J2000.
+    struct VsopCache : SecantCache<3> {
+        glm::dvec3 lightRate{0.0};  ///< evaluate()'s rates at the last full evaluation (light time)
     };
 
     /// (Internal) the last full evaluation of the Moon's series (moonMeeus) and its slope.
-    struct MoonCache {
-        bool valid = false;
-        bool hasSlope = false;
-        double tCenturies = 0;                  ///< TT of the evaluation, Julian centuries from J2000
-        std::array<double, 9> value{}, slope{};  ///< MoonEcliptic's fields in order; slope per century
+    /// MoonEcliptic's fields in order (the angles among them reduced to [0, 2 pi)); t in TT
+    /// Julian centuries from J2000.
+    struct MoonCache : SecantCache<9> {
+        MoonCache() { angle = {true, false, false, true, true, true, true, true, false}; }
     };
 
     /// The Earth orientation's series reuse (observerFrame(..., &earthSeries())), kept with the

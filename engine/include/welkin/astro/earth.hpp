@@ -17,6 +17,7 @@
 // docs/astronomy-time-and-frames.md).
 // Polar motion is neglected (< 0.5", it needs IERS data that an offline renderer does not have).
 #pragma once
+#include <welkin/astro/secant_cache.hpp>
 #include <welkin/astro/timescales.hpp>
 
 #include <glm/glm.hpp>
@@ -60,13 +61,9 @@ EarthOrientation earthOrientation(const TimeScales& ts, Path path);
 /// Ephemeris does for the planets. Error: at most 0.5 |f''| dt (dt + D) for dt, D <= 5 minutes;
 /// the series' fastest terms (13.66 and 9.13 days, |f''| summed < 0.1"/day^2) give < 2e-6",
 /// against the IAU 2000B truncation's own 1 mas. Tested in [astro] against full evaluations.
-struct EarthSeriesCache {
+/// Fields: dpsi, deps, s + XY/2 (rad); t in TT centuries from J2000.
+struct EarthSeriesCache : SecantCache<3> {
     static constexpr double kReuseDays = 300.0 / 86400.0;  ///< 5 minutes of TT
-    bool valid = false;
-    bool hasSlope = false;
-    double tCenturies = 0;                   ///< TT of the last full evaluation, centuries from J2000
-    double value[3] = {0, 0, 0};             ///< dpsi, deps, s + XY/2 (rad)
-    double slope[3] = {0, 0, 0};             ///< per century
 };
 /// earthOrientation() with its series reused through `cache` (Fast path; ignored on the Precise
 /// path and when null).
