@@ -3,6 +3,7 @@
 #
 #   scripts/element-removal.sh                  # every element folder but the Sky's, one at a time
 #   scripts/element-removal.sh grid stars       # these only
+#   scripts/element-removal.sh --together       # every element folder but the Sky's, all at once
 #   BUILD=/path/to/dir scripts/element-removal.sh grid   # another build directory (default: build-rm)
 #
 # For each NAME: moves skyelements/NAME out of the tree (to a temporary directory), configures and
@@ -14,13 +15,19 @@
 # [gl]~[slow] tests of any test file that guards cases on WELKIN_HAS_ELEMENT_NAME (the removed
 # element's dependants, which keep their other cases). Not the whole [gl] suite: the other
 # folders' tests do not see the removed one (they reach elements only through the registry).
-# Not a CI step (its eight builds do not fit CI's time): run it by hand after changing what
-# tests or apps ask of the elements. Exit status: 0 when every removal built and passed.
+# With --together the named folders (default: every element but the Sky) are removed at once and
+# the tree is built and tested once without all of them: CI's step (scripts/test.sh), about 6
+# minutes, since one removal at a time (seven builds) does not fit CI's time. What the combined
+# removal does not show, a case guarded on one element that needs another at run time, the
+# one-at-a-time runs show: run them after changing what tests or apps ask of the elements (the
+# last run is in docs/ci.md). Exit status: 0 when every removal built and passed.
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${BUILD:-$here/build-rm}
 jobs=${JOBS:-$(nproc)}
 
+together=""
+if [ "${1:-}" = "--together" ]; then together=1; shift; fi
 names=("$@")
 if [ ${#names[@]} -eq 0 ]; then
   for dir in "$here"/skyelements/*/; do
@@ -37,11 +44,11 @@ for n in "${names[@]}"; do
 done
 
 stash=$(mktemp -d "${TMPDIR:-/tmp}/welkin-element-removal.XXXXXX")
-moved=""
+moved=""   # the folders now in $stash, space-separated
 restore() {
-  if [ -n "$moved" ] && [ -d "$stash/$moved" ]; then
-    mv "$stash/$moved" "$here/skyelements/$moved" && echo "restored skyelements/$moved"
-  fi
+  for m in $moved; do
+    if [ -d "$stash/$m" ]; then mv "$stash/$m" "$here/skyelements/$m" && echo "restored skyelements/$m"; fi
+  done
   moved=""
 }
 trap 'restore; rmdir "$stash" 2>/dev/null || true' EXIT
@@ -53,30 +60,39 @@ if command -v ccache >/dev/null 2>&1; then
 fi
 tests_bin="$build/tests/welkin_tests"
 failed=()
-for n in "${names[@]}"; do
+# One run per element, or (--together) one run without all of them; a run's label names its
+# removed folders joined by '+'.
+runs=()
+if [ -n "$together" ]; then runs=("$(IFS=+; echo "${names[*]}")"); else runs=("${names[@]}"); fi
+for n in "${runs[@]}"; do
   start=$(date +%s)
-  echo "== without skyelements/$n"
+  label=$n; [ -z "$together" ] || label=together
+  echo "== without skyelements/{${n//+/,}}"
   mkdir -p "$build"
-  mv "$here/skyelements/$n" "$stash/$n"
-  moved=$n
+  for m in ${n//+/ }; do
+    mv "$here/skyelements/$m" "$stash/$m"
+    moved="$moved $m"
+  done
   ok=1
-  if cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" >"$build/removal-$n.configure.log" 2>&1 &&
-     cmake --build "$build" -j"$jobs" >"$build/removal-$n.build.log" 2>&1; then
-    grep "cases that need element" "$build/removal-$n.configure.log" | sed 's/^-- /   /' || true
+  if cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" >"$build/removal-$label.configure.log" 2>&1 &&
+     cmake --build "$build" -j"$jobs" >"$build/removal-$label.build.log" 2>&1; then
+    grep "cases that need element" "$build/removal-$label.configure.log" | sed 's/^-- /   /' || true
     # The [gl] tests of tests/engine, tests/apps and of every file that guards on this element,
     # by file (Catch2's -# tags each case with its file's name).
     files=$( { ls "$here"/tests/engine/*.cpp "$here"/tests/apps/*.cpp
-               grep -rl --include='*.cpp' "WELKIN_HAS_ELEMENT_$n\b" "$here/tests" "$here"/skyelements/*/tests 2>/dev/null || true; } |
+               for m in ${n//+/ }; do
+                 grep -rl --include='*.cpp' "WELKIN_HAS_ELEMENT_$m\b" "$here/tests" "$here"/skyelements/*/tests 2>/dev/null || true
+               done; } |
              xargs -n1 basename | sed 's/\.cpp$//' | sort -u)
     spec=""
     for f in $files; do spec+="${spec:+,}[gl]~[slow][#$f]"; done
-    if ! "$tests_bin" "[cpu]~[slow]" >"$build/removal-$n.cpu.log" 2>&1; then ok=0; echo "   [cpu]~[slow] failed: $build/removal-$n.cpu.log"; fi
-    if ! "$tests_bin" -# "$spec" >"$build/removal-$n.gl.log" 2>&1; then ok=0; echo "   [gl] of tests/engine, tests/apps and the dependants failed: $build/removal-$n.gl.log"; fi
-    for log in "$build/removal-$n.cpu.log" "$build/removal-$n.gl.log"; do tail -n 3 "$log" | grep -E "passed|failed" | sed 's/^/   /' || true; done
+    if ! "$tests_bin" "[cpu]~[slow]" >"$build/removal-$label.cpu.log" 2>&1; then ok=0; echo "   [cpu]~[slow] failed: $build/removal-$label.cpu.log"; fi
+    if ! "$tests_bin" -# "$spec" >"$build/removal-$label.gl.log" 2>&1; then ok=0; echo "   [gl] of tests/engine, tests/apps and the dependants failed: $build/removal-$label.gl.log"; fi
+    for log in "$build/removal-$label.cpu.log" "$build/removal-$label.gl.log"; do tail -n 3 "$log" | grep -E "passed|failed" | sed 's/^/   /' || true; done
   else
     ok=0
-    echo "   configure or build failed: $build/removal-$n.configure.log, $build/removal-$n.build.log"
-    tail -n 20 "$build/removal-$n.build.log" 2>/dev/null | sed 's/^/   /' || true
+    echo "   configure or build failed: $build/removal-$label.configure.log, $build/removal-$label.build.log"
+    tail -n 20 "$build/removal-$label.build.log" 2>/dev/null | sed 's/^/   /' || true
   fi
   restore
   echo "   ($(( $(date +%s) - start )) s)"

@@ -3,7 +3,8 @@
 # the examples, an install (its headers self-contained) + find_package(welkin) and pkg-config
 # consumer builds, the API reference (Doxygen), the sanitizer build's fast tests (with the element
 # template examples/elements/halo copied into skyelements/ for that build), and a short
-# fixed run of the libFuzzer targets (clang; WELKIN_FUZZ_SECONDS per target, default 4).
+# fixed run of the libFuzzer targets (clang; WELKIN_FUZZ_SECONDS per target, default 4), and
+# last the tree without its element folders (all but the Sky's, at once: scripts/element-removal.sh).
 # Usage: scripts/test.sh [--nightly] BUILD_DIR
 #   --nightly (or WELKIN_NIGHTLY=1): the sanitizer step runs the whole suite, [slow] included,
 #   under ASan + UBSan with LeakSanitizer on (scripts/lsan.supp); too long for CI's 45 minutes on
@@ -173,6 +174,16 @@ step "fuzzing: the libFuzzer targets' saved crash inputs, then each target ${WEL
 # Builds only the engine and the fuzz targets (clang, -O1, ASan + UBSan + libFuzzer; docs/fuzzing.md).
 # A fixed short run: 10 targets x 4 s plus the replays, about a minute; scripts/fuzz.sh 300 runs long.
 FUZZ_BUILD_DIR=${WELKIN_FUZZ_BUILD_DIR:-$build-fuzz} FUZZ_JOBS=$jobs FUZZ_SEED=${FUZZ_SEED:-1} "$here/scripts/fuzz.sh" "${WELKIN_FUZZ_SECONDS:-4}"
+
+step "element folders removed: every element folder but the Sky's deleted at once, the tree builds and passes"
+# An element is one folder (issue 24): with skyelements/<name> gone for every element but the Sky
+# (which the others read), nothing else changed, the library, the command and the tests build and
+# the tests that can reach the elements pass (scripts/element-removal.sh --together: [cpu]~[slow],
+# the [gl] tests of tests/engine, tests/apps and of every file with cases guarded on a removed
+# element). It reuses the Release build folder (only what the removal changes recompiles), so it
+# runs last; the folders are moved back when it ends, also on failure. One removal at a time is
+# the same script without --together (seven builds: docs/ci.md has the last run).
+BUILD="$build" JOBS="$jobs" "$here/scripts/element-removal.sh" --together
 step ""
 
 echo "== all tests passed in $(( $(date +%s) - start )) s; CPU time (user system) of the script, then of what it ran:"
