@@ -33,13 +33,15 @@ if [ ${#names[@]} -eq 0 ]; then
   for dir in "$here"/skyelements/*/; do
     n=$(basename "$dir")
     [ "$n" = sky ] && continue       # the Sky is read by the others (and by the engine's tests)
-    [ -d "$dir/src" ] || continue    # skyelements/registry is not an element
+    [ -d "$dir/src" ] || continue    # not an element folder
+    [ "$n" = registry ] && continue  # skyelements/registry is the generated registry, not an element
     names+=("$n")
   done
 fi
 for n in "${names[@]}"; do
   [[ "$n" =~ ^[a-z][a-z0-9_]*$ ]] || { echo "element-removal.sh: '$n' is not an element name ([a-z][a-z0-9_]*)" >&2; exit 2; }
   [ "$n" != sky ] || { echo "element-removal.sh: the Sky's folder stays (other elements read it)" >&2; exit 2; }
+  [ "$n" != registry ] || { echo "element-removal.sh: skyelements/registry is not an element" >&2; exit 2; }
   [ -d "$here/skyelements/$n/src" ] || { echo "element-removal.sh: no element folder skyelements/$n" >&2; exit 2; }
 done
 
