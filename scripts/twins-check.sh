@@ -61,14 +61,18 @@ for side in glsl cpp; do
 done
 join -t$'\t' -o 0 <(cut -f1 "$tmp/glsl" | sort -u) <(cut -f1 "$tmp/cpp" | sort -u) > "$tmp/both"
 
+# The list: scripts/twins-allowed.txt for the engine's and generators' names, and an element
+# folder's own skyelements/<name>/twins-allowed.txt for its names (so that they go with the
+# folder: a tree without the element has neither the functions nor their entries).
 declare -A kind
-if [ -f "$allowed" ]; then
+for list in "$allowed" skyelements/*/twins-allowed.txt; do
+  [ -f "$list" ] || continue
   while read -r name k _; do
     case "$name" in ''|'#'*) continue ;; esac
-    case "$k" in wrapper|reference|unrelated|pending) ;; *) echo "twins-check.sh: $allowed: '$name' has kind '$k' (wrapper, reference, unrelated or pending)" >&2; exit 2 ;; esac
+    case "$k" in wrapper|reference|unrelated|pending) ;; *) echo "twins-check.sh: $list: '$name' has kind '$k' (wrapper, reference, unrelated or pending)" >&2; exit 2 ;; esac
     kind[$(printf '%s' "$name" | normalise)]=$k
-  done < "$allowed"
-fi
+  done < "$list"
+done
 
 declare -A count=([wrapper]=0 [reference]=0 [unrelated]=0 [pending]=0 [new]=0)
 declare -A seen

@@ -260,7 +260,9 @@ TEST_CASE("Generator inputs: a change within the tolerance does not rebuild", "[
 
 TEST_CASE("Element registry: generated from the folders, ordered by layer", "[cpu][registry]") {
     const auto& d = elements::descriptors();
-    REQUIRE(d.size() >= 2);
+    // At least the Sky (the tree without every other element folder is tested in CI: the order
+    // check below then has one entry; it is exercised whenever another element is present).
+    REQUIRE(!d.empty());
     for (size_t i = 1; i < d.size(); ++i) CHECK(d[i - 1]->layer <= d[i]->layer);
     const ElementDescriptor* sky = elements::findDescriptor("sky");
     REQUIRE(sky);
