@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Re-renders the README's gallery and the docs' images whose look depends on how point sources are
 # displayed (render.point_sources: perceptual for PNG), with the commands printed beside them, and
-# docs/clouds.md's data images (welkin bench cloud-doc-images).
+# skyelements/clouds/README.md's data images (welkin bench cloud-doc-images).
 # Usage: scripts/doc-images.sh [BUILD_DIR]     (needs xvfb-run for the viewer's screenshot, oiiotool for the strips)
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -33,15 +33,15 @@ xvfb-run -a -s '-screen 0 1024x768x24' "$w" view --lat 35.9 --lon 14.5 --height 
   --time 2026-06-21T18:05:00Z --az 295 --alt 8 --fov 70 --size 640x360 --speed 1 \
   --frames 3 --screenshot docs/images/viewer-panel.png >/dev/null
 
-echo "== night images (README, docs/stars.md, nightsky.md, constellations.md, clouds.md)"
+echo "== night images (README, skyelements/stars/README.md, nightsky.md, constellations.md, clouds.md)"
 "$w" render --time 2026-08-12T22:00:00Z --lat 35.9 --lon 14.5 --projection fisheye --size 1024x1024 --out docs/images/malta_night_fisheye.png
-"$w" render --time 2026-08-12T22:00:00Z --lat 35.9 --lon 14.5 --projection fisheye --size 512x512 --exposure -9 --out docs/images/nightsky_malta.png
-"$w" render --time 2026-08-12T22:00:00Z --lat 35.9 --lon 14.5 --projection fisheye --size 1024x1024 --elements stars,sky,constellations --exposure -9 --out docs/images/constellations_malta.png
-"$w" render --time 2026-08-12T22:00:00Z --lat 35.9 --lon 14.5 --projection fisheye --size 512x512 --exposure -9 --elements stars,sky --out docs/images/stars_malta.png
-"$w" render --time 2026-06-29T23:30:00+02:00 --lat 35.9 --lon 14.5 --az 150 --alt 20 --fov 75 --size 480x270 --elements default,clouds --var clouds.preset=fair --out docs/images/clouds_moonlit.png
+"$w" render --time 2026-08-12T22:00:00Z --lat 35.9 --lon 14.5 --projection fisheye --size 512x512 --exposure -9 --out skyelements/nightsky/images/nightsky_malta.png
+"$w" render --time 2026-08-12T22:00:00Z --lat 35.9 --lon 14.5 --projection fisheye --size 1024x1024 --elements stars,sky,constellations --exposure -9 --out skyelements/constellations/images/constellations_malta.png
+"$w" render --time 2026-08-12T22:00:00Z --lat 35.9 --lon 14.5 --projection fisheye --size 512x512 --exposure -9 --elements stars,sky --out skyelements/stars/images/stars_malta.png
+"$w" render --time 2026-06-29T23:30:00+02:00 --lat 35.9 --lon 14.5 --az 150 --alt 20 --fov 75 --size 480x270 --elements default,clouds --var clouds.preset=fair --out skyelements/clouds/images/clouds_moonlit.png
 
-echo "== cloud data images: weather map, noise slices, density section (docs/clouds.md)"
-"$w" bench cloud-doc-images --out docs/images >/dev/null
+echo "== cloud data images: weather map, noise slices, density section (skyelements/clouds/README.md)"
+"$w" bench cloud-doc-images --out skyelements/clouds/images >/dev/null
 
 echo "== the eye's day-to-night strips (docs/eye.md)"
 tmp=$(mktemp -d)

@@ -1,6 +1,6 @@
 // welkin bench sky-twin and bench cloud-doc-images (diagnostics and docs images moved out of the
 // test suite): their options are checked before any work, with one-line errors. (A run takes
-// 8-60 s on llvmpipe: scripts/doc-images.sh and docs/sky.md run them.)
+// 8-60 s on llvmpipe: scripts/doc-images.sh and skyelements/sky/README.md run them.)
 #include <catch2/catch.hpp>
 
 #include "cli_runner.hpp"

@@ -63,8 +63,8 @@ TEST_CASE("Doc links: a missing file, a missing heading and links in code are to
         const auto r = runCheck(root);
         INFO(r.output);
         CHECK(r.status == 1);
-        CHECK_THAT(r.output, Catch::Contains("docs/index.md:8: images/b.png: no such file"));
-        CHECK_THAT(r.output, Catch::Contains("docs/index.md:9: ../skyelements/e/README.md#its-e-key: no heading"));
+        CHECK_THAT(r.output, Catch::Contains("docs/index.md:9: images/b.png: no such file"));
+        CHECK_THAT(r.output, Catch::Contains("docs/index.md:10: ../skyelements/e/README.md#its-e-key: no heading"));
         CHECK_THAT(r.output, Catch::Contains("2 broken link(s)"));
     }
     SECTION("a link into an element folder that is not in the tree is counted apart, one into a present folder is not") {

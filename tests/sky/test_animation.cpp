@@ -685,7 +685,7 @@ TEST_CASE("Sky animation: the grid tables from the disk cache: time starts witho
     CHECK(pixels(a.luts.sunView->totalTexture()) == pixels(b.luts.sunView->totalTexture()));
 }
 
-// The sky view's interpolation in elevation (docs/sky.md "While time runs") against fresh tables
+// The sky view's interpolation in elevation (skyelements/sky/README.md "While time runs") against fresh tables
 // built at the Sun's elevation e: the shown table (its smooth part plus its Mie part) mixed from
 // the grid tables around e by three rules, RMS of the relative error over the texels above the
 // horizon, at elevations from 15 deg down to deep twilight, with the grid 1 deg and 2 deg apart.

@@ -124,7 +124,7 @@ SkyQuality SkyQuality::preset(int quality) {
         q.keyframeChunks = 4;
         break;
     case 1:  // medium (default): Hillaire 2020 sizes; sample counts chosen so that rebuilding
-             // every LUT costs <= 10 frames while the error stays <= 4 % RMS (docs/sky.md)
+             // every LUT costs <= 10 frames while the error stays <= 4 % RMS (skyelements/sky/README.md)
         q.transmittanceSteps = 40, q.multiScatteringDirections = 32, q.shDirections = 64;
         q.keyframeChunks = 12;  // 9 rows of the sky view per part
         q.keyframePrefill = true;

@@ -1,5 +1,5 @@
 // CloudSkyShadow (GPU pass cloud_sky_shadow.glsl) and its CPU twin (double precision): the
-// model and its keys are in cloud_sky_shadow.hpp and docs/clouds.md.
+// model and its keys are in cloud_sky_shadow.hpp and skyelements/clouds/README.md.
 #include <welkin/embedded/atmosphere_shaders.hpp>
 #include <welkin/embedded/clouds_shaders.hpp>
 #include <welkin/error.hpp>

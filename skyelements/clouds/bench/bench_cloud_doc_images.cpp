@@ -1,5 +1,5 @@
-// welkin bench cloud-doc-images --out DIR: writes the images of docs/clouds.md that are data, not
-// renders (scripts/doc-images.sh runs it with --out docs/images): the default weather map, slices
+// welkin bench cloud-doc-images --out DIR: writes the images of skyelements/clouds/README.md that are data, not
+// renders (scripts/doc-images.sh runs it with --out skyelements/clouds/images): the default weather map, slices
 // of the base, detail and curl noises (level 0, z = 0), and a vertical section of the density
 // function (the CPU twin over the GPU-made textures). Every image is display-encoded [0, 1] data
 // (a 1/2.2 power, so mid-tones show), 8-bit PNG.
@@ -109,7 +109,7 @@ int run(const CloudDocImagesOptions& o) {
     return 0;
 }
 
-bench::CommandBenchRegistrar reg({"cloud-doc-images", "write docs/clouds.md's weather map, noise slices and density section (--out DIR)",
+bench::CommandBenchRegistrar reg({"cloud-doc-images", "write skyelements/clouds/README.md's weather map, noise slices and density section (--out DIR)",
                    [](CLI::App& sub) {
                        auto o = std::make_shared<CloudDocImagesOptions>();  // the action below owns it
                        sub.add_option("--out", o->out, "existing directory for the PNGs (docs/images)")->required();

@@ -103,7 +103,7 @@ gl::Texture makeTexture(int n, bool is3D, const std::function<glm::vec4(double, 
 
 double lum(const glm::dvec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
 
-// The fixed scenes (docs/clouds.md, "The real-time clouds against the reference"). Sun and camera
+// The fixed scenes (skyelements/clouds/README.md, "The real-time clouds against the reference"). Sun and camera
 // azimuths from north towards east, degrees.
 enum class SceneKind { Deck, Blob, Preset };
 struct SceneDef {
@@ -521,7 +521,7 @@ bench::CommandBenchRegistrar reg({"cloud-reference", "the real-time clouds again
                    {{.element = "clouds",
                      .title = "Clouds: accuracy and cost against the path tracer, by scene and quality",
                      .what = "The real-time clouds (per-pixel march) against the Monte Carlo path tracer on the fixed scenes of "
-                             "docs/clouds.md (a uniform deck, one cumulus lit from the side, from behind and from above, the fair "
+                             "skyelements/clouds/README.md (a uniform deck, one cumulus lit from the side, from behind and from above, the fair "
                              "field at noon and at sunset, the overcast deck): RMS and 95th-percentile luminance error over the cloud "
                              "pixels, at 40x22 px (the reference's own noise included), and each quality's frame at 320x180 against a "
                              "trivial pass. Qualities: low 16 samples and 3 light samples, default 48 and 6, high 128 and 12.",

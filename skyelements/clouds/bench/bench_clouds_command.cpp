@@ -16,7 +16,7 @@
 // the issue's target is the clouds' own cost (the frame with clouds minus the sky frame) <= 2x
 // the sky frame.
 // The sky-shadow rows: per size, the Sky element's pass with clouds.sky_shadow off and on (frames
-// alternated, instrumented) and one rebuild of the shadow's loss table (docs/clouds.md).
+// alternated, instrumented) and one rebuild of the shadow's loss table (skyelements/clouds/README.md).
 // Writes a CSV and a PNG plot (scripts/plots/plot_bench_clouds.py).
 #include "bench_util.hpp"
 #include "plot.hpp"
@@ -301,7 +301,7 @@ int run(const CloudsBenchOptions& o) {
                         r.size.c_str(), own, r.ratioSky, ok ? "met" : "NOT met");
         }
     if (!shadowRows.empty()) {
-        std::printf("\nThe clouds' shadow on the sky (docs/clouds.md): samples 8, static; the Sky element's pass (instrumented: "
+        std::printf("\nThe clouds' shadow on the sky (skyelements/clouds/README.md): samples 8, static; the Sky element's pass (instrumented: "
                     "glFinish around each element) with clouds.sky_shadow off and on, frames alternated, medians of %d\n\n"
                     "| size | Sky pass ms, shadow off | Sky pass ms, shadow on | on / off | frame ms off | frame ms on | loss table rebuild ms |\n"
                     "|---|---|---|---|---|---|---|\n",
@@ -345,7 +345,7 @@ bench::CommandBenchRegistrar reg({"clouds", "cost and error of the clouds by sam
   .what = "The default preset at 512x256 (Malta, morning) with each number of samples per view ray, with and without "
           "reprojection: cost against a trivial pass and against the sky frame, and the RMS relative luminance error "
           "against the same model marched with many samples (the light transport's own error against the path tracer is "
-          "in docs/clouds.md, `welkin bench cloud-reference`).",
+          "in skyelements/clouds/README.md, `welkin bench cloud-reference`).",
   .args = {"--sizes", "512x256", "--samples", "8,16,32,64,128", "--repeats", "3", "--moving-frames", "0", "--sky-shadow-repeats", "0",
            "--plot", ""},
   .quickArgs = {"--sizes", "256x128", "--samples", "8,32", "--repeats", "1", "--moving-frames", "0", "--sky-shadow-repeats", "0",

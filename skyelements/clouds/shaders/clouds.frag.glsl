@@ -1,7 +1,7 @@
 // The Clouds element's pass: the cumulus shell ray-marched per pixel and the cirrus layer, lit by
 // the Sun and the Moon through the atmosphere's transmittance (atmosphere.glsl), with ambient light
 // from the sky's irradiance. Needs atmosphere.glsl (ATM_USE_TRANSMITTANCE) and the clouds'
-// cloud_density.glsl before it. Sources of the model: docs/clouds.md and clouds.hpp.
+// cloud_density.glsl before it. Sources of the model: skyelements/clouds/README.md and clouds.hpp.
 //
 // Frame: ENU at the observer's ground point, metres; observer at (0, 0, u_h), planet centre at
 // (0, 0, -R). Radiance cd/m^2, illuminance lux.
@@ -80,7 +80,7 @@ vec3 cld_source(vec3 p, float hp, vec3 dir, float sigmaT) {
         vec3 E = cld_lightAt(p, hp, u_moonDir, u_moonE);
         if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightTransfer(dot(dir, u_moonDir), cld_lightDepth(p, u_moonDir, u_lightSamples), cld_backDepth(p, u_moonDir), u_moonDir.z);
     }
-    // Ambient (docs/clouds.md, "Ambient"): the clear sky's diffuse light from above the layer and
+    // Ambient (skyelements/clouds/README.md, "Ambient"): the clear sky's diffuse light from above the layer and
     // the ground's from below it (albedo x the global illuminance under the clouds, which the
     // photometry pass solves for: the ground is lit by what came through them), each a uniform
     // hemisphere carried into the cloud by cld_ambientTransfer through the vertical optical depths

@@ -22,7 +22,7 @@ real cld_hg(real nu, real g) {
 // alone as the phase (C++: cloudcpu::scaledPhase).
 real cld_draine(real nu, real g, real a) { return cld_hg(nu, g) * (1.0 + a * nu * nu) / (1.0 + a * (1.0 + 2.0 * g * g) / 3.0); }
 real cld_scaledPhase(real nu) { return cld_draine(nu, CLD_G_DRAINE, CLD_ALPHA_DRAINE); }
-// Light transfer (docs/clouds.md, "Model"), per lux of a light and per unit scaled extinction,
+// Light transfer (skyelements/clouds/README.md, "Model"), per lux of a light and per unit scaled extinction,
 // 1/sr, at a point with scaled optical depths tauL towards the light and tauB away from it (to
 // the cloud's far side) and the light's cos(zenith) muL: the single scattering of the beam plus
 // the multiple-scattered radiance of a slab along the light axis (diffusion in the transport

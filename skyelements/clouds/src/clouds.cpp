@@ -33,7 +33,7 @@ namespace ck = welkin::generators::cloudkeys;
 namespace {
 constexpr double kPi = std::numbers::pi;
 using namespace cloudcpu;  // the droplet constants
-// The multiple-scattering term of lightTransfer(), fitted to adding-doubling (docs/clouds.md):
+// The multiple-scattering term of lightTransfer(), fitted to adding-doubling (skyelements/clouds/README.md):
 // (k/pi) max(muL, 0.2)^q (1 - e^(-c tau)) (sB + z + h nu) / (sL + sB + A), s the transport optical
 // depth (1 - g) tau (g 0.86, the Mie droplets'), tau unscaled (the scaled depth / w_D).
 constexpr double kMsS = (1.0 - 0.86) / kDropletWDraine;  // transport depth per scaled depth

@@ -1,5 +1,5 @@
 // welkin bench cloud-reference (the real-time clouds against the path tracer; a run takes minutes,
-// docs/clouds.md "Path-traced reference"): its options are checked before any work, with
+// skyelements/clouds/README.md "Path-traced reference"): its options are checked before any work, with
 // one-line errors.
 #include <catch2/catch.hpp>
 

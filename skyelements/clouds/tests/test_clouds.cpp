@@ -200,7 +200,7 @@ TEST_CASE("Clouds: the real-time light transfer of a slab against adding-doublin
             const cloudref::SlabSolution ad = cloudref::addingDoubling(tau, 1.0, moments, mu0, 16);
             INFO("tau " << tau << " mu0 " << mu0 << ": T " << rt.T << " against " << ad.transmission << ", R " << rt.R << " against " << ad.reflection);
             // Tolerance: the transfer's six constants are a least-squares fit to adding-doubling with the
-            // Mie phase at tau 1-100 and mu0 1, 0.5 (docs/clouds.md); its transmission residuals there were
+            // Mie phase at tau 1-100 and mu0 1, 0.5 (skyelements/clouds/README.md); its transmission residuals there were
             // -9 % to +11 %, its reflection's -21 % to +18 % (the diffusion form's error). Accepted: T within
             // 0.85-1.2x, R within 0.7-1.3x; the former octaves gave T 0.1-0.3x here.
             CHECK(rt.T > 0.85 * ad.transmission);
@@ -723,7 +723,7 @@ TEST_CASE("Clouds: a single cumulus is as bright as a real one", "[gl][clouds]")
         INFO("edge " << edge / ne << " centre " << centre / nc << " cd/m^2");
         // Measured 23,300 against 20,300 (1.15x; 1.14x before the far side's depth was marched). The
         // path tracer's cloud lit from behind has a much stronger rim and is 2.2x brighter in all
-        // (bench cloud-reference, cumulus-behind; docs/clouds.md "Brightness against real cumulus"):
+        // (bench cloud-reference, cumulus-behind; skyelements/clouds/README.md "Brightness against real cumulus"):
         // the low orders of forward scattering are missing from the transport. 1.1: the rim there is
         // now kept from fading (a guard on the present transport), not the real margin.
         CHECK(edge / ne > centre / nc);

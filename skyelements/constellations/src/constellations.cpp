@@ -1,5 +1,5 @@
 // Constellations element: clines.dat/cnames.dat parsing, HD resolution, arcs, per-frame draw;
-// the model is described in include/welkin/elements/constellations.hpp and docs/constellations.md.
+// the model is described in include/welkin/elements/constellations.hpp and skyelements/constellations/README.md.
 #include <welkin/astro/astro_keys.hpp>
 #include <welkin/astro/frames.hpp>
 #include <welkin/elements/constellations.hpp>

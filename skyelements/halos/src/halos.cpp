@@ -215,7 +215,7 @@ void Halos::doRelease() {
 WELKIN_ELEMENT_DESCRIPTOR(halos) {
     static const welkin::ElementDescriptor d{"halos",
                                              "ice-crystal halos (22/46 deg halos, sundogs, arcs) from ray-traced crystal tables, where the light shines "
-                                             "through cirrus or a crystal layer (docs/halos.md)",
+                                             "through cirrus or a crystal layer (skyelements/halos/README.md)",
                                              welkin::Layer::Foreground, false, [] { return std::make_unique<welkin::elements::Halos>(); }};
     return d;
 }

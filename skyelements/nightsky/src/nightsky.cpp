@@ -1,6 +1,6 @@
 // NightSky element: the Milky Way's calibration, the CPU twins of the four terms, the published
 // background and the per-frame uniforms; the model is described in
-// include/welkin/elements/nightsky.hpp and docs/nightsky.md.
+// include/welkin/elements/nightsky.hpp and skyelements/nightsky/README.md.
 #include <welkin/astro/astro_keys.hpp>
 #include <welkin/astro/bodies.hpp>
 #include <welkin/color.hpp>
@@ -38,7 +38,7 @@ constexpr double kObliquityJ2000Rad = 23.4392911 * kDeg;  // IAU 1980 value at J
 constexpr double kLightPollutionLayerM = 8000.0;           // the air's scale height
 constexpr double kLightPollutionKelvin = 3000.0;           // sodium and warm-white LED light
 constexpr double kAirglowLineShare = 0.5;                  // OI 557.7 nm share of the V luminance
-// Milky Way calibration (docs/nightsky.md): the Large Sagittarius Star Cloud (galactic l = 2 deg,
+// Milky Way calibration (skyelements/nightsky/README.md): the Large Sagittarius Star Cloud (galactic l = 2 deg,
 // b = -4 deg, a 3-deg disc) at 20.5 V mag/arcsec^2, the galactic poles at 23.0 (a uniform floor,
 // where the panorama is black), L = gain Y^gamma + floor.
 constexpr double kMwCloudL = 2.0 * kDeg, kMwCloudB = -4.0 * kDeg, kMwCloudRadius = 3.0 * kDeg;

@@ -206,7 +206,7 @@ TEST_CASE("NightSky: the Milky Way's calibration and the catalogue stars inside 
     // The catalogue stars the Stars element draws on a dark night (V <= 6.6) would be counted twice
     // if the calibrated diffuse light contained them. Their share of the calibration anchor (the
     // Large Sagittarius Star Cloud, 3-deg disc, 20.5 mag/arcsec^2) is measured here from the
-    // kstars catalogue: below 10 % there (docs/nightsky.md gives the number).
+    // kstars catalogue: below 10 % there (skyelements/nightsky/README.md gives the number).
     const std::string cat = astro::kKStarsCatalogue;
     if (!std::filesystem::exists(cat)) FAIL("no " << cat << " (kstars-data)" << ": install it (scripts/setup.sh installs it; a missing file fails, never skips)");
     const std::vector<astro::Star> stars = astro::loadKStarsCatalogue(cat, 6.6);

@@ -1,5 +1,5 @@
 // Planet element: per-frame geometry, the Moon's calibration (a CPU integral of the shader's
-// model), the maps; the model is described in include/welkin/elements/planet.hpp and docs/planet.md.
+// model), the maps; the model is described in include/welkin/elements/planet.hpp and skyelements/planet/README.md.
 #include <welkin/astro/astro_keys.hpp>
 #include <welkin/astro/eclipses.hpp>
 #include <cctype>

@@ -340,7 +340,7 @@ void Rainbow::doRelease() {
 }  // namespace welkin::elements
 
 WELKIN_ELEMENT_DESCRIPTOR(rainbow) {
-    static const welkin::ElementDescriptor d{"rainbow", "rainbows, fogbows and the glory from exact Mie tables where rain is (docs/rainbow.md)",
+    static const welkin::ElementDescriptor d{"rainbow", "rainbows, fogbows and the glory from exact Mie tables where rain is (skyelements/rainbow/README.md)",
                                              welkin::Layer::Foreground, false,
                                              [] { return std::make_unique<welkin::elements::Rainbow>(); }};
     return d;

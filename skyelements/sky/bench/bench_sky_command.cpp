@@ -203,7 +203,7 @@ int runAnimate(const SkyBenchOptions& o, const std::vector<int>& presets) {
                 Image imgF = rf.render(skyFresh, probe);
                 std::tie(srms, smx) = probeError(*ref, imgF, probe, sun);
                 const double alt = std::asin(std::clamp(sun.z, -1.0, 1.0)) / kDeg;
-                if (alt >= -10) {  // the static table's own figures are meaningless deeper (docs/sky.md)
+                if (alt >= -10) {  // the static table's own figures are meaningless deeper (skyelements/sky/README.md)
                     e2a += rms * rms;
                     e2s += srms * srms;
                     maxDiff = std::max(maxDiff, std::abs(rms - srms));

@@ -2,7 +2,7 @@
 // the transmittance table, the multiple-scattering field and the view-ray march the GPU passes
 // mirror) against the brute-force reference integrator (welkin::atmosphere::ReferenceSky, RGB
 // mode), luminance direction by direction, at the ground in the clear Earth atmosphere. Two
-// Markdown tables (docs/sky.md):
+// Markdown tables (skyelements/sky/README.md):
 //   twin:      orders 1 (the twin's multiple scattering zeroed, the reference single scattering
 //              only) and 60 (both complete), Sun at 60, 20, 5, -4, -10, -18 deg, six directions,
 //              quality high (preset 2), 512 march steps;

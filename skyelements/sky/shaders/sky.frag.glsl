@@ -130,7 +130,7 @@ void main() {
     }
 #elif defined(SKY_NO_SUN)
     // Night (the Sun below kSkySunNightAltitudeRad, -21 deg): the Sun's sky-view LUT is 0 there
-    // (docs/sky.md) and not fetched; the transmittance's row v is the sky view's latitude, the
+    // (skyelements/sky/README.md) and not fetched; the transmittance's row v is the sky view's latitude, the
     // same for any azimuth.
     L = vec3(0.0);
     v = skyViewUvS(u_sH, mu, 1.0, u_lutSize).y;

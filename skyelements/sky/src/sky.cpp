@@ -45,7 +45,7 @@ Sky::Sky(const SkyOptions& options, bool force) : SkyElement("sky"), options_(op
     option(skykeys::moonLight, options_.moon, force);
     option(skykeys::wavelengths, options_.wavelengths, force);
     option(skykeys::aerialVolume, options_.aerialPerspective, force);
-    // Time running (docs/sky.md): the keyframe tables' budget and disk cache, options here so that
+    // Time running (skyelements/sky/README.md): the keyframe tables' budget and disk cache, options here so that
     // `--var` sets them before the first frame (the generators declare them too, alike).
     option(skykeys::keyframeBudget, kKeyframeBudgetDefault);
     option(skykeys::keyframeCache, true);
@@ -200,7 +200,7 @@ void Sky::doRender(const FrameContext& ctx) {
     // The direct light's shadow (sky.shadow_loss_lut, published by e.g. the clouds'
     // CloudSkyShadow): only while the table exists, the observer is inside the atmosphere (the
     // table is for the observer's position), except in the spectral per-pixel march (one draw per
-    // wavelength triple; the table is RGB: not shadowed, docs/clouds.md).
+    // wavelength triple; the table is RGB: not shadowed, skyelements/clouds/README.md).
     const bool shadow = (!perPixel_ || !sp) && h <= m.topRadius - m.bottomRadius - 1.0 && v.has(skykeys::shadowLossLut) &&
                         v.get(skykeys::shadowLossLut).id != 0 && v.has(skykeys::shadowLossMieLut) &&
                         v.get(skykeys::shadowLossLut).height == q.skyViewH;  // it reuses the sky view's v (a quality change: next run)
@@ -213,7 +213,7 @@ void Sky::doRender(const FrameContext& ctx) {
     const bool eclipseMarch = perPixel_ && !sp && luts_.eclipse && luts_.eclipse->active() && v.has(astro::keys::moonPosition);
     eclipse_ = eclipse;
     // Night: below kSkySunNightAltitudeRad (-21 deg) the Sun's sky-view LUT is 0 everywhere
-    // (measured, docs/sky.md): the LUT path skips its term (the Moon's stays).
+    // (measured, skyelements/sky/README.md): the LUT path skips its term (the Moon's stays).
     sunTerm_ = perPixel_ || eclipse || shadow || unit(v.get(keys::sunDirection)).z > std::sin(kSkySunNightAltitudeRad);
     if (!perPixel_ || !sp) {
         const gl::Program& p = perPixel_ ? (eclipseMarch ? marchEclipsePrograms_[moon].get(proj) : marchPrograms_[moon][shadow].get(proj))

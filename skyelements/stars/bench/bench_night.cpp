@@ -171,7 +171,7 @@ int run(const NightBenchOptions& o) {
         };
         auto skyAlone = [](SkyProcessor& p) { p.add(elements::makeElement("sky")); };
         // The NightSky element alone (Milky Way, zodiacal light, airglow; its own extinction
-        // table without a Sky): its pass against the trivial one (docs/nightsky.md).
+        // table without a Sky): its pass against the trivial one (skyelements/nightsky/README.md).
         make("night", "nightsky alone", "-", night, [](SkyProcessor& p) { p.add(elements::makeElement("nightsky")); });
         for (const auto& [when, t] : {std::pair{std::string("day"), day}, std::pair{std::string("night"), night}}) {
             make(when, "sky", "-", t, skyAlone);

@@ -1,5 +1,5 @@
 // Stars element: catalogue upload, per-frame uniforms, limiting magnitude; the model is described
-// in include/welkin/elements/stars.hpp and docs/stars.md.
+// in include/welkin/elements/stars.hpp and skyelements/stars/README.md.
 #include <welkin/astro/astro_keys.hpp>
 #include <welkin/astro/bodies.hpp>
 #include <welkin/astro/frames.hpp>

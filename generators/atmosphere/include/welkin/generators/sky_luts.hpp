@@ -67,7 +67,7 @@ inline const Key<bool> moonLight{"sky.moon", "the Moon lights the sky (false: Su
 /// elements::AerialPerspective) only while this is true.
 inline const Key<bool> aerialVolume{"sky.aerial_volume", "build the aerial-perspective volume for the host's geometry (AerialPerspective)"};
 /// Once time runs, the Sky builds every keyframe table of the light's elevation grid in the
-/// background (the prefill, docs/sky.md "While time runs"): at most this many parts of a table
+/// background (the prefill, skyelements/sky/README.md "While time runs"): at most this many parts of a table
 /// per frame (a table has SkyQuality::keyframeChunks parts: 4 low, 12 medium, 48 high; one
 /// medium part is ~3 ms on llvmpipe), beyond what keeping pace with the light needs. 0: the
 /// whole prefill in the first frame in which the light moves (a freeze of seconds on llvmpipe).
@@ -78,9 +78,9 @@ inline const Key<int> keyframeBudget{"sky.keyframe_budget", Range{0, 1000},
 /// disk cache (welkin::cacheDirectory(), folder sky-keyframes-<hash of the atmosphere, quality,
 /// observer height, shaders and GL renderer>) as they are built, and read back into the GPU at
 /// the first run of a later processor with the same hash (a one-time cost in that first frame,
-/// measured in docs/sky.md), so that when time starts the grid is there and running costs only
+/// measured in skyelements/sky/README.md), so that when time starts the grid is there and running costs only
 /// the per-frame mix. Unset: true. false: neither read nor written.
-inline const Key<bool> keyframeCache{"sky.keyframe_cache", "read and write the Sun's keyframe tables in the disk cache (docs/sky.md, While time runs)"};
+inline const Key<bool> keyframeCache{"sky.keyframe_cache", "read and write the Sun's keyframe tables in the disk cache (skyelements/sky/README.md, While time runs)"};
 inline const Key<TextureRef> transmittanceLut{"sky.transmittance_lut", "transmittance LUT (RGB, to the top of the atmosphere)"};
 /// One texture per wavelength triple (RGB mode: one), for the passes after them; in spectral
 /// mode sky.transmittance_lut is the combined one and sky.multiscattering_lut / sky.sh_lut are

@@ -99,7 +99,7 @@ struct SkyQuality {
     /// SH bands L of the directional field, [cpu::kShMinBands, cpu::kShMaxBands] = [2, 6]: 15
     /// coefficients at L = 4 (low, medium), 28 at L = 6 (high, reference). Every view-ray sample
     /// reads that many texels; L = 6 holds the aerosols' forward-scattered second order better
-    /// (measured in docs/sky.md).
+    /// (measured in skyelements/sky/README.md).
     int shBands = 4;
     int shDirections = 128;                         ///< gathered directions per SH texel
     /// Second pass of the directional field (0 or 1; more acts as 1): the incident field is gathered again, its
@@ -119,19 +119,19 @@ struct SkyQuality {
     /// The pixel shader reads one sky-view texture with the Mie phase function baked in at each
     /// texel's own angle to the light (one texture fetch and no phase per pixel), instead of two
     /// (smooth + Mie without phase, the phase evaluated at the pixel's exact angle: a sharper
-    /// aureole). Measured cost and error in docs/sky.md.
+    /// aureole). Measured cost and error in skyelements/sky/README.md.
     bool bakedMiePhase = true;
     bool perPixel = false;                          ///< ray-march every pixel (reference)
     int irradianceAzimuth = 32, irradianceZenith = 16;  ///< hemisphere quadrature
     /// While the light moves, the Sun- (Moon-) dependent tables are built at elevations on a grid
     /// (this step up to 4 deg of elevation, growing above to keyframeCoarseStepRad), each over
     /// `keyframeChunks` frames and kept, and the tables in between interpolated (Catmull-Rom in
-    /// log radiance; light_keyframes.hpp; measured in docs/sky.md). rad.
+    /// log radiance; light_keyframes.hpp; measured in skyelements/sky/README.md). rad.
     double keyframeStepRad = 0.0175;
     double keyframeCoarseStepRad = 0.0524;  ///< rad (3 deg)
     int keyframeChunks = 8;
     /// The first time the light moves, build every grid table from -20 deg up at once (a
-    /// one-time cost: docs/sky.md "While time runs"), so time running then costs only the
+    /// one-time cost: skyelements/sky/README.md "While time runs"), so time running then costs only the
     /// per-frame mix. The presets set it; off, the grid tables are built along the light's path.
     bool keyframePrefill = false;
     /// 0 low, 1 medium, 2 high, 3 reference. Throws welkin::Error outside [0, 3].

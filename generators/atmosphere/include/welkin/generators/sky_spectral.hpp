@@ -13,7 +13,7 @@
 // Method. The wavelengths are the centres of N equal bins over [380, 720] nm (outside it the CIE
 // 1931 colour-matching functions are below 0.4 % of their peaks: z-bar at 380 nm, x-bar at
 // 720 nm); the transfer, radiance per unit irradiance, is smooth in wavelength, so N = 12..15
-// samples suffice (measured in docs/sky.md, "Spectral mode"). As in the reference integrator's spectral mode
+// samples suffice (measured in skyelements/sky/README.md, "Spectral mode"). As in the reference integrator's spectral mode
 // (reference_sky.hpp), the transfer at these wavelengths is taken as piecewise linear in
 // wavelength (constant beyond the ends), evaluated at the atmosphere's own wavelengths (47 for
 // the Earth presets), multiplied by its solar spectrum and integrated against the CIE 1931

@@ -106,7 +106,7 @@ enum class CloudLod { Cheap = 0, Full = 1 };
 /// out of the clouds; unstretched, the cut at the fair preset's 0.75 (shape < 0.25) removes no
 /// texel and a cloud is the weather map's smooth blob. kShapeLo a little below the 1st
 /// percentile: a harder stretch (from the 5th) left only scattered turrets of a cloud at coverage
-/// 0.75 (docs/clouds.md); the stretch also multiplies the 8-bit noise's filtering error (3.7x).
+/// 0.75 (skyelements/clouds/README.md); the stretch also multiplies the 8-bit noise's filtering error (3.7x).
 /// Tested: "Cloud density: the base shape fills [0, 1], so the coverage cut carves".
 inline constexpr double kShapeLo = 0.66, kShapeHi = 0.93;
 /// Height gradients (heightGradient()): cumulus full at 7 % of its height, tapering from 50 %;

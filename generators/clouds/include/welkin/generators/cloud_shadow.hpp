@@ -15,7 +15,7 @@
 //   float s = welkin_cloudShadow(worldPosEnuM);   // 1 in full light, 0 under a thick cloud
 //   vec3 direct = s * sunIlluminanceLux * max(dot(n, sunDir), 0.0) * albedo / pi;
 //
-// Model (docs/clouds.md, "Cloud shadows"): for each texel's ground point the light ray is marched
+// Model (skyelements/clouds/README.md, "Cloud shadows"): for each texel's ground point the light ray is marched
 // in the spherical geometry of the planet (radius planet.radius_m) through the shell between
 // clouds.bottom_m and clouds.top_m in clouds.shadow_steps equal steps (midpoint rule), summing
 // the optical depth sigma * D(p) ds with sigma = clouds.scattering_per_m (single-scattering

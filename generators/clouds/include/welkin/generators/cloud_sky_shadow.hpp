@@ -10,7 +10,7 @@
 //   processor.addGenerator(welkin::generators::CloudShadowMap::obtain(processor.vars()));
 //   processor.addGenerator(welkin::generators::CloudSkyShadow::obtain(processor.vars()));
 //
-// Model (docs/clouds.md, "The clouds' shadow on the atmosphere's in-scattering"): along each
+// Model (skyelements/clouds/README.md, "The clouds' shadow on the atmosphere's in-scattering"): along each
 // direction, the segment of the ray below the cloud top (clouds.top_m) and within reach of the
 // map (clouds.shadow_extent_m) is marched in kSkyShadowSteps equal steps (midpoint rule), summing
 // T_view sigma_s T_light P (1 - S) ds for Rayleigh (phase applied) and Mie (phase per pixel), with

@@ -25,7 +25,7 @@ inline const Key<double> rate{"rain.rate_mm_h", Range{0, 200}, "rain rate of the
 inline const Key<double> dropRadius{"rain.drop_radius_m", Range{5e-6, 2e-3}, "effective radius of the drops (gamma distribution): 10-50 um fog, 0.1-2 mm rain"};
 inline const Key<double> dropVariance{"rain.drop_variance", Range{1e-3, 0.5}, "effective variance of the gamma drop-size distribution (Hansen 1971)", "1"};
 inline const Key<std::string> distribution{"rain.distribution", Choices{{"gamma", "marshall_palmer"}}, "drop sizes: 'gamma' (rain.drop_radius_m, rain.drop_variance) or 'marshall_palmer' (from the rate)"};
-inline const Key<std::string> tableQuality{"rain.table_quality", Choices{{"low", "default", "high"}}, "Mie table quality: low, default or high (docs/rainbow.md: build times)"};
+inline const Key<std::string> tableQuality{"rain.table_quality", Choices{{"low", "default", "high"}}, "Mie table quality: low, default or high (skyelements/rainbow/README.md: build times)"};
 inline const Key<TextureRef> phaseLut{"rain.phase_lut", "1-D phase LUT of the current drops: rgb phase per channel, 1/sr, by welkin_mieUFromAngle"};
 inline const Key<TextureRef> phaseTable{"rain.phase_table", "2-D Mie phase table: angle texel x drop radius (5 um .. 2 mm, log), rgb 1/sr"};
 inline const Key<glm::dvec3> scattering{"rain.scattering_per_m", Range{0, 1e3}, "scattering coefficient of the rain at rain.rate_mm_h", "1/m"};

@@ -80,14 +80,14 @@ double cloudPhase(double nu);
 /// The delta-M scaled phase function (1/sr): the Draine lobe alone (the peak's share of the
 /// extinction treated as unscattered). Integrates to 1.
 double scaledPhase(double nu);
-/// The light transfer of the real-time clouds (docs/clouds.md, "Model"): the in-scattered
+/// The light transfer of the real-time clouds (skyelements/clouds/README.md, "Model"): the in-scattered
 /// radiance per lux of a light and per unit scaled extinction w_D sigma (1/sr) at a point with
 /// scaled optical depths tauL towards the light and tauB away from it (>= 0), cos(scattering
 /// angle) nu and the light's cos(zenith) muL in [-1, 1]: the single scattering
 /// scaledPhase(nu) e^(-tauL) plus a diffusion term along the light axis,
 /// k/pi max(muL, 0.2)^q (1 - e^(-c (tauL + tauB) / w_D)) max(sB + z + h nu, 0) / (sL + sB + A),
 /// s = (1 - 0.86) tau / w_D (the transport optical depth, g 0.86 the Mie droplets'), the constants
-/// fitted to adding-doubling (docs/clouds.md).
+/// fitted to adding-doubling (skyelements/clouds/README.md).
 double lightTransfer(double nu, double tauL, double tauB, double muL);
 /// The share of the Draine lobe's scattering into the forward hemisphere, integral over nu in
 /// [0, 1] of 2 pi scaledPhase(nu) (0.938; checked by the tests): what a particle lit by a uniform
@@ -96,7 +96,7 @@ inline constexpr double kDraineForwardFraction = 0.938;
 /// The diffusivity factor (Elsasser 1942): diffuse light through an optical depth tau is
 /// attenuated about as a beam through 1.66 tau.
 inline constexpr double kDiffusivity = 1.66;
-/// The ambient light's transfer (docs/clouds.md, "Ambient"): the in-scattered radiance per lux of
+/// The ambient light's transfer (skyelements/clouds/README.md, "Ambient"): the in-scattered radiance per lux of
 /// horizontal illuminance arriving as a uniform hemisphere of radiance E/pi from one side of the
 /// layer (the sky from above, the ground from below) and per unit scaled extinction (1/sr), at a
 /// point with scaled vertical optical depths tauN to that side and tauF to the other (>= 0), nu the

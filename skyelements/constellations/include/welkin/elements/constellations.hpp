@@ -7,7 +7,7 @@
 //   processor.vars().set(welkin::elements::constellationkeys::labels, std::string("abbreviation"));
 //   // command line: welkin render --elements stars,sky,constellations --var constellations.line_width_px=2
 //
-// Model (docs/constellations.md has the sources, the cost and the tests):
+// Model (skyelements/constellations/README.md has the sources, the cost and the tests):
 //  - Lines: clines.dat lists, per sky culture ("C Western"), polylines of stars by HD number
 //    ("M hd" moves, "D hd" draws). Each HD number is resolved against the star catalogue
 //    (loadConstellationStars(): astro::loadKStarsCatalogue + attachKStarsHdNumbers, kstars'

@@ -28,7 +28,7 @@
 // 1900-2100 (it tilts by ~47" a century): the Sun's apparent place (ecliptic latitude < 1") lies on
 // the drawn line to well under a pixel at any ordinary field of view.
 // Cost: the lines' shader runs only on the 4x4-pixel tiles the lines can reach, traced on the CPU
-// each frame (docs/constellations.md, "Grid: cost in proportion to its lines"); the image is the
+// each frame (skyelements/constellations/README.md, "Grid: cost in proportion to its lines"); the image is the
 // same as a fullscreen pass's (setTiled(false)).
 #pragma once
 #include <welkin/element.hpp>

@@ -1,7 +1,7 @@
 // Halos: ice-crystal halos (the 22 and 46 deg halos, sundogs, the parhelic circle, the
 // circumzenithal and tangent arcs) from phase tables ray-traced once through hexagonal ice prisms,
 // drawn where the Sun (or the Moon) lights the cirrus or a crystal layer the user sets.
-// docs/halos.md.
+// skyelements/halos/README.md.
 //
 //   processor.add(welkin::elements::makeElement("halos"));                 // Layer Foreground
 //   processor.vars().set(welkin::elements::haloskeys::opticalDepth, 0.2);  // a crystal layer
@@ -56,7 +56,7 @@ inline const Key<double> parry{"halos.parry", Range{0, 1}, "weight of Parry-orie
 inline const Key<double> plateAspect{"halos.plate_aspect", Range{0.05, 1}, "plates' length along the c-axis over their diameter (2 x side)"};
 inline const Key<double> columnAspect{"halos.column_aspect", Range{1, 8}, "columns' length along the c-axis over their diameter (also the random population's)"};
 inline const Key<double> tilt{"halos.tilt_rad", Range{0.1 * kDeg, 10 * kDeg}, "spread (Gaussian sigma) of the oriented crystals' axes about their preferred orientation"};
-inline const Key<std::string> tableQuality{"halos.table_quality", Choices{{"low", "default", "high"}}, "phase tables: low (CI tests), default, high (rays and resolution; docs/halos.md)"};
+inline const Key<std::string> tableQuality{"halos.table_quality", Choices{{"low", "default", "high"}}, "phase tables: low (CI tests), default, high (rays and resolution; skyelements/halos/README.md)"};
 }  // namespace haloskeys
 
 namespace halos {
@@ -142,7 +142,7 @@ struct Phase2D {
 Phase2D traceOriented(const Population& pop, double sunElevationRad, int ne, int na, uint64_t rays, uint64_t seed,
                       int threads = 0);
 
-/// The brute-force reference (docs/halos.md's accuracy check): every ray followed through every
+/// The brute-force reference (skyelements/halos/README.md's accuracy check): every ray followed through every
 /// Fresnel branch with its weight (no random choice at the faces), each crystal orientation and
 /// entry point drawn as in the tables' trace; returns the same table.
 Phase2D traceOrientedExact(const Population& pop, double sunElevationRad, int ne, int na, uint64_t rays, uint64_t seed,

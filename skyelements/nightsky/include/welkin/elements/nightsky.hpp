@@ -8,7 +8,7 @@
 //   processor.vars().set(welkin::elements::nightkeys::bortle, 7);          // a suburban sky
 //   // command line: welkin render --var nightsky.bortle=9 --var nightsky.airglow_zenith_mag_arcsec2=21.5
 //
-// Model (docs/nightsky.md has the sources, the numbers and the measured cost). Every term is a
+// Model (skyelements/nightsky/README.md has the sources, the numbers and the measured cost). Every term is a
 // luminance in cd/m^2 (linear sRGB whose Y is the luminance) above the air, then attenuated once:
 // by the Sky composited later (FrameContext::attenuatedLater), or here by the atmosphere's
 // transmittance towards each altitude when nothing attenuates it later.
@@ -84,7 +84,7 @@ using astro::magnitude::surfaceBrightnessMag;
 /// Van Rhijn's factor: brightness of a thin emitting shell at height h (m, > 0) seen at zenith
 /// angle z (rad, [0, pi/2]) over its zenith brightness, Earth radius 6371 km.
 double vanRhijn(double zenithAngleRad, double layerHeightM);
-/// Total zenith brightness of a Bortle class (1..9), V mag/arcsec^2 (the table in docs/nightsky.md).
+/// Total zenith brightness of a Bortle class (1..9), V mag/arcsec^2 (the table in skyelements/nightsky/README.md).
 double bortleZenithMag(int bortleClass);
 /// Zodiacal light, Leinert et al. 1998 Table 17 (bilinear), in 1e-8 W m^-2 sr^-1 um^-1 at 500 nm:
 /// `dLambdaRad` the ecliptic longitude from the Sun (any value; folded to [0, pi]), `betaRad` the
@@ -170,7 +170,7 @@ private:
     void buildCube(const FrameContext& ctx, const NightCubeInputs& in, bool zodiacal);
 
     gl::ProjectionPrograms programs_[2];  // [1]: with the element's own extinction (NIGHT_EXTINCTION)
-    bool direct_ = true;  // the per-pixel lookup by default: on llvmpipe the cubes measured no cheaper (docs/nightsky.md)
+    bool direct_ = true;  // the per-pixel lookup by default: on llvmpipe the cubes measured no cheaper (skyelements/nightsky/README.md)
     gl::Program cubeProgram_;
     gl::TextureCube cube_, zodiCube_;
     gl::Framebuffer cubeFbo_;

@@ -8,7 +8,7 @@
 //   // one body from C++ (element names are unique in a processor):
 //   processor.add(std::make_unique<welkin::elements::Planet>(std::vector{welkin::astro::Body::Moon}, "moon"));
 //
-// Model (docs/planet.md has the sources, the tests and the cost):
+// Model (skyelements/planet/README.md has the sources, the tests and the cost):
 //  - Each body is a screen quad around its apparent direction (welkin_clipFromDirection); the
 //    fragment shader casts the pixel's view direction at the body's sphere, supersampling (4 x 4)
 //    the pixels within 1.5 pixels of the limb, so the disk's integral is exact to a fraction of

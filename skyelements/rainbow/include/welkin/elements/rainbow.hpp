@@ -1,7 +1,7 @@
 // Rainbow: the primary and secondary bows, Alexander's dark band, supernumeraries, fogbows and
 // the glory, from the exact Lorenz-Mie phase function of the drops (generators/optics), where
 // rain actually is: a user's rain curtain and, when the Clouds element runs, the rain under its
-// clouds (the weather map's channel A). docs/rainbow.md.
+// clouds (the weather map's channel A). skyelements/rainbow/README.md.
 //
 //   processor.add(welkin::elements::makeElement("rainbow"));               // Layer Foreground
 //   processor.vars().set(welkin::generators::rainkeys::rate, 5.0);           // mm/h
@@ -14,7 +14,7 @@
 // rain.half_width_rad of the anti-solar azimuth. Radiance (cd/m^2) along the view ray: single
 // scattering of the light (the Sun; the Moon when the Sun is below the horizon: moonbows) with
 // the 1-D phase LUT, attenuated by the rain in front and along the light's path inside the
-// curtain (closed form, docs/rainbow.md); transmittance exp(-b_ext s) of what is behind.
+// curtain (closed form, skyelements/rainbow/README.md); transmittance exp(-b_ext s) of what is behind.
 // Observer above the rain (observer.height_m > rain.height_m, rain.distance_m = 0): a fog layer
 // below, with the glory around the anti-solar point.
 // Nothing is drawn (no GL call) when no rain is declared (rain.rate_mm_h = 0 and no clouds'
@@ -47,7 +47,7 @@ inline const Key<bool> directionCache{"rain.direction_cache",
 /// While the light moves (time running), the direction cache is refilled over this many frames
 /// (a band of its rows a frame, into a second texture; the cache filled before is drawn until the
 /// new one is complete). The display places the bows around the *current* anti-light point, so
-/// the bows never lag; only the curtain's light path does (measured in docs/rainbow.md). 1: the
+/// the bows never lag; only the curtain's light path does (measured in skyelements/rainbow/README.md). 1: the
 /// whole cache in the frame the light moved past the tolerance. A jump of the light (more than
 /// Rainbow::kLightJump), a change of the rain or the curtain, and the first frame fill it whole.
 inline const Key<int> cacheSlices{"rain.cache_slices", Range{1, 32},
@@ -79,7 +79,7 @@ public:
     bool refilling() const { return backRow_ >= 0; }
 
     /// The direction cache's size (texels: angle from the anti-light point, position angle around
-    /// it) and the display grid's cell (pixels). docs/rainbow.md gives their measured error.
+    /// it) and the display grid's cell (pixels). skyelements/rainbow/README.md gives their measured error.
     static constexpr int kCacheU = 2048, kCachePsi = 256, kGridCellPx = 64;
     /// The light's motion (rad) that refills the cache (0.02 deg: 1/27 of the Sun's diameter).
     static constexpr double kLightTolerance = 3.5e-4;

@@ -30,7 +30,7 @@
 //
 // Shadow of the direct light: when a generator publishes sky.shadow_loss_lut (the Clouds
 // element's CloudSkyShadow: crepuscular rays), the sky subtracts the single scattering it removes
-// (generators/sky_luts.hpp; docs/clouds.md); without it the sky is unchanged, bit for bit.
+// (generators/sky_luts.hpp; skyelements/clouds/README.md); without it the sky is unchanged, bit for bit.
 //
 // Observer heights below the ground are clamped to 0 m with a warning through the logger.
 #pragma once
@@ -43,7 +43,7 @@
 namespace welkin::elements {
 
 /// Below this solar altitude (rad) the Sky's LUT path skips the Sun's term per pixel (the Moon's
-/// stays): -21 deg. Measured (docs/sky.md, Malta 2026-08-12, fisheye, medium): the brightest pixel
+/// stays): -21 deg. Measured (skyelements/sky/README.md, Malta 2026-08-12, fisheye, medium): the brightest pixel
 /// of the Sun's sky is 7.5e-5 cd/m^2 at -19.6 deg (near the horizon under the Sun; the natural
 /// night sky is 2e-4 at the zenith and ~1e-3 there), below 1e-6 at -20.25 deg and exactly 0 from
 /// -20.6 deg in every pixel (multiple scattering included). The published

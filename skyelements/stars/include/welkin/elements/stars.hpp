@@ -7,7 +7,7 @@
 //   // command line: welkin render --var stars.catalogue=/path/hygdata_v3.csv --var stars.seed=7
 //   // a host's own catalogue: std::make_unique<welkin::elements::Stars>(std::move(myStars))
 //
-// Model (docs/stars.md has the sources and the measured cost):
+// Model (skyelements/stars/README.md has the sources and the measured cost):
 //  - Catalogue: kstars-data stars.dat by default (125,982 stars to V ~ 9; B-V, proper motion);
 //    BSC5 (`catalog`, or a name containing "bsc") or HYG (`*.csv`) by stars.catalogue. Uploaded
 //    once, sorted by magnitude, as one storage buffer: J2000 direction, proper motion, V, colour.

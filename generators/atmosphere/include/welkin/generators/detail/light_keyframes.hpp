@@ -57,7 +57,7 @@ public:
         int stillRuns = 1;
         /// The first run in which the light moves (after a reset) queues every grid table from
         /// prefillLowRad up to the zenith, to be built whole at once (nextPrefill()): a one-time
-        /// cost (docs/sky.md), after which time running costs only the per-frame mix. Off: the
+        /// cost (skyelements/sky/README.md), after which time running costs only the per-frame mix. Off: the
         /// grid tables are built along the light's path, a few chunks per run.
         bool prefill = false;
         /// Spreads the prefill over runs (0: the whole queue at once through nextPrefill()).
