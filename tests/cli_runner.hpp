@@ -14,8 +14,8 @@ struct CliResult {
     std::string output;  ///< stdout and stderr together
 };
 
-inline CliResult runCli(const std::string& args, const std::string& env = {}) {
-    std::string cmd = env + (env.empty() ? "" : " ") + std::string("'") + WELKIN_CLI + "' " + args + " 2>&1";
+/// Runs a shell command line (stderr is not redirected: add 2>&1 to capture it).
+inline CliResult runShell(const std::string& cmd) {
     CliResult r;
     FILE* p = popen(cmd.c_str(), "r");
     if (!p) return r;
@@ -25,6 +25,10 @@ inline CliResult runCli(const std::string& args, const std::string& env = {}) {
     int s = pclose(p);
     r.status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
     return r;
+}
+
+inline CliResult runCli(const std::string& args, const std::string& env = {}) {
+    return runShell(env + (env.empty() ? "" : " ") + std::string("'") + WELKIN_CLI + "' " + args + " 2>&1");
 }
 
 /// A fresh empty directory under the build tree for a test's files.

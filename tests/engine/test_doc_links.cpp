@@ -6,7 +6,6 @@
 
 #include "cli_runner.hpp"
 
-#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <string>
@@ -14,16 +13,7 @@
 namespace {
 
 welkin::test::CliResult runCheck(const std::string& root) {
-    welkin::test::CliResult r;
-    const std::string cmd = "python3 '" WELKIN_SOURCE_DIR "/scripts/check-doc-links.py' '" + root + "' 2>&1";
-    FILE* p = popen(cmd.c_str(), "r");
-    if (!p) return r;
-    char buf[4096];
-    size_t n;
-    while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
-    const int s = pclose(p);
-    r.status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
-    return r;
+    return welkin::test::runShell("python3 '" WELKIN_SOURCE_DIR "/scripts/check-doc-links.py' '" + root + "' 2>&1");
 }
 
 void write(const std::string& path, const std::string& text) {
