@@ -16,7 +16,10 @@
 // The subset (what both languages read the same way):
 // - Scalar type `real` (GLSL float, C++ double here); int, uint (32-bit unsigned), bool; vec2-4,
 //   ivec2-4, uvec2-4, bvec2-4 (GLM's, double for vec); structs (C++20 aggregates: `T(a, b)`
-//   constructs them in both); fixed-size arrays declared `real v[8];` (no array constructors).
+//   constructs them in both); fixed-size arrays declared `real v[8];`, a constant one initialised
+//   as `const real t[3] = ARRAY_OF(real, 3) 1.0, 2.0, 3.0 END_ARRAY;` (GLSL `real[3](...)`, C++
+//   braces; no other array constructors). A function returns an array inside a struct
+//   (`struct Basis { real y[9]; };`): both languages copy it.
 // - Parameters: plain `T x` (in, by value), `IN(T) x` (in; a const reference in C++: structs and
 //   samplers), `OUT(T) x` and `INOUT(T) x` (references in C++).
 // - Float literals as `1.0` (never `1.0f`, never an int where a real is meant: GLM's templates do
@@ -40,6 +43,9 @@
 #define IN(T) const T&
 #define OUT(T) T&
 #define INOUT(T) T&
+// A constant array's initialiser: `const real t[3] = ARRAY_OF(real, 3) 1.0, 2.0, 3.0 END_ARRAY;`.
+#define ARRAY_OF(T, N) {
+#define END_ARRAY }
 
 namespace welkin::glsl {
 
