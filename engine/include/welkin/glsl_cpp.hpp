@@ -27,7 +27,7 @@
 //   not mix int and double), unsigned ones as `1u`. Components as .x .y .z .w / .r .g .b .a only:
 //   no swizzles (`vec2(p.x, p.y)`, not `p.xy`).
 // - Built-ins: GLM's (degrees, radians, min, max, clamp, mix, step, smoothstep, floor, fract, mod, abs, sign, sqrt,
-//   inversesqrt, exp, log, pow, sin, cos, tan, asin, acos, atan, dot, cross, length, distance,
+//   inversesqrt, exp, exp2, log, log2, pow, sin, cos, tan, asin, acos, atan, dot, cross, length, distance,
 //   normalize, any, all, lessThan, greaterThanEqual, ...); `textureLod(s, p, lod)` on a CPU sampler
 //   type the including file provides (a free function textureLod(const S&, vecN, real) found
 //   beside S or in the including namespace).
@@ -74,11 +74,11 @@ using mat2x3 = glm::dmat2x3;  // GLSL's naming: 2 columns of 3 rows
 using mat3x2 = glm::dmat3x2;
 
 // Scalars through <cmath> (GLM's versions of these take vectors), vectors through GLM.
-using std::abs, std::acos, std::asin, std::atan, std::cos, std::exp, std::floor, std::log, std::pow, std::sin,
-    std::sqrt, std::tan;
+using std::abs, std::acos, std::asin, std::atan, std::cos, std::exp, std::exp2, std::floor, std::log, std::log2, std::pow,
+    std::sin, std::sqrt, std::tan;
 using glm::abs, glm::acos, glm::all, glm::degrees, glm::radians, glm::any, glm::asin, glm::atan, glm::clamp, glm::cos, glm::cross,
-    glm::distance, glm::dot, glm::equal, glm::exp, glm::floor, glm::fract, glm::greaterThan, glm::greaterThanEqual,
-    glm::inversesqrt, glm::length, glm::lessThan, glm::lessThanEqual, glm::log, glm::max, glm::min, glm::mix,
+    glm::distance, glm::dot, glm::equal, glm::exp, glm::exp2, glm::floor, glm::fract, glm::greaterThan, glm::greaterThanEqual,
+    glm::inversesqrt, glm::length, glm::lessThan, glm::lessThanEqual, glm::log, glm::log2, glm::max, glm::min, glm::mix,
     glm::outerProduct, glm::transpose, glm::mod, glm::normalize, glm::notEqual, glm::pow, glm::sign, glm::sin, glm::smoothstep, glm::sqrt, glm::step,
     glm::tan;
 }  // namespace dp
