@@ -30,8 +30,9 @@
 #
 # --constants (informational, exit 0): a copy named differently on each side (the sky-shadow march
 # of cloud_sky_shadow.glsl and cpu::skyShadowLoss(), say) escapes the name check, but a hand copy
-# usually repeats its fitted coefficients. Lists every decimal literal with at least 4 significant
-# digits written both in a shader and in the library's C++ (`literal  glsl-files  |  cpp-files`):
+# usually repeats its fitted coefficients. Lists every decimal literal (outside // comments) with at
+# least 4 significant digits written both in a shader and in the library's C++ (`literal
+# glsl-files  |  cpp-files`):
 # physical constants (luminous efficacy, Rec. 709 luminance weights) are expected there; a fit's
 # coefficient or a model's constant points at a twin to move into a shared file.
 set -euo pipefail
@@ -44,15 +45,15 @@ allowed="$here/scripts/twins-allowed.txt"
 cd "$here"
 
 if [ -n "$constants" ]; then
-  lit='(?<![\w.])\d+\.\d+(?:e[-+]?\d+)?'
   tmpc=$(mktemp -d)
   trap 'rm -rf "$tmpc"' EXIT
+  # `literal<TAB>file` for each decimal literal outside // comments (a header's prose may cite a fit)
+  literals='s{//.*}{}; while (/(?<![\w.])(\d+\.\d+(?:e[-+]?\d+)?)/g) { print "$1\t$ARGV\n" }'
   # significant digits: the mantissa's digits without leading zeros
   sig() { awk -F'\t' '{m=$1; sub(/[eE].*/, "", m); gsub(/\./, "", m); sub(/^0+/, "", m); sub(/0+$/, "", m); if (length(m) >= 4) print}'; }
-  find engine generators skyelements -name '*.glsl' -print0 | sort -z | xargs -0 grep -HoP "$lit" |
-    awk -F: '{print $NF"\t"$1}' | sig | sort -u > "$tmpc/glsl"
+  find engine generators skyelements -name '*.glsl' -print0 | sort -z | xargs -0 perl -ne "$literals" | sig | sort -u > "$tmpc/glsl"
   find engine generators skyelements apps examples \( -name '*.cpp' -o -name '*.hpp' \) ! -path '*/tests/*' ! -path '*/bench/*' -print0 |
-    sort -z | xargs -0 grep -HoP "$lit" | awk -F: '{print $NF"\t"$1}' | sig | sort -u > "$tmpc/cpp"
+    sort -z | xargs -0 perl -ne "$literals" | sig | sort -u > "$tmpc/cpp"
   join -t$'\t' -o 0 <(cut -f1 "$tmpc/glsl" | sort -u) <(cut -f1 "$tmpc/cpp" | sort -u) > "$tmpc/both"
   while read -r v; do
     g=$(awk -F'\t' -v k="$v" '$1 == k {print $2}' "$tmpc/glsl" | sort -u | paste -sd' ' -)
