@@ -4,6 +4,7 @@
 #
 #   scripts/twins-check.sh          # list every name defined in a *.glsl and in a *.cpp/*.hpp file
 #   scripts/twins-check.sh --check  # exit 1 when a name is neither shared nor in the allowed list
+#   scripts/twins-check.sh --constants  # leads for copies the name check cannot see (below)
 #
 # A function is "defined" in a file when a line of it reads `TYPE NAME(` at the start of a
 # declaration (GLSL: a top-level line; C++: any line whose first word is not a statement keyword).
@@ -26,13 +27,42 @@
 # --check fails on a duplicated name the list does not know (a new copy: move the function to a
 # shared file, or list it with its reason) and on a listed name that is no longer duplicated
 # (keep the list true).
+#
+# --constants (informational, exit 0): a copy named differently on each side (the sky-shadow march
+# of cloud_sky_shadow.glsl and cpu::skyShadowLoss(), say) escapes the name check, but a hand copy
+# usually repeats its fitted coefficients. Lists every decimal literal (outside // comments) with at
+# least 4 significant digits written both in a shader and in the library's C++ (`literal
+# glsl-files  |  cpp-files`):
+# physical constants (luminous efficacy, Rec. 709 luminance weights) are expected there; a fit's
+# coefficient or a model's constant points at a twin to move into a shared file.
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 check=""
-if [ "${1:-}" = "--check" ]; then check=1; shift; fi
-if [ $# -gt 0 ]; then echo "twins-check.sh: the only option is --check" >&2; exit 2; fi
+constants=""
+if [ "${1:-}" = "--check" ]; then check=1; shift; elif [ "${1:-}" = "--constants" ]; then constants=1; shift; fi
+if [ $# -gt 0 ]; then echo "twins-check.sh: the options are --check and --constants" >&2; exit 2; fi
 allowed="$here/scripts/twins-allowed.txt"
 cd "$here"
+
+if [ -n "$constants" ]; then
+  tmpc=$(mktemp -d)
+  trap 'rm -rf "$tmpc"' EXIT
+  # `literal<TAB>file` for each decimal literal outside // comments (a header's prose may cite a fit)
+  literals='s{//.*}{}; while (/(?<![\w.])(\d+\.\d+(?:e[-+]?\d+)?)/g) { print "$1\t$ARGV\n" }'
+  # significant digits: the mantissa's digits without leading zeros
+  sig() { awk -F'\t' '{m=$1; sub(/[eE].*/, "", m); gsub(/\./, "", m); sub(/^0+/, "", m); sub(/0+$/, "", m); if (length(m) >= 4) print}'; }
+  find engine generators skyelements -name '*.glsl' -print0 | sort -z | xargs -0 perl -ne "$literals" | sig | sort -u > "$tmpc/glsl"
+  find engine generators skyelements apps examples \( -name '*.cpp' -o -name '*.hpp' \) ! -path '*/tests/*' ! -path '*/bench/*' -print0 |
+    sort -z | xargs -0 perl -ne "$literals" | sig | sort -u > "$tmpc/cpp"
+  join -t$'\t' -o 0 <(cut -f1 "$tmpc/glsl" | sort -u) <(cut -f1 "$tmpc/cpp" | sort -u) > "$tmpc/both"
+  while read -r v; do
+    g=$(awk -F'\t' -v k="$v" '$1 == k {print $2}' "$tmpc/glsl" | sort -u | paste -sd' ' -)
+    c=$(awk -F'\t' -v k="$v" '$1 == k {print $2}' "$tmpc/cpp" | sort -u | paste -sd' ' -)
+    printf '%-18s %s  |  %s\n' "$v" "$g" "$c"
+  done < "$tmpc/both"
+  echo "literals with >= 4 significant digits in both a shader and C++: $(wc -l < "$tmpc/both")"
+  exit 0
+fi
 
 # key = lower-case name without a family prefix
 normalise() { sed -E 's/^(atm|cld|welkin|pp|planet|rainbow|night|stars|lighting|clouds)_//' | tr 'A-Z' 'a-z'; }

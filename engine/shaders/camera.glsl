@@ -21,8 +21,6 @@ layout(std140, binding = WELKIN_BINDING_CAMERA_UBO) uniform WelkinCamera {
     vec4 welkin_eye;            // the eye, ENU metres from the observer
 };
 
-const float WELKIN_PI = 3.14159265358979;
-
 // The camera's projection. A program built with WELKIN_PROJECTION defined (0..3, see
 // welkin::gl::ProjectionPrograms) compiles only that projection's code: llvmpipe, like most GPU
 // compilers for divergent code, otherwise evaluates every branch of the projection switch.
@@ -42,6 +40,10 @@ vec2 welkin_pixel() { return vec2(gl_FragCoord.x, welkin_viewport.y - gl_FragCoo
 // welkin_directionFromAzAlt(az, alt): lighting_cube.shared.glsl (camera.cpp's directionFromAzAlt()
 // compiles it in double).
 #include "lighting_cube.shared.glsl"
+// WELKIN_PI, the projections from a direction to clip space and their Jacobians:
+// camera_projection.shared.glsl (camera.cpp compiles it in double for Camera::clipFromDirection(),
+// pixelJacobian(), pixelScale()).
+#include "camera_projection.shared.glsl"
 
 // Unit world direction through `pixel`; returns false outside a fisheye's image circle.
 bool welkin_viewDirection(vec2 pixel, out vec3 dir) {
@@ -105,7 +107,8 @@ float welkin_pixelAngle() {
 const vec4 WELKIN_CLIP_INVISIBLE = vec4(0.0, 0.0, 0.0, -1.0);
 
 // Pinhole projections (0 perspective, 3 cube face) as three ENU vectors: clip = (a.d, b.d, f.d,
-// f.d), NDC = (a.d, b.d) / f.d. Mirrors pinholeOf() in engine/src/camera.cpp.
+// f.d), NDC = (a.d, b.d) / f.d. Mirrors pinholeOf() in engine/src/camera.cpp (the cube faces:
+// welkin_cubeFacePinhole(), shared).
 void welkin_pinhole(out vec3 a, out vec3 b, out vec3 f) {
     if (welkin_projectionType() == 0) {
         a = welkin_clipRows[0].xyz;
@@ -113,14 +116,7 @@ void welkin_pinhole(out vec3 a, out vec3 b, out vec3 f) {
         f = welkin_clipRows[2].xyz;
         return;
     }
-    // Cube face: NDC = (s, -t) in the face coordinates of welkin_viewDirection().
-    int face = int(welkin_projection.w + 0.5);
-    if (face == 0) { a = vec3(0, 1, 0); b = vec3(0, 0, 1); f = vec3(1, 0, 0); }
-    else if (face == 1) { a = vec3(0, -1, 0); b = vec3(0, 0, 1); f = vec3(-1, 0, 0); }
-    else if (face == 2) { a = vec3(1, 0, 0); b = vec3(0, 1, 0); f = vec3(0, 0, 1); }
-    else if (face == 3) { a = vec3(1, 0, 0); b = vec3(0, -1, 0); f = vec3(0, 0, -1); }
-    else if (face == 4) { a = vec3(1, 0, 0); b = vec3(0, 0, 1); f = vec3(0, -1, 0); }
-    else { a = vec3(-1, 0, 0); b = vec3(0, 0, 1); f = vec3(0, 1, 0); }
+    welkin_cubeFacePinhole(int(welkin_projection.w + 0.5), a, b, f);
 }
 
 // gl_Position for a world direction (any non-zero length): its fragment lands on the pixel whose
@@ -139,24 +135,13 @@ vec4 welkin_clipFromDirection(vec3 dir) {
     if (type == 0 || type == 3) {
         vec3 a, b, f;
         welkin_pinhole(a, b, f);
-        float w = dot(f, dir);
-        return vec4(dot(a, dir), dot(b, dir), w, w);
+        return welkin_clipPinhole(a, b, f, dir);
     }
-    vec2 size = welkin_viewport.xy;
-    float h = length(dir.xy);
     if (type == 1) {
         if (dir.z < 0.0) return WELKIN_CLIP_INVISIBLE;
-        // pixel = size/2 - r (sin az, cos az), r = theta / (pi/2) * R, theta from the zenith.
-        float R = 0.5 * min(size.x, size.y);
-        float r = atan(h, dir.z) / (0.5 * WELKIN_PI) * R;
-        vec2 sc = h > 0.0 ? dir.xy / h : vec2(0.0);
-        return vec4(-2.0 * r * sc.x / size.x, 2.0 * r * sc.y / size.y, 1.0, 1.0);
+        return welkin_clipFisheye(welkin_viewport.xy, dir);
     }
-    // Equirect: x = az/pi - 1, y = alt/(pi/2). atan(0, 0) is undefined in GLSL: azimuth 0 at the poles.
-    float az = h > 0.0 ? atan(dir.x, dir.y) : 0.0;
-    if (az < 0.0) az += 2.0 * WELKIN_PI;
-    float alt = atan(dir.z, h);
-    return vec4(az / WELKIN_PI - 1.0, alt / (0.5 * WELKIN_PI), 1.0, 1.0);
+    return welkin_clipEquirect(dir);
 }
 
 // Copy 0 is welkin_clipFromDirection(dir). Copy 1 is, in equirect, its twin across the seam at
@@ -185,51 +170,21 @@ vec4 welkin_clipOffset(vec4 clip, vec2 pixels) {
 // welkin::Camera::pixelJacobian().
 mat3x2 welkin_pixelJacobian(vec3 dirIn) {
     vec3 d = normalize(dirIn);
-    vec2 size = welkin_viewport.xy;
     int type = welkin_projectionType();
     if (type == 0 || type == 3) {
         vec3 a, b, f;
         welkin_pinhole(a, b, f);
-        float fw = dot(f, d);
-        vec3 jx = 0.5 * size.x * (a - dot(a, d) / fw * f) / fw;
-        vec3 jy = -0.5 * size.y * (b - dot(b, d) / fw * f) / fw;
-        return transpose(mat2x3(jx, jy));
+        return welkin_jacobianPinhole(a, b, f, welkin_viewport.xy, d);
     }
-    float h = length(d.xy);
-    vec2 s = h > 0.0 ? d.xy / h : vec2(0.0, 1.0);  // (sin az, cos az)
-    vec3 eAz = vec3(s.y, -s.x, 0.0);                // unit tangent towards increasing azimuth
-    if (type == 1) {
-        if (d.z < 0.0) return mat3x2(0.0);
-        // Radially k = R/(pi/2) pixels per radian; along the azimuth k theta / sin(theta).
-        float k = 0.5 * min(size.x, size.y) / (0.5 * WELKIN_PI);
-        float theta = atan(h, d.z);
-        float g = h > 1e-4 ? theta / h : 1.0;  // theta / sin(theta); the error below 1e-4 is < 2e-9
-        vec3 eTheta = vec3(d.z * s, -h);         // towards increasing zenith angle
-        return outerProduct(-k * s, eTheta) + outerProduct(-k * g * vec2(s.y, -s.x), eAz);
-    }
-    vec3 eAlt = vec3(-d.z * s, h);
-    return outerProduct(vec2(size.x / (2.0 * WELKIN_PI * max(h, 1e-6)), 0.0), eAz) +
-           outerProduct(vec2(0.0, -size.y / WELKIN_PI), eAlt);
+    if (type == 1) return welkin_jacobianFisheye(welkin_viewport.xy, d);
+    return welkin_jacobianEquirect(welkin_viewport.xy, d);
 }
 
 // (smallest, largest) pixels per radian at a visible direction, over the directions of a small
-// displacement (the singular values of welkin_pixelJacobian()). A sprite of angular radius a
-// spans between a * x and a * y pixels from its centre: e.g. a point size that keeps an angular
-// diameter is 2a * y, and max(2a * x, 1.0) keeps at least one pixel.
-vec2 welkin_pixelScale(vec3 dir) {
-    mat3x2 J = welkin_pixelJacobian(dir);
-    // The 2x2 map M = J (t1 t2) in a tangent frame at `dir`; with M = (a b; c e) its singular
-    // values are (sqrt((a+e)^2 + (c-b)^2) +- sqrt((a-e)^2 + (c+b)^2)) / 2, the difference of
-    // squares avoided (float: it would lose half the digits of a nearly isotropic scale), and
-    // the smallest taken as |det M| / largest.
-    vec3 d = normalize(dir);
-    vec3 t1 = normalize(cross(abs(d.z) < 0.9 ? vec3(0.0, 0.0, 1.0) : vec3(1.0, 0.0, 0.0), d));
-    vec3 t2 = cross(d, t1);
-    vec2 m1 = J * t1, m2 = J * t2;  // columns of M
-    float a = m1.x, c = m1.y, b = m2.x, e = m2.y;
-    float sMax = 0.5 * (length(vec2(a + e, c - b)) + length(vec2(a - e, c + b)));
-    return vec2(sMax > 0.0 ? abs(a * e - b * c) / sMax : 0.0, sMax);
-}
+// displacement (the singular values of welkin_pixelJacobian(): welkin_pixelScaleOf(), shared). A
+// sprite of angular radius a spans between a * x and a * y pixels from its centre: e.g. a point
+// size that keeps an angular diameter is 2a * y, and max(2a * x, 1.0) keeps at least one pixel.
+vec2 welkin_pixelScale(vec3 dir) { return welkin_pixelScaleOf(welkin_pixelJacobian(dir), dir); }
 
 // ---- The host's depth buffer -------------------------------------------------------------------
 

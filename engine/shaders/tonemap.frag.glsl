@@ -66,15 +66,9 @@ vec3 welkin_curve(vec3 x) {
 #endif
 }
 
-vec3 welkin_srgbEncode(vec3 c) {
-    // 1.055 c^(1/2.4) - 0.055 = 1.055 s^(5/6) - 0.055 with s = sqrt(c), on [0.0031308, 1] as a
-    // (3, 3) rational in s fitted to the exact curve (largest error 5.6e-6; the CPU twin
-    // welkin::eye::srgbEncodeFast() is the same formula, tested against the exact one).
-    vec3 s = sqrt(c);
-    vec3 p = -0.048761095 + s * (1.186980722 + s * (17.284672827 + s * 17.052349011));
-    vec3 q = 1.0 + s * (14.054653614 + s * (19.586260445 + s * 0.834515499));
-    return mix(12.92 * c, p / q, step(vec3(0.0031308), c));
-}
+// The sRGB encoding: welkin_srgbEncodeFast(), eye_srgb.shared.glsl (welkin::eye::srgbEncodeFast()
+// compiles it in double).
+#include "eye_srgb.shared.glsl"
 
 void main() {
 #ifdef WELKIN_TONEMAP_IMAGE
@@ -90,5 +84,5 @@ void main() {
 #else
     float exposure = u_exposure;
 #endif
-    o_color = vec4(welkin_srgbEncode(welkin_curve(L * exposure)), 1.0);
+    o_color = vec4(welkin_srgbEncodeFast(welkin_curve(L * exposure)), 1.0);
 }

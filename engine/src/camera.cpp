@@ -10,6 +10,9 @@
 namespace welkin::glsl::dp::lighting_cube_shared {
 #include "../shaders/lighting_cube.shared.glsl"
 }  // namespace welkin::glsl::dp::lighting_cube_shared
+namespace welkin::glsl::dp::camera_shared {
+#include "../shaders/camera_projection.shared.glsl"
+}  // namespace welkin::glsl::dp::camera_shared
 
 namespace welkin {
 
@@ -298,14 +301,9 @@ Pinhole pinholeOf(const Camera& c) {
     }
     // Cube face: NDC x = s, NDC y = -t (pixel row 0 is t = -1, the top), with (s, t) the face
     // coordinates of pixelOf(), written in ENU (cube x = east, y = up, z = south).
-    switch (c.cubeFace) {
-        case 0: return {{0, 1, 0}, {0, 0, 1}, {1, 0, 0}};    // +X east
-        case 1: return {{0, -1, 0}, {0, 0, 1}, {-1, 0, 0}};  // -X west
-        case 2: return {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};    // +Y up
-        case 3: return {{1, 0, 0}, {0, -1, 0}, {0, 0, -1}};  // -Y down
-        case 4: return {{1, 0, 0}, {0, 0, 1}, {0, -1, 0}};   // +Z south
-        default: return {{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}};  // -Z north
-    }
+    Pinhole p;
+    glsl::dp::camera_shared::welkin_cubeFacePinhole(c.cubeFace, p.a, p.b, p.f);  // the shader's table
+    return p;
 }
 glm::dvec3 checkedUnit(const glm::dvec3& d, const char* where) {
     const double n = glm::length(d);
@@ -319,34 +317,22 @@ std::optional<glm::dvec4> Camera::clipFromDirection(const glm::dvec3& dIn, int c
     const glm::dvec3 d = checkedUnit(dIn, "Camera::clipFromDirection()");
     if (!pixelOf(d)) return std::nullopt;
     if (copy == 1 && projection != Projection::Equirect) return std::nullopt;
-    const double w = width, h = height;
-    glm::dvec4 clip(0, 0, 1, 1);
+    namespace sh = glsl::dp::camera_shared;  // the shader's text (camera_projection.shared.glsl)
+    const glm::dvec2 size(width, height);
     switch (projection) {
         case Projection::Perspective:
         case Projection::CubeFace: {
             const Pinhole p = pinholeOf(*this);
-            const double fw = glm::dot(p.f, d);
-            clip = {glm::dot(p.a, d), glm::dot(p.b, d), fw, fw};
-            break;
+            return sh::welkin_clipPinhole(p.a, p.b, p.f, d);
         }
-        case Projection::Fisheye: {
-            // pixel = (W/2, H/2) - r (sin az, cos az), r = theta / (pi/2) * R (theta from the zenith).
-            const double R = std::min(w, h) / 2, hor = std::hypot(d.x, d.y);
-            const double r = std::atan2(hor, d.z) / kHalfPi * R;
-            const glm::dvec2 sc = hor > 0 ? glm::dvec2(d.x, d.y) / hor : glm::dvec2(0.0);
-            clip.x = -2 * r * sc.x / w;
-            clip.y = 2 * r * sc.y / h;
-            break;
-        }
+        case Projection::Fisheye: return sh::welkin_clipFisheye(size, d);
         case Projection::Equirect: {
-            const glm::dvec2 aa = azAltFromDirection(d);
-            clip.x = aa.x / kPi - 1;
-            clip.y = aa.y / kHalfPi;
+            glm::dvec4 clip = sh::welkin_clipEquirect(d);
             if (copy == 1) clip.x += clip.x >= 0 ? -2 : 2;
-            break;
+            return clip;
         }
     }
-    return clip;
+    return std::nullopt;
 }
 
 glm::dvec2 Camera::pixelFromClip(const glm::dvec4& c) const {
@@ -357,60 +343,25 @@ glm::dvec2 Camera::pixelFromClip(const glm::dvec4& c) const {
 std::optional<glm::dmat3x2> Camera::pixelJacobian(const glm::dvec3& dIn) const {
     const glm::dvec3 d = checkedUnit(dIn, "Camera::pixelJacobian()");
     if (!pixelOf(d)) return std::nullopt;
-    const double w = width, h = height;
-    // J = sum of outer products (pixel displacement per radian) x (unit tangent), as rows jx, jy.
-    glm::dvec3 jx(0.0), jy(0.0);
+    namespace sh = glsl::dp::camera_shared;  // the shader's text (camera_projection.shared.glsl)
+    const glm::dvec2 size(width, height);
     switch (projection) {
         case Projection::Perspective:
         case Projection::CubeFace: {
-            // NDC = (a.d, b.d) / f.d; pixel = ((NDC.x + 1) W/2, (1 - NDC.y) H/2).
             const Pinhole p = pinholeOf(*this);
-            const double fw = glm::dot(p.f, d), nx = glm::dot(p.a, d) / fw, ny = glm::dot(p.b, d) / fw;
-            jx = (w / 2) * (p.a - nx * p.f) / fw;
-            jy = -(h / 2) * (p.b - ny * p.f) / fw;
-            break;
+            return sh::welkin_jacobianPinhole(p.a, p.b, p.f, size, d);
         }
-        case Projection::Fisheye: {
-            // Radially k = R/(pi/2) pixels per radian; along the azimuth k theta / sin(theta).
-            const double R = std::min(w, h) / 2, k = R / kHalfPi, hor = std::hypot(d.x, d.y);
-            const double theta = std::atan2(hor, d.z);
-            const glm::dvec2 s = hor > 0 ? glm::dvec2(d.x, d.y) / hor : glm::dvec2(0.0, 1.0);
-            const double g = hor > 1e-8 ? theta / hor : 1.0;  // theta / sin(theta) -> 1 at the zenith
-            const glm::dvec3 eTheta(d.z * s.x, d.z * s.y, -hor), eAz(s.y, -s.x, 0.0);
-            const glm::dvec2 pTheta = -k * s, pAz = -k * g * glm::dvec2(s.y, -s.x);
-            jx = pTheta.x * eTheta + pAz.x * eAz;
-            jy = pTheta.y * eTheta + pAz.y * eAz;
-            break;
-        }
-        case Projection::Equirect: {
-            // x = az W/(2pi), y = (pi/2 - alt) H/pi; one radian along the azimuth circle is
-            // 1/cos(alt) radians of azimuth.
-            const double hor = std::hypot(d.x, d.y);
-            const glm::dvec2 s = hor > 0 ? glm::dvec2(d.x, d.y) / hor : glm::dvec2(0.0, 1.0);
-            const glm::dvec3 eAz(s.y, -s.x, 0.0), eAlt(-d.z * s.x, -d.z * s.y, hor);
-            jx = w / (2 * kPi * std::max(hor, 1e-6)) * eAz;
-            jy = -h / kPi * eAlt;
-            break;
-        }
+        case Projection::Fisheye: return sh::welkin_jacobianFisheye(size, d);
+        case Projection::Equirect: return sh::welkin_jacobianEquirect(size, d);
     }
-    glm::dmat3x2 J;  // 3 columns (ENU components) of 2 rows (pixel x, y)
-    for (int c = 0; c < 3; ++c) J[c] = glm::dvec2(jx[c], jy[c]);
-    return J;
+    return std::nullopt;
 }
 
 std::optional<glm::dvec2> Camera::pixelScale(const glm::dvec3& dIn) const {
     const glm::dvec3 d = checkedUnit(dIn, "Camera::pixelScale()");
     auto J = pixelJacobian(d);
     if (!J) return std::nullopt;
-    // The 2x2 map M = J (t1 t2) in a tangent frame at d; with M = (a b; c e) its singular values
-    // are (sqrt((a+e)^2 + (c-b)^2) +- sqrt((a-e)^2 + (c+b)^2)) / 2 (no difference of squares),
-    // the smallest taken as |det M| / largest. Mirrors welkin_pixelScale().
-    const glm::dvec3 t1 = glm::normalize(glm::cross(std::abs(d.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0), d));
-    const glm::dvec3 t2 = glm::cross(d, t1);
-    const glm::dvec2 m1 = *J * t1, m2 = *J * t2;
-    const double a = m1.x, c = m1.y, b = m2.x, e = m2.y;
-    const double sMax = (std::hypot(a + e, c - b) + std::hypot(a - e, c + b)) / 2;
-    return glm::dvec2(sMax > 0 ? std::abs(a * e - b * c) / sMax : 0.0, sMax);
+    return glsl::dp::camera_shared::welkin_pixelScaleOf(*J, d);  // the shader's text (camera_projection.shared.glsl)
 }
 
 double sceneDistanceMeters(const Camera& c, double d, const glm::dvec3& dir, const HostDepth& depth) {

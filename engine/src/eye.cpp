@@ -11,6 +11,7 @@
 
 namespace welkin::glsl::dp::eye_shared {
 #include "../shaders/eye_thresholds.shared.glsl"
+#include "../shaders/eye_srgb.shared.glsl"
 }  // namespace welkin::glsl::dp::eye_shared
 
 namespace welkin::eye {
@@ -142,13 +143,7 @@ glm::dvec3 reinhardLuminance(glm::dvec3 x) {
 double srgbEncode(double x) { return x < 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055; }
 
 double srgbEncodeFast(double x) {
-    if (x < 0.0031308) return 12.92 * x;
-    // Fitted to 1.055 s^(5/6) - 0.055, s = sqrt(x) in [0.05595, 1] (iteratively reweighted least
-    // squares towards the minimax rational); the same coefficients as the shader.
-    const double s = std::sqrt(x);
-    const double p = -0.048761095 + s * (1.186980722 + s * (17.284672827 + s * 17.052349011));
-    const double q = 1.0 + s * (14.054653614 + s * (19.586260445 + s * 0.834515499));
-    return p / q;
+    return glsl::dp::eye_shared::welkin_srgbEncodeFast(glm::dvec3(x)).x;  // the tone map's text
 }
 
 }  // namespace welkin::eye

@@ -12,16 +12,7 @@
 namespace {
 
 welkin::test::CliResult runScript(const std::string& root, const std::string& args) {
-    welkin::test::CliResult r;
-    const std::string cmd = "bash '" + root + "/scripts/twins-check.sh' " + args + " 2>&1";
-    FILE* p = popen(cmd.c_str(), "r");
-    if (!p) return r;
-    char buf[4096];
-    size_t n;
-    while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
-    const int s = pclose(p);
-    r.status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
-    return r;
+    return welkin::test::runShell("bash '" + root + "/scripts/twins-check.sh' " + args + " 2>&1");
 }
 
 void write(const std::string& path, const std::string& text) {

@@ -15,15 +15,19 @@
 //
 // The subset (what both languages read the same way):
 // - Scalar type `real` (GLSL float, C++ double here); int, uint (32-bit unsigned), bool; vec2-4,
-//   ivec2-4, uvec2-4, bvec2-4 (GLM's, double for vec); structs (C++20 aggregates: `T(a, b)`
-//   constructs them in both); fixed-size arrays declared `real v[8];` (no array constructors).
+//   ivec2-4, uvec2-4, bvec2-4 (GLM's, double for vec), mat2-4, mat2x3, mat3x2 (GLSL's
+//   column-major naming: mat3x2 has 3 columns of 2 rows; m * v, transpose, outerProduct); structs
+//   (C++20 aggregates: `T(a, b)` constructs them in both); fixed-size arrays declared `real v[8];`, a constant one initialised
+//   as `const real t[3] = ARRAY_OF(real, 3) 1.0, 2.0, 3.0 END_ARRAY;` (GLSL `real[3](...)`, C++
+//   braces; no other array constructors). A function returns an array inside a struct
+//   (`struct Basis { real y[9]; };`): both languages copy it.
 // - Parameters: plain `T x` (in, by value), `IN(T) x` (in; a const reference in C++: structs and
 //   samplers), `OUT(T) x` and `INOUT(T) x` (references in C++).
 // - Float literals as `1.0` (never `1.0f`, never an int where a real is meant: GLM's templates do
 //   not mix int and double), unsigned ones as `1u`. Components as .x .y .z .w / .r .g .b .a only:
 //   no swizzles (`vec2(p.x, p.y)`, not `p.xy`).
 // - Built-ins: GLM's (degrees, radians, min, max, clamp, mix, step, smoothstep, floor, fract, mod, abs, sign, sqrt,
-//   inversesqrt, exp, log, pow, sin, cos, tan, asin, acos, atan, dot, cross, length, distance,
+//   inversesqrt, exp, exp2, log, log2, pow, sin, cos, tan, asin, acos, atan, dot, cross, length, distance,
 //   normalize, any, all, lessThan, greaterThanEqual, ...); `textureLod(s, p, lod)` on a CPU sampler
 //   type the including file provides (a free function textureLod(const S&, vecN, real) found
 //   beside S or in the including namespace).
@@ -40,6 +44,9 @@
 #define IN(T) const T&
 #define OUT(T) T&
 #define INOUT(T) T&
+// A constant array's initialiser: `const real t[3] = ARRAY_OF(real, 3) 1.0, 2.0, 3.0 END_ARRAY;`.
+#define ARRAY_OF(T, N) {
+#define END_ARRAY }
 
 namespace welkin::glsl {
 
@@ -60,14 +67,19 @@ using uvec4 = glm::uvec4;
 using bvec2 = glm::bvec2;
 using bvec3 = glm::bvec3;
 using bvec4 = glm::bvec4;
+using mat2 = glm::dmat2;
+using mat3 = glm::dmat3;
+using mat4 = glm::dmat4;
+using mat2x3 = glm::dmat2x3;  // GLSL's naming: 2 columns of 3 rows
+using mat3x2 = glm::dmat3x2;
 
 // Scalars through <cmath> (GLM's versions of these take vectors), vectors through GLM.
-using std::abs, std::acos, std::asin, std::atan, std::cos, std::exp, std::floor, std::log, std::pow, std::sin,
-    std::sqrt, std::tan;
+using std::abs, std::acos, std::asin, std::atan, std::cos, std::exp, std::exp2, std::floor, std::log, std::log2, std::pow,
+    std::sin, std::sqrt, std::tan;
 using glm::abs, glm::acos, glm::all, glm::degrees, glm::radians, glm::any, glm::asin, glm::atan, glm::clamp, glm::cos, glm::cross,
-    glm::distance, glm::dot, glm::equal, glm::exp, glm::floor, glm::fract, glm::greaterThan, glm::greaterThanEqual,
-    glm::inversesqrt, glm::length, glm::lessThan, glm::lessThanEqual, glm::log, glm::max, glm::min, glm::mix,
-    glm::mod, glm::normalize, glm::notEqual, glm::pow, glm::sign, glm::sin, glm::smoothstep, glm::sqrt, glm::step,
+    glm::distance, glm::dot, glm::equal, glm::exp, glm::exp2, glm::floor, glm::fract, glm::greaterThan, glm::greaterThanEqual,
+    glm::inversesqrt, glm::length, glm::lessThan, glm::lessThanEqual, glm::log, glm::log2, glm::max, glm::min, glm::mix,
+    glm::outerProduct, glm::transpose, glm::mod, glm::normalize, glm::notEqual, glm::pow, glm::sign, glm::sin, glm::smoothstep, glm::sqrt, glm::step,
     glm::tan;
 }  // namespace dp
 

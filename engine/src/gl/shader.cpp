@@ -124,6 +124,7 @@ std::string ProgramBuilder::header(GLenum stage) const {
     for (const auto& [n, v] : defines_) h += "#define " + n + " " + v + "\n";
     // The shared-maths dialect (welkin/glsl_cpp.hpp defines the same names for C++).
     h += "#define real float\n#define IN(T) in T\n#define OUT(T) out T\n#define INOUT(T) inout T\n";
+    h += "#define ARRAY_OF(T, N) T[N](\n#define END_ARRAY )\n";  // const T a[N] = ARRAY_OF(T, N) x, y END_ARRAY;
     return h;
 }
 

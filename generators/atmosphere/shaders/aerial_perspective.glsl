@@ -1,7 +1,8 @@
 // Aerial perspective volume pass (compute): for each direction of the sky-view parameterisation
 // (azimuth from the Sun, horizon-dense latitude) one ray is marched from the observer and, at
 // the end of each distance slice k (d_k = D ((k + 1) / N)^2), the in-scattered radiance per lux
-// (times kLutScale) and the transmittance so far are stored. Twin of cpu::aerialTexel(). Needs
+// (times kLutScale) and the transmittance so far are stored. The slice's march is atm_aerialSlice() of
+// atmosphere_view.shared.glsl, which cpu::aerialTexel() compiles in double. Needs
 // atmosphere.glsl (ATM_USE_TRANSMITTANCE, ATM_USE_MULTISCATTERING) before it.
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 layout(rgba32f, binding = WELKIN_BINDING_LUT_IMAGE) uniform writeonly image3D u_inscatter;
@@ -37,14 +38,7 @@ void main() {
     for (int k = 0; k < u_size; ++k) {
         float f = float(k + 1) / n;
         float t1 = min(u_maxDistance * f * f, dEnd);
-        float dt = (t1 - t0) / float(u_substeps);
-        for (int s = 0; s < u_substeps && dt > 0.0; ++s) {
-            float t = t0 + (float(s) + 0.5) * dt;
-            RaySample q = atm_raySampleAir(u_h, mu, u_muS, nu, t, dt, u_angular, ground);
-            L += thrD * ((q.sR * phaseR + q.sM * phaseM) * q.Tl + q.ms) * q.seg;
-            thr *= exp(-q.sigmaT * dt);
-            thrD *= exp(-q.sigmaD * dt);
-        }
+        atm_aerialSlice(u_h, mu, u_muS, nu, t0, t1, u_substeps, u_angular, ground, phaseR, phaseM, L, thr, thrD);
         t0 = max(t0, t1);
         imageStore(u_inscatter, ivec3(ij, k), vec4(L * u_scale, 1.0));
         imageStore(u_transmittance, ivec3(ij, k), vec4(thr, 1.0));

@@ -1,7 +1,7 @@
 // The real-time sky model in GLSL; its optical functions and LUT parameterisations are
 // atmosphere.shared.glsl (included below), which sky_model.cpp compiles in double as the CPU twin;
-// the marches that remain here mirror sky_model.cpp's (same function names, same maths). Include
-// it before any pass of the sky. The atmosphere arrives in a std140 uniform block at binding 1
+// the view-ray march is atmosphere_view.shared.glsl (included below with the LUTs it reads), the
+// same text as cpu::integrate(). Include it before any pass of the sky. The atmosphere arrives in a std140 uniform block at binding 1
 // (welkin::generators::AtmosphereBlock); the LUTs as samplers that each pass declares itself.
 //
 // Geometry: h = height above the ground (m), mu = cos(view zenith), muS = cos(light zenith),
@@ -98,11 +98,6 @@ vec2 atm_eclipseAt(vec3 p) {
     }
     return vec2(f, clamp(f + D, 0.0, 1.0));
 }
-// The multiple-scattering model's weight along a view ray (nu: the cosine of its angle to the
-// Sun; twin of the axis weight in cpu::integrateEclipse()): the orders >= 2 take
-// mix(f, f + D, w), w = the sine of that angle. A ray near the shadow's axis gathers light
-// scattered in the air along the axis, as dark as the point itself; across it, the kernel's average.
-float atm_eclMsAxisWeight(float nu) { return sqrt(max(1.0 - nu * nu, 0.0)); }
 #endif
 
 #ifdef ATM_USE_TRANSMITTANCE
@@ -127,174 +122,46 @@ layout(binding = WELKIN_BINDING_MULTISCATTERING_LUT) uniform sampler2D u_atmMult
 // texture unit 8; the next layer, row 0, holds the sky's irradiance on the ground over mu_s.
 layout(binding = WELKIN_BINDING_SH_LUT) uniform sampler2DArray u_atmShLut;
 #endif
-// SH bands L of the directional field (SkyQuality::shBands, set by the pass's program).
-#ifndef ATM_SH_BANDS
-#define ATM_SH_BANDS 4
-#endif
-const int ATM_SH_COEFFICIENTS = (ATM_SH_BANDS + 1) * (ATM_SH_BANDS + 2) / 2;
+// The SH bands ATM_SH_BANDS of the directional field (SkyQuality::shBands, set by the pass's
+// program; 4 if not) and ATM_SH_COEFFICIENTS: atmosphere.shared.glsl.
 const float ATM_SH_GROUND_LAYER = float(ATM_SH_COEFFICIENTS);
-// N_lm = sqrt((2l + 1) / (4 pi) (l - m)! / (l + m)!), times sqrt(2) for m > 0, at l (l + 1) / 2 + m.
-const float ATM_SH_NORM[28] = float[28](0.28209479, 0.48860251, 0.48860251, 0.63078313, 0.36418281, 0.18209141,
-    0.74635267, 0.30469720, 0.09635371, 0.03933624, 0.84628438, 0.26761862, 0.06307831, 0.01685839, 0.00596034,
-    0.93560258, 0.24157155, 0.04565273, 0.00931882, 0.00219647, 0.00069458, 1.01710724, 0.22195100, 0.03509353,
-    0.00584892, 0.00106786, 0.00022767, 0.00006572);
 
-// The real SH of bands l <= ATM_SH_BANDS that are even in y, at a unit vector given x and z
-// (index l (l + 1) / 2 + m); twin of cpu::shBasis(): N_lm P_l^m(z) / sin^m * Re((x + i y)^m), the
-// associated Legendre function (no Condon-Shortley phase) by its recurrence in l.
-float[ATM_SH_COEFFICIENTS] atm_shBasis(float x, float z) {
-    float Y[ATM_SH_COEFFICIENTS];
-    float y = sqrt(max(0.0, 1.0 - x * x - z * z));
-    float cm = 1.0, sm = 0.0, pmm = 1.0;
-    for (int m = 0; m <= ATM_SH_BANDS; ++m) {
-        float a = pmm, b = 0.0;
-        for (int l = m; l <= ATM_SH_BANDS; ++l) {
-            int k = l * (l + 1) / 2 + m;
-            Y[k] = ATM_SH_NORM[k] * a * cm;
-            float next = (float(2 * l + 1) * z * a - float(l + m) * b) / float(l + 1 - m);
-            b = a;
-            a = next;
-        }
-        pmm *= float(2 * m + 1);
-        float c = x * cm - y * sm;
-        sm = x * sm + y * cm;
-        cm = c;
-    }
-    return Y;
-}
-
-// Irradiance of the horizontal ground per lux of the light at muS (direct light, plus the sky's
-// with ATM_MS_DIRECTIONAL); twin of cpu::groundIrradiance().
-vec3 atm_groundIrradiance(float muS, float lightAngularRadius) {
-    vec3 e = transmittanceToLight(0.0, muS, lightAngularRadius) * max(muS, 0.0);
+// What the view-ray march (atmosphere_view.shared.glsl) reads: the multiple-scattering field
+// (Psi_ms or, with ATM_MS_DIRECTIONAL, the SH LUT and its ground layer), the block's SH factors
+// and the eclipse's shadow (ATM_ECLIPSE, the march's origin and direction atm_eclOrigin/View).
+bool atm_msDirectional() {
 #ifdef ATM_MS_DIRECTIONAL
+    return true;
+#else
+    return false;
+#endif
+}
+int atm_shBands() { return ATM_SH_BANDS; }
+vec4 atm_shFactorsLo() { return atm_shFactors; }
+vec4 atm_shFactorsHi() { return atm_shFactors2; }
+vec2 atm_msUv(float h, float muS) { return multiScatteringUv(h, muS, vec2(textureSize(ATM_MULTISCATTERING_LUT, 0))); }
+vec3 atm_msLutUv(vec2 uv) { return texture(ATM_MULTISCATTERING_LUT, uv).rgb; }
+#ifdef ATM_MS_DIRECTIONAL
+vec3 atm_shLutAt(vec2 uv, int k) { return texture(u_atmShLut, vec3(uv, float(k))).rgb; }
+vec3 atm_shGroundAt(float muS) {
     vec2 size = vec2(textureSize(u_atmShLut, 0).xy);
-    e += texture(u_atmShLut, vec3(multiScatteringUv(0.0, muS, vec2(size.x, 2.0)).x, 0.5 / size.y, ATM_SH_GROUND_LAYER)).rgb;
-#endif
-    return e;
+    return texture(u_atmShLut, vec3(multiScatteringUv(0.0, muS, vec2(size.x, 2.0)).x, 0.5 / size.y, ATM_SH_GROUND_LAYER)).rgb;
 }
-
-// In-scattered radiance per lux of scattering orders >= 2 at a point; twin of cpu::msInscatter().
-vec3 msInscatter(float h, float mu, float muS, float nu, vec3 sR, vec3 sM) {
-    vec2 uv = multiScatteringUv(h, muS, vec2(textureSize(ATM_MULTISCATTERING_LUT, 0)));
-#ifdef ATM_MS_DIRECTIONAL
-    float sinS = sqrt(max(1.0 - muS * muS, 0.0));
-    float x = sinS > 1e-3 ? clamp((nu - mu * muS) / sinS, -1.0, 1.0) : 0.0;  // see cpu::msInscatter()
-    // Funk-Hecke: band l scaled by the phase function's Legendre moment; delta-M: the forward
-    // fraction stays in the beam; the Mie bands windowed (factors from cpu::phaseMoments()). The
-    // basis is evaluated as in atm_shBasis(), each function used as soon as it is known (no array
-    // of 28 basis values: with one, the second SH pass at l <= 6 came out wrong on Mesa llvmpipe
-    // 22.3, rows of texels 2-15 % off the CPU twin).
-    vec4 f1 = atm_shFactors, f2 = atm_shFactors2;
-    float bM[7] = float[7](1.0 - f1.w, f1.x, f1.y, f2.x, f2.y, f2.z, f2.w);
-    vec3 aR = vec3(0.0), aM = vec3(0.0);
-    float y = sqrt(max(0.0, 1.0 - x * x - mu * mu));
-    float cm = 1.0, sm = 0.0, pmm = 1.0;
-    for (int m = 0; m <= ATM_SH_BANDS; ++m) {
-        float a = pmm, b = 0.0;
-        for (int l = m; l <= ATM_SH_BANDS; ++l) {
-            int k = l * (l + 1) / 2 + m;
-            vec3 c = texture(u_atmShLut, vec3(uv, float(k))).rgb * (ATM_SH_NORM[k] * a * cm);
-            aM += c * bM[l];
-            if (l == 0) aR += c;
-            if (l == 2) aR += c * f1.z;
-            float next = (float(2 * l + 1) * mu * a - float(l + m) * b) / float(l + 1 - m);
-            b = a;
-            a = next;
-        }
-        pmm *= float(2 * m + 1);
-        float cn = x * cm - y * sm;
-        sm = x * sm + y * cm;
-        cm = cn;
-    }
-    return sR * max(aR, vec3(0.0)) + sM * max(aM, vec3(0.0));
 #else
-    return (sR + sM) * texture(ATM_MULTISCATTERING_LUT, uv).rgb;
+vec3 atm_shLutAt(vec2 uv, int k) { return vec3(0.0); }
+vec3 atm_shGroundAt(float muS) { return vec3(0.0); }
 #endif
-}
-// What a view-ray march needs at the point t metres along a ray from height h (direction
-// cosine mu, light at muS, view-light cosine nu), for a segment of length dt: scattering
-// coefficients, true and delta-M extinction (see sky_model.cpp), the segment's integration
-// factor, transmittance to the light and the orders >= 2 in-scattering. Shared by the sky-view
-// and aerial-perspective marches.
-struct RaySample {
-    vec3 sR, sM, sigmaT, sigmaD, seg, Tl, ms;
-};
-// `groundAir`: the sample's height clamped to >= 0 (a ray towards the ground that the host's
-// terrain stops, not the planet's sphere: the aerial-perspective volume).
-RaySample atm_raySampleAir(float h, float mu, float muS, float nu, float t, float dt, float lightAngularRadius, bool groundAir) {
-    RaySample q;
-    float r = atm_bottom() + h;
-    float hp = groundAir ? max(heightAt(h, mu, t), 0.0) : heightAt(h, mu, t);
-    float rp = atm_bottom() + hp;
-    float muSp = clamp((r * muS + t * nu) / rp, -1.0, 1.0);
-    q.sR = atm_scatteringRayleigh(hp);
-    q.sM = atm_scatteringMie(hp);
-    q.sigmaT = atm_extinction(hp);
-    q.sigmaD = q.sigmaT - atm_shFactors.w * q.sM;
-    q.seg = atm_segmentFactor(q.sigmaD, dt);
-    q.Tl = transmittanceToLight(hp, muSp, lightAngularRadius);
-    float muP = clamp((r * mu + t) / rp, -1.0, 1.0);
-    q.ms = msInscatter(hp, muP, muSp, nu, q.sR, q.sM);
-    return q;
-}
-RaySample atm_raySample(float h, float mu, float muS, float nu, float t, float dt, float lightAngularRadius) {
-    return atm_raySampleAir(h, mu, muS, nu, t, dt, lightAngularRadius, false);
-}
-struct Scattering {
-    vec3 smooth_;     // Rayleigh single (phase applied), multiple scattering and ground
-    vec3 mieNoPhase;  // Mie single scattering without its phase function
-    vec3 transmittance;
-    bool hitGround;
-};
-// groundMode: -1 decide from the geometry, 0 never hits, 1 hits (sky-view rows at the horizon).
-Scattering integrateScattering(float h, float mu, float muS, float nu, float maxDistance, int steps, bool quadratic,
-                               float lightAngularRadius, int groundMode) {
-    Scattering o;
-    o.smooth_ = vec3(0.0);
-    o.mieNoPhase = vec3(0.0);
-    h = clamp(h, 0.0, atm_thickness());
-    o.hitGround = groundMode < 0 ? rayIntersectsGround(h, mu) : groundMode == 1;
-    float d = o.hitGround ? distanceToBottom(h, mu) : distanceToTop(h, mu);
-    if (d > maxDistance) o.hitGround = false;
-    d = min(d, maxDistance);
-    float p = quadratic ? 0.0 : atm_perigeeFraction(h, mu, d);
-    float r = atm_bottom() + h;
-    float phaseR = rayleighPhase(nu);
-    vec3 thr = vec3(1.0), thrD = vec3(1.0);  // exact (background) and delta-M (scattered light)
 #ifdef ATM_ECLIPSE
-    float eclAxis = atm_eclMsAxisWeight(nu);
-#endif
-    for (int k = 0; k < steps && d > 0.0; ++k) {
-        float s0 = float(k) / float(steps), s1 = float(k + 1) / float(steps), sm = (float(k) + 0.5) / float(steps);
-        float dt = d * (atm_warp(s1, p) - atm_warp(s0, p)), t = d * atm_warp(sm, p);
-        RaySample q = atm_raySample(h, mu, muS, nu, t, dt, lightAngularRadius);
-#ifdef ATM_ECLIPSE
-        vec2 ecl = atm_eclipseAt(atm_eclOrigin + t * atm_eclView);
-        q.Tl *= ecl.x;
-        q.ms *= mix(ecl.x, ecl.y, eclAxis);
-#endif
-        o.smooth_ += thrD * (q.sR * q.Tl * phaseR + q.ms) * q.seg;
-        o.mieNoPhase += thrD * q.sM * q.Tl * q.seg;
-        thr *= exp(-q.sigmaT * dt);
-        thrD *= exp(-q.sigmaD * dt);
-    }
-    if (o.hitGround) {
-        // The ground: Lambertian, lit by the light and by the sky.
-        float muSg = clamp((r * muS + d * nu) / atm_bottom(), -1.0, 1.0);
-#ifdef ATM_ECLIPSE
-        // Direct light by the ground point's own visible fraction, the sky's by the model's.
-        vec2 eg = atm_eclipseAt(atm_eclOrigin + d * atm_eclView);
-        vec3 eDirect = transmittanceToLight(0.0, muSg, lightAngularRadius) * max(muSg, 0.0);
-        vec3 eAll = atm_groundIrradiance(muSg, lightAngularRadius);
-        o.smooth_ += thrD * (eDirect * eg.x + (eAll - eDirect) * eg.y) * atm_groundAlbedo.rgb / ATM_PI;
+bool atm_eclipseMarch() { return true; }
+vec2 atm_eclipseAlong(float t) { return atm_eclipseAt(atm_eclOrigin + t * atm_eclView); }
 #else
-        o.smooth_ += thrD * atm_groundIrradiance(muSg, lightAngularRadius) * atm_groundAlbedo.rgb / ATM_PI;
+bool atm_eclipseMarch() { return false; }
+vec2 atm_eclipseAlong(float t) { return vec2(1.0); }
 #endif
-    }
-    o.transmittance = thr;
-    return o;
-}
+// msInscatter(), atm_groundIrradiance(), RaySample, atm_raySample(), atm_raySampleAir(),
+// atm_aerialSlice(), Scattering, integrateScattering(): the CPU twins (sky_model.cpp) compile the
+// same text in double.
+#include "atmosphere_view.shared.glsl"
 #endif
 
 // Radiance per lux (without kLutScale) from a sky-view LUT pair for a view direction (mu, azimuth

@@ -249,3 +249,70 @@ real atm_eclipseVisibleAt(vec3 p, vec3 moonPos, real moonRadius, vec3 sunPos, re
     real d = 2.0 * asin(min(0.5 * length(m / dm - s / ds), 1.0));
     return atm_eclipseFraction(rs, ro, d, nodes);
 }
+
+// ---- The directional multiple-scattering field's spherical harmonics ---------------------------
+// SH bands L (SkyQuality::shBands: GLSL, the pass's program defines it; C++, kShMaxBands, the
+// arrays' size, each call taking its field's L), ATM_SH_COEFFICIENTS = (L + 1)(L + 2) / 2 real
+// SH even in y, coefficient (l, m) at index l (l + 1) / 2 + m.
+#ifndef ATM_SH_BANDS
+#define ATM_SH_BANDS 4
+#endif
+#define ATM_SH_COEFFICIENTS ((ATM_SH_BANDS + 1) * (ATM_SH_BANDS + 2) / 2)
+// N_lm = sqrt((2l + 1) / (4 pi) (l - m)! / (l + m)!), times sqrt(2) for m > 0, at l (l + 1) / 2 + m
+// (l <= 6), to 8 decimals: float's precision for the large ones, only 4 digits of N_66 (3e-5). The
+// basis reads N_lm through ATM_SH_N(k), this table unless the includer defines it: a constant
+// that differs by precision, like ATM_SEGMENT_LINEAR (the C++ twin's is exact in double).
+const real ATM_SH_NORM[28] = ARRAY_OF(real, 28) 0.28209479, 0.48860251, 0.48860251, 0.63078313, 0.36418281, 0.18209141,
+    0.74635267, 0.30469720, 0.09635371, 0.03933624, 0.84628438, 0.26761862, 0.06307831, 0.01685839, 0.00596034,
+    0.93560258, 0.24157155, 0.04565273, 0.00931882, 0.00219647, 0.00069458, 1.01710724, 0.22195100, 0.03509353,
+    0.00584892, 0.00106786, 0.00022767, 0.00006572 END_ARRAY;
+#ifndef ATM_SH_N
+#define ATM_SH_N(k) ATM_SH_NORM[k]
+#endif
+
+// The basis at a unit vector (an array in a struct: both languages return it).
+struct AtmShBasis {
+    real y[ATM_SH_COEFFICIENTS];
+};
+// The real SH of bands l <= `bands` (<= ATM_SH_BANDS) that are even in y, at a unit vector given
+// x and z: N_lm P_l^m(z) / sin^m * Re((x + i y)^m), the associated Legendre function (no
+// Condon-Shortley phase) by its recurrence in l; Re((x + i y)^m) = sin^m cos(m phi) is even in y,
+// so y's sign does not matter. C++: cpu::shBasis().
+AtmShBasis atm_shBasis(real x, real z, int bands) {
+    AtmShBasis o;
+    real y = sqrt(max(0.0, 1.0 - x * x - z * z));
+    real cm = 1.0, sm = 0.0, pmm = 1.0;  // Re and Im of (x + i y)^m; P_m^m / sin^m = (2m - 1)!!
+    for (int mm = 0; mm <= bands; ++mm) {
+        real a = pmm, b = 0.0;  // P_l^m / sin^m and P_(l-1)^m / sin^m
+        for (int l = mm; l <= bands; ++l) {
+            int k = l * (l + 1) / 2 + mm;
+            o.y[k] = ATM_SH_N(k) * a * cm;
+            real next = (real(2 * l + 1) * z * a - real(l + mm) * b) / real(l + 1 - mm);
+            b = a;
+            a = next;
+        }
+        pmm *= real(2 * mm + 1);
+        real c = x * cm - y * sm;
+        sm = x * sm + y * cm;
+        cm = c;
+    }
+    return o;
+}
+// The Mie band factor of band l (cpu::PhaseMoments::mie) from the block's packing (AtmosphereBlock
+// shFactors, shFactors2): f1 = (Mie l1, Mie l2, Rayleigh l2, delta-M fraction), f2 = Mie l3 .. l6;
+// band 0 is 1 - the delta-M fraction.
+real atm_shMieBand(int l, vec4 f1, vec4 f2) {
+    if (l == 0) return 1.0 - f1.w;
+    if (l == 1) return f1.x;
+    if (l == 2) return f1.y;
+    if (l == 3) return f2.x;
+    if (l == 4) return f2.y;
+    if (l == 5) return f2.z;
+    return f2.w;
+}
+
+// The eclipse's multiple-scattering weight along a view ray (nu: the cosine of its angle to the
+// Sun): the orders >= 2 take mix(f, f + D, w), w = the sine of that angle (docs/eclipse.md). A ray
+// near the shadow's axis gathers light scattered in the air along the axis, as dark as the point
+// itself; across it, the kernel's average.
+real atm_eclMsAxisWeight(real nu) { return sqrt(max(1.0 - nu * nu, 0.0)); }

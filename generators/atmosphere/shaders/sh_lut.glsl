@@ -99,8 +99,8 @@ void main() {
 #else
         vec3 L = atm_incidentRadiance(h, muS, v);
 #endif
-        float Y[ATM_SH_COEFFICIENTS] = atm_shBasis(v.x, v.z);
-        for (int k = 0; k < ATM_SH_COEFFICIENTS; ++k) c[k] += L * Y[k];
+        AtmShBasis Y = atm_shBasis(v.x, v.z, ATM_SH_BANDS);
+        for (int k = 0; k < ATM_SH_COEFFICIENTS; ++k) c[k] += L * Y.y[k];
     }
     float w = 4.0 * ATM_PI / float(u_directions);
     for (int k = 0; k < ATM_SH_COEFFICIENTS; ++k) {

@@ -211,31 +211,12 @@ AerialTexel aerialTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, 
     // atmosphere.glsl's atm_raySampleAir).
     bool ground = j < n / 2;
     double dEnd = ground ? q.aerialMaxDistance : distanceToTop(m, h, mu);
-    double r = m.bottomRadius + h;
-    double phaseR = rayleighPhase(nu), phaseM = miePhase(nu, m.mieG, m.miePhase);
-    const PhaseMoments moments = phaseMoments(m, MS.bands);
     glm::dvec3 L(0.0), thr(1.0), thrD(1.0);
     double t0 = 0.0;
     for (int kk = 0; kk <= k; ++kk) {
         double f = double(kk + 1) / n;
         double t1 = std::min(q.aerialMaxDistance * f * f, dEnd);
-        double dt = (t1 - t0) / q.aerialSteps;
-        for (int s = 0; s < q.aerialSteps && dt > 0.0; ++s) {
-            double t = t0 + (s + 0.5) * dt;
-            double hp = ground ? std::max(heightAt(m, h, mu, t), 0.0) : heightAt(m, h, mu, t);
-            double rp = m.bottomRadius + hp;
-            double muSp = std::clamp((r * muS + t * nu) / rp, -1.0, 1.0);
-            glm::dvec3 sR = m.scatteringRayleigh(hp), sM = m.scatteringMie(hp), sigmaT = m.extinction(hp);
-            glm::dvec3 sigmaD = sigmaT - moments.forward * sM;
-            glm::dvec3 seg;
-            for (int c = 0; c < 3; ++c) seg[c] = sigmaD[c] * dt > 1e-7 ? (1.0 - std::exp(-sigmaD[c] * dt)) / sigmaD[c] : dt;
-            glm::dvec3 Tl = transmittanceToLight(m, T, hp, muSp, m.sunAngularRadius);
-            double muP = std::clamp((r * mu + t) / rp, -1.0, 1.0);
-            glm::dvec3 ms = msInscatter(m, MS, moments, hp, muP, muSp, nu, sR, sM);
-            L += thrD * ((sR * phaseR + sM * phaseM) * Tl + ms) * seg;
-            thr *= glm::exp(-sigmaT * dt);
-            thrD *= glm::exp(-sigmaD * dt);
-        }
+        aerialSlice(m, T, MS, h, mu, muS, nu, t0, t1, q.aerialSteps, ground, L, thr, thrD);  // the pass's slice (atm_aerialSlice)
         t0 = std::max(t0, t1);
     }
     return {L, thr};

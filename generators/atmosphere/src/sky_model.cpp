@@ -1,20 +1,41 @@
 // CPU double-precision twins of the real-time sky passes (see sky_model.hpp): the optical
 // functions and LUT parameterisations are atmosphere.shared.glsl compiled in double (the GPU's own
 // text, welkin/glsl_cpp.hpp), the transmittance and multiple-scattering marches
-// atmosphere_march.shared.glsl; the other marches here mirror generators/atmosphere/shaders/atmosphere.glsl.
+// atmosphere_march.shared.glsl, the view-ray march (integrate(), msInscatter(), groundIrradiance(),
+// the aerial-perspective slice) atmosphere_view.shared.glsl, the SH basis atmosphere.shared.glsl.
 #include <welkin/astro/astro_keys.hpp>
 #include <welkin/error.hpp>
 #include <welkin/generators/sky_model.hpp>
 #include <welkin/glsl_cpp.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 
 namespace welkin::glsl::dp::atmosphere_shared {
 #define ATM_SEGMENT_LINEAR 1e-7  // atm_segmentFactor()'s linear limit: double keeps 1 - exp(-x) to here
+#define ATM_SH_BANDS 6           // the SH arrays' size (kShMaxBands); each field passes its own L
+// The SH normalisation N_lm in double (the shader's table has 8 decimals, float's precision):
+// sqrt((2l + 1) / (4 pi) (l - m)! / (l + m)!), times sqrt(2) for m > 0, at k = l (l + 1) / 2 + m.
+real atm_shNormExact(int k) {
+    static const auto table = [] {
+        std::array<real, 28> t{};
+        for (int l = 0; l <= 6; ++l) {
+            real ratio = 1.0;  // (l - m)! / (l + m)!
+            for (int mm = 0; mm <= l; ++mm) {
+                if (mm > 0) ratio /= real((l + mm) * (l - mm + 1));
+                t[size_t(l * (l + 1) / 2 + mm)] = std::sqrt((2 * l + 1) / (4.0 * std::numbers::pi) * ratio) * (mm > 0 ? std::numbers::sqrt2 : 1.0);
+            }
+        }
+        return t;
+    }();
+    return table[size_t(k)];
+}
+#define ATM_SH_N(k) atm_shNormExact(k)
 #include "atmosphere.shared.glsl"
+static_assert(ATM_SH_COEFFICIENTS == generators::cpu::kShMaxCoefficients);
 }  // namespace welkin::glsl::dp::atmosphere_shared
 
 // The LUT marches: atmosphere_march.shared.glsl (the passes' text) as members of SkyMarch, whose
@@ -42,12 +63,42 @@ struct SkyMarch {
     vec3 atm_groundSkyAt(real muS) const {
         return ground->texels.empty() ? vec3(0.0) : ground->sample({generators::multiScatteringUv(m, 0.0, muS, ground->width, 2).x, 0.5});
     }
+    // The view-ray march's (atmosphere_view.shared.glsl): its multiple-scattering field (psi,
+    // ground and, when directional, the SH tables), the phase moments packed as AtmosphereBlock
+    // packs them, and a solar eclipse's geometry (the march's origin at the observer).
+    const generators::cpu::MsField* ms = nullptr;
+    bool directional = false;
+    vec4 shLo = vec4(0.0), shHi = vec4(0.0);
+    const generators::cpu::EclipseGeometry* eclipse = nullptr;
+    vec3 eclView = vec3(0.0, 0.0, 1.0);
+    real atm_thickness() const { return m.topRadius - m.bottomRadius; }
+    bool atm_msDirectional() const { return directional; }
+    int atm_shBands() const { return ms->bands; }
+    vec4 atm_shFactorsLo() const { return shLo; }
+    vec4 atm_shFactorsHi() const { return shHi; }
+    vec2 atm_msUv(real h, real muS) const { return generators::multiScatteringUv(m, h, muS, psi->width, psi->height); }
+    vec3 atm_msLutUv(vec2 uv) const { return psi->sample(uv); }
+    vec3 atm_shLutAt(vec2 uv, int k) const { return ms->sh[size_t(k)].sample(uv); }
+    vec3 atm_shGroundAt(real muS) const { return atm_groundSkyAt(muS); }
+    bool atm_eclipseMarch() const { return eclipse != nullptr; }
+    vec2 atm_eclipseAlong(real t) const { return generators::cpu::eclipseAt(*eclipse, t * eclView); }
 #define ATM_USE_TRANSMITTANCE
 #define ATM_MARCH_INCIDENT
 #include "atmosphere_march.shared.glsl"
+#include "atmosphere_view.shared.glsl"
 #undef ATM_MARCH_INCIDENT
 #undef ATM_USE_TRANSMITTANCE
 };
+// A view-ray march through the field MS (T may be null where no sample reads the light).
+SkyMarch viewMarch(const generators::SkyModel& m, const generators::Lut2D* T, const generators::cpu::MsField& MS,
+                   const generators::cpu::PhaseMoments& pm) {
+    SkyMarch s{m, T, &MS.psi, &MS.ground};
+    s.ms = &MS;
+    s.directional = MS.directional;
+    s.shLo = vec4(pm.mie[1], pm.mie[2], pm.rayleigh[2], pm.forward);
+    s.shHi = vec4(pm.mie[3], pm.mie[4], pm.mie[5], pm.mie[6]);
+    return s;
+}
 }  // namespace welkin::glsl::dp::atmosphere_shared
 
 namespace welkin::generators {
@@ -343,29 +394,9 @@ PhaseMoments phaseMoments(const SkyModel& m, int bands) {
 }
 
 std::array<double, kShMaxCoefficients> shBasis(double x, double z) {
-    // Y_lm = N_lm P_l^m(z) / sin^m(theta) * Re((x + i y)^m), the associated Legendre function
-    // without the Condon-Shortley phase by its recurrence in l, N_lm = sqrt((2l + 1) / (4 pi)
-    // (l - m)! / (l + m)!) (times sqrt(2) for m > 0). Re((x + i y)^m) = sin^m(theta) cos(m phi) is
-    // even in y, so y's sign does not matter. Same loop in atmosphere.glsl (atm_shBasis).
+    const auto b = shared::atm_shBasis(x, z, kShMaxBands);  // the SH passes' text
     std::array<double, kShMaxCoefficients> Y{};
-    const double y = safeSqrt(1.0 - x * x - z * z);
-    double cm = 1.0, sm = 0.0;  // Re and Im of (x + i y)^m
-    double pmm = 1.0;           // P_m^m / sin^m = (2m - 1)!!
-    for (int mm = 0; mm <= kShMaxBands; ++mm) {
-        double a = pmm, b = 0.0;  // P_l^m / sin^m and P_(l-1)^m / sin^m
-        double fact = 1.0;        // (l + m)! / (l - m)!
-        for (int k = 1; k <= 2 * mm; ++k) fact *= k;
-        for (int l = mm; l <= kShMaxBands; ++l) {
-            double N = std::sqrt((2 * l + 1) / (4.0 * kPi) / fact) * (mm > 0 ? std::numbers::sqrt2 : 1.0);
-            Y[size_t(l * (l + 1) / 2 + mm)] = N * a * cm;
-            double next = ((2 * l + 1) * z * a - (l + mm) * b) / (l + 1 - mm);
-            b = a, a = next;
-            fact *= double(l + 1 + mm) / double(l + 1 - mm);
-        }
-        pmm *= 2 * mm + 1;
-        double c = x * cm - y * sm;
-        sm = x * sm + y * cm, cm = c;
-    }
+    std::copy(std::begin(b.y), std::end(b.y), Y.begin());
     return Y;
 }
 
@@ -412,9 +443,9 @@ glm::dvec3 groundIrradianceIterationTexel(const SkyModel& m, const SkyQuality& q
 }
 
 glm::dvec3 groundIrradiance(const SkyModel& m, const Lut2D& T, const Lut2D& ground, double muS, double lightAngularRadius) {
-    glm::dvec3 e = transmittanceToLight(m, T, 0.0, muS, lightAngularRadius) * std::max(muS, 0.0);
-    if (!ground.texels.empty()) e += ground.sample({multiScatteringUv(m, 0.0, muS, ground.width, 2).x, 0.5});
-    return e;
+    shared::SkyMarch s{m, &T, nullptr, &ground};
+    s.directional = !ground.texels.empty();
+    return s.atm_groundIrradiance(muS, lightAngularRadius);  // atmosphere.glsl's text
 }
 
 ShCoefficients shTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const Lut2D& psi, const Lut2D& ground, double h,
@@ -489,70 +520,26 @@ ShCoefficients shIterationTexel(const SkyModel& m, const SkyQuality& q, const Lu
 
 glm::dvec3 msInscatter(const SkyModel& m, const MsField& f, const PhaseMoments& moments, double h, double mu, double muS,
                        double nu, const glm::dvec3& sR, const glm::dvec3& sM) {
-    glm::dvec2 uv = multiScatteringUv(m, h, muS, f.psi.width, f.psi.height);
-    if (!f.directional) return (sR + sM) * f.psi.sample(uv);
-    double sinS = safeSqrt(1.0 - muS * muS);
-    // x = cos(azimuth from the light) sin(zenith); undefined with the light at the zenith, where the
-    // field is symmetric: below sinS = 1e-3 float rounding of nu - mu muS would dominate.
-    double x = sinS > 1e-3 ? (nu - mu * muS) / sinS : 0.0;
-    auto Y = shBasis(std::clamp(x, -1.0, 1.0), mu);
-    // Funk-Hecke: the phase function's convolution scales band l by its Legendre moment Lambda_l;
-    // delta-M: the forward peak f stays in the beam, not in the SH (PhaseMoments). The Mie bands
-    // are also damped by a Gaussian window exp(-c l^2), c = 0.48 / L^2 (at L = 4: 0.97, 0.89,
-    // 0.76, 0.62 for l = 1..4): the truncation of the field's sharp horizon rings (Gibbs) along
-    // the horizon's azimuth at low Sun (+-10 % at 3 deg altitude with the Sun at 5 deg, L = 4);
-    // the window halves the ringing. Rayleigh needs l <= 2 only, where the projection is exact.
-    glm::dvec3 aR(0.0), aM(0.0);
-    for (int l = 0, k = 0; l <= f.bands; ++l) {
-        glm::dvec3 band(0.0);
-        for (int mm = 0; mm <= l; ++mm, ++k) band += f.sh[size_t(k)].sample(uv) * Y[size_t(k)];
-        aR += band * moments.rayleigh[size_t(l)];
-        aM += band * moments.mie[size_t(l)];
-    }
-    return sR * glm::max(aR, glm::dvec3(0.0)) + sM * glm::max(aM, glm::dvec3(0.0));
+    return shared::viewMarch(m, nullptr, f, moments).msInscatter(h, mu, muS, nu, sR, sM);  // the view march's text
 }
 
 // --- Single + multiple scattering along a ray ----------------------------------------------------
 
+namespace {
+Scattering fromShared(const shared::SkyMarch::Scattering& s) { return {s.smooth_, s.mieNoPhase, s.transmittance, s.hitGround}; }
+}  // namespace
+
 Scattering integrate(const SkyModel& m, const Lut2D& T, const MsField& MS, double h, double mu, double muS, double nu,
                      double maxDistance, int steps, bool quadratic, double lightAngularRadius, int groundMode) {
-    Scattering out;
-    const double Ht = m.topRadius - m.bottomRadius;
-    h = std::clamp(h, 0.0, Ht);
-    out.hitGround = groundMode < 0 ? rayIntersectsGround(m, h, mu) : groundMode == 1;
-    double d = out.hitGround ? distanceToBottom(m, h, mu) : distanceToTop(m, h, mu);
-    bool reachesEnd = d <= maxDistance;
-    d = std::min(d, maxDistance);
-    if (!reachesEnd) out.hitGround = false;
-    const double p = quadratic ? 0.0 : perigeeFraction(m, h, mu, d);
-    const double r = m.bottomRadius + h;
-    const PhaseMoments moments = phaseMoments(m, MS.bands);
-    glm::dvec3 thr(1.0), thrD(1.0);  // exact (background) and delta-M (scattered light) transmittance
-    for (int k = 0; k < steps && d > 0.0; ++k) {
-        double s0 = double(k) / steps, s1 = double(k + 1) / steps, sm = (k + 0.5) / steps;
-        double dt = d * (warp(s1, p) - warp(s0, p)), t = d * warp(sm, p);
-        double hp = heightAt(m, h, mu, t);
-        double rp = m.bottomRadius + hp;
-        double muSp = std::clamp((r * muS + t * nu) / rp, -1.0, 1.0);
-        glm::dvec3 sR = m.scatteringRayleigh(hp), sM = m.scatteringMie(hp);
-        glm::dvec3 sigmaT = m.extinction(hp);
-        glm::dvec3 sigmaD = sigmaT - moments.forward * sM;
-        glm::dvec3 seg = segmentFactor(sigmaD, dt);
-        glm::dvec3 Tl = transmittanceToLight(m, T, hp, muSp, lightAngularRadius);
-        double muP = std::clamp((r * mu + t) / rp, -1.0, 1.0);
-        glm::dvec3 ms = msInscatter(m, MS, moments, hp, muP, muSp, nu, sR, sM);
-        out.smooth += thrD * (sR * Tl * rayleighPhase(nu) + ms) * seg;
-        out.mieNoPhase += thrD * sM * Tl * seg;
-        thr *= glm::exp(-sigmaT * dt);
-        thrD *= glm::exp(-sigmaD * dt);
-    }
-    if (out.hitGround) {
-        // The ground: Lambertian, lit by the light and by the sky (MS.ground).
-        double muSg = std::clamp((r * muS + d * nu) / m.bottomRadius, -1.0, 1.0);
-        out.smooth += thrD * groundIrradiance(m, T, MS.ground, muSg, lightAngularRadius) * m.groundAlbedo / kPi;
-    }
-    out.transmittance = thr;
-    return out;
+    shared::SkyMarch s = shared::viewMarch(m, &T, MS, phaseMoments(m, MS.bands));
+    return fromShared(s.integrateScattering(h, mu, muS, nu, maxDistance, steps, quadratic, lightAngularRadius, groundMode));  // the shaders' text
+}
+
+void aerialSlice(const SkyModel& m, const Lut2D& T, const MsField& MS, double h, double mu, double muS, double nu, double t0,
+                 double t1, int substeps, bool groundAir, glm::dvec3& L, glm::dvec3& thr, glm::dvec3& thrD) {
+    shared::SkyMarch s = shared::viewMarch(m, &T, MS, phaseMoments(m, MS.bands));
+    s.atm_aerialSlice(h, mu, muS, nu, t0, t1, substeps, m.sunAngularRadius, groundAir, rayleighPhase(nu), miePhase(nu, m.mieG, m.miePhase),
+                      L, thr, thrD);  // the aerial-perspective pass's text
 }
 
 double eclipseFraction(double rs, double ro, double d, int rings) {
@@ -669,50 +656,12 @@ EclipseMsTable eclipseMsTable(const EclipseGeometry& g, double lengthMeters, int
 Scattering integrateEclipse(const SkyModel& m, const Lut2D& T, const MsField& MS, double h, const glm::dvec3& viewDir,
                             const glm::dvec3& sunDir, const EclipseGeometry& g, int steps, bool quadratic, double lightAngularRadius,
                             int groundMode) {
-    Scattering out;
-    const double Ht = m.topRadius - m.bottomRadius;
-    h = std::clamp(h, 0.0, Ht);
     const double mu = std::clamp(viewDir.z, -1.0, 1.0), muS = std::clamp(sunDir.z, -1.0, 1.0);
     const double nu = std::clamp(glm::dot(viewDir, sunDir), -1.0, 1.0);
-    out.hitGround = groundMode < 0 ? rayIntersectsGround(m, h, mu) : groundMode == 1;
-    const double d = out.hitGround ? distanceToBottom(m, h, mu) : distanceToTop(m, h, mu);
-    const double p = quadratic ? 0.0 : perigeeFraction(m, h, mu, d);
-    const double r = m.bottomRadius + h;
-    const PhaseMoments moments = phaseMoments(m, MS.bands);
-    // The orders >= 2 along this view ray take mix(f, f + D, w), w = sin of the ray's angle to the
-    // Sun (docs/eclipse.md): the light a ray near the shadow's axis gathers was scattered in the
-    // air along that axis, as dark as the point itself; across the axis, the kernel's average.
-    // Twin of atm_eclMsAxisWeight().
-    const double axisWeight = std::sqrt(std::max(1.0 - nu * nu, 0.0));
-    glm::dvec3 thr(1.0), thrD(1.0);
-    for (int k = 0; k < steps && d > 0.0; ++k) {
-        double s0 = double(k) / steps, s1 = double(k + 1) / steps, sm = (k + 0.5) / steps;
-        double dt = d * (warp(s1, p) - warp(s0, p)), t = d * warp(sm, p);
-        double hp = heightAt(m, h, mu, t);
-        double rp = m.bottomRadius + hp;
-        double muSp = std::clamp((r * muS + t * nu) / rp, -1.0, 1.0);
-        glm::dvec3 sR = m.scatteringRayleigh(hp), sM = m.scatteringMie(hp);
-        glm::dvec3 sigmaT = m.extinction(hp);
-        glm::dvec3 sigmaD = sigmaT - moments.forward * sM;
-        glm::dvec3 seg = segmentFactor(sigmaD, dt);
-        const glm::dvec2 ecl = eclipseAt(g, t * viewDir);
-        glm::dvec3 Tl = transmittanceToLight(m, T, hp, muSp, lightAngularRadius) * ecl.x;
-        double muP = std::clamp((r * mu + t) / rp, -1.0, 1.0);
-        glm::dvec3 ms = msInscatter(m, MS, moments, hp, muP, muSp, nu, sR, sM) * (ecl.x + (ecl.y - ecl.x) * axisWeight);
-        out.smooth += thrD * (sR * Tl * rayleighPhase(nu) + ms) * seg;
-        out.mieNoPhase += thrD * sM * Tl * seg;
-        thr *= glm::exp(-sigmaT * dt);
-        thrD *= glm::exp(-sigmaD * dt);
-    }
-    if (out.hitGround) {
-        double muSg = std::clamp((r * muS + d * nu) / m.bottomRadius, -1.0, 1.0);
-        const glm::dvec2 eg = eclipseAt(g, d * viewDir);
-        const glm::dvec3 eDirect = transmittanceToLight(m, T, 0.0, muSg, lightAngularRadius) * std::max(muSg, 0.0);
-        const glm::dvec3 eAll = groundIrradiance(m, T, MS.ground, muSg, lightAngularRadius);
-        out.smooth += thrD * (eDirect * eg.x + (eAll - eDirect) * eg.y) * m.groundAlbedo / kPi;
-    }
-    out.transmittance = thr;
-    return out;
+    shared::SkyMarch s = shared::viewMarch(m, &T, MS, phaseMoments(m, MS.bands));
+    s.eclipse = &g;  // the march's origin: the observer
+    s.eclView = viewDir;
+    return fromShared(s.integrateScattering(h, mu, muS, nu, 1e30, steps, quadratic, lightAngularRadius, groundMode));  // the shaders' text
 }
 
 glm::dvec3 radiance(const SkyModel& m, const Scattering& s, double nu) {

@@ -13,14 +13,12 @@ in vec2 v_local;
 flat in int v_shape;
 out vec4 o_weather;
 
+#include "weather_shape.shared.glsl"
+
 void main() {
     WeatherShape sh = u_shapes[v_shape];
-    float r = length(v_local);
-    // Edge noise: 2-D Perlin fBm (4 cells over 4 semi-axes, 3 octaves) at the shape's own offset;
-    // the radius is stretched by +-35 %, the fade runs from rr = 0.5 to 1 (a soft core).
-    float n = cn_perlinFbm2(v_local * 0.25 + sh.more.yz, 4, 3, sh.ids.x);
-    float rr = r * (1.0 + 0.7 * (n - 0.5));
-    float fade = 1.0 - smoothstep(0.5, 1.0, rr);
+    // The shape's fade over its noisy edge: weather_shape.shared.glsl (cpu::shapeTexel() compiles it).
+    float fade = cld_weatherFade(v_local, sh.more.yz, sh.ids.x);
     if (fade < 1e-3) discard;
     // The cloud thins towards its rim: (1 - base) and top are weighted by the fade, so
     // they fall to 0 with the fade and the max blend of overlapping shapes stays continuous (a

@@ -8,6 +8,7 @@
 #include <welkin/generators/cloud_sky_shadow.hpp>
 #include <welkin/gl/bindings.hpp>
 #include <welkin/gl/shader.hpp>
+#include <welkin/glsl_cpp.hpp>
 #include <welkin/keys.hpp>
 
 #include <epoxy/gl.h>
@@ -15,12 +16,36 @@
 #include <algorithm>
 #include <cmath>
 
+// The march: cloud_sky_shadow.shared.glsl (the pass's text) in double, as members of SkyShadowMarch
+// whose other members are what it calls of the atmosphere (atmosphere.glsl's block wrappers' twins
+// on a SkyModel and its transmittance LUT) and the shadow map's read.
+namespace welkin::glsl::dp::sky_shadow_shared {
+#define ATM_SEGMENT_LINEAR 1e-7  // atm_segmentFactor()'s linear limit in double (as sky_model.cpp)
+#include "atmosphere.shared.glsl"
+struct SkyShadowMarch {
+    const generators::SkyModel& m;
+    const generators::Lut2D& T;
+    const std::function<double(glm::dvec2)>& map;
+    real atm_bottom() const { return m.bottomRadius; }
+    real atm_thickness() const { return m.topRadius - m.bottomRadius; }
+    vec3 atm_groundAlbedoRgb() const { return m.groundAlbedo; }
+    vec3 atm_extinction(real h) const { return m.extinction(h); }
+    vec3 atm_scatteringRayleigh(real h) const { return m.scatteringRayleigh(h); }
+    vec3 atm_scatteringMie(real h) const { return m.scatteringMie(h); }
+    real distanceToTop(real h, real mu) const { return generators::cpu::distanceToTop(m, h, mu); }
+    real distanceToBottom(real h, real mu) const { return generators::cpu::distanceToBottom(m, h, mu); }
+    real heightAt(real h, real mu, real t) const { return generators::cpu::heightAt(m, h, mu, t); }
+    vec3 transmittanceToLight(real h, real muS, real angular) const { return generators::cpu::transmittanceToLight(m, T, h, muS, angular); }
+    real cld_skyShadowMapAt(vec2 uv) const { return map(uv); }
+#include "cloud_sky_shadow.shared.glsl"
+};
+}  // namespace welkin::glsl::dp::sky_shadow_shared
+
 namespace welkin::generators {
 
 namespace {
 constexpr double kMoonAngularRadius = 0.0045;  // rad, mean (as the sky view's Moon)
 constexpr double kLightTolerance = 5e-4;       // rad: the lights' change tolerance (as the shadow map's)
-constexpr double kPi = 3.14159265358979323846;
 }
 
 namespace cpu {
@@ -28,52 +53,10 @@ namespace cpu {
 std::pair<glm::dvec3, glm::dvec3> skyShadowLoss(const SkyModel& m, const Lut2D& T, double deltaM, const SkyShadowInputs& in,
                                                 double angularRadius, glm::dvec3 dir, bool ground,
                                                 const std::function<double(glm::dvec2)>& map) {
-    const glm::dvec3 L = in.light, ML = in.mapLight;
-    const double Ht = m.topRadius - m.bottomRadius;
-    const double h = std::clamp(in.observerHeightM, 0.0, Ht);
-    const double mu = std::clamp(dir.z, -1.0, 1.0), sinV = std::sqrt(std::max(1.0 - mu * mu, 0.0));
-    const double muS = L.z, nu = std::clamp(glm::dot(dir, L), -1.0, 1.0);
-    auto shadowAt = [&](glm::dvec2 xy, double hp) {
-        if (hp >= in.topM) return 1.0;
-        const glm::dvec2 g = xy - std::min(hp, in.bottomM) * glm::dvec2(ML) / std::max(ML.z, 1e-3);
-        const glm::dvec2 uv = (g + in.shift) / in.extentM + 0.5;
-        if (uv.x < 0.0 || uv.y < 0.0 || uv.x > 1.0 || uv.y > 1.0) return 1.0;
-        double s = map(uv);
-        if (hp > in.bottomM) s = std::pow(std::max(s, 1e-30), (in.topM - hp) / (in.topM - in.bottomM));
-        return s;
-    };
-    const double d = ground ? distanceToBottom(m, h, mu) : distanceToTop(m, h, mu);
-    const double r = m.bottomRadius + h, top = m.bottomRadius + in.topM;
-    double tEnd = d;
-    if (!ground) {
-        const double b = r * mu, c = r * r - top * top;
-        tEnd = h < in.topM ? std::min(tEnd, -b + std::sqrt(std::max(b * b - c, 0.0))) : 0.0;
-    }
-    const double reach = 0.7072 * in.extentM + glm::length(in.shift) + in.bottomM * std::hypot(ML.x, ML.y) / std::max(ML.z, 1e-3) + 1.0;
-    tEnd = std::min(tEnd, reach / std::max(sinV, 1e-4));
-    glm::dvec3 lossR(0.0), lossM(0.0), thrD(1.0);
-    const double phaseR = rayleighPhase(nu);
-    const double dt = tEnd / in.steps;
-    for (int k = 0; k < in.steps && tEnd > 0.0; ++k) {
-        const double t = (k + 0.5) * dt;
-        const double hp = heightAt(m, h, mu, t);
-        const double muSp = std::clamp((r * muS + t * nu) / (m.bottomRadius + hp), -1.0, 1.0);
-        const glm::dvec3 sR = m.scatteringRayleigh(hp), sM = m.scatteringMie(hp);
-        const glm::dvec3 sigmaD = m.extinction(hp) - deltaM * sM;
-        // The segment's integral of exp(-sigmaD s) over [0, dt] (atm_segmentFactor()).
-        glm::dvec3 seg;
-        for (int c = 0; c < 3; ++c) seg[c] = sigmaD[c] * dt > 1e-4 ? (1.0 - std::exp(-sigmaD[c] * dt)) / sigmaD[c] : dt;
-        const double lost = 1.0 - shadowAt(t * glm::dvec2(dir), hp);
-        const glm::dvec3 tl = transmittanceToLight(m, T, hp, muSp, angularRadius) * (lost * thrD) * seg;
-        lossR += sR * tl * phaseR;
-        lossM += sM * tl;
-        thrD *= glm::exp(-sigmaD * dt);
-    }
-    if (ground && tEnd >= d && d >= 0.0) {  // d = 0: the observer's own ground (standing on it)
-        const double muSg = std::clamp((r * muS + d * nu) / m.bottomRadius, -1.0, 1.0);
-        const double lost = 1.0 - shadowAt(d * glm::dvec2(dir), 0.0);
-        lossR += thrD * transmittanceToLight(m, T, 0.0, muSg, angularRadius) * std::max(muSg, 0.0) * lost * m.groundAlbedo / kPi;
-    }
+    glm::dvec3 lossR, lossM;
+    glsl::dp::sky_shadow_shared::SkyShadowMarch{m, T, map}.cld_skyShadowLoss(
+        in.observerHeightM, dir, ground, in.light, angularRadius, in.mapLight, glm::dvec4(in.shift, 1.0 / in.extentM, in.extentM),
+        glm::dvec2(in.bottomM, in.topM), in.steps, deltaM, lossR, lossM);  // the pass's text
     return {lossR, lossM};
 }
 

@@ -8,12 +8,20 @@
 #include <welkin/generators/weather_map.hpp>
 #include <welkin/gl/bindings.hpp>
 #include <welkin/gl/shader.hpp>
+#include <welkin/glsl_cpp.hpp>
 #include <welkin/keys.hpp>
 
 #include <epoxy/gl.h>
 
 #include <algorithm>
 #include <cmath>
+
+// The shapes' fade and the resolve: weather_shape.shared.glsl (the passes' text) in double, its
+// cn_perlinFbm2() the noise's twin (cloud_noise.shared.glsl's, compiled in cloud_noise.cpp).
+namespace welkin::glsl::dp::weather_shared {
+real cn_perlinFbm2(vec2 p, int f, int octaves, uint seed) { return generators::cpu::perlinFbm2(p, f, octaves, seed); }
+#include "weather_shape.shared.glsl"
+}  // namespace welkin::glsl::dp::weather_shared
 
 namespace welkin::generators {
 
@@ -23,10 +31,6 @@ double unit(uint32_t h) { return double(h & 0xffffffu) / 16777216.0; }
 double wrapMod(double v, double p) {
     double m = std::fmod(v, p);
     return m < 0 ? m + p : m;
-}
-double smooth(double e0, double e1, double x) {
-    const double t = std::clamp((x - e0) / (e1 - e0), 0.0, 1.0);
-    return t * t * (3.0 - 2.0 * t);
 }
 // The edge noise's offset of a shape, from its seed (in [0, 1)^2; GLSL gets it precomputed).
 glm::dvec2 edgeOffset(uint32_t seed) { return {unit(cpu::noiseHash(seed ^ 0x5bd1e995u)), unit(cpu::noiseHash(seed ^ 0x1b873593u))}; }
@@ -223,6 +227,7 @@ void WeatherMap::render(double extent) {
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     if (!resolve_)
         resolve_ = gl::ProgramBuilder("WeatherMapResolve")
+                       .compute("generators/cloud_noise.glsl", embedded::clouds_shaders("cloud_noise.glsl"))
                        .compute("generators/weather_resolve.glsl", embedded::clouds_shaders("weather_resolve.glsl"))
                        .build();
     resolve_.use();
@@ -348,10 +353,7 @@ glm::dvec4 shapeTexel(const CloudShape& s, glm::dvec2 m, glm::dvec2 centre) {
     const glm::dvec2 d = m - centre;
     const glm::dvec2 local = glm::dvec2(c * d.x + sn * d.y, -sn * d.x + c * d.y) / s.semiAxes;
     if (std::abs(local.x) > 1.6 || std::abs(local.y) > 1.6) return glm::dvec4(0.0);  // outside the quad
-    const double r = glm::length(local);
-    const double n = perlinFbm2(local * 0.25 + edgeOffset(s.seed), 4, 3, s.seed);
-    const double rr = r * (1.0 + 0.7 * (n - 0.5));
-    const double fade = 1.0 - smooth(0.5, 1.0, rr);
+    const double fade = glsl::dp::weather_shared::cld_weatherFade(local, edgeOffset(s.seed), s.seed);  // the pass's text
     if (fade < 1e-3) return glm::dvec4(0.0);
     // Thinning towards the rim (weather_map.frag.glsl).
     return {s.density * fade, (1.0 - s.baseFraction) * fade, s.topFraction * fade, s.rain * fade};
@@ -365,10 +367,7 @@ glm::dvec4 weatherTexel(const std::vector<CloudShape>& shapes, int i, int j, int
         const glm::dvec2 c(wrapMod(s.centre.x, extent), wrapMod(s.centre.y, extent));
         for (int o = 0; o < 9; ++o) w = glm::max(w, shapeTexel(s, m, c + glm::dvec2(o % 3 - 1, o / 3 - 1) * extent));
     }
-    if (w.r <= 0.0) return glm::dvec4(0.0);
-    double base = 1.0 - w.g, top = w.b;
-    if (top < base) base = top = 0.5 * (base + top);
-    return {w.r, base, top, w.a};
+    return glsl::dp::weather_shared::cld_weatherResolve(w);  // the resolve pass's text
 }
 
 // flowAt(), weatherMapTexels(), checkFlowImage(): weather_image.cpp (CPU only).

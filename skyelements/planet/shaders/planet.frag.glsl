@@ -31,6 +31,9 @@ in vec2 v_offset;
 flat in vec3 v_flux;
 flat in float v_pixelAngle;
 
+// The corona's radiance (Baumbach's fit): planet.cpp compiles the same text in double.
+#include "planet_corona.shared.glsl"
+
 // Outward unit normal where the view ray `d` meets the body's sphere (d within its disk):
 // rho = sin(theta) / sin(radius) is the ray's place on the disk, 0 centre, 1 limb.
 vec3 planet_normal(vec3 d, vec3 c, float s, out float rho) {
@@ -133,8 +136,7 @@ void main() {
         vec3 off = dir - u_centre * dot(dir, u_centre);
         vec3 ax = u_coronaAxis - u_centre * dot(u_coronaAxis, u_centre);
         float sinLat = (length(off) > 0.0 && length(ax) > 0.0) ? dot(normalize(off), normalize(ax)) : 0.0;
-        float re = r * (1.0 + u_coronaFlattening * sinLat * sinLat);
-        float k = 1e-6 * (0.0532 * pow(re, -2.5) + 1.425 * pow(re, -7.0) + 2.565 * pow(re, -17.0));
+        float k = planet_coronaRelativeRadiance(r, u_coronaFlattening, sinLat);  // planet_corona.shared.glsl
         welkin_output(v_flux * k, vec3(1.0));
         return;
     }

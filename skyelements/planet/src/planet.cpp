@@ -14,6 +14,7 @@
 #include <welkin/embedded/atmosphere_shaders.hpp>
 #include <welkin/generators/point_sources.hpp>
 #include <welkin/gl/shader.hpp>
+#include <welkin/glsl_cpp.hpp>
 #include <welkin/image.hpp>
 #include <welkin/keys.hpp>
 #include <welkin/point_source.hpp>
@@ -28,6 +29,10 @@
 #include <filesystem>
 #include <numbers>
 #include <sstream>
+
+namespace welkin::glsl::dp::planet_corona_shared {
+#include "../shaders/planet_corona.shared.glsl"
+}  // namespace welkin::glsl::dp::planet_corona_shared
 
 namespace welkin::elements {
 
@@ -145,8 +150,7 @@ double lambertPhase(double a) {
 
 double coronaRelativeRadiance(double r, double flattening, double sinFromEquator) {
     if (!(r >= 1.0)) return 0.0;
-    const double re = r * (1.0 + flattening * sinFromEquator * sinFromEquator);
-    return 1e-6 * (0.0532 * std::pow(re, -2.5) + 1.425 * std::pow(re, -7.0) + 2.565 * std::pow(re, -17.0));
+    return glsl::dp::planet_corona_shared::planet_coronaRelativeRadiance(r, flattening, sinFromEquator);  // the shader's text
 }
 
 double earthshineRatio(double moonPhaseRad, double d) {

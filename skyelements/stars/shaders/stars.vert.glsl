@@ -55,6 +55,9 @@ float stars_noise(uint star, int step) {
     return float(h >> 8) * (2.0 / 16777215.0) - 1.0;
 }
 
+// The twinkling's amplitude (Kasten-Young air mass): stars.cpp compiles the same text in double.
+#include "stars_scintillation.shared.glsl"
+
 void main() {
     const vec2 corner[6] = vec2[6](vec2(-1, -1), vec2(1, -1), vec2(1, 1), vec2(-1, -1), vec2(1, 1), vec2(-1, 1));
     int star = gl_InstanceID / u_copies;
@@ -85,9 +88,7 @@ void main() {
     // Flux: magnitude, colour, scintillation (Kasten-Young airmass), extinction without a Sky.
     vec3 E = u_e0 * exp2(-1.3287712 * a.w) * c.rgb;  // 10^(-0.4 m) = 2^(-0.4 log2(10) m)
     if (u_scint > 0.0) {
-        float hd = max(hApp, 0.0);
-        float X = 1.0 / (sin(hd) + 0.50572 * pow(degrees(hd) + 6.07995, -1.6364));
-        float amp = min(u_scint * 0.02 * pow(X, 1.75), 0.8);
+        float amp = stars_scintillationAmplitude(hApp, u_scint);  // stars_scintillation.shared.glsl
         float t = u_time * 10.0;
         int k = int(floor(t));
         float f = t - float(k);

@@ -13,6 +13,7 @@
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/generators/sky_model.hpp>
 #include <welkin/gl/shader.hpp>
+#include <welkin/glsl_cpp.hpp>
 #include <welkin/keys.hpp>
 #include <welkin/point_source.hpp>
 
@@ -22,6 +23,10 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+
+namespace welkin::glsl::dp::stars_scintillation_shared {
+#include "../shaders/stars_scintillation.shared.glsl"
+}  // namespace welkin::glsl::dp::stars_scintillation_shared
 
 namespace welkin::elements {
 
@@ -55,9 +60,7 @@ double limitingMagnitude(double backgroundCdM2) {
 }
 
 double scintillationAmplitude(double altitudeRad, double strength) {
-    const double h = std::max(altitudeRad, 0.0);
-    const double X = 1.0 / (std::sin(h) + 0.50572 * std::pow(h * 180.0 / std::numbers::pi + 6.07995, -1.6364));
-    return std::min(strength * 0.02 * std::pow(X, 1.75), 0.8);
+    return glsl::dp::stars_scintillation_shared::stars_scintillationAmplitude(altitudeRad, strength);  // the vertex shader's text
 }
 
 Stars::Stars() : SkyElement("stars") {

@@ -277,6 +277,12 @@ struct Scattering {
 /// ray's lowest point. groundMode: -1 from the geometry, 0 never hits, 1 hits the ground.
 Scattering integrate(const SkyModel& m, const Lut2D& T, const MsField& MS, double h, double mu, double muS, double nu,
                      double maxDistance, int steps, bool quadratic, double lightAngularRadius, int groundMode = -1);
+/// The aerial-perspective volume's march over the distance slice [t0, t1] (m) of a ray from
+/// height h (mu, mu_s, nu; the Sun's angular radius), `substeps` midpoint samples through air no
+/// lower than the ground when `groundAir`: adds the in-scattered radiance per lux to L and
+/// multiplies the exact and delta-M transmittances thr, thrD (the GPU pass's text, aerialTexel()).
+void aerialSlice(const SkyModel& m, const Lut2D& T, const MsField& MS, double h, double mu, double muS, double nu, double t0,
+                 double t1, int substeps, bool groundAir, glm::dvec3& L, glm::dvec3& thr, glm::dvec3& thrD);
 /// Total radiance per unit illuminance along a ray (smooth + mie * phase).
 glm::dvec3 radiance(const SkyModel& m, const Scattering& s, double nu);
 
