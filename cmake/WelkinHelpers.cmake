@@ -33,15 +33,26 @@ function(welkin_embed_shaders target name base_dir)
   set(out_hpp ${out_dir}/include/welkin/embedded/${name}.hpp)
   set(out_cpp ${out_dir}/${name}_embedded.cpp)
   set(abs_files)
+  set(inc_files)
   foreach(f ${files})
     get_filename_component(af ${f} ABSOLUTE BASE_DIR ${base_dir})
     list(APPEND abs_files ${af})
+    # A file's `#include "x"` (EmbedShaders.cmake expands it from the file's folder, which may be
+    # another folder's shared file: ../../../engine/shaders/...) re-embeds when x changes.
+    file(STRINGS ${af} _incs REGEX "^#include \"[^\"]+\"")
+    get_filename_component(_dir ${af} DIRECTORY)
+    foreach(line ${_incs})
+      string(REGEX REPLACE "^#include \"([^\"]+)\".*" "\\1" _inc "${line}")
+      get_filename_component(_abs ${_inc} ABSOLUTE BASE_DIR ${_dir})
+      list(APPEND inc_files ${_abs})
+    endforeach()
   endforeach()
+  list(REMOVE_DUPLICATES inc_files)
   string(REPLACE ";" "|" files_arg "${abs_files}")
   add_custom_command(OUTPUT ${out_cpp} ${out_hpp}
     COMMAND ${CMAKE_COMMAND} -DNAME=${name} -DBASE=${base_dir} "-DFILES=${files_arg}"
             -DOUT_CPP=${out_cpp} -DOUT_HPP=${out_hpp} -P ${WELKIN_EMBED_SCRIPT}
-    DEPENDS ${abs_files} ${WELKIN_EMBED_SCRIPT}
+    DEPENDS ${abs_files} ${inc_files} ${WELKIN_EMBED_SCRIPT}
     COMMENT "Embedding shaders for ${name}" VERBATIM)
   target_sources(${target} PRIVATE ${out_cpp} ${out_hpp})
   target_include_directories(${target} PUBLIC $<BUILD_INTERFACE:${out_dir}/include>)

@@ -1,10 +1,16 @@
 // Point sources as people see them: the threshold and the perceptual size and contrast
-// (welkin/point_source.hpp; shaders: generators/atmosphere/shaders/point_perceptual.glsl).
+// (welkin/point_source.hpp; shaders: generators/atmosphere/shaders/point_perceptual.glsl). The
+// threshold and the size and contrast are point_threshold.shared.glsl, compiled here in double.
 #include <welkin/error.hpp>
+#include <welkin/glsl_cpp.hpp>
 #include <welkin/point_source.hpp>
 
 #include <algorithm>
 #include <cmath>
+
+namespace welkin::glsl::dp::point_shared {
+#include "../shaders/point_threshold.shared.glsl"
+}  // namespace welkin::glsl::dp::point_shared
 
 namespace welkin {
 
@@ -25,13 +31,7 @@ void declarePointSourceKeys(SkyVars& vars) {
 
 double pointThresholdFootCandles(double backgroundCdM2) {
     if (!(backgroundCdM2 >= 0.0)) throw Error("pointThresholdFootCandles(): background luminance not >= 0 cd/m^2");
-    const double B = backgroundCdM2 / 3.183098862e-6;  // nanolamberts (1 nL = 1e-5 / pi cd/m^2)
-    // Schaefer 1990 (Hecht 1947): night (scotopic) branch below 1479 nL, day above.
-    const bool night = B < 1479.0;
-    const double c1 = night ? std::pow(10.0, -9.8) : std::pow(10.0, -8.35);
-    const double c2 = night ? std::pow(10.0, -1.9) : std::pow(10.0, -5.9);
-    const double s = 1.0 + std::sqrt(c2 * B);
-    return c1 * s * s;
+    return glsl::dp::point_shared::welkin_pointThresholdFootCandles(backgroundCdM2);
 }
 
 double pointThresholdLux(double backgroundCdM2) { return pointThresholdFootCandles(backgroundCdM2) * 10.76391; }
@@ -41,9 +41,9 @@ PerceptualPoint perceptualPoint(double illuminanceLux, double backgroundCdM2, do
     p.ratio = std::max(illuminanceLux, 0.0) / pointThresholdLux(backgroundCdM2);
     p.visible = p.ratio >= 1.0;
     if (!p.visible) return p;
-    const double decades = std::log10(p.ratio);
-    p.fwhmPx = fwhmAtThresholdPx * std::min(1.0 + 0.5 * decades, 8.0);
-    p.contrast = contrastAtThreshold * (1.0 + 2.0 * decades);
+    const glm::dvec2 sc = glsl::dp::point_shared::welkin_pointSizeContrast(p.ratio, fwhmAtThresholdPx, contrastAtThreshold);
+    p.fwhmPx = sc.x;
+    p.contrast = sc.y;
     return p;
 }
 

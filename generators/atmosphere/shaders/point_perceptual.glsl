@@ -37,21 +37,18 @@ float pp_background(vec3 dir) {
     return dot(L, vec3(0.2126, 0.7152, 0.0722)) + u_ppNight;
 }
 
+// The eye's threshold for a point and the drawn size and contrast above it (Schaefer 1990):
+// point_threshold.shared.glsl of the engine's shaders, which engine/src/point_source.cpp
+// compiles in double.
+#include "../../../engine/shaders/point_threshold.shared.glsl"
+
 // Schaefer's (1990) threshold illuminance (lux) for a background B (cd/m^2).
-float pp_thresholdLux(float B) {
-    float nL = B / 3.183098862e-6;
-    bool night = nL < 1479.0;
-    float c1 = night ? 1.584893e-10 : 4.466836e-9;   // 10^-9.8, 10^-8.35 ft-cd
-    float c2 = night ? 1.258925e-2 : 1.258925e-6;    // 10^-1.9, 10^-5.9 per nL
-    float s = 1.0 + sqrt(c2 * nL);
-    return c1 * s * s * 10.76391;
-}
+float pp_thresholdLux(float B) { return welkin_pointThresholdFootCandles(B) * 10.76391; }
 
 // (FWHM in px, Weber contrast) of a point of illuminance `eyeLux` at the eye over background B;
 // (0, 0) when the eye would not see it. f0: the FWHM at the threshold, px.
 vec2 pp_point(float eyeLux, float B, float f0) {
     float R = eyeLux / pp_thresholdLux(B);
     if (!(R >= 1.0)) return vec2(0.0);
-    float decades = log(R) * 0.4342944819;
-    return vec2(f0 * min(1.0 + 0.5 * decades, 8.0), u_ppContrast * (1.0 + 2.0 * decades));
+    return welkin_pointSizeContrast(R, f0, u_ppContrast);
 }
