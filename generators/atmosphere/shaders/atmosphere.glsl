@@ -99,10 +99,16 @@ vec2 atm_eclipseAt(vec3 p) {
     return vec2(f, clamp(f + D, 0.0, 1.0));
 }
 // The multiple-scattering model's weight along a view ray (nu: the cosine of its angle to the
-// Sun; twin of the axis weight in cpu::integrateEclipse()): the orders >= 2 take
-// mix(f, f + D, w), w = the sine of that angle. A ray near the shadow's axis gathers light
-// scattered in the air along the axis, as dark as the point itself; across it, the kernel's average.
-float atm_eclMsAxisWeight(float nu) { return sqrt(max(1.0 - nu * nu, 0.0)); }
+// Sun; twin of cpu::eclipseMsAxisWeight()): the orders >= 2 take mix(f, f + D, w),
+// w = 1 - F (1 - sin(angle)), F = min(1, forward peak's share of the scattering at the ground /
+// 0.16 (kEclipseForwardShare)). A ray near the shadow's axis gathers, through the forward peak,
+// light scattered in the air along the axis, as dark as the point itself; through the rest of
+// the scattering and across the axis, the kernel's average.
+float atm_eclMsAxisWeight(float nu) {
+    float sM = atm_scatteringMie(0.0).g, sR = atm_scatteringRayleigh(0.0).g;
+    float F = min(1.0, atm_shFactors.w * sM / max(sM + sR, 1e-30) / 0.16);
+    return 1.0 - F * (1.0 - sqrt(max(1.0 - nu * nu, 0.0)));
+}
 #endif
 
 #ifdef ATM_USE_TRANSMITTANCE

@@ -666,6 +666,14 @@ EclipseMsTable eclipseMsTable(const EclipseGeometry& g, double lengthMeters, int
     return t;
 }
 
+double eclipseMsAxisWeight(const SkyModel& m, double forward, double nu) {
+    // Twin of atm_eclMsAxisWeight(): the forward peak's share of the scattering at the ground
+    // (green), over kEclipseForwardShare, clamped to 1.
+    const double sM = m.scatteringMie(0.0).g, sR = m.scatteringRayleigh(0.0).g;
+    const double F = std::min(1.0, forward * sM / std::max(sM + sR, 1e-30) / kEclipseForwardShare);
+    return 1.0 - F * (1.0 - std::sqrt(std::max(1.0 - nu * nu, 0.0)));
+}
+
 Scattering integrateEclipse(const SkyModel& m, const Lut2D& T, const MsField& MS, double h, const glm::dvec3& viewDir,
                             const glm::dvec3& sunDir, const EclipseGeometry& g, int steps, bool quadratic, double lightAngularRadius,
                             int groundMode) {
@@ -679,11 +687,9 @@ Scattering integrateEclipse(const SkyModel& m, const Lut2D& T, const MsField& MS
     const double p = quadratic ? 0.0 : perigeeFraction(m, h, mu, d);
     const double r = m.bottomRadius + h;
     const PhaseMoments moments = phaseMoments(m, MS.bands);
-    // The orders >= 2 along this view ray take mix(f, f + D, w), w = sin of the ray's angle to the
-    // Sun (docs/eclipse.md): the light a ray near the shadow's axis gathers was scattered in the
-    // air along that axis, as dark as the point itself; across the axis, the kernel's average.
-    // Twin of atm_eclMsAxisWeight().
-    const double axisWeight = std::sqrt(std::max(1.0 - nu * nu, 0.0));
+    // The orders >= 2 along this view ray take mix(f, f + D, w) (eclipseMsAxisWeight,
+    // docs/eclipse.md).
+    const double axisWeight = eclipseMsAxisWeight(m, moments.forward, nu);
     glm::dvec3 thr(1.0), thrD(1.0);
     for (int k = 0; k < steps && d > 0.0; ++k) {
         double s0 = double(k) / steps, s1 = double(k + 1) / steps, sm = (k + 0.5) / steps;
