@@ -207,7 +207,9 @@ TEST_CASE("welkin bench all: an element's report table comes from its own bench'
     CHECK(std::isfinite(seconds));
     CHECK(section.find("| halo pass, crystal layer tau 0.3, ms | 800x450 |") != std::string::npos);
     // The command with the quick arguments, for anyone to repeat it.
-    CHECK(section.find("*`welkin bench halos --qualities low --repeats 1 --accuracy-rays 200000 --csv FILE`") != std::string::npos);
+    CHECK(section.find("*`welkin bench halos --qualities low --repeats 1 --accuracy-quality low --exact-factor 2 --csv FILE`") != std::string::npos);
+    // The default tables against the brute-force trace (here the low ones: --quick).
+    CHECK(section.find("| accuracy, plates: L1(tables - exact) / L1(exact), whole sphere | low tables") != std::string::npos);
 }
 #endif
 

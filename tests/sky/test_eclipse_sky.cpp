@@ -218,7 +218,12 @@ TEST_CASE("Eclipse sky: the multiple-scattering model against the eclipse refere
     // 48 rings (the resolution the tolerance was measured at).
     atmosphere::EclipseReferenceOptions ro{.viewSteps = 24, .gatherZenith = 8, .gatherAzimuth = 12, .gatherSteps = 16, .rings = 48};
     const double sunAz = std::atan2(sun.x, sun.y);
-    for (auto [daz, alt] : {std::pair{0.0, 90.0}, std::pair{90.0, 45.0}, std::pair{180.0, 2.0}, std::pair{90.0, 2.0}}) {
+    // Towards the Sun too (beneath it and 45 deg up): this aerosol scatters 23 % of the light at
+    // the ground (the renderer's 86 %), so the weight along the axis keeps most of the kernel's
+    // average there (cpu::eclipseMsAxisWeight); with sin(angle) alone the model gave 0.13 and 0.47
+    // of the reference, measured now 0.89 and 0.70.
+    for (auto [daz, alt] : {std::pair{0.0, 90.0}, std::pair{90.0, 45.0}, std::pair{180.0, 2.0}, std::pair{90.0, 2.0}, std::pair{0.0, 2.0},
+                            std::pair{0.0, 45.0}}) {
         const glm::dvec3 dir = directionFromAzAlt(sunAz + daz * kDeg, alt * kDeg);
         const double ref = Y(atmosphere::eclipseReferenceRadiance(m, T, MS, 0.0, dir, sun, g, ro).radiance);
         const double model = Y(cpu::radiance(m, cpu::integrateEclipse(m, T, MS, 0.0, dir, sun, gm, 128, false, m.sunAngularRadius),
@@ -335,4 +340,22 @@ TEST_CASE("Eclipse sky: the eclipse table is rebuilt only when the shadow moves,
     at(300.0);  // a jump (> kEclipseJumpMeters): the whole table at once, shown at once
     CHECK(lut->rebuilds() == n1 + 1);
     CHECK(lut->msTable().n > 0);
+}
+
+TEST_CASE("Eclipse sky: the multiple-scattering axis weight and its forward share", "[cpu][eclipse]") {
+    // The weight (atmosphere.shared.glsl's atm_eclMsAxisWeight, run by cpu::eclipseMsAxisWeight):
+    // w = 1 - F (1 - sin(angle to the Sun)), F = min(1, forward x aerosol share / 0.16). The shared
+    // text writes 0.16 as a literal: here it must agree with kEclipseForwardShare, and F must clamp.
+    const SkyModel m = SkyModel::earthClear();
+    const double sM = m.scatteringMie(0.0).g, sR = m.scatteringRayleigh(0.0).g;
+    const double share = sM / (sM + sR);  // the aerosol's share of the scattering at the ground
+    const double atOne = kEclipseForwardShare / share;  // the forward fraction that makes F = 1
+    // Across the axis (nu = 0: sin = 1) the weight is 1 whatever F.
+    CHECK(cpu::eclipseMsAxisWeight(m, 0.5 * atOne, 0.0) == Approx(1.0).margin(1e-12));
+    // Along the axis (nu = 1): w = 1 - F exactly (rounding only, 1e-12).
+    CHECK(cpu::eclipseMsAxisWeight(m, atOne, 1.0) == Approx(0.0).margin(1e-12));
+    CHECK(cpu::eclipseMsAxisWeight(m, 0.5 * atOne, 1.0) == Approx(0.5).margin(1e-12));
+    CHECK(cpu::eclipseMsAxisWeight(m, 3.0 * atOne, 1.0) == Approx(0.0).margin(1e-12));  // F clamped to 1
+    // 60 deg from the Sun: sin = 0.866, w = 1 - 0.5 (1 - 0.866) = 0.933.
+    CHECK(cpu::eclipseMsAxisWeight(m, 0.5 * atOne, 0.5) == Approx(1.0 - 0.5 * (1.0 - std::sqrt(0.75))).margin(1e-12));
 }

@@ -312,7 +312,13 @@ real atm_shMieBand(int l, vec4 f1, vec4 f2) {
 }
 
 // The eclipse's multiple-scattering weight along a view ray (nu: the cosine of its angle to the
-// Sun): the orders >= 2 take mix(f, f + D, w), w = the sine of that angle (docs/eclipse.md). A ray
-// near the shadow's axis gathers light scattered in the air along the axis, as dark as the point
-// itself; across it, the kernel's average.
-real atm_eclMsAxisWeight(real nu) { return sqrt(max(1.0 - nu * nu, 0.0)); }
+// Sun): the orders >= 2 take mix(f, f + D, w), w = 1 - F (1 - sin(angle)) (docs/eclipse.md). A
+// ray near the shadow's axis gathers, through the forward peak of the aerosol's phase function,
+// light scattered in the air along the axis, as dark as the point itself; through the rest of the
+// scattering (Rayleigh's, the aerosol's broad part) and across the axis, the kernel's average.
+// F = atm_eclForwardShare(): the delta-M forward fraction `forward` times the aerosol's share of
+// the scattering at the ground (sM, sR: Mie and Rayleigh scattering coefficients there, one
+// channel), over 0.16 (kEclipseForwardShare: that of Atmosphere::earthClear(), whose sky the
+// weight sin(angle) fitted), clamped to 1. C++: eclipseMsAxisWeight().
+real atm_eclForwardShare(real forward, real sM, real sR) { return min(1.0, forward * sM / max(sM + sR, 1e-30) / 0.16); }
+real atm_eclMsAxisWeight(real nu, real F) { return 1.0 - F * (1.0 - sqrt(max(1.0 - nu * nu, 0.0))); }

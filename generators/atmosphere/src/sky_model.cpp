@@ -653,6 +653,12 @@ EclipseMsTable eclipseMsTable(const EclipseGeometry& g, double lengthMeters, int
     return t;
 }
 
+double eclipseMsAxisWeight(const SkyModel& m, double forward, double nu) {
+    // The shader's text (atmosphere.shared.glsl), at the ground's scattering in green (the
+    // channel the view march reads too).
+    return shared::atm_eclMsAxisWeight(nu, shared::atm_eclForwardShare(forward, m.scatteringMie(0.0).g, m.scatteringRayleigh(0.0).g));
+}
+
 Scattering integrateEclipse(const SkyModel& m, const Lut2D& T, const MsField& MS, double h, const glm::dvec3& viewDir,
                             const glm::dvec3& sunDir, const EclipseGeometry& g, int steps, bool quadratic, double lightAngularRadius,
                             int groundMode) {

@@ -4,11 +4,10 @@
 // towards the Sun 20 deg up; a crystal layer of optical depth 0.3, the common preset): the
 // element's render time against a trivial element (constant radiance through the same composite
 // contract) drawn before it in the same frames; "x trivial" is the median of per-frame ratios.
-// Also with no crystals (the element skips its draw). Target: pass <= 1.5x trivial. (3) Accuracy:
-// the tables' Monte-Carlo trace (one random Fresnel branch per face) against the brute-force
-// trace (every branch followed with its weight) with 4x the rays, plate-oriented plates at 20 deg:
-// the relative L1 difference of the two tables over the sky, and the sundog's and the 22 deg
-// edge's positions in both.
+// Also with no crystals (the element skips its draw) and through the per-pixel path. Target: pass
+// <= 1.5x trivial. (3) Accuracy of one quality's tables (default: `default`) against the slow
+// exact path, the brute-force trace (every Fresnel branch followed with its weight) with 10x the
+// rays, at the light elevation midway between two slices (below).
 #include "bench_util.hpp"
 
 #include <CLI/CLI.hpp>
@@ -39,13 +38,20 @@ struct HalosBenchOptions {
     int repeats = 10;
     std::string csv = "bench_halos.csv";
     std::string qualities = "low,default";
-    long long accuracyRays = 2000000;
+    std::string accuracyQuality = "default";
+    int exactFactor = 10;
 };
+
+std::string fmtDeg(double d) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.2f", d);
+    return b;
+}
 
 int run(const HalosBenchOptions& o) {
     if (o.repeats < 1 || o.repeats > 1000) throw Error("--repeats " + std::to_string(o.repeats) + " not in [1, 1000]");
-    if (o.accuracyRays < 3000 || o.accuracyRays > 100000000)
-        throw Error("--accuracy-rays " + std::to_string(o.accuracyRays) + " not in [3000, 100000000]");
+    if (o.exactFactor < 2 || o.exactFactor > 100) throw Error("--exact-factor " + std::to_string(o.exactFactor) + " not in [2, 100]");
+    (void)elements::halos::HaloTables::quality(o.accuracyQuality);
     for (const std::string& q : splitList(o.qualities)) (void)elements::halos::HaloTables::quality(q);
     checkOutputDirectory("--csv", o.csv);
     Logger log;
@@ -70,7 +76,7 @@ int run(const HalosBenchOptions& o) {
     // (2) Per frame.
     bool met = true;
     for (auto [w, h] : {std::pair{800, 450}, std::pair{1280, 720}}) {
-        for (int path = 0; path < 2; ++path) {
+        for (int path = 0; path < 3; ++path) {
             SkyProcessor p(SkyVars::earth(), log, ProcessorOptions{.timing = true, .astronomy = false});
             Camera cam;
             cam.projection = Projection::Perspective;
@@ -86,7 +92,8 @@ int run(const HalosBenchOptions& o) {
             elements::Halos* halos = e.get();
             p.add(std::move(e));
             p.vars().set(keys::sunDirection, directionFromAzAlt(M_PI, 20 * kDeg));
-            p.vars().set(elements::haloskeys::opticalDepth, path == 0 ? 0.3 : 0.0);
+            p.vars().set(elements::haloskeys::opticalDepth, path == 1 ? 0.0 : 0.3);
+            halos->setForcePerPixel(path == 2);
             p.vars().set(elements::haloskeys::tableQuality, std::string("low"));  // the pass's cost does not depend on it
             p.renderFrame();  // tables, programs
             std::vector<double> ms, tms, ratio;
@@ -104,41 +111,121 @@ int run(const HalosBenchOptions& o) {
             }
             const std::string size = std::to_string(w) + "x" + std::to_string(h);
             const double r = median(ratio);
-            emit(path == 0 ? "halo pass, crystal layer tau 0.3, ms" : "halo pass, no crystals (skipped), ms",
+            emit(path == 0   ? "halo pass, crystal layer tau 0.3, ms"
+                 : path == 1 ? "halo pass, no crystals (skipped), ms"
+                             : "halo pass, per-pixel path (offline: fisheye, equirect, cirrus), ms",
                  size + (halos->drewLastFrame() ? "" : ", not drawn"), median(ms), median(tms), r);
             if (path == 0 && r > 1.5) met = false;
         }
     }
-    // (3) Accuracy against the brute-force trace.
+    // (3) Accuracy of the tables of one quality (`--accuracy-quality`) against the slow exact
+    // path: the brute-force trace (every Fresnel branch followed with its weight) with
+    // `--exact-factor` times the rays, at the light elevation midway between two slices near 20
+    // deg (the worst case of the tables' linear interpolation between slices), same bins. The
+    // tables' value there is what the element draws: the mean of the two slices' traces. Also the
+    // Monte-Carlo trace at that elevation itself (the noise alone, without the interpolation).
+    // Relative L1 over the sky outside 1 deg of the light (green), and over the bins where the
+    // exact table exceeds 10 % of its maximum (the halos themselves). The exact table has noise
+    // of its own, 1/sqrt(factor) of the tables': the difference overstates the tables' error by
+    // sqrt(1 + 1/factor) (5 % at 10).
     using namespace elements::halos;
-    const Population plates{Orientation::Plate, 0.2, 1.0 * kDeg};
-    const uint64_t rays = uint64_t(o.accuracyRays);
-    const Phase2D mc = traceOriented(plates, 20 * kDeg, 180, 360, rays, 21);
-    const Phase2D ex = traceOrientedExact(plates, 20 * kDeg, 180, 360, 4 * rays, 22);
-    double diff = 0, norm = 0;
-    for (int ie = 0; ie < mc.ne; ++ie) {
-        const double e = mc.elevationRad(ie), omega = 2 * (M_PI / mc.na) * (std::sin(e + 0.5 * M_PI / mc.ne) - std::sin(e - 0.5 * M_PI / mc.ne));
-        for (int ia = 0; ia < mc.na; ++ia) {
-            const double a = mc.azimuthRad(ia);
-            if (std::cos(e) * std::cos(a) * std::cos(20 * kDeg) + std::sin(e) * std::sin(20 * kDeg) > std::cos(1 * kDeg)) continue;  // the forward beam
-            diff += std::abs(mc.at(ie, ia).y - ex.at(ie, ia).y) * omega;
-            norm += ex.at(ie, ia).y * omega;
+    const HaloTables::Quality aq = HaloTables::quality(o.accuracyQuality);
+    const double step = 90.0 / (aq.slices - 1);
+    const double h0 = std::floor(20.0 / step) * step, h1 = h0 + step, hm = 0.5 * (h0 + h1);
+    const uint64_t exactRays = uint64_t(o.exactFactor) * aq.raysPerSlice;
+    auto l1 = [&](const Phase2D& a, const Phase2D& ex, double hDeg, bool features, bool aboveHorizon) {
+        double mx = 0;
+        for (const auto& v : ex.p) mx = std::max(mx, v.y);
+        double diff = 0, norm = 0;
+        for (int ie = 0; ie < ex.ne; ++ie) {
+            const double e = ex.elevationRad(ie), omega = 2 * (M_PI / ex.na) * (std::sin(e + 0.5 * M_PI / ex.ne) - std::sin(e - 0.5 * M_PI / ex.ne));
+            for (int ia = 0; ia < ex.na; ++ia) {
+                const double az = ex.azimuthRad(ia);
+                if (std::cos(e) * std::cos(az) * std::cos(hDeg * kDeg) + std::sin(e) * std::sin(hDeg * kDeg) > std::cos(1 * kDeg)) continue;  // the direct beam
+                if (features && ex.at(ie, ia).y < 0.1 * mx) continue;
+                if (aboveHorizon && e < 0.0) continue;
+                diff += std::abs(a.at(ie, ia).y - ex.at(ie, ia).y) * omega;
+                norm += ex.at(ie, ia).y * omega;
+            }
         }
-    }
-    emit("accuracy: L1(tables - brute force) / L1(brute force), plates at 20 deg", std::to_string(rays) + " vs " + std::to_string(4 * rays) + " rays",
-         diff / norm, NAN, NAN);
-    auto sundog = [](const Phase2D& p) {
-        const int ie = int((20.0 + 90.0) / 180.0 * p.ne);
-        int best = 30;
-        for (int ia = 30; ia < 120; ++ia)
+        return norm > 0 ? diff / norm : NAN;
+    };
+    auto sundog = [&](const Phase2D& p, double hDeg) {
+        const int ie = std::clamp(int((hDeg + 90.0) / 180.0 * p.ne), 0, p.ne - 1);
+        int best = p.na / 12;
+        for (int ia = p.na / 12; ia < p.na / 3; ++ia)
             if (p.at(ie, ia).y > p.at(ie, best).y) best = ia;
         return p.azimuthRad(best) / kDeg;
     };
-    emit("sundog crest azimuth, deg: tables", "formula " + std::to_string(parhelionAzimuthRad(iceRefractiveIndex(kChannelNm[1]), 20 * kDeg) / kDeg),
-         sundog(mc), NAN, NAN);
-    emit("sundog crest azimuth, deg: brute force", "", sundog(ex), NAN, NAN);
-    emit("trace time, s: tables' trace", std::to_string(rays) + " rays", mc.stats.seconds, NAN, NAN);
-    emit("trace time, s: brute force", std::to_string(4 * rays) + " rays", ex.stats.seconds, NAN, NAN);
+    // Each slice without the light within 1 deg of its own light (HaloTables::mix: it stays in
+    // the direct beam).
+    auto cutForward = [&](Phase2D& p, double hDeg) {
+        for (int ie = 0; ie < p.ne; ++ie)
+            for (int ia = 0; ia < p.na; ++ia) {
+                const double e = p.elevationRad(ie), az = p.azimuthRad(ia);
+                if (std::cos(e) * std::cos(az) * std::cos(hDeg * kDeg) + std::sin(e) * std::sin(hDeg * kDeg) > std::cos(1 * kDeg))
+                    p.p[std::size_t(ie) * std::size_t(p.na) + std::size_t(ia)] = glm::dvec3(0.0);
+            }
+    };
+    const std::string at = o.accuracyQuality + " tables, light " + fmtDeg(hm) + " deg (slices " + fmtDeg(h0) + ", " + fmtDeg(h1) + ")";
+    const Population pops[2] = {{Orientation::Plate, 0.2, 1.0 * kDeg}, {Orientation::Column, 2.0, 1.0 * kDeg}};
+    const char* popName[2] = {"plates", "columns"};
+    for (int k = 0; k < 2; ++k) {
+        const Phase2D a0 = traceOriented(pops[k], h0 * kDeg, aq.ne, aq.na, aq.raysPerSlice, 31 + uint64_t(k));
+        const Phase2D a1 = traceOriented(pops[k], h1 * kDeg, aq.ne, aq.na, aq.raysPerSlice, 41 + uint64_t(k));
+        Phase2D a0c = a0, a1c = a1;
+        cutForward(a0c, h0);
+        cutForward(a1c, h1);
+        // The element's blend (halos.cpp, sliceBlend): each slice shifted in elevation by the
+        // light's offset from it, then the two averaged (the light midway).
+        Phase2D tab = a0c;
+        const double rowsPerDeg = aq.ne / 180.0;
+        auto rowAt = [&](const Phase2D& p, double row, int ia) {
+            const double f = std::clamp(row, 0.0, double(p.ne - 1));
+            const int e0 = int(f), e1 = std::min(e0 + 1, p.ne - 1);
+            return p.at(e0, ia) * (1.0 - (f - e0)) + p.at(e1, ia) * (f - e0);
+        };
+        // Mirrored below the horizon, linear between -5 and 5 deg (halos.cpp, rowShift).
+        // (plates only: columns shift everywhere).
+        auto mirror = [&](int ie) { return k == 0 ? std::clamp(tab.elevationRad(ie) / (5 * kDeg), -1.0, 1.0) : 1.0; };
+        for (int ie = 0; ie < tab.ne; ++ie)
+            for (int ia = 0; ia < tab.na; ++ia)
+                tab.p[std::size_t(ie) * std::size_t(tab.na) + std::size_t(ia)] =
+                    0.5 * (rowAt(a0c, ie + mirror(ie) * (h0 - hm) * rowsPerDeg, ia) + rowAt(a1c, ie + mirror(ie) * (h1 - hm) * rowsPerDeg, ia));
+        Phase2D mid = traceOriented(pops[k], hm * kDeg, aq.ne, aq.na, aq.raysPerSlice, 51 + uint64_t(k));
+        Phase2D ex = traceOrientedExact(pops[k], hm * kDeg, aq.ne, aq.na, exactRays, 61 + uint64_t(k));
+        cutForward(mid, hm);
+        cutForward(ex, hm);
+        const std::string what = std::string("accuracy, ") + popName[k] + ": ";
+        const std::string vs = at + " vs brute force " + std::to_string(exactRays) + " rays";
+        emit(what + "L1(tables - exact) / L1(exact), whole sphere", vs, l1(tab, ex, hm, false, false), NAN, NAN);
+        emit(what + "L1(tables - exact) / L1(exact), above the horizon", vs, l1(tab, ex, hm, false, true), NAN, NAN);
+        emit(what + "L1(tables - exact) / L1(exact), the halos (> 10 % of max)", vs, l1(tab, ex, hm, true, false), NAN, NAN);
+        emit(what + "L1(trace at that elevation - exact) / L1(exact), whole sphere (noise alone)", vs, l1(mid, ex, hm, false, false), NAN, NAN);
+        emit(what + "L1(trace at that elevation - exact) / L1(exact), above the horizon (noise alone)", vs, l1(mid, ex, hm, false, true), NAN, NAN);
+        emit(what + "brute force trace time, s", std::to_string(exactRays) + " rays", ex.stats.seconds, NAN, NAN);
+        if (k == 0) {
+            emit("accuracy, plates: sundog crest azimuth, deg: tables", at + ", formula " + fmtDeg(parhelionAzimuthRad(iceRefractiveIndex(kChannelNm[1]), hm * kDeg) / kDeg),
+                 sundog(tab, hm), NAN, NAN);
+            emit("accuracy, plates: sundog crest azimuth, deg: brute force", "", sundog(ex, hm), NAN, NAN);
+        }
+    }
+    {
+        // The random population's 1-D table against the same trace with factor x the rays (no
+        // branch-following variant for random crystals: the noise alone).
+        const Phase1D a = traceRandom({Orientation::Random, 2.0, 0.0}, aq.bins, aq.raysRandom, 7777);
+        const Phase1D ex = traceRandom({Orientation::Random, 2.0, 0.0}, aq.bins, uint64_t(o.exactFactor) * aq.raysRandom, 8888);
+        double diff = 0, norm = 0;
+        for (std::size_t i = 0; i < a.p.size(); ++i) {
+            const double th = (double(i) + 0.5) * a.binRad();
+            if (th < 1 * kDeg) continue;
+            const double omega = 2 * M_PI * std::sin(th) * a.binRad();
+            diff += std::abs(a.p[i].y - ex.p[i].y) * omega;
+            norm += ex.p[i].y * omega;
+        }
+        emit("accuracy, random: L1(table - trace with more rays) / L1", o.accuracyQuality + " table " + std::to_string(aq.raysRandom) + " vs " +
+                 std::to_string(uint64_t(o.exactFactor) * aq.raysRandom) + " rays", diff / norm, NAN, NAN);
+    }
     std::printf("\ntarget: halo pass <= 1.5x the trivial pass: %s\n", met ? "met" : "NOT met");
     if (f) {
         f->close();
@@ -153,7 +240,9 @@ bench::CommandBenchRegistrar reg({"halos", "halo table trace times, the halo pas
                        sub.add_option("--repeats", o->repeats, "timed frames per row (median reported), [1, 1000]")->capture_default_str();
                        sub.add_option("--csv", o->csv, "write the rows as CSV (empty: none)")->capture_default_str();
                        sub.add_option("--qualities", o->qualities, "comma list of table qualities to trace: low, default, high")->capture_default_str();
-                       sub.add_option("--accuracy-rays", o->accuracyRays, "rays of the tables' trace in the accuracy check (the brute force: 4x), [3000, 1e8]")
+                       sub.add_option("--accuracy-quality", o->accuracyQuality, "the table quality whose accuracy is measured: low, default, high")
+                           ->capture_default_str();
+                       sub.add_option("--exact-factor", o->exactFactor, "the brute-force trace's rays over the tables' rays per slice, [2, 100]")
                            ->capture_default_str();
                        return [o]() { return run(*o); };
                    },
@@ -164,7 +253,7 @@ bench::CommandBenchRegistrar reg({"halos", "halo table trace times, the halo pas
                              "halo pass against a trivial pass timed alternately with it, and the tables against a brute-force trace "
                              "with four times the rays.",
                      .args = {"--qualities", "low,default", "--repeats", "5"},
-                     .quickArgs = {"--qualities", "low", "--repeats", "1", "--accuracy-rays", "200000"},
+                     .quickArgs = {"--qualities", "low", "--repeats", "1", "--accuracy-quality", "low", "--exact-factor", "2"},
                      .columns = {"what", "quality_or_size:quality, size or rays", "value", "trivial_ms:trivial pass ms", "ratio_trivial:x trivial pass"}}}});
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include <epoxy/gl.h>
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <cmath>
 
 namespace welkin::elements {
@@ -25,6 +26,50 @@ namespace ck = generators::cloudkeys;
 namespace {
 // The cirrus height when no clouds.cirrus_height_m is declared (the Clouds element's default).
 constexpr double kDefaultLayerHeightM = 9000.0;
+
+// The table at a light elevation between two slices: the two slices blended linearly in the
+// light's elevation, each shifted in elevation by the light's offset from its slice (rows of the
+// (azimuth, elevation) table), so that what moves with the light (the 22 and 46 deg halos, the
+// sundogs, the parhelic circle, the tangent arcs) is blended in place rather than as two copies
+// a slice apart. Below the horizon the pattern of crystals with horizontal faces (plates, Parry)
+// is the reflection of the one above (the subsun at -h, the subparhelia), which moves against the
+// light: for their mix the shift is mirrored there, going over linearly between 5 deg below and
+// above the horizon (rowShift); columns and random crystals are shifted everywhere. docs/halos.md.
+struct SliceBlend {
+    int s0 = 0, s1 = 0;
+    float a = 0.0f;                     // weight of slice s1
+    double shift0 = 0.0, shift1 = 0.0;  // rows to add to a row's index to read slice s0, s1
+};
+SliceBlend sliceBlend(const halos::HaloTables& t, double el) {
+    SliceBlend b;
+    const double f = std::clamp(el / (0.5 * M_PI), 0.0, 1.0) * (t.q.slices - 1);
+    b.s0 = std::min(int(f), t.q.slices - 1);
+    b.s1 = std::min(b.s0 + 1, t.q.slices - 1);
+    b.a = float(f - b.s0);
+    const double rowsPerRad = t.q.ne / M_PI;
+    b.shift0 = (t.sliceElevationRad(b.s0) - el) * rowsPerRad;
+    b.shift1 = (t.sliceElevationRad(b.s1) - el) * rowsPerRad;
+    return b;
+}
+struct RowLerp {
+    int e0, e1;
+    float w;
+};
+// The shift of a row at `row` (fractional, bin centres at integers): the light's offset above
+// 5 deg, mirrored below -5 deg, linear between.
+double rowShift(const halos::HaloTables& t, double row, double shift) {
+    const double e = ((row + 0.5) / t.q.ne - 0.5) * M_PI;
+    return shift * std::clamp(e / (5.0 * M_PI / 180.0), -1.0, 1.0);
+}
+RowLerp rowLerp(const halos::HaloTables& t, double row) {
+    const double f = std::clamp(row, 0.0, double(t.q.ne - 1));
+    const int e0 = int(f);
+    return {e0, std::min(e0 + 1, t.q.ne - 1), float(f - e0)};
+}
+glm::vec4 sampleRow(const std::vector<glm::vec4>& mix, int slice, const RowLerp& r, int ia, const halos::HaloTables& t) {
+    const std::size_t base = std::size_t(slice) * std::size_t(t.q.ne) * std::size_t(t.q.na) + std::size_t(ia);
+    return mix[base + std::size_t(r.e0) * std::size_t(t.q.na)] * (1.0f - r.w) + mix[base + std::size_t(r.e1) * std::size_t(t.q.na)] * r.w;
+}
 }  // namespace
 
 Halos::Halos() : SkyElement("halos") {
@@ -81,7 +126,12 @@ void Halos::doInit(InitContext& ctx) {
     tables_ = nullptr;
     mixed_ = {-1, -1, -1, -1};
     mix_.clear();
+    mixShift_.clear();
     tableElevation_ = -1.0;
+    octTable_ = {};
+    octRemap_.clear();
+    octN_ = 0;
+    octElevation_ = -1.0;
 }
 
 void Halos::doRender(const FrameContext& ctx) {
@@ -117,10 +167,22 @@ void Halos::doRender(const FrameContext& ctx) {
                                                            v.get(hk::plateAspect), v.get(hk::columnAspect), v.get(hk::tilt));
     const double el = std::asin(std::clamp(L.z, -1.0, 1.0));
     if (&t != tables_ || w != mixed_) {
-        mix_ = t.mix(w);
+        // Two mixes: the populations with horizontal faces (plates, Parry), whose pattern below
+        // the horizon is their reflection and moves against the light, and the others (columns,
+        // random), whose pattern moves with it everywhere (sliceBlend).
+        const double sum = w[0] + w[1] + w[2] + w[3];
+        auto part = [&](std::array<double, 4> ws) {
+            const double ps = ws[0] + ws[1] + ws[2] + ws[3];
+            std::vector<glm::vec4> m = t.mix(ws);
+            for (glm::vec4& c : m) c *= float(ps / sum);
+            return m;
+        };
+        mix_ = part({w[0], 0.0, 0.0, w[3]});
+        mixShift_ = part({0.0, w[1], w[2], 0.0});
         tables_ = &t;
         mixed_ = w;
         tableElevation_ = -1.0;
+        octElevation_ = -1.0;
     }
     if (!table_ || table_.width() != t.q.na || table_.height() != t.q.ne) {
         table_ = gl::Texture2D(t.q.na, t.q.ne, GL_RGBA16F);
@@ -128,48 +190,57 @@ void Halos::doRender(const FrameContext& ctx) {
         table_.setWrap(GL_CLAMP_TO_EDGE);
         tableElevation_ = -1.0;
     }
-    if (std::abs(el - tableElevation_) > kElevationTolerance) {
-        // The light's elevation between two slices (evenly over [0, 90] deg): linear in elevation,
-        // on the CPU once per 0.02 deg of the light's motion, so that the pass makes one 2-D fetch.
-        const double f = std::clamp(el / (0.5 * M_PI), 0.0, 1.0) * (t.q.slices - 1);
-        const int s0 = std::min(int(f), t.q.slices - 1), s1 = std::min(s0 + 1, t.q.slices - 1);
-        const float a = float(f - s0);
-        const std::size_t cells = std::size_t(t.q.ne) * std::size_t(t.q.na);
-        std::vector<glm::vec4> slice(cells);
-        for (std::size_t i = 0; i < cells; ++i)
-            slice[i] = mix_[std::size_t(s0) * cells + i] * (1.0f - a) + mix_[std::size_t(s1) * cells + i] * a;
-        table_.upload(GL_RGBA, GL_FLOAT, slice.data());
-        tableElevation_ = el;
-    }
-
     const double layerH = v.getOr(ck::cirrusHeight, kDefaultLayerHeightM);
     const double h0 = v.getOr(keys::observerHeight, 0.0);
     const double R = v.getOr(lk::planetRadius, 6360000.0);
     glm::dvec3 lx(L.x, L.y, 0.0);
     lx = glm::length(lx) > 1e-9 ? glm::normalize(lx) : glm::dvec3(1, 0, 0);
     const glm::dvec3 ly = glm::cross(glm::dvec3(0, 0, 1), lx);
-    if (ctx.camera.projection == Projection::Perspective && !cirrus) {
-        // The real-time path: per-vertex coordinates on a grid, one fetch per pixel.
+    if (ctx.camera.projection == Projection::Perspective && !cirrus && !forcePerPixel_) {
+        // The real-time path: a grid of big cells whose vertices pass the unnormalised view ray
+        // (affine in the pixel: exact at every pixel); per pixel a few additions, one division
+        // and one fetch of the octahedral table, which holds the layer's scattered fraction and
+        // transmittance too; the horizon is a clip distance.
+        updateOctTable(el, tauUser, h0, layerH, R);
         const gl::Program& g = gridPrograms_.get(ctx.camera.projection);
         g.use();
-        glBindTextureUnit(GLuint(tableUnit_), table_.id());
+        glBindTextureUnit(GLuint(tableUnit_), octTable_.id());
         const int gx = (ctx.camera.width + kGridCellPx - 1) / kGridCellPx, gy = (ctx.camera.height + kGridCellPx - 1) / kGridCellPx;
         g.set("u_grid", glm::ivec2(gx, gy));
         g.set("u_cellPx", float(kGridCellPx));
         g.set("u_lightX", glm::vec3(lx));
         g.set("u_lightY", glm::vec3(ly));
-        g.set("u_tauUser", float(tauUser));
-        g.set("u_h", float(h0));
-        g.set("u_R", float(R));
-        g.set("u_layerH", float(layerH));
         g.set("u_E", glm::vec3(E));
-        g.set("u_below", h0 < layerH ? 1.0f : 0.0f);
+        // Under the layer the ground hides it below the horizon (mu < muH); above it, nothing does.
+        const double r = R + h0;
+        const double muH = h0 < layerH ? -std::sqrt(std::max(1.0 - R * R / (r * r), 0.0)) : -2.0;
+        g.set("u_muHorizon", float(muH));
         if (ctx.emptyVao) ctx.emptyVao->bind();
+        glEnable(GL_CLIP_DISTANCE0);
         glDrawArrays(GL_TRIANGLES, 0, GLsizei(6 * gx * gy));
+        glDisable(GL_CLIP_DISTANCE0);
         drew_ = true;
         grid_ = true;
         return;
     }
+    if (std::abs(el - tableElevation_) > kElevationTolerance) {
+        // The light's elevation between two slices (evenly over [0, 90] deg), on the CPU once per
+        // 0.02 deg of the light's motion, so that the pass makes one 2-D fetch.
+        const SliceBlend b = sliceBlend(t, el);
+        const std::size_t cells = std::size_t(t.q.ne) * std::size_t(t.q.na);
+        std::vector<glm::vec4> slice(cells);
+        for (int ie = 0; ie < t.q.ne; ++ie) {
+            const RowLerp r0 = rowLerp(t, ie + rowShift(t, ie, b.shift0)), r1 = rowLerp(t, ie + rowShift(t, ie, b.shift1));
+            const RowLerp q0 = rowLerp(t, ie + b.shift0), q1 = rowLerp(t, ie + b.shift1);
+            for (int ia = 0; ia < t.q.na; ++ia)
+                slice[std::size_t(ie) * std::size_t(t.q.na) + std::size_t(ia)] =
+                    (sampleRow(mix_, b.s0, r0, ia, t) + sampleRow(mixShift_, b.s0, q0, ia, t)) * (1.0f - b.a) +
+                    (sampleRow(mix_, b.s1, r1, ia, t) + sampleRow(mixShift_, b.s1, q1, ia, t)) * b.a;
+        }
+        table_.upload(GL_RGBA, GL_FLOAT, slice.data());
+        tableElevation_ = el;
+    }
+
     const gl::Program& p = programs_.get(ctx.camera.projection);
     p.use();
     glBindTextureUnit(GLuint(tableUnit_), table_.id());
@@ -193,20 +264,109 @@ void Halos::doRender(const FrameContext& ctx) {
     drew_ = true;
 }
 
+// The layer's scattered fraction 1 - exp(-tau slant) and transmittance exp(-tau slant) along a
+// direction of sine of elevation mu from the observer (halos.frag.glsl's rule); a direction the
+// ground hides (observer under the layer) takes the horizon's (the clip distance cuts it exactly,
+// so the table's bilinear filter never blends the horizon with the ground's zero); a direction
+// that misses the layer scatters nothing.
+static glm::vec2 layerFactor(double mu, double tau, double h0, double layerH, double R) {
+    const double r = R + h0, rc = R + layerH;
+    if (h0 < layerH) mu = std::max(mu, -std::sqrt(std::max(1.0 - R * R / (r * r), 0.0)));
+    const double disc = r * r * mu * mu - (r - rc) * (r + rc);
+    if (disc < 0.0) return {0.0f, 1.0f};
+    const double d = r < rc ? -r * mu + std::sqrt(disc) : -r * mu - std::sqrt(disc);
+    if (d <= 0.0) return {0.0f, 1.0f};
+    const double horiz = std::sqrt(std::max(1.0 - mu * mu, 0.0));  // the horizontal component
+    const glm::dvec3 p(d * horiz, 0.0, h0 + d * mu);
+    const glm::dvec3 up = glm::normalize(p + glm::dvec3(0.0, 0.0, R));
+    const double slant = 1.0 / std::max(std::abs(up.x * horiz + up.z * mu), 0.1);
+    const double t = std::exp(-tau * slant);
+    return {float(1.0 - t), float(t)};
+}
+
+void Halos::updateOctTable(double el, double tauUser, double h0, double layerH, double R) {
+    const halos::HaloTables& t = *tables_;
+    const int N = int(std::lround(kOctScale * t.q.na));
+    if (N != octN_ || octRemap_.empty()) {
+        // The octahedral half sky: texel (i, j) at (s, t) = 2 (i + 0.5, j + 0.5) / N - 1; the
+        // direction (x, |y|, z) / (|x| + |y| + |z|) in the light's frame (x to the light's azimuth,
+        // z up) has x + z = s and x - z = t, so x = (s + t) / 2, z = (s - t) / 2, |y| = 1 -
+        // max(|s|, |t|): the whole square is the half sky, its edge the light's vertical plane.
+        octN_ = N;
+        octRemap_.assign(std::size_t(N) * std::size_t(N), {});
+        for (int j = 0; j < N; ++j)
+            for (int i = 0; i < N; ++i) {
+                const double s = 2.0 * (i + 0.5) / N - 1.0, tt = 2.0 * (j + 0.5) / N - 1.0;
+                const glm::dvec3 d = glm::normalize(glm::dvec3(0.5 * (s + tt), 1.0 - std::max(std::abs(s), std::abs(tt)), 0.5 * (s - tt)));
+                const double e = std::asin(std::clamp(d.z, -1.0, 1.0)), a = std::atan2(d.y, d.x);
+                // Bilinear between the (azimuth, elevation) table's bin centres, clamped at its edges
+                // (the row, fractional, is shifted per slice at each update).
+                const double fa = std::clamp(a / M_PI * t.q.na - 0.5, 0.0, double(t.q.na - 1));
+                OctTexel& o = octRemap_[std::size_t(j) * std::size_t(N) + std::size_t(i)];
+                o.a0 = uint16_t(fa);
+                o.a1 = uint16_t(std::min(int(fa) + 1, t.q.na - 1));
+                o.wa = float(fa - int(fa));
+                o.row = float((e / M_PI + 0.5) * t.q.ne - 0.5);
+                o.mu = float(d.z);
+            }
+        octTable_ = gl::Texture2D(N, N, GL_RGBA16F);
+        octTable_.setFilter(GL_LINEAR);
+        octTable_.setWrap(GL_CLAMP_TO_EDGE);
+        octElevation_ = -1.0;
+        octLayerKey_ = glm::dvec4(-1.0);
+    }
+    const glm::dvec4 layerKey(tauUser, h0, layerH, R);
+    const bool layerChanged = layerKey != octLayerKey_;
+    if (layerChanged) {
+        octLayer_.resize(octRemap_.size());
+        for (std::size_t k = 0; k < octRemap_.size(); ++k) octLayer_[k] = layerFactor(octRemap_[k].mu, tauUser, h0, layerH, R);
+        octLayerKey_ = layerKey;
+    }
+    if (!layerChanged && std::abs(el - octElevation_) <= kElevationTolerance) return;
+    const auto t0 = std::chrono::steady_clock::now();
+    // The light's elevation between two slices (as the per-pixel path's table), resampled.
+    const SliceBlend b = sliceBlend(t, el);
+    std::vector<glm::vec4> out(octRemap_.size());
+    for (std::size_t k = 0; k < octRemap_.size(); ++k) {
+        const OctTexel& o = octRemap_[k];
+        const RowLerp r0 = rowLerp(t, o.row + rowShift(t, o.row, b.shift0)), r1 = rowLerp(t, o.row + rowShift(t, o.row, b.shift1));
+        const RowLerp q0 = rowLerp(t, o.row + b.shift0), q1 = rowLerp(t, o.row + b.shift1);
+        const glm::vec4 p0 = (sampleRow(mix_, b.s0, r0, o.a0, t) + sampleRow(mixShift_, b.s0, q0, o.a0, t)) * (1.0f - o.wa) +
+                             (sampleRow(mix_, b.s0, r0, o.a1, t) + sampleRow(mixShift_, b.s0, q0, o.a1, t)) * o.wa;
+        const glm::vec4 p1 = (sampleRow(mix_, b.s1, r1, o.a0, t) + sampleRow(mixShift_, b.s1, q1, o.a0, t)) * (1.0f - o.wa) +
+                             (sampleRow(mix_, b.s1, r1, o.a1, t) + sampleRow(mixShift_, b.s1, q1, o.a1, t)) * o.wa;
+        const glm::vec4 p = p0 * (1.0f - b.a) + p1 * b.a;
+        out[k] = glm::vec4(glm::vec3(p) * octLayer_[k].x, octLayer_[k].y);
+    }
+    octTable_.upload(GL_RGBA, GL_FLOAT, out.data());
+    octElevation_ = el;
+    octUpdateMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
 void Halos::doStats(nlohmann::json& root) const {
     if (!tables_) return;
     root["halos"]["table_quality"] = tables_->q.name;
     root["halos"]["table_seconds"] = tables_->buildSeconds;
     root["halos"]["table_from_cache"] = tables_->fromCache;
+    if (octN_ > 0) {
+        root["halos"]["grid_table_texels"] = octN_;
+        root["halos"]["grid_table_update_ms"] = octUpdateMs_;
+    }
 }
 
 void Halos::doRelease() {
     programs_.releasePrograms();
     gridPrograms_.releasePrograms();
     table_ = {};
+    octTable_ = {};
+    octRemap_.clear();
+    octLayer_.clear();
+    octN_ = 0;
+    octElevation_ = -1.0;
     cloudUbo_ = {};
     tables_ = nullptr;
     mix_.clear();
+    mixShift_.clear();
     tableElevation_ = -1.0;
 }
 

@@ -27,6 +27,9 @@ uniform vec3 u_coronaAxis;      // corona: the Sun's rotation axis, ENU
 uniform float u_coronaSunRadius;  // corona: the Sun's apparent radius, rad
 uniform float u_coronaFlattening;
 
+uniform int u_limbOn;            // Moon: 1 while it overlaps the Sun: the limb profile (Baily's beads)
+uniform float u_limbProfile[360]; // Moon: the limb's height over its radius, every degree of position angle from the north pole through east
+uniform float u_limbMax;          // Moon: a bound on |u_limbProfile|
 in vec2 v_offset;
 flat in vec3 v_flux;
 flat in float v_pixelAngle;
@@ -102,11 +105,22 @@ vec3 planet_moon(vec3 d, vec3 n) {
     return L;
 }
 
+// The Moon's limb radius over its mean radius towards `d` (the profile at d's position angle).
+float planet_limb(vec3 d) {
+    if (u_limbOn == 0) return 1.0;
+    vec3 e = d - u_centre * dot(d, u_centre);
+    vec3 pole = u_moonAxes[2] - u_centre * dot(u_moonAxes[2], u_centre);
+    float pa = atan(dot(e, cross(pole, u_centre)), dot(e, pole));  // from the pole through east
+    float f = fract(pa / (2.0 * WELKIN_PI) + 1.0) * 360.0;
+    int i0 = int(f) % 360;
+    float w = fract(f);
+    return 1.0 + mix(u_limbProfile[i0], u_limbProfile[(i0 + 1) % 360], w);
+}
 // Radiance towards `d` and whether it meets the disk (1) or not (0).
 vec3 planet_sample(vec3 d, out float inside) {
     float rho;
     vec3 n = planet_normal(d, u_centre, u_sinRadius, rho);
-    inside = (rho <= 1.0 && dot(d, u_centre) > 0.0) ? 1.0 : 0.0;
+    inside = (rho <= (u_kind == 1 ? planet_limb(d) : 1.0) && dot(d, u_centre) > 0.0) ? 1.0 : 0.0;
     if (inside == 0.0) return vec3(0.0);
     if (u_kind == 0) {
         float mu = max(dot(n, -d), 0.0);
@@ -141,7 +155,7 @@ void main() {
         return;
     }
     float alpha = asin(min(u_sinRadius, 1.0));
-    float band = 1.5 * v_pixelAngle;
+    float band = 1.5 * v_pixelAngle + (u_kind == 1 && u_limbOn == 1 ? u_limbMax * alpha : 0.0);
     if (theta > alpha + band) discard;
     vec3 L = vec3(0.0);
     float coverage = 0.0;

@@ -153,6 +153,40 @@ double coronaRelativeRadiance(double r, double flattening, double sinFromEquator
     return glsl::dp::planet_corona_shared::planet_coronaRelativeRadiance(r, flattening, sinFromEquator);  // the shader's text
 }
 
+const std::array<float, kLimbProfileSamples>& lunarLimbProfileMeters() {
+    static const std::array<float, kLimbProfileSamples> table = [] {
+        // splitmix64 with a fixed seed: the same profile on every machine.
+        uint64_t state = 0x6c756e61726c696dull;
+        auto next = [&] {
+            uint64_t z = (state += 0x9e3779b97f4a7c15ull);
+            z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+            z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+            return double((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
+        };
+        std::array<double, kLimbProfileSamples> h{};
+        for (int k = 4; k < kLimbProfileSamples / 2; ++k) {
+            const double phase = 2.0 * kPi * next(), amp = 1.0 / k;
+            for (int i = 0; i < kLimbProfileSamples; ++i) h[std::size_t(i)] += amp * std::cos(k * 2.0 * kPi * i / kLimbProfileSamples + phase);
+        }
+        double ss = 0;
+        for (double x : h) ss += x * x;
+        const double scale = kLimbProfileRmsMeters / std::sqrt(ss / kLimbProfileSamples);
+        std::array<float, kLimbProfileSamples> out{};
+        for (std::size_t i = 0; i < out.size(); ++i) out[i] = float(h[i] * scale);
+        return out;
+    }();
+    return table;
+}
+
+double lunarLimbHeightMeters(double paRad) {
+    const auto& t = lunarLimbProfileMeters();
+    double f = paRad / (2.0 * kPi) * kLimbProfileSamples;
+    f -= std::floor(f / kLimbProfileSamples) * kLimbProfileSamples;
+    const int i0 = int(f) % kLimbProfileSamples, i1 = (i0 + 1) % kLimbProfileSamples;
+    const double w = f - std::floor(f);
+    return t[std::size_t(i0)] * (1.0 - w) + t[std::size_t(i1)] * w;
+}
+
 double earthshineRatio(double moonPhaseRad, double d) {
     if (!(d > kEarthRadiusM)) throw Error("earthshineRatio(): Earth-Moon distance not > the Earth's radius");
     const double r = kEarthRadiusM / d;
@@ -292,6 +326,7 @@ Planet::Planet(std::string name) : SkyElement(std::move(name)) {
     option(planetkeys::earthshine, true);
     option(planetkeys::eclipse, true);
     option(planetkeys::corona, true);
+    option(planetkeys::limbProfile, true);
     option(planetkeys::coronaFlattening, 0.1);
     option(planetkeys::labels, false);
     option(planetkeys::labelMagnitude, false);
@@ -739,7 +774,19 @@ void Planet::doRender(const FrameContext& ctx) {
             p.set("u_normalLod", float(std::max(std::log2(normalTex_.width() / (2 * kPi * std::max(rPx, 1e-3))), 0.0)));
             albedoTex_.bind(moonAlbedoUnit_);
             normalTex_.bind(moonNormalUnit_);
+            // Baily's beads: the limb profile while the Moon overlaps the Sun (heights over the
+            // Moon's radius; the 4 x 4 limb samples then resolve 1/4 of a pixel).
+            const bool beads = v.get(planetkeys::limbProfile) && v.getOr(keys::sunEclipseFraction, 1.0) < 1.0;
+            p.set("u_limbOn", beads ? 1 : 0);
+            if (beads) {
+                std::array<float, kLimbProfileSamples> rel{};
+                const auto& prof = lunarLimbProfileMeters();
+                for (std::size_t i = 0; i < rel.size(); ++i) rel[i] = float(prof[i] / astro::bodyRadiusMeters(astro::Body::Moon));
+                glUniform1fv(p.location("u_limbProfile"), kLimbProfileSamples, rel.data());  // p is in use (bind())
+                p.set("u_limbMax", float(4.0 * kLimbProfileRmsMeters / astro::bodyRadiusMeters(astro::Body::Moon)));
+            }
             draw(kKindMoon, *q, g.centre, g.angularRadius, K, E);
+            p.set("u_limbOn", 0);
             moonDrawn_ = true;
         }
     }

@@ -688,3 +688,93 @@ TEST_CASE("Planet: the corona at totality follows its profile; the diamond ring 
         CHECK(lum(img, int(c0.x + 1.5 * alpha * pxPerRad), int(c0.y)) == 0.0);
     }
 }
+
+TEST_CASE("Planet: Baily's beads: light through the limb's valleys before C2, none at mid-totality", "[gl][planet][eclipse]") {
+    // The profile: RMS 1.2 km, extremes about the +-2" (+-3.7 km) of the measured profiles
+    // (+-4.5 km allowed: the random profile's own extremes), deterministic.
+    double ss = 0, lo = 0, hi = 0;
+    for (float h : lunarLimbProfileMeters()) ss += double(h) * h, lo = std::min(lo, double(h)), hi = std::max(hi, double(h));
+    CHECK(std::sqrt(ss / kLimbProfileSamples) == Approx(kLimbProfileRmsMeters).epsilon(1e-6));
+    CHECK(lo > -4500.0);
+    CHECK(hi < 4500.0);
+    CHECK(lunarLimbHeightMeters(0.5 * kDeg) == Approx(0.5 * (lunarLimbProfileMeters()[0] + lunarLimbProfileMeters()[1])).epsilon(1e-6));
+    // The total eclipse of 2027-08-02 from Luxor; a view of 0.1 deg (2.8"/pixel, the limb samples
+    // 0.7") centred on the point of the Sun's limb where the last sliver is (away from the Moon).
+    const astro::Site luxor{25.70 * kDeg, 32.64 * kDeg, 80.0};
+    const auto ecl = astro::findSolarEclipses(luxor, UtcInstant::parse("2027-08-01T00:00:00Z"), UtcInstant::parse("2027-08-03T00:00:00Z"),
+                                              astro::Path::Fast);
+    REQUIRE(ecl.size() == 1);
+    REQUIRE(ecl[0].c2);
+    test::glContext();
+    struct Shot {
+        Image img;
+        Camera cam;
+        glm::dvec3 moonCentre, pole;
+        double moonRadius, sunMean;
+    };
+    auto shoot = [&](const UtcInstant& t, bool profile, const glm::dvec3* aim) {
+        Scene s;
+        s.p = std::make_unique<SkyProcessor>(SkyVars::earth(), Logger());
+        s.p->add(std::make_unique<Planet>());
+        s.p->setObserver({.latitudeRad = luxor.latitudeRad, .longitudeRad = luxor.longitudeRad, .heightMeters = luxor.heightMeters});
+        s.p->setTime(t);
+        s.p->vars().set(planetkeys::corona, false);  // the photosphere alone (no glare, no corona)
+        s.p->vars().set(planetkeys::earthshine, false);
+        s.p->vars().set(planetkeys::limbProfile, profile);
+        s.p->update();
+        const SkyVars& v = s.p->vars();
+        const glm::dvec3 sun = glm::normalize(v.get(keys::sunDirection)), moon = glm::normalize(v.get(keys::moonDirection));
+        glm::dvec3 away = glm::normalize(sun - moon - sun * glm::dot(sun - moon, sun));
+        const glm::dvec3 point = aim ? *aim : glm::normalize(sun + std::tan(v.get(ak::sunAngularRadius)) * away);
+        s.cam.projection = Projection::Perspective;
+        s.cam.azimuthRad = std::atan2(point.x, point.y);
+        s.cam.altitudeRad = std::asin(point.z);
+        s.cam.verticalFovRad = 0.1 * kDeg;
+        s.cam.width = s.cam.height = 128;
+        s.p->setCamera(s.cam);
+        s.p->renderFrame();
+        const MoonGeometry g = moonGeometry(v, 1.0);
+        return Shot{s.p->readHdr(), s.cam, g.centre, g.axes[2], g.angularRadius, color::luminance(v.get(lk::sunDiskRadiance) * v.get(lk::sunTransmittance))};
+    };
+    auto heightAt = [](const Shot& s, const glm::dvec3& d) {  // the profile at d's position angle (the shader's rule)
+        const glm::dvec3 e = d - s.moonCentre * glm::dot(d, s.moonCentre), pole = s.pole - s.moonCentre * glm::dot(s.pole, s.moonCentre);
+        return lunarLimbHeightMeters(std::atan2(glm::dot(e, glm::cross(pole, s.moonCentre)), glm::dot(e, pole)));
+    };
+    // 4 s before C2 (the astronomy's, with the Canon's smaller C2/C3 radius): the last sliver.
+    const UtcInstant before = ecl[0].c2->time.plusSeconds(-4.0);
+    const Shot smooth = shoot(before, false, nullptr);
+    const glm::dvec3 aim = *smooth.cam.directionAt({64.0, 64.0});
+    const Shot beads = shoot(before, true, &aim);
+    int litSmooth = 0, litBeads = 0, valleyOnly = 0, mountainDark = 0;
+    double hLit = 0;
+    for (int y = 0; y < 128; ++y)
+        for (int x = 0; x < 128; ++x) {
+            const bool a = lum(smooth.img, x, y) > 1e-3 * smooth.sunMean, b = lum(beads.img, x, y) > 1e-3 * beads.sunMean;
+            const glm::dvec3 d = *beads.cam.directionAt({x + 0.5, y + 0.5});
+            litSmooth += a;
+            litBeads += b;
+            if (b) hLit += heightAt(beads, d);
+            if (b && !a) ++valleyOnly;
+            if (a && !b) ++mountainDark;
+        }
+    INFO("lit pixels: smooth limb " << litSmooth << ", with the profile " << litBeads << " (mean limb height there " << hLit / std::max(litBeads, 1)
+                                    << " m); lit only with the profile " << valleyOnly << ", dark only with it " << mountainDark);
+    // Light with both; with the profile some of it comes through valleys the smooth limb closes,
+    // some of the smooth sliver is blocked by mountains, and the light that comes through lies, on
+    // average, below the mean limb (valleys: negative heights).
+    std::printf("\nBaily's beads 4 s before C2 (Luxor): lit pixels smooth %d, profile %d (through valleys only %d, blocked by mountains %d), "
+                "mean limb height under the light %.0f m; profile extremes %.0f / %.0f m\n",
+                litSmooth, litBeads, valleyOnly, mountainDark, hLit / std::max(litBeads, 1), lo, hi);
+    CHECK(litSmooth > 0);
+    CHECK(litBeads > 0);
+    CHECK(valleyOnly > 0);
+    CHECK(mountainDark > 0);
+    CHECK(hLit / std::max(litBeads, 1) < 0.0);
+    // Mid-totality (the Moon's limb beyond the Sun's all round by far more than the profile's
+    // +-4.3 km): no photosphere anywhere along the limb.
+    const Shot mid = shoot(ecl[0].maximum.time, true, nullptr);
+    double peak = 0;
+    for (int y = 0; y < 128; ++y)
+        for (int x = 0; x < 128; ++x) peak = std::max(peak, lum(mid.img, x, y));
+    CHECK(peak < 1e-6 * mid.sunMean);
+}

@@ -27,6 +27,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <functional>
 #include <cstdio>
@@ -128,27 +129,43 @@ int run(const EclipseBenchOptions& o) {
         // field's CPU table), a later band, or the swap (the new table shown, the frame after its
         // last band: the irradiance pass re-runs).
         auto a = makeProcessor(false), b = makeProcessor(true);
+        // Besides the wall time, the process's CPU time (all threads: the renderer's llvmpipe
+        // threads too) for each frame: the work done, which a load spike does not lengthen.
         struct Cat {
             const char* name;
-            std::vector<double> normal, eclipse, ratio;
+            std::vector<double> normal, eclipse, ratio, cpuRatio;
+        };
+        auto cpuMs = [] {
+            timespec ts{};
+            clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+            return 1e3 * double(ts.tv_sec) + 1e-6 * double(ts.tv_nsec);
         };
         Cat cats[4] = {{"no band (the shadow moved < 2 km)"}, {"first band of a rebuild (+ the field's CPU table)"}, {"later band"},
                        {"the swap (the new table shown; the irradiance pass)"}};
         int fa = 0, fb = 0;
         bool inBuild = false;
+        struct Outlier {
+            double cpuRatio;
+            int frame, kind;
+            double cpuA, cpuB, wallA, wallB;
+        };
+        std::vector<Outlier> outliers;
         for (int i = 0; i < o.cycleFrames; ++i) {
             glFinish();
             auto c0 = std::chrono::steady_clock::now();
+            const double u0 = cpuMs();
             a->setTime(t0Cycle(t0, o.secondsPerFrame, ++fa));
             a->renderFrame();
             glFinish();
             auto t1 = std::chrono::steady_clock::now();
+            const double u1 = cpuMs();
             const int r0 = lutOf(*b)->rebuilds();
             const uint32_t id0 = b->vars().get(generators::skykeys::eclipseViewLut).id;
             b->setTime(t0Cycle(t0, o.secondsPerFrame, ++fb));
             b->renderFrame();
             glFinish();
             auto t2 = std::chrono::steady_clock::now();
+            const double u2 = cpuMs();
             const bool band = lutOf(*b)->rebuilds() != r0, swapped = b->vars().get(generators::skykeys::eclipseViewLut).id != id0;
             const int k = swapped ? 3 : !band ? 0 : !inBuild ? 1 : 2;
             inBuild = lutOf(*b)->building();
@@ -156,21 +173,31 @@ int run(const EclipseBenchOptions& o) {
             cats[k].normal.push_back(msA);
             cats[k].eclipse.push_back(msB);
             cats[k].ratio.push_back(msB / msA);
+            cats[k].cpuRatio.push_back((u2 - u1) / std::max(u1 - u0, 1e-3));
+            outliers.push_back({(u2 - u1) / std::max(u1 - u0, 1e-3), i, k, u1 - u0, u2 - u1, msA, msB});
         }
         std::printf("every frame of %d at %.4g s per frame (%dx%d), each eclipse frame paired with the normal frame timed just before it:\n\n",
                     o.cycleFrames, o.secondsPerFrame, o.width, o.height);
-        std::printf("| eclipse frame | frames | normal ms (median) | eclipse ms (median) | eclipse / normal, median | max |\n|---|---|---|---|---|---|\n");
+        std::printf("| eclipse frame | frames | normal ms (median) | eclipse ms (median) | eclipse / normal, median | max | CPU time eclipse / normal, median | max |\n|---|---|---|---|---|---|---|---|\n");
         double worst = 0.0;
         for (const Cat& c : cats) {
             if (c.ratio.empty()) {
-                std::printf("| %s | 0 | | | | |\n", c.name);
+                std::printf("| %s | 0 | | | | | | |\n", c.name);
                 continue;
             }
             const double mx = *std::max_element(c.ratio.begin(), c.ratio.end());
             worst = std::max(worst, median(c.ratio));
-            std::printf("| %s | %zu | %.2f | %.2f | %.2f | %.2f |\n", c.name, c.ratio.size(), median(c.normal), median(c.eclipse), median(c.ratio), mx);
+            const double cmx = *std::max_element(c.cpuRatio.begin(), c.cpuRatio.end());
+            std::printf("| %s | %zu | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f |\n", c.name, c.ratio.size(), median(c.normal), median(c.eclipse), median(c.ratio), mx,
+                        median(c.cpuRatio), cmx);
         }
         std::printf("\nlargest median ratio of a kind of frame: %.2f; target <= 1.5x: %s\n", worst, worst <= 1.5 ? "met" : "NOT met");
+        // The pairs whose eclipse frame took the most CPU time against its normal frame.
+        std::sort(outliers.begin(), outliers.end(), [](const Outlier& x, const Outlier& y) { return x.cpuRatio > y.cpuRatio; });
+        std::printf("\n| largest CPU-time ratios: frame | kind | CPU ms normal / eclipse | wall ms normal / eclipse |\n|---|---|---|---|\n");
+        for (std::size_t j = 0; j < std::min<std::size_t>(outliers.size(), 6); ++j)
+            std::printf("| %d | %s | %.2f / %.2f | %.2f / %.2f |\n", outliers[j].frame, cats[outliers[j].kind].name, outliers[j].cpuA, outliers[j].cpuB,
+                        outliers[j].wallA, outliers[j].wallB);
         // The multiple-scattering field's CPU table alone (built in the first band's frame).
         const SkyVars& vb = b->vars();
         const generators::cpu::EclipseGeometry gb{.moonPos = vb.get(astro::keys::moonPosition), .moonRadius = astro::keys::kMoonRadiusMeters,

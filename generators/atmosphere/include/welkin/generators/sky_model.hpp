@@ -286,6 +286,21 @@ void aerialSlice(const SkyModel& m, const Lut2D& T, const MsField& MS, double h,
 /// Total radiance per unit illuminance along a ray (smooth + mie * phase).
 glm::dvec3 radiance(const SkyModel& m, const Scattering& s, double nu);
 
+/// The multiple-scattering model's weight along a view ray at cosine `nu` to the Sun: the orders
+/// >= 2 take mix(f, f + D, w) (docs/eclipse.md). A ray near the shadow's axis gathers, through
+/// the forward peak of the aerosol's phase function, light scattered in the air along the axis,
+/// as dark as the point itself; through the rest of the scattering (Rayleigh's, the aerosol's
+/// broad part) and across the axis, the kernel's average. w = 1 - F (1 - sin(angle to the Sun)),
+/// F = min(1, the delta-M forward fraction x the aerosol's share of the scattering at the ground
+/// / kEclipseForwardShare). Runs atmosphere.shared.glsl's atm_eclMsAxisWeight().
+double eclipseMsAxisWeight(const SkyModel& m, double forwardFraction, double nu);
+/// The forward peak's share of the scattering at the ground above which the gathered light near
+/// the axis is taken as all from along it: 0.16, that of atmosphere::Atmosphere::earthClear()
+/// (aerosol 86 % of the scattering, delta-M fraction 0.187), whose sky the weight sin(angle) fitted
+/// (docs/eclipse.md); SkyModel::earthClear() (aerosol 23 %) has 0.043. (The shared text writes
+/// the literal 0.16; a test checks the two agree.)
+inline constexpr double kEclipseForwardShare = 0.16;
+
 /// The eclipse's multiple-scattering field (docs/eclipse.md, "Multiple scattering"): in the
 /// plane through the observer perpendicular to the shadow's axis (unit basis e1, horizontal, and
 /// e2), a grid of D = (the Sun's visible fraction averaged over the air around a point, weighted

@@ -211,24 +211,51 @@ private:
     void doStats(nlohmann::json& root) const override;
 
     gl::ProjectionPrograms programs_, gridPrograms_;
-    gl::Texture2D table_;            // the mix at the light's elevation (azimuth x elevation), 1/sr
+    gl::Texture2D table_;            // the mix at the light's elevation (azimuth x elevation), 1/sr (per-pixel path)
+    gl::Texture2D octTable_;         // the grid path's table (octahedral half-sphere, the layer baked in)
     int tableUnit_ = 0;              // its private texture unit (SkyElement::textureUnit)
     gl::Buffer cloudUbo_;
     const halos::HaloTables* tables_ = nullptr;
     std::array<double, 4> mixed_{-1, -1, -1, -1};
-    std::vector<glm::vec4> mix_;     // the mixed tables at every slice (HaloTables::mix)
+    std::vector<glm::vec4> mix_;       // the plates' and Parry columns' part of the mix at every slice (HaloTables::mix)
+    std::vector<glm::vec4> mixShift_;  // the columns' and random crystals' part
     double tableElevation_ = -1.0;   // the light elevation table_ holds, rad
     bool drew_ = false;
+    // The grid path's table: for each of its N x N texels its place in the (azimuth, elevation)
+    // table (fixed per table size), the layer's scattered
+    // fraction and transmittance in its direction (per layer), and what it holds now.
+    struct OctTexel {
+        uint16_t a0, a1;  // the two azimuth bins
+        float wa;         // the weight of a1
+        float row;        // the elevation as a fractional row (bin centres at integers)
+        float mu;         // the direction's sine of elevation
+    };
+    std::vector<OctTexel> octRemap_;
+    std::vector<glm::vec2> octLayer_;
+    int octN_ = 0;
+    double octElevation_ = -1.0;
+    glm::dvec4 octLayerKey_{-1.0};  // tau, observer height, layer height, planet radius the layer holds
+    bool forcePerPixel_ = false;
+    double octUpdateMs_ = 0.0;  // the last resampling of the grid path's table, CPU ms
+    void updateOctTable(double elevationRad, double tauUser, double h0, double layerH, double R);
 
 public:
     /// The light's motion in elevation (rad) that re-interpolates the table between its slices
     /// (0.02 deg: 1/27 of the Sun's diameter).
     static constexpr double kElevationTolerance = 3.5e-4;
-    /// The real-time display's grid cell, pixels (perspective projection, no cirrus: the pass
-    /// computes its coordinates per vertex and makes one fetch per pixel).
-    static constexpr int kGridCellPx = 16;
+    /// The real-time display's grid cell, pixels (perspective projection, no cirrus): each vertex
+    /// passes the unnormalised view ray, affine in the pixel, so the cells only bound the work;
+    /// 64-pixel cells (llvmpipe rasterises per triangle: small cells cost, docs/rainbow.md).
+    static constexpr int kGridCellPx = 64;
+    /// The grid path's table is N x N with N = kOctScale x the (azimuth, elevation) table's
+    /// azimuth bins (an octahedral map of the half sky y >= 0 in the light's frame, finer than
+    /// the source's bins so that the resampling keeps most of its detail: docs/halos.md).
+    static constexpr double kOctScale = 2.0;
     /// True if the last render() drew through the grid.
     bool gridLastFrame() const { return grid_; }
+    /// Tests and benchmarks: draw every view through the per-pixel pass (the offline path), to
+    /// compare the grid with it.
+    void setForcePerPixel(bool on) { forcePerPixel_ = on; }
 
 private:
     bool grid_ = false;

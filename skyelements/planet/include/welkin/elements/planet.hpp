@@ -42,7 +42,8 @@
 //    times the disk's mean radiance and the Sun's transmittance), additive, drawn before the Sun
 //    while the Moon overlaps it, flattened towards the Sun's poles (taken as the ecliptic's) by
 //    planet.corona_flattening; the dark Moon drawn over both. The diamond ring near C2/C3: the
-//    uncovered sliver's glare at the limb point farthest from the Moon's centre.
+//    uncovered sliver's glare at the limb point farthest from the Moon's centre. Baily's beads
+//    (planet.limb_profile): the dark Moon's limb drawn with a limb profile (lunarLimbHeightMeters).
 //  - Planets (Mercury .. Neptune): illuminance 2.54e-6 lx x 10^(-0.4 m) (planet.<name>.magnitude,
 //    the Stars' convention), colour from B-V (Allen's Astrophysical Quantities, 4th ed., 12.3:
 //    Mercury 0.93, Venus 0.82, Mars 1.36, Jupiter 0.83, Saturn 1.04, Uranus 0.56, Neptune 0.41)
@@ -62,6 +63,8 @@
 #include <welkin/gl/projection_programs.hpp>
 
 #include <glm/glm.hpp>
+
+#include <array>
 
 #include <optional>
 #include <string>
@@ -88,6 +91,9 @@ inline const Key<double> labelLuminance{"planet.label_luminance_cd_m2", Range{0,
 inline const Key<std::string> moonNormals{"planet.moon_normals", "the Moon's tangent-space normal map, same layout ('' = a smooth sphere)"};
 /// The solar corona around the Sun while the Moon overlaps it (coronaRelativeRadiance()).
 inline const Key<bool> corona{"planet.corona", "the solar corona and the diamond ring while the Moon covers the Sun (solar eclipses)"};
+/// The lunar limb's mountains and valleys on the dark Moon during a solar eclipse (Baily's beads:
+/// lunarLimbHeightMeters()).
+inline const Key<bool> limbProfile{"planet.limb_profile", "the lunar limb's mountains and valleys on the dark Moon in a solar eclipse (Baily's beads)"};
 /// The corona's flattening (its solar-cycle shape): an isophote's equatorial radius over its polar
 /// one minus 1, Ludendorff's index a + b: ~0.3 at solar minimum, ~0.05 at maximum; 0 = round.
 inline const Key<double> coronaFlattening{"planet.corona_flattening", Range{0, 0.5}, "the corona's flattening (Ludendorff a+b): ~0.3 at solar minimum, ~0.05 at maximum"};
@@ -110,6 +116,19 @@ inline constexpr double kCoronaExtentSolarRadii = 6.0;
 /// or the lens' veiling glare: an assumed, not a measured, PSF).
 inline constexpr double kDiamondRingFraction = 0.01;
 inline constexpr double kDiamondGlare = 0.1;
+
+/// The lunar limb's height above the mean limb (radius 1737.4 km), metres, at position angle
+/// `paRad` (from the Moon's north pole through east). Not a measured profile: a deterministic
+/// random one with the statistics of the measured ones: 176 harmonics (k = 4..179: features of
+/// 1-45 deg of position angle, 30 km to 1400 km along the limb) with amplitudes falling as 1/k
+/// (a k^-2 power spectrum, as the lunar topography's at these scales) and random phases, scaled
+/// to an RMS of 1.2 km; its extremes, -4.3 and +2.7 km, are about the +-2" (+-3.7 km at the mean distance)
+/// between which the limb profiles of the Watts charts (Watts 1963) and of Kaguya's laser
+/// altimetry lie. Tabulated every degree (kLimbProfileSamples) and interpolated linearly.
+double lunarLimbHeightMeters(double paRad);
+inline constexpr int kLimbProfileSamples = 360;  ///< one per degree of position angle
+inline constexpr double kLimbProfileRmsMeters = 1200.0;
+const std::array<float, kLimbProfileSamples>& lunarLimbProfileMeters();
 
 /// Limb-darkening exponent a(lambda) of I(mu)/I(1) = mu^a (Hestroffer & Magnan 1998), lambda in
 /// nm, [300, 2000].
