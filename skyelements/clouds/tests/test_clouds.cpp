@@ -501,7 +501,7 @@ TEST_CASE("Clouds: a uniform slab transmits what adding-doubling says", "[gl][cl
         (tBeam * ph.clearDirect + tDiffuse * ph.clearDiffuse) / ph.clearGlobal / (1.0 - 0.2 * (1.0 - tDiffuse));
     const double measured = ph.global / ph.clearGlobal;
     INFO("global/clear " << measured << " adding-doubling " << expected << " (beam " << tBeam << ", diffuse " << tDiffuse << ")");
-    // Tolerance: measured 0.656 against 0.651 (1.01x; 0.668 before the far side's depth was marched; 0.64 with the former ambient, the clear sky's
+    // Tolerance: measured 0.670 against 0.651 (1.03x) with the forward-peaked orders (2026-11-27); 0.656 before them (0.668 before the far side's depth was marched; 0.64 with the former ambient, the clear sky's
     // E_d / pi by height and the ground lit by the clear sky's global light). The transfer's fit to
     // adding-doubling at tau 10 is 0.91x for the beam (the CPU slab test) and 1.06x for the
     // skylight (the CPU ambient test), the ground's light reflected back by the same ambient
@@ -559,23 +559,31 @@ TEST_CASE("Clouds: the real-time path's direction cache", "[gl][clouds]") {
             return std::sqrt(num / den);
         };
         double worst = 0;
+        int outliers = 0;
         for (int y = 0; y < 32; ++y)
             for (int x = 0; x < 32; ++x) {
                 const double a = luminance(cached, x, y), b = luminance(direct, x, y);
                 if (b > 0) worst = std::max(worst, std::abs(a - b) / b);
+                if (b > 0) outliers += std::abs(a - b) / b > 0.6;
             }
         const double rms = relRms(cached, direct), noise = relRms(direct, reference);
-        INFO("relative RMS " << rms << ", the 16-sample march's own error " << noise << ", worst pixel " << worst);
+        INFO("relative RMS " << rms << ", the 16-sample march's own error " << noise << ", worst pixel " << worst << ", pixels off by > 60 %: " << outliers);
         // Both march 16 samples with a per-ray dither (by cache texel, by pixel): each is off the
         // converged image by the march's own noise (measured here against 256 samples: 7.5 % with
         // the carved cumulus density of 2026-11-24, whose sharper edges band more than the earlier
         // blobs' 4.4-4.7 %), so two independent ditherings differ by up to ~sqrt(2) x that
         // (measured 7.5 %); 1.6 x leaves room for the cache's bilinear resampling. One pixel by the
-        // banding of 16 steps through a cloud edge, up to tens of per cent. A wrong mapping or a
-        // stale texel would be off by the clouds' whole contrast (~100 %).
+        // banding of 16 steps through a cloud edge, up to tens of per cent; since the forward-peaked
+        // orders (2026-11-27) a thin fringe towards the Sun (30 deg up, 20 deg from the view) is up to
+        // ~2x the sky behind it, so the fringe pixels that one march catches and the other misses are
+        // off by up to ~110 % (measured: 12 of the 1024 beyond 60 %, the worst 109 %; the march's own
+        // error against 256 samples rose from 7.5 % to 14.8 % with them). A wrong mapping or a stale
+        // texel would put most cloud pixels off by the clouds' whole contrast: at most 25 (2.5 %)
+        // beyond 60 %, none beyond 150 %.
         CHECK(noise < 0.2);  // the reference itself is sane (a broken march would not converge)
         CHECK(rms < 1.6 * noise);
-        CHECK(worst < 0.6);
+        CHECK(outliers <= 25);
+        CHECK(worst < 1.5);
         CHECK(finiteNonNegative(cached));
     }
     for (int frames : {4, 64}) {
@@ -721,12 +729,12 @@ TEST_CASE("Clouds: a single cumulus is as bright as a real one", "[gl][clouds]")
         REQUIRE(ne > 10);
         REQUIRE(nc > 10);
         INFO("edge " << edge / ne << " centre " << centre / nc << " cd/m^2");
-        // Measured 23,300 against 20,300 (1.15x; 1.14x before the far side's depth was marched). The
-        // path tracer's cloud lit from behind has a much stronger rim and is 2.2x brighter in all
-        // (bench cloud-reference, cumulus-behind; docs/clouds.md "Brightness against real cumulus"):
-        // the low orders of forward scattering are missing from the transport. 1.1: the rim there is
-        // now kept from fading (a guard on the present transport), not the real margin.
+        // Measured 41,100 against 29,200 (1.41x) since the forward-peaked low orders and the light
+        // march at the full LOD (2026-11-27; before: 23,300 against 20,300, 1.15x). The path
+        // tracer's rim over its inside is 1.81 at the bench's 40 x 22 px (bench cloud-reference,
+        // cumulus-behind; docs/clouds.md "Brightness against real cumulus"); 1.3 keeps most of the
+        // measured margin and fails if the forward orders or the eroded light march are lost (1.15).
         CHECK(edge / ne > centre / nc);
-        CHECK(edge / ne > 1.1 * (centre / nc));
+        CHECK(edge / ne > 1.3 * (centre / nc));
     }
 }

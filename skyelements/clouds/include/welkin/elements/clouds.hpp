@@ -84,11 +84,18 @@ double scaledPhase(double nu);
 /// radiance per lux of a light and per unit scaled extinction w_D sigma (1/sr) at a point with
 /// scaled optical depths tauL towards the light and tauB away from it (>= 0), cos(scattering
 /// angle) nu and the light's cos(zenith) muL in [-1, 1]: the single scattering
-/// scaledPhase(nu) e^(-tauL) plus a diffusion term along the light axis,
+/// scaledPhase(nu) e^(-tauL), the forward-peaked low orders forwardTransfer(nu, tauL) and a
+/// diffusion term along the light axis,
 /// k/pi max(muL, 0.2)^q (1 - e^(-c (tauL + tauB) / w_D)) max(sB + z + h nu, 0) / (sL + sB + A),
 /// s = (1 - 0.86) tau / w_D (the transport optical depth, g 0.86 the Mie droplets'), the constants
-/// fitted to adding-doubling (docs/clouds.md).
+/// fitted to the path tracer's slab radiances and adding-doubling's fluxes (docs/clouds.md).
 double lightTransfer(double nu, double tauL, double tauB, double muL);
+/// The forward-peaked low orders of lightTransfer() (1/sr per lux and per unit scaled
+/// extinction): sum over m = 0..4 of w_m tauL^m e^(-tauL) / m! HG(nu, g_m), the light scattered m
+/// times at small angles on its way in (Poisson's share at scaled depth tauL >= 0) sent towards
+/// the view by a lobe that widens with the order; m = 0 the diffraction peak's wings that delta-M
+/// counts as unscattered. Fitted to the path tracer's slab radiances (docs/clouds.md).
+double forwardTransfer(double nu, double tauL);
 /// The share of the Draine lobe's scattering into the forward hemisphere, integral over nu in
 /// [0, 1] of 2 pi scaledPhase(nu) (0.938; checked by the tests): what a particle lit by a uniform
 /// hemisphere sends along the hemisphere's axis, per unit radiance.
