@@ -13,7 +13,8 @@
 //   // welkin render ... --elements default,clouds --var clouds.preset=fair
 //
 // Presets (clouds.preset): `fair` (fair-weather cumulus), `overcast` (stratocumulus),
-// `scattered-cirrus` (a few cumulus under much cirrus), `clear`. A preset supplies the value of
+// `scattered-cirrus` (a few cumulus under much cirrus), `towering` (cumulus congestus and
+// cumulonimbus towers, 1.2-8 km), `clear`. A preset supplies the value of
 // every cloud key it names (coverage, layer heights, cirrus, scattering, rain, weather-map
 // generation) that nobody else set: a key the host or `--var` sets keeps the set value, whatever
 // the preset (the element declares those keys without a value; SkyVars::has() tells them apart).
@@ -33,7 +34,7 @@
 namespace welkin::elements {
 
 namespace cloudelemkeys {
-inline const Key<std::string> preset{"clouds.preset", Choices{{"fair", "overcast", "scattered-cirrus", "clear"}}, "cloud preset: fair, overcast, scattered-cirrus or clear (sets the cloud keys nobody set)"};
+inline const Key<std::string> preset{"clouds.preset", Choices{{"fair", "overcast", "scattered-cirrus", "towering", "clear"}}, "cloud preset: fair, overcast, scattered-cirrus, towering or clear (sets the cloud keys nobody set)"};
 inline const Key<int> samples{"clouds.samples", Range{4, 512}, "ray-march samples per view ray through the cumulus layer"};
 inline const Key<int> lightSamples{"clouds.light_samples", Range{1, 32}, "light-march samples from each sample towards the Sun or Moon (self-shadowing)"};
 inline const Key<bool> reprojection{"clouds.reprojection", "the real-time path: the clouds in a direction-space cache refreshed over clouds.cache_frames frames, which every frame samples; off: every pixel every frame; unset: on when render.interactive (welkin view)"};
@@ -59,7 +60,7 @@ struct CloudPreset {
     double cloudType = 1;       ///< clouds.cloud_type (0 stratocumulus, 1 cumulus)
 };
 /// The preset named `name`; throws welkin::Error "clouds.preset: 'x' not one of fair, overcast,
-/// scattered-cirrus, clear".
+/// scattered-cirrus, towering, clear".
 const CloudPreset& cloudPreset(const std::string& name);
 /// The preset names, in the order above.
 std::vector<std::string> cloudPresetNames();
