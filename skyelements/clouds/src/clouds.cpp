@@ -95,12 +95,13 @@ const std::vector<CloudPreset>& presets() {
     // flat base), towers of 40-100 % of a 1.2-8 km layer (the weather map's tops: 3.9-8 km), 30
     // cells of 1.5-4 km semi-axes; 0.1 /m (liquid water ~0.7 g/m^3 in 10 um droplets: 3 LWC /
     // (2 rho r_e) = 0.1 /m; congestus 0.5-1.5 g/m^3), detail 1.3 (crisper cauliflower), rain 0.3
-    // under the biggest cells, debris cirrus (coverage 0.3) at 10.5 km.
+    // under the biggest cells, debris cirrus (coverage 0.3) at 10.5 km; coverage 0.9: at 0.8 the
+    // coverage cut left the towers' upper halves as separate puffs.
     static const std::vector<CloudPreset> p{
         {"fair", 0.75, 1500, 3000, 0.5, 9000, 0.05, 1.0, 0.0, 150, 700, 2500},
         {"overcast", 0.9, 800, 2000, 0.0, 8000, 0.13, 0.6, 0.3, 800, 4000, 9000, 0.0},
         {"scattered-cirrus", 0.55, 1800, 2800, 0.85, 9500, 0.05, 1.2, 0.0, 25, 500, 1500},
-        {"towering", 0.8, 1200, 8000, 0.3, 10500, 0.1, 1.3, 0.3, 30, 1500, 4000},
+        {"towering", 0.9, 1200, 8000, 0.3, 10500, 0.1, 1.3, 0.3, 30, 1500, 4000},
         {"clear", 0.0, 2000, 3000, 0.0, 9000, 0.05, 1.0, 0.0, 0, 500, 1000},
     };
     return p;
