@@ -86,10 +86,12 @@ const std::vector<CloudPreset>& presets() {
     // scattered skies, stratocumulus (0) for the overcast deck. Fair: 150 cells of semi-axes
     // 0.7-2.5 km in the 40 km weather map, a few oktas once their faded edges and the coverage
     // carve them (fair-weather cumulus: 1-4 oktas; 60 cells left the sky overhead empty).
-    // Overcast: 0.13 /m, a little above a real stratocumulus' 0.05-0.1 /m: the deck's mean density
+    // Overcast: 0.15 /m, above a real stratocumulus' 0.05-0.1 /m: the deck's mean density
     // is ~0.3 (its carved cells and the weather map's faded cell edges), so its mean vertical
     // optical depth is ~45, and its thin cells pass more light than a uniform sheet. At 0.1 /m it
-    // passes 0.42 of the clear sky's light, at 0.13 /m 0.34 (an overcast day: 0.2-0.4; the test).
+    // passes 0.42 of the clear sky's light, at 0.13 /m 0.34 (an overcast day: 0.2-0.4; the test);
+    // 0.40 (41.8 klux) at 0.13 /m since the forward orders and the full-LOD light march
+    // (2026-11-27), 0.37 (38.7 klux) at 0.15 /m.
     // Towering: cumulus congestus growing into cumulonimbus (WMO Cloud Atlas 2017, "Cumulus
     // congestus", "Cumulonimbus calvus"): one condensation level at 1.2 km (the cumulus gradient's
     // flat base), towers of 40-100 % of a 1.2-8 km layer (the weather map's tops: 3.9-8 km), 30
@@ -99,7 +101,7 @@ const std::vector<CloudPreset>& presets() {
     // coverage cut left the towers' upper halves as separate puffs.
     static const std::vector<CloudPreset> p{
         {"fair", 0.75, 1500, 3000, 0.5, 9000, 0.05, 1.0, 0.0, 150, 700, 2500},
-        {"overcast", 0.9, 800, 2000, 0.0, 8000, 0.13, 0.6, 0.3, 800, 4000, 9000, 0.0},
+        {"overcast", 0.9, 800, 2000, 0.0, 8000, 0.15, 0.6, 0.3, 800, 4000, 9000, 0.0},
         {"scattered-cirrus", 0.55, 1800, 2800, 0.85, 9500, 0.05, 1.2, 0.0, 25, 500, 1500},
         {"towering", 0.9, 1200, 8000, 0.3, 10500, 0.1, 1.3, 0.3, 30, 1500, 4000},
         {"clear", 0.0, 2000, 3000, 0.0, 9000, 0.05, 1.0, 0.0, 0, 500, 1000},

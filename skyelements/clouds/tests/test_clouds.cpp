@@ -463,7 +463,9 @@ TEST_CASE("Clouds: the overcast preset at noon gives an overcast day's illuminan
     // scattering 0.04 /m, 33.9 klux (Sun's beam 0) at 0.2 /m. Since the ambient from the sky the
     // clouds are under (the ground lit through the deck, the skylight carried through it by the
     // ambient transfer; 2026-11-27): 38.5 klux at 0.13 /m (44 klux at 0.1 /m); 36.2 klux with the
-    // depth to the far side marched (2026-11-27).
+    // depth to the far side marched (2026-11-27). Since the forward-peaked orders and the light
+    // march at the full LOD (2026-11-27): 41.8 klux (0.40 of the clear sky's) at 0.13 /m, 38.7 klux
+    // (0.37) at the preset's 0.15 /m.
     // The right reason: the deck's bases are lit by the ground under the deck (the photometry's
     // fixed point: the same global illuminance), not by the clear sky's ~105 klux; the flux balance
     // itself is checked against adding-doubling by the uniform slab test below.
