@@ -305,7 +305,7 @@ TEST_CASE("CloudLayerBlock::from reads the keys and checks the layer", "[cpu][cl
                       Catch::Contains("weatherExtent (m) nan not in"));
 }
 
-TEST_CASE("Cloud depth along a direction: GLSL matches the CPU twin, exact in a deck, clear air behind a cloud", "[gl][clouds]") {
+TEST_CASE("Cloud depth along a direction: GLSL matches the CPU twin, exact in a deck, clear air behind a cloud, the full LOD", "[gl][clouds]") {
     test::glContext();
     TestTextures tex;
     const CloudLayerBlock block = testBlock(0.8, 1.0, 1.0);
@@ -380,7 +380,7 @@ void main() {
     // 1600 m (the same 300 m of height at 2x the path; the Earth's curvature over 520 m moves it by
     // 2 cm).
     double ref = 0.0;
-    for (int i = 0; i < 30000; ++i) ref += cpu::cloudDensity(deck, t1, {0.0, 0.0, 1300.0 + 300.0 * (i + 0.5) / 30000}, CloudLod::Cheap) * 0.01;
+    for (int i = 0; i < 30000; ++i) ref += cpu::cloudDensity(deck, t1, {0.0, 0.0, 1300.0 + 300.0 * (i + 0.5) / 30000}, CloudLod::Full) * 0.01;
     const double up = cpu::cloudDepthAlong(deck, t1, {0.0, 0.0, 1300.0}, {0.0, 0.0, 1.0}, 3, 300.0);
     const double slant = cpu::cloudDepthAlong(deck, t1, {0.0, 0.0, 1600.0}, {std::sqrt(0.75), 0.0, -0.5}, 6, 600.0);
     INFO("deck: up " << up << ", slant " << slant << ", integral " << ref);
@@ -410,4 +410,23 @@ void main() {
     INFO("isolated cloud: outwards " << out3 << ", inwards " << in3);
     CHECK(out3 <= 800.0 + 200.0);  // + one 100 m texel of bilinear edge each side of the midpoint sample
     CHECK(in3 > out3);             // inwards it crosses 1200 m of cloud
+    // The march reads the full LOD (the density the view march and the path tracer see): through
+    // the eroded test cloud (detail scale 1) its depth is the sum of the full density at its
+    // midpoints, below the cheap density's (the erosion only removes), on the 512 paths above.
+    int eroded = 0;
+    for (size_t i = 0; i < pts.size(); ++i) {
+        const glm::dvec3 p(pts[i]), d(dirs[i]);
+        double full = 0.0, cheap = 0.0, t = 0.0;
+        const glm::dvec3 q = p + glm::dvec3(0.0, 0.0, kR);
+        const glm::dvec2 seg = cpu::shellIntersect(kR, kR + 2000.0, kR + 3000.0, glm::length(q), glm::dot(q, d) / glm::length(q));
+        const double total = seg.y > 0.0 ? std::min(3000.0, seg.y) : 3000.0;
+        double ds = total * 0.5 / (std::pow(1.5, 3.0) - 1.0);  // the march's first step (x1.5 growth)
+        for (int k = 0; k < 3; ++k, t += ds, ds *= 1.5) {
+            full += cpu::cloudDensity(block, tex.cpuTextures(), p + d * (t + 0.5 * ds), CloudLod::Full) * ds;
+            cheap += cpu::cloudDensity(block, tex.cpuTextures(), p + d * (t + 0.5 * ds), CloudLod::Cheap) * ds;
+        }
+        CHECK(cpu::cloudDepthAlong(block, tex.cpuTextures(), p, d, 3, 3000.0) == Approx(full).margin(1e-6));
+        eroded += cheap > full + 1.0;
+    }
+    CHECK(eroded > 50);  // the erosion matters on these paths (it is what the full LOD adds)
 }

@@ -8,7 +8,7 @@
 //                                            radius r (m from the planet's centre), cos zenith mu;
 //                                            exit < 0: no crossing; first crossing only
 //   float cloudDepthAlong(vec3 p, vec3 dir, int n, float maxDist)  density x m from p along the
-//                                            unit dir through the layer (cheap LOD, n steps growing
+//                                            unit dir through the layer (full LOD, n steps growing
 //                                            x1.5 over min(maxDist, the shell's exit)); x extinction
 //                                            per unit density = optical depth
 //   float cirrusDensity(vec2 xy)             cirrus relative density in [0, 1] at ENU (x, y)

@@ -135,8 +135,10 @@ vec2 cloudShellIntersectRadii(real R, real rb, real rt, real r, real mu) {
 }
 
 // The path integral of the relative density (density x m; x the extinction per unit density it
-// is an optical depth) from p along the unit direction dir through the cumulus, at the cheap LOD:
-// n steps growing x1.5 (the first the shortest, so near structure is resolved; Schneider & Vos
+// is an optical depth) from p along the unit direction dir through the cumulus, at the full LOD
+// (the density the view march and the path tracer see: the cheap LOD, without the detail
+// erosion, overstated the depth through an eroded cumulus about twofold and left a cumulus lit
+// from behind at half the path tracer's luminance, skyelements/clouds/README.md): n steps growing x1.5 (the first the shortest, so near structure is resolved; Schneider & Vos
 // 2015 march ~6 samples over a few cloud cells), midpoint rule, over min(maxDist, the distance to
 // the shell's exit along dir). The Clouds element's light march (towards a light) and its depth to
 // the cloud's far side (away from it: clear air behind an isolated cumulus counts as clear) are
@@ -152,7 +154,7 @@ real cld_layerDepthAlong(IN(CloudLayer) L, IN(sampler2D) weather, IN(sampler3D) 
     real t = 0.0;
     real depth = 0.0;
     for (int i = 0; i < n; ++i) {
-        depth += cld_layerDensity(L, weather, base, detail, p + dir * (t + 0.5 * ds), CLOUD_LOD_CHEAP) * ds;
+        depth += cld_layerDensity(L, weather, base, detail, p + dir * (t + 0.5 * ds), CLOUD_LOD_FULL) * ds;
         t += ds;
         ds *= 1.5;
     }

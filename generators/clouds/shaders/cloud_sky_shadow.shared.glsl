@@ -1,6 +1,6 @@
 // The clouds' shadow on the atmosphere's in-scattering along a view ray, one source for GLSL
 // (cloud_sky_shadow.glsl, after atmosphere.glsl) and C++ (cloud_sky_shadow.cpp compiles it in
-// double inside a struct: cpu::skyShadowLoss()). The model: docs/clouds.md and
+// double inside a struct: cpu::skyShadowLoss()). The model: skyelements/clouds/README.md and
 // cloud_sky_shadow.glsl's header.
 //
 // What the includer provides: atmosphere.glsl's block wrappers atm_bottom(), atm_thickness(),

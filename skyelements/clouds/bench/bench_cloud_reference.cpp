@@ -11,9 +11,10 @@
 //   RMS = sqrt(mean (Y_rt - Y_ref)^2) / mean Y_ref (also with the reference's own variance
 //   sigma^2 subtracted from each squared difference), p95 = 95th percentile of |Y_rt / Y_ref - 1|,
 //   bias = mean Y_rt / mean Y_ref,  noise = the reference's mean relative standard error.
-// Both images include the sky behind the clouds; the real-time frame also has the air between
-// the camera and the clouds (aerial perspective), which the reference leaves out (its clouds are
-// 2-8 km away: a few % of their luminance). Writes a side-by-side PNG per scene (--out DIR:
+// Both images include the sky behind the clouds and, in the fair field's scenes, the air between
+// the camera and the clouds (aerial perspective): the reference adds it from the reference sky at
+// each ray's mean scattering distance (--no-reference-air: left out, as before 2026-11-27; the
+// single cumulus 4 km away and the decks never have it in the reference). Writes a side-by-side PNG per scene (--out DIR:
 // reference left, real time right, one exposure) and the table as CSV.
 #include "bench_util.hpp"
 
@@ -70,6 +71,7 @@ struct CloudReferenceOptions {
     long slabPhotons = 0;         // > 0: first the slab table (path tracer against adding-doubling)
     long maxScatterings = 1000000;  // the path tracer's scattering orders kept (1: single scattering; cloudref::Scene)
     double truncateDeg = 0;       // > 0: the droplet phase's forward peak truncated at this angle (cloudref::truncatePhase), deg
+    bool referenceAir = true;     // the air between the camera and the clouds added to the reference (as the real-time frame has it)
 };
 
 /// A GL texture (by name) read back as the density twin's image, level 0.
@@ -364,6 +366,63 @@ int run(const CloudReferenceOptions& o) {
             work();
             for (auto& th : pool) th.join();
         }
+        // The air between the camera and the clouds (on unless --no-reference-air), as the real-time
+        // frame has it: the path tracer's clouds have no air in front of them. Along each camera ray
+        // the cloud's transmittance T_c and its transmittance-weighted mean scattering distance d
+        // are marched (the full medium, 25 m steps or 4000 per interval, to 100 km); the clear sky's
+        // light in front of the cloud is the reference sky's radiance from the camera less the
+        // share it sees beyond d, L_front = L_sky(camera) - T_seg L_sky(d) (single and multiple
+        // scattering, exact for the clear air; the cloud's shadow on that air is not in it), T_seg
+        // the air's transmittance over [0, d]. The pixel becomes
+        // (1 - T_c) L_front + T_seg (L_ref - T_c L_tab) + T_c L_tab, L_tab the sky behind the cloud
+        // that the path tracer added (its table: unchanged, its air is already in it). Only for the
+        // fair field's scenes (clouds 5-60 km away, the Sun not behind them): behind a single
+        // cumulus the air in front lies in the cloud's own shadow, under a deck in the deck's, and
+        // this clear-sky in-scatter (the aureole's, near the Sun) would be far too bright there;
+        // the 4 km to the single cumulus and the decks overhead keep the reference without air.
+        const bool field = sd->kind == SceneKind::Preset && std::string(sd->preset) == "fair";
+        if (o.referenceAir && field) {
+            const double R = medium.planetRadiusM();
+            const glm::dvec3 origin(0.0, 0.0, 0.5);
+            for (size_t i = 0; i < ref.size(); ++i) {
+                const int x = int(i % o.width), y = int(i / o.width);
+                const auto d = cam.directionAt({x + 0.5, y + 0.5});
+                if (!d) continue;
+                cloudref::Interval iv[4];
+                const int n = medium.support(origin, *d, 1e5, iv);
+                double T = 1.0, wSum = 0.0, wd = 0.0;
+                for (int k = 0; k < n; ++k) {
+                    const double len = iv[k].t1 - iv[k].t0;
+                    const int steps = std::clamp(int(std::ceil(len / 25.0)), 1, 4000);
+                    const double dt = len / steps;
+                    for (int j = 0; j < steps; ++j) {
+                        const double t = iv[k].t0 + (j + 0.5) * dt;
+                        const double a = std::exp(-medium.extinctionPerM(origin + t * *d) * dt);
+                        wSum += T * (1.0 - a);
+                        wd += T * (1.0 - a) * t;
+                        T *= a;
+                    }
+                }
+                if (wSum < 1e-4) continue;  // no cloud on this ray: the sky's table has its air
+                const double dm = wd / wSum;
+                const glm::dvec3 pc = glm::dvec3(0.0, 0.0, R) + origin + dm * *d;
+                const double r = glm::length(pc), h = r - R;
+                const glm::dvec3 up = pc / r;
+                // The view and the Sun in the local frame at the point (same zenith angles and angle between them).
+                const double mu = std::clamp(glm::dot(up, *d), -1.0, 1.0), mus = std::clamp(glm::dot(up, sun), -1.0, 1.0), nu = glm::dot(*d, sun);
+                const double sv = std::sqrt(std::max(1.0 - mu * mu, 1e-12));
+                const glm::dvec3 dl(sv, 0.0, mu);
+                const double ax = (nu - mu * mus) / sv;
+                const glm::dvec3 sl(ax, std::sqrt(std::max(0.0, 1.0 - mus * mus - ax * ax)), mus);
+                const glm::dvec3 t0v = refSky.transmittance(origin.z, *d), t1v = refSky.transmittance(h, dl);
+                glm::dvec3 tSeg(1.0);
+                for (int c = 0; c < 3; ++c) tSeg[c] = t1v[c] > 1e-12 ? std::clamp(t0v[c] / t1v[c], 0.0, 1.0) : 0.0;
+                const glm::dvec3 front = glm::max(refSky.radiance(origin.z, *d, sun) - tSeg * refSky.radiance(h, dl, sl), glm::dvec3(0.0));
+                const glm::dvec3 tab = s.lights.sky(*d);
+                ref[i] = (1.0 - T) * front + tSeg * (ref[i] - T * tab) + T * tab;
+                sig[i] *= lum(tSeg);  // the cloud's own light is what is noisy; lum(1, 1, 1) = 1
+            }
+        }
         const double refSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
         // Per quality: the real-time frame at the reference's size, its error over the cloud pixels
@@ -487,7 +546,8 @@ int run(const CloudReferenceOptions& o) {
                             "rms_rel_noise_removed", "p95_rel", "ref_noise_rel", "ref_seconds", "frame_ms", "trivial_ms", "ratio_trivial", "edge_inside_ref",
                             "edge_inside_rt"});
         f.comment("welkin bench cloud-reference, " + std::to_string(o.width) + "x" + std::to_string(o.height) + ", " +
-                  std::to_string(o.paths) + " paths per pixel, seed " + std::to_string(o.seed) + ", " + ctx->description());
+                  std::to_string(o.paths) + " paths per pixel, seed " + std::to_string(o.seed) + ", " +
+                  (o.referenceAir ? "the air in front of the fair field's clouds in the reference, " : "no air in front of the reference's clouds, ") + ctx->description());
         for (const Row& r : rows)
             f.row(r.scene, r.quality, r.samples, r.lightSamples, r.pixels, r.meanRef, r.meanRt, r.bias, r.rms, r.rmsDenoised, r.p95, r.noise,
                   r.refSeconds, r.frameMs, r.trivialMs, r.ratioTrivial, r.edgeRef, r.edgeRt);
@@ -512,6 +572,7 @@ bench::CommandBenchRegistrar reg({"cloud-reference", "the real-time clouds again
                        sub.add_option("--repeats", o->repeats, "timed frame pairs per row (median), [1, 1000]")->capture_default_str();
                        sub.add_option("--out", o->out, "directory for the side-by-side PNGs (empty: none)")->capture_default_str();
                        sub.add_option("--truncate-deg", o->truncateDeg, "the path tracer's droplet phase: its forward peak truncated at this angle, the medium's extinction scaled (delta-M; less noise), [0, 20], 0: the full phase")->capture_default_str();
+                       sub.add_flag("!--no-reference-air", o->referenceAir, "leave the air between the camera and the clouds out of the path-traced reference of the fair field's scenes (the real-time frame keeps it)");
                        sub.add_option("--csv", o->csv, "write the table as CSV (empty: none)")->capture_default_str();
                        sub.add_option("--slab-photons", o->slabPhotons, "> 0: first print the slab table (path tracer against adding-doubling) with this many photons a case, [0, 1e8]")
                            ->capture_default_str();

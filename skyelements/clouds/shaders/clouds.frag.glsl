@@ -41,7 +41,7 @@ vec3 cld_lightAt(vec3 p, float hp, vec3 l, vec3 E) {
     return E * transmittanceToLight(hp, dot(up, l), CLD_LIGHT_RADIUS);
 }
 
-// Scaled optical depth from p towards the light l through the cumulus (cheap density): n
+// Scaled optical depth from p towards the light l through the cumulus (full density, as the view march): n
 // steps over at most 3 km (Schneider & Vos 2015 march ~6 samples over a few cloud cells), the
 // steps growing geometrically (x1.5) so near self-shadowing is resolved (cloudDepthAlong, the
 // shared density file's march).

@@ -3,8 +3,10 @@
 // the cloudcpu:: functions the tests check (one text for the shader and its twin). The includer
 // defines CLD_PI and the constants CLD_G_DRAINE, CLD_ALPHA_DRAINE, CLD_MS_S, CLD_MS_K, CLD_MS_Z,
 // CLD_MS_A, CLD_MS_H, CLD_MS_C (per scaled optical depth), CLD_MS_Q, CLD_MS_MU_MIN, CLD_MS_AMBIENT,
-// CLD_AMB_FORWARD and CLD_DIFFUSIVITY (the shader gets them from clouds.cpp as defines, the C++
-// side defines them as its constexpr values).
+// CLD_AMB_FORWARD and CLD_DIFFUSIVITY (the ambient's diffusion), CLD_SUN_K, CLD_SUN_Z, CLD_SUN_H,
+// CLD_SUN_C (the lights' diffusion) and CLD_FW_W0..4, CLD_FW_G0..4 (the forward-peaked orders)
+// (the shader gets them from clouds.cpp as defines, the C++ side defines them as its constexpr
+// values).
 
 // Henyey-Greenstein, 1/sr.
 real cld_hg(real nu, real g) {
@@ -22,19 +24,33 @@ real cld_hg(real nu, real g) {
 // alone as the phase (C++: cloudcpu::scaledPhase).
 real cld_draine(real nu, real g, real a) { return cld_hg(nu, g) * (1.0 + a * nu * nu) / (1.0 + a * (1.0 + 2.0 * g * g) / 3.0); }
 real cld_scaledPhase(real nu) { return cld_draine(nu, CLD_G_DRAINE, CLD_ALPHA_DRAINE); }
+// The forward-peaked low orders (C++: cloudcpu::forwardTransfer), per lux of a light and per unit
+// scaled extinction, 1/sr: light that has scattered m = 0..4 times on its way in at small angles
+// still travels about along the light's axis, so its share at scaled depth tauL is Poisson's
+// tauL^m e^(-tauL) / m!, scattered towards the view by a lobe HG(nu, g_m) that widens with the
+// order, times a weight w_m for what the order loses sideways. m = 0 adds to the Draine lobe's
+// single scattering the diffraction peak's wings (1-5 deg) that delta-M counts as unscattered;
+// m = 1..4 are orders 2-5. w_m, g_m: fitted to the path tracer's radiance of slabs of tau 0.5-32
+// (skyelements/clouds/README.md, "Light transport").
+real cld_forwardTransfer(real nu, real tauL) {
+    real t1 = tauL, t2 = 0.5 * tauL * tauL, t3 = t2 * tauL / 3.0, t4 = 0.25 * t3 * tauL;
+    return exp(-tauL) * (CLD_FW_W0 * cld_hg(nu, CLD_FW_G0) + CLD_FW_W1 * t1 * cld_hg(nu, CLD_FW_G1) + CLD_FW_W2 * t2 * cld_hg(nu, CLD_FW_G2)
+                         + CLD_FW_W3 * t3 * cld_hg(nu, CLD_FW_G3) + CLD_FW_W4 * t4 * cld_hg(nu, CLD_FW_G4));
+}
 // Light transfer (skyelements/clouds/README.md, "Model"), per lux of a light and per unit scaled extinction,
 // 1/sr, at a point with scaled optical depths tauL towards the light and tauB away from it (to
-// the cloud's far side) and the light's cos(zenith) muL: the single scattering of the beam plus
-// the multiple-scattered radiance of a slab along the light axis (diffusion in the transport
-// optical depths s = CLD_MS_S tau: a mean radiance falling linearly from the lit side, plus the
-// net flux's share towards the light's direction, nu), calibrated against adding-doubling. C++:
-// cloudcpu::lightTransfer.
+// the cloud's far side) and the light's cos(zenith) muL: the single scattering of the beam, the
+// forward-peaked low orders (cld_forwardTransfer) and the multiple-scattered radiance of a slab
+// along the light axis (diffusion in the transport optical depths s = CLD_MS_S tau: a mean
+// radiance falling linearly from the lit side, plus the net flux's share towards the light's
+// direction, nu), all fitted together against the path tracer's slab radiances and
+// adding-doubling's fluxes. C++: cloudcpu::lightTransfer.
 real cld_lightTransfer(real nu, real tauL, real tauB, real muL) {
     real single = cld_scaledPhase(nu) * exp(-tauL);
     real sL = CLD_MS_S * tauL, sB = CLD_MS_S * tauB;
-    real multi = CLD_MS_K / CLD_PI * pow(max(muL, CLD_MS_MU_MIN), CLD_MS_Q) * (1.0 - exp(-CLD_MS_C * (tauL + tauB)))
-                * max(sB + CLD_MS_Z + CLD_MS_H * nu, 0.0) / (sL + sB + CLD_MS_A);
-    return single + multi;
+    real multi = CLD_SUN_K / CLD_PI * pow(max(muL, CLD_MS_MU_MIN), CLD_MS_Q) * (1.0 - exp(-CLD_SUN_C * (tauL + tauB)))
+                * max(sB + CLD_SUN_Z + CLD_SUN_H * nu, 0.0) / (sL + sB + CLD_MS_A);
+    return single + cld_forwardTransfer(nu, tauL) + multi;
 }
 
 // The ambient light's transfer (C++: cloudcpu::ambientTransfer), per lux of horizontal

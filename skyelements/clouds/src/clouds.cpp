@@ -44,6 +44,20 @@ constexpr double kMsH = 1.5;     // the net flux's share: anisotropy towards the
 constexpr double kMsC = 0.2;     // thin-cloud onset per optical depth
 constexpr double kMsQ = 0.75;    // exponent of the light's cos(zenith) (a deck's flux per area)
 constexpr double kMsMuMin = 0.2;  // the cos(zenith) below which the factor stays constant
+// The lights' transfer (lightTransfer()): the same diffusion form with its own scale, onset,
+// extrapolation length and anisotropy, and the forward-peaked low orders forwardTransfer(), w_m
+// tauL^m e^(-tauL) / m! HG(nu, g_m), m = 0..4, fitted together (Nelder-Mead on the log radiance)
+// to the path tracer's radiance of conservative slabs (the droplets' Mie phase truncated at 3 deg,
+// 60,000 paths a direction: tau 0.5, 1, 2, 4, 8, 16, 32; the Sun overhead and 60 deg from the
+// zenith; 29 directions each, transmitted and reflected, 3.5-180 deg from the Sun) and to
+// adding-doubling's fluxes (tau 3-100, mu0 1 and 0.5), skyelements/clouds/README.md "Light transport". The
+// ambient keeps the constants above (its own fit against adding-doubling).
+constexpr double kSunK = 0.8 * 1.0714;  // scale
+constexpr double kSunC = 0.1200;        // thin-cloud onset per optical depth
+constexpr double kSunH = 0.9981;        // the net flux's share towards the light's direction
+constexpr double kSunZ = 1.4409;        // the bottom's extrapolation length (transport depth)
+constexpr double kFwW[5] = {0.5654, 0.3065, 0.3210, 0.3330, 0.3023};  // per order's share left
+constexpr double kFwG[5] = {0.9902, 0.7468, 0.6788, 0.6463, 0.6463};  // its lobe's asymmetry
 // The ambient's diffusion term per horizontal lux of a diffuse hemisphere: mu^q / mu averaged
 // over its cosine-weighted directions, int 2 mu mu^(q - 1) dmu = 2 / (1 + q).
 constexpr double kMsAmbient = 2.0 / (1.0 + kMsQ);
@@ -72,14 +86,24 @@ const std::vector<CloudPreset>& presets() {
     // scattered skies, stratocumulus (0) for the overcast deck. Fair: 150 cells of semi-axes
     // 0.7-2.5 km in the 40 km weather map, a few oktas once their faded edges and the coverage
     // carve them (fair-weather cumulus: 1-4 oktas; 60 cells left the sky overhead empty).
-    // Overcast: 0.13 /m, a little above a real stratocumulus' 0.05-0.1 /m: the deck's mean density
+    // Overcast: 0.15 /m, above a real stratocumulus' 0.05-0.1 /m: the deck's mean density
     // is ~0.3 (its carved cells and the weather map's faded cell edges), so its mean vertical
     // optical depth is ~45, and its thin cells pass more light than a uniform sheet. At 0.1 /m it
-    // passes 0.42 of the clear sky's light, at 0.13 /m 0.34 (an overcast day: 0.2-0.4; the test).
+    // passes 0.42 of the clear sky's light, at 0.13 /m 0.34 (an overcast day: 0.2-0.4; the test);
+    // 0.40 (41.8 klux) at 0.13 /m since the forward orders and the full-LOD light march
+    // (2026-11-27), 0.37 (38.7 klux) at 0.15 /m.
+    // Towering: cumulus congestus growing into cumulonimbus (WMO Cloud Atlas 2017, "Cumulus
+    // congestus", "Cumulonimbus calvus"): one condensation level at 1.2 km (the cumulus gradient's
+    // flat base), towers of 40-100 % of a 1.2-8 km layer (the weather map's tops: 3.9-8 km), 30
+    // cells of 1.5-4 km semi-axes; 0.1 /m (liquid water ~0.7 g/m^3 in 10 um droplets: 3 LWC /
+    // (2 rho r_e) = 0.1 /m; congestus 0.5-1.5 g/m^3), detail 1.3 (crisper cauliflower), rain 0.3
+    // under the biggest cells, debris cirrus (coverage 0.3) at 10.5 km; coverage 0.9: at 0.8 the
+    // coverage cut left the towers' upper halves as separate puffs.
     static const std::vector<CloudPreset> p{
         {"fair", 0.75, 1500, 3000, 0.5, 9000, 0.05, 1.0, 0.0, 150, 700, 2500},
-        {"overcast", 0.9, 800, 2000, 0.0, 8000, 0.13, 0.6, 0.3, 800, 4000, 9000, 0.0},
+        {"overcast", 0.9, 800, 2000, 0.0, 8000, 0.15, 0.6, 0.3, 800, 4000, 9000, 0.0},
         {"scattered-cirrus", 0.55, 1800, 2800, 0.85, 9500, 0.05, 1.2, 0.0, 25, 500, 1500},
+        {"towering", 0.9, 1200, 8000, 0.3, 10500, 0.1, 1.3, 0.3, 30, 1500, 4000},
         {"clear", 0.0, 2000, 3000, 0.0, 9000, 0.05, 1.0, 0.0, 0, 500, 1000},
     };
     return p;
@@ -94,7 +118,7 @@ double eff(const SkyVars& v, const Key<double>& k, double presetValue) { return 
 const CloudPreset& cloudPreset(const std::string& name) {
     for (const CloudPreset& p : presets())
         if (p.name == name) return p;
-    throw Error("clouds.preset: '" + name + "' not one of fair, overcast, scattered-cirrus, clear");
+    throw Error("clouds.preset: '" + name + "' not one of fair, overcast, scattered-cirrus, towering, clear");
 }
 
 std::vector<std::string> cloudPresetNames() {
@@ -122,6 +146,20 @@ namespace welkin::glsl::dp::clouds_transfer_shared {
 #define CLD_MS_AMBIENT welkin::elements::kMsAmbient
 #define CLD_AMB_FORWARD welkin::elements::cloudcpu::kDraineForwardFraction
 #define CLD_DIFFUSIVITY welkin::elements::cloudcpu::kDiffusivity
+#define CLD_SUN_K welkin::elements::kSunK
+#define CLD_SUN_Z welkin::elements::kSunZ
+#define CLD_SUN_H welkin::elements::kSunH
+#define CLD_SUN_C (welkin::elements::kSunC / welkin::elements::cloudcpu::kDropletWDraine)
+#define CLD_FW_W0 welkin::elements::kFwW[0]
+#define CLD_FW_W1 welkin::elements::kFwW[1]
+#define CLD_FW_W2 welkin::elements::kFwW[2]
+#define CLD_FW_W3 welkin::elements::kFwW[3]
+#define CLD_FW_W4 welkin::elements::kFwW[4]
+#define CLD_FW_G0 welkin::elements::kFwG[0]
+#define CLD_FW_G1 welkin::elements::kFwG[1]
+#define CLD_FW_G2 welkin::elements::kFwG[2]
+#define CLD_FW_G3 welkin::elements::kFwG[3]
+#define CLD_FW_G4 welkin::elements::kFwG[4]
 #include "../shaders/clouds_transfer.shared.glsl"
 #undef CLD_PI
 #undef CLD_G_DRAINE
@@ -137,6 +175,20 @@ namespace welkin::glsl::dp::clouds_transfer_shared {
 #undef CLD_MS_AMBIENT
 #undef CLD_AMB_FORWARD
 #undef CLD_DIFFUSIVITY
+#undef CLD_SUN_K
+#undef CLD_SUN_Z
+#undef CLD_SUN_H
+#undef CLD_SUN_C
+#undef CLD_FW_W0
+#undef CLD_FW_W1
+#undef CLD_FW_W2
+#undef CLD_FW_W3
+#undef CLD_FW_W4
+#undef CLD_FW_G0
+#undef CLD_FW_G1
+#undef CLD_FW_G2
+#undef CLD_FW_G3
+#undef CLD_FW_G4
 }  // namespace welkin::glsl::dp::clouds_transfer_shared
 
 namespace welkin::elements {
@@ -151,6 +203,7 @@ double cloudPhase(double nu) {
 double scaledPhase(double nu) { return transfer::cld_scaledPhase(nu); }
 double lightTransfer(double nu, double tauL, double tauB, double muL) { return transfer::cld_lightTransfer(nu, tauL, tauB, muL); }
 double ambientTransfer(double nu, double tauN, double tauF) { return transfer::cld_ambientTransfer(nu, tauN, tauF); }
+double forwardTransfer(double nu, double tauL) { return transfer::cld_forwardTransfer(nu, tauL); }
 double integrateStep(double source, double sigmaT, double dt) {
     if (sigmaT <= 0) return source * dt;
     return (source - source * std::exp(-sigmaT * dt)) / sigmaT;
@@ -289,6 +342,8 @@ gl::ProgramBuilder Clouds::recipe(bool stats, bool cacheFill) const {
     b.define("CLD_W_DRAINE", kDropletWDraine).define("CLD_MS_S", kMsS).define("CLD_MS_K", kMsK).define("CLD_MS_Z", kMsZ);
     b.define("CLD_MS_A", kMsA).define("CLD_MS_H", kMsH).define("CLD_MS_C", kMsC / kDropletWDraine).define("CLD_MS_Q", kMsQ).define("CLD_MS_MU_MIN", kMsMuMin);
     b.define("CLD_MS_AMBIENT", kMsAmbient).define("CLD_AMB_FORWARD", kDraineForwardFraction).define("CLD_DIFFUSIVITY", kDiffusivity);
+    b.define("CLD_SUN_K", kSunK).define("CLD_SUN_Z", kSunZ).define("CLD_SUN_H", kSunH).define("CLD_SUN_C", kSunC / kDropletWDraine);
+    for (int m = 0; m < 5; ++m) b.define("CLD_FW_W" + std::to_string(m), kFwW[m]).define("CLD_FW_G" + std::to_string(m), kFwG[m]);
     b.define("CLD_T_CUT", kTransmittanceCut).define("CLD_MARCH_MAX_M", kMarchMaxM);
     if (stats) b.define("CLOUDS_STATS");
     if (cacheFill) {

@@ -98,7 +98,7 @@ const auto kFull = [](double, double) { return glm::vec4(1, 0, 1, 0); };
 TEST_CASE("Clouds presets and validation", "[cpu][clouds]") {
     CHECK(elements::cloudPreset("overcast").coverage > elements::cloudPreset("fair").coverage);
     CHECK(elements::cloudPreset("clear").coverage == 0.0);
-    CHECK_THROWS_WITH(elements::cloudPreset("stormy"), "clouds.preset: 'stormy' not one of fair, overcast, scattered-cirrus, clear");
+    CHECK_THROWS_WITH(elements::cloudPreset("stormy"), "clouds.preset: 'stormy' not one of fair, overcast, scattered-cirrus, towering, clear");
     SkyProcessor p(SkyVars::earth(), Logger(), ProcessorOptions{.astronomy = false});
     p.add(std::make_unique<elements::Clouds>());
     auto& e = *p.elements().back();
@@ -110,7 +110,7 @@ TEST_CASE("Clouds presets and validation", "[cpu][clouds]") {
     CHECK_THROWS_WITH(e.validateOptions(p.vars()), "clouds.top_m 3000 must be at least clouds.bottom_m + 100 m (3050)");
     p.vars().set(ck::bottom, 1000.0);
     // An enumerated key: a name not in the list is refused where it is set, the value unchanged.
-    CHECK_THROWS_WITH(p.vars().set(ek::preset, std::string("stormy")), "key 'clouds.preset': 'stormy' is not one of fair, overcast, scattered-cirrus, clear");
+    CHECK_THROWS_WITH(p.vars().set(ek::preset, std::string("stormy")), "key 'clouds.preset': 'stormy' is not one of fair, overcast, scattered-cirrus, towering, clear");
     CHECK(p.vars().get(ek::preset) == "fair");
 }
 
@@ -207,6 +207,43 @@ TEST_CASE("Clouds: the real-time light transfer of a slab against adding-doublin
             CHECK(rt.T < 1.2 * ad.transmission);
             CHECK(rt.R > 0.7 * ad.reflection);
             CHECK(rt.R < 1.3 * ad.reflection);
+        }
+    }
+}
+
+TEST_CASE("Clouds: the lights' transfer against the path tracer's radiance through thin slabs, near the Sun", "[cpu][clouds]") {
+    // What the slab fluxes cannot see: the angular shape of the light a thin cloud passes near the
+    // Sun's direction (the silver lining; a cumulus lit from behind). The real-time transfer's
+    // formal solution for a slab (cloudcpu::lightTransfer, delta-M scaled extinction), seen from
+    // below at 5, 10 and 20 deg from the Sun overhead, against the path tracer (cloudref, the
+    // droplets' Mie phase truncated at 3 deg with the extinction scaled, 6000 paths a direction,
+    // per unit irradiance of the Sun).
+    using namespace elements::cloudcpu;
+    const cloudref::TabulatedPhase mie = cloudref::cloudDropletPhase();
+    const cloudref::TruncatedPhase cut = cloudref::truncatePhase(mie, 3.0 * kDeg);
+    for (double tau : {1.0, 4.0}) {
+        const cloudref::SlabMedium slab(0.0, 1000.0, tau * (1.0 - cut.removedFraction) / 1000.0);
+        cloudref::Scene sc;
+        sc.medium = &slab;
+        sc.phase = &cut.phase;
+        sc.lights.sunDirection = {0.0, 0.0, 1.0};
+        sc.lights.sunIrradiance = glm::dvec3(1.0);
+        for (double deg : {5.0, 10.0, 20.0}) {
+            const double th = deg * kDeg, mv = std::cos(th);
+            const cloudref::Estimate e = cloudref::radiance(sc, {0.0, 0.0, -10.0}, {std::sin(th), 0.0, mv}, 6000, 3, uint64_t(deg));
+            const double ts = kDropletWDraine * tau;
+            double L = 0.0;
+            for (int i = 0; i < 400; ++i) {
+                const double z = (i + 0.5) * ts / 400;  // scaled depth from the lit top
+                L += lightTransfer(mv, z, ts - z, 1.0) * std::exp(-(ts - z) / mv) * ts / 400 / mv;
+            }
+            INFO("tau " << tau << ", " << deg << " deg from the Sun: real time " << L << " /sr, path tracer " << e.mean.y << " +- " << e.sigma.y);
+            // Tolerance: measured 0.96-1.16x (the fit to 29 directions of 7 slabs, skyelements/clouds/README.md
+            // "Light transport"), the path tracer's error at 6000 paths ~2 % (4 sigma: 8 %): accepted
+            // 0.8-1.25x. The transport before the forward-peaked orders gave 0.46-0.52x at 5 deg and
+            // 0.82-0.94x at 10-20 deg.
+            CHECK(L > 0.8 * e.mean.y);
+            CHECK(L < 1.25 * e.mean.y);
         }
     }
 }
@@ -426,7 +463,9 @@ TEST_CASE("Clouds: the overcast preset at noon gives an overcast day's illuminan
     // scattering 0.04 /m, 33.9 klux (Sun's beam 0) at 0.2 /m. Since the ambient from the sky the
     // clouds are under (the ground lit through the deck, the skylight carried through it by the
     // ambient transfer; 2026-11-27): 38.5 klux at 0.13 /m (44 klux at 0.1 /m); 36.2 klux with the
-    // depth to the far side marched (2026-11-27).
+    // depth to the far side marched (2026-11-27). Since the forward-peaked orders and the light
+    // march at the full LOD (2026-11-27): 41.8 klux (0.40 of the clear sky's) at 0.13 /m, 38.7 klux
+    // (0.37) at the preset's 0.15 /m.
     // The right reason: the deck's bases are lit by the ground under the deck (the photometry's
     // fixed point: the same global illuminance), not by the clear sky's ~105 klux; the flux balance
     // itself is checked against adding-doubling by the uniform slab test below.
@@ -501,7 +540,7 @@ TEST_CASE("Clouds: a uniform slab transmits what adding-doubling says", "[gl][cl
         (tBeam * ph.clearDirect + tDiffuse * ph.clearDiffuse) / ph.clearGlobal / (1.0 - 0.2 * (1.0 - tDiffuse));
     const double measured = ph.global / ph.clearGlobal;
     INFO("global/clear " << measured << " adding-doubling " << expected << " (beam " << tBeam << ", diffuse " << tDiffuse << ")");
-    // Tolerance: measured 0.656 against 0.651 (1.01x; 0.668 before the far side's depth was marched; 0.64 with the former ambient, the clear sky's
+    // Tolerance: measured 0.670 against 0.651 (1.03x) with the forward-peaked orders (2026-11-27); 0.656 before them (0.668 before the far side's depth was marched; 0.64 with the former ambient, the clear sky's
     // E_d / pi by height and the ground lit by the clear sky's global light). The transfer's fit to
     // adding-doubling at tau 10 is 0.91x for the beam (the CPU slab test) and 1.06x for the
     // skylight (the CPU ambient test), the ground's light reflected back by the same ambient
@@ -559,23 +598,31 @@ TEST_CASE("Clouds: the real-time path's direction cache", "[gl][clouds]") {
             return std::sqrt(num / den);
         };
         double worst = 0;
+        int outliers = 0;
         for (int y = 0; y < 32; ++y)
             for (int x = 0; x < 32; ++x) {
                 const double a = luminance(cached, x, y), b = luminance(direct, x, y);
                 if (b > 0) worst = std::max(worst, std::abs(a - b) / b);
+                if (b > 0) outliers += std::abs(a - b) / b > 0.6;
             }
         const double rms = relRms(cached, direct), noise = relRms(direct, reference);
-        INFO("relative RMS " << rms << ", the 16-sample march's own error " << noise << ", worst pixel " << worst);
+        INFO("relative RMS " << rms << ", the 16-sample march's own error " << noise << ", worst pixel " << worst << ", pixels off by > 60 %: " << outliers);
         // Both march 16 samples with a per-ray dither (by cache texel, by pixel): each is off the
         // converged image by the march's own noise (measured here against 256 samples: 7.5 % with
         // the carved cumulus density of 2026-11-24, whose sharper edges band more than the earlier
         // blobs' 4.4-4.7 %), so two independent ditherings differ by up to ~sqrt(2) x that
         // (measured 7.5 %); 1.6 x leaves room for the cache's bilinear resampling. One pixel by the
-        // banding of 16 steps through a cloud edge, up to tens of per cent. A wrong mapping or a
-        // stale texel would be off by the clouds' whole contrast (~100 %).
+        // banding of 16 steps through a cloud edge, up to tens of per cent; since the forward-peaked
+        // orders (2026-11-27) a thin fringe towards the Sun (30 deg up, 20 deg from the view) is up to
+        // ~2x the sky behind it, so the fringe pixels that one march catches and the other misses are
+        // off by up to ~110 % (measured: 12 of the 1024 beyond 60 %, the worst 109 %; the march's own
+        // error against 256 samples rose from 7.5 % to 14.8 % with them). A wrong mapping or a stale
+        // texel would put most cloud pixels off by the clouds' whole contrast: at most 25 (2.5 %)
+        // beyond 60 %, none beyond 150 %.
         CHECK(noise < 0.2);  // the reference itself is sane (a broken march would not converge)
         CHECK(rms < 1.6 * noise);
-        CHECK(worst < 0.6);
+        CHECK(outliers <= 25);
+        CHECK(worst < 1.5);
         CHECK(finiteNonNegative(cached));
     }
     for (int frames : {4, 64}) {
@@ -721,12 +768,85 @@ TEST_CASE("Clouds: a single cumulus is as bright as a real one", "[gl][clouds]")
         REQUIRE(ne > 10);
         REQUIRE(nc > 10);
         INFO("edge " << edge / ne << " centre " << centre / nc << " cd/m^2");
-        // Measured 23,300 against 20,300 (1.15x; 1.14x before the far side's depth was marched). The
-        // path tracer's cloud lit from behind has a much stronger rim and is 2.2x brighter in all
-        // (bench cloud-reference, cumulus-behind; skyelements/clouds/README.md "Brightness against real cumulus"):
-        // the low orders of forward scattering are missing from the transport. 1.1: the rim there is
-        // now kept from fading (a guard on the present transport), not the real margin.
+        // Measured 41,100 against 29,200 (1.41x) since the forward-peaked low orders and the light
+        // march at the full LOD (2026-11-27; before: 23,300 against 20,300, 1.15x). The path
+        // tracer's rim over its inside is 1.81 at the bench's 40 x 22 px (bench cloud-reference,
+        // cumulus-behind; skyelements/clouds/README.md "Brightness against real cumulus"); 1.3 keeps most of the
+        // measured margin and fails if the forward orders or the eroded light march are lost (1.15).
         CHECK(edge / ne > centre / nc);
-        CHECK(edge / ne > 1.1 * (centre / nc));
+        CHECK(edge / ne > 1.3 * (centre / nc));
     }
+}
+
+TEST_CASE("Clouds: the towering preset: a tall cumulus with a flat, darker base and a bright sunlit side", "[gl][clouds]") {
+    // The preset's values (clouds.cpp's sources: cumulus congestus bases 1-1.5 km, tops 6-8 km and
+    // beyond for cumulonimbus; extinction 0.075-0.2 /m for 0.5-1.5 g/m^3 of liquid water).
+    const elements::CloudPreset& t = elements::cloudPreset("towering");
+    CHECK(t.bottom >= 1000.0);
+    CHECK(t.bottom <= 1500.0);
+    CHECK(t.top >= 6000.0);
+    CHECK(t.cirrusHeight > t.top);
+    CHECK(t.scattering >= 0.075);
+    CHECK(t.scattering <= 0.2);
+    CHECK(t.cloudType == 1.0);  // the cumulus gradient: every base on the layer's bottom (flat)
+    // One of its towers: a weather-map blob 2.5 km in radius, its top at the layer's top, 12 km
+    // north; the preset's layer, scattering, detail and coverage; the generated noise. The Sun 30 deg
+    // up in the east (90 deg from the view).
+    Weather blob(128, [](double u, double v) {
+        const double x = (u - 0.5) * 40000.0, y = (v - 0.5) * 40000.0 - 12000.0;
+        const double r2 = (x * x + y * y) / (2500.0 * 2500.0);
+        return glm::vec4(float(std::exp(-r2 * r2)), 0.0f, 1.0f, 0.0f);
+    });
+    const int W = 48, H = 40;
+    Scene s(30, blob, Projection::Perspective, W, H);
+    s.p.vars().set(ck::weatherExtent, 40000.0);
+    s.p.vars().set(ck::weatherOffset, glm::dvec2(20000, 20000));
+    s.p.vars().setFromString("clouds.preset", "towering");
+    s.p.vars().set(ck::cirrusCoverage, 0.0);
+    s.p.vars().set(ek::samples, 64);
+    s.p.vars().set(ek::lightSamples, 6);
+    s.p.vars().set(ek::skyShadow, false);  // the clear frame must have the same air
+    s.p.vars().set(keys::sunDirection, directionFromAzAlt(90 * kDeg, 30 * kDeg));
+    Camera cam;
+    cam.projection = Projection::Perspective;
+    cam.width = W;
+    cam.height = H;
+    cam.azimuthRad = 0;
+    cam.altitudeRad = 20 * kDeg;
+    cam.verticalFovRad = 50 * kDeg;
+    s.p.setCamera(cam);
+    const Image clouds = s.render();
+    s.p.vars().set(ck::coverage, 0.0);
+    const Image sky = s.render();
+    auto cloud = [&](int x, int y) { return std::abs(luminance(clouds, x, y) - luminance(sky, x, y)) > 0.05 * luminance(sky, x, y); };
+    int top = H, lowest = -1;
+    std::vector<double> east;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+            if (cloud(x, y)) {
+                top = std::min(top, y);
+                lowest = std::max(lowest, y);
+                if (x >= W / 2) east.push_back(luminance(clouds, x, y));
+            }
+    REQUIRE(east.size() > 20);
+    // Its height: 8 km at 12 km is 34 deg up; the image spans -5..45 deg (1.25 deg a row): the
+    // tower's top rows above 25 deg (row < 16).
+    const double topDeg = 45.0 - (top + 0.5) * 50.0 / H;
+    double base = 0;
+    int nBase = 0;
+    for (int y = std::max(lowest - 1, 0); y <= lowest; ++y)
+        for (int x = 0; x < W; ++x)
+            if (cloud(x, y)) base += luminance(clouds, x, y), ++nBase;
+    REQUIRE(nBase > 3);
+    std::sort(east.begin(), east.end());
+    const double litSide = east[east.size() * 3 / 4];
+    INFO("top " << topDeg << " deg up; sunlit side (75th percentile of the east half) " << litSide << " cd/m^2, base (lowest two rows) " << base / nBase);
+    CHECK(topDeg > 25.0);
+    // A sunlit cumulus side: 10,000-30,000 cd/m^2 (the single-cumulus test's reasons).
+    CHECK(litSide > 10000.0);
+    CHECK(litSide < 40000.0);
+    // The base lies under 6.8 km of cloud (vertical optical depth in the hundreds): lit only by the
+    // ground and the light diffusing through the tower's sides, it is darker than the sunlit side
+    // by more than half (measured: top 29 deg up, sunlit side 13,950 cd/m^2, base 5,420: 0.39x).
+    CHECK(base / nBase < 0.5 * litSide);
 }

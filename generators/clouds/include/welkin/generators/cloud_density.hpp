@@ -164,7 +164,7 @@ double cloudDensity(const CloudLayerBlock& b, const CloudTextures& t, glm::dvec3
 glm::dvec2 cloudShellIntersect(const CloudLayerBlock& b, double r, double mu);
 /// The same for explicit radii (planet R, shell [rb, rt], m).
 glm::dvec2 shellIntersect(double R, double rb, double rt, double r, double mu);
-/// The path integral of the cheap-LOD density (density x m) from ENU point p along the unit
+/// The path integral of the full-LOD density (density x m) from ENU point p along the unit
 /// direction dir through the cumulus: n steps growing x1.5, midpoint rule, over min(maxDist (m),
 /// the distance to the shell's exit along dir). Times the extinction per unit density it is the
 /// optical depth; the Clouds element's light march and its depth to a cloud's far side.

@@ -13,7 +13,8 @@
 //   // welkin render ... --elements default,clouds --var clouds.preset=fair
 //
 // Presets (clouds.preset): `fair` (fair-weather cumulus), `overcast` (stratocumulus),
-// `scattered-cirrus` (a few cumulus under much cirrus), `clear`. A preset supplies the value of
+// `scattered-cirrus` (a few cumulus under much cirrus), `towering` (cumulus congestus and
+// cumulonimbus towers, 1.2-8 km), `clear`. A preset supplies the value of
 // every cloud key it names (coverage, layer heights, cirrus, scattering, rain, weather-map
 // generation) that nobody else set: a key the host or `--var` sets keeps the set value, whatever
 // the preset (the element declares those keys without a value; SkyVars::has() tells them apart).
@@ -33,7 +34,7 @@
 namespace welkin::elements {
 
 namespace cloudelemkeys {
-inline const Key<std::string> preset{"clouds.preset", Choices{{"fair", "overcast", "scattered-cirrus", "clear"}}, "cloud preset: fair, overcast, scattered-cirrus or clear (sets the cloud keys nobody set)"};
+inline const Key<std::string> preset{"clouds.preset", Choices{{"fair", "overcast", "scattered-cirrus", "towering", "clear"}}, "cloud preset: fair, overcast, scattered-cirrus, towering or clear (sets the cloud keys nobody set)"};
 inline const Key<int> samples{"clouds.samples", Range{4, 512}, "ray-march samples per view ray through the cumulus layer"};
 inline const Key<int> lightSamples{"clouds.light_samples", Range{1, 32}, "light-march samples from each sample towards the Sun or Moon (self-shadowing)"};
 inline const Key<bool> reprojection{"clouds.reprojection", "the real-time path: the clouds in a direction-space cache refreshed over clouds.cache_frames frames, which every frame samples; off: every pixel every frame; unset: on when render.interactive (welkin view)"};
@@ -59,7 +60,7 @@ struct CloudPreset {
     double cloudType = 1;       ///< clouds.cloud_type (0 stratocumulus, 1 cumulus)
 };
 /// The preset named `name`; throws welkin::Error "clouds.preset: 'x' not one of fair, overcast,
-/// scattered-cirrus, clear".
+/// scattered-cirrus, towering, clear".
 const CloudPreset& cloudPreset(const std::string& name);
 /// The preset names, in the order above.
 std::vector<std::string> cloudPresetNames();
@@ -84,11 +85,18 @@ double scaledPhase(double nu);
 /// radiance per lux of a light and per unit scaled extinction w_D sigma (1/sr) at a point with
 /// scaled optical depths tauL towards the light and tauB away from it (>= 0), cos(scattering
 /// angle) nu and the light's cos(zenith) muL in [-1, 1]: the single scattering
-/// scaledPhase(nu) e^(-tauL) plus a diffusion term along the light axis,
+/// scaledPhase(nu) e^(-tauL), the forward-peaked low orders forwardTransfer(nu, tauL) and a
+/// diffusion term along the light axis,
 /// k/pi max(muL, 0.2)^q (1 - e^(-c (tauL + tauB) / w_D)) max(sB + z + h nu, 0) / (sL + sB + A),
 /// s = (1 - 0.86) tau / w_D (the transport optical depth, g 0.86 the Mie droplets'), the constants
-/// fitted to adding-doubling (skyelements/clouds/README.md).
+/// fitted to the path tracer's slab radiances and adding-doubling's fluxes (skyelements/clouds/README.md).
 double lightTransfer(double nu, double tauL, double tauB, double muL);
+/// The forward-peaked low orders of lightTransfer() (1/sr per lux and per unit scaled
+/// extinction): sum over m = 0..4 of w_m tauL^m e^(-tauL) / m! HG(nu, g_m), the light scattered m
+/// times at small angles on its way in (Poisson's share at scaled depth tauL >= 0) sent towards
+/// the view by a lobe that widens with the order; m = 0 the diffraction peak's wings that delta-M
+/// counts as unscattered. Fitted to the path tracer's slab radiances (skyelements/clouds/README.md).
+double forwardTransfer(double nu, double tauL);
 /// The share of the Draine lobe's scattering into the forward hemisphere, integral over nu in
 /// [0, 1] of 2 pi scaledPhase(nu) (0.938; checked by the tests): what a particle lit by a uniform
 /// hemisphere sends along the hemisphere's axis, per unit radiance.
