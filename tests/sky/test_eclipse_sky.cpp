@@ -349,7 +349,7 @@ TEST_CASE("Eclipse sky: the multiple-scattering axis weight and its forward shar
     const SkyModel m = SkyModel::earthClear();
     const double sM = m.scatteringMie(0.0).g, sR = m.scatteringRayleigh(0.0).g;
     const double share = sM / (sM + sR);  // the aerosol's share of the scattering at the ground
-    const double atOne = kEclipseForwardShare / share;  // the forward fraction that makes F = 1
+    const double atOne = cpu::kEclipseForwardShare / share;  // the forward fraction that makes F = 1
     // Across the axis (nu = 0: sin = 1) the weight is 1 whatever F.
     CHECK(cpu::eclipseMsAxisWeight(m, 0.5 * atOne, 0.0) == Approx(1.0).margin(1e-12));
     // Along the axis (nu = 1): w = 1 - F exactly (rounding only, 1e-12).
