@@ -34,7 +34,7 @@ constexpr double kDefaultLayerHeightM = 9000.0;
 // a slice apart. Below the horizon the pattern of crystals with horizontal faces (plates, Parry)
 // is the reflection of the one above (the subsun at -h, the subparhelia), which moves against the
 // light: for their mix the shift is mirrored there, going over linearly between 5 deg below and
-// above the horizon (rowShift); columns and random crystals are shifted everywhere. docs/halos.md.
+// above the horizon (rowShift); columns and random crystals are shifted everywhere. skyelements/halos/README.md.
 struct SliceBlend {
     int s0 = 0, s1 = 0;
     float a = 0.0f;                     // weight of slice s1

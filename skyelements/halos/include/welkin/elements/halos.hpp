@@ -245,11 +245,11 @@ public:
     static constexpr double kElevationTolerance = 3.5e-4;
     /// The real-time display's grid cell, pixels (perspective projection, no cirrus): each vertex
     /// passes the unnormalised view ray, affine in the pixel, so the cells only bound the work;
-    /// 64-pixel cells (llvmpipe rasterises per triangle: small cells cost, docs/rainbow.md).
+    /// 64-pixel cells (llvmpipe rasterises per triangle: small cells cost, skyelements/rainbow/README.md).
     static constexpr int kGridCellPx = 64;
     /// The grid path's table is N x N with N = kOctScale x the (azimuth, elevation) table's
     /// azimuth bins (an octahedral map of the half sky y >= 0 in the light's frame, finer than
-    /// the source's bins so that the resampling keeps most of its detail: docs/halos.md).
+    /// the source's bins so that the resampling keeps most of its detail: skyelements/halos/README.md).
     static constexpr double kOctScale = 2.0;
     /// True if the last render() drew through the grid.
     bool gridLastFrame() const { return grid_; }
