@@ -876,10 +876,12 @@ TEST_CASE("Sky animation: interactive: the grid at load, time starts and jumps b
     CHECK(chunks == 0);
     CHECK(a.luts.sunView->lastPlan().cubic);
     // At rest, its exact table follows after the rest rule, one chunk per frame (the budget of a
-    // frame with time stopped), and is then shown alone.
-    for (int i = 0; i < 40; ++i) a.runAll(), count(a);
+    // frame with time stopped; interactive, a table has 4x the preset's chunks), and is then
+    // shown alone.
+    CHECK(ka.options().chunks == SkyViewLut::kInteractiveChunkFactor * a.q.keyframeChunks);
+    for (int i = 0; i < 20 + ka.options().chunks + 5; ++i) a.runAll(), count(a);
     CHECK(worst == 1);
-    CHECK(chunks == a.q.keyframeChunks);
+    CHECK(chunks == ka.options().chunks);
     CHECK(a.luts.sunView->lastPlan().exact);
     CHECK(a.luts.sunView->lastPlan().count == 1);
 

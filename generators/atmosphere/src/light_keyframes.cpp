@@ -278,9 +278,17 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
 
     // Interactive (Options::adoptOnJump): the preloaded grid tables around the light are shown
     // at once, a jump included; the exact table follows once the light rests.
-    if (o_.adoptOnJump)
+    if (o_.adoptOnJump) {
         for (int c = k - 1; c <= k + 2; ++c)
             if (c >= 0 && c < int(nodes_.size()) && findGrid(c, false) < 0) adopt(c);
+        // An exact table half built for where the light rested is of no use once it has left
+        // (and the pace rule below would finish it at once after a jump): abandoned.
+        if (building_ >= 0 && slots_[size_t(building_)].grid == kNoGrid && std::abs(muS - std::sin(slots_[size_t(building_)].e)) > o_.stillMuS) {
+            slots_[size_t(building_)].done = -1;
+            building_ = -1;
+            buildingFill_ = false;
+        }
+    }
     // First run, a jump, or after reset(): a table at exactly e, built now.
     if (find(e, 2.0 * step, true) < 0) {
         if (building_ >= 0 && std::abs(slots_[size_t(building_)].e - e) > 2.0 * step) {

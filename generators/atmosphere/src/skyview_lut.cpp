@@ -41,14 +41,19 @@ struct Fnv {
     }
 };
 constexpr uint32_t kCacheMagic = 0x314b5653u;  // "SVK1": bump with the file's layout
+constexpr double kMoonAngularRadius = 0.0045;  // rad, the Moon's mean apparent radius in the march
 }  // namespace
 
 std::string SkyViewLut::cacheFolder(const SkyVars& vars) const {
-    // Sun only (the Moon's tables are forgotten whenever it gives no light), RGB mode (a spectral
+    // The Sun's (the Moon's in an interactive session only), RGB mode (a spectral
     // table is built whole), the presets that prefill the grid.
-    if (light_ != Light::Sun || spectral_ || !q_.keyframePrefill || !vars.getOr(skykeys::keyframeCache, true)) return {};
+    // The Moon's grid is built at load only in an interactive session (gridAtLoad), in a folder of
+    // its own (its angular radius in the march).
+    if (spectral_ || !q_.keyframePrefill || !vars.getOr(skykeys::keyframeCache, true)) return {};
+    if (light_ == Light::Moon && !vars.getOr(keys::interactive, false)) return {};
     Fnv f;
     f.i(kCacheMagic);
+    if (light_ == Light::Moon) f.i(1), f.d(kMoonAngularRadius);  // (nothing added for the Sun: its folders stay valid)
     for (const char* sh : {"atmosphere.glsl", "skyview_lut.glsl", "light_blend.glsl", "transmittance_lut.glsl", "multiscattering_lut.glsl", "sh_lut.glsl"})
         f.s(std::string(embedded::atmosphere_shaders(sh)));
     for (GLenum e : {GL_VENDOR, GL_RENDERER, GL_VERSION}) {
@@ -228,8 +233,12 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
     // shown through it, and a moving light's mix is done a half table per run (docs/sky.md,
     // "While time runs").
     const bool interactive = vars.getOr(keys::interactive, false);
-    const bool gridAtLoad = interactive && light_ == Light::Sun && !spectral_ && q_.keyframePrefill;
-    LightKeyframes::Options ko{.stepRad = q_.keyframeStepRad, .coarseStepRad = q_.keyframeCoarseStepRad, .chunks = spectral_ ? 1 : std::max(1, q_.keyframeChunks),
+    const bool gridAtLoad = interactive && !spectral_ && q_.keyframePrefill;
+    // (Interactive: a table in 4x as many parts; what is built over frames is then only the exact
+    // table of a resting light (the grid is whole from the first run), a part a frame within the
+    // 3-still-frame target at 512x256: ~0.75 ms at medium, quiet.)
+    const int chunks = spectral_ ? 1 : std::max(1, q_.keyframeChunks) * (gridAtLoad ? kInteractiveChunkFactor : 1);
+    LightKeyframes::Options ko{.stepRad = q_.keyframeStepRad, .coarseStepRad = q_.keyframeCoarseStepRad, .chunks = chunks,
                                .slots = keyframeSlots(q_, &keyframes_), .stillMuS = kCosZenithTolerance, .stillRuns = kKeyframeStillRuns,
                                .prefill = q_.keyframePrefill,
                                .prefillChunksPerRun = q_.keyframePrefill ? vars.getOr(skykeys::keyframeBudget, kKeyframeBudgetDefault) : 0,
@@ -341,7 +350,7 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
             prog_.set("u_steps", q_.skyViewSteps);
             prog_.set("u_size", glm::ivec2(q_.skyViewW, q_.skyViewH));
             prog_.set("u_scale", float(kLutScale));
-            prog_.set("u_angular", float(light_ == Light::Sun ? model_.sunAngularRadius : 0.0045));
+            prog_.set("u_angular", float(light_ == Light::Sun ? model_.sunAngularRadius : kMoonAngularRadius));
             fullscreen();
             if (spectral_) {
                 glDisable(GL_SCISSOR_TEST);
@@ -407,7 +416,9 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
             glClearNamedFramebufferfv(showFbo_.id(), GL_COLOR, 2, zero);
         }
         darkShown_ = true;
-        if (light_ == Light::Moon) keyframes_.reset();  // the next lit run starts from a table at its exact elevation
+        // The next lit run starts from a table at its exact elevation (interactive: the grid built
+        // at load is kept for the Moon's return, as the Sun's).
+        if (light_ == Light::Moon && !gridAtLoad) keyframes_.reset();
         plan_ = {};
         shownOnce_ = false;
         staleHalf_ = -1;

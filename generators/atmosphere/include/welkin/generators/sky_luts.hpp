@@ -381,6 +381,8 @@ public:
     /// at most this far in elevation since the last mix (0.25 deg; time at 1440x moves the Sun
     /// by up to 0.2 deg per frame at 30 frames/s), rad.
     static constexpr double kHalfMixRad = 0.25 * 3.14159265358979323846 / 180.0;
+    /// Interactive: a table is built in SkyQuality::keyframeChunks x this many parts.
+    static constexpr int kInteractiveChunkFactor = 4;
     /// Grid tables built whole at the first run of an interactive session (not in the disk cache).
     int loadBuiltTables() const { return loadBuilt_; }
     /// Runs whose mix covered only half of the table (interactive, a moving light).
