@@ -42,6 +42,12 @@ struct Fnv {
 };
 constexpr uint32_t kCacheMagic = 0x314b5653u;  // "SVK1": bump with the file's layout
 constexpr double kMoonAngularRadius = 0.0045;  // rad, the Moon's mean apparent radius in the march
+// The grid tables cached and built at load: from 3 grid steps below the prefill's low end (-20
+// deg), so that the cubic around a light just above it (which needs one table below and, moving,
+// looks two ahead) finds them all (without them a light at -18 deg built the -20.05 deg table a
+// part a frame after a jump).
+constexpr int kCacheStepsBelow = 3;
+double cacheLowRad(const LightKeyframes& kf) { return kf.options().prefillLowRad - kCacheStepsBelow * kf.options().stepRad; }
 }  // namespace
 
 std::string SkyViewLut::cacheFolder(const SkyVars& vars) const {
@@ -88,7 +94,7 @@ void SkyViewLut::preloadFromCache(const Logger& log) {
     const size_t texels = size_t(q_.skyViewW) * size_t(q_.skyViewH) * 4;
     std::vector<uint32_t> data(texels);
     for (int k = 0; k < int(grid.size()); ++k) {
-        if (grid[size_t(k)] < keyframes_.options().prefillLowRad - 1e-9) continue;
+        if (grid[size_t(k)] < cacheLowRad(keyframes_) - 1e-9) continue;
         char file[16];
         std::snprintf(file, sizeof file, "%03d.bin", k);
         std::ifstream in(std::filesystem::path(cacheFolder_) / file, std::ios::binary);
@@ -122,7 +128,7 @@ void SkyViewLut::writeToCache(int slot) {
     // A grid table just completed (built, not read): written once, atomically (a temporary name
     // renamed over the final one), so concurrent processes see a whole file or none.
     const int k = keyframes_.slotGrid(slot);
-    if (cacheFolder_.empty() || k < 0 || keyframes_.grid()[size_t(k)] < keyframes_.options().prefillLowRad - 1e-9) return;
+    if (cacheFolder_.empty() || k < 0 || keyframes_.grid()[size_t(k)] < cacheLowRad(keyframes_) - 1e-9) return;
     char file[16];
     std::snprintf(file, sizeof file, "%03d.bin", k);
     const std::filesystem::path path = std::filesystem::path(cacheFolder_) / file;
@@ -239,7 +245,7 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
     // 3-still-frame target at 512x256: ~0.75 ms at medium, quiet.)
     const int chunks = spectral_ ? 1 : std::max(1, q_.keyframeChunks) * (gridAtLoad ? kInteractiveChunkFactor : 1);
     LightKeyframes::Options ko{.stepRad = q_.keyframeStepRad, .coarseStepRad = q_.keyframeCoarseStepRad, .chunks = chunks,
-                               .slots = keyframeSlots(q_, &keyframes_), .stillMuS = kCosZenithTolerance, .stillRuns = kKeyframeStillRuns,
+                               .slots = keyframeSlots(q_, &keyframes_) + (gridAtLoad ? kCacheStepsBelow : 0), .stillMuS = kCosZenithTolerance, .stillRuns = kKeyframeStillRuns,
                                .prefill = q_.keyframePrefill,
                                .prefillChunksPerRun = q_.keyframePrefill ? vars.getOr(skykeys::keyframeBudget, kKeyframeBudgetDefault) : 0,
                                .adoptOnJump = gridAtLoad};
@@ -392,7 +398,7 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
         }
         const std::vector<double>& grid = keyframes_.grid();
         for (int k = 0; k < int(grid.size()); ++k) {
-            if (grid[size_t(k)] < keyframes_.options().prefillLowRad - 1e-9 || keyframes_.hasGrid(k)) continue;
+            if (grid[size_t(k)] < cacheLowRad(keyframes_) - 1e-9 || keyframes_.hasGrid(k)) continue;
             const int s = keyframes_.preload(k);
             if (s < 0) break;  // no slot left
             allocateSlots();
