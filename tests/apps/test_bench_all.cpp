@@ -170,6 +170,31 @@ TEST_CASE("welkin bench all: a tiny run writes a row per element with finite pos
             CHECK(v > 0.0);
         }
     }
+    // The time-running table: still ms, 600x, 1440x for the one size, then the time-starts and
+    // time-jumps columns (issue 22), each a finite ratio with its frame count (11 and 72 here).
+    {
+        const size_t tr = md.find("## Time running");
+        REQUIRE(tr != std::string::npos);
+        const std::string sec = md.substr(tr, md.find("\n## ", tr + 3) - tr);
+        CHECK(sec.find("| time starts (frames) | time jumps (frames) |") != std::string::npos);
+        for (const char* name : {"grid", "stars"}) {
+            INFO(name);
+            const size_t at = sec.find(std::string("| ") + name + " |");
+            REQUIRE(at != std::string::npos);
+            std::vector<std::string> cells;
+            std::istringstream ls(sec.substr(at + 1, sec.find('\n', at) - at - 1));
+            std::string cell;
+            while (std::getline(ls, cell, '|')) cells.push_back(cell);
+            REQUIRE(cells.size() == 6);  // name, still ms, 600x, 1440x, starts, jumps
+            for (int c = 2; c <= 5; ++c) {
+                const double v = std::atof(cells[size_t(c)].c_str());
+                INFO("column " << c << ": '" << cells[size_t(c)] << "'");
+                CHECK(std::isfinite(v));
+                CHECK(v > 0.0);
+            }
+            CHECK(cells[5].find("(72)") != std::string::npos);  // 2 jumps x 36 frames
+        }
+    }
     // The stars' sweep found its statistic and fitted an exponent (a number, not "n/a").
     CHECK(md.find("| stars | stars drawn (stars) |") != std::string::npos);
     CHECK(md.find("Not measured in this run (`--framework-frames 0`)") != std::string::npos);

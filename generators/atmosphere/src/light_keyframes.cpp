@@ -117,6 +117,12 @@ int LightKeyframes::adopt(int k) {
     return -1;
 }
 
+bool LightKeyframes::hasGrid(int k) const {
+    for (const Slot& s : slots_)
+        if (s.grid == k && (s.done >= 0 || s.cached)) return true;
+    return false;
+}
+
 double LightKeyframes::slotMuS(int i) const { return std::sin(slots_.at(size_t(i)).e); }
 
 int LightKeyframes::gridTables() const {
@@ -270,6 +276,19 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
     const double eTol = std::max(1e-12, std::asin(std::min(o_.stillMuS, 1.0)));
     Plan p;
 
+    // Interactive (Options::adoptOnJump): the preloaded grid tables around the light are shown
+    // at once, a jump included; the exact table follows once the light rests.
+    if (o_.adoptOnJump) {
+        for (int c = k - 1; c <= k + 2; ++c)
+            if (c >= 0 && c < int(nodes_.size()) && findGrid(c, false) < 0) adopt(c);
+        // An exact table half built for where the light rested is of no use once it has left
+        // (and the pace rule below would finish it at once after a jump): abandoned.
+        if (building_ >= 0 && slots_[size_t(building_)].grid == kNoGrid && std::abs(muS - std::sin(slots_[size_t(building_)].e)) > o_.stillMuS) {
+            slots_[size_t(building_)].done = -1;
+            building_ = -1;
+            buildingFill_ = false;
+        }
+    }
     // First run, a jump, or after reset(): a table at exactly e, built now.
     if (find(e, 2.0 * step, true) < 0) {
         if (building_ >= 0 && std::abs(slots_[size_t(building_)].e - e) > 2.0 * step) {
@@ -311,7 +330,7 @@ LightKeyframes::Plan LightKeyframes::plan(double muS) {
     if (building_ < 0 && (spread || prefillQueue_.empty())) {  // (a prefill built whole builds the grid this run)
         double target = NAN;
         int grid = kNoGrid;
-        if (still || dir_ == 0) {
+        if (still || (dir_ == 0 && !o_.adoptOnJump)) {  // (adoptOnJump: the exact table only once the light rests)
             if (find(e, eTol, true) < 0) target = e;
         } else {
             const std::array<int, 5> cands = dir_ > 0 ? std::array<int, 5>{k + 1, k, k + 2, k - 1, k + 3}

@@ -41,14 +41,25 @@ struct Fnv {
     }
 };
 constexpr uint32_t kCacheMagic = 0x314b5653u;  // "SVK1": bump with the file's layout
+constexpr double kMoonAngularRadius = 0.0045;  // rad, the Moon's mean apparent radius in the march
+// The grid tables cached and built at load: from 3 grid steps below the prefill's low end (-20
+// deg), so that the cubic around a light just above it (which needs one table below and, moving,
+// looks two ahead) finds them all (without them a light at -18 deg built the -20.05 deg table a
+// part a frame after a jump).
+constexpr int kCacheStepsBelow = 3;
+double cacheLowRad(const LightKeyframes& kf) { return kf.options().prefillLowRad - kCacheStepsBelow * kf.options().stepRad; }
 }  // namespace
 
 std::string SkyViewLut::cacheFolder(const SkyVars& vars) const {
-    // Sun only (the Moon's tables are forgotten whenever it gives no light), RGB mode (a spectral
+    // The Sun's (the Moon's in an interactive session only), RGB mode (a spectral
     // table is built whole), the presets that prefill the grid.
-    if (light_ != Light::Sun || spectral_ || !q_.keyframePrefill || !vars.getOr(skykeys::keyframeCache, true)) return {};
+    // The Moon's grid is built at load only in an interactive session (gridAtLoad), in a folder of
+    // its own (its angular radius in the march).
+    if (spectral_ || !q_.keyframePrefill || !vars.getOr(skykeys::keyframeCache, true)) return {};
+    if (light_ == Light::Moon && !vars.getOr(keys::interactive, false)) return {};
     Fnv f;
     f.i(kCacheMagic);
+    if (light_ == Light::Moon) f.i(1), f.d(kMoonAngularRadius);  // (nothing added for the Sun: its folders stay valid)
     for (const char* sh : {"atmosphere.glsl", "skyview_lut.glsl", "light_blend.glsl", "transmittance_lut.glsl", "multiscattering_lut.glsl", "sh_lut.glsl"})
         f.s(std::string(embedded::atmosphere_shaders(sh)));
     for (GLenum e : {GL_VENDOR, GL_RENDERER, GL_VERSION}) {
@@ -83,7 +94,7 @@ void SkyViewLut::preloadFromCache(const Logger& log) {
     const size_t texels = size_t(q_.skyViewW) * size_t(q_.skyViewH) * 4;
     std::vector<uint32_t> data(texels);
     for (int k = 0; k < int(grid.size()); ++k) {
-        if (grid[size_t(k)] < keyframes_.options().prefillLowRad - 1e-9) continue;
+        if (grid[size_t(k)] < cacheLowRad(keyframes_) - 1e-9) continue;
         char file[16];
         std::snprintf(file, sizeof file, "%03d.bin", k);
         std::ifstream in(std::filesystem::path(cacheFolder_) / file, std::ios::binary);
@@ -117,7 +128,7 @@ void SkyViewLut::writeToCache(int slot) {
     // A grid table just completed (built, not read): written once, atomically (a temporary name
     // renamed over the final one), so concurrent processes see a whole file or none.
     const int k = keyframes_.slotGrid(slot);
-    if (cacheFolder_.empty() || k < 0 || keyframes_.grid()[size_t(k)] < keyframes_.options().prefillLowRad - 1e-9) return;
+    if (cacheFolder_.empty() || k < 0 || keyframes_.grid()[size_t(k)] < cacheLowRad(keyframes_) - 1e-9) return;
     char file[16];
     std::snprintf(file, sizeof file, "%03d.bin", k);
     const std::filesystem::path path = std::filesystem::path(cacheFolder_) / file;
@@ -155,6 +166,7 @@ SkyViewLut::SkyViewLut(Light light) : SkyGenerator(light == Light::Sun ? "sky.su
     input(skykeys::shLuts);
     input(skykeys::keyframeBudget, {.optional = true});  // the background prefill's parts per frame
     input(skykeys::keyframeCache, {.optional = true});   // the grid tables in the disk cache
+    input(keys::interactive, {.optional = true});        // the whole grid at load, jumps through it, the mix in halves
     input(keys::observerHeight);
     if (light == Light::Sun) {
         // The light's elevation only: the table is parameterised by the azimuth from the light.
@@ -193,6 +205,8 @@ void SkyViewLut::releaseGl() {
     toLogProg_ = {};
     keyframes_.reset();
     preloadDue_ = true;
+    loadFilled_ = false;
+    staleHalf_ = -1;
     viewTH_ = -1.0;
     releaseCommon();
 }
@@ -220,10 +234,21 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
     // while the light moves; the shown table is blended from two of them (or is one of them).
     // In spectral mode a table is built whole in one run (each triple's pass is combined into it
     // over the whole texture).
-    LightKeyframes::Options ko{.stepRad = q_.keyframeStepRad, .coarseStepRad = q_.keyframeCoarseStepRad, .chunks = spectral_ ? 1 : std::max(1, q_.keyframeChunks),
-                               .slots = keyframeSlots(q_, &keyframes_), .stillMuS = kCosZenithTolerance, .stillRuns = kKeyframeStillRuns,
+    // Interactive (welkin view, a game loop) with the Sun's prefill presets: the whole grid is
+    // there from the first run (read from the disk cache, the rest built at load), a jump is
+    // shown through it, and a moving light's mix is done a half table per run (skyelements/sky/README.md,
+    // "While time runs").
+    const bool interactive = vars.getOr(keys::interactive, false);
+    const bool gridAtLoad = interactive && !spectral_ && q_.keyframePrefill;
+    // (Interactive: a table in 4x as many parts; what is built over frames is then only the exact
+    // table of a resting light (the grid is whole from the first run), a part a frame within the
+    // 3-still-frame target at 512x256: ~0.75 ms at medium, quiet.)
+    const int chunks = spectral_ ? 1 : std::max(1, q_.keyframeChunks) * (gridAtLoad ? kInteractiveChunkFactor : 1);
+    LightKeyframes::Options ko{.stepRad = q_.keyframeStepRad, .coarseStepRad = q_.keyframeCoarseStepRad, .chunks = chunks,
+                               .slots = keyframeSlots(q_, &keyframes_) + (gridAtLoad ? kCacheStepsBelow : 0), .stillMuS = kCosZenithTolerance, .stillRuns = kKeyframeStillRuns,
                                .prefill = q_.keyframePrefill,
-                               .prefillChunksPerRun = q_.keyframePrefill ? vars.getOr(skykeys::keyframeBudget, kKeyframeBudgetDefault) : 0};
+                               .prefillChunksPerRun = q_.keyframePrefill ? vars.getOr(skykeys::keyframeBudget, kKeyframeBudgetDefault) : 0,
+                               .adoptOnJump = gridAtLoad};
     keyframes_.setOptions(ko);
     const bool resized = !smooth_ || smooth_.width() != q_.skyViewW || smooth_.height() != q_.skyViewH || smooth_.internalFormat() != fmt;
     if (resized) {
@@ -262,7 +287,8 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
         std::vector<uint64_t> v;
         for (size_t i = 0; i < inputs().size(); ++i) {
             const std::string& name = inputs()[i].name;
-            if (name != skykeys::sunCosZenith.name() && name != skykeys::moonCosZenith.name()) v.push_back(inputVersion(vars, i));
+            if (name != skykeys::sunCosZenith.name() && name != skykeys::moonCosZenith.name() && name != keys::interactive.name())
+                v.push_back(inputVersion(vars, i));
         }
         v.push_back(uint64_t(q_.skyViewSteps));
         v.push_back(uint64_t(std::llround(q_.keyframeStepRad * 1e9)));
@@ -280,6 +306,107 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
         attach3(fboK_, smoothK_, mieK_, totalK_, "SkyViewLut (triple)");
     }
     const GLenum bufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+    auto allocateSlots = [&] {
+        // A packed texture for each slot the schedule uses (allocated as it grows).
+        while (int(slots_.size()) < keyframes_.slotCount()) {
+            Slot& sl = slots_.emplace_back();
+            sl.packed = gl::Texture2D(q_.skyViewW, q_.skyViewH, GL_RGBA32UI);
+            sl.packed.setFilter(GL_NEAREST);
+            sl.packed.setWrap(GL_CLAMP_TO_EDGE);
+        }
+    };
+    auto scratch = [&](Scratch& sc) -> Scratch& {
+        if (!sc.smooth || sc.smooth.width() != q_.skyViewW || sc.smooth.height() != q_.skyViewH) {
+            for (gl::Texture2D* t : {&sc.smooth, &sc.mie}) {
+                *t = gl::Texture2D(q_.skyViewW, q_.skyViewH, GL_RGBA32F);
+                t->setFilter(GL_NEAREST);
+                t->setWrap(GL_CLAMP_TO_EDGE);
+            }
+            sc.fbo = gl::Framebuffer::create();
+            sc.fbo.attach(GL_COLOR_ATTACHMENT0, sc.smooth);
+            sc.fbo.attach(GL_COLOR_ATTACHMENT1, sc.mie);
+            sc.fbo.checkComplete("SkyViewLut keyframe");
+        }
+        return sc;
+    };
+    // Rows [y0, y1) of slot `s`'s table at cos zenith `muS`, into the scratch of its kind
+    // (whole: built in this run); `complete`: the table is whole now, packed into the slot.
+    auto buildRows = [&](int s, double muS, int y0, int y1, bool complete, bool whole) {
+        const skykeys::TextureList T = vars.get(skykeys::transmittanceLuts), MS = vars.get(skykeys::multiScatteringLuts),
+                                   SH = vars.get(skykeys::shLuts);
+        const int K = triples();
+        if (int(T->size()) != K || int(MS->size()) != K || int(SH->size()) != K)
+            throw Error("SkyViewLut: input LUTs for " + std::to_string(T->size()) + " triples, expected " + std::to_string(K));
+        Scratch& sc = scratch(whole ? wholeScratch_ : chunkScratch_);
+        glEnable(GL_SCISSOR_TEST);
+        glScissor(0, y0, q_.skyViewW, y1 - y0);
+        for (int k = 0; k < K; ++k) {
+            const gl::Framebuffer& fb = spectral_ ? fboK_ : sc.fbo;
+            useTriple(k);
+            fb.bind();
+            glViewport(0, 0, q_.skyViewW, q_.skyViewH);
+            const GLenum slotBufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_NONE};
+            glNamedFramebufferDrawBuffers(fb.id(), 3, spectral_ ? bufs : slotBufs);
+            glBindTextureUnit(gl::binding::kTransmittanceLut, (*T)[size_t(k)].id);
+            glBindTextureUnit(gl::binding::kMultiScatteringLut, (*MS)[size_t(k)].id);
+            glBindTextureUnit(gl::binding::kShLut, (*SH)[size_t(k)].id);
+            prog_.use();
+            prog_.set("u_h", float(h_));
+            prog_.set("u_muS", float(muS));
+            prog_.set("u_steps", q_.skyViewSteps);
+            prog_.set("u_size", glm::ivec2(q_.skyViewW, q_.skyViewH));
+            prog_.set("u_scale", float(kLutScale));
+            prog_.set("u_angular", float(light_ == Light::Sun ? model_.sunAngularRadius : kMoonAngularRadius));
+            fullscreen();
+            if (spectral_) {
+                glDisable(GL_SCISSOR_TEST);
+                combine(smoothK_, sc.smooth, k);
+                combine(mieK_, sc.mie, k);
+                glEnable(GL_SCISSOR_TEST);
+            }
+        }
+        glDisable(GL_SCISSOR_TEST);
+        if (complete) {
+            // Complete: log radiance packed into the slot, for the blend.
+            if (!toLogProg_)
+                toLogProg_ = gl::ProgramBuilder(name() + " keyframe pack")
+                                 .define("KEYFRAME_PACK")
+                                 .compute("generators/light_blend.glsl", embedded::atmosphere_shaders("light_blend.glsl"))
+                                 .build();
+            glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+            toLogProg_.use();
+            glUniform2i(glGetUniformLocation(toLogProg_.id(), "u_size"), q_.skyViewW, q_.skyViewH);
+            glBindTextureUnit(gl::binding::kBlendA, sc.smooth.id());
+            glBindTextureUnit(gl::binding::kBlendAMie, sc.mie.id());
+            glBindImageTexture(gl::binding::kLutImage, slots_[size_t(s)].packed.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32UI);
+            glDispatchCompute(GLuint((q_.skyViewW + 7) / 8), GLuint((q_.skyViewH + 7) / 8), 1);
+            glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        }
+    };
+    // Interactive: the whole grid from the first run on (gridAtLoad), whatever the light does
+    // later: the tables the disk cache holds are read, the others built whole now and written to
+    // it, all kept as preloaded tables (LightKeyframes::preload) that the schedule adopts where the
+    // light is (a jump too). A load-time cost, once per processor: 54 tables, ~2.3 s at medium on
+    // llvmpipe the first time on a machine, the cache's read (~50-80 ms) after. Done at the first
+    // run even at night (the Sun below -20 deg), so that dawn with time running finds the grid.
+    if (gridAtLoad && !loadFilled_) {
+        loadFilled_ = true;
+        if (preloadDue_) {
+            preloadDue_ = false;
+            cacheFolder_ = cacheFolder(vars);
+            preloadFromCache(log);
+        }
+        const std::vector<double>& grid = keyframes_.grid();
+        for (int k = 0; k < int(grid.size()); ++k) {
+            if (grid[size_t(k)] < cacheLowRad(keyframes_) - 1e-9 || keyframes_.hasGrid(k)) continue;
+            const int s = keyframes_.preload(k);
+            if (s < 0) break;  // no slot left
+            allocateSlots();
+            buildRows(s, std::sin(grid[size_t(k)]), 0, q_.skyViewH, true, true);
+            writeToCache(s);
+            ++loadBuilt_;
+        }
+    }
     // A light's LUT is skipped (left black) while it is far below the horizon (< -20 deg: past
     // astronomical twilight its scattered light is below the natural night sky's 2e-4 cd/m^2 by
     // orders of magnitude), and the Moon's while it gives no light. Black once, then nothing to
@@ -295,9 +422,12 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
             glClearNamedFramebufferfv(showFbo_.id(), GL_COLOR, 2, zero);
         }
         darkShown_ = true;
-        if (light_ == Light::Moon) keyframes_.reset();  // the next lit run starts from a table at its exact elevation
+        // The next lit run starts from a table at its exact elevation (interactive: the grid built
+        // at load is kept for the Moon's return, as the Sun's).
+        if (light_ == Light::Moon && !gridAtLoad) keyframes_.reset();
         plan_ = {};
         shownOnce_ = false;
+        staleHalf_ = -1;
     } else {
         darkShown_ = false;
         if (preloadDue_) {
@@ -307,83 +437,6 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
             preloadFromCache(log);
         }
         plan_ = keyframes_.plan(muS_);
-        auto allocateSlots = [&] {
-            // A packed texture for each slot the schedule uses (allocated as it grows).
-            while (int(slots_.size()) < keyframes_.slotCount()) {
-                Slot& sl = slots_.emplace_back();
-                sl.packed = gl::Texture2D(q_.skyViewW, q_.skyViewH, GL_RGBA32UI);
-                sl.packed.setFilter(GL_NEAREST);
-                sl.packed.setWrap(GL_CLAMP_TO_EDGE);
-            }
-        };
-        auto scratch = [&](Scratch& sc) -> Scratch& {
-            if (!sc.smooth || sc.smooth.width() != q_.skyViewW || sc.smooth.height() != q_.skyViewH) {
-                for (gl::Texture2D* t : {&sc.smooth, &sc.mie}) {
-                    *t = gl::Texture2D(q_.skyViewW, q_.skyViewH, GL_RGBA32F);
-                    t->setFilter(GL_NEAREST);
-                    t->setWrap(GL_CLAMP_TO_EDGE);
-                }
-                sc.fbo = gl::Framebuffer::create();
-                sc.fbo.attach(GL_COLOR_ATTACHMENT0, sc.smooth);
-                sc.fbo.attach(GL_COLOR_ATTACHMENT1, sc.mie);
-                sc.fbo.checkComplete("SkyViewLut keyframe");
-            }
-            return sc;
-        };
-        // Rows [y0, y1) of slot `s`'s table at cos zenith `muS`, into the scratch of its kind
-        // (whole: built in this run); `complete`: the table is whole now, packed into the slot.
-        auto buildRows = [&](int s, double muS, int y0, int y1, bool complete, bool whole) {
-            const skykeys::TextureList T = vars.get(skykeys::transmittanceLuts), MS = vars.get(skykeys::multiScatteringLuts),
-                                       SH = vars.get(skykeys::shLuts);
-            const int K = triples();
-            if (int(T->size()) != K || int(MS->size()) != K || int(SH->size()) != K)
-                throw Error("SkyViewLut: input LUTs for " + std::to_string(T->size()) + " triples, expected " + std::to_string(K));
-            Scratch& sc = scratch(whole ? wholeScratch_ : chunkScratch_);
-            glEnable(GL_SCISSOR_TEST);
-            glScissor(0, y0, q_.skyViewW, y1 - y0);
-            for (int k = 0; k < K; ++k) {
-                const gl::Framebuffer& fb = spectral_ ? fboK_ : sc.fbo;
-                useTriple(k);
-                fb.bind();
-                glViewport(0, 0, q_.skyViewW, q_.skyViewH);
-                const GLenum slotBufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_NONE};
-                glNamedFramebufferDrawBuffers(fb.id(), 3, spectral_ ? bufs : slotBufs);
-                glBindTextureUnit(gl::binding::kTransmittanceLut, (*T)[size_t(k)].id);
-                glBindTextureUnit(gl::binding::kMultiScatteringLut, (*MS)[size_t(k)].id);
-                glBindTextureUnit(gl::binding::kShLut, (*SH)[size_t(k)].id);
-                prog_.use();
-                prog_.set("u_h", float(h_));
-                prog_.set("u_muS", float(muS));
-                prog_.set("u_steps", q_.skyViewSteps);
-                prog_.set("u_size", glm::ivec2(q_.skyViewW, q_.skyViewH));
-                prog_.set("u_scale", float(kLutScale));
-                prog_.set("u_angular", float(light_ == Light::Sun ? model_.sunAngularRadius : 0.0045));
-                fullscreen();
-                if (spectral_) {
-                    glDisable(GL_SCISSOR_TEST);
-                    combine(smoothK_, sc.smooth, k);
-                    combine(mieK_, sc.mie, k);
-                    glEnable(GL_SCISSOR_TEST);
-                }
-            }
-            glDisable(GL_SCISSOR_TEST);
-            if (complete) {
-                // Complete: log radiance packed into the slot, for the blend.
-                if (!toLogProg_)
-                    toLogProg_ = gl::ProgramBuilder(name() + " keyframe pack")
-                                     .define("KEYFRAME_PACK")
-                                     .compute("generators/light_blend.glsl", embedded::atmosphere_shaders("light_blend.glsl"))
-                                     .build();
-                glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-                toLogProg_.use();
-                glUniform2i(glGetUniformLocation(toLogProg_.id(), "u_size"), q_.skyViewW, q_.skyViewH);
-                glBindTextureUnit(gl::binding::kBlendA, sc.smooth.id());
-                glBindTextureUnit(gl::binding::kBlendAMie, sc.mie.id());
-                glBindImageTexture(gl::binding::kLutImage, slots_[size_t(s)].packed.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32UI);
-                glDispatchCompute(GLuint((q_.skyViewW + 7) / 8), GLuint((q_.skyViewH + 7) / 8), 1);
-                glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-            }
-        };
         allocateSlots();
         if (plan_.build >= 0) {
             // This run's rows of the table (scissored), chunk c of n: rows [c H / n, (c + 1) H / n).
@@ -403,10 +456,35 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
         // current elevation). Only complete slots are ever read here; unused inputs repeat the
         // first slot with weight 0. Unchanged since the last mix (a run that only counts the
         // light's rest): kept as it is, not republished.
+        // Interactive, a moving light shown through the same kind of mix as the last run and
+        // within kHalfMixRad of it: only one half of the table (the sky rows, then the ground
+        // rows: the seam is the horizon, where the table has its own discontinuity) is mixed
+        // this run; the other keeps the last run's mix, one run behind the light. The stale half
+        // is mixed at the next run whatever it brings (an unchanged plan included), so a light
+        // that stops is shown whole one run later. Halves the mix's per-frame cost (the whole of
+        // what a running frame adds at small frame sizes); the lag is measured in skyelements/sky/README.md.
+        const int H = q_.skyViewH;
+        int y0 = 0, y1 = H;
         if (plan_.unchanged && shownOnce_) {
-            if (keyframes_.pending()) runAgain();
-            return;
+            if (staleHalf_ < 0) {
+                if (keyframes_.pending()) runAgain();
+                return;
+            }
+            y0 = staleHalf_ * (H / 2), y1 = y0 + H / 2;
+            staleHalf_ = -1;
+        } else if (interactive && !spectral_ && shownOnce_ && plan_.build < 0 && !plan_.exact && plan_.count > 1 &&
+                   std::abs(std::asin(muS_) - std::asin(lastMixMuS_)) <= kHalfMixRad) {
+            // The half left behind by the last run (else the next in turn): each half is at
+            // most one run behind the light.
+            const int half = staleHalf_ >= 0 ? staleHalf_ : nextHalf_;
+            nextHalf_ = half ^ 1;
+            y0 = half * (H / 2), y1 = y0 + H / 2;
+            staleHalf_ = half ^ 1;
+            ++halfMixes_;
+        } else {
+            staleHalf_ = -1;
         }
+        lastMixMuS_ = muS_;
         shownOnce_ = true;
         if (spectral_) useTriple(0);
         showFbo_.bind();
@@ -424,8 +502,11 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
         blendProg_.set("u_muS", float(muS_));
         blendProg_.set("u_h", float(h_));
         blendProg_.set("u_size", glm::ivec2(q_.skyViewW, q_.skyViewH));
+        const bool part = y0 > 0 || y1 < H;
+        if (part) glEnable(GL_SCISSOR_TEST), glScissor(0, y0, q_.skyViewW, y1 - y0);
         fullscreen();
-        if (keyframes_.pending()) runAgain();
+        if (part) glDisable(GL_SCISSOR_TEST);
+        if (keyframes_.pending() || staleHalf_ >= 0) runAgain();
     }
     if (light_ == Light::Sun) {
         // The view-transmittance row (view_transmittance.glsl), from the RGB (or, in spectral

@@ -444,9 +444,26 @@ void Clouds::computePhotometry(const FrameContext& ctx) {
         return false;
     };
     const PhotometryLast& l = photometryLast_;
-    if (photometry_.valid && in == photometryInputs_ && !moved(sunDir, l.sunDir) && !moved(moonDir, l.moonDir) && !changed(sunE, l.sunE) &&
-        !changed(moonE, l.moonE) && !changed(skyE, l.skyE) && glm::length(offset - l.offset) <= 156.0)
+    const bool onlyMoving = photometry_.valid && in == photometryInputs_;
+    ++photometryAge_;
+    if (onlyMoving && !moved(sunDir, l.sunDir) && !moved(moonDir, l.moonDir) && !changed(sunE, l.sunE) && !changed(moonE, l.moonE) &&
+        !changed(skyE, l.skyE) && glm::length(offset - l.offset) <= 156.0)
         return;
+    // Real time (the direction cache's path: welkin view, a game loop): what only the lights'
+    // motion, their illuminances and the wind ask for is redone at most every kPhotometryFrames
+    // frames (time at 600x moved the Sun beyond 5e-4 rad every frame, and the pass with its
+    // read-backs cost a running frame as much as the still frame at 512x256); a light that jumped
+    // by more than 0.5 deg (a new time: the cache refills whole too) is redone at once. The lag:
+    // at most kPhotometryFrames frames of the light's motion (1.6 deg of the Sun at 1440x).
+    auto jumped = [](glm::dvec3 a, glm::dvec3 b) {
+        const double la = glm::length(a), lb = glm::length(b);
+        return la > 0 && lb > 0 ? glm::dot(a / la, b / lb) < std::cos(0.5 * kPi / 180) : la != lb;
+    };
+    const SkyVars& cv = ctx.vars;
+    const bool realtime = cv.has(cloudelemkeys::reprojection) ? cv.get(cloudelemkeys::reprojection) : cv.getOr(keys::interactive, false);
+    if (onlyMoving && realtime && photometryAge_ < kPhotometryFrames && !jumped(sunDir, l.sunDir) && !jumped(moonDir, l.moonDir)) return;
+    photometryAge_ = 0;
+    ++photometryRuns_;
     photometryInputs_ = in;
     photometryLast_ = {sunDir, moonDir, sunE, moonE, skyE, offset};
 

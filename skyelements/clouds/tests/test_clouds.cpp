@@ -631,8 +631,11 @@ TEST_CASE("Clouds: the real-time path's direction cache", "[gl][clouds]") {
             s->render();  // the full fill
             const Image before = s->render();
             s->p.vars().set(ck::weatherOffset, glm::dvec2(700, 300));  // the wind: no refill
+            // The photometry (the bases' light from below) follows the wind within
+            // Clouds::kPhotometryFrames frames, and the texels refreshed before it used the old
+            // one: a cycle after that, every texel is fresh.
             Image img;
-            for (int i = 0; i < frames; ++i) img = s->render();
+            for (int i = 0; i < frames + elements::Clouds::kPhotometryFrames; ++i) img = s->render();
             auto fresh = scene(30, frames);
             fresh->p.vars().set(ck::weatherOffset, glm::dvec2(700, 300));
             CHECK(img.pixels == fresh->render().pixels);
@@ -659,6 +662,37 @@ TEST_CASE("Clouds: the real-time path's direction cache", "[gl][clouds]") {
         auto fresh40 = scene(40, 64);
         fresh40->p.setCamera(cam);
         CHECK(jumped.pixels == fresh40->render().pixels);
+    }
+    SECTION("time running: the photometry at most once in kPhotometryFrames frames, at once after a jump") {
+        // The Sun moves 0.1 deg a frame (time at ~1440x at 30 frames/s): beyond the photometry's
+        // 5e-4 rad tolerance every frame, so before the interval every frame ran the pass (two
+        // passes with read-backs). Counted, not timed.
+        auto s = scene(30, 64);
+        s->render();
+        const int before = s->clouds->photometryRuns();
+        const int n = 4 * elements::Clouds::kPhotometryFrames;
+        for (int i = 1; i <= n; ++i) {
+            s->p.vars().set(keys::sunDirection, directionFromAzAlt(180 * kDeg, (30 + 0.1 * i) * kDeg));
+            s->render();
+        }
+        // n / kPhotometryFrames runs, and one more at the second frame, whose inputs other than the
+        // moving ones changed (the Sky's tables, built in the first frame after the clouds' pass).
+        const int runs = s->clouds->photometryRuns() - before;
+        CHECK(runs >= n / elements::Clouds::kPhotometryFrames);
+        CHECK(runs <= n / elements::Clouds::kPhotometryFrames + 1);
+        // A jump (a new time: 5 deg) reruns it in the same frame.
+        const int atJump = s->clouds->photometryRuns();
+        s->p.vars().set(keys::sunDirection, directionFromAzAlt(180 * kDeg, 40 * kDeg));
+        s->render();
+        CHECK(s->clouds->photometryRuns() == atJump + 1);
+        // Off the real-time path (welkin render), every frame whose light moved runs it.
+        s->p.vars().set(ek::reprojection, false);
+        const int offline = s->clouds->photometryRuns();
+        for (int i = 1; i <= 3; ++i) {
+            s->p.vars().set(keys::sunDirection, directionFromAzAlt(180 * kDeg, (40 + 0.1 * i) * kDeg));
+            s->render();
+        }
+        CHECK(s->clouds->photometryRuns() == offline + 3);
     }
     SECTION("clouds.cache_frames must be a Bayer order") {
         SkyVars v = SkyVars::earth();

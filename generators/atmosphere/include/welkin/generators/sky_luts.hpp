@@ -368,8 +368,27 @@ private:
     std::string cacheFolder(const SkyVars& vars) const;
     void preloadFromCache(const Logger& log);
     void writeToCache(int slot);
+    // Interactive (render.interactive): the whole grid at the first run, the mix in halves.
+    bool loadFilled_ = false;  // the grid was completed (read or built) at the first run
+    int loadBuilt_ = 0;        // grid tables built at load (not found in the disk cache)
+    int staleHalf_ = -1;       // the half of the shown table still at the previous run's mix (-1: none)
+    int nextHalf_ = 0;         // the half the next half mix does
+    double lastMixMuS_ = 2.0;  // cos zenith of the last mix
+    int halfMixes_ = 0;
 
 public:
+    /// A moving light's mix is done a half table per run (interactive) when the light has moved
+    /// at most this far in elevation since the last mix (0.25 deg; time at 1440x moves the Sun
+    /// by up to 0.2 deg per frame at 30 frames/s), rad.
+    static constexpr double kHalfMixRad = 0.25 * 3.14159265358979323846 / 180.0;
+    /// Interactive: a table is built in SkyQuality::keyframeChunks x this many parts.
+    static constexpr int kInteractiveChunkFactor = 4;
+    /// Grid tables built whole at the first run of an interactive session (not in the disk cache).
+    int loadBuiltTables() const { return loadBuilt_; }
+    /// Runs whose mix covered only half of the table (interactive, a moving light).
+    int halfMixes() const { return halfMixes_; }
+    /// The half of the shown table (0: rows [0, H/2), 1: [H/2, H)) one run behind the light, -1: none.
+    int staleHalf() const { return staleHalf_; }
     /// Tables read from and written to the disk cache (sky.keyframe_cache) since construction.
     int cacheReads() const { return cacheReads_; }
     int cacheWrites() const { return cacheWrites_; }

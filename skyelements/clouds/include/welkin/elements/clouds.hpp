@@ -184,6 +184,16 @@ private:
         glm::dvec3 sunDir{0.0}, moonDir{0.0}, sunE{0.0}, moonE{0.0}, skyE{0.0};
         glm::dvec2 offset{0.0};
     } photometryLast_;
+    int photometryAge_ = 0;   // frames since the last photometry pass
+    int photometryRuns_ = 0;  // photometry passes since construction (tests count them)
+public:
+    /// Real time: a photometry pass that only the lights' motion, their illuminances or the wind
+    /// asked for runs at most once in this many frames (skyelements/clouds/README.md, "Time running").
+    static constexpr int kPhotometryFrames = 8;
+    /// Photometry passes run since construction.
+    int photometryRuns() const { return photometryRuns_; }
+
+private:
     bool drew_ = false;
     // The real-time path (clouds.reprojection): the direction cache (radiance, transmittance),
     // its fill and display programs, the phase of the next partial refresh, and the inputs of the

@@ -68,6 +68,12 @@ public:
         /// complete tables are shown). nextPrefill() then returns none. Chunks per run, >= 0.
         int prefillChunksPerRun = 0;
         double prefillLowRad = -0.3490658503988659;  ///< rad (-20 deg: below, the Sun's scattered light is negligible)
+        /// A first run or a jump adopts the preloaded grid tables around the light (preload():
+        /// the disk cache, or the whole grid built at load in an interactive session) and shows
+        /// their cubic instead of building a table at exactly its elevation at once; the exact
+        /// table follows once the light has rested (stillRuns), a chunk per run. Off: a first
+        /// run and a jump build their exact table whole (what a still render shows).
+        bool adoptOnJump = false;
     };
     /// A grid table to build whole now (Options::prefill).
     struct Prefill {
@@ -115,6 +121,8 @@ public:
     int preload(int k);
     /// Preloaded tables adopted since construction (instead of being built).
     int adoptedTables() const { return adopted_; }
+    /// Grid point k has a table (complete, being built, or preloaded).
+    bool hasGrid(int k) const;
     /// Grid point of slot i's table (-1: an exact table or an empty slot).
     int slotGrid(int i) const {
         const Slot& s = slots_.at(std::size_t(i));
