@@ -391,6 +391,30 @@ TEST_CASE("LightKeyframes: preloaded grid tables (the disk cache) are adopted wh
 }
 
 namespace {
+// WELKIN_CACHE_DIR pointed at a fresh temporary folder (name prefix + this process's id) for the
+// scope; the variable's former value (or its absence) is restored and the folder removed after.
+struct ScopedCacheDir {
+    std::filesystem::path dir;
+    bool had = false;
+    std::string old;
+    explicit ScopedCacheDir(const std::string& prefix)
+        : dir(std::filesystem::temp_directory_path() / (prefix + std::to_string(::getpid()))) {
+        std::filesystem::remove_all(dir);
+        const char* v = std::getenv("WELKIN_CACHE_DIR");
+        had = v != nullptr;
+        old = v ? v : "";
+        ::setenv("WELKIN_CACHE_DIR", dir.c_str(), 1);
+    }
+    ScopedCacheDir(const ScopedCacheDir&) = delete;
+    ScopedCacheDir& operator=(const ScopedCacheDir&) = delete;
+    ~ScopedCacheDir() {
+        if (had) ::setenv("WELKIN_CACHE_DIR", old.c_str(), 1);
+        else ::unsetenv("WELKIN_CACHE_DIR");
+        std::error_code ec;
+        std::filesystem::remove_all(dir, ec);
+    }
+};
+
 struct AnimRig {
     SkyVars vars = SkyVars::earth();
     SkyLuts luts;
@@ -603,22 +627,7 @@ TEST_CASE("Sky animation: the grid tables from the disk cache: time starts witho
     // chunk of a sky-view table (counted from its plans), shows the cubic of complete tables
     // from the first moving frame, and shows exactly what the first one shows (the same bits:
     // the files hold the packed tables as built).
-    const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("welkin-test-kfcache-" + std::to_string(::getpid()));
-    std::filesystem::remove_all(dir);
-    const char* old = std::getenv("WELKIN_CACHE_DIR");
-    const std::string oldValue = old ? old : "";
-    ::setenv("WELKIN_CACHE_DIR", dir.c_str(), 1);
-    struct Restore {
-        bool had;
-        std::string v;
-        std::filesystem::path d;
-        ~Restore() {
-            if (had) ::setenv("WELKIN_CACHE_DIR", v.c_str(), 1);
-            else ::unsetenv("WELKIN_CACHE_DIR");
-            std::error_code ec;
-            std::filesystem::remove_all(d, ec);
-        }
-    } restore{old != nullptr, oldValue, dir};
+    const ScopedCacheDir cache("welkin-test-kfcache-");
     auto prefillRig = [](AnimRig& rig, int budget) {
         rig.q.keyframePrefill = true;
         for (SkyGenerator* g : {(SkyGenerator*)rig.luts.transmittance.get(), (SkyGenerator*)rig.luts.multiScattering.get(),
@@ -773,22 +782,7 @@ TEST_CASE("Sky animation: interactive: the grid at load, time starts and jumps b
     // starts or jumps, <= 1.5 still frames while it runs). Work is counted from the plans, not
     // timed. A fresh cache folder: the first processor builds the whole grid at its first run
     // (load time) and writes it; a second reads it and builds nothing.
-    const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("welkin-test-interactive-" + std::to_string(::getpid()));
-    std::filesystem::remove_all(dir);
-    const char* old = std::getenv("WELKIN_CACHE_DIR");
-    const std::string oldValue = old ? old : "";
-    ::setenv("WELKIN_CACHE_DIR", dir.c_str(), 1);
-    struct Restore {
-        bool had;
-        std::string v;
-        std::filesystem::path d;
-        ~Restore() {
-            if (had) ::setenv("WELKIN_CACHE_DIR", v.c_str(), 1);
-            else ::unsetenv("WELKIN_CACHE_DIR");
-            std::error_code ec;
-            std::filesystem::remove_all(d, ec);
-        }
-    } restore{old != nullptr, oldValue, dir};
+    const ScopedCacheDir cache("welkin-test-interactive-");
     auto setUp = [](AnimRig& rig, bool interactive) {
         rig.q.keyframePrefill = true;
         for (SkyGenerator* g : {(SkyGenerator*)rig.luts.transmittance.get(), (SkyGenerator*)rig.luts.multiScattering.get(),
