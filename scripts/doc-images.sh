@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Re-renders the README's gallery and the docs' images whose look depends on how point sources are
-# displayed (render.point_sources: perceptual for PNG), with the commands printed beside them, and
-# skyelements/clouds/README.md's data images (welkin bench cloud-doc-images).
+# displayed (render.point_sources: perceptual for PNG), with the commands printed beside them, then
+# each element folder's own images: skyelements/<name>/doc-images.sh, where a folder has one (run
+# from the repository root with the welkin command as its argument; the clouds' data images, the
+# stars', night sky's and constellations' night views).
 # Usage: scripts/doc-images.sh [BUILD_DIR]     (needs xvfb-run for the viewer's screenshot, oiiotool for the strips)
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -33,15 +35,8 @@ xvfb-run -a -s '-screen 0 1024x768x24' "$w" view --lat 35.9 --lon 14.5 --height 
   --time 2026-06-21T18:05:00Z --az 295 --alt 8 --fov 70 --size 640x360 --speed 1 \
   --frames 3 --screenshot docs/images/viewer-panel.png >/dev/null
 
-echo "== night images (README, skyelements/stars/README.md, nightsky.md, constellations.md, clouds.md)"
+echo "== night image (README)"
 "$w" render --time 2026-08-12T22:00:00Z --lat 35.9 --lon 14.5 --projection fisheye --size 1024x1024 --out docs/images/malta_night_fisheye.png
-"$w" render --time 2026-08-12T22:00:00Z --lat 35.9 --lon 14.5 --projection fisheye --size 512x512 --exposure -9 --out skyelements/nightsky/images/nightsky_malta.png
-"$w" render --time 2026-08-12T22:00:00Z --lat 35.9 --lon 14.5 --projection fisheye --size 1024x1024 --elements stars,sky,constellations --exposure -9 --out skyelements/constellations/images/constellations_malta.png
-"$w" render --time 2026-08-12T22:00:00Z --lat 35.9 --lon 14.5 --projection fisheye --size 512x512 --exposure -9 --elements stars,sky --out skyelements/stars/images/stars_malta.png
-"$w" render --time 2026-06-29T23:30:00+02:00 --lat 35.9 --lon 14.5 --az 150 --alt 20 --fov 75 --size 480x270 --elements default,clouds --var clouds.preset=fair --out skyelements/clouds/images/clouds_moonlit.png
-
-echo "== cloud data images: weather map, noise slices, density section (skyelements/clouds/README.md)"
-"$w" bench cloud-doc-images --out skyelements/clouds/images >/dev/null
 
 echo "== the eye's day-to-night strips (docs/eye.md)"
 tmp=$(mktemp -d)
@@ -58,4 +53,10 @@ for curve in aces hable; do
   oiiotool "${frames[@]}" --mosaic 6x1 -o "$out"
 done
 rm -rf "$tmp"
+
+for f in skyelements/*/doc-images.sh; do
+  [ -f "$f" ] || continue
+  echo "== $(dirname "$f")/README.md's images ($f)"
+  bash "$f" "$w"
+done
 echo "== done"

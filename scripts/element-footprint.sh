@@ -5,6 +5,9 @@
 #   scripts/element-footprint.sh SINCE           # commits after SINCE (a commit) only
 #   scripts/element-footprint.sh --all           # the whole history
 #   scripts/element-footprint.sh --check [SINCE] # exit 1 if any element's commit changed a file outside it
+#   scripts/element-footprint.sh --static [--check]  # the tree as it stands, not its history:
+#       which files outside each folder need, use (guarded), cite or link the element
+#       (scripts/element-footprint-static.py; --check: exit 1 when an element but the Sky is needed)
 #
 # The default SINCE, df1b769, merged element-private GL bindings (issue 24 item 1): from there on
 # no element needed the shared binding table. For every folder skyelements/<name>/ it takes the
@@ -16,6 +19,7 @@
 # "name: none (M commits, all inside skyelements/name/)" when it kept to its folder.
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+if [ "${1:-}" = "--static" ]; then shift; exec python3 "$here/scripts/element-footprint-static.py" "$@"; fi
 check=""
 if [ "${1:-}" = "--check" ]; then check=1; shift; fi
 since=df1b769

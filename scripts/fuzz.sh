@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (tests/fuzz, docs/fuzzing.md) with clang in build-fuzz/ and runs
 # each for a fixed time from its seed corpus, after replaying the saved crash inputs
-# (tests/fuzz/regressions/<target>/).
+# (tests/fuzz/regressions/<target>/; an element's own targets keep theirs in its folder:
+# skyelements/<name>/fuzz/corpus/<target>/ and .../fuzz/regressions/<target>/).
 #   scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]      default 10 s, every target
 # Environment: FUZZ_BUILD_DIR (build-fuzz), FUZZ_WORK_DIR (a temporary folder: the corpus each run
 # grows and any crash input, kept when something is found), FUZZ_JOBS (build jobs, nproc), FUZZ_SEED
@@ -28,13 +29,23 @@ targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
   for t in "$build"/fuzz/fuzz_*; do targets+=("$(basename "$t")"); done
 fi
+# The folder holding a target's corpus/ and regressions/: tests/fuzz, or the element folder's fuzz/
+# whose fuzz_*.cpp defines it.
+data_dir() {
+  local d
+  for d in skyelements/*/fuzz; do
+    [ -f "$d/$1.cpp" ] && { echo "$d"; return; }
+  done
+  echo tests/fuzz
+}
 failed=()
 for t in "${targets[@]}"; do
   bin="$build/fuzz/$t"
   [ -x "$bin" ] || { echo "fuzz.sh: no target $t" >&2; exit 2; }
+  data=$(data_dir "$t")
   # 1. The saved crash inputs: each must now pass.
-  if compgen -G "tests/fuzz/regressions/$t/*" >/dev/null; then
-    if ! "$bin" tests/fuzz/regressions/"$t"/* >"$work/$t.regressions.log" 2>&1; then
+  if compgen -G "$data/regressions/$t/*" >/dev/null; then
+    if ! "$bin" "$data"/regressions/"$t"/* >"$work/$t.regressions.log" 2>&1; then
       echo "FAIL $t: a saved regression input fails again (log: $work/$t.regressions.log)"
       failed+=("$t")
       continue
@@ -42,7 +53,7 @@ for t in "${targets[@]}"; do
   fi
   # 2. Fuzz from the seeds (copied: the repository's corpus is not changed).
   mkdir -p "$work/$t/corpus"
-  cp -n tests/fuzz/corpus/"$t"/* "$work/$t/corpus/" 2>/dev/null || true
+  cp -n "$data"/corpus/"$t"/* "$work/$t/corpus/" 2>/dev/null || true
   if "$bin" "$work/$t/corpus" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2560 -malloc_limit_mb=2048 \
        ${FUZZ_SEED:+-seed=$FUZZ_SEED} -artifact_prefix="$work/$t/" -print_final_stats=1 >"$work/$t.log" 2>&1; then
     echo "ok   $t: $(grep -E '^stat::number_of_executed_units' "$work/$t.log" | awk '{print $2}') runs in ${seconds} s"

@@ -1,10 +1,9 @@
-// welkin bench sky-twin and bench cloud-doc-images (diagnostics and docs images moved out of the
-// test suite): their options are checked before any work, with one-line errors. (A run takes
-// 8-60 s on llvmpipe: scripts/doc-images.sh and skyelements/sky/README.md run them.)
+// welkin bench sky-twin (a diagnostic moved out of the test suite): its options are checked before
+// any work, with one-line errors. (A run takes 8-60 s on llvmpipe: scripts/doc-images.sh and
+// skyelements/sky/README.md run it.) The Clouds' bench cloud-doc-images is checked in its folder.
 #include <catch2/catch.hpp>
 
 #include "cli_runner.hpp"
-#include "elements_present.hpp"
 
 #include <string>
 
@@ -21,13 +20,3 @@ TEST_CASE("welkin bench sky-twin: bad options are one-line errors", "[cpu][cli][
     CHECK(failures.empty());
 }
 
-#if defined(WELKIN_HAS_ELEMENT_clouds)  // the bench is the Clouds element's (skyelements/clouds/bench)
-TEST_CASE("welkin bench cloud-doc-images: --out must be an existing directory", "[cpu][cli][bench]") {
-    const auto failures = welkin::test::badOptionFailures(
-        "bench cloud-doc-images", {{"--out /nonexistent-dir", "--out '/nonexistent-dir': not an existing directory"}});
-    std::string report;
-    for (const auto& f : failures) report += f + "\n";
-    INFO(report);
-    CHECK(failures.empty());
-}
-#endif

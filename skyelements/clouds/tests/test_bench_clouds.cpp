@@ -17,6 +17,15 @@
 
 using welkin::test::runCli;
 
+TEST_CASE("welkin bench cloud-doc-images: --out must be an existing directory", "[cpu][cli][bench]") {
+    const auto failures = welkin::test::badOptionFailures(
+        "bench cloud-doc-images", {{"--out /nonexistent-dir", "--out '/nonexistent-dir': not an existing directory"}});
+    std::string report;
+    for (const auto& f : failures) report += f + "\n";
+    INFO(report);
+    CHECK(failures.empty());
+}
+
 TEST_CASE("welkin bench clouds: bad options are one-line errors", "[cpu][cli][bench]") {
     const auto failures = welkin::test::badOptionFailures(
         "bench clouds", {{"--repeats 0", "--repeats 0 not in [1, 1000]"},

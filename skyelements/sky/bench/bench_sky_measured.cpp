@@ -59,8 +59,8 @@ using namespace welkin::atmosphere;
 constexpr double kDeg = std::numbers::pi / 180.0;
 
 struct Options {
-    // The measurements kept in the repository (tests/data/kider2013/SOURCE.md).
-    std::string data = std::string(WELKIN_SOURCE_DIR) + "/tests/data/kider2013";
+    // The measurements kept in the repository (skyelements/sky/tests/data/kider2013/SOURCE.md).
+    std::string data = std::string(WELKIN_SOURCE_DIR) + "/skyelements/sky/tests/data/kider2013";
     bool quick = false;
     bool rgb = false;
     int threads = 2;

@@ -1,7 +1,7 @@
 // The real-time Sky element (medium) against the reference integrator at directions and Sun
 // positions of the Kider et al. 2013 measured skies (issue 4 item 12; `welkin bench
 // sky-measured` scores both against the measurements). The data are in the repository
-// (tests/data/kider2013, SOURCE.md there); without them the test fails.
+// (skyelements/sky/tests/data/kider2013, SOURCE.md there); without them the test fails.
 #include <catch2/catch.hpp>
 
 #include "gl_test_context.hpp"
@@ -32,7 +32,7 @@ double lum(const glm::dvec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * 
 }  // namespace
 
 TEST_CASE("Sky medium against the reference integrator at Kider 2013 directions", "[gl][sky]") {
-    const std::string dir = std::string(WELKIN_SOURCE_DIR) + "/tests/data/kider2013";
+    const std::string dir = std::string(WELKIN_SOURCE_DIR) + "/skyelements/sky/tests/data/kider2013";
     REQUIRE(std::filesystem::exists(dir + "/kider2013_scans.csv"));  // kept in the repository: never skipped
     test::glContext();
     // The bench's "welkin" atmosphere: AERONET AOD 0.11 at 500 nm, alpha 0.9, asymmetry 0.64.
