@@ -21,6 +21,12 @@ void write(const std::string& path, const std::string& text) {
     REQUIRE(f.good());
 }
 
+// The check on `root` with scripts/twins-allowed.txt holding `list`.
+welkin::test::CliResult checkWith(const std::string& root, const std::string& list) {
+    write(root + "/scripts/twins-allowed.txt", list);
+    return runScript(root, "--check");
+}
+
 // A small tree of its own (the script reads the folders beside its scripts/ folder), with the
 // script copied in.
 std::string scratchTree(const char* name) {
@@ -50,8 +56,7 @@ TEST_CASE("Twins check: a new copy fails, a shared function and a stale listing 
           "double opticalThing(double x) {\n    return x;\n}\nint main() {\n    return sharedOne(1.0) > 0 ? 0 : 1;\n}\n"
           "glm::dvec3 onlyInCpp(const glm::dvec3& v) { return v; }\ndouble sharedOne(double x) { return x; }\n");
     SECTION("unlisted: both names are new copies, --check fails naming the way out") {
-        write(root + "/scripts/twins-allowed.txt", "# nothing allowed\n");
-        const auto r = runScript(root, "--check");
+        const auto r = checkWith(root, "# nothing allowed\n");
         INFO(r.output);
         CHECK(r.status == 1);
         // atm_opticalThing and opticalThing are one name (prefix and case dropped); main is left out.
@@ -62,23 +67,19 @@ TEST_CASE("Twins check: a new copy fails, a shared function and a stale listing 
         CHECK_THAT(r.output, Catch::Contains("*.shared.glsl"));
     }
     SECTION("listed with their kinds: the check passes and counts them") {
-        write(root + "/scripts/twins-allowed.txt", "opticalThing pending a copy\nsharedOne wrapper calls the shared one\n");
-        const auto r = runScript(root, "--check");
+        const auto r = checkWith(root, "opticalThing pending a copy\nsharedOne wrapper calls the shared one\n");
         INFO(r.output);
         CHECK(r.status == 0);
         CHECK_THAT(r.output, Catch::Contains("wrapper 1,") && Catch::Contains("pending 1,") && Catch::Contains("new 0)"));
     }
     SECTION("a listed name no longer duplicated fails: the list stays true") {
-        write(root + "/scripts/twins-allowed.txt",
-              "opticalThing pending a copy\nsharedOne wrapper calls it\ngoneAway pending moved already\n");
-        const auto r = runScript(root, "--check");
+        const auto r = checkWith(root, "opticalThing pending a copy\nsharedOne wrapper calls it\ngoneAway pending moved already\n");
         INFO(r.output);
         CHECK(r.status == 1);
         CHECK_THAT(r.output, Catch::Contains("'goneaway' is in scripts/twins-allowed.txt but no longer defined in both"));
     }
     SECTION("an unknown kind is refused") {
-        write(root + "/scripts/twins-allowed.txt", "opticalThing copied because\n");
-        const auto r = runScript(root, "--check");
+        const auto r = checkWith(root, "opticalThing copied because\n");
         INFO(r.output);
         CHECK(r.status == 2);
         CHECK_THAT(r.output, Catch::Contains("'opticalThing' has kind 'copied'"));
@@ -102,8 +103,7 @@ TEST_CASE("Twins check: a copy under another name is found by its literals and i
     write(root + "/engine/shaders/one.shared.glsl", "real k(real x) { return x * 1.2345678 + sqrt(x) * sin(x) * cos(x) / x; }\n");
     write(root + "/engine/src/one.cpp", "double f(double x) { return x * 1.2345678 + std::sqrt(x) * std::sin(x) * std::cos(x) / x; }\n");
     SECTION("unlisted: --check fails on the literal and on the expression, not on the small ones or the shared file") {
-        write(root + "/scripts/twins-allowed.txt", "# nothing allowed\n");
-        const auto r = runScript(root, "--check");
+        const auto r = checkWith(root, "# nothing allowed\n");
         INFO(r.output);
         CHECK(r.status == 1);
         CHECK_THAT(r.output, Catch::Contains("2.35482") && Catch::Contains("clamp(v*v*cos(v)+v*v,-1.0,1.0)"));
@@ -112,8 +112,7 @@ TEST_CASE("Twins check: a copy under another name is found by its literals and i
         CHECK_THAT(r.output, !Catch::Contains("1.2345678") && !Catch::Contains("v*v+v "));
     }
     SECTION("listed: the check passes and counts them by kind") {
-        write(root + "/scripts/twins-allowed.txt", "2.35482 pending a copy\nclamp(v*v*cos(v)+v*v,-1.0,1.0) pending a copy too\n");
-        const auto r = runScript(root, "--check");
+        const auto r = checkWith(root, "2.35482 pending a copy\nclamp(v*v*cos(v)+v*v,-1.0,1.0) pending a copy too\n");
         INFO(r.output);
         CHECK(r.status == 0);
         CHECK_THAT(r.output, Catch::Contains("in all: new 0, pending 2"));

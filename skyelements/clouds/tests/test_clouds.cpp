@@ -50,6 +50,17 @@ struct Weather {
     TextureRef ref() const { return {tex.id(), GL_TEXTURE_2D, tex.width(), tex.height(), 0}; }
 };
 
+// A weather map (128 x 128 texels over extentM metres) of one Gaussian blob, density
+// exp(-(r / radiusM)^4), base at the layer's bottom, top `top` (of the layer), centred northM north
+// of the map's centre.
+Weather blobWeather(double extentM, double northM, double radiusM, float top) {
+    return Weather(128, [=](double u, double v) {
+        const double x = (u - 0.5) * extentM, y = (v - 0.5) * extentM - northM;
+        const double r2 = (x * x + y * y) / (radiusM * radiusM);
+        return glm::vec4(float(std::exp(-r2 * r2)), 0.0f, top, 0.0f);
+    });
+}
+
 // A perspective camera of width x height pixels looking at (azimuth, altitude), vertical field fov (rad).
 Camera perspective(int width, int height, double azimuthRad, double altitudeRad, double fovRad) {
     Camera cam;
@@ -701,11 +712,7 @@ TEST_CASE("Clouds: a single cumulus is as bright as a real one", "[gl][clouds]")
     // on the weather map, 4 km north of the observer, 1.5-3.5 km, the generated noise, 0.05 /m).
     // Each view is rendered with the clouds and without them (coverage 0: the Sky alone), so the
     // cloud's pixels are those it changes by more than 5 %.
-    Weather blob(128, [](double u, double v) {
-        const double x = (u - 0.5) * 20000.0, y = (v - 0.5) * 20000.0 - 4000.0;
-        const double r2 = (x * x + y * y) / (1200.0 * 1200.0);
-        return glm::vec4(float(std::exp(-r2 * r2)), 0.0f, 0.9f, 0.0f);
-    });
+    const Weather blob = blobWeather(20000.0, 4000.0, 1200.0, 0.9f);
     const int W = 48, H = 36;
     Scene s(60, blob, Projection::Perspective, W, H);
     s.p.vars().set(ck::weatherOffset, glm::dvec2(10000, 10000));  // the blob's centre 4 km north
@@ -814,11 +821,7 @@ TEST_CASE("Clouds: the towering preset: a tall cumulus with a flat, darker base 
     // One of its towers: a weather-map blob 2.5 km in radius, its top at the layer's top, 12 km
     // north; the preset's layer, scattering, detail and coverage; the generated noise. The Sun 30 deg
     // up in the east (90 deg from the view).
-    Weather blob(128, [](double u, double v) {
-        const double x = (u - 0.5) * 40000.0, y = (v - 0.5) * 40000.0 - 12000.0;
-        const double r2 = (x * x + y * y) / (2500.0 * 2500.0);
-        return glm::vec4(float(std::exp(-r2 * r2)), 0.0f, 1.0f, 0.0f);
-    });
+    const Weather blob = blobWeather(40000.0, 12000.0, 2500.0, 1.0f);
     const int W = 48, H = 40;
     Scene s(30, blob, Projection::Perspective, W, H);
     s.p.vars().set(ck::weatherExtent, 40000.0);
