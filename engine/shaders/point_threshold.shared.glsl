@@ -2,9 +2,17 @@
 // point_perceptual.glsl includes it) and C++ (welkin::pointThresholdFootCandles(),
 // perceptualPoint() in engine/src/point_source.cpp compile it in double, welkin/glsl_cpp.hpp).
 //
+// Lux per foot-candle (1 lm/ft^2 = 1 / 0.3048^2 lm/m^2), to the digits the shaders use.
+#define WELKIN_LUX_PER_FOOT_CANDLE 10.76391
+// A Gaussian's full width at half maximum over its standard deviation, 2 sqrt(2 ln 2), to 6
+// digits: the drawn points' FWHM (the Stars' and the Planet's PSF, the perceptual point below) to
+// the sigma their Gaussian is spread with (stars.vert.glsl, planet.vert.glsl; planet.cpp, which
+// sizes the quads with it, includes this file too).
+#define WELKIN_GAUSSIAN_FWHM_PER_SIGMA 2.35482
+
 // Schaefer's (1990) threshold illuminance of a point for the eye (after Hecht 1947), in
-// foot-candles (1 ft-cd = 10.76391 lx), against a background of B cd/m^2 (B >= 0): the night
-// (scotopic) branch below 1479 nL, the day branch above (1 nL = 1e-5 / pi cd/m^2).
+// foot-candles (WELKIN_LUX_PER_FOOT_CANDLE lx each), against a background of B cd/m^2 (B >= 0):
+// the night (scotopic) branch below 1479 nL, the day branch above (1 nL = 1e-5 / pi cd/m^2).
 real welkin_pointThresholdFootCandles(real B) {
     real nL = B / 3.183098862e-6;
     bool night = nL < 1479.0;

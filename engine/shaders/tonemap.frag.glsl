@@ -43,22 +43,15 @@ vec3 welkin_mesopic(vec3 c) {
     return mix(c, u_rodColor * V, w);
 }
 
-vec3 welkin_aces(vec3 x) {
-    // Narkowicz's fit of the ACES reference rendering transform (input scaled by 0.6).
-    x *= 0.6;
-    return clamp((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), 0.0, 1.0);
-}
-
-vec3 welkin_hableF(vec3 x) {
-    // Hable's filmic curve (Uncharted 2): shoulder 0.15, linear 0.50 at angle 0.10, toe 0.20, 0.02/0.30.
-    return (x * (0.15 * x + 0.05) + 0.004) / (x * (0.15 * x + 0.50) + 0.06) - 0.02 / 0.30;
-}
+// The display curves: welkin_aces(), welkin_hable(), eye_curves.shared.glsl (welkin::eye::acesFit()
+// and welkin::eye::hable() compile it in double).
+#include "eye_curves.shared.glsl"
 
 vec3 welkin_curve(vec3 x) {
 #if WELKIN_TONEMAP_CURVE == 0
     return welkin_aces(x);
 #elif WELKIN_TONEMAP_CURVE == 1
-    return clamp(welkin_hableF(2.0 * x) / welkin_hableF(vec3(11.2)), 0.0, 1.0);  // exposure bias 2, white 11.2
+    return welkin_hable(x);
 #elif WELKIN_TONEMAP_CURVE == 2
     return clamp(x / (1.0 + dot(x, kLuminance)), 0.0, 1.0);
 #else

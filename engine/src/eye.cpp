@@ -12,6 +12,7 @@
 namespace welkin::glsl::dp::eye_shared {
 #include "../shaders/eye_thresholds.shared.glsl"
 #include "../shaders/eye_srgb.shared.glsl"
+#include "../shaders/eye_curves.shared.glsl"
 }  // namespace welkin::glsl::dp::eye_shared
 
 namespace welkin::eye {
@@ -122,17 +123,10 @@ glm::dvec3 mesopicColor(const glm::dvec3& rgb, double lo, double hi, glm::dvec2 
     return rgb * (1.0 - w) + rods * w;
 }
 
-glm::dvec3 acesFit(glm::dvec3 x) {
-    x *= 0.6;
-    return glm::clamp((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), 0.0, 1.0);
-}
+glm::dvec3 acesFit(glm::dvec3 x) { return glsl::dp::eye_shared::welkin_aces(x); }  // the tone map's text
 
 glm::dvec3 hable(glm::dvec3 x) {
-    auto f = [](glm::dvec3 v) {
-        const double A = 0.15, B = 0.50, C = 0.10, D = 0.20, E = 0.02, F = 0.30;
-        return (v * (A * v + C * B) + D * E) / (v * (A * v + B) + D * F) - E / F;
-    };
-    return glm::clamp(f(2.0 * x) / f(glm::dvec3(11.2)), 0.0, 1.0);
+    return glsl::dp::eye_shared::welkin_hable(x);  // the tone map's text
 }
 
 glm::dvec3 reinhardLuminance(glm::dvec3 x) {

@@ -34,7 +34,7 @@ double pointThresholdFootCandles(double backgroundCdM2) {
     return glsl::dp::point_shared::welkin_pointThresholdFootCandles(backgroundCdM2);
 }
 
-double pointThresholdLux(double backgroundCdM2) { return pointThresholdFootCandles(backgroundCdM2) * 10.76391; }
+double pointThresholdLux(double backgroundCdM2) { return pointThresholdFootCandles(backgroundCdM2) * WELKIN_LUX_PER_FOOT_CANDLE; }
 
 PerceptualPoint perceptualPoint(double illuminanceLux, double backgroundCdM2, double contrastAtThreshold, double fwhmAtThresholdPx) {
     PerceptualPoint p;

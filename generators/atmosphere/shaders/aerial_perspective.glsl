@@ -22,10 +22,8 @@ void main() {
     ivec2 ij = ivec2(g % u_groupsX, g / u_groupsX) * 8 + ivec2(gl_LocalInvocationID.xy);
     if (ij.x >= u_size || ij.y >= u_size) return;
     float n = float(u_size);
-    vec2 ma = skyViewMuAz(u_h, (vec2(ij) + 0.5) / n, vec2(n));
-    float mu = ma.x, az = ma.y;
-    float sinV = sqrt(max(1.0 - mu * mu, 0.0)), sinS = sqrt(max(1.0 - u_muS * u_muS, 0.0));
-    float nu = clamp(sinV * sinS * cos(az) + mu * u_muS, -1.0, 1.0);
+    vec3 view = skyViewTexelView(u_h, (vec2(ij) + 0.5) / n, vec2(n), u_muS);  // atmosphere.shared.glsl, as cpu::aerialTexel()
+    float mu = view.x, nu = view.z;
     // Rays towards the ground are stopped by the host's geometry (its terrain), not by the
     // planet's sphere: they run on to the last slice through air no lower than the ground (a
     // host's ground point 20 km away, seen 0.5 deg down from 2 m, is in near-ground air all

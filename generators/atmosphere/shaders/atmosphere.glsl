@@ -54,6 +54,7 @@ float atm_horizonS(float h) { return atm_horizonS(atm_bottom(), h); }
 vec2 skyViewUvH(float thetaH, float mu, float azimuth, vec2 size) { return skyViewUvS(sin(0.5 * thetaH), mu, cos(azimuth), size); }
 vec2 skyViewUv(float h, float mu, float azimuth, vec2 size) { return skyViewUvS(atm_horizonS(h), mu, cos(azimuth), size); }
 vec2 skyViewMuAz(float h, vec2 uv, vec2 size) { return skyViewMuAzS(atm_horizonS(h), uv, size); }
+vec3 skyViewTexelView(float h, vec2 uv, vec2 size, float muS) { return skyViewTexelViewS(atm_horizonS(h), uv, size, muS); }
 
 float miePhase(float nu) { return miePhase(nu, atm_rayleigh.w, atm_radii.w < 0.5 ? 0 : 1); }
 float atm_perigeeFraction(float h, float mu, float d) { return atm_perigeeFraction(atm_bottom(), h, mu, d); }

@@ -141,6 +141,35 @@ vec2 skyViewMuAzS(real sH, vec2 uv, vec2 size) {
     }
     return vec2(clamp(1.0 - 2.0 * s * s, -1.0, 1.0), 2.0 * asin(clamp(unitFromTexCoord(uv.x, size.x), 0.0, 1.0)));
 }
+// For an observer above the atmosphere (h > Ht): the distance along a ray of cos zenith mu to
+// where it enters the air (> 0), or -1.0 when it misses it (upwards, or passing above the top).
+real atm_entryFromSpace(real R, real Ht, real h, real mu) {
+    real r = R + h;
+    real disc = r * r * mu * mu - (h - Ht) * (2.0 * R + h + Ht);
+    if (mu >= 0.0 || disc < 0.0) return -1.0;
+    return -r * mu - sqrt(disc);
+}
+// The cosine of the angle between a view (cos zenith mu, its sine sinV, azimuth az from the
+// light's) and the light (cos zenith muS, its sine sinS), clamped into [-1, 1].
+real atm_cosViewLight(real mu, real sinV, real az, real muS, real sinS) { return clamp(sinV * sinS * cos(az) + mu * muS, -1.0, 1.0); }
+// A sky-view-parameterised texel's view (uv its centre, size the table's: the sky-view LUT, its
+// keyframe blend, the aerial-perspective volume's slices) for a light at cos zenith muS: (mu,
+// azimuth from the light in [0, pi], nu = cos of the angle to the light). sH = atm_horizonS(R, h).
+vec3 skyViewTexelViewS(real sH, vec2 uv, vec2 size, real muS) {
+    vec2 ma = skyViewMuAzS(sH, uv, size);
+    real sinV = sqrt(max(1.0 - ma.x * ma.x, 0.0)), sinS = sqrt(max(1.0 - muS * muS, 0.0));
+    return vec3(ma.x, ma.y, atm_cosViewLight(ma.x, sinV, ma.y, muS, sinS));
+}
+// The sky-irradiance sum's sample (i, j) of nz x na: the midpoint rule in x = cos^2 zenith over
+// [0, 1] and in the azimuth from the light over [0, pi] (E = int L cos(theta) dOmega over the upper
+// hemisphere, cos(theta) dOmega = 0.5 dx dphi; the half circle stands for both sides of the
+// light's vertical plane). Returns (mu, sin of the zenith angle, azimuth); every sample weighs
+// atm_irradianceWeight(nz, na) = 0.5 (1 / nz) (pi / na) 2.
+vec3 atm_irradianceSample(int i, int j, int nz, int na) {
+    real x = (real(i) + 0.5) / real(nz);
+    return vec3(sqrt(x), sqrt(max(1.0 - x, 0.0)), (real(j) + 0.5) / real(na) * ATM_PI);
+}
+real atm_irradianceWeight(int nz, int na) { return ATM_PI / real(nz * na); }
 
 // Phase functions (1/sr): Rayleigh; Mie of asymmetry g as Henyey-Greenstein (kind 0) or
 // Cornette-Shanks (kind 1).

@@ -109,10 +109,7 @@ void main() {
     vec3 s = keyframeMix(sA, sB, sC, sD);
     vec3 m = keyframeMix(mA, mB, mC, mD);
     vec2 size = vec2(u_size);
-    vec2 ma = skyViewMuAz(u_h, gl_FragCoord.xy / size, size);
-    float mu = ma.x, az = ma.y;
-    float sinV = sqrt(max(1.0 - mu * mu, 0.0)), sinS = sqrt(max(1.0 - u_muS * u_muS, 0.0));
-    float nu = clamp(sinV * sinS * cos(az) + mu * u_muS, -1.0, 1.0);
+    float nu = skyViewTexelView(u_h, gl_FragCoord.xy / size, size, u_muS).z;  // the sky-view texel's (atmosphere.shared.glsl)
     o_smooth = vec4(s, 1.0);
     o_mie = vec4(m, 1.0);
     o_total = vec4(s + m * miePhase(nu), 1.0);

@@ -43,7 +43,7 @@ float pp_background(vec3 dir) {
 #include "../../../engine/shaders/point_threshold.shared.glsl"
 
 // Schaefer's (1990) threshold illuminance (lux) for a background B (cd/m^2).
-float pp_thresholdLux(float B) { return welkin_pointThresholdFootCandles(B) * 10.76391; }
+float pp_thresholdLux(float B) { return welkin_pointThresholdFootCandles(B) * WELKIN_LUX_PER_FOOT_CANDLE; }
 
 // (FWHM in px, Weber contrast) of a point of illuminance `eyeLux` at the eye over background B;
 // (0, 0) when the eye would not see it. f0: the FWHM at the threshold, px.

@@ -1,7 +1,9 @@
 // Sky irradiance pass (compute, SKY_IRRADIANCE_GROUPS workgroups, each summing its share of the
 // samples; the CPU adds the groups' partial sums): diffuse horizontal illuminance at the observer
-// from the Sun's and the Moon's sky-view LUTs (midpoint rule in cos^2 zenith and azimuth, as
-// cpuDiffuseIrradiance()), the direct horizontal illuminance of each light through the
+// from the Sun's and the Moon's sky-view LUTs (midpoint rule in cos^2 zenith and azimuth: the
+// samples and their weight are atmosphere.shared.glsl's atm_irradianceSample() and
+// atm_irradianceWeight(), which cpuDiffuseIrradiance() sums in another order), the direct
+// horizontal illuminance of each light through the
 // transmittance LUT, and the zenith radiance. Needs atmosphere.glsl (ATM_USE_TRANSMITTANCE).
 layout(local_size_x = 64) in;
 layout(binding = WELKIN_BINDING_SUN_VIEW_LUT) uniform sampler2D u_sunSmooth;
@@ -38,12 +40,11 @@ void main() {
     int total = u_nz * u_na;
     uint group = gl_WorkGroupID.x;
     for (int k = int(group * 64u + id); k < total; k += 64 * SKY_IRRADIANCE_GROUPS) {
-        int i = k / u_na, j = k % u_na;
-        float x = (float(i) + 0.5) / float(u_nz);
-        float mu = sqrt(x), sinV = sqrt(max(1.0 - x, 0.0));
-        float az = (float(j) + 0.5) / float(u_na) * ATM_PI;
-        float nuS = clamp(sinV * sinS * cos(az) + mu * u_sunDir.z, -1.0, 1.0);
-        float nuM = clamp(sinV * sinM * cos(az) + mu * u_moonDir.z, -1.0, 1.0);
+        // The sample's direction and weight: atmosphere.shared.glsl, as cpuDiffuseIrradiance().
+        vec3 smp = atm_irradianceSample(k / u_na, k % u_na, u_nz, u_na);
+        float mu = smp.x, sinV = smp.y, az = smp.z;
+        float nuS = atm_cosViewLight(mu, sinV, az, u_sunDir.z, sinS);
+        float nuM = atm_cosViewLight(mu, sinV, az, u_moonDir.z, sinM);
 #ifdef SKY_IRRADIANCE_ECLIPSE
         // (j + 0.5) / na of the whole circle: the same weight per sample as the half circle's.
         float azE = 2.0 * az;
@@ -63,7 +64,7 @@ void main() {
             a += s_sun[i];
             b += s_moon[i];
         }
-        float w = ATM_PI / float(u_nz * u_na);
+        float w = atm_irradianceWeight(u_nz, u_na);
         o_partial[2u * group] = vec4(a * w * u_sunE, 0.0);
         o_partial[2u * group + 1u] = vec4(b * w * u_moonE, 0.0);
         if (group != 0u) return;

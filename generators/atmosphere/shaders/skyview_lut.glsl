@@ -20,10 +20,8 @@ layout(location = 2) out vec4 o_total;
 void main() {
     vec2 size = vec2(u_size);
     vec2 uv = gl_FragCoord.xy / size;
-    vec2 ma = skyViewMuAz(u_h, uv, size);
-    float mu = ma.x, az = ma.y;
-    float sinV = sqrt(max(1.0 - mu * mu, 0.0)), sinS = sqrt(max(1.0 - u_muS * u_muS, 0.0));
-    float nu = clamp(sinV * sinS * cos(az) + mu * u_muS, -1.0, 1.0);
+    vec3 view = skyViewTexelView(u_h, uv, size, u_muS);  // atmosphere.shared.glsl, as cpu::skyViewTexel()
+    float mu = view.x, nu = view.z;
     Scattering s = integrateScattering(u_h, mu, u_muS, nu, 1e30, u_steps, true, u_angular, uv.y >= 0.5 ? 0 : 1);
     o_smooth = vec4(s.smooth_ * u_scale, 1.0);
     o_mie = vec4(s.mieNoPhase * u_scale, 1.0);

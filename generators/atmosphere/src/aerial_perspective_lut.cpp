@@ -3,13 +3,21 @@
 #include <welkin/embedded/atmosphere_shaders.hpp>
 #include <welkin/error.hpp>
 #include <welkin/generators/sky_luts.hpp>
+#include <welkin/generators/sky_model.hpp>
 #include <welkin/gl/shader.hpp>
+#include <welkin/glsl_cpp.hpp>
 #include <welkin/keys.hpp>
 
 #include <epoxy/gl.h>
 
 #include <algorithm>
 #include <cmath>
+
+// skyViewTexelViewS() (a texel's view): the pass's text (atmosphere.shared.glsl) in double.
+namespace welkin::glsl::dp::aerial_shared {
+#define ATM_SEGMENT_LINEAR 1e-7  // atm_segmentFactor()'s linear limit in double (as sky_model.cpp; unused here)
+#include "atmosphere.shared.glsl"
+}  // namespace welkin::glsl::dp::aerial_shared
 
 namespace welkin::generators {
 
@@ -203,10 +211,9 @@ namespace cpu {
 AerialTexel aerialTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const MsField& MS, double h, double muS, int i,
                         int j, int k) {
     const int n = q.aerialSize;
-    glm::dvec2 ma = skyViewMuAz(m, h, {(i + 0.5) / n, (j + 0.5) / n}, n, n);
-    double mu = ma.x, az = ma.y;
-    double sinV = std::sqrt(std::max(1.0 - mu * mu, 0.0)), sinS = std::sqrt(std::max(1.0 - muS * muS, 0.0));
-    double nu = std::clamp(sinV * sinS * std::cos(az) + mu * muS, -1.0, 1.0);
+    const glm::dvec3 view = glsl::dp::aerial_shared::skyViewTexelViewS(skyViewHorizonS(m, h), {(i + 0.5) / n, (j + 0.5) / n},
+                                                                       glm::dvec2(n), muS);  // the pass's text
+    const double mu = view.x, nu = view.z;
     // Ground rays run on through air no lower than the ground (the host's terrain stops them:
     // atmosphere.glsl's atm_raySampleAir).
     bool ground = j < n / 2;

@@ -9,6 +9,7 @@
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/generators/sky_model.hpp>
 #include <welkin/generators/sky_spectral.hpp>
+#include <welkin/glsl_cpp.hpp>
 #include <welkin/keys.hpp>
 
 #include <algorithm>
@@ -16,6 +17,13 @@
 #include <cstdio>
 #include <numbers>
 #include <optional>
+
+// atm_entryFromSpace() (an observer above the air: where a ray enters it): the sky shader's text
+// (atmosphere.shared.glsl) in double.
+namespace welkin::glsl::dp::lights_shared {
+#define ATM_SEGMENT_LINEAR 1e-7  // atm_segmentFactor()'s linear limit in double (as sky_model.cpp; unused here)
+#include "atmosphere.shared.glsl"
+}  // namespace welkin::glsl::dp::lights_shared
 
 namespace welkin::generators {
 
@@ -33,10 +41,9 @@ glm::dvec3 transmittanceTowards(const SkyModel& m, double h, const glm::dvec3& d
     double mu = std::clamp(dir.z, -1.0, 1.0);
     h = std::max(h, 0.0);
     if (h > Ht) {
-        double r = R + h;
-        double disc = r * r * mu * mu - (h - Ht) * (2.0 * R + h + Ht);
-        if (mu >= 0.0 || disc < 0.0) return glm::dvec3(1.0);
-        double t = -r * mu - std::sqrt(disc);
+        const double t = glsl::dp::lights_shared::atm_entryFromSpace(R, Ht, h, mu);  // the sky shader's text
+        if (t < 0.0) return glm::dvec3(1.0);
+        const double r = R + h;
         mu = std::clamp((r * mu + t) / m.topRadius, -1.0, 1.0);
         h = Ht;
     }

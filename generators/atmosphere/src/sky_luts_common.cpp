@@ -5,6 +5,7 @@
 #include <welkin/generators/atmosphere.hpp>
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/gl/shader.hpp>
+#include <welkin/glsl_cpp.hpp>
 #include <welkin/keys.hpp>
 
 #include <epoxy/gl.h>
@@ -12,6 +13,13 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+
+// The sky-irradiance sum's samples and weight (atm_irradianceSample(), atm_cosViewLight(),
+// atm_irradianceWeight()): the pass's text (sky_irradiance.glsl) in double.
+namespace welkin::glsl::dp::irradiance_shared {
+#define ATM_SEGMENT_LINEAR 1e-7  // atm_segmentFactor()'s linear limit in double (as sky_model.cpp; unused here)
+#include "atmosphere.shared.glsl"
+}  // namespace welkin::glsl::dp::irradiance_shared
 
 namespace welkin::generators {
 
@@ -194,28 +202,28 @@ void LightZenith::doRun(SkyVars& vars, const Logger&) {
     vars.set(skykeys::moonLit, vars.getOr(skykeys::moonLight, true) && glm::length(vars.get(lightkeys::moonIlluminance)) > 0.0);
 }
 
+namespace shared = glsl::dp::irradiance_shared;
+
 glm::dvec3 cpuDiffuseIrradiance(const SkyModel& m, const SkyQuality& q, double h, double muS,
                                 const std::function<glm::dvec3(double mu, double az, double nu)>& radiancePerLux) {
     // Midpoint rule in (cos^2 zenith, azimuth): E = int L cos(theta) dOmega over the upper
     // hemisphere; with x = cos^2(theta), cos(theta) dOmega = 0.5 dx dphi. Azimuth symmetric about
     // the light: integrate [0, pi] and double. Rays just below the geometric horizon of an
-    // elevated observer are not counted (a horizontal surface does not see them).
+    // elevated observer are not counted (a horizontal surface does not see them). The samples,
+    // their cosine to the light and their weight are the pass's text (atmosphere.shared.glsl);
+    // only the order of the sum differs (the pass: 64 x SKY_IRRADIANCE_GROUPS strided partial
+    // sums in float, added on the CPU; here one loop in double).
     (void)m;
     (void)h;
     const int nz = q.irradianceZenith, na = q.irradianceAzimuth;
     const double sinS = std::sqrt(std::max(0.0, 1.0 - muS * muS));
     glm::dvec3 E(0.0);
-    for (int i = 0; i < nz; ++i) {
-        double x = (i + 0.5) / nz;
-        double mu = std::sqrt(x), sinV = std::sqrt(std::max(0.0, 1.0 - x));
+    for (int i = 0; i < nz; ++i)
         for (int j = 0; j < na; ++j) {
-            double az = (j + 0.5) / na * std::numbers::pi;
-            double nu = std::clamp(sinV * sinS * std::cos(az) + mu * muS, -1.0, 1.0);
-            E += radiancePerLux(mu, az, nu);
+            const glm::dvec3 s = shared::atm_irradianceSample(i, j, nz, na);  // (mu, sin zenith, azimuth)
+            E += radiancePerLux(s.x, s.z, shared::atm_cosViewLight(s.x, s.y, s.z, muS, sinS));
         }
-    }
-    // weights: 0.5 * (1/nz) * (pi/na) * 2 (both sides of the light's vertical plane)
-    return E * (std::numbers::pi / (double(nz) * na));
+    return E * shared::atm_irradianceWeight(nz, na);
 }
 
 }  // namespace welkin::generators

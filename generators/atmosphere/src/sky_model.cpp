@@ -8,6 +8,8 @@
 #include <welkin/generators/sky_model.hpp>
 #include <welkin/glsl_cpp.hpp>
 
+#include "sky_model_access.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -40,24 +42,12 @@ static_assert(ATM_SH_COEFFICIENTS == generators::cpu::kShMaxCoefficients);
 
 // The LUT marches: atmosphere_march.shared.glsl (the passes' text) as members of SkyMarch, whose
 // other members are what the marches call of the atmosphere: the GLSL block wrappers' twins on a
-// SkyModel and its transmittance LUT.
+// SkyModel and its transmittance LUT (SkyModelAccess, shared with the clouds' SkyShadowMarch).
 namespace welkin::glsl::dp::atmosphere_shared {
-struct SkyMarch {
-    const generators::SkyModel& m;
-    const generators::Lut2D* T = nullptr;       // the transmittance LUT (atm_multiScatteringTexel(), atm_incidentRadiance())
+struct SkyMarch : SkyModelAccess {
     const generators::Lut2D* psi = nullptr;     // the multiple-scattering LUT (atm_incidentRadiance())
     const generators::Lut2D* ground = nullptr;  // the ground-irradiance row, or empty (atm_incidentRadiance())
-    real atm_bottom() const { return m.bottomRadius; }
-    vec3 atm_groundAlbedoRgb() const { return m.groundAlbedo; }
-    vec3 atm_extinction(real h) const { return m.extinction(h); }
-    vec3 atm_scatteringRayleigh(real h) const { return m.scatteringRayleigh(h); }
-    vec3 atm_scatteringMie(real h) const { return m.scatteringMie(h); }
-    real distanceToTop(real h, real mu) const { return generators::cpu::distanceToTop(m, h, mu); }
-    real distanceToBottom(real h, real mu) const { return generators::cpu::distanceToBottom(m, h, mu); }
-    bool rayIntersectsGround(real h, real mu) const { return generators::cpu::rayIntersectsGround(m, h, mu); }
-    real heightAt(real h, real mu, real t) const { return generators::cpu::heightAt(m, h, mu, t); }
     real atm_perigeeFraction(real h, real mu, real d) const { return atmosphere_shared::atm_perigeeFraction(m.bottomRadius, h, mu, d); }
-    vec3 transmittanceToLight(real h, real muS, real angular) const { return generators::cpu::transmittanceToLight(m, *T, h, muS, angular); }
     real miePhase(real nu) const { return atmosphere_shared::miePhase(nu, m.mieG, m.miePhase); }
     vec3 atm_msLutAt(real h, real muS) const { return psi->sample(generators::multiScatteringUv(m, h, muS, psi->width, psi->height)); }
     vec3 atm_groundSkyAt(real muS) const {
@@ -71,7 +61,6 @@ struct SkyMarch {
     vec4 shLo = vec4(0.0), shHi = vec4(0.0);
     const generators::cpu::EclipseGeometry* eclipse = nullptr;
     vec3 eclView = vec3(0.0, 0.0, 1.0);
-    real atm_thickness() const { return m.topRadius - m.bottomRadius; }
     bool atm_msDirectional() const { return directional; }
     int atm_shBands() const { return ms->bands; }
     vec4 atm_shFactorsLo() const { return shLo; }
@@ -92,7 +81,7 @@ struct SkyMarch {
 // A view-ray march through the field MS (T may be null where no sample reads the light).
 SkyMarch viewMarch(const generators::SkyModel& m, const generators::Lut2D* T, const generators::cpu::MsField& MS,
                    const generators::cpu::PhaseMoments& pm) {
-    SkyMarch s{m, T, &MS.psi, &MS.ground};
+    SkyMarch s{{m, T}, &MS.psi, &MS.ground};
     s.ms = &MS;
     s.directional = MS.directional;
     s.shLo = vec4(pm.mie[1], pm.mie[2], pm.rayleigh[2], pm.forward);
@@ -283,7 +272,7 @@ double perigeeFraction(const SkyModel& m, double h, double mu, double d) { retur
 }  // namespace
 
 glm::dvec3 transmittanceToTop(const SkyModel& m, double h, double mu, int steps) {
-    return shared::SkyMarch{m}.transmittanceToTop(h, mu, steps);
+    return shared::SkyMarch{{m}}.transmittanceToTop(h, mu, steps);
 }
 
 Lut2D transmittanceLut(const SkyModel& m, const SkyQuality& q) {
@@ -318,7 +307,7 @@ double warpPublic(double s, double p) { return warp(s, p); }
 double perigeeFractionPublic(const SkyModel& m, double h, double mu, double d) { return perigeeFraction(m, h, mu, d); }
 
 glm::dvec3 multiScatteringTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, double h, double muS) {
-    return shared::SkyMarch{m, &T}.atm_multiScatteringTexel(h, muS, q.multiScatteringDirections, q.multiScatteringSteps, m.sunAngularRadius);
+    return shared::SkyMarch{{m, &T}}.atm_multiScatteringTexel(h, muS, q.multiScatteringDirections, q.multiScatteringSteps, m.sunAngularRadius);
 }
 
 Lut2D multiScatteringLut(const SkyModel& m, const SkyQuality& q, const Lut2D& T) {
@@ -407,7 +396,7 @@ namespace {
 // by `ground`'s sky irradiance. The gather shared by the SH and ground-irradiance texels.
 glm::dvec3 incidentRadiance(const SkyModel& m, int steps, const Lut2D& T, const Lut2D& psi, const Lut2D& ground, double h,
                             double muS, const glm::dvec3& v, double fDelta) {
-    return shared::SkyMarch{m, &T, &psi, &ground}.atm_incidentRadiance(h, muS, v, steps, m.sunAngularRadius, fDelta);  // the SH pass's text
+    return shared::SkyMarch{{m, &T}, &psi, &ground}.atm_incidentRadiance(h, muS, v, steps, m.sunAngularRadius, fDelta);  // the SH pass's text
 }
 }  // namespace
 
@@ -443,7 +432,7 @@ glm::dvec3 groundIrradianceIterationTexel(const SkyModel& m, const SkyQuality& q
 }
 
 glm::dvec3 groundIrradiance(const SkyModel& m, const Lut2D& T, const Lut2D& ground, double muS, double lightAngularRadius) {
-    shared::SkyMarch s{m, &T, nullptr, &ground};
+    shared::SkyMarch s{{m, &T}, nullptr, &ground};
     s.directional = !ground.texels.empty();
     return s.atm_groundIrradiance(muS, lightAngularRadius);  // atmosphere.glsl's text
 }
@@ -676,10 +665,8 @@ glm::dvec3 radiance(const SkyModel& m, const Scattering& s, double nu) {
 
 SkyViewTexel skyViewTexel(const SkyModel& m, const SkyQuality& q, const Lut2D& T, const MsField& MS, double h, double muS,
                           glm::dvec2 uv, double lightAngularRadius) {
-    glm::dvec2 ma = skyViewMuAz(m, h, uv, q.skyViewW, q.skyViewH);
-    double mu = ma.x, az = ma.y;
-    double sinV = safeSqrt(1.0 - mu * mu), sinS = safeSqrt(1.0 - muS * muS);
-    double nu = std::clamp(sinV * sinS * std::cos(az) + mu * muS, -1.0, 1.0);
+    const glm::dvec3 view = shared::skyViewTexelViewS(skyViewHorizonS(m, h), uv, size2(q.skyViewW, q.skyViewH), muS);  // the pass's text
+    const double mu = view.x, nu = view.z;
     Scattering s = integrate(m, T, MS, h, mu, muS, nu, 1e30, q.skyViewSteps, true, lightAngularRadius, uv.y >= 0.5 ? 0 : 1);
     return {s.smooth, s.mieNoPhase};
 }
@@ -696,10 +683,9 @@ glm::dvec3 skyRadiance(const SkyModel& m, const Lut2D& T, const MsField& MS, dou
     h = std::max(h, 0.0);
     if (h > Ht) {
         // Observer above the atmosphere: move to where the ray enters it, if it does.
+        const double t = shared::atm_entryFromSpace(R, Ht, h, mu);  // the sky shader's text
+        if (t < 0.0) return glm::dvec3(0.0);
         double r = R + h;
-        double disc = r * r * mu * mu - (h - Ht) * (2.0 * R + h + Ht);
-        if (mu >= 0.0 || disc < 0.0) return glm::dvec3(0.0);
-        double t = -r * mu - std::sqrt(disc);
         double rt = m.topRadius;
         mu = (r * mu + t) / rt;
         muS = (r * muS + t * nu) / rt;

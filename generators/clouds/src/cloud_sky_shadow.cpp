@@ -16,26 +16,17 @@
 #include <algorithm>
 #include <cmath>
 
+#include "../../atmosphere/src/sky_model_access.hpp"
+
 // The march: cloud_sky_shadow.shared.glsl (the pass's text) in double, as members of SkyShadowMarch
-// whose other members are what it calls of the atmosphere (atmosphere.glsl's block wrappers' twins
-// on a SkyModel and its transmittance LUT) and the shadow map's read.
+// whose other members are what it calls of the atmosphere (SkyModelAccess, the atmosphere family's:
+// atmosphere.glsl's block wrappers' twins on a SkyModel and its transmittance LUT, as the sky's
+// SkyMarch has them) and the shadow map's read.
 namespace welkin::glsl::dp::sky_shadow_shared {
 #define ATM_SEGMENT_LINEAR 1e-7  // atm_segmentFactor()'s linear limit in double (as sky_model.cpp)
 #include "atmosphere.shared.glsl"
-struct SkyShadowMarch {
-    const generators::SkyModel& m;
-    const generators::Lut2D& T;
+struct SkyShadowMarch : SkyModelAccess {
     const std::function<double(glm::dvec2)>& map;
-    real atm_bottom() const { return m.bottomRadius; }
-    real atm_thickness() const { return m.topRadius - m.bottomRadius; }
-    vec3 atm_groundAlbedoRgb() const { return m.groundAlbedo; }
-    vec3 atm_extinction(real h) const { return m.extinction(h); }
-    vec3 atm_scatteringRayleigh(real h) const { return m.scatteringRayleigh(h); }
-    vec3 atm_scatteringMie(real h) const { return m.scatteringMie(h); }
-    real distanceToTop(real h, real mu) const { return generators::cpu::distanceToTop(m, h, mu); }
-    real distanceToBottom(real h, real mu) const { return generators::cpu::distanceToBottom(m, h, mu); }
-    real heightAt(real h, real mu, real t) const { return generators::cpu::heightAt(m, h, mu, t); }
-    vec3 transmittanceToLight(real h, real muS, real angular) const { return generators::cpu::transmittanceToLight(m, T, h, muS, angular); }
     real cld_skyShadowMapAt(vec2 uv) const { return map(uv); }
 #include "cloud_sky_shadow.shared.glsl"
 };
@@ -54,7 +45,7 @@ std::pair<glm::dvec3, glm::dvec3> skyShadowLoss(const SkyModel& m, const Lut2D& 
                                                 double angularRadius, glm::dvec3 dir, bool ground,
                                                 const std::function<double(glm::dvec2)>& map) {
     glm::dvec3 lossR, lossM;
-    glsl::dp::sky_shadow_shared::SkyShadowMarch{m, T, map}.cld_skyShadowLoss(
+    glsl::dp::sky_shadow_shared::SkyShadowMarch{{m, &T}, map}.cld_skyShadowLoss(
         in.observerHeightM, dir, ground, in.light, angularRadius, in.mapLight, glm::dvec4(in.shift, 1.0 / in.extentM, in.extentM),
         glm::dvec2(in.bottomM, in.topM), in.steps, deltaM, lossR, lossM);  // the pass's text
     return {lossR, lossM};

@@ -50,6 +50,29 @@ struct Weather {
     TextureRef ref() const { return {tex.id(), GL_TEXTURE_2D, tex.width(), tex.height(), 0}; }
 };
 
+// A weather map (128 x 128 texels over extentM metres) of one Gaussian blob, density
+// exp(-(r / radiusM)^4), base at the layer's bottom, top `top` (of the layer), centred northM north
+// of the map's centre.
+Weather blobWeather(double extentM, double northM, double radiusM, float top) {
+    return Weather(128, [=](double u, double v) {
+        const double x = (u - 0.5) * extentM, y = (v - 0.5) * extentM - northM;
+        const double r2 = (x * x + y * y) / (radiusM * radiusM);
+        return glm::vec4(float(std::exp(-r2 * r2)), 0.0f, top, 0.0f);
+    });
+}
+
+// A perspective camera of width x height pixels looking at (azimuth, altitude), vertical field fov (rad).
+Camera perspective(int width, int height, double azimuthRad, double altitudeRad, double fovRad) {
+    Camera cam;
+    cam.projection = Projection::Perspective;
+    cam.width = width;
+    cam.height = height;
+    cam.azimuthRad = azimuthRad;
+    cam.altitudeRad = altitudeRad;
+    cam.verticalFovRad = fovRad;
+    return cam;
+}
+
 struct Scene {
     SkyProcessor p{SkyVars::earth(), Logger(), ProcessorOptions{.astronomy = false}};
     elements::Clouds* clouds = nullptr;
@@ -360,13 +383,7 @@ TEST_CASE("Clouds: the sunward side of a cloud is brighter", "[gl][clouds]") {
     s.p.vars().set(ck::cirrusCoverage, 0.0);
     s.p.vars().set(ck::bottom, 1500.0);
     s.p.vars().set(ck::top, 2500.0);
-    Camera cam;
-    cam.projection = Projection::Perspective;
-    cam.width = 64;
-    cam.height = 48;
-    cam.azimuthRad = 0;                                  // north
-    cam.altitudeRad = std::atan2(2000.0, 4000.0);        // at the cloud's middle
-    cam.verticalFovRad = 50 * kDeg;
+    const Camera cam = perspective(64, 48, 0, std::atan2(2000.0, 4000.0), 50 * kDeg);  // north, at the cloud's middle
     s.p.setCamera(cam);
     const Image img = s.render();
     const Image ref = [&] {
@@ -575,13 +592,7 @@ TEST_CASE("Clouds: the real-time path's direction cache", "[gl][clouds]") {
         // rays' dither (by cache texel, by pixel) and the cache's bilinear resampling.
         auto s = scene(30, 64);
         s->p.vars().set(ek::cacheWidth, 1024);
-        Camera cam;
-        cam.projection = Projection::Perspective;
-        cam.width = 32;
-        cam.height = 32;
-        cam.azimuthRad = 200 * kDeg;
-        cam.altitudeRad = 8 * kDeg;
-        cam.verticalFovRad = 12 * kDeg;
+        const Camera cam = perspective(32, 32, 200 * kDeg, 8 * kDeg, 12 * kDeg);
         s->p.setCamera(cam);
         const Image cached = s->render();
         s->p.vars().set(ek::reprojection, false);
@@ -645,13 +656,7 @@ TEST_CASE("Clouds: the real-time path's direction cache", "[gl][clouds]") {
     SECTION("turning the camera needs no refill; a jump of the Sun refills at once") {
         auto s = scene(30, 64);
         s->render();
-        Camera cam;
-        cam.projection = Projection::Perspective;
-        cam.width = 32;
-        cam.height = 32;
-        cam.azimuthRad = 40 * kDeg;
-        cam.altitudeRad = 20 * kDeg;
-        cam.verticalFovRad = 60 * kDeg;
+        const Camera cam = perspective(32, 32, 40 * kDeg, 20 * kDeg, 60 * kDeg);
         s->p.setCamera(cam);
         const Image turned = s->render();
         auto fresh = scene(30, 64);
@@ -707,11 +712,7 @@ TEST_CASE("Clouds: a single cumulus is as bright as a real one", "[gl][clouds]")
     // on the weather map, 4 km north of the observer, 1.5-3.5 km, the generated noise, 0.05 /m).
     // Each view is rendered with the clouds and without them (coverage 0: the Sky alone), so the
     // cloud's pixels are those it changes by more than 5 %.
-    Weather blob(128, [](double u, double v) {
-        const double x = (u - 0.5) * 20000.0, y = (v - 0.5) * 20000.0 - 4000.0;
-        const double r2 = (x * x + y * y) / (1200.0 * 1200.0);
-        return glm::vec4(float(std::exp(-r2 * r2)), 0.0f, 0.9f, 0.0f);
-    });
+    const Weather blob = blobWeather(20000.0, 4000.0, 1200.0, 0.9f);
     const int W = 48, H = 36;
     Scene s(60, blob, Projection::Perspective, W, H);
     s.p.vars().set(ck::weatherOffset, glm::dvec2(10000, 10000));  // the blob's centre 4 km north
@@ -732,13 +733,7 @@ TEST_CASE("Clouds: a single cumulus is as bright as a real one", "[gl][clouds]")
     };
     auto render = [&](glm::dvec3 sun, double camAltDeg, double fovDeg) {
         s.p.vars().set(keys::sunDirection, sun);
-        Camera cam;
-        cam.projection = Projection::Perspective;
-        cam.width = W;
-        cam.height = H;
-        cam.azimuthRad = 0;  // north, at the cloud
-        cam.altitudeRad = camAltDeg * kDeg;
-        cam.verticalFovRad = fovDeg * kDeg;
+        const Camera cam = perspective(W, H, 0, camAltDeg * kDeg, fovDeg * kDeg);  // north, at the cloud
         s.p.setCamera(cam);
         View v;
         s.p.vars().set(ck::coverage, 1.0);
@@ -826,11 +821,7 @@ TEST_CASE("Clouds: the towering preset: a tall cumulus with a flat, darker base 
     // One of its towers: a weather-map blob 2.5 km in radius, its top at the layer's top, 12 km
     // north; the preset's layer, scattering, detail and coverage; the generated noise. The Sun 30 deg
     // up in the east (90 deg from the view).
-    Weather blob(128, [](double u, double v) {
-        const double x = (u - 0.5) * 40000.0, y = (v - 0.5) * 40000.0 - 12000.0;
-        const double r2 = (x * x + y * y) / (2500.0 * 2500.0);
-        return glm::vec4(float(std::exp(-r2 * r2)), 0.0f, 1.0f, 0.0f);
-    });
+    const Weather blob = blobWeather(40000.0, 12000.0, 2500.0, 1.0f);
     const int W = 48, H = 40;
     Scene s(30, blob, Projection::Perspective, W, H);
     s.p.vars().set(ck::weatherExtent, 40000.0);
@@ -841,13 +832,7 @@ TEST_CASE("Clouds: the towering preset: a tall cumulus with a flat, darker base 
     s.p.vars().set(ek::lightSamples, 6);
     s.p.vars().set(ek::skyShadow, false);  // the clear frame must have the same air
     s.p.vars().set(keys::sunDirection, directionFromAzAlt(90 * kDeg, 30 * kDeg));
-    Camera cam;
-    cam.projection = Projection::Perspective;
-    cam.width = W;
-    cam.height = H;
-    cam.azimuthRad = 0;
-    cam.altitudeRad = 20 * kDeg;
-    cam.verticalFovRad = 50 * kDeg;
+    const Camera cam = perspective(W, H, 0, 20 * kDeg, 50 * kDeg);
     s.p.setCamera(cam);
     const Image clouds = s.render();
     s.p.vars().set(ck::coverage, 0.0);

@@ -15,14 +15,14 @@ uniform float u_layerH;      // the crystal layer's height above the ground, m
 
 const float HALOS_PI = 3.14159265358979;
 
+#include "halos_layer.shared.glsl"
+
 void main() {
     vec3 dir;
     if (!welkin_viewDirection(welkin_pixel(), dir)) discard;
     // Where the ray crosses the layer's sphere (from below: upwards; from above: downwards).
     float r = u_R + u_h, rc = u_R + u_layerH, mu = dir.z;
-    float disc = r * r * mu * mu - (r - rc) * (r + rc);
-    if (disc < 0.0) discard;
-    float d = r < rc ? -r * mu + sqrt(disc) : -r * mu - sqrt(disc);
+    float d = halos_layerDistance(r, rc, mu);  // halos_layer.shared.glsl, as layerFactor() in halos.cpp
     if (d <= 0.0) discard;
     // Hidden by the ground (the planet's sphere) before the layer?
     float gDisc = r * r * (mu * mu - 1.0) + u_R * u_R;

@@ -9,6 +9,7 @@
 #include <welkin/generators/lights.hpp>
 #include <welkin/gl/bindings.hpp>
 #include <welkin/gl/shader.hpp>
+#include <welkin/glsl_cpp.hpp>
 #include <welkin/keys.hpp>
 
 #include <epoxy/gl.h>
@@ -16,6 +17,10 @@
 
 #include <chrono>
 #include <cmath>
+
+namespace welkin::glsl::dp::halos_shared {
+#include "../shaders/halos_layer.shared.glsl"
+}  // namespace welkin::glsl::dp::halos_shared
 
 namespace welkin::elements {
 
@@ -272,9 +277,7 @@ void Halos::doRender(const FrameContext& ctx) {
 static glm::vec2 layerFactor(double mu, double tau, double h0, double layerH, double R) {
     const double r = R + h0, rc = R + layerH;
     if (h0 < layerH) mu = std::max(mu, -std::sqrt(std::max(1.0 - R * R / (r * r), 0.0)));
-    const double disc = r * r * mu * mu - (r - rc) * (r + rc);
-    if (disc < 0.0) return {0.0f, 1.0f};
-    const double d = r < rc ? -r * mu + std::sqrt(disc) : -r * mu - std::sqrt(disc);
+    const double d = glsl::dp::halos_shared::halos_layerDistance(r, rc, mu);  // the pass's text
     if (d <= 0.0) return {0.0f, 1.0f};
     const double horiz = std::sqrt(std::max(1.0 - mu * mu, 0.0));  // the horizontal component
     const glm::dvec3 p(d * horiz, 0.0, h0 + d * mu);

@@ -171,6 +171,23 @@ struct HaloScene {
         p.renderFrame();
         return p.readHdr();
     }
+    // Crystals of one population alone (weight 1, the others 0) at halos.optical_depth 0.3.
+    void crystals(const Key<double>& population) {
+        p.vars().set(hk::opticalDepth, 0.3);
+        for (const auto* k : {&hk::plates, &hk::columns, &hk::random, &hk::parry}) p.vars().set(*k, k == &population ? 1.0 : 0.0);
+    }
+    // A perspective view up the Sun's meridian (azimuth 180 deg), width x height pixels.
+    Camera viewTowardsSun(double altitudeDeg, double fovDeg, int width, int height) {
+        Camera cam;
+        cam.projection = Projection::Perspective;
+        cam.azimuthRad = M_PI;
+        cam.altitudeRad = altitudeDeg * kDeg;
+        cam.verticalFovRad = fovDeg * kDeg;
+        cam.width = width;
+        cam.height = height;
+        p.setCamera(cam);
+        return cam;
+    }
 };
 double lum(const Image& img, int x, int y) { return 0.2126 * img.at(x, y, 0) + 0.7152 * img.at(x, y, 1) + 0.0722 * img.at(x, y, 2); }
 // Row of altitude a (deg) and its inverse; column of azimuth az (deg).
@@ -225,9 +242,7 @@ TEST_CASE("Halos: rendered 22 and 46 deg halos; nothing without crystals", "[gl]
 TEST_CASE("Halos: rendered sundogs move out with the Sun; the circumzenithal arc only below 32.2 deg", "[gl][halos]") {
     test::glContext();
     HaloScene s;
-    s.p.vars().set(hk::opticalDepth, 0.3);
-    s.p.vars().set(hk::plates, 1.0);
-    for (const auto* k : {&hk::columns, &hk::random, &hk::parry}) s.p.vars().set(*k, 0.0);
+    s.crystals(hk::plates);
     auto sundogAz = [&](const Image& img, double sunDeg) {
         const int y = int(90.0 - sunDeg);  // the row at the Sun's altitude
         int best = colOfAz(180 + 15);
@@ -260,18 +275,9 @@ TEST_CASE("Halos: rendered sundogs move out with the Sun; the circumzenithal arc
 TEST_CASE("Halos: the perspective grid path puts the 22 deg halo where the per-pixel path does", "[gl][halos]") {
     test::glContext();
     HaloScene s;
-    s.p.vars().set(hk::opticalDepth, 0.3);
-    s.p.vars().set(hk::random, 1.0);
-    for (const auto* k : {&hk::plates, &hk::columns, &hk::parry}) s.p.vars().set(*k, 0.0);
+    s.crystals(hk::random);
     // Looking up the Sun's meridian at the 22 deg halo's crest above a Sun 20 deg up.
-    Camera cam;
-    cam.projection = Projection::Perspective;
-    cam.azimuthRad = M_PI;
-    cam.altitudeRad = 42.0 * kDeg;
-    cam.verticalFovRad = 20.0 * kDeg;
-    cam.width = 64;
-    cam.height = 64;
-    s.p.setCamera(cam);
+    s.viewTowardsSun(42.0, 20.0, 64, 64);
     Image img = s.render(20);
     CHECK(s.halos->gridLastFrame());
     int best = 0;
@@ -290,9 +296,7 @@ TEST_CASE("Halos: the perspective grid path puts the 22 deg halo where the per-p
 TEST_CASE("Halos: between two slices the sundogs stay at the light's elevation", "[gl][halos]") {
     test::glContext();
     HaloScene s;
-    s.p.vars().set(hk::opticalDepth, 0.3);
-    s.p.vars().set(hk::plates, 1.0);
-    for (const auto* k : {&hk::columns, &hk::random, &hk::parry}) s.p.vars().set(*k, 0.0);
+    s.crystals(hk::plates);
     // The Sun at 25 deg, midway between the low tables' slices at 20 and 30 deg: blending the
     // two slices in place would draw two half sundogs at 20 and 30 deg; each slice is shifted by
     // the light's offset from it, so one sundog lies at 25 deg (Bravais: 26.4 deg in azimuth).
@@ -320,14 +324,7 @@ TEST_CASE("Halos: the real-time grid draws what the per-pixel pass draws", "[gl]
     s.p.vars().set(hk::preset, std::string("display"));  // every population: halos, sundogs, arcs
     // A wide view towards the Sun (20 deg up, on a slice) down to 25 deg below the horizon: the
     // 22 and 46 deg halos, the sundogs, the parhelic circle, the horizon.
-    Camera cam;
-    cam.projection = Projection::Perspective;
-    cam.azimuthRad = M_PI;
-    cam.altitudeRad = 25.0 * kDeg;
-    cam.verticalFovRad = 100.0 * kDeg;
-    cam.width = 240;
-    cam.height = 160;
-    s.p.setCamera(cam);
+    const Camera cam = s.viewTowardsSun(25.0, 100.0, 240, 160);
     Image grid = s.render(20);
     REQUIRE(s.halos->gridLastFrame());
     s.halos->setForcePerPixel(true);

@@ -37,28 +37,9 @@ flat in float v_pixelAngle;
 // The corona's radiance (Baumbach's fit): planet.cpp compiles the same text in double.
 #include "planet_corona.shared.glsl"
 
-// Outward unit normal where the view ray `d` meets the body's sphere (d within its disk):
-// rho = sin(theta) / sin(radius) is the ray's place on the disk, 0 centre, 1 limb.
-vec3 planet_normal(vec3 d, vec3 c, float s, out float rho) {
-    float cosT = dot(d, c);
-    vec3 perp = d - c * cosT;
-    float sinT = length(perp);
-    rho = sinT / s;
-    float r = min(rho, 1.0);
-    float w = sqrt(max(1.0 - r * r, 0.0));
-    vec3 e = sinT > 0.0 ? perp / sinT : vec3(0.0);
-    return normalize(-(r * sinT + cosT * w) * c + (r * cosT - sinT * w) * e);
-}
-
-float planet_lensFraction(float rs, float re, float d) {  // visibleSunFraction() in planet.cpp
-    if (d >= rs + re) return 1.0;
-    if (d <= re - rs) return 0.0;
-    if (d <= rs - re) return 1.0 - (re * re) / (rs * rs);
-    float a1 = acos(clamp((d * d + rs * rs - re * re) / (2.0 * d * rs), -1.0, 1.0));
-    float a2 = acos(clamp((d * d + re * re - rs * rs) / (2.0 * d * re), -1.0, 1.0));
-    float lens = rs * rs * (a1 - 0.5 * sin(2.0 * a1)) + re * re * (a2 - 0.5 * sin(2.0 * a2));
-    return clamp(1.0 - lens / (WELKIN_PI * rs * rs), 0.0, 1.0);
-}
+// The sphere's normal, the normal map's and the Sun's visible fraction behind the Earth:
+// planet.cpp compiles the same text in double (sphereNormal(), visibleSunFraction()).
+#include "planet_sphere.shared.glsl"
 
 // Sunlight reaching the lunar point at `n` (geocentric shadow geometry): the visible fraction of
 // the Sun's disk past the Earth (its radius enlarged for the atmosphere), plus in the shadow the
@@ -91,7 +72,7 @@ vec3 planet_moon(vec3 d, vec3 n) {
     vec2 cs = h > 1e-6 ? sel.xy / h : vec2(1.0, 0.0);  // (cos lon, sin lon)
     vec3 tE = u_moonAxes * vec3(-cs.y, cs.x, 0.0);
     vec3 tN = u_moonAxes * vec3(-sel.z * cs, h);
-    vec3 m = normalize(t.x * tE - t.y * tN + t.z * n);  // the map's G points south
+    vec3 m = planet_mapNormal(t, tE, tN, n);  // the map's G points south
     float ce = max(dot(m, -d), 0.0);
     float ci = dot(m, u_light);
     vec3 L = vec3(0.0);

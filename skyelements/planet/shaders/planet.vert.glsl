@@ -39,7 +39,7 @@ void main() {
             gl_Position = WELKIN_CLIP_INVISIBLE;
             return;
         }
-        v_pp = vec4(u_ppColour * min(fc.y * B, u_ppDiskCdM2) / max(u_ppLaterT, 1e-6), fc.x / 2.35482);
+        v_pp = vec4(u_ppColour * min(fc.y * B, u_ppDiskCdM2) / max(u_ppLaterT, 1e-6), fc.x / WELKIN_GAUSSIAN_FWHM_PER_SIGMA);
     }
     if (u_kind == 3) {
         halfPx = 4.0 * max(u_psfSigma, v_pp.w);

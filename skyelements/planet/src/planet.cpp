@@ -34,6 +34,17 @@ namespace welkin::glsl::dp::planet_corona_shared {
 #include "../shaders/planet_corona.shared.glsl"
 }  // namespace welkin::glsl::dp::planet_corona_shared
 
+// The point sources' constants (WELKIN_GAUSSIAN_FWHM_PER_SIGMA): the engine's shared file, which the
+// vertex shader gets through point_perceptual.glsl.
+namespace welkin::glsl::dp::planet_point_shared {
+#include "../../../engine/shaders/point_threshold.shared.glsl"
+}  // namespace welkin::glsl::dp::planet_point_shared
+
+namespace welkin::glsl::dp::planet_sphere_shared {
+const real WELKIN_PI = std::numbers::pi;  // (the GPU's: camera_projection.shared.glsl)
+#include "../shaders/planet_sphere.shared.glsl"
+}  // namespace welkin::glsl::dp::planet_sphere_shared
+
 namespace welkin::elements {
 
 namespace {
@@ -89,15 +100,10 @@ void verticalFrame(const glm::dvec3& c, glm::dvec3& up, glm::dvec3& left) {
 }
 
 // The sphere's outward unit normal where the ray `d` meets a sphere of apparent radius asin(s)
-// around `c` (d within it): the shader's sphereNormal().
+// around `c` (d within it): the shader's planet_normal() (planet_sphere.shared.glsl).
 glm::dvec3 sphereNormal(const glm::dvec3& d, const glm::dvec3& c, double s) {
-    const double cosT = glm::dot(d, c);
-    const glm::dvec3 perp = d - c * cosT;
-    const double sinT = glm::length(perp);
-    const double rho = std::min(sinT / s, 1.0);
-    const double w = std::sqrt(std::max(1.0 - rho * rho, 0.0));
-    const glm::dvec3 e = sinT > 0.0 ? perp / sinT : glm::dvec3(0.0);
-    return glm::normalize(-(rho * sinT + cosT * w) * c + (rho * cosT - sinT * w) * e);
+    double rho = 0.0;
+    return glsl::dp::planet_sphere_shared::planet_normal(d, c, s, rho);
 }
 
 // The magnitude written after a body's name: one decimal with an ASCII minus (the text atlas is
@@ -195,15 +201,7 @@ double earthshineRatio(double moonPhaseRad, double d) {
 
 double visibleSunFraction(double rs, double re, double d) {
     if (!(rs > 0.0) || re <= 0.0) return 1.0;
-    d = std::abs(d);
-    if (d >= rs + re) return 1.0;
-    if (d <= re - rs) return 0.0;              // the Sun wholly behind the Earth
-    if (d <= rs - re) return 1.0 - (re * re) / (rs * rs);  // the Earth wholly inside the Sun's disk
-    // Lens area of two intersecting circles.
-    const double a1 = std::acos(std::clamp((d * d + rs * rs - re * re) / (2 * d * rs), -1.0, 1.0));
-    const double a2 = std::acos(std::clamp((d * d + re * re - rs * rs) / (2 * d * re), -1.0, 1.0));
-    const double lens = rs * rs * (a1 - std::sin(2 * a1) / 2) + re * re * (a2 - std::sin(2 * a2) / 2);
-    return std::clamp(1.0 - lens / (kPi * rs * rs), 0.0, 1.0);
+    return glsl::dp::planet_sphere_shared::planet_lensFraction(rs, re, std::abs(d));  // the shader's text
 }
 
 double verticalPositionAngle(const glm::dvec3& centre, const glm::dvec3& dir) {
@@ -302,7 +300,7 @@ double moonDiskIntegral(const MoonGeometry& g, const MoonMaps& maps, int n) {
                 const glm::dvec3 t = maps.normalAt(lon, lat);
                 const glm::dvec3 tE = g.axes * glm::dvec3(-std::sin(lon), std::cos(lon), 0.0);
                 const glm::dvec3 tN = g.axes * glm::dvec3(-std::sin(lat) * std::cos(lon), -std::sin(lat) * std::sin(lon), std::cos(lat));
-                nrm = glm::normalize(t.x * tE - t.y * tN + t.z * nrm);  // the map's G points south
+                nrm = glsl::dp::planet_sphere_shared::planet_mapNormal(t, tE, tN, nrm);  // the shader's text (the map's G points south)
             }
             const double ci = glm::dot(nrm, g.sunFromMoon), ce = std::max(glm::dot(nrm, -d), 0.0);
             if (ci <= 0.0) continue;
@@ -512,7 +510,7 @@ void Planet::doRender(const FrameContext& ctx) {
     const double f = v.get(planetkeys::sizeFactor);
     const Camera& cam = ctx.camera;
     const int copies = cam.projection == Projection::Equirect ? 2 : 1;
-    const double psfSigmaPx = kPsfFwhmPx / 2.35482;
+    const double psfSigmaPx = kPsfFwhmPx / WELKIN_GAUSSIAN_FWHM_PER_SIGMA;
     // The program is bound (and its per-frame uniforms set) at the first body on screen: a frame
     // with none makes no GL call at all.
     const gl::Program& p = programs_.get(cam.projection);
@@ -559,7 +557,7 @@ void Planet::doRender(const FrameContext& ctx) {
         Placement q;
         q.scale = *s;
         q.psf = kind == kKindPsf || 2.0 * radius * std::sqrt(s->x * s->y) < minPx;
-        const double halfPx = (q.psf ? 4.0 * std::max(psfSigmaPx, ppPossible ? 8.0 * kPsfFwhmPx / 2.35482 : 0.0)
+        const double halfPx = (q.psf ? 4.0 * std::max(psfSigmaPx, ppPossible ? 8.0 * kPsfFwhmPx / WELKIN_GAUSSIAN_FWHM_PER_SIGMA : 0.0)
                                      : std::asin(std::min(std::sin(radius), 1.0)) * s->y * 1.05 + 2.0) +
                               1.0;
         for (int c = 0; c < copies && !q.onScreen; ++c) {

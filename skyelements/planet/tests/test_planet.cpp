@@ -50,25 +50,45 @@ double bestLongitude(const char* iso, const Key<glm::dvec3>& dirKey) {
 struct Scene {
     std::unique_ptr<SkyProcessor> p;
     Camera cam;
+    // A square perspective view of `size` pixels centred on the unit ENU direction d.
+    void aim(const glm::dvec3& d, double fovDeg, int size) {
+        cam.projection = Projection::Perspective;
+        cam.azimuthRad = std::atan2(d.x, d.y);
+        cam.altitudeRad = std::asin(d.z);
+        cam.verticalFovRad = fovDeg * kDeg;
+        cam.width = cam.height = size;
+        p->setCamera(cam);
+    }
 };
 
-// The Planet element alone (no Sky: it applies the transmittance itself), camera pointed at `dir`.
-Scene scene(const char* iso, double lonDeg, const Key<glm::dvec3>& target, double fovDeg, int size, std::unique_ptr<Planet> planet = nullptr) {
+// The Planet element alone (no Sky: it applies the transmittance itself) at a site and instant.
+Scene planetAt(const astro::Site& site, const UtcInstant& t, std::unique_ptr<Planet> planet = nullptr) {
     test::glContext();
     Scene s;
     s.p = std::make_unique<SkyProcessor>(SkyVars::earth(), Logger());
     s.p->add(planet ? std::move(planet) : std::make_unique<Planet>());
-    s.p->setObserver({.latitudeRad = 0, .longitudeRad = lonDeg * kDeg, .heightMeters = 0});
-    s.p->setTime(UtcInstant::parse(iso));
-    s.p->update();  // the astronomy, to aim the camera
-    const glm::dvec3 d = s.p->vars().get(target);
-    s.cam.projection = Projection::Perspective;
-    s.cam.azimuthRad = std::atan2(d.x, d.y);
-    s.cam.altitudeRad = std::asin(d.z);
-    s.cam.verticalFovRad = fovDeg * kDeg;
-    s.cam.width = s.cam.height = size;
-    s.p->setCamera(s.cam);
+    s.p->setObserver({.latitudeRad = site.latitudeRad, .longitudeRad = site.longitudeRad, .heightMeters = site.heightMeters});
+    s.p->setTime(t);
     return s;
+}
+
+// The same on the equator at longitude lonDeg, the camera pointed at `target`.
+Scene scene(const char* iso, double lonDeg, const Key<glm::dvec3>& target, double fovDeg, int size, std::unique_ptr<Planet> planet = nullptr) {
+    Scene s = planetAt({0.0, lonDeg * kDeg, 0.0}, UtcInstant::parse(iso), std::move(planet));
+    s.p->update();  // the astronomy, to aim the camera
+    s.aim(s.p->vars().get(target), fovDeg, size);
+    return s;
+}
+
+// The total solar eclipse of 2027-08-02 from Luxor (25.70 N, 32.64 E): the astronomy's own local
+// circumstances give the instants (tests/astro/test_eclipses.cpp checks them).
+const astro::Site kLuxor{25.70 * kDeg, 32.64 * kDeg, 80.0};
+astro::SolarEclipseLocal luxorTotality() {
+    const auto ecl = astro::findSolarEclipses(kLuxor, UtcInstant::parse("2027-08-01T00:00:00Z"), UtcInstant::parse("2027-08-03T00:00:00Z"),
+                                              astro::Path::Fast);
+    REQUIRE(ecl.size() == 1);
+    REQUIRE(ecl[0].c2);
+    return ecl[0];
 }
 
 double pixelSolidAngle(const Camera& cam, const glm::dvec3& d) {
@@ -614,30 +634,14 @@ TEST_CASE("Planet: labels beside the bodies (planet.labels)", "[gl][planet]") {
 }
 
 TEST_CASE("Planet: the corona at totality follows its profile; the diamond ring near C2; none outside eclipses", "[gl][planet][eclipse]") {
-    // The total solar eclipse of 2027-08-02 from Luxor (25.70 N, 32.64 E): the astronomy's own
-    // local circumstances give the instants (tests/astro/test_eclipses.cpp checks them).
-    const astro::Site luxor{25.70 * kDeg, 32.64 * kDeg, 80.0};
-    const auto ecl = astro::findSolarEclipses(luxor, UtcInstant::parse("2027-08-01T00:00:00Z"), UtcInstant::parse("2027-08-03T00:00:00Z"),
-                                              astro::Path::Fast);
-    REQUIRE(ecl.size() == 1);
-    REQUIRE(ecl[0].c2);
-    test::glContext();
+    // The total solar eclipse of 2027-08-02 from Luxor (luxorTotality()).
+    const astro::SolarEclipseLocal ecl = luxorTotality();
     auto render = [&](const UtcInstant& t, double flattening) {
-        Scene s;
-        s.p = std::make_unique<SkyProcessor>(SkyVars::earth(), Logger());
-        s.p->add(std::make_unique<Planet>());
-        s.p->setObserver({.latitudeRad = luxor.latitudeRad, .longitudeRad = luxor.longitudeRad, .heightMeters = luxor.heightMeters});
-        s.p->setTime(t);
+        Scene s = planetAt(kLuxor, t);
         s.p->vars().set(planetkeys::coronaFlattening, flattening);
         s.p->vars().set(planetkeys::earthshine, false);
         s.p->update();
-        const glm::dvec3 d = s.p->vars().get(keys::sunDirection);
-        s.cam.projection = Projection::Perspective;
-        s.cam.azimuthRad = std::atan2(d.x, d.y);
-        s.cam.altitudeRad = std::asin(d.z);
-        s.cam.verticalFovRad = 3.0 * kDeg;  // a telephoto view: the Sun ~11 px in radius
-        s.cam.width = s.cam.height = 96;
-        s.p->setCamera(s.cam);
+        s.aim(s.p->vars().get(keys::sunDirection), 3.0, 96);  // a telephoto view: the Sun ~11 px in radius
         s.p->renderFrame();
         return s;
     };
@@ -645,7 +649,7 @@ TEST_CASE("Planet: the corona at totality follows its profile; the diamond ring 
     // centre is the disk's mean radiance x Baumbach's 1.05e-7 at that pixel's exact radius (1 %:
     // float arithmetic in the shader).
     {
-        Scene s = render(ecl[0].maximum.time, 0.0);
+        Scene s = render(ecl.maximum.time, 0.0);
         const SkyVars& v = s.p->vars();
         CHECK(s.p->stats()["planet"]["corona_drawn"].get<bool>());
         CHECK_FALSE(s.p->stats()["planet"]["diamond_ring"].get<bool>());
@@ -670,7 +674,7 @@ TEST_CASE("Planet: the corona at totality follows its profile; the diamond ring 
     }
     // The diamond ring 4 s before C2: the sliver's glare drawn, brighter than the corona nearby.
     {
-        Scene s = render(ecl[0].c2->time.plusSeconds(-4.0), 0.1);
+        Scene s = render(ecl.c2->time.plusSeconds(-4.0), 0.1);
         const double f = s.p->vars().get(keys::sunEclipseFraction);
         INFO("sun.eclipse_fraction " << f);
         CHECK(f > 0.0);
@@ -680,7 +684,7 @@ TEST_CASE("Planet: the corona at totality follows its profile; the diamond ring 
     }
     // A day later at the same time: no eclipse, no corona, nothing beside the disk.
     {
-        Scene s = render(ecl[0].maximum.time.plusSeconds(86400.0), 0.0);
+        Scene s = render(ecl.maximum.time.plusSeconds(86400.0), 0.0);
         CHECK_FALSE(s.p->stats()["planet"]["corona_drawn"].get<bool>());
         const Image img = s.p->readHdr();
         const glm::dvec2 c0 = *s.cam.pixelOf(glm::normalize(s.p->vars().get(keys::sunDirection)));
@@ -698,14 +702,10 @@ TEST_CASE("Planet: Baily's beads: light through the limb's valleys before C2, no
     CHECK(lo > -4500.0);
     CHECK(hi < 4500.0);
     CHECK(lunarLimbHeightMeters(0.5 * kDeg) == Approx(0.5 * (lunarLimbProfileMeters()[0] + lunarLimbProfileMeters()[1])).epsilon(1e-6));
-    // The total eclipse of 2027-08-02 from Luxor; a view of 0.1 deg (2.8"/pixel, the limb samples
-    // 0.7") centred on the point of the Sun's limb where the last sliver is (away from the Moon).
-    const astro::Site luxor{25.70 * kDeg, 32.64 * kDeg, 80.0};
-    const auto ecl = astro::findSolarEclipses(luxor, UtcInstant::parse("2027-08-01T00:00:00Z"), UtcInstant::parse("2027-08-03T00:00:00Z"),
-                                              astro::Path::Fast);
-    REQUIRE(ecl.size() == 1);
-    REQUIRE(ecl[0].c2);
-    test::glContext();
+    // The total eclipse of 2027-08-02 from Luxor (luxorTotality()); a view of 0.1 deg (2.8"/pixel,
+    // the limb samples 0.7") centred on the point of the Sun's limb where the last sliver is (away
+    // from the Moon).
+    const astro::SolarEclipseLocal ecl = luxorTotality();
     struct Shot {
         Image img;
         Camera cam;
@@ -713,11 +713,7 @@ TEST_CASE("Planet: Baily's beads: light through the limb's valleys before C2, no
         double moonRadius, sunMean;
     };
     auto shoot = [&](const UtcInstant& t, bool profile, const glm::dvec3* aim) {
-        Scene s;
-        s.p = std::make_unique<SkyProcessor>(SkyVars::earth(), Logger());
-        s.p->add(std::make_unique<Planet>());
-        s.p->setObserver({.latitudeRad = luxor.latitudeRad, .longitudeRad = luxor.longitudeRad, .heightMeters = luxor.heightMeters});
-        s.p->setTime(t);
+        Scene s = planetAt(kLuxor, t);
         s.p->vars().set(planetkeys::corona, false);  // the photosphere alone (no glare, no corona)
         s.p->vars().set(planetkeys::earthshine, false);
         s.p->vars().set(planetkeys::limbProfile, profile);
@@ -726,12 +722,7 @@ TEST_CASE("Planet: Baily's beads: light through the limb's valleys before C2, no
         const glm::dvec3 sun = glm::normalize(v.get(keys::sunDirection)), moon = glm::normalize(v.get(keys::moonDirection));
         glm::dvec3 away = glm::normalize(sun - moon - sun * glm::dot(sun - moon, sun));
         const glm::dvec3 point = aim ? *aim : glm::normalize(sun + std::tan(v.get(ak::sunAngularRadius)) * away);
-        s.cam.projection = Projection::Perspective;
-        s.cam.azimuthRad = std::atan2(point.x, point.y);
-        s.cam.altitudeRad = std::asin(point.z);
-        s.cam.verticalFovRad = 0.1 * kDeg;
-        s.cam.width = s.cam.height = 128;
-        s.p->setCamera(s.cam);
+        s.aim(point, 0.1, 128);
         s.p->renderFrame();
         const MoonGeometry g = moonGeometry(v, 1.0);
         return Shot{s.p->readHdr(), s.cam, g.centre, g.axes[2], g.angularRadius, color::luminance(v.get(lk::sunDiskRadiance) * v.get(lk::sunTransmittance))};
@@ -741,7 +732,7 @@ TEST_CASE("Planet: Baily's beads: light through the limb's valleys before C2, no
         return lunarLimbHeightMeters(std::atan2(glm::dot(e, glm::cross(pole, s.moonCentre)), glm::dot(e, pole)));
     };
     // 4 s before C2 (the astronomy's, with the Canon's smaller C2/C3 radius): the last sliver.
-    const UtcInstant before = ecl[0].c2->time.plusSeconds(-4.0);
+    const UtcInstant before = ecl.c2->time.plusSeconds(-4.0);
     const Shot smooth = shoot(before, false, nullptr);
     const glm::dvec3 aim = *smooth.cam.directionAt({64.0, 64.0});
     const Shot beads = shoot(before, true, &aim);
@@ -772,7 +763,7 @@ TEST_CASE("Planet: Baily's beads: light through the limb's valleys before C2, no
     CHECK(hLit / std::max(litBeads, 1) < 0.0);
     // Mid-totality (the Moon's limb beyond the Sun's all round by far more than the profile's
     // +-4.3 km): no photosphere anywhere along the limb.
-    const Shot mid = shoot(ecl[0].maximum.time, true, nullptr);
+    const Shot mid = shoot(ecl.maximum.time, true, nullptr);
     double peak = 0;
     for (int y = 0; y < 128; ++y)
         for (int x = 0; x < 128; ++x) peak = std::max(peak, lum(mid.img, x, y));

@@ -77,10 +77,9 @@ vec3 marchLight(float h, float mu, vec3 dir, vec3 light, float angular, out vec3
     atm_eclView = dir;
 #endif
     if (h > Ht) {
+        float t = atm_entryFromSpace(R, Ht, h, mu);  // atmosphere.shared.glsl, as cpu::skyRadiance()
+        if (t < 0.0) return vec3(0.0);
         float r = R + h;
-        float disc = r * r * mu * mu - (h - Ht) * (2.0 * R + h + Ht);
-        if (mu >= 0.0 || disc < 0.0) return vec3(0.0);
-        float t = -r * mu - sqrt(disc);
         float rt = atm_top();
         mu = clamp((r * mu + t) / rt, -1.0, 1.0);
         muS = clamp((r * muS + t * nu) / rt, -1.0, 1.0);

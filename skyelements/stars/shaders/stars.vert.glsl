@@ -79,7 +79,7 @@ void main() {
         return;
     }
     float fwhm = clamp(u_fwhmRad * s.x, u_minFwhmPx, 256.0);
-    float sigma = fwhm / 2.35482;
+    float sigma = fwhm / WELKIN_GAUSSIAN_FWHM_PER_SIGMA;  // point_threshold.shared.glsl (via point_perceptual.glsl)
     float glare = a.w < u_glareMag ? u_glare : 0.0;
     float halo = glare > 0.0 ? 2.0 * fwhm : 0.0;
     float radius = max(3.5 * sigma, 8.0 * halo);
@@ -110,7 +110,7 @@ void main() {
         // peak is divided by the star's luminance transmittance so that the sky shows it at C B.
         float tY = dot(T, vec3(0.2126, 0.7152, 0.0722));
         float peak = fc.y * B / (u_extinction == 1 ? 1.0 : max(tY, 1e-6));
-        v_pp = vec4(peak * c.rgb * (u_extinction == 1 ? T / max(tY, 1e-6) : vec3(1.0)), fc.x / 2.35482);
+        v_pp = vec4(peak * c.rgb * (u_extinction == 1 ? T / max(tY, 1e-6) : vec3(1.0)), fc.x / WELKIN_GAUSSIAN_FWHM_PER_SIGMA);
         radius = max(radius, 3.5 * v_pp.w);
     }
     if (u_extinction == 1) E *= T;
