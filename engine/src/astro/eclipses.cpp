@@ -4,11 +4,18 @@
 #include <welkin/astro/events.hpp>
 #include <welkin/color.hpp>
 #include <welkin/error.hpp>
+#include <welkin/glsl_cpp.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <functional>
 #include <numbers>
+
+// The disks' overlap: the shaders' text (the Planet's eclipsed Sun), compiled here in double.
+namespace welkin::glsl::dp::disk_overlap_shared {
+const real WELKIN_PI = std::numbers::pi;  // (the GPU's: camera_projection.shared.glsl)
+#include "../../shaders/disk_overlap.shared.glsl"
+}  // namespace welkin::glsl::dp::disk_overlap_shared
 
 namespace welkin::astro {
 
@@ -269,14 +276,7 @@ glm::dvec3 umbraColour() {
 
 double lensVisibleFraction(double rs, double re, double d) {
     if (!(rs > 0.0)) return 1.0;
-    d = std::abs(d);
-    if (d >= rs + re) return 1.0;
-    if (d <= re - rs) return 0.0;
-    if (d <= rs - re) return 1.0 - (re * re) / (rs * rs);
-    const double a1 = std::acos(std::clamp((d * d + rs * rs - re * re) / (2.0 * d * rs), -1.0, 1.0));
-    const double a2 = std::acos(std::clamp((d * d + re * re - rs * rs) / (2.0 * d * re), -1.0, 1.0));
-    const double lens = rs * rs * (a1 - 0.5 * std::sin(2.0 * a1)) + re * re * (a2 - 0.5 * std::sin(2.0 * a2));
-    return std::clamp(1.0 - lens / (kPi * rs * rs), 0.0, 1.0);
+    return glsl::dp::disk_overlap_shared::welkin_diskVisibleFraction(rs, std::max(re, 0.0), std::abs(d));  // the shaders' text
 }
 
 ShadowLight earthShadowLight(const glm::dvec3& P, const glm::dvec3& sunFromEarth) {

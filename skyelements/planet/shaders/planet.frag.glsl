@@ -40,6 +40,7 @@ flat in float v_pixelAngle;
 // The sphere's normal, the normal map's and the Sun's visible fraction behind the Earth:
 // planet.cpp compiles the same text in double (sphereNormal(), visibleSunFraction()).
 #include "planet_sphere.shared.glsl"
+#include "../../../engine/shaders/disk_overlap.shared.glsl"  // the eclipsed Sun's fraction (also astro::lensVisibleFraction)
 
 // Sunlight reaching the lunar point at `n` (geocentric shadow geometry): the visible fraction of
 // the Sun's disk past the Earth (its radius enlarged for the atmosphere), plus in the shadow the
@@ -51,7 +52,7 @@ vec3 planet_eclipse(vec3 n) {
     vec3 s = S / dS, e = -P / dE;
     float rs = asin(min(u_sunRadius / dS, 1.0)), re = asin(min(u_earthRadius / dE, 1.0));
     float sep = atan(length(cross(s, e)), dot(s, e));
-    float f = planet_lensFraction(rs, re, sep);
+    float f = welkin_diskVisibleFraction(rs, re, sep);
     if (f >= 1.0) return vec3(1.0);
     // Refracted light: u_umbraRefracted.y of sunlight at the umbra's edge, .x at its centre
     // (astro::earthShadowLight, the same formula).

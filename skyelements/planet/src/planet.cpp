@@ -201,7 +201,7 @@ double earthshineRatio(double moonPhaseRad, double d) {
 
 double visibleSunFraction(double rs, double re, double d) {
     if (!(rs > 0.0) || re <= 0.0) return 1.0;
-    return glsl::dp::planet_sphere_shared::planet_lensFraction(rs, re, std::abs(d));  // the shader's text
+    return astro::lensVisibleFraction(rs, re, d);  // the shader's text (disk_overlap.shared.glsl)
 }
 
 double verticalPositionAngle(const glm::dvec3& centre, const glm::dvec3& dir) {
