@@ -377,6 +377,7 @@ TEST_CASE("Halos: the adaptive grid fetches per pixel only where the halos have 
     cam.width = 480;
     cam.height = 320;
     s.p.setCamera(cam);
+    s.halos->setAdaptiveCells(true);
     Image adaptive = s.render(20);
     REQUIRE(s.halos->gridLastFrame());
     const int cells = s.halos->gridCellsLastFrame(), fetch = s.halos->gridFetchCellsLastFrame();
