@@ -109,6 +109,16 @@ nlohmann::json solarJson(const SolarEclipseLocal& e) {
     j["maximum"] = contactJson(e.maximum, alt);
     j["c3"] = contactJson(e.c3, alt);
     j["c4"] = contactJson(e.c4, alt);
+    // C2/C3 with the lunar limb's profile (the last bead vanishes / the first appears), and their
+    // shifts: against a smooth limb at the mean radius, and that limb's against c2/c3 (the Canon's).
+    j["c2_limb"] = contactJson(e.c2Limb, alt);
+    j["c3_limb"] = contactJson(e.c3Limb, alt);
+    if (e.c2Limb) {
+        j["c2_limb_shift_s"] = std::round(e.c2LimbShiftSeconds * 10) / 10;
+        j["c3_limb_shift_s"] = std::round(e.c3LimbShiftSeconds * 10) / 10;
+        j["c2_mean_radius_shift_s"] = std::round(e.c2MeanShiftSeconds * 10) / 10;
+        j["c3_mean_radius_shift_s"] = std::round(e.c3MeanShiftSeconds * 10) / 10;
+    }
     return j;
 }
 
@@ -278,6 +288,11 @@ int run(const AstroOptions& opt) {
             printContact("maximum", e.maximum, "Sun");
             printContact("C3", e.c3, "Sun");
             printContact("C4", e.c4, "Sun");
+            if (e.c2Limb && e.c3Limb)
+                std::printf("    with the lunar limb's profile (Baily's beads; docs/eclipse.md): C2 %s, C3 %s\n"
+                            "      (%+.1f s and %+.1f s against a smooth limb at the mean radius, itself %+.1f s and %+.1f s from C2 and C3)\n",
+                            e.c2Limb->time.toIso().c_str(), e.c3Limb->time.toIso().c_str(), e.c2LimbShiftSeconds, e.c3LimbShiftSeconds,
+                            e.c2MeanShiftSeconds, e.c3MeanShiftSeconds);
         }
         std::printf("\nlunar eclipses from %s to %s:%s\n", from.toIso().c_str(), to.toIso().c_str(), lunar.empty() ? " none" : "");
         for (const auto& e : lunar) {

@@ -24,10 +24,13 @@
 
 #include "cli_runner.hpp"
 
+#include <welkin/astro/bodies.hpp>
 #include <welkin/astro/eclipses.hpp>
+#include <welkin/astro/lunar_limb.hpp>
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -210,4 +213,98 @@ TEST_CASE("welkin astro --events: eclipses in the window, JSON and text; bad win
     auto noEvents = runCli("astro --time 2026-08-01T00:00:00Z --lat 0 --lon 0 --from 2026-08-01T00:00:00Z");
     CHECK(noEvents.status != 0);
     CHECK(noEvents.output.find("--events") != std::string::npos);
+}
+
+TEST_CASE("Contacts with the lunar limb's profile: the margin against a brute-force scan of the Sun's limb", "[cpu][astro][eclipse]") {
+    // The independent scan: points of the Sun's boundary circle every 0.0036 deg of its own angle
+    // (100,000), each tested against the profiled limb at its own position angle from the Moon's
+    // centre (atan2, no ray-circle formula). The Moon's centre is inside the Sun's disk near a
+    // total eclipse's C2, so a ray from it meets the boundary once and the disk is covered exactly
+    // when the boundary is.
+    const double D = 3.70e8, rs = 0.2627 * kDeg, pa = 1.3;
+    auto brute = [&](double d) {
+        double worst = -1e30;
+        const double cx = d * std::sin(pa), cy = d * std::cos(pa);  // east, north from the Moon's centre
+        for (int i = 0; i < 100000; ++i) {
+            const double phi = 2.0 * std::numbers::pi * i / 100000.0;
+            const double x = cx + rs * std::sin(phi), y = cy + rs * std::cos(phi);
+            const double r = std::hypot(x, y), theta = std::atan2(x, y);
+            worst = std::max(worst, r - std::asin((kMoonMeanRadiusMeters + lunarLimbHeightMeters(theta)) / D));
+        }
+        return worst;
+    };
+    const double rm = std::asin(kMoonMeanRadiusMeters / D);
+    for (double d : {0.2 * (rm - rs), 0.8 * (rm - rs), rm - rs, 1.2 * (rm - rs)}) {
+        const LimbGeometry g{.separationRad = d, .sunPaRad = pa, .sunRadiusRad = rs, .moonDistanceM = D};
+        INFO("separation " << d / kDeg << " deg: margin " << limbCoverMargin(g) * D << " m, brute force " << brute(d) * D << " m");
+        // 20 m at the Moon: the margin's 0.05 deg scan against the brute force's 0.0036 deg on a
+        // profile whose steepest slope is ~100 m per 0.05 deg at the limb (measured < 5 m).
+        CHECK(std::abs(limbCoverMargin(g) - brute(d)) * D < 20.0);
+        // The smooth limb's margin is the closed form.
+        CHECK(limbCoverMargin({.separationRad = d, .sunPaRad = pa, .sunRadiusRad = rs, .moonDistanceM = D, .profile = false}) ==
+              Approx(d + rs - rm).margin(1e-12));
+    }
+    // Where the last bead vanishes: the separation at which each margin crosses 0 (bisection),
+    // the same within 20 m / the distance.
+    auto zero = [&](auto f) {
+        double a = 0.0, b = 2.0 * (rm - rs);  // covered at a (f < 0), not at b
+        for (int i = 0; i < 40; ++i) (f(0.5 * (a + b)) < 0.0 ? a : b) = 0.5 * (a + b);
+        return 0.5 * (a + b);
+    };
+    const double dMargin = zero([&](double d) { return limbCoverMargin({.separationRad = d, .sunPaRad = pa, .sunRadiusRad = rs, .moonDistanceM = D}); });
+    const double dBrute = zero(brute);
+    CHECK(std::abs(dMargin - dBrute) * D < 20.0);
+    // It lies within the profile's extremes of the smooth limb's (d = rm - rs), -4.3 .. +2.7 km.
+    double lo = 1e9, hi = -1e9;
+    for (float h : lunarLimbProfileMeters()) lo = std::min(lo, double(h)), hi = std::max(hi, double(h));
+    CHECK((dMargin - (rm - rs)) * D >= lo - 20.0);
+    CHECK((dMargin - (rm - rs)) * D <= hi + 20.0);
+}
+
+TEST_CASE("Contacts with the lunar limb's profile: Luxor 2027 and Burgos 2026, within the profile's extremes in time", "[cpu][astro][eclipse]") {
+    double lo = 1e9, hi = -1e9;
+    for (float h : lunarLimbProfileMeters()) lo = std::min(lo, double(h)), hi = std::max(hi, double(h));
+    struct Case {
+        Site s;
+        const char* from;
+        const char* to;
+    };
+    for (const Case& c : {Case{site(25.70, 32.64, 80.0), "2027-08-01T00:00:00Z", "2027-08-03T00:00:00Z"},
+                          Case{site(42.34, -3.70, 860.0), "2026-08-11T00:00:00Z", "2026-08-13T00:00:00Z"}}) {
+        const auto list = findSolarEclipses(c.s, UtcInstant::parse(c.from), UtcInstant::parse(c.to), Path::Fast);
+        REQUIRE(list.size() == 1);
+        const SolarEclipseLocal& e = list[0];
+        REQUIRE(e.c2);
+        REQUIRE(e.c2Limb);
+        REQUIRE(e.c3Limb);
+        // The rate at which the separation changes at C2 and C3 (rad/s, numerically over +-1 s),
+        // times the Moon's distance: how fast the limb advances over the Sun's, m/s.
+        auto rate = [&](const UtcInstant& t) {
+            auto sep = [&](double dt) {
+                const ObserverFrame f = observerFrame(c.s, timeScales(t.plusSeconds(dt)), Path::Fast);
+                const BodyState sun = computeBody(Body::Sun, f), moon = computeBody(Body::Moon, f);
+                const glm::dvec3 a = glm::normalize(sun.topo.enuGeometric), b = glm::normalize(moon.topo.enuGeometric);
+                return std::pair{std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b)), moon.topo.distanceMeters};
+            };
+            return std::abs(sep(1.0).first - sep(-1.0).first) / 2.0 * sep(0.0).second;
+        };
+        const double v2 = rate(e.c2->time), v3 = rate(e.c3->time);
+        std::printf("%s: C2 %s, with the limb profile %s (%+.2f s against a smooth limb at the mean radius, which is %+.2f s from C2); "
+                    "C3 %s, with the profile %s (%+.2f s, %+.2f s); the limb advances %.0f / %.0f m/s\n",
+                    c.from, e.c2->time.toIso().c_str(), e.c2Limb->time.toIso().c_str(), e.c2LimbShiftSeconds, e.c2MeanShiftSeconds,
+                    e.c3->time.toIso().c_str(), e.c3Limb->time.toIso().c_str(), e.c3LimbShiftSeconds, e.c3MeanShiftSeconds, v2, v3);
+        // At C2 the smooth margin falls at v: a valley of depth |lo| keeps a bead until the smooth
+        // limb is |lo| past the Sun's (later), a mountain of height hi covers it hi before; C3
+        // the mirror. Tolerance 0.15 s: the bisections' 0.05 s, the margin's 20 m scan.
+        CHECK(e.c2LimbShiftSeconds >= -hi / v2 - 0.15);
+        CHECK(e.c2LimbShiftSeconds <= -lo / v2 + 0.15);
+        CHECK(e.c3LimbShiftSeconds >= lo / v3 - 0.15);
+        CHECK(e.c3LimbShiftSeconds <= hi / v3 + 0.15);
+        // The mean radius (1737.4 km) is 0.74 km above the Canon's C2/C3 radius (k = 0.272281):
+        // its C2 comes earlier and C3 later, by 0.74 km / v.
+        CHECK(e.c2MeanShiftSeconds == Approx(-740.0 / v2).margin(0.15));
+        CHECK(e.c3MeanShiftSeconds == Approx(740.0 / v3).margin(0.15));
+        // The profile changes the contacts (a valley or a mountain is under the contact point).
+        CHECK(std::abs(e.c2LimbShiftSeconds) + std::abs(e.c3LimbShiftSeconds) > 0.1);
+    }
 }

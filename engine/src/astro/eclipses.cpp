@@ -2,6 +2,7 @@
 // Earth's shadow as the Moon's light sees it.
 #include <welkin/astro/eclipses.hpp>
 #include <welkin/astro/events.hpp>
+#include <welkin/astro/lunar_limb.hpp>
 #include <welkin/color.hpp>
 #include <welkin/error.hpp>
 #include <welkin/glsl_cpp.hpp>
@@ -71,6 +72,8 @@ std::optional<double> contact(const std::function<double(double)>& f, double ins
 
 struct SolarGeom {
     double sep = 0, sunRad = 0, moonOuterRad = 0, moonInnerRad = 0, sunAlt = 0;
+    double sunPaRad = 0;   // the Sun's centre seen from the Moon's, from the Moon's north pole through east
+    double moonDistM = 0;  // topocentric
 };
 
 SolarGeom solarAt(const Site& site, const JulianDate& jd0, Path path, double t) {
@@ -82,7 +85,19 @@ SolarGeom solarAt(const Site& site, const JulianDate& jd0, Path path, double t) 
     g.moonOuterRad = std::asin(kMoonKOuter * kEarthEquatorialRadiusMeters / moon.topo.distanceMeters);
     g.moonInnerRad = std::asin(kMoonKInner * kEarthEquatorialRadiusMeters / moon.topo.distanceMeters);
     g.sunAlt = sun.topo.altitudeGeometricRad;
+    g.moonDistM = moon.topo.distanceMeters;
+    // Position angle on the sky at the Moon's centre c: north towards the celestial pole (ENU
+    // (0, cos lat, sin lat): the pole of date within the precession since J2000, < 0.5 deg),
+    // east = pole x c; then from the Moon's own north pole (its axis' position angle P).
+    const glm::dvec3 c = glm::normalize(moon.topo.enuGeometric), s = glm::normalize(sun.topo.enuGeometric);
+    const glm::dvec3 pole(0.0, std::cos(site.latitudeRad), std::sin(site.latitudeRad));
+    const glm::dvec3 east = glm::normalize(glm::cross(pole, c)), north = glm::cross(c, east);
+    g.sunPaRad = std::atan2(glm::dot(s, east), glm::dot(s, north)) - moon.axisAngleRad;
     return g;
+}
+
+LimbGeometry limbGeometry(const SolarGeom& g, bool profile) {
+    return {.separationRad = g.sep, .sunPaRad = g.sunPaRad, .sunRadiusRad = g.sunRad, .moonDistanceM = g.moonDistM, .profile = profile};
 }
 
 struct LunarGeom {
@@ -189,6 +204,28 @@ std::vector<SolarEclipseLocal> findSolarEclipses(const Site& site, const UtcInst
                 e.c2 = EclipseContact{instantAt(jd0, *c2), geom(*c2).sunAlt};
                 e.c3 = EclipseContact{instantAt(jd0, *c3), geom(*c3).sunAlt};
                 e.durationSeconds = *c3 - *c2;
+                // With the limb's profile, and with a smooth limb at the profile's mean radius
+                // (the Canon's C2/C3 radius, k = 0.272281, is 0.74 km smaller: an allowance for
+                // the valleys). The profiled contacts lie within the profile's extremes of the
+                // mean-radius ones: a valley delays C2 by at most its depth over the rate at which
+                // the Moon's limb advances over the Sun's.
+                const bool total = e.type == SolarEclipseType::Total;
+                auto margin = [&](double t, bool profile) {
+                    const LimbGeometry lg = limbGeometry(geom(t), profile);
+                    return total ? limbCoverMargin(lg) : limbInsideMargin(lg);
+                };
+                const auto m2 = contact([&](double t) { return margin(t, false); }, tMax, -1.0, 30.0, 40);
+                const auto m3 = contact([&](double t) { return margin(t, false); }, tMax, +1.0, 30.0, 40);
+                const auto l2 = contact([&](double t) { return margin(t, true); }, tMax, -1.0, 2.0, 600);
+                const auto l3 = contact([&](double t) { return margin(t, true); }, tMax, +1.0, 2.0, 600);
+                if (margin(tMax, true) < 0.0 && l2 && l3 && m2 && m3) {
+                    e.c2Limb = EclipseContact{instantAt(jd0, *l2), geom(*l2).sunAlt};
+                    e.c3Limb = EclipseContact{instantAt(jd0, *l3), geom(*l3).sunAlt};
+                    e.c2LimbShiftSeconds = *l2 - *m2;
+                    e.c3LimbShiftSeconds = *l3 - *m3;
+                    e.c2MeanShiftSeconds = *m2 - *c2;
+                    e.c3MeanShiftSeconds = *m3 - *c3;
+                }
             }
         }
         // Visible: the upper limb above the horizon at some sampled instant from C1 to C4.

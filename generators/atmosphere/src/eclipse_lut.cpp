@@ -63,12 +63,31 @@ void EclipseSkyLut::bindMsField(const gl::Program& p) const {
     p.set("u_eclMsHalf", msTex_ ? float(shownMs_.halfExtentMeters) : 0.0f);
 }
 
-void EclipseSkyLut::renderBand(int y0, int y1) {
+int EclipseSkyLut::bandsFor(long pixels, int W, int H) {
+    if (pixels <= 0) return kEclipseTimeSlices;
+    const double maxTexels = std::max(double(pixels) / kEclipseBandPixelsPerTexel, 1.0);
+    const double n = std::ceil(double(W) * double(H) / maxTexels);
+    return int(std::clamp(n, double(kEclipseTimeSlices), double(kEclipseMaxTimeSlices)));
+}
+
+// Band k of buildBands_: up to the table's height, bands of rows; beyond it, each row band cut
+// into `cols` tiles of columns.
+void EclipseSkyLut::renderTile(int k) {
+    const int W = backSmooth_.width(), H = backSmooth_.height(), n = buildBands_;
+    const int cols = std::max(1, (n + H - 1) / H), rows = (n + cols - 1) / cols;
+    const int r = k / cols, c = k % cols;
+    renderBand(c * W / cols, (c + 1) * W / cols, r * H / rows, (r + 1) * H / rows);
+}
+
+void EclipseSkyLut::renderBand(int x0, int x1, int y0, int y1) {
     const int W = backSmooth_.width(), H = backSmooth_.height();
+    const long texels = long(x1 - x0) * long(y1 - y0);
+    largestBand_ = std::max(largestBand_, texels);
+    buildTexels_ += texels;
     backFbo_.bind();
     glViewport(0, 0, W, H);
     glEnable(GL_SCISSOR_TEST);
-    glScissor(0, y0, W, y1 - y0);
+    glScissor(x0, y0, x1 - x0, y1 - y0);
     const GLenum bufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
     glNamedFramebufferDrawBuffers(backFbo_.id(), 3, bufs);
     const Build& b = building_;
@@ -191,6 +210,8 @@ void EclipseSkyLut::doRun(SkyVars& vars, const Logger&) {
         }
         backMsTex_.upload(GL_RED, GL_FLOAT, buildingMs_.d.data());
         nextBand_ = 0;
+        buildBands_ = explicitSlices_ ? std::clamp(slices_, 1, H) : bandsFor(framePixels_, W, H);
+        largestBand_ = buildTexels_ = 0;
     };
     bool swapped = false;
     auto finish = [&] {
@@ -203,18 +224,19 @@ void EclipseSkyLut::doRun(SkyVars& vars, const Logger&) {
         shownMs_ = buildingMs_;
         nextBand_ = -1;
         swapped = true;
+        lastBuildTexels_ = buildTexels_;
     };
     const double motion = active_ ? moved(shown_) : 1e30;
     if (!active_ || motion > kEclipseJumpMeters || (slices_ <= 1 && motion > kEclipseRebuildMeters)) {
         // Nothing shown, or the shadow jumped (time set): the whole table now.
         startBuild();
-        renderBand(0, H);
+        renderBand(0, W, 0, H);
         ++rebuilds_;
         finish();
     } else {
         if (nextBand_ < 0 && motion > kEclipseRebuildMeters) startBuild();
         if (nextBand_ >= 0) {
-            const int n = std::clamp(slices_, 1, H);
+            const int cols = std::max(1, (buildBands_ + H - 1) / H), n = cols * ((buildBands_ + cols - 1) / cols);
             if (nextBand_ >= n) {
                 // The last band was rendered in the previous run: show the new table now, in a
                 // run that renders no band (sampling a table in the frame that rendered it makes
@@ -222,7 +244,7 @@ void EclipseSkyLut::doRun(SkyVars& vars, const Logger&) {
                 // 1.6-1.7x a normal frame with the band in it; docs/eclipse.md "Frame cost").
                 finish();
             } else {
-                renderBand(nextBand_ * H / n, (nextBand_ + 1) * H / n);
+                renderTile(nextBand_);
                 ++rebuilds_;
                 ++nextBand_;
                 runAgain();  // the next band (or the swap) in the next frame, whether or not an input changed

@@ -159,40 +159,6 @@ double coronaRelativeRadiance(double r, double flattening, double sinFromEquator
     return glsl::dp::planet_corona_shared::planet_coronaRelativeRadiance(r, flattening, sinFromEquator);  // the shader's text
 }
 
-const std::array<float, kLimbProfileSamples>& lunarLimbProfileMeters() {
-    static const std::array<float, kLimbProfileSamples> table = [] {
-        // splitmix64 with a fixed seed: the same profile on every machine.
-        uint64_t state = 0x6c756e61726c696dull;
-        auto next = [&] {
-            uint64_t z = (state += 0x9e3779b97f4a7c15ull);
-            z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-            z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-            return double((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
-        };
-        std::array<double, kLimbProfileSamples> h{};
-        for (int k = 4; k < kLimbProfileSamples / 2; ++k) {
-            const double phase = 2.0 * kPi * next(), amp = 1.0 / k;
-            for (int i = 0; i < kLimbProfileSamples; ++i) h[std::size_t(i)] += amp * std::cos(k * 2.0 * kPi * i / kLimbProfileSamples + phase);
-        }
-        double ss = 0;
-        for (double x : h) ss += x * x;
-        const double scale = kLimbProfileRmsMeters / std::sqrt(ss / kLimbProfileSamples);
-        std::array<float, kLimbProfileSamples> out{};
-        for (std::size_t i = 0; i < out.size(); ++i) out[i] = float(h[i] * scale);
-        return out;
-    }();
-    return table;
-}
-
-double lunarLimbHeightMeters(double paRad) {
-    const auto& t = lunarLimbProfileMeters();
-    double f = paRad / (2.0 * kPi) * kLimbProfileSamples;
-    f -= std::floor(f / kLimbProfileSamples) * kLimbProfileSamples;
-    const int i0 = int(f) % kLimbProfileSamples, i1 = (i0 + 1) % kLimbProfileSamples;
-    const double w = f - std::floor(f);
-    return t[std::size_t(i0)] * (1.0 - w) + t[std::size_t(i1)] * w;
-}
-
 double earthshineRatio(double moonPhaseRad, double d) {
     if (!(d > kEarthRadiusM)) throw Error("earthshineRatio(): Earth-Moon distance not > the Earth's radius");
     const double r = kEarthRadiusM / d;

@@ -14,6 +14,7 @@
 #include <welkin/astro/astro_keys.hpp>
 #include <welkin/elements/sky.hpp>
 #include <welkin/error.hpp>
+#include <welkin/generators/atmosphere.hpp>
 #include <welkin/generators/eclipse_reference.hpp>
 #include <welkin/generators/lights.hpp>
 #include <welkin/generators/sky_luts.hpp>
@@ -47,7 +48,8 @@ struct EclipseBenchOptions {
     bool accuracy = true;
     bool cost = true;     // false: skip the frame cost (accuracy only)
     bool coarse = false;  // the reference at the [eclipse] test's resolution (seconds) instead of its defaults (minutes)
-    bool plainModel = false;  // the accuracy part on SkyModel::earthClear() (the [eclipse] tests' CPU cases)
+    bool plainModel = false;
+    bool hazy = false;  // the accuracy part on Atmosphere::earthHazy()  // the accuracy part on SkyModel::earthClear() (the [eclipse] tests' CPU cases)
     int quality = -1;     // the sky quality of the accuracy part (-1: the processor's)
     int cycleFrames = 0;  // > 0: time every frame of this many at --seconds-per-frame, by kind
     std::string sweep;  // comma list of multiple-scattering kernel lengths L (km) to compare (model tuning)
@@ -213,6 +215,8 @@ int run(const EclipseBenchOptions& o) {
     SkyVars& v0 = on->vars();
     // The processor's atmosphere (the renderer's), or with --plain-model the CPU default with no
     // atmosphere key (SkyModel::earthClear(): what the [eclipse] tests' CPU cases integrate).
+    // --hazy: the renderer's atmosphere with Atmosphere::earthHazy() (AOD 0.4, g 0.75) instead.
+    if (o.hazy) v0.set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(atmosphere::Atmosphere::earthHazy()));
     const SkyModel m = o.plainModel ? SkyModel::earthClear() : SkyModel::fromVars(v0);
     const int quality = o.quality >= 0 ? o.quality : effectiveQuality(v0);
     const SkyQuality q = SkyQuality::preset(quality);
@@ -241,7 +245,7 @@ int run(const EclipseBenchOptions& o) {
     if (o.coarse) refOptions = {.viewSteps = 24, .gatherZenith = 8, .gatherAzimuth = 12, .gatherSteps = 16, .rings = 48};
     std::printf("reference: eclipseReferenceRadiance (%s); model: cpu::integrateEclipse, 256 steps, L = %.0f km; sky quality %d; %s\n\n",
                 o.coarse ? "the [eclipse] test's resolution" : "defaults", kEclipseMsLengthMeters / 1e3, quality,
-                o.plainModel ? "SkyModel::earthClear()" : "the renderer's atmosphere");
+                o.plainModel ? "SkyModel::earthClear()" : o.hazy ? "Atmosphere::earthHazy()" : "the renderer's atmosphere");
     std::printf("| phase (UTC, sun.eclipse_fraction) | direction (az from the Sun, alt) | reference (cd/m^2 per lx) | model / ref. | "
                 "ref., no eclipse | model / ref., no eclipse | eclipse / no eclipse (ref.) | ref. order 1 / 2 / >= 3 (share) | ref. clear >= 3 |");
     for (double L : lengths) std::printf(" L = %.0f km |", L / 1e3);
@@ -305,6 +309,7 @@ bench::CommandBenchRegistrar reg({"eclipse", "the solar eclipse's sky: frame cos
                    "also time every frame of this many at --seconds-per-frame, paired with a normal frame and classified by the "
                    "eclipse table's work in it (0: off; 300 covers a rebuild at real time), [0, 100000]")
         ->capture_default_str();
+    sub.add_option("--hazy", o->hazy, "the accuracy part on Atmosphere::earthHazy() (AOD 0.4 at 550 nm, g 0.75)")->capture_default_str();
     sub.add_option("--plain-model", o->plainModel,
                    "the accuracy part on SkyModel::earthClear() (no atmosphere key: the [eclipse] tests' CPU cases) instead of the renderer's atmosphere")
         ->capture_default_str();

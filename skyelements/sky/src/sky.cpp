@@ -151,6 +151,9 @@ void Sky::doUpdate(const FrameContext& ctx) {
 
 void Sky::doRender(const FrameContext& ctx) {
     SkyVars& v = ctx.vars;
+    // The eclipse table's bands are sized to the frame (thinner on small frames: a band costs
+    // at most about half a frame; EclipseSkyLut::setFramePixels); from the next rebuild on.
+    if (luts_.eclipse) luts_.eclipse->setFramePixels(long(ctx.camera.width) * long(ctx.camera.height));
     const SkyModel& m = luts_.sunView->model();
     const SkyQuality& q = luts_.sunView->quality();
     const double h = std::max(v.getOr(keys::observerHeight, 0.0), 0.0);

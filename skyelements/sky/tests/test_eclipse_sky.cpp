@@ -359,3 +359,50 @@ TEST_CASE("Eclipse sky: the multiple-scattering axis weight and its forward shar
     // 60 deg from the Sun: sin = 0.866, w = 1 - 0.5 (1 - 0.866) = 0.933.
     CHECK(cpu::eclipseMsAxisWeight(m, 0.5 * atOne, 0.5) == Approx(1.0 - 0.5 * (1.0 - std::sqrt(0.75))).margin(1e-12));
 }
+
+TEST_CASE("Eclipse sky: the bands are sized to the frame, and tile the table", "[cpu][eclipse]") {
+    // W x H = 384 x 108, the default quality's eclipse table. Large frames: the default 32 bands;
+    // small ones: a band holds at most pixels / kEclipseBandPixelsPerTexel texels, up to 512 bands.
+    CHECK(EclipseSkyLut::bandsFor(0, 384, 108) == kEclipseTimeSlices);
+    CHECK(EclipseSkyLut::bandsFor(1280 * 720, 384, 108) == kEclipseTimeSlices);
+    const int n320 = EclipseSkyLut::bandsFor(320 * 180, 384, 108);
+    CHECK(n320 > kEclipseTimeSlices);
+    CHECK(384.0 * 108.0 / n320 <= 320.0 * 180.0 / kEclipseBandPixelsPerTexel);
+    CHECK(EclipseSkyLut::bandsFor(160 * 90, 384, 108) == kEclipseMaxTimeSlices);
+    CHECK(EclipseSkyLut::bandsFor(1, 384, 108) == kEclipseMaxTimeSlices);
+}
+
+TEST_CASE("Eclipse sky: a small frame's rebuild in thin bands covers the table once", "[gl][eclipse]") {
+    EclipseRig ecl(kTotality, true, 32, 16);
+    REQUIRE(ecl.sky.eclipsed());
+    std::shared_ptr<EclipseSkyLut> lut = SkyLuts::obtain(ecl.vars).eclipse;
+    lut->setFramePixels(160 * 90);
+    const UtcInstant t0 = UtcInstant::parse(kTotality);
+    auto at = [&](double seconds) {
+        const JulianDate jd = t0.plusSeconds(seconds).julianDate();
+        ecl.vars.set(keys::timeJdUtc, glm::dvec2(jd.day, jd.fraction));
+        astro::updateSkyVars(ecl.vars);
+        ecl.img = ecl.r.render(ecl.sky, ecl.cam);
+    };
+    const uint32_t id0 = ecl.vars.get(skykeys::eclipseViewLut).id;
+    const int n0 = lut->rebuilds();
+    at(4.0);  // > 2 km: a rebuild starts
+    const int W = lut->smoothTexture().width(), H = lut->smoothTexture().height();
+    const int bands = lut->bandsPerRebuild();
+    CHECK(bands == EclipseSkyLut::bandsFor(160 * 90, W, H));
+    int frames = 1;
+    while (ecl.vars.get(skykeys::eclipseViewLut).id == id0 && frames < 2000) {
+        at(4.0);
+        ++frames;
+    }
+    // Work counted: every band rendered once, the last frame swapping without a band; the bands
+    // tile the table exactly (their texels sum to W x H) and none exceeds the frame's budget
+    // (rounding: one row of a tile more).
+    const int done = lut->rebuilds() - n0;
+    INFO(bands << " bands asked, " << done << " rendered in " << frames << " frames, largest " << lut->largestBandTexels() << " texels");
+    CHECK(done >= bands);
+    CHECK(done <= bands + W);  // whole tiles of columns per row band
+    CHECK(frames == done + 1);
+    CHECK(lut->lastRebuildTexels() == long(W) * long(H));
+    CHECK(lut->largestBandTexels() <= long(std::ceil(double(W) * H / bands)) + W);
+}

@@ -51,6 +51,16 @@ struct SolarEclipseLocal {
     double durationSeconds = 0;            ///< C3 - C2 (0 for a partial eclipse)
     double moonSunRatio = 0;               ///< apparent radius ratio Moon/Sun at maximum
     bool visible = false;                  ///< the Sun's upper limb is above the horizon at some time between C1 and C4
+    /// C2 and C3 with the lunar limb's profile (welkin/astro/lunar_limb.hpp) on the Moon's mean
+    /// radius: the instants the last Baily's bead vanishes and the first one appears (total), or
+    /// the profiled limb wholly enters and starts to leave the Sun's disk (annular); to 0.05 s.
+    /// Absent where the profile never covers the Sun (or never fits inside it).
+    std::optional<EclipseContact> c2Limb, c3Limb;
+    /// Unrounded differences (the EclipseContact times are printed to the second):
+    double c2LimbShiftSeconds = 0;  ///< c2Limb - C2 of a smooth limb at the mean radius, s
+    double c3LimbShiftSeconds = 0;  ///< c3Limb - C3 of a smooth limb at the mean radius, s
+    double c2MeanShiftSeconds = 0;  ///< C2 of a smooth limb at the mean radius - c2 (the Canon's k), s
+    double c3MeanShiftSeconds = 0;  ///< C3 of a smooth limb at the mean radius - c3, s
 };
 
 enum class LunarEclipseType { Penumbral, Partial, Total };

@@ -434,6 +434,14 @@ inline constexpr double kEclipseRebuildMeters = 2e3;
 /// shown meanwhile; a jump of the shadow by more than kEclipseJumpMeters (time set, not running)
 /// rebuilds it whole at once.
 inline constexpr int kEclipseTimeSlices = 32;
+/// With the frame's size known (EclipseSkyLut::setFramePixels: the Sky element sets it), the bands
+/// are made thinner on small frames so that a band costs at most about half a frame: a band
+/// texel (a ray march with the shadow at every step) costs llvmpipe ~7 us of CPU, a frame pixel of
+/// the ordinary sky ~0.05 us (docs/eclipse.md, "Frame cost"), so a band holds at most
+/// pixels / kEclipseBandPixelsPerTexel texels; at least kEclipseTimeSlices and at most
+/// kEclipseMaxTimeSlices bands (tiles of rows and, beyond the table's height, of columns).
+inline constexpr double kEclipseBandPixelsPerTexel = 300.0;
+inline constexpr int kEclipseMaxTimeSlices = 512;
 /// The texture unit of the eclipse's multiple-scattering field (shares 9 with the SH pass's ground
 /// input and the clouds' shadow map, gl::binding: never bound together with them).
 inline constexpr int kEclipseMsFieldUnit = 9;
@@ -471,11 +479,25 @@ public:
     bool building() const { return nextBand_ >= 0; }
     /// Bands per rebuild while the shadow moves smoothly (default kEclipseTimeSlices; 1: every
     /// rebuild whole at once), [1, table height].
-    void setTimeSlices(int n) { slices_ = std::max(n, 1); }
+    void setTimeSlices(int n) {
+        slices_ = std::max(n, 1);
+        explicitSlices_ = true;
+    }
+    /// The frame's pixels (the Sky element's camera): unless setTimeSlices() fixed the bands,
+    /// a rebuild is spread over bandsFor(pixels) bands (kEclipseBandPixelsPerTexel).
+    void setFramePixels(long pixels) { framePixels_ = pixels; }
+    /// The bands a rebuild of a W x H table takes for a frame of `pixels` (0: kEclipseTimeSlices).
+    static int bandsFor(long pixels, int W, int H);
+    /// The bands of the rebuild in progress or the last one, and the largest band's texels.
+    int bandsPerRebuild() const { return buildBands_; }
+    long largestBandTexels() const { return largestBand_; }
+    /// Texels rendered by the bands of the last finished rebuild (W x H when they tile the table).
+    long lastRebuildTexels() const { return lastBuildTexels_; }
 
 private:
     void doRun(SkyVars& vars, const Logger& log) override;
-    void renderBand(int y0, int y1);
+    void renderBand(int x0, int x1, int y0, int y1);
+    void renderTile(int k);  // band k of buildBands_
     gl::Texture2D smooth_, mie_, total_, backSmooth_, backMie_, backTotal_, msTex_, backMsTex_;
     gl::Framebuffer fbo_, backFbo_;
     gl::Program prog_;
@@ -490,6 +512,10 @@ private:
     cpu::EclipseMsTable shownMs_, buildingMs_;
     int nextBand_ = -1;  // the next band of the build in progress; -1 none
     int slices_ = kEclipseTimeSlices, rebuilds_ = 0;
+    bool explicitSlices_ = false;
+    long framePixels_ = 0;
+    int buildBands_ = kEclipseTimeSlices;
+    long largestBand_ = 0, buildTexels_ = 0, lastBuildTexels_ = 0;
 };
 /// Horizontal illuminance at the observer (global/direct/diffuse, Sun and Moon) and the zenith
 /// luminance, integrated on the GPU from the sky-view LUTs; read back (16 floats) only when an

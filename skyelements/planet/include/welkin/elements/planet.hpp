@@ -57,6 +57,7 @@
 //    Sun); PSFs are transparent. Drawn Sun, planets, then the Moon.
 #pragma once
 #include <welkin/astro/bodies.hpp>
+#include <welkin/astro/lunar_limb.hpp>
 #include <welkin/element.hpp>
 #include <welkin/gl/objects.hpp>
 #include <welkin/gl/text.hpp>
@@ -117,18 +118,12 @@ inline constexpr double kCoronaExtentSolarRadii = 6.0;
 inline constexpr double kDiamondRingFraction = 0.01;
 inline constexpr double kDiamondGlare = 0.1;
 
-/// The lunar limb's height above the mean limb (radius 1737.4 km), metres, at position angle
-/// `paRad` (from the Moon's north pole through east). Not a measured profile: a deterministic
-/// random one with the statistics of the measured ones: 176 harmonics (k = 4..179: features of
-/// 1-45 deg of position angle, 30 km to 1400 km along the limb) with amplitudes falling as 1/k
-/// (a k^-2 power spectrum, as the lunar topography's at these scales) and random phases, scaled
-/// to an RMS of 1.2 km; its extremes, -4.3 and +2.7 km, are about the +-2" (+-3.7 km at the mean distance)
-/// between which the limb profiles of the Watts charts (Watts 1963) and of Kaguya's laser
-/// altimetry lie. Tabulated every degree (kLimbProfileSamples) and interpolated linearly.
-double lunarLimbHeightMeters(double paRad);
-inline constexpr int kLimbProfileSamples = 360;  ///< one per degree of position angle
-inline constexpr double kLimbProfileRmsMeters = 1200.0;
-const std::array<float, kLimbProfileSamples>& lunarLimbProfileMeters();
+/// The lunar limb's profile (the engine's astronomy: welkin/astro/lunar_limb.hpp, which the
+/// contacts of findSolarEclipses() use too).
+using astro::kLimbProfileRmsMeters;
+using astro::kLimbProfileSamples;
+using astro::lunarLimbHeightMeters;
+using astro::lunarLimbProfileMeters;
 
 /// Limb-darkening exponent a(lambda) of I(mu)/I(1) = mu^a (Hestroffer & Magnan 1998), lambda in
 /// nm, [300, 2000].
