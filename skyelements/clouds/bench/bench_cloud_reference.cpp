@@ -116,6 +116,7 @@ struct SceneDef {
     const char* preset;       // Preset scenes: clouds.preset
     double sunAz, sunAlt;     // deg
     double camAz, camAlt, fov;  // deg
+    double camHeight = 0.5;     // m above the ground (the real-time observer's height; 0.5: on the ground)
 };
 const SceneDef kScenes[] = {
     // A uniform deck of tau = 10 between 1 and 2 km, the Sun at the zenith, seen from below.
@@ -133,6 +134,11 @@ const SceneDef kScenes[] = {
     {"fair-sunset", SceneKind::Preset, "fair", 290, 4, 220, 12, 50},
     // The overcast preset's deck, Sun 60 deg up in the south, looking north 45 deg up.
     {"overcast", SceneKind::Preset, "overcast", 180, 60, 0, 45, 60},
+    // Seen from above (an aircraft at 6 km): the single cumulus 4 km north, looked down on 35 deg,
+    // the Sun 60 deg up in the east. From inside: the uniform deck of tau = 10 with the camera in its
+    // middle (1.5 km), looking north along the horizon, the Sun at the zenith.
+    {"cumulus-from-above", SceneKind::Blob, "", 90, 60, 0, -35, 50, 6000.0},
+    {"deck-inside", SceneKind::Deck, "", 0, 90, 0, 0, 60, 1500.0},
 };
 std::string sceneNames() {
     std::string n;
@@ -246,6 +252,8 @@ int run(const CloudReferenceOptions& o) {
         p.vars().set(atmosphere::kAtmosphere, atm);
         p.vars().set(keys::sunDirection, sun);
         p.vars().set(keys::moonDirection, glm::dvec3(0.0, 0.0, -1.0));
+        if (sd->camHeight > 0.5) p.setObserver({.heightMeters = sd->camHeight});  // the processor writes observer.height_m from it
+        const glm::dvec3 camOrigin(0.0, 0.0, sd->camHeight);  // the path tracer's camera
         p.setCamera(cam);
         p.add(std::make_unique<elements::Sky>());
         p.add(std::make_unique<elements::Clouds>());
@@ -354,12 +362,12 @@ int run(const CloudReferenceOptions& o) {
                     const int x = int(i % o.width), y = int(i / o.width);
                     const auto d = cam.directionAt({x + 0.5, y + 0.5});
                     if (!d) continue;
-                    const cloudref::Estimate e = cloudref::radiance(s, {0.0, 0.0, 0.5}, *d, o.paths, o.seed, i);
+                    const cloudref::Estimate e = cloudref::radiance(s, camOrigin, *d, o.paths, o.seed, i);
                     ref[i] = e.mean;
                     sig[i] = lum(e.sigma);
                     cloudref::Rng rng(o.seed + 7, i);
                     double tr = 0.0;
-                    for (int k = 0; k < 4; ++k) tr += 0.25 * cloudref::ratioTrackingTransmittance(medium, {0.0, 0.0, 0.5}, *d, 1e7, rng);
+                    for (int k = 0; k < 4; ++k) tr += 0.25 * cloudref::ratioTrackingTransmittance(medium, camOrigin, *d, 1e7, rng);
                     trans[i] = tr;
                 }
             };
@@ -436,7 +444,7 @@ int run(const CloudReferenceOptions& o) {
         std::vector<int> region(ref.size(), -1);
         {
             const double R = medium.planetRadiusM(), bottomM = v.get(ck::bottom), topM = v.get(ck::top);
-            const glm::dvec3 origin(0.0, 0.0, 0.5);
+            const glm::dvec3 origin = camOrigin;
             auto clear = [&](int x, int y) { return x >= 0 && y >= 0 && x < o.width && y < o.height && trans[size_t(y) * o.width + x] >= 0.5; };
             for (size_t i = 0; i < ref.size(); ++i) {
                 if (trans[i] >= 0.5) continue;
@@ -649,10 +657,10 @@ bench::CommandBenchRegistrar reg({"cloud-reference", "the real-time clouds again
                      .title = "Clouds: accuracy and cost against the path tracer, by scene and quality",
                      .what = "The real-time clouds (per-pixel march) against the Monte Carlo path tracer on the fixed scenes of "
                              "skyelements/clouds/README.md (a uniform deck, one cumulus lit from the side, from behind and from above, the fair "
-                             "field at noon and at sunset, the overcast deck): RMS and 95th-percentile luminance error over the cloud "
+                             "field at noon and at sunset, the overcast deck, the cumulus seen from 6 km above, the deck from inside): RMS and 95th-percentile luminance error over the cloud "
                              "pixels, at 40x22 px (the reference's own noise included), and each quality's frame at 320x180 against a "
                              "trivial pass. Qualities: low 16 samples and 3 light samples, default 48 and 6, high 128 and 12.",
-                     .args = {"--scenes", "deck,cumulus-side,cumulus-behind,cumulus-above,fair-noon,fair-sunset,overcast", "--qualities",
+                     .args = {"--scenes", "deck,cumulus-side,cumulus-behind,cumulus-above,fair-noon,fair-sunset,overcast,cumulus-from-above,deck-inside", "--qualities",
                               "low,default,high", "--width", "40", "--height", "22", "--paths", "64", "--truncate-deg", "3", "--cost-size",
                               "320x180", "--repeats", "3"},
                      .quickArgs = {"--scenes", "cumulus-side", "--qualities", "default", "--width", "24", "--height", "14", "--paths", "16",
