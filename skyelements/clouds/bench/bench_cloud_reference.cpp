@@ -104,6 +104,8 @@ gl::Texture makeTexture(int n, bool is3D, const std::function<glm::vec4(double, 
 }
 
 double lum(const glm::dvec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
+// The cloud pixels' regions (the per-region error line).
+const char* const kRegionNames[4] = {"edge", "base", "sunlit", "shaded"};
 
 // The fixed scenes (skyelements/clouds/README.md, "The real-time clouds against the reference"). Sun and camera
 // azimuths from north towards east, degrees.
@@ -114,6 +116,7 @@ struct SceneDef {
     const char* preset;       // Preset scenes: clouds.preset
     double sunAz, sunAlt;     // deg
     double camAz, camAlt, fov;  // deg
+    double camHeight = 0.5;     // m above the ground (the real-time observer's height; 0.5: on the ground)
 };
 const SceneDef kScenes[] = {
     // A uniform deck of tau = 10 between 1 and 2 km, the Sun at the zenith, seen from below.
@@ -131,6 +134,11 @@ const SceneDef kScenes[] = {
     {"fair-sunset", SceneKind::Preset, "fair", 290, 4, 220, 12, 50},
     // The overcast preset's deck, Sun 60 deg up in the south, looking north 45 deg up.
     {"overcast", SceneKind::Preset, "overcast", 180, 60, 0, 45, 60},
+    // Seen from above (an aircraft at 6 km): the single cumulus 4 km north, looked down on 35 deg,
+    // the Sun 60 deg up in the east. From inside: the uniform deck of tau = 10 with the camera in its
+    // middle (1.5 km), looking north along the horizon, the Sun at the zenith.
+    {"cumulus-from-above", SceneKind::Blob, "", 90, 60, 0, -35, 50, 6000.0},
+    {"deck-inside", SceneKind::Deck, "", 0, 90, 0, 0, 60, 1500.0},
 };
 std::string sceneNames() {
     std::string n;
@@ -244,6 +252,8 @@ int run(const CloudReferenceOptions& o) {
         p.vars().set(atmosphere::kAtmosphere, atm);
         p.vars().set(keys::sunDirection, sun);
         p.vars().set(keys::moonDirection, glm::dvec3(0.0, 0.0, -1.0));
+        if (sd->camHeight > 0.5) p.setObserver({.heightMeters = sd->camHeight});  // the processor writes observer.height_m from it
+        const glm::dvec3 camOrigin(0.0, 0.0, sd->camHeight);  // the path tracer's camera
         p.setCamera(cam);
         p.add(std::make_unique<elements::Sky>());
         p.add(std::make_unique<elements::Clouds>());
@@ -352,12 +362,12 @@ int run(const CloudReferenceOptions& o) {
                     const int x = int(i % o.width), y = int(i / o.width);
                     const auto d = cam.directionAt({x + 0.5, y + 0.5});
                     if (!d) continue;
-                    const cloudref::Estimate e = cloudref::radiance(s, {0.0, 0.0, 0.5}, *d, o.paths, o.seed, i);
+                    const cloudref::Estimate e = cloudref::radiance(s, camOrigin, *d, o.paths, o.seed, i);
                     ref[i] = e.mean;
                     sig[i] = lum(e.sigma);
                     cloudref::Rng rng(o.seed + 7, i);
                     double tr = 0.0;
-                    for (int k = 0; k < 4; ++k) tr += 0.25 * cloudref::ratioTrackingTransmittance(medium, {0.0, 0.0, 0.5}, *d, 1e7, rng);
+                    for (int k = 0; k < 4; ++k) tr += 0.25 * cloudref::ratioTrackingTransmittance(medium, camOrigin, *d, 1e7, rng);
                     trans[i] = tr;
                 }
             };
@@ -425,6 +435,47 @@ int run(const CloudReferenceOptions& o) {
         }
         const double refSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
+        // Where the error is: each cloud pixel's region, from the density's CPU twin (the full
+        // medium). The visible point is where the camera ray's optical depth reaches 1 (the last
+        // cloud sample if it never does); its depth towards the Sun is marched in 20 m steps over at
+        // most 5 km. Regions, first match: edge (a clear pixel among the 8 neighbours, as the
+        // edge/inside ratio), base (the visible point in the lowest 10 % of the layer), sunlit (the
+        // depth towards the Sun < 2), shaded (the rest).
+        std::vector<int> region(ref.size(), -1);
+        {
+            const double R = medium.planetRadiusM(), bottomM = v.get(ck::bottom), topM = v.get(ck::top);
+            const glm::dvec3 origin = camOrigin;
+            auto clear = [&](int x, int y) { return x >= 0 && y >= 0 && x < o.width && y < o.height && trans[size_t(y) * o.width + x] >= 0.5; };
+            for (size_t i = 0; i < ref.size(); ++i) {
+                if (trans[i] >= 0.5) continue;
+                const int x = int(i % o.width), y = int(i / o.width);
+                bool edge = false;
+                for (int j = -1; j <= 1; ++j)
+                    for (int k = -1; k <= 1; ++k) edge = edge || clear(x + k, y + j);
+                if (edge) {
+                    region[i] = 0;
+                    continue;
+                }
+                const auto d = cam.directionAt({x + 0.5, y + 0.5});
+                if (!d) continue;
+                cloudref::Interval iv[4];
+                const int n = medium.support(origin, *d, 1e5, iv);
+                double tau = 0.0;
+                glm::dvec3 pv = origin;
+                for (int k = 0; k < n && tau < 1.0; ++k)
+                    for (double t = iv[k].t0 + 5.0; t < iv[k].t1 && tau < 1.0; t += 10.0) {
+                        const glm::dvec3 q = origin + t * *d;
+                        const double e = medium.extinctionPerM(q);
+                        if (e > 0) pv = q;
+                        tau += e * 10.0;
+                    }
+                const double h = glm::length(pv + glm::dvec3(0.0, 0.0, R)) - R;
+                double tauSun = 0.0;
+                for (double t = 10.0; t < 5000.0 && tauSun < 2.0; t += 20.0) tauSun += medium.extinctionPerM(pv + t * sun) * 20.0;
+                region[i] = h < bottomM + 0.1 * (topM - bottomM) ? 1 : tauSun < 2.0 ? 2 : 3;
+            }
+        }
+
         // Per quality: the real-time frame at the reference's size, its error over the cloud pixels
         // (the path-traced camera ray's cloud transmittance < 0.5, farther than 3 deg from the Sun:
         // the real-time frame has the solar disk, the reference's Sun is a delta light), and the
@@ -445,6 +496,12 @@ int run(const CloudReferenceOptions& o) {
         r.refSeconds = refSeconds;
         std::vector<double> rel;
         double se = 0.0, sRef = 0.0, sRt = 0.0, sNoise = 0.0, sVar = 0.0;
+        struct RegionSums {
+            double se = 0, var = 0, ref = 0, rt = 0;
+            int n = 0;
+            std::vector<double> rel;
+        };
+        std::vector<RegionSums> regions(4);
         for (size_t i = 0; i < ref.size(); ++i) {
             if (trans[i] >= 0.5) continue;
             const int x = int(i % o.width), y = int(i / o.width);
@@ -459,7 +516,24 @@ int run(const CloudReferenceOptions& o) {
             sVar += sig[i] * sig[i];
             rel.push_back(yr > 0 ? std::abs(yt / yr - 1.0) : 0.0);
             ++r.pixels;
+            if (region[i] >= 0) {
+                RegionSums& g = regions[size_t(region[i])];
+                g.se += (yt - yr) * (yt - yr), g.var += sig[i] * sig[i], g.ref += yr, g.rt += yt, ++g.n;
+                g.rel.push_back(yr > 0 ? std::abs(yt / yr - 1.0) : 0.0);
+            }
         }
+        std::printf("%-14s %-7s by region:", name.c_str(), q->name);
+        for (size_t k = 0; k < regions.size(); ++k) {
+            RegionSums& g = regions[k];
+            if (g.n == 0) {
+                std::printf("  %s none", kRegionNames[k]);
+                continue;
+            }
+            std::sort(g.rel.begin(), g.rel.end());
+            std::printf("  %s %d px bias %.2f RMS %.0f %% p95 %.0f %%", kRegionNames[k], g.n, g.rt / g.ref,
+                        100 * std::sqrt(std::max(0.0, g.se - g.var) / g.n) / (g.ref / g.n), 100 * g.rel[std::min(g.rel.size() - 1, size_t(0.95 * double(g.rel.size())))]);
+        }
+        std::printf("\n");
         if (r.pixels == 0) throw Error("bench cloud-reference: scene " + name + " has no cloud pixels");
         // The silhouette against the inside: the mean luminance of the cloud pixels next to a clear
         // one (8-neighbourhood) over that of the pixels >= 3 px from any clear one, in each image
@@ -583,10 +657,10 @@ bench::CommandBenchRegistrar reg({"cloud-reference", "the real-time clouds again
                      .title = "Clouds: accuracy and cost against the path tracer, by scene and quality",
                      .what = "The real-time clouds (per-pixel march) against the Monte Carlo path tracer on the fixed scenes of "
                              "skyelements/clouds/README.md (a uniform deck, one cumulus lit from the side, from behind and from above, the fair "
-                             "field at noon and at sunset, the overcast deck): RMS and 95th-percentile luminance error over the cloud "
+                             "field at noon and at sunset, the overcast deck, the cumulus seen from 6 km above, the deck from inside): RMS and 95th-percentile luminance error over the cloud "
                              "pixels, at 40x22 px (the reference's own noise included), and each quality's frame at 320x180 against a "
                              "trivial pass. Qualities: low 16 samples and 3 light samples, default 48 and 6, high 128 and 12.",
-                     .args = {"--scenes", "deck,cumulus-side,cumulus-behind,cumulus-above,fair-noon,fair-sunset,overcast", "--qualities",
+                     .args = {"--scenes", "deck,cumulus-side,cumulus-behind,cumulus-above,fair-noon,fair-sunset,overcast,cumulus-from-above,deck-inside", "--qualities",
                               "low,default,high", "--width", "40", "--height", "22", "--paths", "64", "--truncate-deg", "3", "--cost-size",
                               "320x180", "--repeats", "3"},
                      .quickArgs = {"--scenes", "cumulus-side", "--qualities", "default", "--width", "24", "--height", "14", "--paths", "16",

@@ -21,7 +21,6 @@ uniform float u_cirrusTau;   // vertical optical depth of cirrus at relative den
 const float CLD_PI = 3.14159265358979;
 // Sun's angular radius (the transmittance's smooth horizon); the Moon's is nearly the same.
 const float CLD_LIGHT_RADIUS = 0.00465;
-const float CLD_GROUND_ALBEDO = 0.2;  // reflectance of the ground lighting the cloud bases (grass, soil)
 
 // The droplets' phase functions and the light transfer (cld_hg, cld_draine, cld_scaledPhase,
 // cld_lightTransfer, cld_ambientTransfer): clouds_transfer.shared.glsl, which clouds.cpp compiles
@@ -81,7 +80,8 @@ vec3 cld_source(vec3 p, float hp, vec3 dir, float sigmaT) {
         if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightTransfer(dot(dir, u_moonDir), cld_lightDepth(p, u_moonDir, u_lightSamples), cld_backDepth(p, u_moonDir), u_moonDir.z);
     }
     // Ambient (skyelements/clouds/README.md, "Ambient"): the clear sky's diffuse light from above the layer and
-    // the ground's from below it (albedo x the global illuminance under the clouds, which the
+    // the ground's from below it (the atmosphere's ground albedo, the Sky's and the path tracer's,
+    // x the global illuminance under the clouds, which the
     // photometry pass solves for: the ground is lit by what came through them), each a uniform
     // hemisphere carried into the cloud by cld_ambientTransfer through the vertical optical depths
     // to the layer's top and bottom (the local extinction over the distances: exact in a deck).
@@ -90,7 +90,7 @@ vec3 cld_source(vec3 p, float hp, vec3 dir, float sigmaT) {
     float tauUp = sigmaT * max(layerTop - hp, 0.0), tauDown = sigmaT * max(hp - layerBottom, 0.0);
     float nuUp = dot(dir, up);
     S += u_ambientE * cld_ambientTransfer(nuUp, tauUp, tauDown);
-    S += CLD_GROUND_ALBEDO * u_groundE * cld_ambientTransfer(-nuUp, tauDown, tauUp);
+    S += atm_groundAlbedoRgb() * u_groundE * cld_ambientTransfer(-nuUp, tauDown, tauUp);
     return S * sigmaT;
 }
 

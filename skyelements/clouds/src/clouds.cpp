@@ -52,12 +52,12 @@ constexpr double kMsMuMin = 0.2;  // the cos(zenith) below which the factor stay
 // zenith; 29 directions each, transmitted and reflected, 3.5-180 deg from the Sun) and to
 // adding-doubling's fluxes (tau 3-100, mu0 1 and 0.5), skyelements/clouds/README.md "Light transport". The
 // ambient keeps the constants above (its own fit against adding-doubling).
-constexpr double kSunK = 0.8 * 1.0714;  // scale
-constexpr double kSunC = 0.1200;        // thin-cloud onset per optical depth
-constexpr double kSunH = 0.9981;        // the net flux's share towards the light's direction
-constexpr double kSunZ = 1.4409;        // the bottom's extrapolation length (transport depth)
-constexpr double kFwW[5] = {0.5654, 0.3065, 0.3210, 0.3330, 0.3023};  // per order's share left
-constexpr double kFwG[5] = {0.9902, 0.7468, 0.6788, 0.6463, 0.6463};  // its lobe's asymmetry
+constexpr double kSunK = kLightTransferFit.k;  // scale
+constexpr double kSunC = kLightTransferFit.c;  // thin-cloud onset per optical depth
+constexpr double kSunH = kLightTransferFit.h;  // the net flux's share towards the light's direction
+constexpr double kSunZ = kLightTransferFit.z;  // the bottom's extrapolation length (transport depth)
+constexpr const double (&kFwW)[5] = kLightTransferFit.w;  // per order's share left
+constexpr const double (&kFwG)[5] = kLightTransferFit.g;  // its lobe's asymmetry
 // The ambient's diffusion term per horizontal lux of a diffuse hemisphere: mu^q / mu averaged
 // over its cosine-weighted directions, int 2 mu mu^(q - 1) dmu = 2 / (1 + q).
 constexpr double kMsAmbient = 2.0 / (1.0 + kMsQ);

@@ -18,7 +18,7 @@ TEST_CASE("welkin bench cloud-reference: bad options are one-line errors", "[cpu
                                   {"--height 2000", "--height 2000 not in [8, 1024]"},
                                   {"--paths 0", "--paths 0 not in [1, 65536]"},
                                   {"--threads 65", "--threads 65 not in [1, 64]"},
-                                  {"--scenes deck,tower", "--scenes: 'tower' not one of deck, cumulus-side, cumulus-behind, cumulus-above, fair-noon, fair-sunset, overcast"},
+                                  {"--scenes deck,tower", "--scenes: 'tower' not one of deck, cumulus-side, cumulus-behind, cumulus-above, fair-noon, fair-sunset, overcast, cumulus-from-above, deck-inside"},
                                   {"--qualities best", "--qualities: 'best' not one of low, default, high"},
                                   {"--cost-size 320", "--cost-size '320': not WxH with W and H in [8, 4096] (empty: no timing)"},
                                   {"--repeats 0", "--repeats 0 not in [1, 1000]"},

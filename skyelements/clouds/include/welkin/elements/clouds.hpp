@@ -75,6 +75,18 @@ inline constexpr double kDropletGPeak = 0.9946;       ///< the diffraction peak'
 inline constexpr double kDropletGDraine = 0.5938;     ///< the Draine lobe's g
 inline constexpr double kDropletAlphaDraine = 27.11;  ///< the Draine lobe's alpha
 inline constexpr double kDropletWDraine = 0.4982;     ///< the Draine lobe's weight w_D (delta-M: 1 - f)
+/// The fitted constants of the lights' transfer (lightTransfer(): its diffusion term's k, c, h, z
+/// and the forward-peaked orders' w_m, g_m, m = 0..4), as `welkin bench cloud-fit` regenerates
+/// them from the path tracer's slab radiances and adding-doubling's fluxes
+/// (skyelements/clouds/README.md, "The fit"). c per unscaled optical depth.
+struct LightTransferConstants {
+    double k, c, h, z;
+    double w[5], g[5];
+};
+/// The committed fit: `welkin bench cloud-fit --paths 60000 --seed 1` (2026-11-27, 263 s).
+inline constexpr LightTransferConstants kLightTransferFit{0.63055, 0.1100, 0.5282, 2.1264,
+                                                          {0.7765, 0.5273, 0.5273, 0.5273, 0.5273},
+                                                          {0.9925, 0.6025, 0.4535, 0.4535, 0.4535}};
 /// The droplets' phase function (1/sr) at cos(scattering angle) nu in [-1, 1]: the diffraction
 /// peak, the forward lobe and the backward rise (asymmetry 0.88). Integrates to 1.
 double cloudPhase(double nu);
