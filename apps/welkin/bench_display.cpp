@@ -550,8 +550,9 @@ int run(DisplayBenchOptions o) {
         md << "\n";
     }
     if (!budgets.empty()) {
-        md << "### Frame budget per element (this build)\n\nEach element's update + render per frame, the tone map, the shared "
-              "generators and the whole `renderFrame()`, time stopped, as ratios to a trivial fullscreen pass timed alternately "
+        md << "### Frame budget per element (this build)\n\nEach element's update + render per frame, the tone map (the eye's "
+              "meter in `renderFrame()` and the pass into the display, `toneMapInto()`), the shared generators and the displayed "
+              "frame's work (`renderFrame()` + that pass), time stopped, as ratios to a trivial fullscreen pass timed alternately "
               "with the frames (median of "
            << o.budgetFrames << " frames; renderer " << renderer << ").\n\n";
         for (const BudgetTable& t : budgets) md << budgetMarkdown(t, o) << "\n";

@@ -373,6 +373,9 @@ int run(const FrameBenchOptions& o) {
                 glViewport(0, 0, w, h);
                 vao.bind();
                 fbFetchCopy.use();
+                // A dual-source blend function left set (blending off) still limits the draw to
+                // one colour buffer: INVALID_OPERATION with two.
+                glBlendFunc(GL_ONE, GL_ZERO);
                 glColorMaski(0, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
                 glDrawArrays(GL_TRIANGLES, 0, 3);
                 glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
