@@ -311,7 +311,76 @@ int run(const FrameBenchOptions& o) {
                     glDisable(GL_BLEND);
                 };
             };
-            const std::vector<std::pair<std::string, std::function<void()>>> floor = {
+            // What an element's pass pays for a texture read (issue 22: the night sky reads a
+            // 2048x1024 RGBA16F panorama, mipmapped, magnified at 1280x720 and a 60 deg field, and
+            // a 256x128 R32F table): the level 0 given as a constant, the level per pixel (as
+            // max(log2(...), 0): 0 here too), the small table, and one texel of a 1x1 texture
+            // per pixel (the automatic exposure's state, before it became a flat varying).
+            gl::Texture2D panorama(2048, 1024, GL_RGBA16F, 12), table(256, 128, GL_R32F), one(1, 1, GL_RGBA32F);
+            {
+                std::vector<float> px(size_t(2048) * 1024 * 4);
+                for (size_t i = 0; i < px.size(); ++i) px[i] = float((i * 2654435761u) % 1000u) * 1e-3f;
+                glTextureSubImage2D(panorama.id(), 0, 0, 0, 2048, 1024, GL_RGBA, GL_FLOAT, px.data());
+                panorama.generateMipmaps();
+                panorama.setFilter(GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR);
+                glTextureSubImage2D(table.id(), 0, 0, 0, 256, 128, GL_RED, GL_FLOAT, px.data());
+                table.setFilter(GL_LINEAR);
+                glTextureSubImage2D(one.id(), 0, 0, 0, 1, 1, GL_RGBA, GL_FLOAT, px.data());
+            }
+            // u_uvPerPx: texture coordinates per pixel (0.45 of a panorama texel: magnified).
+            auto fetchPass = [&](const char* name, const char* body) {
+                return prog(name, (std::string("layout(binding = 0) uniform sampler2D u_tex; uniform vec2 u_uvPerPx; out vec4 o;\n"
+                                               "void main() { vec2 uv = gl_FragCoord.xy * u_uvPerPx + vec2(0.1, 0.2);\n") +
+                                   body + " }")
+                                      .c_str());
+            };
+            auto panoLevel0 = fetchPass("pano_lod0.frag", "o = vec4(textureLod(u_tex, uv, 0.0).rgb * 1e-3, 1.0);");
+            auto panoLevelPx = fetchPass("pano_lodpx.frag",
+                                         "float lod = max(log2(max(length(dFdx(uv * 2048.0)), length(dFdy(uv * 2048.0)))), 0.0);\n"
+                                         "o = vec4(textureLod(u_tex, uv, lod).rgb * 1e-3, 1.0);");
+            auto tableFetch = fetchPass("table.frag", "o = vec4(vec3(textureLod(u_tex, uv, 0.0).r * 1e-3), 1.0);");
+            auto oneTexel = fetchPass("one.frag", "o = vec4(uv * texelFetch(u_tex, ivec2(0), 0).z, 0.5, 1.0);");
+            auto sampledPass = [&](gl::Program& p, const gl::Texture2D& tex, float texelsWide) {
+                return [&, texelsWide] {
+                    trivialFbo.bind();
+                    glViewport(0, 0, w, h);
+                    vao.bind();
+                    glBindTextureUnit(0, tex.id());
+                    p.use();
+                    p.set("u_uvPerPx", glm::vec2(0.45f / texelsWide, 0.45f / texelsWide * 2.0f));
+                    glDrawArrays(GL_TRIANGLES, 0, 3);
+                };
+            };
+            // The HDR frame read through framebuffer fetch (EXT_shader_framebuffer_fetch, which
+            // Mesa's llvmpipe has): the frame as colour attachment 0 (read, writes masked), the
+            // display format as attachment 1.
+            const bool fbFetch = epoxy_has_gl_extension("GL_EXT_shader_framebuffer_fetch");
+            gl::Program fbFetchCopy;
+            gl::Framebuffer fbFetchFbo = gl::Framebuffer::create();
+            if (fbFetch) {
+                fbFetchCopy = prog("fbfetch.frag", "#extension GL_EXT_shader_framebuffer_fetch : require\n"
+                                                   "layout(location = 0) inout vec4 hdr; layout(location = 1) out vec4 o;\n"
+                                                   "void main() { o = vec4(hdr.rgb * 1e-3, 1.0); }");
+                fbFetchFbo.attach(GL_COLOR_ATTACHMENT0, trivialTarget);
+                fbFetchFbo.attach(GL_COLOR_ATTACHMENT1, ldr.texture);
+                const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+                glNamedFramebufferDrawBuffers(fbFetchFbo.id(), 2, bufs);
+                fbFetchFbo.checkComplete("bench frame framebuffer fetch");
+            }
+            auto fbFetchPass = [&] {
+                if (!fbFetch) return;
+                fbFetchFbo.bind();
+                glViewport(0, 0, w, h);
+                vao.bind();
+                fbFetchCopy.use();
+                // A dual-source blend function left set (blending off) still limits the draw to
+                // one colour buffer: INVALID_OPERATION with two.
+                glBlendFunc(GL_ONE, GL_ZERO);
+                glColorMaski(0, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+                glDrawArrays(GL_TRIANGLES, 0, 3);
+                glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+            };
+            std::vector<std::pair<std::string, std::function<void()>>> floor = {
                 {"floor: trivial pass RGBA32F (reference)", drawTrivial},
                 {"floor: trivial pass RGBA8", trivial8},
                 {"floor: constant colour RGBA8", pass(ldrFbo, constant8, 0, false)},
@@ -326,7 +395,12 @@ int run(const FrameBenchOptions& o) {
                 {"floor: tone map (automatic exposure) into RGBA32F", [&] { sky.toneMapInto(floatOut.fbo.id()); }},
                 {"floor: additive blended pass RGBA32F (ONE, ONE)", blendedPass(false)},
                 {"floor: dual-source blended pass RGBA32F (welkin_output)", blendedPass(true)},
+                {"floor: bilinear RGBA16F panorama 2048x1024, level 0 constant", sampledPass(panoLevel0, panorama, 2048.0f)},
+                {"floor: bilinear RGBA16F panorama 2048x1024, level per pixel", sampledPass(panoLevelPx, panorama, 2048.0f)},
+                {"floor: bilinear R32F table 256x128", sampledPass(tableFetch, table, 256.0f)},
+                {"floor: texelFetch of a 1x1 texture per pixel", sampledPass(oneTexel, one, 1.0f)},
             };
+            if (fbFetch) floor.push_back({"floor: copy by framebuffer fetch RGBA32F -> RGBA8", fbFetchPass});
             std::vector<std::function<void()>> fns;
             for (auto& f : floor) {
                 f.second();  // warm-up: llvmpipe compiles a program (and its blend state) at first draw

@@ -102,6 +102,9 @@ public:
         prog_.use();
         glDrawArrays(GL_TRIANGLES, 0, 3);
     }
+    /// Its framebuffer (RGBA32F, the frame's size): a display target for a frame's tone map
+    /// (SkyProcessor::toneMapInto; the write format costs the same as RGBA8 on llvmpipe).
+    unsigned framebuffer() const { return fbo_.id(); }
 
 private:
     int w_, h_;

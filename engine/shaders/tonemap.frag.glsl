@@ -14,10 +14,12 @@ layout(binding = WELKIN_BINDING_HDR_IMAGE, rgba32f) readonly uniform image2D u_h
 #else
 layout(binding = WELKIN_BINDING_HDR_TEXTURE) uniform sampler2D u_hdr;
 #endif
-layout(binding = WELKIN_BINDING_EYE_STATE_TEXTURE) uniform sampler2D u_state;  // adapt.frag.glsl's (cone, rod, exposure, 1)
+#ifdef WELKIN_TONEMAP_AUTO
+flat in float v_exposure;  // the exposure of adapt.frag.glsl's state, read once per vertex (tonemap.vert.glsl)
+#endif
 // The settings are compiled in (ToneMapper keeps one program per combination, built when first
 // used): a branch on a uniform costs llvmpipe every path.
-//   WELKIN_TONEMAP_AUTO     defined: the exposure of u_state; else u_exposure
+//   WELKIN_TONEMAP_AUTO     defined: the exposure of the eye's state (v_exposure); else u_exposure
 //   WELKIN_TONEMAP_CURVE    0 ACES fit, 1 Hable, 2 Reinhard on luminance, 3 none (clip)
 //   WELKIN_TONEMAP_MESOPIC  defined: per-pixel mesopic colour
 uniform float u_exposure;        // manual: scene cd/m^2 -> display value before the curve
@@ -73,7 +75,7 @@ void main() {
     L = welkin_mesopic(L);
 #endif
 #ifdef WELKIN_TONEMAP_AUTO
-    float exposure = texelFetch(u_state, ivec2(0), 0).z;
+    float exposure = v_exposure;
 #else
     float exposure = u_exposure;
 #endif

@@ -125,6 +125,7 @@ void SkyElement::update(const FrameContext& ctx) {
 void SkyElement::render(const FrameContext& ctx) {
     requireInitialized("render");
     Stopwatch sw(timingEnabled_);
+    drewNothing_ = false;
     doRender(ctx);
     if (validationEnabled_) gl::checkError(name_ + "::render()");
     renderTiming_.add(sw.ms());

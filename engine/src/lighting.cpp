@@ -506,7 +506,7 @@ void SkyProcessor::compositeEnvironment(const Camera& cam, const gl::Buffer& ubo
         for (size_t j = i + 1; j < list.size(); ++j) ctx.attenuatedLater = ctx.attenuatedLater || list[j]->attenuatesBehind();
         applyCompositeState(framebuffer, false, cam, ubo);
         list[i]->render(ctx);
-        ctx.nothingBehind = false;
+        if (!list[i]->drewNothing()) ctx.nothingBehind = false;  // as composite()
     }
     glDisable(GL_BLEND);
     glDepthMask(GL_TRUE);

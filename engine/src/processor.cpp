@@ -357,7 +357,9 @@ void SkyProcessor::composite(unsigned framebuffer, bool depthTest, bool clearedT
         for (size_t j = i + 1; j < elements_.size(); ++j) ctx.attenuatedLater = ctx.attenuatedLater || elements_[j]->attenuatesBehind();
         apply();
         elements_[i]->render(ctx);
-        ctx.nothingBehind = false;
+        // An element that drew nothing (SkyElement::reportNothingDrawn(): the night sky by day,
+        // no star or planet) leaves the black target as it was for the next one.
+        if (!elements_[i]->drewNothing()) ctx.nothingBehind = false;
     }
     glDisable(GL_BLEND);
     glDisable(GL_DEPTH_TEST);
@@ -374,7 +376,10 @@ void SkyProcessor::renderFrame() {
     const float black[4] = {0, 0, 0, 1};
     glClearBufferfv(GL_COLOR, 0, black);
     composite(hdrFbo_.id(), false, true, nullptr);
-    toneMap(ldrFbo_.id(), true, 0);
+    // The eye's meter and adaptation step now; the display pass into the LDR target waits for
+    // readToneMapped(): a viewer that tone-maps into its window (toneMapInto) pays it once.
+    toneMap(0, true, 0, false);
+    ldrPending_ = true;
     if (options_.timing) glFinish();
     frameMs_ = msSince(t0);
     ++frames_;
@@ -467,7 +472,7 @@ void SkyProcessor::toneMapInto(unsigned framebuffer, unsigned hostHdrTexture) {
     toneMap(framebuffer, true, hostHdrTexture);
 }
 
-void SkyProcessor::toneMap(unsigned framebuffer, bool newFrame, unsigned hdrTexture) {
+void SkyProcessor::toneMap(unsigned framebuffer, bool newFrame, unsigned hdrTexture, bool draw) {
     // The exposure.* and eye.* keys are the settings (setExposure() writes them; --var too).
     const ToneSettings settings = ToneSettings::fromVars(*vars_);
     exposure_ = {settings.automatic, settings.ev100, settings.compensationEv};
@@ -487,7 +492,8 @@ void SkyProcessor::toneMap(unsigned framebuffer, bool newFrame, unsigned hdrText
         if (hdrTexture) glGetTextureLevelParameteriv(hdrTexture, 0, GL_TEXTURE_INTERNAL_FORMAT, &format);
         const HdrSource source = hdrTexture ? HdrSource{hdrTexture, camera_.width, camera_.height, format == GL_RGBA32F}
                                             : HdrSource{hdr_.id(), hdr_.width(), hdr_.height(), true};
-        toneMapper_->run(source, framebuffer, settings, cameraUbo_, emptyVao_, dt);
+        if (draw) toneMapper_->run(source, framebuffer, settings, cameraUbo_, emptyVao_, dt);
+        else toneMapper_->advance(source, settings, cameraUbo_, emptyVao_, dt);
         if (host.outermost()) gl::checkError("SkyProcessor::toneMapInto()");
     }
     if (options_.timing) glFinish();
@@ -525,6 +531,16 @@ Image SkyProcessor::readHdr() const {
 
 Image SkyProcessor::readToneMapped() const {
     if (!ldr_) throw Error("SkyProcessor::readToneMapped(): no frame rendered yet");
+    if (ldrPending_) {
+        // The last renderFrame()'s display pass, drawn now with the settings and the eye's state
+        // of that frame: the image renderFrame() used to draw at once. The LDR target is a cache
+        // of the frame, so filling it is logically const.
+        HostStateScope host(hostGuardDepth_, log_, options_.validation, "SkyProcessor::readToneMapped()");
+        toneMapper_->display(HdrSource{hdr_.id(), hdr_.width(), hdr_.height(), true}, ldrFbo_.id(), toneMapper_->lastSettings(),
+                             cameraUbo_, emptyVao_);
+        if (host.outermost()) gl::checkError("SkyProcessor::readToneMapped()");
+        ldrPending_ = false;
+    }
     return readTexture(ldr_);
 }
 

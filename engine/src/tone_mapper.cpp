@@ -87,7 +87,9 @@ gl::Program& ToneMapper::toneMapProgram(bool rgba32fImage, bool automatic, bool 
         if (automatic) b.define("WELKIN_TONEMAP_AUTO");
         if (mesopic) b.define("WELKIN_TONEMAP_MESOPIC");
         b.define("WELKIN_TONEMAP_CURVE", curve);
-        p = b.fullscreenVertex().fragment("engine/tonemap.frag.glsl", gl::engineShader("tonemap.frag.glsl")).build();
+        p = b.vertex("engine/tonemap.vert.glsl", gl::engineShader("tonemap.vert.glsl"))
+                .fragment("engine/tonemap.frag.glsl", gl::engineShader("tonemap.frag.glsl"))
+                .build();
     }
     return p;
 }
@@ -122,12 +124,19 @@ void ToneMapper::meter(const HdrSource& hdr) {
 
 void ToneMapper::run(const HdrSource& hdr, unsigned framebuffer, const ToneSettings& s, const gl::Buffer& cameraUbo,
                      const gl::VertexArray& vao, std::optional<double> dt) {
+    advance(hdr, s, cameraUbo, vao, dt);
+    display(hdr, framebuffer, s, cameraUbo, vao);
+}
+
+void ToneMapper::advance(const HdrSource& hdr, const ToneSettings& s, const gl::Buffer& cameraUbo, const gl::VertexArray& vao,
+                         std::optional<double> dt) {
     cameraUbo.bindBase(GL_UNIFORM_BUFFER, gl::binding::kCameraUbo);
     vao.bind();
     glDisable(GL_BLEND);
     glDisable(GL_DEPTH_TEST);
     lastAutomatic_ = s.automatic;
     lastManualEv100_ = s.ev100;
+    lastSettings_ = s;
     if (s.automatic) {
         // A new frame is metered; a second tone map of it only re-derives the exposure from the
         // state (dt = 0), so changed settings apply.
@@ -155,7 +164,14 @@ void ToneMapper::run(const HdrSource& hdr, unsigned framebuffer, const ToneSetti
         current_ = next;
         stateValid_ = true;
     }
+}
 
+void ToneMapper::display(const HdrSource& hdr, unsigned framebuffer, const ToneSettings& s, const gl::Buffer& cameraUbo,
+                         const gl::VertexArray& vao) {
+    cameraUbo.bindBase(GL_UNIFORM_BUFFER, gl::binding::kCameraUbo);
+    vao.bind();
+    glDisable(GL_BLEND);
+    glDisable(GL_DEPTH_TEST);
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
     glViewport(0, 0, hdr.width, hdr.height);
     if (hdr.rgba32f)

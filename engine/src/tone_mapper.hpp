@@ -60,6 +60,16 @@ public:
     /// the caller guards it.
     void run(const HdrSource& hdr, unsigned framebuffer, const ToneSettings& settings, const gl::Buffer& cameraUbo,
              const gl::VertexArray& vao, std::optional<double> dt);
+    /// run()'s two halves. advance(): the automatic exposure's meter of `hdr` and the adaptation
+    /// state's step by `dt` (as run(); nothing for a manual exposure). display(): the per-pixel
+    /// pass into `framebuffer` with the state advance() left (the display of a frame can wait
+    /// until someone asks for it: SkyProcessor's own LDR target is drawn on demand).
+    void advance(const HdrSource& hdr, const ToneSettings& settings, const gl::Buffer& cameraUbo, const gl::VertexArray& vao,
+                 std::optional<double> dt);
+    void display(const HdrSource& hdr, unsigned framebuffer, const ToneSettings& settings, const gl::Buffer& cameraUbo,
+                 const gl::VertexArray& vao);
+    /// The settings of the last advance() (or run()).
+    const ToneSettings& lastSettings() const { return lastSettings_; }
     /// The meter of the last run no longer describes the frame (the target was resized).
     void invalidateMeter() { meterValid_ = false; }
     /// Forgets the adaptation state: the next automatic frame starts in the steady state.
@@ -87,6 +97,7 @@ private:
     bool meterValid_ = false;  // logLum_ holds the last frame's meter
     bool stateValid_ = false;  // state_[current_] holds an adaptation
     bool lastAutomatic_ = false;
+    ToneSettings lastSettings_;
     double lastManualEv100_ = 15.0;
 };
 

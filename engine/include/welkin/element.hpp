@@ -214,6 +214,10 @@ public:
     /// Frees GL resources; the element can be initialised again.
     void release();
 
+    /// True if the last render() drew nothing into the target (the element said so with
+    /// reportNothingDrawn(), e.g. the night sky by day, no star above the limit, no planet in
+    /// view): the processor then keeps FrameContext::nothingBehind for the next element.
+    bool drewNothing() const { return drewNothing_; }
     /// True if the element's transmittance output attenuates what is behind it by the
     /// atmosphere's extinction (the Sky): elements before it then leave extinction to it
     /// (FrameContext::attenuatedLater).
@@ -306,6 +310,10 @@ protected:
     /// units from binding::kPrivateTextureUnitFirst, ...), the same value for the same name, and
     /// its programs see `WELKIN_BINDING_<NAME>` through ProgramBuilder::bindings(bindings()).
     /// Throws welkin::Error naming the element, the name and the range when the range is full.
+    /// Called in doRender() when this frame's render() left the target untouched (no draw call
+    /// that writes it): the next element may then be told it has nothing behind it. Reset
+    /// before every render(); an element that never calls it is taken to have drawn.
+    void reportNothingDrawn() { drewNothing_ = true; }
     int textureUnit(std::string_view name) { return bindings_.textureUnit(name); }
     int imageUnit(std::string_view name) { return bindings_.imageUnit(name); }
     int uniformBuffer(std::string_view name) { return bindings_.uniformBuffer(name); }
@@ -330,6 +338,7 @@ private:
     const SkyVars* optionsDeclaredIn_ = nullptr;
     bool attenuatesBehind_ = false;
     bool contributesToLighting_ = true;
+    bool drewNothing_ = false;
     std::vector<std::shared_ptr<Generator>> generators_;
     bool initialized_ = false;
     bool timingEnabled_ = false;

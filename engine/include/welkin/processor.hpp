@@ -9,7 +9,7 @@
 //   sky.setTime(welkin::UtcInstant::parse("2026-07-15T21:30:00+02:00"));
 //   sky.setCamera(camera);
 //   sky.setExposure({.automatic = true});
-//   sky.renderFrame();                                         // HDR composite + tone map
+//   sky.renderFrame();                                         // HDR composite + the eye's meter
 //   welkin::Image hdr = sky.readHdr();                         // cd/m^2, top row first
 //
 // Embedding in a game loop (docs/embedding.md, examples/host):
@@ -172,8 +172,10 @@ public:
     void init();
     /// Derives time/observer variables, runs the due generators and every element's update().
     void update();
-    /// update(), then composites all elements into the processor's HDR target and tone-maps
-    /// into its LDR target.
+    /// update(), then composites all elements into the processor's HDR target and advances the
+    /// eye's adaptation (the automatic exposure's meter). The tone map's per-pixel pass into the
+    /// processor's LDR target is drawn when readToneMapped() first asks for it, so a viewer that
+    /// shows the frame with toneMapInto() pays for one tone map, not two.
     void renderFrame();
     /// update(), then composites into a caller's framebuffer (its current contents are the
     /// background; blending is additive-attenuating). Does not tone-map. Only colour attachment 0
@@ -199,7 +201,9 @@ public:
     const gl::Texture2D& hdrTexture() const { return hdr_; }
     /// Reads the HDR frame back: RGB float, cd/m^2, top row first.
     Image readHdr() const;
-    /// Reads the tone-mapped frame back: RGB float in [0, 1] (sRGB-encoded), top row first.
+    /// Reads the tone-mapped frame back: RGB float in [0, 1] (sRGB-encoded), top row first. The
+    /// first call after a renderFrame() draws the tone map into the processor's LDR target (with
+    /// that frame's settings and adaptation); later calls read it again.
     Image readToneMapped() const;
     /// EV100 used by the last tone map (automatic: the adapted exposure, welkin/eye.hpp).
     double lastEv100() const;
@@ -248,7 +252,9 @@ private:
     void checkDepthTexture(const HostDepth& depth) const;
     void declareToneMapKeys();
     /// `newFrame`: the frame renderFrame() just composited (advances the eye's adaptation).
-    void toneMap(unsigned framebuffer, bool newFrame, unsigned hdrTexture);
+    /// `draw` false: only the meter and the adaptation step (renderFrame(); the display pass into
+    /// the LDR target waits for readToneMapped()).
+    void toneMap(unsigned framebuffer, bool newFrame, unsigned hdrTexture, bool draw = true);
     FrameContext frameContext();
     /// Writes the camera block (with the host depth's planes for cameras not made from matrices).
     void uploadCamera(const HostDepth* depth);
@@ -276,13 +282,14 @@ private:
     Camera camera_{};
     Exposure exposure_{};
     bool glReady_ = false;
-    int hostGuardDepth_ = 0;  // nesting of public calls that save and restore the host's GL state
+    mutable int hostGuardDepth_ = 0;  // nesting of public calls that save and restore the host's GL state
     std::optional<double> animationTime_;
     std::optional<double> lastFrameSeconds_;  // seconds() at the last renderFrame()'s tone map
     std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 
     gl::Texture2D hdr_, ldr_;
     gl::Framebuffer hdrFbo_, ldrFbo_;
+    mutable bool ldrPending_ = false;  // the last renderFrame()'s display pass into ldr_ is not drawn yet
     std::unique_ptr<ToneMapper> toneMapper_;  // engine/src/tone_mapper.hpp
     std::unique_ptr<LightingEngine> lighting_;  // engine/src/lighting_engine.hpp
     gl::VertexArray emptyVao_;

@@ -65,8 +65,14 @@ void main() {
     // larger axis: no moire where a pixel spans many texels), continuous across the panorama's
     // seam and the cube's edges; as cheap as a quad's differences (welkin_pixelScale per pixel
     // cost ~4 ms of a 20 ms pass at 1280x720 on llvmpipe).
+#ifdef NIGHT_LOD0
+    // A pinhole whose every pixel is smaller than a texel (the element checks it on the CPU): the
+    // level below is 0 at every pixel; a constant lets llvmpipe pick one level per group of pixels.
+    const float lod = 0.0;
+#else
     float radPerPx = max(length(dFdx(dir)), length(dFdy(dir)));
     float lod = max(log2(u_texelsPerRad * radPerPx), 0.0);
+#endif
 #ifdef NIGHT_DIRECT
     // Panorama coordinates, J2000 equatorial: u = (90 deg - RA) / 360 deg, v = (90 deg - Dec) /
     // 180 deg from the top row (uploaded first, so t = v).

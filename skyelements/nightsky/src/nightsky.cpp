@@ -315,18 +315,23 @@ void NightSky::doInit(InitContext& ctx) {
     // Two recipes: with and without the element's own extinction (compiled in, not a uniform
     // branch: llvmpipe runs both sides of a branch, so the table's lookup cost every pixel under a
     // Sky too).
-    for (int extinction = 0; extinction < 2; ++extinction) {
-        gl::ProgramBuilder b(direct_ ? "NightSky (direct)" : "NightSky");
-        b.bindings(bindings());
-        if (direct_) b.define("NIGHT_DIRECT");
-        if (extinction) b.define("NIGHT_EXTINCTION");
-        programs_[extinction] = gl::ProjectionPrograms(b.define("NIGHT_TABLE_N", kTableN)
-                                                           .fullscreenVertex()
-                                                           .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
-                                                           .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
-                                                           .fragment("nightsky/nightsky.frag.glsl", embedded::nightsky_shaders("nightsky.frag.glsl")));
-    }
-    programs_[0].get(Projection::Perspective);  // shader errors surface in init() (the other variant: first use)
+    for (int extinction = 0; extinction < 2; ++extinction)
+        for (int lod0 = 0; lod0 < 2; ++lod0) {
+            gl::ProgramBuilder b(direct_ ? "NightSky (direct)" : "NightSky");
+            b.bindings(bindings());
+            if (direct_) b.define("NIGHT_DIRECT");
+            if (extinction) b.define("NIGHT_EXTINCTION");
+            if (lod0) b.define("NIGHT_LOD0");
+            programs_[extinction][lod0] = gl::ProjectionPrograms(
+                b.define("NIGHT_TABLE_N", kTableN)
+                    .fullscreenVertex()
+                    .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
+                    .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
+                    .fragment("nightsky/nightsky.frag.glsl", embedded::nightsky_shaders("nightsky.frag.glsl")));
+        }
+    // Shader errors surface in init(): the default scene's programs (the others: first use).
+    programs_[0][0].get(Projection::Perspective);
+    programs_[0][1].get(Projection::Perspective);
     if (!direct_)
         cubeProgram_ = gl::ProgramBuilder("NightSky cube")
                            .bindings(bindings())
@@ -443,14 +448,28 @@ void NightSky::doRender(const FrameContext& ctx) {
     const SkyVars& v = ctx.vars;
     const double background = zenith_.airglow + zenith_.zodiacal + zenith_.milkyWay + zenith_.lightPollution;
     drawn_ = !(v.has(generators::skykeys::zenithLuminance) && v.get(generators::skykeys::zenithLuminance) > kSkipRatio * background);
-    if (!drawn_) return;
+    if (!drawn_) {
+        reportNothingDrawn();
+        return;
+    }
     if (!direct_) {
         const NightCubeInputs in = cubeInputs(v);
         const NightCubeStale stale = nightCubeStale(cubeBuiltFor_, in);
         if (stale.milkyWay) buildCube(ctx, in, false);
         if (stale.zodiacal) buildCube(ctx, in, true);
     }
-    const gl::Program& p = programs_[ctx.attenuatedLater ? 0 : 1].get(ctx.camera.projection);
+    // The level of detail is fixed at 0 where the shader's max(log2(texels per radian x radians
+    // per pixel), 0) is 0 at every pixel: a pinhole's pixel spans at most 1 / f radians (f its
+    // focal length in pixels, at the image centre; less off axis), and the derivative the shader
+    // takes (the chord between neighbouring pixels' directions) is shorter still. A margin of
+    // 10 % keeps log2 below -0.15 whatever the float rounding. llvmpipe then samples one level
+    // for a whole group of pixels instead of a level per pixel (~0.8 trivial pass, README).
+    const double texelsPerRad = mwW_ > 0 ? mwW_ / (2.0 * kPi) : kNightCubeSize / 2.0;
+    const Camera& cam = ctx.camera;
+    const bool lod0 = fast_ && cam.projection == Projection::Perspective && !cam.host &&
+                      texelsPerRad * 2.0 * std::tan(0.5 * cam.verticalFovRad) / double(cam.height) <= 0.9;
+    lastLevelFixed_ = lod0;
+    const gl::Program& p = programs_[ctx.attenuatedLater ? 0 : 1][lod0 ? 1 : 0].get(ctx.camera.projection);
     p.use();
     const glm::dmat3 R = v.getOr(astro::keys::starFrameRotation, glm::dmat3(1.0));
     p.set("u_enuToIcrs", glm::mat3(glm::transpose(R)));
@@ -485,12 +504,19 @@ void NightSky::doRender(const FrameContext& ctx) {
     // Filtering across the cube's faces (global state: restored after the draw).
     const GLboolean seamless = glIsEnabled(GL_TEXTURE_CUBE_MAP_SEAMLESS);
     if (!direct_ && !seamless) glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
+    // Over the processor's black target the blend (dst = L + dst T, dst = 0) gives L exactly, and
+    // the alpha 1 the clear wrote is what welkin_output writes: the same pixels without reading
+    // the target (~0.8 trivial pass on llvmpipe). The processor restores its blend state before
+    // the next element.
+    lastUnblended_ = fast_ && ctx.nothingBehind;
+    if (lastUnblended_) glDisable(GL_BLEND);
     ctx.drawFullscreen();
     if (!direct_ && !seamless) glDisable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
 }
 
 void NightSky::doRelease() {
-    for (auto& programs : programs_) programs.releasePrograms();
+    for (auto& row : programs_)
+        for (auto& programs : row) programs.releasePrograms();
     mwTexture_ = gl::Texture2D();
     zodiTexture_ = gl::Texture2D();
     zodiLon_ = std::nan("");

@@ -467,7 +467,10 @@ void Planet::doRender(const FrameContext& ctx) {
     const bool wantLabels = v.get(planetkeys::labels);
     moonIlluminanceLux_ = v.has(lk::moonIlluminance) ? color::luminance(v.get(lk::moonIlluminance) * v.get(lk::moonTransmittance)) : 0.0;
     const std::vector<astro::Body> bodies = own_ ? *own_ : parseBodies(v.get(planetkeys::bodies));
-    if (bodies.empty()) return;
+    if (bodies.empty()) {
+        reportNothingDrawn();
+        return;
+    }
     const bool hasMoon = std::find(bodies.begin(), bodies.end(), astro::Body::Moon) != bodies.end();
     if (hasMoon && (!mapsLoaded_ || v.get(planetkeys::moonTexture) != loadedAlbedo_ || v.get(planetkeys::moonNormals) != loadedNormals_))
         loadMoonMaps(v.get(planetkeys::moonTexture), v.get(planetkeys::moonNormals), ctx.log);
@@ -776,6 +779,7 @@ void Planet::doRender(const FrameContext& ctx) {
         }
         labelBatch_.draw(font_);
     }
+    if (drawn_ == 0 && labelsDrawn_ == 0) reportNothingDrawn();  // every quad counts in drawn_
 }
 
 void Planet::doRelease() {

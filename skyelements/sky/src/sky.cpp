@@ -224,6 +224,11 @@ void Sky::doRender(const FrameContext& ctx) {
                                : !sunTerm_ ? nightPrograms_[moon][ctx.nothingBehind ? 0 : 1][q.bakedMiePhase].get(proj)
                                          : lutPrograms_[moon][ctx.nothingBehind ? 0 : 1][q.bakedMiePhase][shadow].get(proj);
         setUniforms(p, sunE, moonE);
+        // One draw over the processor's black target (nothing drawn before it: by day, or a scene
+        // of the Sky alone): the blend dst = L + dst T gives L exactly (and the alpha 1 of the
+        // clear), so the pass writes without reading the target (~0.8 of a trivial pass on
+        // llvmpipe; README "Cost"). The processor restores its blend state for the next element.
+        if (ctx.nothingBehind) glDisable(GL_BLEND);
         if (eclipse && !perPixel_) {
             // With the phase baked in, one fetch of the total table (as the ordinary sky view).
             glBindTextureUnit(gl::binding::kSunViewLut, v.get(q.bakedMiePhase ? skykeys::eclipseViewTotalLut : skykeys::eclipseViewLut).id);

@@ -182,7 +182,10 @@ void Stars::doRender(const FrameContext& ctx) {
     }
     drawn_ = int(std::upper_bound(mags_.begin(), mags_.end(), float(limit_)) - mags_.begin());
     perceptual_ = pointSourceMode(v) == PointSourceMode::Perceptual;
-    if (drawn_ == 0) return;
+    if (drawn_ == 0) {
+        reportNothingDrawn();
+        return;
+    }
 
     const gl::Program& p = programs_.get(ctx.camera.projection);
     p.use();

@@ -141,6 +141,15 @@ public:
     /// the cube map is checked against); false: the ICRS cube maps. Call before init().
     void setDirectLookup(bool direct) { direct_ = direct; }
     bool directLookup() const { return direct_; }
+    /// true (default): the frame's cheaper programs where they give the same pixels: a pinhole
+    /// camera whose pixels are all smaller than the panorama's texels (the level of detail is
+    /// then 0 everywhere) uses a program with the level fixed at 0, and the first pass over the
+    /// processor's black target (FrameContext::nothingBehind) writes without blending. false: the
+    /// general program and the blend always (the reference the tests compare with).
+    void setFastPaths(bool fast) { fast_ = fast; }
+    /// Whether the last frame's pass fixed the level of detail at 0, and wrote without blending.
+    bool lastLevelFixed() const { return lastLevelFixed_; }
+    bool lastUnblended() const { return lastUnblended_; }
     /// How many times the Milky Way's cube (6 faces and the mips) and the zodiacal light's were
     /// built since init.
     int cubeBuilds() const { return cubeBuilds_; }
@@ -169,7 +178,10 @@ private:
     NightCubeInputs cubeInputs(const SkyVars& v) const;
     void buildCube(const FrameContext& ctx, const NightCubeInputs& in, bool zodiacal);
 
-    gl::ProjectionPrograms programs_[2];  // [1]: with the element's own extinction (NIGHT_EXTINCTION)
+    // [extinction][level fixed]: [1][.] with the element's own extinction (NIGHT_EXTINCTION),
+    // [.][1] with the level of detail fixed at 0 (NIGHT_LOD0, pinhole cameras only).
+    gl::ProjectionPrograms programs_[2][2];
+    bool fast_ = true, lastLevelFixed_ = false, lastUnblended_ = false;
     bool direct_ = true;  // the per-pixel lookup by default: on llvmpipe the cubes measured no cheaper (skyelements/nightsky/README.md)
     gl::Program cubeProgram_;
     gl::TextureCube cube_, zodiCube_;
