@@ -19,13 +19,11 @@
 #include <welkin/keys.hpp>
 #include <welkin/processor.hpp>
 
-#include <epoxy/gl.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <ctime>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -41,8 +39,6 @@ struct HalosBenchOptions {
     std::string csv = "bench_halos.csv";
     std::string qualities = "low,default";
     std::string accuracyQuality = "default";
-    std::string passQuality = "default";
-    bool accuracy = true;
     int exactFactor = 10;
 };
 
@@ -56,7 +52,6 @@ int run(const HalosBenchOptions& o) {
     if (o.repeats < 1 || o.repeats > 1000) throw Error("--repeats " + std::to_string(o.repeats) + " not in [1, 1000]");
     if (o.exactFactor < 2 || o.exactFactor > 100) throw Error("--exact-factor " + std::to_string(o.exactFactor) + " not in [2, 100]");
     (void)elements::halos::HaloTables::quality(o.accuracyQuality);
-    (void)elements::halos::HaloTables::quality(o.passQuality);
     for (const std::string& q : splitList(o.qualities)) (void)elements::halos::HaloTables::quality(q);
     checkOutputDirectory("--csv", o.csv);
     Logger log;
@@ -81,7 +76,7 @@ int run(const HalosBenchOptions& o) {
     // (2) Per frame.
     bool met = true;
     for (auto [w, h] : {std::pair{800, 450}, std::pair{1280, 720}}) {
-        for (int path = 0; path < 4; ++path) {
+        for (int path = 0; path < 3; ++path) {
             SkyProcessor p(SkyVars::earth(), log, ProcessorOptions{.timing = true, .astronomy = false});
             Camera cam;
             cam.projection = Projection::Perspective;
@@ -99,10 +94,7 @@ int run(const HalosBenchOptions& o) {
             p.vars().set(keys::sunDirection, directionFromAzAlt(M_PI, 20 * kDeg));
             p.vars().set(elements::haloskeys::opticalDepth, path == 1 ? 0.0 : 0.3);
             halos->setForcePerPixel(path == 2);
-            halos->setAdaptiveCells(path != 3);
-            // The adaptive grid's cost depends on the tables (their grain counts as detail): the
-            // default tables, what the element draws (from the disk cache after the first run).
-            p.vars().set(elements::haloskeys::tableQuality, o.passQuality);
+            p.vars().set(elements::haloskeys::tableQuality, std::string("low"));  // the pass's cost does not depend on it
             p.renderFrame();  // tables, programs
             std::vector<double> ms, tms, ratio;
             for (int i = 0; i < o.repeats; ++i) {
@@ -119,18 +111,10 @@ int run(const HalosBenchOptions& o) {
             }
             const std::string size = std::to_string(w) + "x" + std::to_string(h);
             const double r = median(ratio);
-            std::string cells;
-            if (halos->gridLastFrame()) {
-                char b[160];
-                std::snprintf(b, sizeof b, ", %d of %d cells fetch (CPU test %.2f ms)", halos->gridFetchCellsLastFrame(), halos->gridCellsLastFrame(),
-                              p.stats()["halos"].value("grid_classify_ms", 0.0));
-                cells = b;
-            }
             emit(path == 0   ? "halo pass, crystal layer tau 0.3, ms"
                  : path == 1 ? "halo pass, no crystals (skipped), ms"
-                 : path == 2 ? "halo pass, per-pixel path (offline: fisheye, equirect, cirrus), ms"
-                             : "halo pass, grid fetching in every cell (before the adaptive cells), ms",
-                 size + (halos->drewLastFrame() ? "" : ", not drawn") + cells, median(ms), median(tms), r);
+                             : "halo pass, per-pixel path (offline: fisheye, equirect, cirrus), ms",
+                 size + (halos->drewLastFrame() ? "" : ", not drawn"), median(ms), median(tms), r);
             if (path == 0 && r > 1.5) met = false;
         }
     }
@@ -144,58 +128,6 @@ int run(const HalosBenchOptions& o) {
     // exact table exceeds 10 % of its maximum (the halos themselves). The exact table has noise
     // of its own, 1/sqrt(factor) of the tables': the difference overstates the tables' error by
     // sqrt(1 + 1/factor) (5 % at 10).
-    // (2b) The same as work: the process's CPU time per frame (all threads, llvmpipe's too),
-    // which the other jobs on a loaded machine do not lengthen. Four processors, frames
-    // alternated: Z (the halo element with no crystals: skipped), Y (+ the trivial pass), A (the
-    // trivial pass and the halo pass, adaptive cells), C (the same, every cell fetching). The halo
-    // pass's work is A - Y (C - Y), the trivial pass's Y - Z; medians over the frames.
-    for (auto [w, h] : {std::pair{800, 450}, std::pair{1280, 720}}) {
-        auto make = [&](bool trivial, double tau, bool adaptive) {
-            auto p = std::make_unique<SkyProcessor>(SkyVars::earth(), log, ProcessorOptions{.timing = false, .astronomy = false});
-            Camera cam;
-            cam.projection = Projection::Perspective;
-            cam.azimuthRad = M_PI;
-            cam.altitudeRad = 30 * kDeg;
-            cam.verticalFovRad = 100 * kDeg;
-            cam.width = w;
-            cam.height = h;
-            p->setCamera(cam);
-            p->setExposure({.ev100 = 12});
-            if (trivial) p->add(std::make_unique<TrivialElement>());
-            auto e = std::make_unique<elements::Halos>();
-            e->setAdaptiveCells(adaptive);
-            p->add(std::move(e));
-            p->vars().set(keys::sunDirection, directionFromAzAlt(M_PI, 20 * kDeg));
-            p->vars().set(elements::haloskeys::opticalDepth, tau);
-            p->vars().set(elements::haloskeys::tableQuality, o.passQuality);
-            p->renderFrame();
-            p->renderFrame();
-            return p;
-        };
-        auto Z = make(false, 0.0, true), Y = make(true, 0.0, true), A = make(true, 0.3, true), C = make(true, 0.3, false);
-        auto cpuMs = [] {
-            timespec ts{};
-            clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-            return 1e3 * double(ts.tv_sec) + 1e-6 * double(ts.tv_nsec);
-        };
-        std::vector<double> z, y, a, c;
-        for (int i = 0; i < 3 * o.repeats; ++i)
-            for (auto [proc, out] : {std::pair{Z.get(), &z}, std::pair{Y.get(), &y}, std::pair{A.get(), &a}, std::pair{C.get(), &c}}) {
-                glFinish();
-                const double t0 = cpuMs();
-                proc->renderFrame();
-                glFinish();
-                out->push_back(cpuMs() - t0);
-            }
-        const double triv = median(y) - median(z);
-        const std::string size = std::to_string(w) + "x" + std::to_string(h);
-        emit("work: halo pass, adaptive cells, CPU ms per frame", size, median(a) - median(y), triv, (median(a) - median(y)) / triv);
-        emit("work: halo pass, every cell fetching, CPU ms per frame", size, median(c) - median(y), triv, (median(c) - median(y)) / triv);
-    }
-    if (!o.accuracy) {
-        std::printf("\ntarget: halo pass <= 1.5x the trivial pass: %s\n", met ? "met" : "NOT met");
-        return 0;
-    }
     using namespace elements::halos;
     const HaloTables::Quality aq = HaloTables::quality(o.accuracyQuality);
     const double step = 90.0 / (aq.slices - 1);
@@ -310,8 +242,6 @@ bench::CommandBenchRegistrar reg({"halos", "halo table trace times, the halo pas
                        sub.add_option("--qualities", o->qualities, "comma list of table qualities to trace: low, default, high")->capture_default_str();
                        sub.add_option("--accuracy-quality", o->accuracyQuality, "the table quality whose accuracy is measured: low, default, high")
                            ->capture_default_str();
-                       sub.add_option("--pass-quality", o->passQuality, "the table quality the pass draws: low, default, high")->capture_default_str();
-                       sub.add_option("--accuracy", o->accuracy, "measure the tables' accuracy against the brute-force trace (minutes)")->capture_default_str();
                        sub.add_option("--exact-factor", o->exactFactor, "the brute-force trace's rays over the tables' rays per slice, [2, 100]")
                            ->capture_default_str();
                        return [o]() { return run(*o); };

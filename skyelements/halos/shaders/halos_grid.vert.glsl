@@ -7,22 +7,13 @@
 // hides it below the horizon, mu < u_muHorizon: a clip distance, r.z - muH |r| (not affine in
 // the pixel, but muH is small, |muH| < 0.06 below 10 km: the interpolated |r| errs by < 0.2 %
 // over a cell, the cut by < 1e-4 rad).
-// Built twice: for the cells that fetch the table per pixel (halos_grid.frag.glsl) and, with
-// HALOS_VERTEX_FETCH defined, for the smooth cells, where the vertex fetches the table and the
-// pixels interpolate its value (halos_smooth.frag.glsl; Halos::classifyCells picks the cells).
-// Drawn with glMultiDrawArrays over runs of cells: gl_VertexID counts from each run's first vertex.
 // Needs engine/camera.glsl before it.
 uniform ivec2 u_grid;       // cells across, down
 uniform float u_cellPx;     // cell size, pixels
 uniform vec3 u_lightX;      // unit horizontal vector towards the light's azimuth
 uniform vec3 u_lightY;      // up x u_lightX
 uniform float u_muHorizon;  // sine of the horizon's elevation (under the layer; -2 above it: no cut)
-#ifdef HALOS_VERTEX_FETCH
-layout(binding = WELKIN_BINDING_HALOS_TABLE) uniform sampler2D u_haloTable;
-noperspective out vec4 v_c; // the table at this vertex's ray (halos_grid.frag.glsl's fetch)
-#else
 noperspective out vec3 v_r; // (x, y, z) of the unnormalised view ray in the light's frame
-#endif
 
 void main() {
     const ivec2 corners[6] = ivec2[6](ivec2(0, 0), ivec2(1, 0), ivec2(1, 1), ivec2(0, 0), ivec2(1, 1), ivec2(0, 1));
@@ -33,14 +24,7 @@ void main() {
     vec3 d;
     welkin_viewDirection(px, d);
     vec3 r = d / dot(d, mat3(welkin_cameraToWorld)[2]);  // > 0: a perspective image is in front
-    vec3 lr = vec3(dot(r, u_lightX), dot(r, u_lightY), r.z);
-#ifdef HALOS_VERTEX_FETCH
-    vec3 a = abs(lr);
-    vec2 st = vec2(lr.x + lr.z, lr.x - lr.z) / (a.x + a.y + a.z);
-    v_c = textureLod(u_haloTable, st * 0.5 + 0.5, 0.0);
-#else
-    v_r = lr;
-#endif
+    v_r = vec3(dot(r, u_lightX), dot(r, u_lightY), r.z);
     gl_ClipDistance[0] = r.z - u_muHorizon * length(r);
     gl_Position = vec4(2.0 * px.x / size.x - 1.0, 1.0 - 2.0 * px.y / size.y, 0.0, 1.0);
 }

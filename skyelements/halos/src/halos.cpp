@@ -125,16 +125,8 @@ void Halos::doInit(InitContext& ctx) {
                                                .vertex("halos/halos_grid.vert.glsl", embedded::halos_shaders("halos_grid.vert.glsl"))
                                                .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
                                                .fragment("halos/halos_grid.frag.glsl", embedded::halos_shaders("halos_grid.frag.glsl")));
-    smoothPrograms_ = gl::ProjectionPrograms(gl::ProgramBuilder("Halos grid, smooth cells")
-                                                 .bindings(bindings())
-                                                 .define("HALOS_VERTEX_FETCH")
-                                                 .vertex("engine/camera.glsl", gl::engineShader("camera.glsl"))
-                                                 .vertex("halos/halos_grid.vert.glsl", embedded::halos_shaders("halos_grid.vert.glsl"))
-                                                 .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
-                                                 .fragment("halos/halos_smooth.frag.glsl", embedded::halos_shaders("halos_smooth.frag.glsl")));
     programs_.get(Projection::Perspective);  // shader errors surface in init()
     gridPrograms_.get(Projection::Perspective);
-    smoothPrograms_.get(Projection::Perspective);
     table_ = {};
     tables_ = nullptr;
     mixed_ = {-1, -1, -1, -1};
@@ -215,26 +207,22 @@ void Halos::doRender(const FrameContext& ctx) {
         // and one fetch of the octahedral table, which holds the layer's scattered fraction and
         // transmittance too; the horizon is a clip distance.
         updateOctTable(el, tauUser, h0, layerH, R);
+        const gl::Program& g = gridPrograms_.get(ctx.camera.projection);
+        g.use();
+        glBindTextureUnit(GLuint(tableUnit_), octTable_.id());
         const int gx = (ctx.camera.width + kGridCellPx - 1) / kGridCellPx, gy = (ctx.camera.height + kGridCellPx - 1) / kGridCellPx;
+        g.set("u_grid", glm::ivec2(gx, gy));
+        g.set("u_cellPx", float(kGridCellPx));
+        g.set("u_lightX", glm::vec3(lx));
+        g.set("u_lightY", glm::vec3(ly));
+        g.set("u_E", glm::vec3(E));
         // Under the layer the ground hides it below the horizon (mu < muH); above it, nothing does.
         const double r = R + h0;
         const double muH = h0 < layerH ? -std::sqrt(std::max(1.0 - R * R / (r * r), 0.0)) : -2.0;
-        classifyCells(ctx.camera, gx, gy, lx, ly, muH, tauUser, h0, layerH, R);
-        glBindTextureUnit(GLuint(tableUnit_), octTable_.id());
+        g.set("u_muHorizon", float(muH));
         if (ctx.emptyVao) ctx.emptyVao->bind();
         glEnable(GL_CLIP_DISTANCE0);
-        for (int pass = 0; pass < 2; ++pass) {
-            if (runFirst_[pass].empty()) continue;
-            const gl::Program& g = (pass == 0 ? gridPrograms_ : smoothPrograms_).get(ctx.camera.projection);
-            g.use();
-            g.set("u_grid", glm::ivec2(gx, gy));
-            g.set("u_cellPx", float(kGridCellPx));
-            g.set("u_lightX", glm::vec3(lx));
-            g.set("u_lightY", glm::vec3(ly));
-            g.set("u_E", glm::vec3(E));
-            g.set("u_muHorizon", float(muH));
-            glMultiDrawArrays(GL_TRIANGLES, runFirst_[pass].data(), runCount_[pass].data(), GLsizei(runFirst_[pass].size()));
-        }
+        glDrawArrays(GL_TRIANGLES, 0, GLsizei(6 * gx * gy));
         glDisable(GL_CLIP_DISTANCE0);
         drew_ = true;
         grid_ = true;
@@ -299,156 +287,6 @@ static glm::vec2 layerFactor(double mu, double tau, double h0, double layerH, do
     return {float(1.0 - t), float(t)};
 }
 
-namespace {
-// The octahedral map's (s, t) of a direction in the light's frame (halos_grid.frag.glsl).
-glm::dvec2 octST(const glm::dvec3& r) {
-    const double n = std::abs(r.x) + std::abs(r.y) + std::abs(r.z);
-    return glm::dvec2(r.x + r.z, r.x - r.z) / n;
-}
-// A bilinear fetch of an n x n map at (s, t), clamped at its edges (GL_LINEAR, GL_CLAMP_TO_EDGE).
-glm::vec4 sampleMap(const std::vector<glm::vec4>& m, int n, const glm::dvec2& st) {
-    const double x = std::clamp((st.x * 0.5 + 0.5) * n - 0.5, 0.0, n - 1.0), y = std::clamp((st.y * 0.5 + 0.5) * n - 0.5, 0.0, n - 1.0);
-    const int i0 = std::min(int(x), n - 2 < 0 ? 0 : n - 2), j0 = std::min(int(y), n - 2 < 0 ? 0 : n - 2);
-    const int i1 = std::min(i0 + 1, n - 1), j1 = std::min(j0 + 1, n - 1);
-    const float fx = float(x - i0), fy = float(y - j0);
-    const auto at = [&](int i, int j) { return m[std::size_t(j) * std::size_t(n) + std::size_t(i)]; };
-    return (at(i0, j0) * (1.0f - fx) + at(i1, j0) * fx) * (1.0f - fy) + (at(i0, j1) * (1.0f - fx) + at(i1, j1) * fx) * fy;
-}
-// The texel of an n x n map that holds (s, t).
-const glm::vec4& nearestMap(const std::vector<glm::vec4>& m, int n, const glm::dvec2& st) {
-    const int i = std::clamp(int((st.x * 0.5 + 0.5) * n), 0, n - 1), j = std::clamp(int((st.y * 0.5 + 0.5) * n), 0, n - 1);
-    return m[std::size_t(j) * std::size_t(n) + std::size_t(i)];
-}
-}  // namespace
-
-// The adaptive grid's maps (each time the table changes): the table box-filtered to one texel
-// per kDetailBlock^2 (octCoarse_, bilinear: the smooth part of the table); per coarse texel the
-// largest |table - smooth part| over its block and the eight around it (octDetail_: what lies
-// between two points a cell's test samples at most one coarse texel apart); the peak of the
-// table's rgb above the horizon (muH: the sine of its elevation under the layer, -2 above it).
-void Halos::buildDetailMaps(double muH) {
-    const int N = octN_, B = kDetailBlock, Nc = (N + B - 1) / B;
-    octCoarseN_ = Nc;
-    octCoarse_.assign(std::size_t(Nc) * std::size_t(Nc), glm::vec4(0.0f));
-    std::vector<float> count(octCoarse_.size(), 0.0f);
-    octPeak_ = 0.0f;
-    for (int j = 0; j < N; ++j)
-        for (int i = 0; i < N; ++i) {
-            const std::size_t k = std::size_t(j) * std::size_t(N) + std::size_t(i), c = std::size_t(j / B) * std::size_t(Nc) + std::size_t(i / B);
-            octCoarse_[c] += octData_[k];
-            count[c] += 1.0f;
-            const glm::vec4& q = octData_[k];
-            if (octRemap_[k].mu >= muH) octPeak_ = std::max({octPeak_, q.r, q.g, q.b});
-        }
-    for (std::size_t c = 0; c < octCoarse_.size(); ++c) octCoarse_[c] /= count[c];
-    std::vector<glm::vec4> det(octCoarse_.size(), glm::vec4(0.0f));
-    for (int j = 0; j < N; ++j)
-        for (int i = 0; i < N; ++i) {
-            const glm::dvec2 st(2.0 * (i + 0.5) / N - 1.0, 2.0 * (j + 0.5) / N - 1.0);
-            const glm::vec4 d = glm::abs(octData_[std::size_t(j) * std::size_t(N) + std::size_t(i)] - sampleMap(octCoarse_, Nc, st));
-            glm::vec4& m = det[std::size_t(j / B) * std::size_t(Nc) + std::size_t(i / B)];
-            m = glm::max(m, d);
-        }
-    octDetail_.assign(det.size(), glm::vec4(0.0f));
-    for (int j = 0; j < Nc; ++j)
-        for (int i = 0; i < Nc; ++i) {
-            glm::vec4 m(0.0f);
-            for (int dj = -1; dj <= 1; ++dj)
-                for (int di = -1; di <= 1; ++di) {
-                    const int a = std::clamp(i + di, 0, Nc - 1), b = std::clamp(j + dj, 0, Nc - 1);
-                    m = glm::max(m, det[std::size_t(b) * std::size_t(Nc) + std::size_t(a)]);
-                }
-            octDetail_[std::size_t(j) * std::size_t(Nc) + std::size_t(i)] = m;
-        }
-}
-
-// Which cells fetch the table per pixel. A cell drawn smooth shows its four vertices' values
-// (the GPU's fetches of the same table) interpolated over its two triangles; the test estimates,
-// at points of the cell no more than one coarse texel apart, the difference from the per-pixel
-// fetch as |smooth part - interpolation| + the detail there (buildDetailMaps), and draws the
-// cell smooth only if it stays under kSmoothTolerance x the peak in rgb and
-// kSmoothAlphaTolerance in the transmittance everywhere above the horizon. Cells in index order,
-// as runs of consecutive cells of one kind (glMultiDrawArrays).
-void Halos::classifyCells(const Camera& cam, int gx, int gy, const glm::dvec3& lx, const glm::dvec3& ly, double muH, double tau, double h0,
-                          double layerH, double R) {
-    // The same cells as last frame when nothing they depend on changed: the camera's rays (its
-    // corners and centre), the light's frame, the table (each update bumps octVersion_) and the
-    // layer. (A still view, or time running without the light moving 0.02 deg, costs no test.)
-    std::vector<double> key = {double(gx), double(gy), double(adaptive_), muH, tau, h0, layerH, R, double(octVersion_), lx.x, lx.y, ly.x, ly.y};
-    for (const glm::dvec2 px : {glm::dvec2(0.0), glm::dvec2(cam.width, 0.0), glm::dvec2(0.0, cam.height), glm::dvec2(cam.width, cam.height),
-                                glm::dvec2(0.5 * cam.width, 0.5 * cam.height)}) {
-        const glm::dvec3 d = cam.directionAt(px).value_or(glm::dvec3(0.0));
-        key.insert(key.end(), {d.x, d.y, d.z});
-    }
-    if (key == classifyKey_) {
-        classifyMs_ = 0.0;
-        return;
-    }
-    classifyKey_ = std::move(key);
-    const auto t0 = std::chrono::steady_clock::now();
-    for (int k = 0; k < 2; ++k) {
-        runFirst_[k].clear();
-        runCount_[k].clear();
-    }
-    cells_ = gx * gy;
-    fetchCells_ = 0;
-    const auto pixelOfVertex = [&](int i, int j) {
-        return glm::dvec2(std::min(double(i * kGridCellPx), double(cam.width)), std::min(double(j * kGridCellPx), double(cam.height)));
-    };
-    const auto ray = [&](const glm::dvec2& px) {
-        const glm::dvec3 d = cam.directionAt(px).value_or(glm::dvec3(0.0, 0.0, 1.0));
-        return glm::dvec3(glm::dot(d, lx), glm::dot(d, ly), d.z);
-    };
-    std::vector<glm::vec4> vtx(std::size_t(gx + 1) * std::size_t(gy + 1));
-    std::vector<glm::dvec3> vdir(vtx.size());
-    for (int j = 0; j <= gy; ++j)
-        for (int i = 0; i <= gx; ++i) {
-            const std::size_t k = std::size_t(j) * std::size_t(gx + 1) + std::size_t(i);
-            vdir[k] = glm::normalize(ray(pixelOfVertex(i, j)));
-            vtx[k] = sampleMap(octData_, octN_, octST(vdir[k]));
-        }
-    const float tol = float(kSmoothTolerance) * octPeak_, tolA = float(kSmoothAlphaTolerance);
-    // One coarse texel spans at most ~sqrt(2) kDetailBlock x (pi / N) of the sky (the map's
-    // texels are pi / N across at its centre, larger towards its corners).
-    const double coarseRad = kDetailBlock * M_PI / octN_;
-    std::vector<uint8_t> fetch(std::size_t(cells_), 1);
-    for (int cy = 0; cy < gy; ++cy)
-        for (int cx = 0; cx < gx; ++cx) {
-            const std::size_t k00 = std::size_t(cy) * std::size_t(gx + 1) + std::size_t(cx), k10 = k00 + 1, k01 = k00 + std::size_t(gx + 1), k11 = k01 + 1;
-            if (!adaptive_) continue;
-            double span = 0.0;
-            for (auto [a, b] : {std::pair{k00, k11}, std::pair{k10, k01}, std::pair{k00, k10}, std::pair{k00, k01}})
-                span = std::max(span, std::acos(std::clamp(glm::dot(vdir[a], vdir[b]), -1.0, 1.0)));
-            const int S = std::clamp(int(std::ceil(span / coarseRad)) + 1, 2, 32);
-            const glm::dvec2 p0 = pixelOfVertex(cx, cy), p1 = pixelOfVertex(cx + 1, cy + 1);
-            bool smooth = true;
-            for (int b = 0; b < S && smooth; ++b)
-                for (int a = 0; a < S && smooth; ++a) {
-                    const float u = (a + 0.5f) / S, v = (b + 0.5f) / S;
-                    const glm::dvec3 d = glm::normalize(ray(p0 + glm::dvec2(u, v) * (p1 - p0)));
-                    if (d.z < muH) continue;  // the ground: clipped
-                    // The GPU's interpolation over the cell's triangles (0,0)-(1,0)-(1,1) and (0,0)-(1,1)-(0,1).
-                    const glm::vec4 lin = u >= v ? vtx[k00] + u * (vtx[k10] - vtx[k00]) + v * (vtx[k11] - vtx[k10])
-                                                 : vtx[k00] + v * (vtx[k01] - vtx[k00]) + u * (vtx[k11] - vtx[k01]);
-                    const glm::dvec2 st = octST(d);
-                    const glm::vec4 e = glm::abs(sampleMap(octCoarse_, octCoarseN_, st) - lin) + nearestMap(octDetail_, octCoarseN_, st);
-                    smooth = e.r <= tol && e.g <= tol && e.b <= tol && e.a <= tolA;
-                }
-            fetch[std::size_t(cy) * std::size_t(gx) + std::size_t(cx)] = smooth ? 0 : 1;
-        }
-    for (int c = 0; c < cells_; ++c) {
-        const int kind = fetch[std::size_t(c)] ? 0 : 1;
-        fetchCells_ += fetch[std::size_t(c)];
-        if (c > 0 && fetch[std::size_t(c)] == fetch[std::size_t(c - 1)])
-            runCount_[kind].back() += 6;
-        else {
-            runFirst_[kind].push_back(6 * c);
-            runCount_[kind].push_back(6);
-        }
-    }
-    classifyMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
 void Halos::updateOctTable(double el, double tauUser, double h0, double layerH, double R) {
     const halos::HaloTables& t = *tables_;
     const int N = int(std::lround(kOctScale * t.q.na));
@@ -492,7 +330,6 @@ void Halos::updateOctTable(double el, double tauUser, double h0, double layerH, 
     // The light's elevation between two slices (as the per-pixel path's table), resampled.
     const SliceBlend b = sliceBlend(t, el);
     std::vector<glm::vec4> out(octRemap_.size());
-    octData_.resize(octRemap_.size());
     for (std::size_t k = 0; k < octRemap_.size(); ++k) {
         const OctTexel& o = octRemap_[k];
         const RowLerp r0 = rowLerp(t, o.row + rowShift(t, o.row, b.shift0)), r1 = rowLerp(t, o.row + rowShift(t, o.row, b.shift1));
@@ -503,11 +340,8 @@ void Halos::updateOctTable(double el, double tauUser, double h0, double layerH, 
                              (sampleRow(mix_, b.s1, r1, o.a1, t) + sampleRow(mixShift_, b.s1, q1, o.a1, t)) * o.wa;
         const glm::vec4 p = p0 * (1.0f - b.a) + p1 * b.a;
         out[k] = glm::vec4(glm::vec3(p) * octLayer_[k].x, octLayer_[k].y);
-        octData_[k] = out[k];  // for classifyCells
     }
     octTable_.upload(GL_RGBA, GL_FLOAT, out.data());
-    ++octVersion_;
-    buildDetailMaps(h0 < layerH ? -std::sqrt(std::max(1.0 - R * R / ((R + h0) * (R + h0)), 0.0)) : -2.0);
     octElevation_ = el;
     octUpdateMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -520,19 +354,12 @@ void Halos::doStats(nlohmann::json& root) const {
     if (octN_ > 0) {
         root["halos"]["grid_table_texels"] = octN_;
         root["halos"]["grid_table_update_ms"] = octUpdateMs_;
-        root["halos"]["grid_cells"] = cells_;
-        root["halos"]["grid_fetch_cells"] = fetchCells_;
-        root["halos"]["grid_classify_ms"] = classifyMs_;
     }
 }
 
 void Halos::doRelease() {
     programs_.releasePrograms();
     gridPrograms_.releasePrograms();
-    smoothPrograms_.releasePrograms();
-    octData_.clear();
-    octCoarse_.clear();
-    octDetail_.clear();
     table_ = {};
     octTable_ = {};
     octRemap_.clear();

@@ -11,8 +11,6 @@
 #include <welkin/keys.hpp>
 #include <welkin/processor.hpp>
 
-#include <nlohmann/json.hpp>
-
 #include <cmath>
 
 using namespace welkin;
@@ -359,60 +357,4 @@ TEST_CASE("Halos: the real-time grid draws what the per-pixel pass draws", "[gl]
     CHECK(meanErr < 0.06);
     CHECK(offFrac < 0.16);
     CHECK(horizonMismatch <= cam.width);  // at most one row of pixels
-}
-
-TEST_CASE("Halos: the adaptive grid fetches per pixel only where the halos have detail", "[gl][halos]") {
-    test::glContext();
-    HaloScene s;
-    s.p.vars().set(hk::opticalDepth, 0.3);
-    s.p.vars().set(hk::preset, std::string("common"));
-    Camera cam;
-    cam.projection = Projection::Perspective;
-    cam.azimuthRad = M_PI;
-    cam.altitudeRad = 25.0 * kDeg;
-    cam.verticalFovRad = 100.0 * kDeg;
-    cam.width = 480;
-    cam.height = 320;
-    s.p.setCamera(cam);
-    s.halos->setAdaptiveCells(true);
-    Image adaptive = s.render(20);
-    REQUIRE(s.halos->gridLastFrame());
-    const int cells = s.halos->gridCellsLastFrame(), fetch = s.halos->gridFetchCellsLastFrame();
-    s.halos->setAdaptiveCells(false);
-    Image all = s.render(20);
-    REQUIRE(s.halos->gridFetchCellsLastFrame() == cells);  // every cell fetches
-    // The halos' detail (22 deg halo, sundogs, parhelic circle) and the horizon's fast change of
-    // the layer's transmittance need the fetch; the rest of the sky (the crystals' smooth
-    // background, the ground below the horizon) does not: 8 x 5 cells here. Work counted: at
-    // least a quarter of the cells interpolate, and some fetch (measured 28 of 40 fetch with the
-    // tests' grainy `low` tables, whose Monte-Carlo grain counts as detail; 47 of 104 at 800 x 450
-    // with the default tables in `welkin bench halos`).
-    INFO(fetch << " of " << cells << " cells fetch");
-    CHECK(cells == 8 * 5);
-    CHECK(fetch > 0);
-    CHECK(fetch <= 3 * cells / 4);
-    // Accuracy against every cell fetching: the smooth cells' estimated error is below 2 % of the
-    // visible peak (Halos::kSmoothTolerance) in the halo light and 0.02 in the transmittance; the
-    // estimate is sampled (points one coarse texel apart, the detail between them bounded by the
-    // dilated detail map), so the check is on the image: every pixel within 2 % of the peak
-    // luminance (measured 0.85 %), the mean over the lit pixels within 1 % (measured 0.16 %).
-    double mx = 0;
-    for (int y = 0; y < cam.height; ++y)
-        for (int x = 0; x < cam.width; ++x) mx = std::max(mx, lum(all, x, y));
-    REQUIRE(mx > 0.0);
-    double worst = 0, sumErr = 0, sumRef = 0;
-    for (int y = 0; y < cam.height; ++y)
-        for (int x = 0; x < cam.width; ++x) {
-            const double a = lum(adaptive, x, y), b = lum(all, x, y);
-            worst = std::max(worst, std::abs(a - b));
-            if (b >= 0.01 * mx) sumErr += std::abs(a - b), sumRef += b;
-        }
-    INFO("largest difference " << worst / mx << " of the peak, mean relative " << sumErr / sumRef);
-    CHECK(worst <= 0.02 * mx);
-    CHECK(sumErr / sumRef < 0.01);
-    // A still view tests the cells once: the second frame reuses them (no CPU test).
-    s.halos->setAdaptiveCells(true);
-    s.render(20);
-    s.render(20);
-    CHECK(s.p.stats()["halos"]["grid_classify_ms"].get<double>() == 0.0);
 }

@@ -210,7 +210,7 @@ private:
     void doRelease() override;
     void doStats(nlohmann::json& root) const override;
 
-    gl::ProjectionPrograms programs_, gridPrograms_, smoothPrograms_;
+    gl::ProjectionPrograms programs_, gridPrograms_;
     gl::Texture2D table_;            // the mix at the light's elevation (azimuth x elevation), 1/sr (per-pixel path)
     gl::Texture2D octTable_;         // the grid path's table (octahedral half-sphere, the layer baked in)
     int tableUnit_ = 0;              // its private texture unit (SkyElement::textureUnit)
@@ -238,24 +238,6 @@ private:
     bool forcePerPixel_ = false;
     double octUpdateMs_ = 0.0;  // the last resampling of the grid path's table, CPU ms
     void updateOctTable(double elevationRad, double tauUser, double h0, double layerH, double R);
-    // The adaptive grid (skyelements/halos/README.md, "Where the pass fetches"): the table on the
-    // CPU, its box-filtered copy at 1/kDetailBlock the resolution and, per coarse texel, the
-    // largest difference between the table and that smooth copy over the texel's block and its
-    // neighbours' (what a sample between the points the cell test looks at can hide); the peak of
-    // the visible table (rgb), the unit of the test's tolerance.
-    std::vector<glm::vec4> octData_, octCoarse_, octDetail_;
-    int octCoarseN_ = 0;
-    float octPeak_ = 0.0f;
-    bool adaptive_ = false;  // off by default: skyelements/halos/README.md, "Where the grid fetches"
-    int cells_ = 0, fetchCells_ = 0;
-    double classifyMs_ = 0.0;
-    uint64_t octVersion_ = 0;          // bumped by each update of the grid's table
-    std::vector<double> classifyKey_;  // what the cells of the last test depended on
-    std::vector<int> runFirst_[2];  // [0] the cells that fetch, [1] the smooth ones: glMultiDrawArrays runs (first vertex, count)
-    std::vector<int> runCount_[2];
-    void buildDetailMaps(double muH);
-    void classifyCells(const Camera& cam, int gx, int gy, const glm::dvec3& lx, const glm::dvec3& ly, double muH, double tau, double h0,
-                       double layerH, double R);
 
 public:
     /// The light's motion in elevation (rad) that re-interpolates the table between its slices
@@ -269,24 +251,6 @@ public:
     /// azimuth bins (an octahedral map of the half sky y >= 0 in the light's frame, finer than
     /// the source's bins so that the resampling keeps most of its detail: skyelements/halos/README.md).
     static constexpr double kOctScale = 2.0;
-    /// The adaptive grid's coarse maps: one texel per kDetailBlock^2 texels of the table.
-    static constexpr int kDetailBlock = 4;
-    /// A cell is drawn without a per-pixel fetch (its vertices' values interpolated) where the
-    /// estimated difference from the per-pixel fetch is under kSmoothTolerance x the visible
-    /// table's peak in rgb (the halo light) and kSmoothAlphaTolerance in the layer's transmittance
-    /// (x the sky behind it).
-    static constexpr double kSmoothTolerance = 0.02;
-    static constexpr double kSmoothAlphaTolerance = 0.02;
-    /// Cells the last grid frame drew, and of them those that fetch the table per pixel (the
-    /// rest interpolate their vertices' values).
-    int gridCellsLastFrame() const { return cells_; }
-    int gridFetchCellsLastFrame() const { return fetchCells_; }
-    /// The adaptive grid (default off): smooth cells interpolate their vertices' fetches instead
-    /// of fetching per pixel. It lowers the pass's work (1.54x instead of 2.31x a trivial pass at
-    /// 1280x720 in the bench's view) but the smooth cells lose the tables' Monte-Carlo grain and
-    /// the faintest arcs below the tolerance, which shows as cell-shaped patches in a display
-    /// (skyelements/halos/README.md, "Where the grid fetches").
-    void setAdaptiveCells(bool on) { adaptive_ = on; }
     /// True if the last render() drew through the grid.
     bool gridLastFrame() const { return grid_; }
     /// Tests and benchmarks: draw every view through the per-pixel pass (the offline path), to
