@@ -716,7 +716,7 @@ int run(const AllOptions& o) {
           "the Clouds' direction caches, the clouds' shadow map and loss table), at "
        << sizeText(sizes[0]) << " (target: at most 3). *Time jumps*: the costliest of the frames after the time jumps by +1 h and then "
           "by +100 days, with time stopped after each for " << kJumpFrames << " frames (a user setting another time; the frames in which "
-          "a resting light's exact tables are built are among them; the Clouds' direction cache and the Halos' grid table are "
+          "a resting light's exact tables are built are among them; the Clouds' and the Rainbow's direction caches and the Halos' grid table are "
           "refilled over frames after a jump), at " << sizeText(sizes[0]) << " (target: at most 3). An element "
           "whose still cost is below " << fmt(kRatioFloor, 1) << " trivial pass (one that draws nothing in its scene: its cost is the "
           "driver's per-call overhead, ~0.01 ms, and the ratio of two such figures is noise) is divided by " << fmt(kRatioFloor, 1)
