@@ -794,6 +794,9 @@ TEST_CASE("Sky animation: interactive: the grid at load, time starts and jumps b
     };
     AnimRig a(6.0);
     setUp(a, true);
+    // The Moon up and lit (30 deg, a quarter of a lux): its exact table is built after a jump too.
+    a.vars.set(keys::moonDirection, directionFromAzAlt(4.0, 30 * kDeg));
+    a.vars.set(lightkeys::moonIlluminance, glm::dvec3(0.25));
     a.runAll();
     const LightKeyframes& ka = a.luts.sunView->keyframes();
     int grid = 0;  // the grid tables built at load: from 3 grid steps below -20 deg up
@@ -873,11 +876,27 @@ TEST_CASE("Sky animation: interactive: the grid at load, time starts and jumps b
     // frame with time stopped; interactive, a table has 4x the preset's chunks), and is then
     // shown alone.
     CHECK(ka.options().chunks == SkyViewLut::kInteractiveChunkFactor * a.q.keyframeChunks);
-    for (int i = 0; i < 20 + ka.options().chunks + 5; ++i) a.runAll(), count(a);
+    // The Moon jumps with it (a new time moves both); its exact table waits for the Sun's
+    // (issue 22 item 5: both were built a part each in the same frames), so no frame builds a
+    // part of both, and it is complete after the Sun's (work counted from the plans).
+    a.vars.set(keys::moonDirection, directionFromAzAlt(4.5, 40 * kDeg));
+    int moonChunks = 0, both = 0, moonRun = a.luts.moonView->runCount();
+    for (int i = 0; i < 20 + 2 * ka.options().chunks + 5; ++i) {
+        const int before = chunks;
+        a.runAll(), count(a);
+        const auto& mp = a.luts.moonView->lastPlan();
+        const int m = a.luts.moonView->runCount() != moonRun && mp.build >= 0 ? mp.chunkEnd - mp.chunkBegin : 0;
+        moonRun = a.luts.moonView->runCount();
+        moonChunks += m;
+        both += m > 0 && chunks > before;
+    }
     CHECK(worst == 1);
     CHECK(chunks == ka.options().chunks);
     CHECK(a.luts.sunView->lastPlan().exact);
     CHECK(a.luts.sunView->lastPlan().count == 1);
+    CHECK(moonChunks == a.luts.moonView->keyframes().options().chunks);
+    CHECK(a.luts.moonView->lastPlan().exact);
+    CHECK(both == 0);
 
     // A second interactive processor on the same machine reads the grid and builds none.
     AnimRig b(6.0);

@@ -244,8 +244,13 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
     // table of a resting light (the grid is whole from the first run), a part a frame within the
     // 3-still-frame target at 512x256: ~0.75 ms at medium, quiet.)
     const int chunks = spectral_ ? 1 : std::max(1, q_.keyframeChunks) * (gridAtLoad ? kInteractiveChunkFactor : 1);
+    // Interactive, the Moon's exact table waits for the Sun's: after a jump both lights come to
+    // rest in the same frame, and their exact tables were built a part each in the same frames
+    // (6.5 still frames in welkin bench all's jump column, issue 22 item 5); the Moon's rest rule
+    // counts the Sun's parts more, so no frame builds a part of both.
+    const int stillRuns = kKeyframeStillRuns + (light_ == Light::Moon && gridAtLoad ? chunks : 0);
     LightKeyframes::Options ko{.stepRad = q_.keyframeStepRad, .coarseStepRad = q_.keyframeCoarseStepRad, .chunks = chunks,
-                               .slots = keyframeSlots(q_, &keyframes_) + (gridAtLoad ? kCacheStepsBelow : 0), .stillMuS = kCosZenithTolerance, .stillRuns = kKeyframeStillRuns,
+                               .slots = keyframeSlots(q_, &keyframes_) + (gridAtLoad ? kCacheStepsBelow : 0), .stillMuS = kCosZenithTolerance, .stillRuns = stillRuns,
                                .prefill = q_.keyframePrefill,
                                .prefillChunksPerRun = q_.keyframePrefill ? vars.getOr(skykeys::keyframeBudget, kKeyframeBudgetDefault) : 0,
                                .adoptOnJump = gridAtLoad};

@@ -553,6 +553,7 @@ void Clouds::computePhotometry(const FrameContext& ctx) {
 void Clouds::doRender(const FrameContext& ctx) {
     SkyVars& v = ctx.vars;
     drew_ = false;
+    cachePhasesLast_ = 0;
     const double cov = v.get(ck::coverage), cir = v.get(ck::cirrusCoverage);
     if (cov <= 0.0 && cir <= 0.0) {
         // Nothing to draw: the clear sky's photometry stands.
@@ -607,39 +608,67 @@ void Clouds::renderCached(const FrameContext& ctx) {
     for (const char* k : {"clouds.preset", "observer.height_m"}) in.push_back(double(v.version(k)));
     in.push_back(double(w));
     const glm::dvec3 sun = v.get(keys::sunDirection);
-    bool full = cacheL_.width() != w || cacheInputs_.size() != in.size() + 3;
-    if (!full) {
-        for (size_t i = 0; i < in.size(); ++i) full = full || in[i] != cacheInputs_[i];
+    // Whole, now: the first frame, the cache's size, the layer, the preset, the observer's height.
+    // A jump of the Sun by more than 0.5 deg in a frame (a new time): the cache is refilled into a
+    // second pair of textures, one Bayer phase a frame like the running refresh (so no frame
+    // marches more than it), while the cache before the jump is drawn; the two swap once the
+    // second is complete (kept for issue 22 item 5: the whole refill made one frame ~50x the
+    // still one).
+    bool whole = cacheL_.width() != w || cacheInputs_.size() != in.size() + 3;
+    bool jump = false;
+    if (!whole) {
+        for (size_t i = 0; i < in.size(); ++i) whole = whole || in[i] != cacheInputs_[i];
         const glm::dvec3 last(cacheInputs_[in.size()], cacheInputs_[in.size() + 1], cacheInputs_[in.size() + 2]);
-        full = full || glm::dot(glm::normalize(sun), glm::normalize(last)) < std::cos(0.5 * kPi / 180);
+        jump = glm::dot(glm::normalize(sun), glm::normalize(last)) < std::cos(0.5 * kPi / 180);
     }
     in.insert(in.end(), {sun.x, sun.y, sun.z});
     cacheInputs_ = in;
-    if (cacheL_.width() != w) {
-        cacheL_ = gl::Texture2D(w, h, GL_RGBA16F);
-        cacheT_ = gl::Texture2D(w, h, GL_RGBA16F);
-        for (const gl::Texture2D* t : {&cacheL_, &cacheT_}) {
+    auto makeCache = [w, h](gl::Texture2D& L, gl::Texture2D& T) {
+        L = gl::Texture2D(w, h, GL_RGBA16F);
+        T = gl::Texture2D(w, h, GL_RGBA16F);
+        for (const gl::Texture2D* t : {&L, &T}) {
             glTextureParameteri(t->id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
             glTextureParameteri(t->id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
             glTextureParameteri(t->id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
             glTextureParameteri(t->id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
         }
+    };
+    if (cacheL_.width() != w) {
+        makeCache(cacheL_, cacheT_);
+        backL_ = {}, backT_ = {};
     }
     const int frames = v.get(cloudelemkeys::cacheFrames);
     const int bits = frames >= 64 ? 3 : frames >= 16 ? 2 : frames >= 4 ? 1 : 0;
     const int n = 1 << bits;
     cachePhase_ %= n * n;
-    const bool all = full || bits == 0;
+    const bool all = whole || bits == 0;
+    if (all || backPhase_ >= n * n) backPhase_ = -1;  // a refill in progress is superseded
+    if (!all && jump) {
+        if (!backL_) makeCache(backL_, backT_);  // 2 more textures of the cache's size, once
+        backPhase_ = 0;  // (re)started at this light
+        ++cacheJumpRefills_;
+    }
+    const bool back = backPhase_ >= 0;
+    const int phase = all ? -1 : back ? backPhase_ : cachePhase_;
     setUniforms(cacheFill_, ctx);
     cacheFill_.set("u_cacheSize", glm::ivec2(w, h));
-    cacheFill_.set("u_phase", all ? -1 : cachePhase_);
+    cacheFill_.set("u_phase", phase);
     cacheFill_.set("u_cacheBits", bits);
-    glBindImageTexture(gl::binding::kLutImage, cacheL_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-    glBindImageTexture(gl::binding::kSecondLutImage, cacheT_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    glBindImageTexture(gl::binding::kLutImage, (back ? backL_ : cacheL_).id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    glBindImageTexture(gl::binding::kSecondLutImage, (back ? backT_ : cacheT_).id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     const int cw = all ? w : (w + n - 1) / n, ch = all ? h : (h + n - 1) / n;
     glDispatchCompute(GLuint((cw + 7) / 8), GLuint((ch + 7) / 8), 1);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-    cachePhase_ = (cachePhase_ + 1) % (n * n);
+    cachePhasesLast_ = all ? n * n : 1;
+    if (back) {
+        if (++backPhase_ == n * n) {  // complete: drawn from this frame on
+            std::swap(cacheL_, backL_);
+            std::swap(cacheT_, backT_);
+            backPhase_ = -1;
+        }
+    } else {
+        cachePhase_ = (cachePhase_ + 1) % (n * n);
+    }
     const gl::Program& show = cacheShow_.get(ctx.camera.projection);
     show.use();
     glBindTextureUnit(GLuint(cacheRadianceUnit_), cacheL_.id());
@@ -679,6 +708,9 @@ void Clouds::doRelease() {
     cacheFill_ = {};
     cacheL_ = {};
     cacheT_ = {};
+    backL_ = {};
+    backT_ = {};
+    backPhase_ = -1;
     cacheInputs_.clear();
     statsProgram_ = {};
     atmUbo_ = {};

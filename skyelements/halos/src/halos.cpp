@@ -89,6 +89,8 @@ Halos::Halos() : SkyElement("halos") {
     option(hk::columnAspect, 2.0);
     option(hk::tilt, 1.0 * hk::kDeg);
     option(hk::tableQuality, std::string("default"));
+    option(hk::tableSlices, hk::kTableSlicesDefault);
+    reads(keys::interactive);
     reads(keys::sunDirection);
     reads(keys::moonDirection);
     reads(keys::observerHeight);
@@ -134,14 +136,17 @@ void Halos::doInit(InitContext& ctx) {
     mixShift_.clear();
     tableElevation_ = -1.0;
     octTable_ = {};
+    octBack_ = {};
     octRemap_.clear();
     octN_ = 0;
-    octElevation_ = -1.0;
+    octElevation_ = NAN;
+    octBackRow_ = -1;
 }
 
 void Halos::doRender(const FrameContext& ctx) {
     drew_ = false;
     grid_ = false;
+    octRowsLast_ = 0;
     const SkyVars& v = ctx.vars;
     // The light: the Sun, or the Moon when the Sun gives no light at the observer.
     glm::dvec3 E = v.get(lk::sunIlluminance) * v.get(lk::sunTransmittance);
@@ -187,7 +192,7 @@ void Halos::doRender(const FrameContext& ctx) {
         tables_ = &t;
         mixed_ = w;
         tableElevation_ = -1.0;
-        octElevation_ = -1.0;
+        octElevation_ = NAN;
     }
     if (!table_ || table_.width() != t.q.na || table_.height() != t.q.ne) {
         table_ = gl::Texture2D(t.q.na, t.q.ne, GL_RGBA16F);
@@ -206,15 +211,24 @@ void Halos::doRender(const FrameContext& ctx) {
         // (affine in the pixel: exact at every pixel); per pixel a few additions, one division
         // and one fetch of the octahedral table, which holds the layer's scattered fraction and
         // transmittance too; the horizon is a clip distance.
-        updateOctTable(el, tauUser, h0, layerH, R);
+        const int slices = v.getOr(keys::interactive, false) ? std::clamp(v.getOr(hk::tableSlices, hk::kTableSlicesDefault), 1, 64) : 1;
+        updateOctTable(el, tauUser, h0, layerH, R, slices);
         const gl::Program& g = gridPrograms_.get(ctx.camera.projection);
         g.use();
         glBindTextureUnit(GLuint(tableUnit_), octTable_.id());
         const int gx = (ctx.camera.width + kGridCellPx - 1) / kGridCellPx, gy = (ctx.camera.height + kGridCellPx - 1) / kGridCellPx;
         g.set("u_grid", glm::ivec2(gx, gy));
         g.set("u_cellPx", float(kGridCellPx));
-        g.set("u_lightX", glm::vec3(lx));
+        // The table's frame turned about the light's horizontal normal by its lag in elevation
+        // (0 once a refill completed at the current light): the table's light lands on the current
+        // light, and what moves with it (the halos, the sundogs) stays around it while a refill is
+        // under way; the exact elevation shift it stands in for differs by the lag times 1 - cos
+        // of the angle from the light's vertical plane (skyelements/halos/README.md, "Time running").
+        const double lag = octElevation_ - el;
+        const glm::dvec3 up(0.0, 0.0, 1.0);
+        g.set("u_lightX", glm::vec3(std::cos(lag) * lx - std::sin(lag) * up));
         g.set("u_lightY", glm::vec3(ly));
+        g.set("u_lightZ", glm::vec3(std::sin(lag) * lx + std::cos(lag) * up));
         g.set("u_E", glm::vec3(E));
         // Under the layer the ground hides it below the horizon (mu < muH); above it, nothing does.
         const double r = R + h0;
@@ -287,9 +301,10 @@ static glm::vec2 layerFactor(double mu, double tau, double h0, double layerH, do
     return {float(1.0 - t), float(t)};
 }
 
-void Halos::updateOctTable(double el, double tauUser, double h0, double layerH, double R) {
+void Halos::updateOctTable(double el, double tauUser, double h0, double layerH, double R, int slices) {
     const halos::HaloTables& t = *tables_;
     const int N = int(std::lround(kOctScale * t.q.na));
+    octRowsLast_ = 0;
     if (N != octN_ || octRemap_.empty()) {
         // The octahedral half sky: texel (i, j) at (s, t) = 2 (i + 0.5, j + 0.5) / N - 1; the
         // direction (x, |y|, z) / (|x| + |y| + |z|) in the light's frame (x to the light's azimuth,
@@ -312,10 +327,12 @@ void Halos::updateOctTable(double el, double tauUser, double h0, double layerH, 
                 o.row = float((e / M_PI + 0.5) * t.q.ne - 0.5);
                 o.mu = float(d.z);
             }
-        octTable_ = gl::Texture2D(N, N, GL_RGBA16F);
-        octTable_.setFilter(GL_LINEAR);
-        octTable_.setWrap(GL_CLAMP_TO_EDGE);
-        octElevation_ = -1.0;
+        for (gl::Texture2D* tex : {&octTable_, &octBack_}) {
+            *tex = gl::Texture2D(N, N, GL_RGBA16F);
+            tex->setFilter(GL_LINEAR);
+            tex->setWrap(GL_CLAMP_TO_EDGE);
+        }
+        octElevation_ = NAN;
         octLayerKey_ = glm::dvec4(-1.0);
     }
     const glm::dvec4 layerKey(tauUser, h0, layerH, R);
@@ -325,26 +342,71 @@ void Halos::updateOctTable(double el, double tauUser, double h0, double layerH, 
         for (std::size_t k = 0; k < octRemap_.size(); ++k) octLayer_[k] = layerFactor(octRemap_[k].mu, tauUser, h0, layerH, R);
         octLayerKey_ = layerKey;
     }
-    if (!layerChanged && std::abs(el - octElevation_) <= kElevationTolerance) return;
+    // What is stale: the layer, the mix or the table's size (no elevation held), or slices 1: the
+    // whole table now, a refill in progress superseded. The light's elevation moved past the
+    // tolerance: a refill into octBack_ over `slices` frames while octTable_ is drawn (turned onto
+    // the current light: doRender). The refill is made for the elevation the light will have
+    // midway through the table's turn on screen (it is drawn from `slices` to 2 `slices` frames
+    // after the refill starts: the light's motion in the last frame times 1.5 `slices` ahead), so
+    // that with time running steadily the drawn table lags or leads the light by at most half a
+    // refill's motion; with the light at rest the prediction is the light itself. A jump of the
+    // light (kElevationJump in a frame: a new time) restarts a refill in progress at the new
+    // elevation, predicting nothing.
+    const double step = el - octLastElevation_;
+    const bool jump = !(std::abs(step) <= kElevationJump);
+    octLastElevation_ = el;
     const auto t0 = std::chrono::steady_clock::now();
-    // The light's elevation between two slices (as the per-pixel path's table), resampled.
-    const SliceBlend b = sliceBlend(t, el);
-    std::vector<glm::vec4> out(octRemap_.size());
-    for (std::size_t k = 0; k < octRemap_.size(); ++k) {
-        const OctTexel& o = octRemap_[k];
-        const RowLerp r0 = rowLerp(t, o.row + rowShift(t, o.row, b.shift0)), r1 = rowLerp(t, o.row + rowShift(t, o.row, b.shift1));
-        const RowLerp q0 = rowLerp(t, o.row + b.shift0), q1 = rowLerp(t, o.row + b.shift1);
-        const glm::vec4 p0 = (sampleRow(mix_, b.s0, r0, o.a0, t) + sampleRow(mixShift_, b.s0, q0, o.a0, t)) * (1.0f - o.wa) +
-                             (sampleRow(mix_, b.s0, r0, o.a1, t) + sampleRow(mixShift_, b.s0, q0, o.a1, t)) * o.wa;
-        const glm::vec4 p1 = (sampleRow(mix_, b.s1, r1, o.a0, t) + sampleRow(mixShift_, b.s1, q1, o.a0, t)) * (1.0f - o.wa) +
-                             (sampleRow(mix_, b.s1, r1, o.a1, t) + sampleRow(mixShift_, b.s1, q1, o.a1, t)) * o.wa;
-        const glm::vec4 p = p0 * (1.0f - b.a) + p1 * b.a;
-        out[k] = glm::vec4(glm::vec3(p) * octLayer_[k].x, octLayer_[k].y);
+    if (layerChanged || std::isnan(octElevation_) || (slices <= 1 && std::abs(el - octElevation_) > kElevationTolerance)) {
+        octBackRow_ = -1;
+        fillOctRows(octTable_, el, 0, N);
+        octElevation_ = el;
+        ++octRefills_;
+    } else {
+        if (octBackRow_ >= 0 && jump) octBackRow_ = -1;  // superseded: restarted below at the new elevation
+        if (octBackRow_ < 0 && std::abs(el - octElevation_) > kElevationTolerance) {
+            octBackRow_ = 0;
+            octBackElevation_ = std::clamp(el + (jump ? 0.0 : 1.5 * slices * step), -0.5 * M_PI, 0.5 * M_PI);
+            ++octRefills_;
+        }
+        if (octBackRow_ < 0) return;
+        const int rows = (N + slices - 1) / slices;
+        const int r1 = std::min(N, octBackRow_ + rows);
+        fillOctRows(octBack_, octBackElevation_, octBackRow_, r1);
+        octBackRow_ = r1;
+        if (octBackRow_ >= N) {  // complete: drawn from this frame on
+            std::swap(octTable_, octBack_);
+            octElevation_ = octBackElevation_;
+            octBackRow_ = -1;
+        }
     }
-    octTable_.upload(GL_RGBA, GL_FLOAT, out.data());
-    octElevation_ = el;
     octUpdateMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
+
+void Halos::fillOctRows(gl::Texture2D& target, double el, int r0, int r1) {
+    const halos::HaloTables& t = *tables_;
+    const int N = octN_;
+    // The light's elevation between two slices (as the per-pixel path's table), resampled.
+    const SliceBlend b = sliceBlend(t, el);
+    const std::size_t k0 = std::size_t(r0) * std::size_t(N), k1 = std::size_t(r1) * std::size_t(N);
+    octRows_.resize(k1 - k0);
+    for (std::size_t k = k0; k < k1; ++k) {
+        const OctTexel& o = octRemap_[k];
+        const RowLerp r0l = rowLerp(t, o.row + rowShift(t, o.row, b.shift0)), r1l = rowLerp(t, o.row + rowShift(t, o.row, b.shift1));
+        const RowLerp q0 = rowLerp(t, o.row + b.shift0), q1 = rowLerp(t, o.row + b.shift1);
+        const glm::vec4 p0 = (sampleRow(mix_, b.s0, r0l, o.a0, t) + sampleRow(mixShift_, b.s0, q0, o.a0, t)) * (1.0f - o.wa) +
+                             (sampleRow(mix_, b.s0, r0l, o.a1, t) + sampleRow(mixShift_, b.s0, q0, o.a1, t)) * o.wa;
+        const glm::vec4 p1 = (sampleRow(mix_, b.s1, r1l, o.a0, t) + sampleRow(mixShift_, b.s1, q1, o.a0, t)) * (1.0f - o.wa) +
+                             (sampleRow(mix_, b.s1, r1l, o.a1, t) + sampleRow(mixShift_, b.s1, q1, o.a1, t)) * o.wa;
+        const glm::vec4 p = p0 * (1.0f - b.a) + p1 * b.a;
+        octRows_[k - k0] = glm::vec4(glm::vec3(p) * octLayer_[k].x, octLayer_[k].y);
+    }
+    // Inside a frame the pixel-store parameters are GL's defaults and no unpack buffer is bound
+    // (docs/writing-an-element.md): tightly packed rows.
+    glTextureSubImage2D(target.id(), 0, 0, r0, N, r1 - r0, GL_RGBA, GL_FLOAT, octRows_.data());
+    octRowsLast_ += r1 - r0;
+}
+
+std::vector<float> Halos::readGridTable() const { return octTable_ ? octTable_.readRgbaFloat() : std::vector<float>{}; }
 
 void Halos::doStats(nlohmann::json& root) const {
     if (!tables_) return;
@@ -354,6 +416,7 @@ void Halos::doStats(nlohmann::json& root) const {
     if (octN_ > 0) {
         root["halos"]["grid_table_texels"] = octN_;
         root["halos"]["grid_table_update_ms"] = octUpdateMs_;
+        root["halos"]["grid_table_rows_last_frame"] = octRowsLast_;
     }
 }
 
@@ -362,10 +425,12 @@ void Halos::doRelease() {
     gridPrograms_.releasePrograms();
     table_ = {};
     octTable_ = {};
+    octBack_ = {};
+    octBackRow_ = -1;
     octRemap_.clear();
     octLayer_.clear();
     octN_ = 0;
-    octElevation_ = -1.0;
+    octElevation_ = NAN;
     cloudUbo_ = {};
     tables_ = nullptr;
     mix_.clear();

@@ -231,16 +231,20 @@ void Rainbow::doRender(const FrameContext& ctx) {
             glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
             rowsLast_ += y1 - y0;
         };
-        // What is stale: anything but the light (and the illuminances) exactly, the light by a jump,
-        // or a first frame: the whole cache now. The light moving past kLightTolerance, its or the
-        // sky's illuminance by 2 %, the clouds' shadow map rebuilt (time running): a refill over
-        // rain.cache_slices frames into back_, the cache drawn meanwhile.
+        // What is stale: anything but the light (and the illuminances) exactly, or a first frame:
+        // the whole cache now. The light moving past kLightTolerance, its or the sky's illuminance
+        // by 2 %, the clouds' shadow map rebuilt (time running): a refill over rain.cache_slices
+        // frames into back_, the cache drawn meanwhile. A jump of the light (a new time) restarts
+        // a refill under way with the new light, spread the same way (the whole fill in the
+        // jump's frame made it ~19x a still frame): the bows stay placed around the current
+        // anti-light point, and the cache from before the jump is drawn until the new one is complete.
+        const int slices = std::clamp(v.getOr(rainbowkeys::cacheSlices, rainbowkeys::kCacheSlicesDefault), 1, 32);
         const bool jump = glm::dot(L, lastLight_) < std::cos(kLightJump);  // since the last frame (the cache may lag more)
         lastLight_ = L;
-        const bool whole = in != cacheInputs_ || jump;
-        const bool moved = glm::dot(L, cacheLight_) < std::cos(kLightTolerance) || std::abs(eY - cacheE_) > 0.02 * cacheE_ ||
+        const bool whole = in != cacheInputs_;
+        if (jump && !whole && slices > 1) backRow_ = -1;  // superseded: restarted below with this light
+        const bool moved = jump || glm::dot(L, cacheLight_) < std::cos(kLightTolerance) || std::abs(eY - cacheE_) > 0.02 * cacheE_ ||
                            std::abs(skyY - cacheSkyE_) > 0.02 * std::max(cacheSkyE_, 1e-9) || shadowVersion != cacheShadowVersion_;
-        const int slices = std::clamp(v.getOr(rainbowkeys::cacheSlices, rainbowkeys::kCacheSlicesDefault), 1, 32);
         if (whole || (moved && slices == 1 && backRow_ < 0)) {  // always on the first frame: cacheInputs_ starts empty
             backRow_ = -1;  // a refill in progress is superseded
             fillRows(cache_, 0, kCachePsi, L, E, skyE);

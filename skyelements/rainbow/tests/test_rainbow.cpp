@@ -353,7 +353,7 @@ TEST_CASE("Rainbow: time running refills the direction cache over rain.cache_sli
     // refills the whole cache every frame: each frame fills at most kCachePsi / slices rows (work
     // counted, not timed), a refill completes every `slices` frames, and the frame drawn from the
     // lagging cache (the bows placed around the current anti-light point) stays close to one drawn
-    // from a cache filled whole at the current light. A jump of the light fills it whole at once.
+    // from a cache filled whole at the current light. A jump of the light is spread the same way.
     test::glContext();
     Scene s(10.0);
     SkyVars& v = s.p.vars();
@@ -393,10 +393,26 @@ TEST_CASE("Rainbow: time running refills the direction cache over rain.cache_sli
     // a coordinate off by one cache texel (0.06 deg) already gives > 2.5 % (the test above).
     CHECK(e.mean < 0.005);
     CHECK(e.over5 < 0.01);
-    // A jump of the light (a new time): the whole cache at once.
-    v.set(keys::sunDirection, directionFromAzAlt(az + 5.0 * kDeg, alt * kDeg));
+    // A jump of the light (a new time: 5 deg in a frame): spread too (the whole fill in the jump's
+    // frame made it ~19x a still frame), the refill under way restarted with the new light, so
+    // after `slices` frames at rest the cache is complete for it, and the frame is bit for bit
+    // the one of a cache filled whole at that light.
+    az += 5.0 * kDeg;
+    v.set(keys::sunDirection, directionFromAzAlt(az, alt * kDeg));
+    const int fills1 = s.bow->cacheFills();
+    Image rested;
+    for (int i = 0; i < slices; ++i) {
+        rested = s.render();
+        CHECK(s.bow->cacheRowsLastFrame() <= rowsPerFrame);
+    }
+    CHECK(s.bow->cacheFills() == fills1 + 1);  // one refill, started at the jump
     s.render();
-    CHECK(s.bow->cacheRowsLastFrame() == elements::Rainbow::kCachePsi);
+    CHECK(s.bow->cacheRowsLastFrame() == 0);  // complete, at rest: nothing more
+    Scene j(10.0);
+    j.p.vars().set(rk::rate, 5.0);
+    j.p.vars().set(elements::rainbowkeys::directionCache, true);
+    j.p.vars().set(keys::sunDirection, directionFromAzAlt(az, alt * kDeg));
+    CHECK(s.render().pixels == j.render().pixels);
 }
 
 TEST_CASE("Rainbow: the real-time path follows render.interactive, perspective only", "[gl][rainbow]") {

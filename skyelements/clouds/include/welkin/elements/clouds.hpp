@@ -204,6 +204,16 @@ public:
     static constexpr int kPhotometryFrames = 8;
     /// Photometry passes run since construction.
     int photometryRuns() const { return photometryRuns_; }
+    /// The direction cache's work in the last render() (counted, not timed): Bayer phases of
+    /// 1/cache_frames of its texels each that were marched (cache_frames: a whole fill; 1: the
+    /// running refresh, or one phase of a refill after a jump; 0: no real-time path).
+    int cachePhasesLastFrame() const { return cachePhasesLast_; }
+    /// Refills after a jump of the Sun started so far, and whether one is under way.
+    int cacheJumpRefills() const { return cacheJumpRefills_; }
+    bool cacheRefilling() const { return backPhase_ >= 0; }
+    /// The drawn direction cache's radiance and transmittance texels (RGBA16F read back as float;
+    /// tests: a cache refilled over frames against one filled whole).
+    std::vector<float> readCache(bool transmittance) const { return (transmittance ? cacheT_ : cacheL_).readRgbaFloat(); }
 
 private:
     bool drew_ = false;
@@ -217,6 +227,12 @@ private:
     gl::ProjectionPrograms cacheShow_;
     int cachePhase_ = 0;
     std::vector<double> cacheInputs_;
+    // The refill after a jump of the Sun: the second pair of textures, the next Bayer phase to
+    // march into them (-1: none under way).
+    gl::Texture2D backL_, backT_;
+    int backPhase_ = -1;
+    int cachePhasesLast_ = 0;
+    int cacheJumpRefills_ = 0;
     // Preset bookkeeping: per preset-driven key, the version after the element last wrote it (0:
     // never written by the element).
     std::string appliedPreset_;

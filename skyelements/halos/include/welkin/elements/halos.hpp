@@ -57,6 +57,14 @@ inline const Key<double> plateAspect{"halos.plate_aspect", Range{0.05, 1}, "plat
 inline const Key<double> columnAspect{"halos.column_aspect", Range{1, 8}, "columns' length along the c-axis over their diameter (also the random population's)"};
 inline const Key<double> tilt{"halos.tilt_rad", Range{0.1 * kDeg, 10 * kDeg}, "spread (Gaussian sigma) of the oriented crystals' axes about their preferred orientation"};
 inline const Key<std::string> tableQuality{"halos.table_quality", Choices{{"low", "default", "high"}}, "phase tables: low (CI tests), default, high (rays and resolution; skyelements/halos/README.md)"};
+/// Frames over which the real-time grid's table is re-interpolated to a moved light when
+/// render.interactive is on (time running, a jump of the time): a second table is filled
+/// 1/table_slices of its rows a frame while the one before is drawn, turned onto the current light
+/// (skyelements/halos/README.md, "Time running"). 1, or render.interactive off: the whole table in
+/// the frame the light moved past the tolerance.
+inline const Key<int> tableSlices{"halos.table_slices", Range{1, 64},
+                                  "frames over which the real-time grid's table follows a moved light (render.interactive; 1: at once)"};
+inline constexpr int kTableSlicesDefault = 32;
 }  // namespace haloskeys
 
 namespace halos {
@@ -212,7 +220,8 @@ private:
 
     gl::ProjectionPrograms programs_, gridPrograms_;
     gl::Texture2D table_;            // the mix at the light's elevation (azimuth x elevation), 1/sr (per-pixel path)
-    gl::Texture2D octTable_;         // the grid path's table (octahedral half-sphere, the layer baked in)
+    gl::Texture2D octTable_;         // the grid path's table (octahedral half-sphere, the layer baked in): drawn
+    gl::Texture2D octBack_;          // the one being filled over frames (halos.table_slices), swapped in when complete
     int tableUnit_ = 0;              // its private texture unit (SkyElement::textureUnit)
     gl::Buffer cloudUbo_;
     const halos::HaloTables* tables_ = nullptr;
@@ -233,11 +242,19 @@ private:
     std::vector<OctTexel> octRemap_;
     std::vector<glm::vec2> octLayer_;
     int octN_ = 0;
-    double octElevation_ = -1.0;
+    double octElevation_ = NAN;      // the light elevation octTable_ holds, rad (NaN: none yet)
+    double octBackElevation_ = 0.0;  // the one octBack_ is being filled for
+    int octBackRow_ = -1;            // the next row of octBack_ to fill (-1: no refill in progress)
+    double octLastElevation_ = -10.0;  // the light's elevation in the last frame drawn through the grid (a jump)
+    int octRowsLast_ = 0;            // rows of the grid's table computed in the last frame
+    int octRefills_ = 0;             // refills started (whole or spread)
+    std::vector<glm::vec4> octRows_;  // the rows computed this frame (CPU), uploaded at once
     glm::dvec4 octLayerKey_{-1.0};  // tau, observer height, layer height, planet radius the layer holds
     bool forcePerPixel_ = false;
     double octUpdateMs_ = 0.0;  // the last resampling of the grid path's table, CPU ms
-    void updateOctTable(double elevationRad, double tauUser, double h0, double layerH, double R);
+    void updateOctTable(double elevationRad, double tauUser, double h0, double layerH, double R, int slices);
+    // Rows [r0, r1) of the grid's table at the light elevation `el`, into `target`.
+    void fillOctRows(gl::Texture2D& target, double el, int r0, int r1);
 
 public:
     /// The light's motion in elevation (rad) that re-interpolates the table between its slices
@@ -253,6 +270,20 @@ public:
     static constexpr double kOctScale = 2.0;
     /// True if the last render() drew through the grid.
     bool gridLastFrame() const { return grid_; }
+    /// The grid's table: rows computed in the last render() (work counted, not timed: N a whole
+    /// table, N / halos.table_slices rounded up a slice of a refill, 0 none), refills started so
+    /// far, its size N, and the light elevation the drawn table holds (rad; NaN: none yet).
+    int gridRowsLastFrame() const { return octRowsLast_; }
+    int gridRefills() const { return octRefills_; }
+    int gridTableSize() const { return octN_; }
+    double gridTableElevation() const { return octElevation_; }
+    /// The drawn grid table's texels (RGBA16F read back as float, N x N; tests: a table filled
+    /// over frames against one filled whole).
+    std::vector<float> readGridTable() const;
+    /// A motion of the light's elevation from one frame to the next beyond which a refill in
+    /// progress is restarted at the new elevation (a new time, not time running: at 1440x and 30
+    /// frames/s the Sun's elevation moves at most 0.2 deg a frame): 1 deg.
+    static constexpr double kElevationJump = 0.01745;
     /// Tests and benchmarks: draw every view through the per-pixel pass (the offline path), to
     /// compare the grid with it.
     void setForcePerPixel(bool on) { forcePerPixel_ = on; }
