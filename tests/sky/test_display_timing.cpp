@@ -32,12 +32,12 @@
 using namespace welkin;
 
 namespace {
-double cpuMs() {
+[[maybe_unused]] double cpuMs() {  // unused where the case below is left out (no nightsky, stars or planet)
     timespec t{};
     clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
     return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
 }
-double median(std::vector<double> v) {
+[[maybe_unused]] double median(std::vector<double> v) {
     std::sort(v.begin(), v.end());
     return v[v.size() / 2];
 }
