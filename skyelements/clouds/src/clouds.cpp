@@ -161,34 +161,7 @@ namespace welkin::glsl::dp::clouds_transfer_shared {
 #define CLD_FW_G3 welkin::elements::kFwG[3]
 #define CLD_FW_G4 welkin::elements::kFwG[4]
 #include "../shaders/clouds_transfer.shared.glsl"
-#undef CLD_PI
-#undef CLD_G_DRAINE
-#undef CLD_ALPHA_DRAINE
-#undef CLD_MS_S
-#undef CLD_MS_K
-#undef CLD_MS_Z
-#undef CLD_MS_A
-#undef CLD_MS_H
-#undef CLD_MS_C
-#undef CLD_MS_Q
-#undef CLD_MS_MU_MIN
-#undef CLD_MS_AMBIENT
-#undef CLD_AMB_FORWARD
-#undef CLD_DIFFUSIVITY
-#undef CLD_SUN_K
-#undef CLD_SUN_Z
-#undef CLD_SUN_H
-#undef CLD_SUN_C
-#undef CLD_FW_W0
-#undef CLD_FW_W1
-#undef CLD_FW_W2
-#undef CLD_FW_W3
-#undef CLD_FW_W4
-#undef CLD_FW_G0
-#undef CLD_FW_G1
-#undef CLD_FW_G2
-#undef CLD_FW_G3
-#undef CLD_FW_G4
+#include "clouds_transfer_undef.inc"
 }  // namespace welkin::glsl::dp::clouds_transfer_shared
 
 namespace welkin::elements {
