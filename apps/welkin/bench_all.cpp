@@ -87,17 +87,6 @@ std::string fmt(double v, int prec = 2) {
     return b;
 }
 
-std::string shell(const std::string& cmd) {
-    std::string out;
-    if (FILE* p = popen(cmd.c_str(), "r")) {
-        char buf[512];
-        while (std::fgets(buf, sizeof buf, p)) out += buf;
-        pclose(p);
-    }
-    while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
-    return out;
-}
-
 std::string loadAverage() {
     std::ifstream f("/proc/loadavg");
     std::string one;
@@ -385,7 +374,7 @@ private:
 std::string frameworkSection(int frames, const std::function<void(const std::string&)>& progress) {
     std::string md = "## Framework CPU overhead per frame (callgrind)\n\n";
     if (frames <= 0) return md + "Not measured in this run (`--framework-frames 0`).\n\n";
-    if (shell("command -v valgrind").empty()) return md + "Not measured: valgrind is not installed.\n\n";
+    if (shellOut("command -v valgrind").empty()) return md + "Not measured: valgrind is not installed.\n\n";
     const std::string self_exe = std::filesystem::canonical("/proc/self/exe").string();
     const std::filesystem::path tmp = std::filesystem::temp_directory_path() / ("welkin_bench_callgrind_" + std::to_string(::getpid()));
     std::filesystem::create_directories(tmp);
@@ -658,9 +647,7 @@ int run(const AllOptions& o) {
     char date[64];
     const std::time_t now = std::time(nullptr);
     std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
-    std::string commit = shell("git -C '" WELKIN_SOURCE_DIR "' rev-parse --short HEAD 2>/dev/null");
-    if (commit.empty()) commit = "unknown";
-    else if (!shell("git -C '" WELKIN_SOURCE_DIR "' status --porcelain --untracked-files=no 2>/dev/null").empty()) commit += " (with uncommitted changes)";
+    const std::string commit = sourceCommit(WELKIN_SOURCE_DIR);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     std::string cmdline = std::string("welkin bench all") + (o.quick ? " --quick" : "") +
                           (o.sizeOverride.empty() ? "" : " --size-override " + o.sizeOverride) + (o.only.empty() ? "" : " --only " + o.only) +

@@ -158,17 +158,6 @@ constexpr const char* kGenerated = "<!-- welkin bench display: generated -->";
 constexpr const char* kReadmeBegin = "<!-- welkin bench display: readme begin -->";
 constexpr const char* kReadmeEnd = "<!-- welkin bench display: readme end -->";
 
-std::string shellOut(const std::string& cmd) {
-    std::string out;
-    if (FILE* p = popen(cmd.c_str(), "r")) {
-        char buf[512];
-        while (std::fgets(buf, sizeof buf, p)) out += buf;
-        pclose(p);
-    }
-    while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
-    return out;
-}
-
 std::string findOnPath(const std::string& name) {
     const char* path = std::getenv("PATH");
     std::stringstream ss(path ? path : "");
@@ -502,9 +491,7 @@ int run(DisplayBenchOptions o) {
     char date[64];
     const std::time_t now = std::time(nullptr);
     std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
-    std::string commit = shellOut("git -C '" WELKIN_SOURCE_DIR "' rev-parse --short HEAD 2>/dev/null");
-    if (commit.empty()) commit = "unknown";
-    else if (!shellOut("git -C '" WELKIN_SOURCE_DIR "' status --porcelain --untracked-files=no 2>/dev/null").empty()) commit += " (with uncommitted changes)";
+    const std::string commit = sourceCommit(WELKIN_SOURCE_DIR);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     const std::string cores = shellOut("nproc 2>/dev/null");
     std::ostringstream md, table;

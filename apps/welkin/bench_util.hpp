@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <functional>
 #include <sstream>
@@ -21,6 +22,28 @@
 #include <vector>
 
 namespace welkin::cli {
+
+/// What a shell command prints on its standard output, the trailing newlines removed; "" when it
+/// cannot be run. For the few facts a benchmark's report states (the commit, a peer's version).
+inline std::string shellOut(const std::string& cmd) {
+    std::string out;
+    if (FILE* p = popen(cmd.c_str(), "r")) {
+        char buf[512];
+        while (std::fgets(buf, sizeof buf, p)) out += buf;
+        pclose(p);
+    }
+    while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
+    return out;
+}
+
+/// The commit a report was measured on: the short hash of `sourceDir`'s HEAD, with
+/// " (with uncommitted changes)" when tracked files differ from it; "unknown" outside a checkout.
+inline std::string sourceCommit(const std::string& sourceDir) {
+    std::string commit = shellOut("git -C '" + sourceDir + "' rev-parse --short HEAD 2>/dev/null");
+    if (commit.empty()) return "unknown";
+    if (!shellOut("git -C '" + sourceDir + "' status --porcelain --untracked-files=no 2>/dev/null").empty()) commit += " (with uncommitted changes)";
+    return commit;
+}
 
 /// The median of `v` (the upper one of an even count); NaN when empty.
 inline double median(std::vector<double> v) {

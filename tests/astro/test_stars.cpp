@@ -6,6 +6,8 @@
 
 #include <catch2/catch.hpp>
 
+#include "error_of.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -37,15 +39,7 @@ std::string bsc(const std::string& hr, const std::string& name, const std::strin
     return r.s;
 }
 
-template <class F>
-std::string errorOf(F&& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "(no error)";
-}
+using test::errorOf;
 
 }  // namespace
 

@@ -2,6 +2,8 @@
 // errors that name the file, the line and the column.
 #include <catch2/catch.hpp>
 
+#include "error_of.hpp"
+
 #include "cli_runner.hpp"
 
 #include <welkin/csv.hpp>
@@ -16,15 +18,7 @@ using namespace welkin;
 
 namespace {
 
-template <class F>
-std::string errorOf(F&& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "(no error)";
-}
+using test::errorOf;
 
 }  // namespace
 

@@ -4,6 +4,8 @@
 // must now be answered with a one-line welkin::Error (or parsed correctly).
 #include <catch2/catch.hpp>
 
+#include "error_of.hpp"
+
 #include <output_paths.hpp>
 #include <welkin/astro/stars.hpp>
 #include <welkin/astro/vsop87.hpp>
@@ -25,15 +27,7 @@ std::string regressionInput(const std::string& target, const std::string& name) 
     ss << in.rdbuf();
     return ss.str();
 }
-template <class F>
-std::string errorOf(F&& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "(no error)";
-}
+using test::errorOf;
 }  // namespace
 
 TEST_CASE("fuzz regression: kstars binary file whose field table runs past its end", "[cpu][fuzz]") {

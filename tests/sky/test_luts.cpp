@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include "gl_test_context.hpp"
+#include "lut_readback.hpp"
 
 #include <epoxy/gl.h>
 
@@ -20,19 +21,8 @@ using namespace welkin::generators;
 namespace {
 constexpr double kDeg = M_PI / 180;
 
-Lut2D readLut(const gl::Texture& t, double scale = 1.0) {
-    Lut2D l{t.width(), t.height(), {}};
-    std::vector<float> px = t.readRgbaFloat();
-    l.texels.resize(size_t(l.width) * l.height);
-    for (size_t i = 0; i < l.texels.size(); ++i) l.texels[i] = glm::dvec3(px[4 * i], px[4 * i + 1], px[4 * i + 2]) * scale;
-    return l;
-}
-
-double relErr(const glm::dvec3& gpu, const glm::dvec3& cpu, double floor) {
-    double e = 0;
-    for (int c = 0; c < 3; ++c) e = std::max(e, std::abs(gpu[c] - cpu[c]) / (std::abs(cpu[c]) + floor));
-    return e;
-}
+using test::readLut;
+using test::relErr;
 
 struct Rig {
     SkyVars vars = [] {
