@@ -58,32 +58,27 @@ real cld_lightTransfer(real nu, real tauL, real tauB, real muL) {
 // The diffusion term's angular correction (C++: cloudcpu::diffusionShape): the transfer table
 // cld_msTable (clouds_transfer_table.shared.glsl, written by `welkin bench cloud-table`) holds,
 // for a slab of optical depth tauAxis along the light's axis (unscaled; nodes 1, 2, 4 ... 256)
-// lit at cos(zenith) muL (nodes 0.2, 0.4 ... 1), at the depth fraction depthFrac from its lit
-// face (nodes 0, 0.25 ... 1), the ratio of adding-doubling's azimuth-averaged multiply scattered
-// radiance there (its diffuse radiance less this model's single scattering and forward orders)
-// to the diffusion term's, by the view ray's cos(zenith) muV (17 nodes on [-1, 1]: > 0 looking up,
-// the light going down; < 0 looking down). Quadrilinear, clamped at the table's edges.
-real cld_msTableAt(int i, int j, int m, int k) { return cld_msTable[((i * 5 + j) * 5 + m) * 17 + k]; }
-real cld_msTableMuV(int i, int j, int m, int k, real fz) { return mix(cld_msTableAt(i, j, m, k), cld_msTableAt(i, j, m, k + 1), fz); }
-real cld_msTableIJ(int i, int j, int m, int k, real fw, real fz) {
-    return mix(cld_msTableMuV(i, j, m, k, fz), cld_msTableMuV(i, j, m + 1, k, fz), fw);
-}
-real cld_diffusionShape(real muV, real tauAxis, real muL, real depthFrac) {
+// lit at cos(zenith) muL (nodes 0.2, 0.4 ... 1), the ratio of adding-doubling's azimuth-averaged
+// multiply scattered radiance (its diffuse radiance less this model's single scattering and
+// forward orders) to the diffusion term's, by the view ray's cos(zenith) muV (17 nodes on
+// [-1, 1]: > 0 looking up, the transmitted light; < 0 looking down, the reflected). Trilinear,
+// clamped at the table's edges.
+real cld_msTableAt(int i, int j, int k) { return cld_msTable[(i * 5 + j) * 17 + k]; }
+real cld_diffusionShape(real muV, real tauAxis, real muL) {
     real x = clamp(log2(max(tauAxis, 1.0)), 0.0, 8.0);
     real y = clamp((muL - 0.2) / 0.2, 0.0, 4.0);
-    real d = clamp(depthFrac * 4.0, 0.0, 4.0);
     real z = clamp((muV + 1.0) * 8.0, 0.0, 16.0);
-    int i = int(floor(min(x, 7.0))), j = int(floor(min(y, 3.0))), m = int(floor(min(d, 3.0))), k = int(floor(min(z, 15.0)));
-    real fx = x - real(i), fy = y - real(j), fw = d - real(m), fz = z - real(k);
-    real a = mix(cld_msTableIJ(i, j, m, k, fw, fz), cld_msTableIJ(i, j + 1, m, k, fw, fz), fy);
-    real b = mix(cld_msTableIJ(i + 1, j, m, k, fw, fz), cld_msTableIJ(i + 1, j + 1, m, k, fw, fz), fy);
+    int i = int(floor(min(x, 7.0))), j = int(floor(min(y, 3.0))), k = int(floor(min(z, 15.0)));
+    real fx = x - real(i), fy = y - real(j), fz = z - real(k);
+    real a = mix(mix(cld_msTableAt(i, j, k), cld_msTableAt(i, j, k + 1), fz), mix(cld_msTableAt(i, j + 1, k), cld_msTableAt(i, j + 1, k + 1), fz), fy);
+    real b = mix(mix(cld_msTableAt(i + 1, j, k), cld_msTableAt(i + 1, j, k + 1), fz), mix(cld_msTableAt(i + 1, j + 1, k), cld_msTableAt(i + 1, j + 1, k + 1), fz), fy);
     return mix(a, b, fx);
 }
 // The lights' transfer with the table's correction (C++: cloudcpu::lightTransferTable): what the
 // march uses. muV: the view ray's cos(zenith).
 real cld_lightTransferTable(real nu, real muV, real tauL, real tauB, real muL) {
     return cld_scaledPhase(nu) * exp(-tauL) + cld_forwardTransfer(nu, tauL)
-           + cld_lightDiffusion(nu, tauL, tauB, muL) * cld_diffusionShape(muV, (tauL + tauB) / CLD_W_DRAINE, muL, tauL / max(tauL + tauB, 1e-6));
+           + cld_lightDiffusion(nu, tauL, tauB, muL) * cld_diffusionShape(muV, (tauL + tauB) / CLD_W_DRAINE, muL);
 }
 
 // The ambient light's transfer (C++: cloudcpu::ambientTransfer), per lux of horizontal

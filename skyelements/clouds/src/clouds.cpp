@@ -181,9 +181,7 @@ double lightTransfer(double nu, double tauL, double tauB, double muL) { return t
 double ambientTransfer(double nu, double tauN, double tauF) { return transfer::cld_ambientTransfer(nu, tauN, tauF); }
 double forwardTransfer(double nu, double tauL) { return transfer::cld_forwardTransfer(nu, tauL); }
 double lightDiffusion(double nu, double tauL, double tauB, double muL) { return transfer::cld_lightDiffusion(nu, tauL, tauB, muL); }
-double diffusionShape(double muV, double tauAxis, double muL, double depthFrac) {
-    return transfer::cld_diffusionShape(muV, tauAxis, muL, depthFrac);
-}
+double diffusionShape(double muV, double tauAxis, double muL) { return transfer::cld_diffusionShape(muV, tauAxis, muL); }
 double lightTransferTable(double nu, double muV, double tauL, double tauB, double muL) {
     return transfer::cld_lightTransferTable(nu, muV, tauL, tauB, muL);
 }

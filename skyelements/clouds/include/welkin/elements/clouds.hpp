@@ -123,20 +123,19 @@ double scaledPhase(double nu);
 double lightTransfer(double nu, double tauL, double tauB, double muL);
 /// lightTransfer()'s diffusion term alone (1/sr per lux and per unit scaled extinction).
 double lightDiffusion(double nu, double tauL, double tauB, double muL);
-/// The transfer table's correction of the diffusion term's angular shape (dimensionless, 0.25-4):
-/// the ratio of a slab's multiply scattered radiance at a depth inside it (adding-doubling's,
-/// azimuth-averaged) to the diffusion term's, quadrilinear in log2 tauAxis (the slab's unscaled
-/// optical depth along the light's axis, 1-256, clamped), muL (0.2-1, clamped), depthFrac (the
-/// depth from the lit face over the slab's, tauL / (tauL + tauB), [0, 1]) and the view ray's
-/// cos(zenith) muV in [-1, 1] (> 0 looking up: the light going down). Written by `welkin bench cloud-table`
+/// The transfer table's correction of the diffusion term's angular shape (dimensionless, ~0.3-3):
+/// the ratio of a slab's multiply scattered radiance (adding-doubling's, azimuth-averaged) to the
+/// diffusion term's, trilinear in log2 tauAxis (the slab's unscaled optical depth along the
+/// light's axis, 1-256, clamped), muL (0.2-1, clamped) and the view ray's cos(zenith) muV in
+/// [-1, 1] (> 0 looking up: the transmitted light). Written by `welkin bench cloud-table`
 /// (clouds_transfer_table.shared.glsl; skyelements/clouds/README.md, "Transfer table").
-double diffusionShape(double muV, double tauAxis, double muL, double depthFrac);
+double diffusionShape(double muV, double tauAxis, double muL);
 /// What the march uses: lightTransfer() with its diffusion term times
-/// diffusionShape(muV, (tauL + tauB) / w_D, muL, tauL / (tauL + tauB)); muV the view ray's cos(zenith).
+/// diffusionShape(muV, (tauL + tauB) / w_D, muL); muV the view ray's cos(zenith).
 double lightTransferTable(double nu, double muV, double tauL, double tauB, double muL);
-/// The transfer table's 9 x 5 x 5 x 17 values, [tauAxis][muL][depth][muV] (diffusionShape()'s nodes).
+/// The transfer table's 9 x 5 x 17 values, [tauAxis][muL][muV] (diffusionShape()'s nodes).
 const double* diffusionShapeTable();
-inline constexpr int kShapeTauN = 9, kShapeMuLN = 5, kShapeDepthN = 5, kShapeMuVN = 17;
+inline constexpr int kShapeTauN = 9, kShapeMuLN = 5, kShapeMuVN = 17;
 /// The forward-peaked low orders of lightTransfer() (1/sr per lux and per unit scaled
 /// extinction): sum over m = 0..4 of w_m tauL^m e^(-tauL) / m! HG(nu, g_m), the light scattered m
 /// times at small angles on its way in (Poisson's share at scaled depth tauL >= 0) sent towards
