@@ -736,7 +736,30 @@ SlabSolution addingDoubling(double tau, double albedo, const std::vector<double>
     }
     out.reflection = up / mu0;
     out.transmission = down / mu0 + e;  // e: the scaled problem's direct beam (includes the peak)
+    out.mu = mu;
+    out.reflectedRadiance = r;
+    out.transmittedRadiance = t;
     return out;
+}
+
+std::vector<double> phaseMoments(const PhaseFunction& phase, int n, int steps) {
+    if (n < 1 || n > 4096) throw Error("cloudref::phaseMoments: n must be in [1, 4096]");
+    if (steps < 100) throw Error("cloudref::phaseMoments: steps must be >= 100");
+    std::vector<double> m(size_t(n), 0.0);
+    for (int i = 0; i < steps; ++i) {
+        const double x = -1.0 + (i + 0.5) * 2.0 / steps, p = phase.eval(x);
+        double p0 = 1.0, p1 = x;
+        m[0] += p;
+        if (n > 1) m[1] += p * x;
+        for (int l = 2; l < n; ++l) {
+            const double p2 = ((2.0 * l - 1.0) * x * p1 - (l - 1.0) * p0) / l;
+            m[size_t(l)] += p * p2;
+            p0 = p1;
+            p1 = p2;
+        }
+    }
+    for (int l = n - 1; l >= 0; --l) m[size_t(l)] /= m[0];
+    return m;
 }
 
 }  // namespace welkin::cloudref

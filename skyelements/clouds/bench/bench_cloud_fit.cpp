@@ -44,21 +44,24 @@
 namespace welkin::cli::cloudfit {
 // The constants the transfer's text reads while the fit evaluates it (one thread evaluates).
 thread_local elements::cloudcpu::LightTransferConstants gFit = elements::cloudcpu::kLightTransferFit;
-// The constants the fit keeps (clouds.cpp's kMsA, kMsQ, kMsMuMin, kMsS; the ambient's k, z, h, c).
-constexpr double kA = 2.0, kQ = 0.75, kMuMin = 0.2, kS = (1.0 - 0.86) / elements::cloudcpu::kDropletWDraine;
+// The constants the fit keeps (clouds.hpp's cloudcpu::kDiffusion*, as clouds.cpp; the ambient's
+// k, z, h, c are cloudcpu::kAmbientTransfer's, one source for both).
+constexpr double kA = elements::cloudcpu::kDiffusionA, kQ = elements::cloudcpu::kDiffusionQ, kMuMin = elements::cloudcpu::kDiffusionMuMin,
+                 kS = elements::cloudcpu::kDiffusionS;
 }  // namespace welkin::cli::cloudfit
 
 // The transfer's text once more, its fitted constants read from gFit.
 namespace welkin::glsl::dp::cloud_fit_transfer {
 #define CLD_PI std::numbers::pi
+#define CLD_W_DRAINE welkin::elements::cloudcpu::kDropletWDraine
 #define CLD_G_DRAINE welkin::elements::cloudcpu::kDropletGDraine
 #define CLD_ALPHA_DRAINE welkin::elements::cloudcpu::kDropletAlphaDraine
 #define CLD_MS_S welkin::cli::cloudfit::kS
-#define CLD_MS_K 0.8
-#define CLD_MS_Z 1.4
+#define CLD_MS_K welkin::elements::cloudcpu::kAmbientTransfer.k
+#define CLD_MS_Z welkin::elements::cloudcpu::kAmbientTransfer.z
 #define CLD_MS_A welkin::cli::cloudfit::kA
-#define CLD_MS_H 1.5
-#define CLD_MS_C (0.2 / welkin::elements::cloudcpu::kDropletWDraine)
+#define CLD_MS_H welkin::elements::cloudcpu::kAmbientTransfer.h
+#define CLD_MS_C (welkin::elements::cloudcpu::kAmbientTransfer.c / welkin::elements::cloudcpu::kDropletWDraine)
 #define CLD_MS_Q welkin::cli::cloudfit::kQ
 #define CLD_MS_MU_MIN welkin::cli::cloudfit::kMuMin
 #define CLD_MS_AMBIENT (2.0 / (1.0 + welkin::cli::cloudfit::kQ))
@@ -395,7 +398,9 @@ int run(const FitOptions& o) {
     Objective f{&samples, &fluxes};
     const double fCommitted = f(toParams(committed));
     const double rmsCommitted = f.logRms, penCommitted = f.penalty;
-    const LightTransferConstants neutral{0.8, 0.2, 1.5, 1.4, {0.5, 0.3, 0.3, 0.3, 0.3}, {0.95, 0.8, 0.7, 0.6, 0.6}};
+    // The neutral start: the ambient's diffusion constants (the lights' before any fit) and neutral orders.
+    constexpr auto amb = elements::cloudcpu::kAmbientTransfer;
+    const LightTransferConstants neutral{amb.k, amb.c, amb.h, amb.z, {0.5, 0.3, 0.3, 0.3, 0.3}, {0.95, 0.8, 0.7, 0.6, 0.6}};
     std::vector<double> x = toParams(o.start == "committed" ? committed : neutral);
     int evals = 0;
     double fx = f(x);
@@ -457,6 +462,161 @@ int run(const FitOptions& o) {
     }
     return 0;
 }
+
+// ---- welkin bench cloud-table: the diffusion term's angular correction ------------------------
+//
+// For each node (tauAxis 1, 2, 4 ... 256 along the light's axis, muL 0.2 ... 1, the view's
+// cos(zenith) muV -1 ... 1): a slab of vertical optical depth tauAxis muL of the droplets' Mie
+// phase (cloudref::cloudDropletPhase, its Legendre moments), lit at muL; adding-doubling's
+// azimuth-averaged diffuse radiance (32 streams, linear in mu between its nodes) less this model's
+// single scattering and forward orders, over the model's diffusion term, both the formal solution
+// of the slab (96 layers, each exact against the view's exponential) averaged over 24 azimuths;
+// clamped to [0.25, 4]. |muV| below 0.05 is taken at 0.05; muV = 0 is the mean of both sides.
+// Deterministic (no Monte Carlo). The committed constants (kLightTransferFit) are the model's:
+// regenerate the table after `welkin bench cloud-fit`.
+struct ShapeParts {
+    double low = 0, multi = 0;
+};
+ShapeParts modelParts(double tau, double mu0, double muV) {
+    const LightTransferConstants c = elements::cloudcpu::kLightTransferFit;
+    cloudfit::gFit = c;
+    namespace tr = glsl::dp::cloud_fit_transfer;
+    const int n = 96, nf = 24;
+    const double ts = kDropletWDraine * tau, dt = ts / n, mv = std::abs(muV), st = std::sqrt(1.0 - muV * muV);
+    const glm::dvec3 sun(std::sqrt(1.0 - mu0 * mu0), 0.0, mu0);
+    const bool below = muV > 0;
+    ShapeParts p;
+    for (int jf = 0; jf < nf; ++jf) {
+        const double phi = (jf + 0.5) * std::numbers::pi / nf;
+        const glm::dvec3 view(st * std::cos(phi), st * std::sin(phi), muV);
+        const double nu = glm::dot(view, sun);
+        for (int i = 0; i < n; ++i) {
+            const double t = (i + 0.5) * dt;
+            const double near = below ? ts - (i + 1) * dt : i * dt;
+            const double w = std::exp(-near / mv) * (1.0 - std::exp(-dt / mv)) / nf;
+            const double tl = t / mu0, tb = (ts - t) / mu0;
+            p.low += (tr::cld_scaledPhase(nu) * std::exp(-tl) + tr::cld_forwardTransfer(nu, tl)) * w;
+            p.multi += tr::cld_lightDiffusion(nu, tl, tb, mu0) * w;
+        }
+    }
+    return p;
+}
+double interpolateMu(const std::vector<double>& mu, const std::vector<double>& v, double x) {
+    if (x <= mu.front()) return v.front();
+    if (x >= mu.back()) return v.back();
+    size_t i = 1;
+    while (mu[i] < x) ++i;
+    const double f = (x - mu[i - 1]) / (mu[i] - mu[i - 1]);
+    return v[i - 1] + f * (v[i] - v[i - 1]);
+}
+}  // namespace
+std::vector<double> diffusionShapeTableComputed() {
+    using elements::cloudcpu::kShapeMuLN;
+    using elements::cloudcpu::kShapeMuVN;
+    using elements::cloudcpu::kShapeTauN;
+    const cloudref::TabulatedPhase mie = cloudref::cloudDropletPhase();
+    const std::vector<double> moments = cloudref::phaseMoments(mie, 65);
+    std::vector<double> table(size_t(kShapeTauN * kShapeMuLN * kShapeMuVN));
+    for (int i = 0; i < kShapeTauN; ++i)
+        for (int j = 0; j < kShapeMuLN; ++j) {
+            const double tauAxis = std::exp2(double(i)), mu0 = 0.2 + 0.2 * j, tau = tauAxis * mu0;
+            const cloudref::SlabSolution ad = cloudref::addingDoubling(tau, 1.0, moments, mu0, 32);
+            // The ratio where the diffusion term carries the light (the model's low orders under
+            // half of adding-doubling's radiance, its diffusion over a quarter); elsewhere (towards
+            // the light, where adding-doubling's delta-M moved the peak into the direct beam and
+            // the low orders dominate, and in thin slabs) the nearest such node's along muV, or 1.
+            auto ratio = [&](double muV, bool& ok) {
+                const ShapeParts p = modelParts(tau, mu0, muV);
+                const double L = interpolateMu(ad.mu, muV > 0 ? ad.transmittedRadiance : ad.reflectedRadiance, std::abs(muV));
+                ok = p.low < 0.5 * L && p.multi > 0.25 * L;
+                return std::clamp((L - p.low) / std::max(p.multi, 1e-30), 0.25, 4.0);
+            };
+            double v[kShapeMuVN];
+            bool ok[kShapeMuVN];
+            for (int k = 0; k < kShapeMuVN; ++k) {
+                const double muV = -1.0 + 2.0 * k / (kShapeMuVN - 1);
+                if (std::abs(muV) < 0.05) {
+                    bool a, b;
+                    v[k] = 0.5 * (ratio(0.05, a) + ratio(-0.05, b));
+                    ok[k] = a && b;
+                } else {
+                    v[k] = ratio(muV, ok[k]);
+                }
+            }
+            for (int k = 0; k < kShapeMuVN; ++k) {
+                double x = 1.0;
+                for (int d = 0; d < kShapeMuVN; ++d) {
+                    if (k - d >= 0 && ok[k - d]) { x = v[k - d]; break; }
+                    if (k + d < kShapeMuVN && ok[k + d]) { x = v[k + d]; break; }
+                }
+                table[size_t((i * kShapeMuLN + j) * kShapeMuVN + k)] = x;
+            }
+        }
+    return table;
+}
+namespace {
+
+struct TableOptions {
+    std::string out = "clouds_transfer_table.shared.glsl";
+    bool check = false;
+};
+
+int runTable(const TableOptions& o) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::vector<double> t = diffusionShapeTableComputed();
+    const double* committed = elements::cloudcpu::diffusionShapeTable();
+    double maxDiff = 0, lo = 1e9, hi = 0;
+    for (size_t q = 0; q < t.size(); ++q) {
+        maxDiff = std::max(maxDiff, std::abs(t[q] - committed[q]));
+        lo = std::min(lo, t[q]);
+        hi = std::max(hi, t[q]);
+    }
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::printf("welkin bench cloud-table: %zu values in [%.3f, %.3f], %.1f s; largest difference from the committed table %.2e\n", t.size(), lo, hi, secs, maxDiff);
+    using elements::cloudcpu::kShapeMuVN;
+    std::printf("\n| tauAxis | muL | muV -1 ... 1 (every second node) |\n|---|---|---|\n");
+    for (int i = 0; i < elements::cloudcpu::kShapeTauN; i += 2)
+        for (int j = 0; j < elements::cloudcpu::kShapeMuLN; j += 2) {
+            std::printf("| %g | %.1f |", std::exp2(double(i)), 0.2 + 0.2 * j);
+            for (int k = 0; k < kShapeMuVN; k += 2) std::printf(" %.2f", t[size_t((i * elements::cloudcpu::kShapeMuLN + j) * kShapeMuVN + k)]);
+            std::printf(" |\n");
+        }
+    if (o.check) {
+        // The committed file holds 5 decimals.
+        if (maxDiff > 2e-5) throw Error("bench cloud-table: the committed table differs from the computed one by " + std::to_string(maxDiff));
+        std::printf("the committed table matches\n");
+        return 0;
+    }
+    if (o.out.empty()) return 0;
+    std::string txt =
+        "// Generated by `welkin bench cloud-table` (skyelements/clouds/bench/bench_cloud_fit.cpp): do not edit.\n"
+        "// The diffusion term's angular correction, cld_diffusionShape (clouds_transfer.shared.glsl):\n"
+        "// [tauAxis 1, 2, 4 ... 256][muL 0.2, 0.4 ... 1][muV -1, -0.875 ... 1], 9 x 5 x 17: adding-doubling's\n"
+        "// multiply scattered radiance over the diffusion term's (skyelements/clouds/README.md, \"Transfer table\").\n"
+        "const real cld_msTable[765] = ARRAY_OF(real, 765)\n";
+    char buf[32];
+    for (size_t q = 0; q < t.size(); ++q) {
+        if (q % 17 == 0) txt += "    ";
+        std::snprintf(buf, sizeof buf, "%.5f", t[q]);
+        txt += buf;
+        txt += q + 1 == t.size() ? "\n" : q % 17 == 16 ? ",\n" : ", ";
+    }
+    txt += "END_ARRAY;\n";
+    FILE* f = std::fopen(o.out.c_str(), "w");
+    if (!f) throw Error("--out: cannot write '" + o.out + "'");
+    std::fputs(txt.c_str(), f);
+    std::fclose(f);
+    std::printf("wrote %s\n", o.out.c_str());
+    return 0;
+}
+
+bench::CommandBenchRegistrar regTable({"cloud-table", "regenerate the clouds' transfer table (the diffusion term's angular correction) from adding-doubling",
+                                       [](CLI::App& sub) {
+                                           auto o = std::make_shared<TableOptions>();
+                                           sub.add_option("--out", o->out, "the GLSL file to write (empty: none)")->capture_default_str();
+                                           sub.add_flag("--check", o->check, "compare with the committed table (error if it differs by > 2e-5), write nothing");
+                                           return [o]() { return runTable(*o); };
+                                       }});
 
 bench::CommandBenchRegistrar reg({"cloud-fit", "regenerate the clouds' light-transfer constants from the path tracer's slab radiances and adding-doubling",
                                   [](CLI::App& sub) {

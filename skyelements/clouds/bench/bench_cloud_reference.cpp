@@ -72,6 +72,7 @@ struct CloudReferenceOptions {
     long maxScatterings = 1000000;  // the path tracer's scattering orders kept (1: single scattering; cloudref::Scene)
     double truncateDeg = 0;       // > 0: the droplet phase's forward peak truncated at this angle (cloudref::truncatePhase), deg
     bool referenceAir = true;     // the air between the camera and the clouds added to the reference (as the real-time frame has it)
+    double groundAlbedo = -1;     // >= 0: the atmosphere's ground albedo (Atmosphere::withGroundAlbedo), for both images; < 0: the default atmosphere's
 };
 
 /// A GL texture (by name) read back as the density twin's image, level 0.
@@ -176,6 +177,11 @@ int run(const CloudReferenceOptions& o) {
         std::snprintf(buf, sizeof buf, "%g", o.truncateDeg);
         throw Error(std::string("--truncate-deg ") + buf + " not in [0, 20]");
     }
+    if (!(o.groundAlbedo == -1 || (o.groundAlbedo >= 0 && o.groundAlbedo <= 1))) {
+        char buf[48];
+        std::snprintf(buf, sizeof buf, "%g", o.groundAlbedo);
+        throw Error(std::string("--ground-albedo ") + buf + " not in [0, 1]");
+    }
     std::vector<const SceneDef*> scenes;
     if (!o.scenes.empty()) {
         std::stringstream ss(o.scenes);
@@ -232,7 +238,8 @@ int run(const CloudReferenceOptions& o) {
     Logger log;
     auto ctx = gl::HeadlessContext::create({}, log);
     std::printf("welkin bench cloud-reference: %s, %dx%d, %d paths per pixel\n", ctx->description().c_str(), o.width, o.height, o.paths);
-    const auto atm = std::make_shared<const atmosphere::Atmosphere>(atmosphere::Atmosphere::earthClear());
+    const auto atm = std::make_shared<const atmosphere::Atmosphere>(o.groundAlbedo >= 0 ? atmosphere::Atmosphere::earthClear().withGroundAlbedo(o.groundAlbedo)
+                                                                                         : atmosphere::Atmosphere::earthClear());
     const atmosphere::ReferenceSky refSky(*atm, atmosphere::ReferenceOptions::fast());
     std::vector<Row> rows;
     for (const SceneDef* sd : scenes) {
@@ -390,10 +397,13 @@ int run(const CloudReferenceOptions& o) {
         // cumulus the air in front lies in the cloud's own shadow, under a deck in the deck's, and
         // this clear-sky in-scatter (the aureole's, near the Sun) would be far too bright there;
         // the 4 km to the single cumulus and the decks overhead keep the reference without air.
+        // Since 2026-11-27 afternoon also the cumulus seen from 6 km above: the air between the
+        // aircraft and the cloud is sunlit (the cloud below it), and the real-time frame has it.
         const bool field = sd->kind == SceneKind::Preset && std::string(sd->preset) == "fair";
-        if (o.referenceAir && field) {
+        const bool fromAbove = std::string(sd->name) == "cumulus-from-above";
+        if (o.referenceAir && (field || fromAbove)) {
             const double R = medium.planetRadiusM();
-            const glm::dvec3 origin(0.0, 0.0, 0.5);
+            const glm::dvec3 origin(0.0, 0.0, std::max(0.5, sd->camHeight));
             for (size_t i = 0; i < ref.size(); ++i) {
                 const int x = int(i % o.width), y = int(i / o.width);
                 const auto d = cam.directionAt({x + 0.5, y + 0.5});
@@ -424,7 +434,12 @@ int run(const CloudReferenceOptions& o) {
                 const glm::dvec3 dl(sv, 0.0, mu);
                 const double ax = (nu - mu * mus) / sv;
                 const glm::dvec3 sl(ax, std::sqrt(std::max(0.0, 1.0 - mus * mus - ax * ax)), mus);
-                const glm::dvec3 t0v = refSky.transmittance(origin.z, *d), t1v = refSky.transmittance(h, dl);
+                // The segment's transmittance as the ratio of two rays to the top of the atmosphere:
+                // looking down (the transmittance of a ray that meets the ground is 0) the reversed
+                // rays, from the point and from the camera upwards.
+                const bool down = d->z < 0.0;
+                const glm::dvec3 t0v = down ? refSky.transmittance(h, -dl) : refSky.transmittance(origin.z, *d);
+                const glm::dvec3 t1v = down ? refSky.transmittance(origin.z, -*d) : refSky.transmittance(h, dl);
                 glm::dvec3 tSeg(1.0);
                 for (int c = 0; c < 3; ++c) tSeg[c] = t1v[c] > 1e-12 ? std::clamp(t0v[c] / t1v[c], 0.0, 1.0) : 0.0;
                 const glm::dvec3 front = glm::max(refSky.radiance(origin.z, *d, sun) - tSeg * refSky.radiance(h, dl, sl), glm::dvec3(0.0));
@@ -646,7 +661,8 @@ bench::CommandBenchRegistrar reg({"cloud-reference", "the real-time clouds again
                        sub.add_option("--repeats", o->repeats, "timed frame pairs per row (median), [1, 1000]")->capture_default_str();
                        sub.add_option("--out", o->out, "directory for the side-by-side PNGs (empty: none)")->capture_default_str();
                        sub.add_option("--truncate-deg", o->truncateDeg, "the path tracer's droplet phase: its forward peak truncated at this angle, the medium's extinction scaled (delta-M; less noise), [0, 20], 0: the full phase")->capture_default_str();
-                       sub.add_flag("!--no-reference-air", o->referenceAir, "leave the air between the camera and the clouds out of the path-traced reference of the fair field's scenes (the real-time frame keeps it)");
+                       sub.add_option("--ground-albedo", o->groundAlbedo, "the atmosphere's ground albedo for both images (the real-time clouds' bases and the path tracer's ground), [0, 1]; default: the default atmosphere's (0.1)");
+                       sub.add_flag("!--no-reference-air", o->referenceAir, "leave the air between the camera and the clouds out of the path-traced reference of the fair field's scenes and cumulus-from-above (the real-time frame keeps it)");
                        sub.add_option("--csv", o->csv, "write the table as CSV (empty: none)")->capture_default_str();
                        sub.add_option("--slab-photons", o->slabPhotons, "> 0: first print the slab table (path tracer against adding-doubling) with this many photons a case, [0, 1e8]")
                            ->capture_default_str();

@@ -73,11 +73,11 @@ vec3 cld_source(vec3 p, float hp, vec3 dir, float sigmaT) {
     vec3 S = vec3(0.0);
     if (any(greaterThan(u_sunE, vec3(0.0)))) {
         vec3 E = cld_lightAt(p, hp, u_sunDir, u_sunE);
-        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightTransfer(dot(dir, u_sunDir), cld_lightDepth(p, u_sunDir, u_lightSamples), cld_backDepth(p, u_sunDir), u_sunDir.z);
+        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightTransferTable(dot(dir, u_sunDir), dir.z, cld_lightDepth(p, u_sunDir, u_lightSamples), cld_backDepth(p, u_sunDir), u_sunDir.z);
     }
     if (any(greaterThan(u_moonE, vec3(0.0)))) {
         vec3 E = cld_lightAt(p, hp, u_moonDir, u_moonE);
-        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightTransfer(dot(dir, u_moonDir), cld_lightDepth(p, u_moonDir, u_lightSamples), cld_backDepth(p, u_moonDir), u_moonDir.z);
+        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightTransferTable(dot(dir, u_moonDir), dir.z, cld_lightDepth(p, u_moonDir, u_lightSamples), cld_backDepth(p, u_moonDir), u_moonDir.z);
     }
     // Ambient (skyelements/clouds/README.md, "Ambient"): the clear sky's diffuse light from above the layer and
     // the ground's from below it (the atmosphere's ground albedo, the Sky's and the path tracer's,

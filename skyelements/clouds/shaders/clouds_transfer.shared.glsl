@@ -6,7 +6,8 @@
 // CLD_AMB_FORWARD and CLD_DIFFUSIVITY (the ambient's diffusion), CLD_SUN_K, CLD_SUN_Z, CLD_SUN_H,
 // CLD_SUN_C (the lights' diffusion) and CLD_FW_W0..4, CLD_FW_G0..4 (the forward-peaked orders)
 // (the shader gets them from clouds.cpp as defines, the C++ side defines them as its constexpr
-// values).
+// values), and CLD_W_DRAINE (the Draine lobe's share of the scattering, delta-M's scaling).
+#include "clouds_transfer_table.shared.glsl"
 
 // Henyey-Greenstein, 1/sr.
 real cld_hg(real nu, real g) {
@@ -44,13 +45,40 @@ real cld_forwardTransfer(real nu, real tauL) {
 // along the light axis (diffusion in the transport optical depths s = CLD_MS_S tau: a mean
 // radiance falling linearly from the lit side, plus the net flux's share towards the light's
 // direction, nu), all fitted together against the path tracer's slab radiances and
-// adding-doubling's fluxes. C++: cloudcpu::lightTransfer.
-real cld_lightTransfer(real nu, real tauL, real tauB, real muL) {
-    real single = cld_scaledPhase(nu) * exp(-tauL);
+// adding-doubling's fluxes. C++: cloudcpu::lightTransfer. cld_lightDiffusion: the diffusion term alone.
+real cld_lightDiffusion(real nu, real tauL, real tauB, real muL) {
     real sL = CLD_MS_S * tauL, sB = CLD_MS_S * tauB;
-    real multi = CLD_SUN_K / CLD_PI * pow(max(muL, CLD_MS_MU_MIN), CLD_MS_Q) * (1.0 - exp(-CLD_SUN_C * (tauL + tauB)))
-                * max(sB + CLD_SUN_Z + CLD_SUN_H * nu, 0.0) / (sL + sB + CLD_MS_A);
-    return single + cld_forwardTransfer(nu, tauL) + multi;
+    return CLD_SUN_K / CLD_PI * pow(max(muL, CLD_MS_MU_MIN), CLD_MS_Q) * (1.0 - exp(-CLD_SUN_C * (tauL + tauB)))
+           * max(sB + CLD_SUN_Z + CLD_SUN_H * nu, 0.0) / (sL + sB + CLD_MS_A);
+}
+real cld_lightTransfer(real nu, real tauL, real tauB, real muL) {
+    return cld_scaledPhase(nu) * exp(-tauL) + cld_forwardTransfer(nu, tauL) + cld_lightDiffusion(nu, tauL, tauB, muL);
+}
+
+// The diffusion term's angular correction (C++: cloudcpu::diffusionShape): the transfer table
+// cld_msTable (clouds_transfer_table.shared.glsl, written by `welkin bench cloud-table`) holds,
+// for a slab of optical depth tauAxis along the light's axis (unscaled; nodes 1, 2, 4 ... 256)
+// lit at cos(zenith) muL (nodes 0.2, 0.4 ... 1), the ratio of adding-doubling's azimuth-averaged
+// multiply scattered radiance (its diffuse radiance less this model's single scattering and
+// forward orders) to the diffusion term's, by the view ray's cos(zenith) muV (17 nodes on
+// [-1, 1]: > 0 looking up, the transmitted light; < 0 looking down, the reflected). Trilinear,
+// clamped at the table's edges.
+real cld_msTableAt(int i, int j, int k) { return cld_msTable[(i * 5 + j) * 17 + k]; }
+real cld_diffusionShape(real muV, real tauAxis, real muL) {
+    real x = clamp(log2(max(tauAxis, 1.0)), 0.0, 8.0);
+    real y = clamp((muL - 0.2) / 0.2, 0.0, 4.0);
+    real z = clamp((muV + 1.0) * 8.0, 0.0, 16.0);
+    int i = int(floor(min(x, 7.0))), j = int(floor(min(y, 3.0))), k = int(floor(min(z, 15.0)));
+    real fx = x - real(i), fy = y - real(j), fz = z - real(k);
+    real a = mix(mix(cld_msTableAt(i, j, k), cld_msTableAt(i, j, k + 1), fz), mix(cld_msTableAt(i, j + 1, k), cld_msTableAt(i, j + 1, k + 1), fz), fy);
+    real b = mix(mix(cld_msTableAt(i + 1, j, k), cld_msTableAt(i + 1, j, k + 1), fz), mix(cld_msTableAt(i + 1, j + 1, k), cld_msTableAt(i + 1, j + 1, k + 1), fz), fy);
+    return mix(a, b, fx);
+}
+// The lights' transfer with the table's correction (C++: cloudcpu::lightTransferTable): what the
+// march uses. muV: the view ray's cos(zenith).
+real cld_lightTransferTable(real nu, real muV, real tauL, real tauB, real muL) {
+    return cld_scaledPhase(nu) * exp(-tauL) + cld_forwardTransfer(nu, tauL)
+           + cld_lightDiffusion(nu, tauL, tauB, muL) * cld_diffusionShape(muV, (tauL + tauB) / CLD_W_DRAINE, muL);
 }
 
 // The ambient light's transfer (C++: cloudcpu::ambientTransfer), per lux of horizontal

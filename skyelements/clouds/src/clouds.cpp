@@ -33,17 +33,19 @@ namespace ck = welkin::generators::cloudkeys;
 namespace {
 constexpr double kPi = std::numbers::pi;
 using namespace cloudcpu;  // the droplet constants
-// The multiple-scattering term of lightTransfer(), fitted to adding-doubling (skyelements/clouds/README.md):
-// (k/pi) max(muL, 0.2)^q (1 - e^(-c tau)) (sB + z + h nu) / (sL + sB + A), s the transport optical
-// depth (1 - g) tau (g 0.86, the Mie droplets'), tau unscaled (the scaled depth / w_D).
-constexpr double kMsS = (1.0 - 0.86) / kDropletWDraine;  // transport depth per scaled depth
-constexpr double kMsK = 0.8;     // scale
-constexpr double kMsZ = 1.4;     // the bottom's extrapolation length (transport depth)
-constexpr double kMsA = 2.0;     // the slab's two extrapolation lengths (transmission A / (s + A))
-constexpr double kMsH = 1.5;     // the net flux's share: anisotropy towards the light's direction
-constexpr double kMsC = 0.2;     // thin-cloud onset per optical depth
-constexpr double kMsQ = 0.75;    // exponent of the light's cos(zenith) (a deck's flux per area)
-constexpr double kMsMuMin = 0.2;  // the cos(zenith) below which the factor stays constant
+// The ambient's diffusion term (ambientTransfer(), fitted to adding-doubling's fluxes;
+// skyelements/clouds/README.md): (k/pi) (2 / (1 + q)) (1 - e^(-c tau)) (sF + z + h nu) / (sN + sF + A),
+// s the transport optical depth (1 - g) tau (g 0.86, the Mie droplets'), tau unscaled (the scaled
+// depth / w_D). One source for these and bench cloud-fit's: clouds.hpp (cloudcpu::kAmbientTransfer,
+// cloudcpu::kDiffusion*).
+constexpr double kMsS = kDiffusionS;         // transport depth per scaled depth
+constexpr double kMsK = kAmbientTransfer.k;  // scale
+constexpr double kMsZ = kAmbientTransfer.z;  // the bottom's extrapolation length (transport depth)
+constexpr double kMsA = kDiffusionA;         // the slab's two extrapolation lengths (transmission A / (s + A))
+constexpr double kMsH = kAmbientTransfer.h;  // the net flux's share: anisotropy towards the lit side
+constexpr double kMsC = kAmbientTransfer.c;  // thin-cloud onset per optical depth
+constexpr double kMsQ = kDiffusionQ;         // exponent of the light's cos(zenith) (a deck's flux per area)
+constexpr double kMsMuMin = kDiffusionMuMin;  // the cos(zenith) below which the factor stays constant
 // The lights' transfer (lightTransfer()): the same diffusion form with its own scale, onset,
 // extrapolation length and anisotropy, and the forward-peaked low orders forwardTransfer(), w_m
 // tauL^m e^(-tauL) / m! HG(nu, g_m), m = 0..4, fitted together (Nelder-Mead on the log radiance)
@@ -133,6 +135,7 @@ std::vector<std::string> cloudPresetNames() {
 // clouds_transfer.shared.glsl, compiled in double (welkin/glsl_cpp.hpp) with the constants above.
 namespace welkin::glsl::dp::clouds_transfer_shared {
 #define CLD_PI std::numbers::pi
+#define CLD_W_DRAINE welkin::elements::cloudcpu::kDropletWDraine
 #define CLD_G_DRAINE welkin::elements::cloudcpu::kDropletGDraine
 #define CLD_ALPHA_DRAINE welkin::elements::cloudcpu::kDropletAlphaDraine
 #define CLD_MS_S welkin::elements::kMsS
@@ -177,6 +180,12 @@ double scaledPhase(double nu) { return transfer::cld_scaledPhase(nu); }
 double lightTransfer(double nu, double tauL, double tauB, double muL) { return transfer::cld_lightTransfer(nu, tauL, tauB, muL); }
 double ambientTransfer(double nu, double tauN, double tauF) { return transfer::cld_ambientTransfer(nu, tauN, tauF); }
 double forwardTransfer(double nu, double tauL) { return transfer::cld_forwardTransfer(nu, tauL); }
+double lightDiffusion(double nu, double tauL, double tauB, double muL) { return transfer::cld_lightDiffusion(nu, tauL, tauB, muL); }
+double diffusionShape(double muV, double tauAxis, double muL) { return transfer::cld_diffusionShape(muV, tauAxis, muL); }
+double lightTransferTable(double nu, double muV, double tauL, double tauB, double muL) {
+    return transfer::cld_lightTransferTable(nu, muV, tauL, tauB, muL);
+}
+const double* diffusionShapeTable() { return &transfer::cld_msTable[0]; }
 double integrateStep(double source, double sigmaT, double dt) {
     if (sigmaT <= 0) return source * dt;
     return (source - source * std::exp(-sigmaT * dt)) / sigmaT;

@@ -103,3 +103,28 @@ TEST_CASE("welkin bench cloud-fit: a small run from the neutral start fits no be
     CHECK(fitted > 0.94 * atCommitted);
     CHECK(fitted < 1.1 * atCommitted);  // the fit reached the committed constants' quality
 }
+
+TEST_CASE("welkin bench cloud-table: the committed transfer table is adding-doubling's, for the committed constants", "[cpu][cli][bench][clouds]") {
+    // The table (clouds_transfer_table.shared.glsl, cloudcpu::diffusionShape) is regenerated from
+    // adding-doubling and the model's own formal solution (about 1 s, deterministic) and compared
+    // with the compiled-in one: a table left stale by a new fit (cloudcpu::kLightTransferFit) or an
+    // edit of the transfer's text fails here. The program writes 5 decimals: it accepts 2e-5.
+    const auto r = welkin::test::runCli("bench cloud-table --check");
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    CHECK(r.output.find("the committed table matches") != std::string::npos);
+    // Writing: the file is the GLSL subset's constant array of 765 values.
+    const std::string dir = welkin::test::scratchDir("bench_cloud_table");
+    const auto w = welkin::test::runCli("bench cloud-table --out '" + dir + "/t.glsl'");
+    REQUIRE(w.status == 0);
+    std::ifstream f(dir + "/t.glsl");
+    std::stringstream ss;
+    ss << f.rdbuf();
+    CHECK(ss.str().find("const real cld_msTable[765] = ARRAY_OF(real, 765)") != std::string::npos);
+    // A bad output path is a one-line error.
+    const auto failures = welkin::test::badOptionFailures("bench cloud-table", {{"--out /nonexistent-dir/t.glsl", "--out: cannot write"}});
+    std::string report;
+    for (const auto& x : failures) report += x + "\n";
+    INFO(report);
+    CHECK(failures.empty());
+}

@@ -276,7 +276,14 @@ std::vector<double> hgMoments(double g, int n);
 /// fractions of the incident flux, azimuthally integrated (the m = 0 Fourier term).
 struct SlabSolution {
     double reflection = 0.0, transmission = 0.0, directTransmission = 0.0;
+    /// The azimuth-averaged diffuse radiance leaving the slab (1/sr per unit irradiance normal to
+    /// the beam) at the Gauss-Legendre cosines `mu` (increasing, in (0, 1)): reflected from the lit
+    /// side, transmitted from the other. The delta-M peak is in the direct beam, not here.
+    std::vector<double> mu, reflectedRadiance, transmittedRadiance;
 };
+/// Legendre moments chi_l (l = 0..n-1, chi_0 = 1) of any phase function, by the midpoint rule in
+/// cos(theta) over `steps` intervals (4e5 resolve the droplets' diffraction peak).
+std::vector<double> phaseMoments(const PhaseFunction& phase, int n, int steps = 400000);
 /// Adding-doubling (van de Hulst 1980; Hansen & Travis 1974 §3.3): `streams` Gauss-Legendre
 /// nodes per hemisphere (double Gauss), the phase function's Legendre expansion truncated at
 /// 2 x streams with the delta-M scaling (Wiscombe 1977), a first-order thin layer of optical depth

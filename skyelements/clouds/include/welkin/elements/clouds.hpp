@@ -75,6 +75,24 @@ inline constexpr double kDropletGPeak = 0.9946;       ///< the diffraction peak'
 inline constexpr double kDropletGDraine = 0.5938;     ///< the Draine lobe's g
 inline constexpr double kDropletAlphaDraine = 27.11;  ///< the Draine lobe's alpha
 inline constexpr double kDropletWDraine = 0.4982;     ///< the Draine lobe's weight w_D (delta-M: 1 - f)
+/// The diffusion form's constants that no fit moves (clouds.cpp's shader defines and `welkin bench
+/// cloud-fit` read these, one source): transport optical depth per scaled optical depth
+/// (1 - g) / w_D with g 0.86 (the Mie droplets'); A, the slab's two extrapolation lengths
+/// (transmission A / (s + A)); q, the exponent of the light's cos(zenith) (a deck's flux per area);
+/// the cos(zenith) below which that factor stays constant.
+inline constexpr double kDiffusionS = (1.0 - 0.86) / kDropletWDraine;
+inline constexpr double kDiffusionA = 2.0;
+inline constexpr double kDiffusionQ = 0.75;
+inline constexpr double kDiffusionMuMin = 0.2;
+/// The ambient's diffusion constants (ambientTransfer(): k scale, z the bottom's extrapolation
+/// length in transport depth, h the net flux's share towards the lit side, c the thin-cloud onset
+/// per unscaled optical depth): a least-squares fit to adding-doubling's fluxes alone
+/// (skyelements/clouds/README.md, "Ambient"). `welkin bench cloud-fit` reads them too (its copy of
+/// the transfer text needs them defined; it fits only the lights' constants).
+struct AmbientTransferConstants {
+    double k, z, h, c;
+};
+inline constexpr AmbientTransferConstants kAmbientTransfer{0.8, 1.4, 1.5, 0.2};
 /// The fitted constants of the lights' transfer (lightTransfer(): its diffusion term's k, c, h, z
 /// and the forward-peaked orders' w_m, g_m, m = 0..4), as `welkin bench cloud-fit` regenerates
 /// them from the path tracer's slab radiances and adding-doubling's fluxes
@@ -103,6 +121,21 @@ double scaledPhase(double nu);
 /// s = (1 - 0.86) tau / w_D (the transport optical depth, g 0.86 the Mie droplets'), the constants
 /// fitted to the path tracer's slab radiances and adding-doubling's fluxes (skyelements/clouds/README.md).
 double lightTransfer(double nu, double tauL, double tauB, double muL);
+/// lightTransfer()'s diffusion term alone (1/sr per lux and per unit scaled extinction).
+double lightDiffusion(double nu, double tauL, double tauB, double muL);
+/// The transfer table's correction of the diffusion term's angular shape (dimensionless, ~0.3-3):
+/// the ratio of a slab's multiply scattered radiance (adding-doubling's, azimuth-averaged) to the
+/// diffusion term's, trilinear in log2 tauAxis (the slab's unscaled optical depth along the
+/// light's axis, 1-256, clamped), muL (0.2-1, clamped) and the view ray's cos(zenith) muV in
+/// [-1, 1] (> 0 looking up: the transmitted light). Written by `welkin bench cloud-table`
+/// (clouds_transfer_table.shared.glsl; skyelements/clouds/README.md, "Transfer table").
+double diffusionShape(double muV, double tauAxis, double muL);
+/// What the march uses: lightTransfer() with its diffusion term times
+/// diffusionShape(muV, (tauL + tauB) / w_D, muL); muV the view ray's cos(zenith).
+double lightTransferTable(double nu, double muV, double tauL, double tauB, double muL);
+/// The transfer table's 9 x 5 x 17 values, [tauAxis][muL][muV] (diffusionShape()'s nodes).
+const double* diffusionShapeTable();
+inline constexpr int kShapeTauN = 9, kShapeMuLN = 5, kShapeMuVN = 17;
 /// The forward-peaked low orders of lightTransfer() (1/sr per lux and per unit scaled
 /// extinction): sum over m = 0..4 of w_m tauL^m e^(-tauL) / m! HG(nu, g_m), the light scattered m
 /// times at small angles on its way in (Poisson's share at scaled depth tauL >= 0) sent towards
