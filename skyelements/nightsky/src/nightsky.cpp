@@ -210,6 +210,7 @@ NightSky::NightSky() : SkyElement("nightsky") {
     reads(keys::sunDirection);
     reads(keys::observerHeight);
     reads(generators::skykeys::zenithLuminance);
+    reads(keys::interactive);  // the folded texture's rebuild spread over frames (foldUpdate)
     writes(nightkeys::background);
 }
 
@@ -412,7 +413,10 @@ void NightSky::foldUpdate(const FrameContext& ctx) {
         foldTargetLon_ = sunLon_;  // the Sun moved 0.1 deg: rebuild the back texture for it
         foldStage_ = 0;
     }
-    if (foldStage_ >= 0) foldStep(ctx, foldBudget_ > 0 ? foldBudget_ : kFoldWhole);
+    // Spread over frames only where frames are shown one after another (render.interactive:
+    // welkin view, a game loop); otherwise every frame is complete (welkin render, a timelapse).
+    const bool spread = foldBudget_ > 0 && v.getOr(keys::interactive, false);
+    if (foldStage_ >= 0) foldStep(ctx, spread ? foldBudget_ : kFoldWhole);
 }
 
 void NightSky::doInit(InitContext& ctx) {

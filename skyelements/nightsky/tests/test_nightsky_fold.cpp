@@ -9,6 +9,7 @@
 #include "malta_night.hpp"
 
 #include <welkin/elements/nightsky.hpp>
+#include <welkin/keys.hpp>
 #include <welkin/processor.hpp>
 #include <welkin/time.hpp>
 
@@ -61,6 +62,7 @@ struct Night {
         e->setFoldBudget(int(budget));
         n = e.get();
         p.add(std::move(e));
+        p.vars().set(keys::interactive, true);  // frames one after another: the rebuild may be spread
     }
 };
 }  // namespace
@@ -134,6 +136,18 @@ TEST_CASE("NightSky: a rebuild of the folded texture spread over frames ends bit
     // 0.24 deg of the Sun's motion; the element takes the longitude of the apparent Sun, which
     // at 16:00 UTC (28 deg up) is lifted by 2' of refraction: measured 0.217 deg.
     CHECK(std::abs(lon2 - lon1) / kDeg == Approx(0.23).margin(0.03));
+    // Without render.interactive (welkin render, a timelapse) every frame is complete: the same
+    // budget rebuilds the whole texture in the frame that needs it.
+    {
+        Night offline(elements::kNightFoldTexelsPerFrame, t1);
+        offline.p.vars().set(keys::interactive, false);
+        offline.p.renderFrame();
+        offline.p.setTime(UtcInstant::parse(t2));
+        offline.p.renderFrame();
+        CHECK(offline.n->foldBuilds() == 2);
+        CHECK_FALSE(offline.n->foldInProgress());
+        CHECK(offline.n->foldedSunLongitude() == lon2);
+    }
     int frames = 0;
     do {
         spread.p.renderFrame();

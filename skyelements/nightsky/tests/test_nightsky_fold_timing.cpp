@@ -12,6 +12,7 @@
 #include <epoxy/gl.h>
 
 #include <welkin/elements/nightsky.hpp>
+#include <welkin/keys.hpp>
 #include <welkin/processor.hpp>
 #include <welkin/time.hpp>
 
@@ -64,6 +65,7 @@ TEST_CASE("Display timing: the night sky's folded texture when time jumps and ru
         n->setFoldBudget(int(budget));
         p->add(std::move(n));
         p->add(std::make_unique<Attenuator>());
+        p->vars().set(keys::interactive, true);  // as welkin view
         return p;
     };
     auto timed = [](SkyProcessor& p) {

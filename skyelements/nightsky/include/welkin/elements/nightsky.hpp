@@ -162,10 +162,11 @@ public:
     /// The per-pixel path samples one folded texture (README "Cost", 2026-11-27): the panorama's
     /// Milky Way with its floor and the zodiacal light summed over its J2000 equirectangular
     /// mapping and mips, cd/m^2 x 1e4, RGBA32F. It is rebuilt when the Sun's ecliptic longitude
-    /// moved 0.1 deg, into a second texture, at most `texels` texels of it a frame (whole rows of
-    /// a level; the zodiacal table's CPU bake takes a frame of its own), while the old one is
-    /// drawn; the new one is drawn from the frame after its last row. 0: the whole rebuild in
-    /// the frame that needs it. The first build and a change of the Milky Way's or the zodiacal
+    /// moved 0.1 deg. With render.interactive (welkin view, a game loop) the rebuild goes into a
+    /// second texture, at most `texels` texels of it a frame (whole rows of a level; the
+    /// zodiacal table's CPU bake takes a frame of its own), while the old one is drawn; the new
+    /// one is drawn from the frame after its last row. Without it (welkin render, a timelapse:
+    /// every frame complete), or with 0, the whole rebuild in the frame that needs it. The first build and a change of the Milky Way's or the zodiacal
     /// light's scale or panorama are always whole. Default kNightFoldTexelsPerFrame.
     void setFoldBudget(int texels) { foldBudget_ = texels < 0 ? 0 : texels; }
     /// Completed rebuilds of the folded texture since init (the first build counts); a rebuild
