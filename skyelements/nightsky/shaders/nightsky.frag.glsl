@@ -4,16 +4,13 @@
 // skyelements/nightsky/include/welkin/elements/nightsky.hpp.
 // Two program variants: the default reads the terms fixed to the stars (Milky Way, its floor,
 // zodiacal light) from the ICRS cube maps built by nightsky_cube.frag.glsl, two fetches and no
-// inverse trigonometry per pixel; NIGHT_DIRECT (NightSky::setDirectLookup, the reference the
-// tests compare with) evaluates the panorama's mapping per pixel (an atan and an acos).
+// inverse trigonometry per pixel; NIGHT_DIRECT (NightSky::setDirectLookup, the default on
+// llvmpipe) evaluates the panorama's mapping per pixel (an atan and an acos) and fetches once.
 #ifdef NIGHT_DIRECT
-layout(binding = WELKIN_BINDING_MILKY_WAY_TEXTURE) uniform sampler2D u_mwTex;  // calibrated x 1e4
-// Zodiacal light in Table 17 units over the same J2000 equirectangular mapping (baked on the CPU
-// from the table for the Sun's ecliptic longitude: smooth, 256 x 128 texels).
-layout(binding = WELKIN_BINDING_ZODIACAL_TEXTURE) uniform sampler2D u_zodiTex;
-uniform vec3 u_zodi;          // colour x cd/m^2 per Table 17 unit x nightsky.zodiacal_scale
-uniform vec3 u_mwFloor;       // uniform Milky Way floor, cd/m^2 per channel
-uniform float u_mwScale;      // nightsky.milky_way_scale x 1e-4 (the texture's storage scale); 0 off
+// The folded panorama (nightsky_fold.frag.glsl): the calibrated Milky Way, its floor and the
+// zodiacal light for the Sun's ecliptic longitude, over the panorama's J2000 equirectangular
+// mapping and mips, cd/m^2 x 1e4 (RGBA32F).
+layout(binding = WELKIN_BINDING_MILKY_WAY_TEXTURE) uniform sampler2D u_mwTex;
 #else
 // Milky Way + floor over ICRS directions, cd/m^2 x 1e4, mipmapped; the zodiacal light likewise
 // in a small cube (smooth: 1.4 deg texels, one level).
@@ -78,9 +75,7 @@ void main() {
     // 180 deg from the top row (uploaded first, so t = v).
     icrs = normalize(icrs);
     vec2 uv = vec2(fract((0.5 * WELKIN_PI - atan(icrs.y, icrs.x)) / (2.0 * WELKIN_PI)), acos(clamp(icrs.z, -1.0, 1.0)) / WELKIN_PI);
-    L += u_zodi * textureLod(u_zodiTex, uv, 0.0).r;
-    if (u_mwScale > 0.0) L += u_mwScale * textureLod(u_mwTex, uv, lod).rgb;
-    L += u_mwFloor;
+    L += 1e-4 * textureLod(u_mwTex, uv, lod).rgb;  // kMwStorageScale
 #else
     L += 1e-4 * (textureLod(u_cube, icrs, lod).rgb + textureLod(u_zodiCube, icrs, 0.0).rgb);  // kMwStorageScale
 #endif

@@ -210,6 +210,7 @@ NightSky::NightSky() : SkyElement("nightsky") {
     reads(keys::sunDirection);
     reads(keys::observerHeight);
     reads(generators::skykeys::zenithLuminance);
+    reads(keys::interactive);  // the folded texture's rebuild spread over frames (foldUpdate)
     writes(nightkeys::background);
 }
 
@@ -285,8 +286,9 @@ void NightSky::loadMilkyWay(const std::string& path, const Logger& log) {
     mwLoaded_ = true;
 }
 
-void NightSky::bakeZodiacal(double sunLon) {
-    // The table over the panorama's mapping for this solar longitude (texel centres).
+namespace {
+// The table over the panorama's mapping for this solar longitude (texel centres), row 0 the top.
+std::vector<float> bakeZodiacalTable(double sunLon) {
     std::vector<float> t(size_t(kZodiTexW) * kZodiTexH);
     for (int y = 0; y < kZodiTexH; ++y) {
         const double dec = kPi / 2 - (y + 0.5) / kZodiTexH * kPi;
@@ -295,6 +297,11 @@ void NightSky::bakeZodiacal(double sunLon) {
             t[size_t(y) * kZodiTexW + x] = float(zodiacalAt({std::cos(dec) * std::cos(ra), std::cos(dec) * std::sin(ra), std::sin(dec)}, sunLon));
         }
     }
+    return t;
+}
+}  // namespace
+
+void NightSky::uploadZodiacal(const std::vector<float>& t) {
     if (zodiTexture_.id() == 0) {
         zodiTexture_ = gl::Texture2D(kZodiTexW, kZodiTexH, GL_R32F);
         zodiTexture_.setFilter(GL_LINEAR);
@@ -302,7 +309,114 @@ void NightSky::bakeZodiacal(double sunLon) {
         glTextureParameteri(zodiTexture_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     }
     zodiTexture_.upload(GL_RED, GL_FLOAT, t.data());
+}
+
+void NightSky::bakeZodiacal(double sunLon) {
+    uploadZodiacal(bakeZodiacalTable(sunLon));
     zodiLon_ = sunLon;
+}
+
+void NightSky::foldAllocate(int slot) {
+    const int W = mwLoaded_ ? mwW_ : kZodiTexW, H = mwLoaded_ ? mwH_ : kZodiTexH;
+    const int levels = mwLoaded_ ? mwTexture_.levels() : 1;
+    gl::Texture2D& t = fold_[slot];
+    if (t.id() != 0 && t.width() == W && t.height() == H && t.levels() == levels) return;
+    t = gl::Texture2D(W, H, GL_RGBA32F, levels);
+    t.setFilter(GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR);
+    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+}
+
+bool NightSky::foldStep(const FrameContext& ctx, long budget) {
+    const int back = 1 - foldFront_;
+    if (foldStage_ == 0) {
+        // The zodiacal table for the target longitude (32,768 lookups on the CPU): a frame of its
+        // own when the rebuild is spread.
+        zodiBaked_[back] = bakeZodiacalTable(foldTargetLon_);
+        uploadZodiacal(zodiBaked_[back]);
+        foldStage_ = 1;
+        foldLevel_ = foldRow_ = 0;
+        if (budget != kFoldWhole) return false;
+    }
+    gl::Texture2D& t = fold_[back];
+    GLint prevFbo = 0, prevViewport[4], prevScissor[4];
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &prevFbo);
+    glGetIntegerv(GL_VIEWPORT, prevViewport);
+    glGetIntegerv(GL_SCISSOR_BOX, prevScissor);
+    const GLboolean blend = glIsEnabled(GL_BLEND), scissor = glIsEnabled(GL_SCISSOR_TEST), depth = glIsEnabled(GL_DEPTH_TEST);
+    glDisable(GL_BLEND);
+    glDisable(GL_DEPTH_TEST);
+    glEnable(GL_SCISSOR_TEST);
+    if (foldFbo_.id() == 0) foldFbo_ = gl::Framebuffer::create();
+    const gl::Program& p = foldProgram_;
+    p.use();
+    p.set("u_zodi", foldZodi_);
+    p.set("u_mwFloor", foldFloor_);
+    p.set("u_mwScale", foldMwScale_);
+    zodiTexture_.bind(zodiacalUnit_);
+    if (mwLoaded_) mwTexture_.bind(milkyWayUnit_);
+    // Whole rows of one level at a time, top level first, until the budget is spent (at least
+    // one row a frame); each band is the same draw whether a frame draws one or all of them.
+    long left = budget;
+    while (foldLevel_ < t.levels() && left > 0) {
+        const int w = std::max(t.width() >> foldLevel_, 1), h = std::max(t.height() >> foldLevel_, 1);
+        const int rows = int(std::min<long>(h - foldRow_, std::max<long>(1, left / w)));
+        foldFbo_.attach(GL_COLOR_ATTACHMENT0, t, foldLevel_);
+        foldFbo_.bind();
+        glViewport(0, 0, w, h);
+        glScissor(0, foldRow_, w, rows);
+        p.set("u_level", foldLevel_);
+        p.set("u_size", glm::vec2(float(w), float(h)));
+        ctx.drawFullscreen();
+        left -= long(rows) * w;
+        foldRow_ += rows;
+        if (foldRow_ == h) {
+            ++foldLevel_;
+            foldRow_ = 0;
+        }
+    }
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(prevFbo));
+    glViewport(prevViewport[0], prevViewport[1], prevViewport[2], prevViewport[3]);
+    glScissor(prevScissor[0], prevScissor[1], prevScissor[2], prevScissor[3]);
+    if (blend) glEnable(GL_BLEND);
+    if (!scissor) glDisable(GL_SCISSOR_TEST);
+    if (depth) glEnable(GL_DEPTH_TEST);
+    if (foldLevel_ < t.levels()) return false;
+    foldFront_ = back;
+    foldLon_[back] = foldTargetLon_;
+    foldStage_ = -1;
+    ++foldBuilds_;
+    return true;
+}
+
+void NightSky::foldUpdate(const FrameContext& ctx) {
+    const SkyVars& v = ctx.vars;
+    const NightCubeInputs now{sunLon_, v.get(nightkeys::milkyWayScale), v.get(nightkeys::zodiacalScale), mwPath_, mwLoaded_};
+    const bool keysChanged = fold_[foldFront_].id() == 0 || std::isnan(foldLon_[foldFront_]) || foldInputs_.milkyWayScale != now.milkyWayScale ||
+                             foldInputs_.zodiacalScale != now.zodiacalScale || foldInputs_.milkyWayPath != now.milkyWayPath ||
+                             foldInputs_.milkyWayLoaded != now.milkyWayLoaded;
+    if (keysChanged) {
+        // The first build, or another Milky Way or zodiacal scale or panorama: whole, now (a key
+        // change is an edit, not time running), into both textures' sizes.
+        foldInputs_ = now;
+        foldZodi_ = glm::vec3(now.zodiacalScale * zodiacalUnitCdM2() * solarColour() * kMwStorageScale);
+        foldFloor_ = glm::vec3(now.milkyWayScale * milkyWayFloorCdM2() * mwColour_ * kMwStorageScale);
+        foldMwScale_ = float(mwLoaded_ ? now.milkyWayScale : 0.0);
+        foldAllocate(0);
+        foldAllocate(1);
+        foldTargetLon_ = sunLon_;
+        foldStage_ = 0;
+        foldStep(ctx, kFoldWhole);
+        return;
+    }
+    if (foldStage_ < 0 && !(std::abs(std::remainder(sunLon_ - foldLon_[foldFront_], 2.0 * kPi)) < kZodiRebakeRad)) {
+        foldTargetLon_ = sunLon_;  // the Sun moved 0.1 deg: rebuild the back texture for it
+        foldStage_ = 0;
+    }
+    // Spread over frames only where frames are shown one after another (render.interactive:
+    // welkin view, a game loop); otherwise every frame is complete (welkin render, a timelapse).
+    const bool spread = foldBudget_ > 0 && v.getOr(keys::interactive, false);
+    if (foldStage_ >= 0) foldStep(ctx, spread ? foldBudget_ : kFoldWhole);
 }
 
 void NightSky::doInit(InitContext& ctx) {
@@ -332,7 +446,13 @@ void NightSky::doInit(InitContext& ctx) {
     // Shader errors surface in init(): the default scene's programs (the others: first use).
     programs_[0][0].get(Projection::Perspective);
     programs_[0][1].get(Projection::Perspective);
-    if (!direct_)
+    if (direct_)
+        foldProgram_ = gl::ProgramBuilder("NightSky fold")
+                           .bindings(bindings())
+                           .fullscreenVertex()
+                           .fragment("nightsky/nightsky_fold.frag.glsl", embedded::nightsky_shaders("nightsky_fold.frag.glsl"))
+                           .build();
+    else
         cubeProgram_ = gl::ProgramBuilder("NightSky cube")
                            .bindings(bindings())
                            .fullscreenVertex()
@@ -410,7 +530,9 @@ void NightSky::doUpdate(const FrameContext& ctx) {
     const glm::dmat3 R = v.getOr(astro::keys::starFrameRotation, glm::dmat3(1.0));
     const glm::dvec3 zenithIcrs = glm::transpose(R) * glm::dvec3(0, 0, 1);
     const double sunLon = sunEclipticLongitude(R, v.getOr(keys::sunDirection, glm::dvec3(0, 0, -1)));
-    if (!(std::abs(std::remainder(sunLon - zodiLon_, 2.0 * kPi)) < kZodiRebakeRad)) bakeZodiacal(sunLon);
+    sunLon_ = sunLon;
+    // The cube path's table (the per-pixel path bakes its own for the folded texture: foldStep).
+    if (!direct_ && !(std::abs(std::remainder(sunLon - zodiLon_, 2.0 * kPi)) < kZodiRebakeRad)) bakeZodiacal(sunLon);
     zenith_.airglow = surfaceBrightnessCdM2(v.get(nightkeys::airglowZenithMag));
     zenith_.zodiacal = v.get(nightkeys::zodiacalScale) * zodiacalUnitCdM2() * zodiacalAt(zenithIcrs, sunLon);
     const double mwScale = v.get(nightkeys::milkyWayScale);
@@ -452,6 +574,7 @@ void NightSky::doRender(const FrameContext& ctx) {
         reportNothingDrawn();
         return;
     }
+    if (direct_) foldUpdate(ctx);
     if (!direct_) {
         const NightCubeInputs in = cubeInputs(v);
         const NightCubeStale stale = nightCubeStale(cubeBuiltFor_, in);
@@ -482,13 +605,9 @@ void NightSky::doRender(const FrameContext& ctx) {
     p.set("u_lp", glm::vec3(zenith_.lightPollution * lightPollutionColour()));
     p.set("u_lpR2", r2(kLightPollutionLayerM));
     if (direct_) {
-        p.set("u_zodi", glm::vec3(v.get(nightkeys::zodiacalScale) * zodiacalUnitCdM2() * solarColour()));
-        zodiTexture_.bind(zodiacalUnit_);
-        const double mwScale = v.get(nightkeys::milkyWayScale);
-        p.set("u_mwFloor", glm::vec3(mwScale * milkyWayFloorCdM2() * mwColour_));
-        p.set("u_mwScale", float(mwLoaded_ ? mwScale / kMwStorageScale : 0.0));
+        // The folded texture (the Milky Way, its floor and the zodiacal light), one fetch.
         p.set("u_texelsPerRad", float(mwW_ / (2.0 * kPi)));
-        if (mwLoaded_) mwTexture_.bind(milkyWayUnit_);
+        fold_[foldFront_].bind(milkyWayUnit_);
     } else {
         // The panorama's density, not the cube's (N / 2 = 512 texels/rad at a face's centre): the
         // cube's level 0 is used wherever the panorama's level 0 was (its finer texels add no
@@ -522,6 +641,15 @@ void NightSky::doRelease() {
     zodiLon_ = std::nan("");
     cube_ = gl::TextureCube();
     zodiCube_ = gl::TextureCube();
+    fold_[0] = gl::Texture2D();
+    fold_[1] = gl::Texture2D();
+    foldFbo_ = gl::Framebuffer();
+    foldProgram_ = gl::Program();
+    foldFront_ = 0;
+    foldStage_ = -1;
+    foldLon_[0] = foldLon_[1] = foldTargetLon_ = std::nan("");
+    zodiBaked_[0].clear();
+    zodiBaked_[1].clear();
     cubeFbo_ = gl::Framebuffer();
     cubeProgram_ = gl::Program();
     cubeBuiltFor_ = NightCubeInputs{};
@@ -550,6 +678,8 @@ void NightSky::doStats(nlohmann::json& root) const {
     j["zodiacal_cube_builds"] = zodiCubeBuilds_;  // the zodiacal light's (the Sun's longitude moved 0.1 deg)
     j["cube_build_ms"] = cubeBuildMs_;  // the last builds, CPU wall time (no glFinish: GL work may be queued)
     j["zodiacal_cube_build_ms"] = zodiCubeBuildMs_;
+    j["fold_builds"] = foldBuilds_;            // the folded texture (per-pixel path): first build and rebuilds
+    j["fold_in_progress"] = foldStage_ >= 0;   // a rebuild spread over frames is under way
 }
 
 }  // namespace welkin::elements

@@ -553,8 +553,12 @@ TEST_CASE("NightSky: the cube map matches the per-pixel panorama lookup", "[gl][
         // a sharp Milky Way detail resampled twice (panorama -> cube texel -> pixel), or filtered
         // by the cube's mipmaps instead of the panorama's. A wrong face orientation or frame
         // moves the Milky Way by tens of degrees: differences of order 1 (100 %).
+        // Since 2026-11-27 the per-pixel path samples the zodiacal light from the folded texture
+        // with the Milky Way's level of detail (the cube path: its level 0): at the fisheye's rim,
+        // where a pixel's screen derivative reaches over the circle's edge, the level is large and
+        // the two differ by more (measured max 19 % at a rim pixel, mean 0.40 %): 25 % there.
         CHECK(sumRel / n < 0.01);
-        CHECK(maxRel < 0.15);
+        CHECK(maxRel < (k.proj == Projection::Fisheye ? 0.25 : 0.15));
     }
 }
 

@@ -1,4 +1,4 @@
-// Stars: one instanced quad per star (and, in equirect, its twin across the seam). Needs
+// Stars: one quad per star (and, in equirect, its twin across the seam). Needs
 // engine/camera.glsl before it. Star i is 3 vec4 in the storage buffer: (J2000 ICRS unit
 // direction, V magnitude), (proper motion, rad per Julian year, ICRS axes; 0), (linear sRGB of
 // luminance 1; 0). See skyelements/stars/include/welkin/elements/stars.hpp for the model.
@@ -60,7 +60,17 @@ float stars_noise(uint star, int step) {
 
 void main() {
     const vec2 corner[6] = vec2[6](vec2(-1, -1), vec2(1, -1), vec2(1, 1), vec2(-1, -1), vec2(1, 1), vec2(-1, 1));
-    int star = gl_InstanceID / u_copies;
+    // One indexed draw, 4 vertices per star and copy (llvmpipe runs its vertex pipeline once per
+    // instance, and shades a non-indexed quad's 6 corners 6 times: README "Cost").
+#ifdef STARS_INSTANCED
+    int instance = gl_InstanceID, vertex = gl_VertexID;  // the reference (Stars::setInstancedDraw)
+#else
+    // Vertex 4 i + k: corner k of star copy i (stars.cpp indexes (0 1 2, 0 2 3) + 4 i: the same
+    // two triangles as corners 0-5 above).
+    const int kCorner[4] = int[4](0, 1, 2, 5);
+    int instance = gl_VertexID >> 2, vertex = kCorner[gl_VertexID & 3];
+#endif
+    int star = instance / u_copies;
     vec4 a = u_star[3 * star], b = u_star[3 * star + 1], c = u_star[3 * star + 2];
     // Place: proper motion, aberration, rotation (astro::starEnu), then refraction.
     vec3 p = normalize(a.xyz + u_years * b.xyz);
@@ -72,7 +82,7 @@ void main() {
     vec2 sc = horiz > 0.0 ? d.xy / horiz : vec2(0.0, 1.0);
     d = vec3(sc * cos(hApp), sin(hApp));
 
-    vec4 clip = welkin_clipFromDirectionWrapped(d, gl_InstanceID % u_copies);
+    vec4 clip = welkin_clipFromDirectionWrapped(d, instance % u_copies);
     vec2 s = welkin_pixelScale(d);  // (smallest, largest) px per radian
     if (clip.w <= 0.0 || s.x <= 0.0) {
         gl_Position = WELKIN_CLIP_INVISIBLE;
@@ -118,6 +128,6 @@ void main() {
     v_flux = E * (s.x * s.y);  // divided by the pixel's solid angle 1 / (s.x s.y) sr
     v_shape = vec3(sigma, halo, glare);
     v_haloR2 = 64.0 * halo * halo;
-    v_offset = radius * corner[gl_VertexID];
+    v_offset = radius * corner[vertex];
     gl_Position = welkin_clipOffset(clip, v_offset);
 }

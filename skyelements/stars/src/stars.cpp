@@ -127,7 +127,9 @@ void Stars::doInit(InitContext& ctx) {
         upload(loadCatalogue(loadedPath_));
     }
     starsSsbo_ = storageBuffer("STARS_SSBO");  // the catalogue's binding point, of its own
-    programs_ = gl::ProjectionPrograms(gl::ProgramBuilder("Stars")
+    gl::ProgramBuilder builder("Stars");
+    if (instanced_) builder.define("STARS_INSTANCED");
+    programs_ = gl::ProjectionPrograms(builder
                                            .bindings(bindings())
                                            .define("STARS_TABLE_N", kTableN)
                                            .vertex("engine/camera.glsl", gl::engineShader("camera.glsl"))
@@ -218,13 +220,40 @@ void Stars::doRender(const FrameContext& ctx) {
         glProgramUniform3fv(p.id(), p.location("u_ext"), kTableN, extinction_.data());
     }
     buffer_.bindBase(GL_SHADER_STORAGE_BUFFER, unsigned(starsSsbo_));
-    glDrawArraysInstanced(GL_TRIANGLES, 0, 6, copies * drawn_);
+    if (instanced_) {
+        glDrawArraysInstanced(GL_TRIANGLES, 0, 6, copies * drawn_);
+    } else {
+        // One indexed draw: vertex 4 i + k is corner k of star copy i, the indices (0 1 2, 0 2 3)
+        // + 4 i its two triangles (the instanced draw's six corners); llvmpipe shades each of the
+        // 4 vertices once (its vertex cache) instead of 6 times, in one pass instead of one per
+        // instance (README "Cost").
+        const int n = copies * drawn_;
+        if (n > indexedStars_) {
+            std::vector<unsigned> idx(size_t(n) * 6);
+            for (int i = 0; i < n; ++i) {
+                const unsigned b = 4u * unsigned(i), q[6] = {b, b + 1, b + 2, b, b + 2, b + 3};
+                std::copy(q, q + 6, idx.begin() + 6 * size_t(i));
+            }
+            indices_ = gl::Buffer(idx.size() * sizeof(unsigned), idx.data());
+            if (vao_.id() == 0) vao_ = gl::VertexArray::create();
+            glVertexArrayElementBuffer(vao_.id(), indices_.id());
+            indexedStars_ = n;
+        }
+        GLint prevVao = 0;
+        glGetIntegerv(GL_VERTEX_ARRAY_BINDING, &prevVao);
+        glBindVertexArray(vao_.id());
+        glDrawElements(GL_TRIANGLES, 6 * n, GL_UNSIGNED_INT, nullptr);
+        glBindVertexArray(GLuint(prevVao));
+    }
     labels_.render(ctx, limit_);
 }
 
 void Stars::doRelease() {
     programs_.releasePrograms();
     buffer_ = gl::Buffer();
+    indices_ = gl::Buffer();
+    vao_ = gl::VertexArray();
+    indexedStars_ = 0;
     mags_.clear();
     extinction_.clear();
     labels_.release();

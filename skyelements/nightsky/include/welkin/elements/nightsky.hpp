@@ -106,6 +106,10 @@ glm::dvec2 milkyWayTexCoord(const glm::dvec3& icrs);
 /// Face size of the night sky's Milky Way cube map, texels: the panorama's 2048 columns are 326
 /// texels per radian, a face's centre N / 2 = 512 (a face spans 2 units of tangent over 90 deg),
 /// its corners 3x more: the cube oversamples the panorama everywhere (64 MB with its mips).
+/// The folded texture's rebuild budget, texels per frame (NightSky::setFoldBudget): 2048 x 64,
+/// 1/16 of the panorama's level 0, so a rebuild of its 2.8 M texels over all levels takes 23
+/// frames (under a second at 30 fps; at 1440x the Sun moves 0.1 deg in 6 s).
+inline constexpr int kNightFoldTexelsPerFrame = 2048 * 64;
 inline constexpr int kNightCubeSize = 1024;
 /// Face size of the zodiacal light's cube map: 1.4 deg texels at a face's centre, as the baked
 /// 256 x 128 texture it is resampled from (Table 17's grid is 5-15 deg).
@@ -155,6 +159,37 @@ public:
     int cubeBuilds() const { return cubeBuilds_; }
     int zodiCubeBuilds() const { return zodiCubeBuilds_; }
 
+    /// The per-pixel path samples one folded texture (README "Cost", 2026-11-27): the panorama's
+    /// Milky Way with its floor and the zodiacal light summed over its J2000 equirectangular
+    /// mapping and mips, cd/m^2 x 1e4, RGBA32F. It is rebuilt when the Sun's ecliptic longitude
+    /// moved 0.1 deg. With render.interactive (welkin view, a game loop) the rebuild goes into a
+    /// second texture, at most `texels` texels of it a frame (whole rows of a level; the
+    /// zodiacal table's CPU bake takes a frame of its own), while the old one is drawn; the new
+    /// one is drawn from the frame after its last row. Without it (welkin render, a timelapse:
+    /// every frame complete), or with 0, the whole rebuild in the frame that needs it. The first build and a change of the Milky Way's or the zodiacal
+    /// light's scale or panorama are always whole. Default kNightFoldTexelsPerFrame.
+    void setFoldBudget(int texels) { foldBudget_ = texels < 0 ? 0 : texels; }
+    /// Completed rebuilds of the folded texture since init (the first build counts); a rebuild
+    /// in progress (spread over frames); the Sun's ecliptic longitude (rad) the displayed one is
+    /// for, NaN before the first frame.
+    int foldBuilds() const { return foldBuilds_; }
+    bool foldInProgress() const { return foldStage_ >= 0; }
+    double foldedSunLongitude() const { return foldLon_[foldFront_]; }
+    /// The displayed folded texture's level (RGBA floats, bottom row first as GL stores them,
+    /// which is the panorama's top row: its t = 0), and the panorama's own (the calibrated
+    /// Milky Way x 1e4 before the floor and scale), for the tests. Need the element's context.
+    std::vector<float> readFolded(int level) const { return fold_[foldFront_].readRgbaFloat(level); }
+    std::vector<float> readPanorama(int level) const { return mwTexture_.readRgbaFloat(level); }
+    /// The baked zodiacal table the displayed folded texture was built from (Table 17 units,
+    /// 256 x 128, row 0 the panorama's top), its size, and the terms' scales (x 1e4) the fold
+    /// applied: zodiacal colour x unit x scale, and the floor per channel.
+    const std::vector<float>& foldedZodiacalTable() const { return zodiBaked_[foldFront_]; }
+    static constexpr int zodiacalTableWidth() { return 256; }
+    static constexpr int zodiacalTableHeight() { return 128; }
+    glm::vec3 foldZodiacalFactor() const { return foldZodi_; }
+    glm::vec3 foldFloor() const { return foldFloor_; }
+    float foldMilkyWayScale() const { return foldMwScale_; }
+
     /// The Milky Way panorama was found and loaded (after init).
     bool milkyWayLoaded() const { return mwLoaded_; }
     /// The calibration: cd/m^2 = gain x Y^0.5 + floor (Y the texture's linear luminance).
@@ -177,6 +212,11 @@ private:
     void bakeZodiacal(double sunEclipticLongitudeRad);
     NightCubeInputs cubeInputs(const SkyVars& v) const;
     void buildCube(const FrameContext& ctx, const NightCubeInputs& in, bool zodiacal);
+    void uploadZodiacal(const std::vector<float>& table);
+    void foldUpdate(const FrameContext& ctx);
+    void foldAllocate(int slot);
+    static constexpr long kFoldWhole = 1L << 40;  // a budget no texture reaches
+    bool foldStep(const FrameContext& ctx, long budget);  // true when the back texture is complete
 
     // [extinction][level fixed]: [1][.] with the element's own extinction (NIGHT_EXTINCTION),
     // [.][1] with the level of detail fixed at 0 (NIGHT_LOD0, pinhole cameras only).
@@ -191,6 +231,21 @@ private:
     double cubeBuildMs_ = 0, zodiCubeBuildMs_ = 0;  // CPU wall time of the last builds (no glFinish), ms
     gl::Texture2D mwTexture_;
     gl::Texture2D zodiTexture_;  // Table 17 units over the panorama's mapping
+    // The folded texture (setFoldBudget): [foldFront_] drawn, the other built. foldStage_: -1 no
+    // rebuild in progress, 0 the zodiacal table to bake for foldTargetLon_, 1 + the rows drawn
+    // so far (foldLevel_, foldRow_).
+    gl::Texture2D fold_[2];
+    gl::Framebuffer foldFbo_;
+    gl::Program foldProgram_;
+    int foldFront_ = 0, foldStage_ = -1, foldLevel_ = 0, foldRow_ = 0, foldBuilds_ = 0;
+    long foldBudget_ = kNightFoldTexelsPerFrame;
+    double foldLon_[2] = {std::nan(""), std::nan("")};
+    double foldTargetLon_ = std::nan("");
+    double sunLon_ = std::nan("");
+    std::vector<float> zodiBaked_[2];  // the baked table of each folded texture
+    NightCubeInputs foldInputs_;  // the keys the front texture was built with (whole rebuild on change)
+    glm::vec3 foldZodi_{0.f}, foldFloor_{0.f};
+    float foldMwScale_ = 0.f;
     int milkyWayUnit_ = 0, zodiacalUnit_ = 0;  // private texture units (SkyElement::textureUnit)
     double zodiLon_ = std::nan("");  // the Sun's ecliptic longitude it was baked for, rad
     std::string mwPath_;

@@ -93,6 +93,10 @@ public:
     double limitingMagnitudeUsed() const { return limit_; }
     /// Catalogue size (after init).
     int catalogueSize() const { return int(mags_.size()); }
+    /// false (default): one indexed draw of 4 vertices (6 indices) per star; true: the instanced draw of before
+    /// 2026-11-27 (an instance per star: on llvmpipe its per-instance cost, README "Cost"), kept
+    /// as the reference the tests compare with. Call before init().
+    void setInstancedDraw(bool instanced) { instanced_ = instanced; }
 
 private:
     void doInit(InitContext& ctx) override;
@@ -103,10 +107,14 @@ private:
     void updateExtinction(const SkyVars& v);
 
     bool own_ = false;                 // constructed with a catalogue
+    bool instanced_ = false;           // setInstancedDraw
     std::vector<astro::Star> given_;   // until uploaded
     std::string loadedPath_;
     std::vector<float> mags_;          // sorted, brightest first
     gl::Buffer buffer_;
+    gl::Buffer indices_;     // 6 per star and copy (two triangles over 4 vertices), for the single draw
+    gl::VertexArray vao_;    // holds indices_ as its element buffer
+    int indexedStars_ = 0;   // star copies indices_ covers
     int starsSsbo_ = 0;  // its private storage-buffer binding (SkyElement::storageBuffer)
     gl::ProjectionPrograms programs_;
     std::vector<float> extinction_;    // RGB per altitude sample, no Sky
