@@ -241,6 +241,7 @@ int run(const EclipseBenchOptions& o) {
         if (b == std::string::npos) b = o.sweep.size();
         lengths.push_back(std::stod(o.sweep.substr(a, b - a)) * 1e3);
     }
+    std::printf("the aerosol's scattering at the ground (green) %.4g 1/m, Rayleigh's %.4g 1/m\n", m.scatteringMie(0.0).g, m.scatteringRayleigh(0.0).g);
     atmosphere::EclipseReferenceOptions refOptions;
     if (o.coarse) refOptions = {.viewSteps = 24, .gatherZenith = 8, .gatherAzimuth = 12, .gatherSteps = 16, .rings = 48};
     std::printf("reference: eclipseReferenceRadiance (%s); model: cpu::integrateEclipse, 256 steps, L = %.0f km; sky quality %d; %s\n\n",
