@@ -351,3 +351,38 @@ real atm_shMieBand(int l, vec4 f1, vec4 f2) {
 // weight sin(angle) fitted), clamped to 1. C++: eclipseMsAxisWeight().
 real atm_eclForwardShare(real forward, real sM, real sR) { return min(1.0, forward * sM / max(sM + sR, 1e-30) / 0.16); }
 real atm_eclMsAxisWeight(real nu, real F) { return 1.0 - F * (1.0 - sqrt(max(1.0 - nu * nu, 0.0))); }
+// Hazy air (docs/eclipse.md, "Hazy air"): H = atm_eclHaze(sM) is 0 up to 1.1 x the aerosol's
+// scattering at the ground of Atmosphere::earthClear() (7.5e-5 /m, green: kEclipseHazeClearMie)
+// and 1 from 4 x it (aerosol optical depth 0.4, Atmosphere::earthHazy()). There the aerosol's
+// horizontal extinction length (~3 km) is far shorter than the umbra's radius, and the light of
+// the sunlit ring reaches the shadowed air through the haze mostly by the aerosol's forward peak,
+// so it keeps the ring's direction: a ray looking across the axis, towards the ring, gathers more
+// of it, one looking up or along the axis less. With H the weight becomes w' * mix(1, R, H):
+// - w' = 1 - F' (1 - s): towards the Sun (nu > 0) F' = max(F, H) and s = sin(angle)^(1 + 0.5 H)
+//   (kEclipseHazeSunwardPower: the shadowed air runs along the axis to the top of the atmosphere
+//   towards the Sun, into the ground away from it); away from the Sun as before.
+// - R: the ring's gather, 0.645 (kEclipseHazeRingShare: the share of the kernel's light that
+//   reaches the shadowed air at all) times the mean of a Henyey-Greenstein lobe of asymmetry 0.4
+//   (kEclipseHazeRingG: the forward peak smoothed by the ring's spread in azimuth and height) at
+//   the view's cosines +-cosRing with the two horizontal directions across the axis,
+//   cosRing = cos(elevation) |sin(azimuth from the Sun)|, times 4 pi.
+// The constants are fitted on earthHazy() at totality over Burgos (docs/eclipse.md). C++:
+// cpu::eclipseMsWeight().
+real atm_eclHaze(real sM) { return clamp((sM / 7.5e-5 - 1.1) / 2.9, 0.0, 1.0); }
+real atm_eclHgLobe(real c, real g) {
+    real d = max(1.0 + g * g - 2.0 * g * c, 1e-12);
+    return (1.0 - g * g) / (d * sqrt(d));
+}
+real atm_eclMsWeight(real nu, real cosRing, real F, real H) {
+    real s = sqrt(max(1.0 - nu * nu, 0.0));
+    if (nu > 0.0 && H > 0.0) s = pow(max(s, 1e-6), 1.0 + 0.5 * H);
+    real w = 1.0 - (nu > 0.0 ? max(F, H) : F) * (1.0 - s);
+    real R = 0.645 * 0.5 * (atm_eclHgLobe(cosRing, 0.4) + atm_eclHgLobe(-cosRing, 0.4));
+    return w * mix(1.0, R, H);
+}
+// cosRing for a view of cosines mu (to the zenith) and nu (to the Sun), the Sun's muS.
+real atm_eclCosRing(real mu, real muS, real nu) {
+    real sinMu = sqrt(max(1.0 - mu * mu, 0.0)), sinMuS = sqrt(max(1.0 - muS * muS, 0.0));
+    real cosAz = sinMu * sinMuS > 1e-9 ? clamp((nu - mu * muS) / (sinMu * sinMuS), -1.0, 1.0) : 1.0;
+    return sinMu * sqrt(max(1.0 - cosAz * cosAz, 0.0));
+}

@@ -144,8 +144,13 @@ Scattering integrateScattering(real h, real mu, real muS, real nu, real maxDista
     real r = atm_bottom() + h;
     real phaseR = rayleighPhase(nu);
     vec3 thr = vec3(1.0), thrD = vec3(1.0);  // exact (background) and delta-M (scattered light)
-    real eclAxis = atm_eclMsAxisWeight(nu, atm_eclForwardShare(atm_shFactorsLo().w, atm_scatteringMie(0.0).y,
-                                                               atm_scatteringRayleigh(0.0).y));
+    // The eclipse's multiple-scattering weight (atmosphere.shared.glsl, atm_eclMsWeight()).
+    // (Only an eclipse's march reads it: the ordinary sky's rays skip it.)
+    real eclAxis = 1.0;
+    if (atm_eclipseMarch())
+        eclAxis = atm_eclMsWeight(nu, atm_eclCosRing(mu, muS, nu),
+                                  atm_eclForwardShare(atm_shFactorsLo().w, atm_scatteringMie(0.0).y, atm_scatteringRayleigh(0.0).y),
+                                  atm_eclHaze(atm_scatteringMie(0.0).y));
     for (int k = 0; k < steps && d > 0.0; ++k) {
         real s0 = real(k) / real(steps), s1 = real(k + 1) / real(steps), sm = (real(k) + 0.5) / real(steps);
         real dt = d * (atm_warp(s1, p) - atm_warp(s0, p)), t = d * atm_warp(sm, p);

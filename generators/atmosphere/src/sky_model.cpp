@@ -648,6 +648,14 @@ double eclipseMsAxisWeight(const SkyModel& m, double forward, double nu) {
     return shared::atm_eclMsAxisWeight(nu, shared::atm_eclForwardShare(forward, m.scatteringMie(0.0).g, m.scatteringRayleigh(0.0).g));
 }
 
+double eclipseMsWeight(const SkyModel& m, double forward, double nu, double cosRing) {
+    // The shader's text, at the ground's scattering in green (as the view march reads it).
+    const double sM = m.scatteringMie(0.0).g, sR = m.scatteringRayleigh(0.0).g;
+    return shared::atm_eclMsWeight(nu, cosRing, shared::atm_eclForwardShare(forward, sM, sR), shared::atm_eclHaze(sM));
+}
+
+double eclipseHaze(const SkyModel& m) { return shared::atm_eclHaze(m.scatteringMie(0.0).g); }
+
 Scattering integrateEclipse(const SkyModel& m, const Lut2D& T, const MsField& MS, double h, const glm::dvec3& viewDir,
                             const glm::dvec3& sunDir, const EclipseGeometry& g, int steps, bool quadratic, double lightAngularRadius,
                             int groundMode) {

@@ -53,19 +53,27 @@ struct EclipseBenchOptions {
     int quality = -1;     // the sky quality of the accuracy part (-1: the processor's)
     int cycleFrames = 0;  // > 0: time every frame of this many at --seconds-per-frame, by kind
     std::string sweep;  // comma list of multiple-scattering kernel lengths L (km) to compare (model tuning)
+    std::string place = "burgos";  // burgos, reykjavik, luxor: the place and its mid-totality (docs/eclipse.md)
 };
+
+// The places of docs/eclipse.md and their mid-totality: latitude, longitude (deg), instant.
+struct Place {
+    double latDeg, lonDeg;
+    const char* mid;
+};
+Place gPlace{42.34, -3.70, "2026-08-12T18:29:00Z"};
 
 UtcInstant t0Cycle(const UtcInstant& t0, double secondsPerFrame, int frame) { return t0.plusSeconds(secondsPerFrame * frame); }
 
 double Y(const glm::dvec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
 
-// The astronomy's keys at an instant over Burgos (CPU only).
+// The astronomy's keys at an instant over the place (--place; Burgos by default; CPU only).
 SkyVars astronomyAt(const UtcInstant& t) {
     SkyVars v = SkyVars::earth();
     const JulianDate jd = t.julianDate();
     v.set(keys::timeJdUtc, glm::dvec2(jd.day, jd.fraction));
-    v.set(keys::observerLatitude, 42.34 * kDeg);
-    v.set(keys::observerLongitude, -3.70 * kDeg);
+    v.set(keys::observerLatitude, gPlace.latDeg * kDeg);
+    v.set(keys::observerLongitude, gPlace.lonDeg * kDeg);
     v.set(keys::observerHeight, 0.0);
     astro::updateSkyVars(v);
     return v;
@@ -81,10 +89,14 @@ int run(const EclipseBenchOptions& o) {
     auto ctx = gl::HeadlessContext::create({}, log);
     if (!o.cost && !o.accuracy) throw Error("--cost false and --accuracy false: nothing to measure");
     std::printf("welkin bench eclipse (%s)\n\n", ctx->description().c_str());
-    const UtcInstant t0 = UtcInstant::parse("2026-08-12T18:29:00Z");
+    if (o.place == "burgos") gPlace = {42.34, -3.70, "2026-08-12T18:29:00Z"};
+    else if (o.place == "reykjavik") gPlace = {64.15, -21.94, "2026-08-12T17:48:36Z"};
+    else if (o.place == "luxor") gPlace = {25.69, 32.64, "2027-08-02T10:05:13Z"};
+    else throw Error("--place " + o.place + " not one of burgos, reykjavik, luxor");
+    const UtcInstant t0 = UtcInstant::parse(gPlace.mid);
     auto makeProcessor = [&](bool eclipses) {
         auto p = std::make_unique<SkyProcessor>(SkyVars::earth(), log, ProcessorOptions{.timing = false});
-        p->setObserver({.latitudeRad = 42.34 * kDeg, .longitudeRad = -3.70 * kDeg, .heightMeters = 0});
+        p->setObserver({.latitudeRad = gPlace.latDeg * kDeg, .longitudeRad = gPlace.lonDeg * kDeg, .heightMeters = 0});
         p->setTime(t0);
         p->vars().set(astro::keys::eclipses, eclipses);
         Camera cam;
@@ -223,7 +235,7 @@ int run(const EclipseBenchOptions& o) {
     const Lut2D T = cpu::transmittanceLut(m, q);
     const cpu::MsField MS = cpu::msField(m, q, T);
     auto instantOf = [&](double fraction) {
-        double a = -1800.0, b = 0.0;  // seconds from 18:29:00: 18:00 (fraction ~0.5) .. totality (0)
+        double a = -1800.0, b = 0.0;  // seconds from mid-totality: 30 min before (Burgos: fraction ~0.5) .. totality (0)
         for (int i = 0; i < 40; ++i) {
             const double c = 0.5 * (a + b);
             (astronomyAt(t0.plusSeconds(c)).get(keys::sunEclipseFraction) > fraction ? a : b) = c;
@@ -241,6 +253,7 @@ int run(const EclipseBenchOptions& o) {
         if (b == std::string::npos) b = o.sweep.size();
         lengths.push_back(std::stod(o.sweep.substr(a, b - a)) * 1e3);
     }
+    std::printf("the aerosol's scattering at the ground (green) %.4g 1/m, Rayleigh's %.4g 1/m\n", m.scatteringMie(0.0).g, m.scatteringRayleigh(0.0).g);
     atmosphere::EclipseReferenceOptions refOptions;
     if (o.coarse) refOptions = {.viewSteps = 24, .gatherZenith = 8, .gatherAzimuth = 12, .gatherSteps = 16, .rings = 48};
     std::printf("reference: eclipseReferenceRadiance (%s); model: cpu::integrateEclipse, 256 steps, L = %.0f km; sky quality %d; %s\n\n",
@@ -309,6 +322,7 @@ bench::CommandBenchRegistrar reg({"eclipse", "the solar eclipse's sky: frame cos
                    "also time every frame of this many at --seconds-per-frame, paired with a normal frame and classified by the "
                    "eclipse table's work in it (0: off; 300 covers a rebuild at real time), [0, 100000]")
         ->capture_default_str();
+    sub.add_option("--place", o->place, "burgos, reykjavik or luxor: the place and its mid-totality (docs/eclipse.md)")->capture_default_str();
     sub.add_option("--hazy", o->hazy, "the accuracy part on Atmosphere::earthHazy() (AOD 0.4 at 550 nm, g 0.75)")->capture_default_str();
     sub.add_option("--plain-model", o->plainModel,
                    "the accuracy part on SkyModel::earthClear() (no atmosphere key: the [eclipse] tests' CPU cases) instead of the renderer's atmosphere")

@@ -50,7 +50,7 @@ struct EclipseRig {
     elements::Sky sky{elements::SkyOptions{.quality = 1, .moon = false}};
     Camera cam;
     Image img;
-    EclipseRig(const char* iso, bool eclipses, int w = 64, int h = 32)
+    EclipseRig(const char* iso, bool eclipses, int w = 64, int h = 32, bool hazy = false)
         : vars([&] {
               SkyVars v = test::astronomyAt(iso, kLat, kLon);
               if (!eclipses) {
@@ -61,7 +61,8 @@ struct EclipseRig {
           }()),
           r(vars, test::testLogger()) {
         test::glContext();
-        vars.set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(atmosphere::Atmosphere::earthClear()));
+        vars.set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(hazy ? atmosphere::Atmosphere::earthHazy()
+                                                                                                : atmosphere::Atmosphere::earthClear()));
         cam.projection = Projection::Equirect;
         cam.width = w;
         cam.height = h;
@@ -156,7 +157,10 @@ TEST_CASE("Eclipse sky: at totality over Burgos the ground darkens 1000-fold and
 }
 
 TEST_CASE("Eclipse sky: the GPU's eclipse table against the CPU twin at totality", "[gl][eclipse]") {
-    EclipseRig ecl(kTotality, true);
+    // On the renderer's air and on hazy air (where the weight's haze terms run: the shader's text).
+    const bool hazy = GENERATE(false, true);
+    INFO((hazy ? "Atmosphere::earthHazy()" : "Atmosphere::earthClear()"));
+    EclipseRig ecl(kTotality, true, 64, 32, hazy);
     REQUIRE(ecl.sky.eclipsed());
     const SkyModel m = SkyModel::fromVars(ecl.vars);
     const SkyQuality q = SkyQuality::preset(1);
@@ -180,7 +184,7 @@ TEST_CASE("Eclipse sky: the GPU's eclipse table against the CPU twin at totality
         CHECK(gpu == Approx(cpuY).epsilon(0.08).margin(1e-5));
         if (cpuY > 1e-5) worst = std::max(worst, std::abs(gpu / cpuY - 1.0));
     }
-    std::printf("\neclipse table vs CPU twin at totality: largest difference %.1f %%\n", 100 * worst);
+    std::printf("\neclipse table vs CPU twin at totality (%s air): largest difference %.1f %%\n", hazy ? "hazy" : "clear", 100 * worst);
 }
 
 TEST_CASE("Eclipse sky: in the partial phase the direct light is the clear sky's times the visible fraction", "[gl][eclipse]") {
@@ -273,6 +277,75 @@ TEST_CASE("Eclipse sky: the model against the eclipse reference at totality on t
         // carries most of the light beneath the Sun (measured 0.95; 0.79 on SkyModel::earthClear()).
         if (alt < 10.0) CHECK(Y(r.second) > 0.75 * ref);
     }
+}
+
+TEST_CASE("Eclipse sky: the model against the eclipse reference at totality on hazy air", "[cpu][eclipse]") {
+    // Atmosphere::earthHazy() (aerosol optical depth 0.4 at 550 nm, g 0.75): the sunlit ring's
+    // light reaches the umbra's air through ~3 km of horizontal extinction length, mostly by the
+    // aerosol's forward peak (docs/eclipse.md, "Hazy air"). Before the haze's terms of the weight
+    // the model was 2.31 x the reference at the zenith, 4.40 x at 45 deg towards the Sun and
+    // 10.3 x on the horizon beneath it (welkin bench eclipse --coarse true --hazy true): this
+    // case failed in all three directions.
+    SkyVars v = test::astronomyAt(kTotality, kLat, kLon);
+    v.set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(atmosphere::Atmosphere::earthHazy()));
+    const SkyModel m = SkyModel::fromVars(v);
+    REQUIRE(cpu::eclipseHaze(m) == Approx(1.0));  // the haze's terms fully on: this is the case they were fitted on
+    const SkyQuality q = SkyQuality::preset(1);
+    const Lut2D T = cpu::transmittanceLut(m, q);
+    const cpu::MsField MS = cpu::msField(m, q, T);
+    const glm::dvec3 sun = glm::normalize(v.get(keys::sunDirection));
+    cpu::EclipseGeometry g = geometryOf(v);
+    const cpu::EclipseMsTable field = cpu::eclipseMsTable(g, kEclipseMsLengthMeters);
+    cpu::EclipseGeometry gm = g;
+    gm.ms = &field;
+    atmosphere::EclipseReferenceOptions ro{.viewSteps = 24, .gatherZenith = 8, .gatherAzimuth = 12, .gatherSteps = 16, .rings = 48};
+    const double sunAz = std::atan2(sun.x, sun.y);
+    for (auto [daz, alt] : {std::pair{0.0, 90.0}, std::pair{0.0, 45.0}, std::pair{0.0, 2.0}}) {
+        const glm::dvec3 dir = directionFromAzAlt(sunAz + daz * kDeg, alt * kDeg);
+        const atmosphere::EclipseReferenceRadiance r = atmosphere::eclipseReferenceRadiance(m, T, MS, 0.0, dir, sun, g, ro);
+        const double ref = Y(r.radiance);
+        const double model = Y(cpu::radiance(m, cpu::integrateEclipse(m, T, MS, 0.0, dir, sun, gm, 128, false, m.sunAngularRadius),
+                                             glm::dot(dir, sun)));
+        INFO("azimuth from the Sun " << daz << " deg, altitude " << alt << " deg: model " << model << ", reference " << ref
+                                     << " (order 2: " << Y(r.second) / ref << " of it)");
+        // Measured (bench, 256 steps) 1.00 at the zenith, 1.34 at 45 deg towards the Sun, 0.66 on
+        // the horizon beneath it; kEclipseModelFactor, the stated accuracy at totality.
+        CHECK(model < ref * kEclipseModelFactor);
+        CHECK(model > ref / kEclipseModelFactor);
+        // The reference beneath the Sun is its exact second order (measured 1.00 of it).
+        if (alt < 10.0) CHECK(Y(r.second) > 0.75 * ref);
+    }
+}
+
+TEST_CASE("Eclipse sky: the multiple-scattering weight on hazy air, and none of it on clear air", "[cpu][eclipse]") {
+    // atmosphere.shared.glsl's atm_eclMsWeight()/atm_eclHaze() (run by cpu::eclipseMsWeight and
+    // cpu::eclipseHaze) write their constants as literals: here against the C++ constants.
+    auto modelOf = [](const atmosphere::Atmosphere& a) {
+        SkyVars v = test::astronomyAt(kTotality, kLat, kLon);
+        v.set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(a));
+        return SkyModel::fromVars(v);
+    };
+    const SkyModel clear = modelOf(atmosphere::Atmosphere::earthClear()), hazy = modelOf(atmosphere::Atmosphere::earthHazy());
+    // The haze measure: 0 on the renderer's air and on Hillaire's (whose weight is then unchanged),
+    // 1 on the hazy air (4.0 x the clear aerosol's scattering at the ground).
+    CHECK(cpu::eclipseHaze(clear) == 0.0);
+    CHECK(cpu::eclipseHaze(SkyModel::earthClear()) == 0.0);
+    const double ratio = hazy.scatteringMie(0.0).g / cpu::kEclipseHazeClearMie;
+    CHECK(cpu::eclipseHaze(hazy) == Approx(std::clamp((ratio - 1.1) / 2.9, 0.0, 1.0)).margin(1e-12));
+    CHECK(ratio == Approx(4.0).epsilon(0.01));  // AOD 0.4 against 0.1, the same scale height
+    // Clear air: the full weight is the axis weight, whatever cosRing (rounding only, 1e-12).
+    for (double nu : {-0.9, 0.0, 0.5, 0.99})
+        for (double cr : {0.0, 0.7, 1.0}) CHECK(cpu::eclipseMsWeight(clear, 0.187, nu, cr) == Approx(cpu::eclipseMsAxisWeight(clear, 0.187, nu)).margin(1e-12));
+    // Hazy air (H = 1): R = share x the mean of the HG lobe (asymmetry G) at +-cosRing, x 4 pi.
+    const double G = cpu::kEclipseHazeRingG, A = cpu::kEclipseHazeRingShare;
+    auto lobe = [&](double c) { return (1 - G * G) / std::pow(1 + G * G - 2 * G * c, 1.5); };
+    // Across the axis, horizontal (nu = 0, cosRing = 1): w' = 1, the ring's lobe at 0 and 180 deg.
+    CHECK(cpu::eclipseMsWeight(hazy, 0.187, 0.0, 1.0) == Approx(A * 0.5 * (lobe(1.0) + lobe(-1.0))).epsilon(1e-9));
+    // 60 deg towards the Sun, in the plane of the axis (cosRing = 0): F' = 1, s = sin^(1 + power).
+    const double s60 = std::pow(std::sqrt(0.75), 1.0 + cpu::kEclipseHazeSunwardPower);
+    CHECK(cpu::eclipseMsWeight(hazy, 0.187, 0.5, 0.0) == Approx(s60 * A * lobe(0.0)).epsilon(1e-9));
+    // 60 deg away from the Sun: the axis weight as on clear air, times R.
+    CHECK(cpu::eclipseMsWeight(hazy, 0.187, -0.5, 0.0) == Approx(cpu::eclipseMsAxisWeight(hazy, 0.187, -0.5) * A * lobe(0.0)).epsilon(1e-9));
 }
 
 TEST_CASE("Eclipse sky: the model against the eclipse reference in the partial phases (90 %, 99 %, 99.5 %)", "[cpu][eclipse]") {

@@ -301,6 +301,25 @@ double eclipseMsAxisWeight(const SkyModel& m, double forwardFraction, double nu)
 /// the literal 0.16; a test checks the two agree.)
 inline constexpr double kEclipseForwardShare = 0.16;
 
+/// The full weight along a view ray (docs/eclipse.md, "Hazy air"): eclipseMsAxisWeight() on clear
+/// air; on hazy air (eclipseHaze() H > 0) the sunward half's sine raised to 1 + 0.5 H with
+/// F' = max(F, H) there, times mix(1, R, H), R the sunlit ring's directional gather at `cosRing`
+/// (cos(elevation) |sin(azimuth from the Sun)|, in [0, 1]). Runs atm_eclMsWeight().
+double eclipseMsWeight(const SkyModel& m, double forwardFraction, double nu, double cosRing);
+/// How hazy the air is for the eclipse's weight, in [0, 1]: 0 up to 1.1 x kEclipseHazeClearMie
+/// (the aerosol's scattering at the ground, green, 1/m), 1 from 4 x. Runs atm_eclHaze().
+double eclipseHaze(const SkyModel& m);
+/// atmosphere::Atmosphere::earthClear()'s aerosol scattering at the ground, green (measured
+/// 7.514e-5 /m), rounded: the haze measure's unit. The shared text writes the literals of these
+/// constants; a test checks they agree.
+inline constexpr double kEclipseHazeClearMie = 7.5e-5;
+/// The sunward sine's extra power at H = 1.
+inline constexpr double kEclipseHazeSunwardPower = 0.5;
+/// The share of the kernel's light that reaches the shadowed hazy air (R averaged over the sphere).
+inline constexpr double kEclipseHazeRingShare = 0.645;
+/// The asymmetry of the ring's smoothed lobe.
+inline constexpr double kEclipseHazeRingG = 0.4;
+
 /// The eclipse's multiple-scattering field (docs/eclipse.md, "Multiple scattering"): in the
 /// plane through the observer perpendicular to the shadow's axis (unit basis e1, horizontal, and
 /// e2), a grid of D = (the Sun's visible fraction averaged over the air around a point, weighted
