@@ -380,6 +380,70 @@ int run(const FrameBenchOptions& o) {
                 glDrawArrays(GL_TRIANGLES, 0, 3);
                 glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
             };
+            // What the Sky's pass pays for its parts (skyelements/sky/README.md "Cost"): an atan per
+            // pixel (the eclipse table's absolute azimuth), a bilinear 1-D RGBA16F row (the view
+            // transmittance), and the night's multiply-only blend (dst = T dst, no radiance) against
+            // the dual-source one (dst = L + T dst).
+            gl::Texture1D row1d(256, GL_RGBA16F);
+            {
+                std::vector<float> px(256 * 4);
+                for (size_t i = 0; i < px.size(); ++i) px[i] = float(i % 97) * 1e-2f;
+                glTextureSubImage1D(row1d.id(), 0, 0, 256, GL_RGBA, GL_FLOAT, px.data());
+                glTextureParameteri(row1d.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+                glTextureParameteri(row1d.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+                glTextureParameteri(row1d.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+            }
+            auto atanProg = prog("atan.frag", "out vec4 o; void main() { vec2 d = gl_FragCoord.xy - vec2(640.5, 360.5);\n"
+                                              "o = vec4(atan(d.x, d.y) * 0.159, gl_FragCoord.y * 1e-3, 1.0, 1.0); }");
+            auto atanPolyProg = prog("atanpoly.frag", "out vec4 o; void main() { vec2 d = gl_FragCoord.xy - vec2(640.5, 360.5);\n"
+                                                      "float ax = abs(d.x), ay = abs(d.y), a = min(ax, ay) / max(max(ax, ay), 1e-30), s = a * a;\n"
+                                                      "float r = a * (0.9998660 + s * (-0.3302995 + s * (0.1801410 + s * (-0.0851330 + s * 0.0208351))));\n"
+                                                      "r = ay > ax ? 1.5707963 - r : r; r = d.y < 0.0 ? 3.1415927 - r : r; r = d.x < 0.0 ? -r : r;\n"
+                                                      "o = vec4(r * 0.159, gl_FragCoord.y * 1e-3, 1.0, 1.0); }");
+            auto row1dProg = prog("row1d.frag", "layout(binding = 0) uniform sampler1D u_row; out vec4 o;\n"
+                                                "void main() { o = vec4(texture(u_row, gl_FragCoord.y * 7.7e-4).rgb, 1.0); }");
+            auto multiplyProg = prog("multiply.frag", "out vec4 o; void main() { o = vec4(vec3(gl_FragCoord.y * 1e-3), 1.0); }");
+            auto plainInto = [&](gl::Program& p, unsigned tex1d) {
+                return [&, tex1d] {
+                    trivialFbo.bind();
+                    glViewport(0, 0, w, h);
+                    vao.bind();
+                    if (tex1d) glBindTextureUnit(0, tex1d);
+                    p.use();
+                    glDrawArrays(GL_TRIANGLES, 0, 3);
+                };
+            };
+            auto multiplyPass = [&] {
+                trivialFbo.bind();
+                glViewport(0, 0, w, h);
+                vao.bind();
+                glEnable(GL_BLEND);
+                multiplyProg.use();
+                glBlendFuncSeparate(GL_ZERO, GL_SRC_COLOR, GL_ZERO, GL_ONE);
+                glDrawArrays(GL_TRIANGLES, 0, 3);
+                glDisable(GL_BLEND);
+            };
+            // The tone map's other shapes (docs/eye.md "Other shapes of the tone map"): a compute
+            // pass (imageLoad of the HDR frame, imageStore into an RGBA8 image: it cannot write a
+            // window), the frame tone-mapped in place through framebuffer fetch (RGBA32F, the
+            // attachment read and written) and the blit that would then carry it to the display.
+            gl::Program computeCopy = gl::ProgramBuilder("copy.comp")
+                                          .compute("copy.comp", "layout(local_size_x = 8, local_size_y = 8) in;\n"
+                                                                "layout(binding = 0, rgba32f) readonly uniform image2D u_in;\n"
+                                                                "layout(binding = 1, rgba8) writeonly uniform image2D u_out;\n"
+                                                                "void main() { ivec2 p = ivec2(gl_GlobalInvocationID.xy);\n"
+                                                                "imageStore(u_out, p, vec4(imageLoad(u_in, p).rgb * 1e-3, 1.0)); }")
+                                          .build();
+            auto computePass = [&] {
+                computeCopy.use();
+                glBindImageTexture(0, trivialTarget.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+                glBindImageTexture(1, ldr.texture.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+                glDispatchCompute(GLuint((w + 7) / 8), GLuint((h + 7) / 8), 1);
+                glMemoryBarrier(GL_ALL_BARRIER_BITS);
+            };
+            auto blitPass = [&] {
+                glBlitNamedFramebuffer(trivialFbo.id(), ldrFbo.id(), 0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+            };
             std::vector<std::pair<std::string, std::function<void()>>> floor = {
                 {"floor: trivial pass RGBA32F (reference)", drawTrivial},
                 {"floor: trivial pass RGBA8", trivial8},
@@ -401,6 +465,28 @@ int run(const FrameBenchOptions& o) {
                 {"floor: texelFetch of a 1x1 texture per pixel", sampledPass(oneTexel, one, 1.0f)},
             };
             if (fbFetch) floor.push_back({"floor: copy by framebuffer fetch RGBA32F -> RGBA8", fbFetchPass});
+            floor.push_back({"floor: trivial pass + atan per pixel", plainInto(atanProg, 0)});
+            floor.push_back({"floor: trivial pass + polynomial atan per pixel (the Sky's skyAtan2)", plainInto(atanPolyProg, 0)});
+            floor.push_back({"floor: bilinear RGBA16F 1-D row of 256", plainInto(row1dProg, row1d.id())});
+            floor.push_back({"floor: multiply-only blended pass RGBA32F (ZERO, SRC_COLOR)", multiplyPass});
+            floor.push_back({"floor: copy by compute imageLoad RGBA32F -> imageStore RGBA8", computePass});
+            floor.push_back({"floor: blit RGBA32F -> RGBA8", blitPass});
+            gl::Program fbInPlace;
+            gl::Framebuffer fbInPlaceFbo = gl::Framebuffer::create();
+            if (fbFetch) {
+                fbInPlace = prog("fbinplace.frag", "#extension GL_EXT_shader_framebuffer_fetch : require\n"
+                                                   "layout(location = 0) inout vec4 hdr;\n"
+                                                   "void main() { hdr = vec4(hdr.rgb * 0.999, 1.0); }");
+                fbInPlaceFbo.attach(GL_COLOR_ATTACHMENT0, trivialTarget);
+                fbInPlaceFbo.checkComplete("bench frame in-place framebuffer fetch");
+                floor.push_back({"floor: in place by framebuffer fetch RGBA32F (read and written)", [&] {
+                                     fbInPlaceFbo.bind();
+                                     glViewport(0, 0, w, h);
+                                     vao.bind();
+                                     fbInPlace.use();
+                                     glDrawArrays(GL_TRIANGLES, 0, 3);
+                                 }});
+            }
             std::vector<std::function<void()>> fns;
             for (auto& f : floor) {
                 f.second();  // warm-up: llvmpipe compiles a program (and its blend state) at first draw

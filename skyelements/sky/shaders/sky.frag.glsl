@@ -26,10 +26,8 @@ uniform vec3 u_lossLight;  // the shadowed light, unit ENU
 uniform vec3 u_lossE;      // its illuminance per channel / kLutScale (lux)
 // v: the sky view's latitude coordinate of dir (the loss table has the sky view's height).
 vec3 shadowLoss(vec3 dir, float v) {
-    // From north through east; atan(0, 0) is undefined in GLSL: 0 at the zenith and nadir (u does
-    // not matter there).
-    float az = dir.x == 0.0 && dir.y == 0.0 ? 0.0 : atan(dir.x, dir.y);
-    vec2 uv = vec2(az * (0.5 / ATM_PI), v);
+    // From north through east (skyAtan2(): 0 at the zenith and nadir, where u does not matter).
+    vec2 uv = vec2(skyAtan2(dir.x, dir.y) * (0.5 / ATM_PI), v);
     return (texture(u_lossSmooth, uv).rgb + texture(u_lossMie, uv).rgb * miePhase(clamp(dot(dir, u_lossLight), -1.0, 1.0))) * u_lossE;
 }
 #endif
@@ -40,6 +38,24 @@ uniform mat3 u_toRgb;
 #define SKY_TO_RGB(x) (u_toRgb * (x))
 #else
 #define SKY_TO_RGB(x) (x)
+#endif
+
+#if defined(SKY_ECLIPSE) || defined(SKY_SHADOW_LOSS)
+// atan(y, x) in [-pi, pi] for the tables over absolute azimuth, without the builtin: Abramowitz &
+// Stegun 4.4.49's polynomial on [0, 1] (|error| <= 1e-5 rad, 1.6e-6 of the table's turn: ~1e-3
+// of a texel of the 2 x 192 texels of the eclipse table at medium quality) after the octant
+// reduction. The builtin (Mesa's NIR lowering: a wider reduction and scaling for huge arguments)
+// cost llvmpipe ~0.7 of a trivial pass, this ~0.3 (`welkin bench frame`, README "Cost").
+// 0 at x = y = 0 (the zenith and nadir, where u does not matter).
+float skyAtan2(float y, float x) {
+    float ax = abs(x), ay = abs(y);
+    float a = min(ax, ay) / max(max(ax, ay), 1e-30);
+    float s = a * a;
+    float r = a * (0.9998660 + s * (-0.3302995 + s * (0.1801410 + s * (-0.0851330 + s * 0.0208351))));
+    r = ay > ax ? 1.5707963 - r : r;
+    r = x < 0.0 ? 3.1415927 - r : r;
+    return y < 0.0 ? -r : r;
+}
 #endif
 
 // Cosine of the azimuth of `dir` measured from the light's vertical plane (0 when either is
@@ -114,11 +130,10 @@ void main() {
     float v, vMoon;
 #ifdef SKY_ECLIPSE
     // A solar eclipse: the Sun's table over absolute azimuth (sky.eclipse_view_lut, bound on the
-    // Sun's units), u = az / 2 pi from north through east (atan(0, 0) is undefined: 0 at the
-    // zenith and nadir), v the sky view's latitude.
+    // Sun's units), u = az / 2 pi from north through east (skyAtan2(): 0 at the zenith and
+    // nadir), v the sky view's latitude.
     {
-        float az = dir.x == 0.0 && dir.y == 0.0 ? 0.0 : atan(dir.x, dir.y);
-        vec2 uvE = vec2(az * (0.5 / ATM_PI), skyViewUvS(u_sH, mu, 1.0, u_lutSize).y);
+        vec2 uvE = vec2(skyAtan2(dir.x, dir.y) * (0.5 / ATM_PI), skyViewUvS(u_sH, mu, 1.0, u_lutSize).y);
         v = uvE.y;
 #ifdef SKY_BAKED_PHASE
         L = texture(u_sunSmooth, uvE).rgb * (u_sunE * u_invScale);  // the total table (sky.eclipse_view_total_lut)
