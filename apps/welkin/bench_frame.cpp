@@ -8,6 +8,7 @@
 // (steady on a machine other jobs load). Prints a Markdown table; --csv writes the same rows.
 #include "bench_util.hpp"
 #include "command.hpp"
+#include "scene_options.hpp"
 
 #include <welkin/csv.hpp>
 #include <welkin/elements/registry.hpp>
@@ -400,6 +401,14 @@ int run(const FrameBenchOptions& o) {
                                                       "float r = a * (0.9998660 + s * (-0.3302995 + s * (0.1801410 + s * (-0.0851330 + s * 0.0208351))));\n"
                                                       "r = ay > ax ? 1.5707963 - r : r; r = d.y < 0.0 ? 3.1415927 - r : r; r = d.x < 0.0 ? -r : r;\n"
                                                       "o = vec4(r * 0.159, gl_FragCoord.y * 1e-3, 1.0, 1.0); }");
+            // The mesopic weight's logarithm (the tone map, docs/eye.md): the builtin log2, and the
+            // exponent's bits with a cubic for the mantissa's (|error| 8e-4).
+            auto log2Prog = prog("log2.frag", "out vec4 o; void main() { float y = gl_FragCoord.x * gl_FragCoord.y * 1e-5;\n"
+                                              "o = vec4(log2(y), gl_FragCoord.y * 1e-3, 1.0, 1.0); }");
+            auto log2CheapProg = prog("log2cheap.frag", "out vec4 o; void main() { float y = gl_FragCoord.x * gl_FragCoord.y * 1e-5;\n"
+                                                        "int b = floatBitsToInt(y); float m = intBitsToFloat((b & 0x007fffff) | 0x3f800000) - 1.0;\n"
+                                                        "float l = float((b >> 23) - 127) + m * (1.4246257 + m * (-0.5894235 + m * 0.1656103));\n"
+                                                        "o = vec4(l, gl_FragCoord.y * 1e-3, 1.0, 1.0); }");
             auto row1dProg = prog("row1d.frag", "layout(binding = 0) uniform sampler1D u_row; out vec4 o;\n"
                                                 "void main() { o = vec4(texture(u_row, gl_FragCoord.y * 7.7e-4).rgb, 1.0); }");
             auto multiplyProg = prog("multiply.frag", "out vec4 o; void main() { o = vec4(vec3(gl_FragCoord.y * 1e-3), 1.0); }");
@@ -467,6 +476,8 @@ int run(const FrameBenchOptions& o) {
             if (fbFetch) floor.push_back({"floor: copy by framebuffer fetch RGBA32F -> RGBA8", fbFetchPass});
             floor.push_back({"floor: trivial pass + atan per pixel", plainInto(atanProg, 0)});
             floor.push_back({"floor: trivial pass + polynomial atan per pixel (the Sky's skyAtan2)", plainInto(atanPolyProg, 0)});
+            floor.push_back({"floor: trivial pass + log2 per pixel (builtin)", plainInto(log2Prog, 0)});
+            floor.push_back({"floor: trivial pass + log2 from the exponent's bits and a cubic", plainInto(log2CheapProg, 0)});
             floor.push_back({"floor: bilinear RGBA16F 1-D row of 256", plainInto(row1dProg, row1d.id())});
             floor.push_back({"floor: multiply-only blended pass RGBA32F (ZERO, SRC_COLOR)", multiplyPass});
             floor.push_back({"floor: copy by compute imageLoad RGBA32F -> imageStore RGBA8", computePass});
@@ -497,6 +508,44 @@ int run(const FrameBenchOptions& o) {
                 rows.push_back({floor[i].first, ms[i]});
                 alternated.push_back({floor[i].first, ms[i] / ms[0]});
                 copyRatio.push_back(ms[i] / ms[5]);
+            }
+        }
+        // The Sky's pass as `welkin bench display` draws it (skyelements/sky/README.md "Cost"): at its
+        // twilight (the eclipse table over absolute azimuth, Malta 2026-08-12 18:10 UTC) and
+        // moonless (22:00 UTC, the Sun's term skipped) views, behind a trivial element (so the Sky
+        // blends over something, as over the night sky), manual exposure (no tone map in
+        // renderFrame()); the trivial element alone is the reference the Sky's share is over.
+        if (elements::findDescriptor("sky")) {
+            auto scene = [&](const char* time, bool withSky) {
+                auto p = std::make_unique<SkyProcessor>(SkyVars::earth(), log);
+                p->add(std::make_unique<TrivialElement>());
+                SceneOptions so;
+                so.time = time;
+                so.latDeg = 35.9, so.lonDeg = 14.5, so.heightM = 50;
+                so.azDeg = 180, so.altDeg = 30, so.fovDeg = 60;
+                so.size = std::to_string(w) + "x" + std::to_string(h);
+                so.exposure = "10";
+                so.elements = withSky ? "sky" : "";
+                so.elementsGiven = withSky;
+                if (withSky) so.apply(*p);
+                else {
+                    p->setCamera(so.camera());
+                    p->setExposure(so.exposureSetting());
+                }
+                p->renderFrame();
+                p->renderFrame();
+                return p;
+            };
+            auto twilight = scene("2026-08-12T18:10:00Z", true), moonless = scene("2026-08-12T22:00:00Z", true),
+                 alone = scene("2026-08-12T22:00:00Z", false);
+            const std::vector<double> ms = alternatedOn(o.repeats, {drawTrivial, [&] { alone->renderFrame(); }, [&] { twilight->renderFrame(); },
+                                                                    [&] { moonless->renderFrame(); }, drawCopy});
+            const char* names[] = {"Sky pass: trivial element alone (renderFrame)", "Sky pass: twilight, over the trivial element (renderFrame)",
+                                   "Sky pass: moonless, over the trivial element (renderFrame)"};
+            for (int i = 0; i < 3; ++i) {
+                rows.push_back({names[i], ms[size_t(i) + 1]});
+                alternated.push_back({names[i], ms[size_t(i) + 1] / ms[0]});
+                copyRatio.push_back(ms[size_t(i) + 1] / ms[4]);
             }
         }
         rows.push_back({"read back HDR (RGBA32F -> RGB)", medianOn(std::min(o.repeats, 3), [&] { (void)sky.readHdr(); })});

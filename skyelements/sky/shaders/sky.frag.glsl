@@ -16,6 +16,8 @@ uniform vec2 u_lutSize;     // sky-view LUT size, texels (height even)
 uniform int u_steps;        // per-pixel ray march
 uniform float u_moonAngular;
 uniform float u_sH;         // sin(theta_H / 2), theta_H the zenith angle of the observer's horizon (LUT path)
+// skyAtan2(): the tables' azimuth without the builtin atan (sky_atan.shared.glsl).
+#include "sky_atan.shared.glsl"
 #ifdef SKY_SHADOW_LOSS
 // The direct light's shadow on the in-scattering (sky.shadow_loss_lut, e.g. the clouds'): the
 // single scattering it removes, per lux x kLutScale, over absolute azimuth (u = az / 2 pi, wrap
@@ -40,23 +42,6 @@ uniform mat3 u_toRgb;
 #define SKY_TO_RGB(x) (x)
 #endif
 
-#if defined(SKY_ECLIPSE) || defined(SKY_SHADOW_LOSS)
-// atan(y, x) in [-pi, pi] for the tables over absolute azimuth, without the builtin: Abramowitz &
-// Stegun 4.4.49's polynomial on [0, 1] (|error| <= 1e-5 rad, 1.6e-6 of the table's turn: ~1e-3
-// of a texel of the 2 x 192 texels of the eclipse table at medium quality) after the octant
-// reduction. The builtin (Mesa's NIR lowering: a wider reduction and scaling for huge arguments)
-// cost llvmpipe ~0.7 of a trivial pass, this ~0.3 (`welkin bench frame`, README "Cost").
-// 0 at x = y = 0 (the zenith and nadir, where u does not matter).
-float skyAtan2(float y, float x) {
-    float ax = abs(x), ay = abs(y);
-    float a = min(ax, ay) / max(max(ax, ay), 1e-30);
-    float s = a * a;
-    float r = a * (0.9998660 + s * (-0.3302995 + s * (0.1801410 + s * (-0.0851330 + s * 0.0208351))));
-    r = ay > ax ? 1.5707963 - r : r;
-    r = x < 0.0 ? 3.1415927 - r : r;
-    return y < 0.0 ? -r : r;
-}
-#endif
 
 // Cosine of the azimuth of `dir` measured from the light's vertical plane (0 when either is
 // vertical: every azimuth is then the same direction).
