@@ -3,7 +3,9 @@
 // exposure; on a mesopic frame with eye.mesopic off and on) and the Grid element (on the tiles
 // near its lines and, for comparison, as a fullscreen pass), and the floor under any tone map
 // (the "floor" rows: write formats, copies by each fetch instruction and source format, blended
-// passes; docs/eye.md). CPU-timed with glFinish (GL timer
+// passes, the tone map's other shapes (compute, in place by framebuffer fetch, blit), the Sky's
+// parts (atan, 1-D row, multiply-only blend), log2; docs/eye.md, skyelements/sky/README.md), and
+// the Sky's pass at `bench display`'s twilight and moonless views (the "Sky pass" rows). CPU-timed with glFinish (GL timer
 // queries mean nothing on llvmpipe): elapsed time, or with --clock cpu the process's CPU time
 // (steady on a machine other jobs load). Prints a Markdown table; --csv writes the same rows.
 #include "bench_util.hpp"
