@@ -13,6 +13,9 @@
 #include "scene_options.hpp"
 
 #include <welkin/csv.hpp>
+#if __has_include(<welkin/embedded/sky_shaders.hpp>)
+#include <welkin/embedded/sky_shaders.hpp>
+#endif
 #include <welkin/elements/registry.hpp>
 #include <welkin/error.hpp>
 #include <welkin/eye.hpp>
@@ -398,19 +401,18 @@ int run(const FrameBenchOptions& o) {
             }
             auto atanProg = prog("atan.frag", "out vec4 o; void main() { vec2 d = gl_FragCoord.xy - vec2(640.5, 360.5);\n"
                                               "o = vec4(atan(d.x, d.y) * 0.159, gl_FragCoord.y * 1e-3, 1.0, 1.0); }");
-            auto atanPolyProg = prog("atanpoly.frag", "out vec4 o; void main() { vec2 d = gl_FragCoord.xy - vec2(640.5, 360.5);\n"
-                                                      "float ax = abs(d.x), ay = abs(d.y), a = min(ax, ay) / max(max(ax, ay), 1e-30), s = a * a;\n"
-                                                      "float r = a * (0.9998660 + s * (-0.3302995 + s * (0.1801410 + s * (-0.0851330 + s * 0.0208351))));\n"
-                                                      "r = ay > ax ? 1.5707963 - r : r; r = d.y < 0.0 ? 3.1415927 - r : r; r = d.x < 0.0 ? -r : r;\n"
-                                                      "o = vec4(r * 0.159, gl_FragCoord.y * 1e-3, 1.0, 1.0); }");
-            // The mesopic weight's logarithm (the tone map, docs/eye.md): the builtin log2, and the
-            // exponent's bits with a cubic for the mantissa's (|error| 8e-4).
+#if __has_include(<welkin/embedded/sky_shaders.hpp>)
+            // The Sky's skyAtan2() (skyelements/sky/shaders/sky_atan.shared.glsl), its own text.
+            auto atanPolyProg = prog("atanpoly.frag", (std::string(embedded::sky_shaders("sky_atan.shared.glsl")) +
+                                                       "\nout vec4 o; void main() { vec2 d = gl_FragCoord.xy - vec2(640.5, 360.5);\n"
+                                                       "o = vec4(skyAtan2(d.x, d.y) * 0.159, gl_FragCoord.y * 1e-3, 1.0, 1.0); }")
+                                                          .c_str());
+#else
+            auto atanPolyProg = prog("atanpoly.frag", "out vec4 o; void main() { o = vec4(0.0); }");  // no Sky in this build
+#endif
+            // The builtin log2 (the tone map's mesopic weight took it before 2026-11-27, docs/eye.md).
             auto log2Prog = prog("log2.frag", "out vec4 o; void main() { float y = gl_FragCoord.x * gl_FragCoord.y * 1e-5;\n"
                                               "o = vec4(log2(y), gl_FragCoord.y * 1e-3, 1.0, 1.0); }");
-            auto log2CheapProg = prog("log2cheap.frag", "out vec4 o; void main() { float y = gl_FragCoord.x * gl_FragCoord.y * 1e-5;\n"
-                                                        "int b = floatBitsToInt(y); float m = intBitsToFloat((b & 0x007fffff) | 0x3f800000) - 1.0;\n"
-                                                        "float l = float((b >> 23) - 127) + m * (1.4246257 + m * (-0.5894235 + m * 0.1656103));\n"
-                                                        "o = vec4(l, gl_FragCoord.y * 1e-3, 1.0, 1.0); }");
             auto row1dProg = prog("row1d.frag", "layout(binding = 0) uniform sampler1D u_row; out vec4 o;\n"
                                                 "void main() { o = vec4(texture(u_row, gl_FragCoord.y * 7.7e-4).rgb, 1.0); }");
             auto multiplyProg = prog("multiply.frag", "out vec4 o; void main() { o = vec4(vec3(gl_FragCoord.y * 1e-3), 1.0); }");
@@ -479,7 +481,6 @@ int run(const FrameBenchOptions& o) {
             floor.push_back({"floor: trivial pass + atan per pixel", plainInto(atanProg, 0)});
             floor.push_back({"floor: trivial pass + polynomial atan per pixel (the Sky's skyAtan2)", plainInto(atanPolyProg, 0)});
             floor.push_back({"floor: trivial pass + log2 per pixel (builtin)", plainInto(log2Prog, 0)});
-            floor.push_back({"floor: trivial pass + log2 from the exponent's bits and a cubic", plainInto(log2CheapProg, 0)});
             floor.push_back({"floor: bilinear RGBA16F 1-D row of 256", plainInto(row1dProg, row1d.id())});
             floor.push_back({"floor: multiply-only blended pass RGBA32F (ZERO, SRC_COLOR)", multiplyPass});
             floor.push_back({"floor: copy by compute imageLoad RGBA32F -> imageStore RGBA8", computePass});

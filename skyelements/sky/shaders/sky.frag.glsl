@@ -159,5 +159,11 @@ void main() {
 #ifdef SKY_SPECTRAL
     T = vec3(1.0);
 #endif
+#ifdef SKY_MULTIPLY
+    // Night without the Moon (L = 0): blended as dst = 0 src + T dst (sky.night_multiply), the
+    // transmittance as the one output, clamped as welkin_output() clamps it.
+    welkin_radiance = vec4(clamp(T, vec3(0.0), vec3(1.0)), 1.0);
+#else
     welkin_output(L, T);
+#endif
 }
