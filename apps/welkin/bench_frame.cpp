@@ -3,13 +3,19 @@
 // exposure; on a mesopic frame with eye.mesopic off and on) and the Grid element (on the tiles
 // near its lines and, for comparison, as a fullscreen pass), and the floor under any tone map
 // (the "floor" rows: write formats, copies by each fetch instruction and source format, blended
-// passes; docs/eye.md). CPU-timed with glFinish (GL timer
+// passes, the tone map's other shapes (compute, in place by framebuffer fetch, blit), the Sky's
+// parts (atan, 1-D row, multiply-only blend), log2; docs/eye.md, skyelements/sky/README.md), and
+// the Sky's pass at `bench display`'s twilight and moonless views (the "Sky pass" rows). CPU-timed with glFinish (GL timer
 // queries mean nothing on llvmpipe): elapsed time, or with --clock cpu the process's CPU time
 // (steady on a machine other jobs load). Prints a Markdown table; --csv writes the same rows.
 #include "bench_util.hpp"
 #include "command.hpp"
+#include "scene_options.hpp"
 
 #include <welkin/csv.hpp>
+#if __has_include(<welkin/embedded/sky_shaders.hpp>)
+#include <welkin/embedded/sky_shaders.hpp>
+#endif
 #include <welkin/elements/registry.hpp>
 #include <welkin/error.hpp>
 #include <welkin/eye.hpp>
@@ -380,6 +386,77 @@ int run(const FrameBenchOptions& o) {
                 glDrawArrays(GL_TRIANGLES, 0, 3);
                 glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
             };
+            // What the Sky's pass pays for its parts (skyelements/sky/README.md "Cost"): an atan per
+            // pixel (the eclipse table's absolute azimuth), a bilinear 1-D RGBA16F row (the view
+            // transmittance), and the night's multiply-only blend (dst = T dst, no radiance) against
+            // the dual-source one (dst = L + T dst).
+            gl::Texture1D row1d(256, GL_RGBA16F);
+            {
+                std::vector<float> px(256 * 4);
+                for (size_t i = 0; i < px.size(); ++i) px[i] = float(i % 97) * 1e-2f;
+                glTextureSubImage1D(row1d.id(), 0, 0, 256, GL_RGBA, GL_FLOAT, px.data());
+                glTextureParameteri(row1d.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+                glTextureParameteri(row1d.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+                glTextureParameteri(row1d.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+            }
+            auto atanProg = prog("atan.frag", "out vec4 o; void main() { vec2 d = gl_FragCoord.xy - vec2(640.5, 360.5);\n"
+                                              "o = vec4(atan(d.x, d.y) * 0.159, gl_FragCoord.y * 1e-3, 1.0, 1.0); }");
+#if __has_include(<welkin/embedded/sky_shaders.hpp>)
+            // The Sky's skyAtan2() (skyelements/sky/shaders/sky_atan.shared.glsl), its own text.
+            auto atanPolyProg = prog("atanpoly.frag", (std::string(embedded::sky_shaders("sky_atan.shared.glsl")) +
+                                                       "\nout vec4 o; void main() { vec2 d = gl_FragCoord.xy - vec2(640.5, 360.5);\n"
+                                                       "o = vec4(skyAtan2(d.x, d.y) * 0.159, gl_FragCoord.y * 1e-3, 1.0, 1.0); }")
+                                                          .c_str());
+#else
+            auto atanPolyProg = prog("atanpoly.frag", "out vec4 o; void main() { o = vec4(0.0); }");  // no Sky in this build
+#endif
+            // The builtin log2 (the tone map's mesopic weight took it before 2026-11-27, docs/eye.md).
+            auto log2Prog = prog("log2.frag", "out vec4 o; void main() { float y = gl_FragCoord.x * gl_FragCoord.y * 1e-5;\n"
+                                              "o = vec4(log2(y), gl_FragCoord.y * 1e-3, 1.0, 1.0); }");
+            auto row1dProg = prog("row1d.frag", "layout(binding = 0) uniform sampler1D u_row; out vec4 o;\n"
+                                                "void main() { o = vec4(texture(u_row, gl_FragCoord.y * 7.7e-4).rgb, 1.0); }");
+            auto multiplyProg = prog("multiply.frag", "out vec4 o; void main() { o = vec4(vec3(gl_FragCoord.y * 1e-3), 1.0); }");
+            auto plainInto = [&](gl::Program& p, unsigned tex1d) {
+                return [&, tex1d] {
+                    trivialFbo.bind();
+                    glViewport(0, 0, w, h);
+                    vao.bind();
+                    if (tex1d) glBindTextureUnit(0, tex1d);
+                    p.use();
+                    glDrawArrays(GL_TRIANGLES, 0, 3);
+                };
+            };
+            auto multiplyPass = [&] {
+                trivialFbo.bind();
+                glViewport(0, 0, w, h);
+                vao.bind();
+                glEnable(GL_BLEND);
+                multiplyProg.use();
+                glBlendFuncSeparate(GL_ZERO, GL_SRC_COLOR, GL_ZERO, GL_ONE);
+                glDrawArrays(GL_TRIANGLES, 0, 3);
+                glDisable(GL_BLEND);
+            };
+            // The tone map's other shapes (docs/eye.md "Other shapes of the tone map"): a compute
+            // pass (imageLoad of the HDR frame, imageStore into an RGBA8 image: it cannot write a
+            // window), the frame tone-mapped in place through framebuffer fetch (RGBA32F, the
+            // attachment read and written) and the blit that would then carry it to the display.
+            gl::Program computeCopy = gl::ProgramBuilder("copy.comp")
+                                          .compute("copy.comp", "layout(local_size_x = 8, local_size_y = 8) in;\n"
+                                                                "layout(binding = 0, rgba32f) readonly uniform image2D u_in;\n"
+                                                                "layout(binding = 1, rgba8) writeonly uniform image2D u_out;\n"
+                                                                "void main() { ivec2 p = ivec2(gl_GlobalInvocationID.xy);\n"
+                                                                "imageStore(u_out, p, vec4(imageLoad(u_in, p).rgb * 1e-3, 1.0)); }")
+                                          .build();
+            auto computePass = [&] {
+                computeCopy.use();
+                glBindImageTexture(0, trivialTarget.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+                glBindImageTexture(1, ldr.texture.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+                glDispatchCompute(GLuint((w + 7) / 8), GLuint((h + 7) / 8), 1);
+                glMemoryBarrier(GL_ALL_BARRIER_BITS);
+            };
+            auto blitPass = [&] {
+                glBlitNamedFramebuffer(trivialFbo.id(), ldrFbo.id(), 0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+            };
             std::vector<std::pair<std::string, std::function<void()>>> floor = {
                 {"floor: trivial pass RGBA32F (reference)", drawTrivial},
                 {"floor: trivial pass RGBA8", trivial8},
@@ -401,6 +478,29 @@ int run(const FrameBenchOptions& o) {
                 {"floor: texelFetch of a 1x1 texture per pixel", sampledPass(oneTexel, one, 1.0f)},
             };
             if (fbFetch) floor.push_back({"floor: copy by framebuffer fetch RGBA32F -> RGBA8", fbFetchPass});
+            floor.push_back({"floor: trivial pass + atan per pixel", plainInto(atanProg, 0)});
+            floor.push_back({"floor: trivial pass + polynomial atan per pixel (the Sky's skyAtan2)", plainInto(atanPolyProg, 0)});
+            floor.push_back({"floor: trivial pass + log2 per pixel (builtin)", plainInto(log2Prog, 0)});
+            floor.push_back({"floor: bilinear RGBA16F 1-D row of 256", plainInto(row1dProg, row1d.id())});
+            floor.push_back({"floor: multiply-only blended pass RGBA32F (ZERO, SRC_COLOR)", multiplyPass});
+            floor.push_back({"floor: copy by compute imageLoad RGBA32F -> imageStore RGBA8", computePass});
+            floor.push_back({"floor: blit RGBA32F -> RGBA8", blitPass});
+            gl::Program fbInPlace;
+            gl::Framebuffer fbInPlaceFbo = gl::Framebuffer::create();
+            if (fbFetch) {
+                fbInPlace = prog("fbinplace.frag", "#extension GL_EXT_shader_framebuffer_fetch : require\n"
+                                                   "layout(location = 0) inout vec4 hdr;\n"
+                                                   "void main() { hdr = vec4(hdr.rgb * 0.999, 1.0); }");
+                fbInPlaceFbo.attach(GL_COLOR_ATTACHMENT0, trivialTarget);
+                fbInPlaceFbo.checkComplete("bench frame in-place framebuffer fetch");
+                floor.push_back({"floor: in place by framebuffer fetch RGBA32F (read and written)", [&] {
+                                     fbInPlaceFbo.bind();
+                                     glViewport(0, 0, w, h);
+                                     vao.bind();
+                                     fbInPlace.use();
+                                     glDrawArrays(GL_TRIANGLES, 0, 3);
+                                 }});
+            }
             std::vector<std::function<void()>> fns;
             for (auto& f : floor) {
                 f.second();  // warm-up: llvmpipe compiles a program (and its blend state) at first draw
@@ -411,6 +511,44 @@ int run(const FrameBenchOptions& o) {
                 rows.push_back({floor[i].first, ms[i]});
                 alternated.push_back({floor[i].first, ms[i] / ms[0]});
                 copyRatio.push_back(ms[i] / ms[5]);
+            }
+        }
+        // The Sky's pass as `welkin bench display` draws it (skyelements/sky/README.md "Cost"): at its
+        // twilight (the eclipse table over absolute azimuth, Malta 2026-08-12 18:10 UTC) and
+        // moonless (22:00 UTC, the Sun's term skipped) views, behind a trivial element (so the Sky
+        // blends over something, as over the night sky), manual exposure (no tone map in
+        // renderFrame()); the trivial element alone is the reference the Sky's share is over.
+        if (elements::findDescriptor("sky")) {
+            auto scene = [&](const char* time, bool withSky) {
+                auto p = std::make_unique<SkyProcessor>(SkyVars::earth(), log);
+                p->add(std::make_unique<TrivialElement>());
+                SceneOptions so;
+                so.time = time;
+                so.latDeg = 35.9, so.lonDeg = 14.5, so.heightM = 50;
+                so.azDeg = 180, so.altDeg = 30, so.fovDeg = 60;
+                so.size = std::to_string(w) + "x" + std::to_string(h);
+                so.exposure = "10";
+                so.elements = withSky ? "sky" : "";
+                so.elementsGiven = withSky;
+                if (withSky) so.apply(*p);
+                else {
+                    p->setCamera(so.camera());
+                    p->setExposure(so.exposureSetting());
+                }
+                p->renderFrame();
+                p->renderFrame();
+                return p;
+            };
+            auto twilight = scene("2026-08-12T18:10:00Z", true), moonless = scene("2026-08-12T22:00:00Z", true),
+                 alone = scene("2026-08-12T22:00:00Z", false);
+            const std::vector<double> ms = alternatedOn(o.repeats, {drawTrivial, [&] { alone->renderFrame(); }, [&] { twilight->renderFrame(); },
+                                                                    [&] { moonless->renderFrame(); }, drawCopy});
+            const char* names[] = {"Sky pass: trivial element alone (renderFrame)", "Sky pass: twilight, over the trivial element (renderFrame)",
+                                   "Sky pass: moonless, over the trivial element (renderFrame)"};
+            for (int i = 0; i < 3; ++i) {
+                rows.push_back({names[i], ms[size_t(i) + 1]});
+                alternated.push_back({names[i], ms[size_t(i) + 1] / ms[0]});
+                copyRatio.push_back(ms[size_t(i) + 1] / ms[4]);
             }
         }
         rows.push_back({"read back HDR (RGBA32F -> RGB)", medianOn(std::min(o.repeats, 3), [&] { (void)sky.readHdr(); })});

@@ -10,5 +10,7 @@ vec3 welkin_srgbEncodeFast(vec3 c) {
     vec3 s = sqrt(max(c, vec3(0.0)));
     vec3 p = -0.048761095 + s * (1.186980722 + s * (17.284672827 + s * 17.052349011));
     vec3 q = 1.0 + s * (14.054653614 + s * (19.586260445 + s * 0.834515499));
-    return mix(12.92 * c, p / q, step(vec3(0.0031308), c));
+    // A select per channel (mix by a bool vector), not a blend by step(): the same values, fewer
+    // instructions for llvmpipe (docs/eye.md "The tone map's arithmetic").
+    return mix(p / q, 12.92 * c, lessThan(c, vec3(0.0031308)));
 }

@@ -23,25 +23,32 @@ flat in float v_exposure;  // the exposure of adapt.frag.glsl's state, read once
 //   WELKIN_TONEMAP_CURVE    0 ACES fit, 1 Hable, 2 Reinhard on luminance, 3 none (clip)
 //   WELKIN_TONEMAP_MESOPIC  defined: per-pixel mesopic colour
 uniform float u_exposure;        // manual: scene cd/m^2 -> display value before the curve
-uniform float u_log10Scotopic;   // log10 of eye.scotopic_cd_m2: rods only below
-uniform float u_log10Photopic;   // log10 of eye.photopic_cd_m2: cones only above
+// The mesopic weight's ramp in log2 of the luminance: t = log2(Y) k - c is (log10 Y - log10
+// eye.scotopic_cd_m2) / (log10 eye.photopic_cd_m2 - log10 eye.scotopic_cd_m2), one multiply-add
+// in place of a division by log(10) and one by the span.
+uniform vec2 u_rodRamp;          // (k, c) = (1, log2 scotopic) / (log2 photopic - log2 scotopic)
 uniform vec3 u_rodColor;         // linear sRGB of the rod hue with Y = 1, divided by (V'/Y) of white
 in vec2 v_ndc;
 out vec4 o_color;
 
 const vec3 kLuminance = vec3(0.2126, 0.7152, 0.0722);
 
-uniform float u_photopic;        // eye.photopic_cd_m2: at and above it the colour is unchanged
-
+// No branch for photopic pixels: llvmpipe runs both sides of a branch under a mask (the tone map
+// cost the same on day and night frames, docs/eye.md), and at and above eye.photopic_cd_m2 the
+// ramp is 1, w exactly 0 and mix() returns c unchanged.
 vec3 welkin_mesopic(vec3 c) {
     float Y = dot(c, kLuminance);
-    // Photopic pixels (all of a day frame) skip the rest: llvmpipe runs a branch only for the
-    // groups of pixels that take it.
-    if (Y >= u_photopic) return c;
     float X = dot(c, vec3(0.4124, 0.3576, 0.1805));
     float Z = dot(c, vec3(0.0193, 0.1192, 0.9505));
     float V = X > 0.0 ? max(Y * (1.33 * (1.0 + (Y + Z) / X) - 1.68), 0.0) : 0.0;  // Larson et al. 1997
-    float w = Y > 0.0 ? 1.0 - smoothstep(u_log10Scotopic, u_log10Photopic, log(Y) / log(10.0)) : 1.0;
+    // log2 of Y > 0 from its bits: the exponent, and a cubic for the mantissa's (|error| 8e-4, so
+    // w within 1e-4: far under an 8-bit code; the builtin's edge cases and its division cost
+    // llvmpipe ~0.1 of a trivial pass more, `welkin bench frame`). Y <= 0: w = 1 below.
+    int bits = floatBitsToInt(Y);
+    float m = intBitsToFloat((bits & 0x007fffff) | 0x3f800000) - 1.0;
+    float l = float((bits >> 23) - 127) + m * (1.4246257 + m * (-0.5894235 + m * 0.1656103));
+    float t = clamp(l * u_rodRamp.x - u_rodRamp.y, 0.0, 1.0);
+    float w = Y > 0.0 ? 1.0 - t * t * (3.0 - 2.0 * t) : 1.0;  // 1 - smoothstep
     return mix(c, u_rodColor * V, w);
 }
 

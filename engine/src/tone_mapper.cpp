@@ -183,9 +183,8 @@ void ToneMapper::display(const HdrSource& hdr, unsigned framebuffer, const ToneS
     program.use();
     if (!s.automatic) program.set("u_exposure", float(eye::exposureFromEv100(s.ev100)));
     if (s.mesopic) {
-        program.set("u_log10Scotopic", float(std::log10(s.scotopicBelow)));
-        program.set("u_log10Photopic", float(std::log10(s.photopicAbove)));
-        program.set("u_photopic", float(s.photopicAbove));
+        const double lo = std::log2(s.scotopicBelow), span = std::log2(s.photopicAbove) - lo;  // span > 0 (fromVars)
+        program.set("u_rodRamp", glm::vec2(float(1.0 / span), float(lo / span)));
         program.set("u_rodColor", glm::vec3(eye::rodColor(s.rodXy) / eye::scotopicPerPhotopicWhite()));
     }
     glDrawArrays(GL_TRIANGLES, 0, 3);

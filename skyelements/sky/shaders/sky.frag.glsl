@@ -16,6 +16,8 @@ uniform vec2 u_lutSize;     // sky-view LUT size, texels (height even)
 uniform int u_steps;        // per-pixel ray march
 uniform float u_moonAngular;
 uniform float u_sH;         // sin(theta_H / 2), theta_H the zenith angle of the observer's horizon (LUT path)
+// skyAtan2(): the tables' azimuth without the builtin atan (sky_atan.shared.glsl).
+#include "sky_atan.shared.glsl"
 #ifdef SKY_SHADOW_LOSS
 // The direct light's shadow on the in-scattering (sky.shadow_loss_lut, e.g. the clouds'): the
 // single scattering it removes, per lux x kLutScale, over absolute azimuth (u = az / 2 pi, wrap
@@ -26,10 +28,8 @@ uniform vec3 u_lossLight;  // the shadowed light, unit ENU
 uniform vec3 u_lossE;      // its illuminance per channel / kLutScale (lux)
 // v: the sky view's latitude coordinate of dir (the loss table has the sky view's height).
 vec3 shadowLoss(vec3 dir, float v) {
-    // From north through east; atan(0, 0) is undefined in GLSL: 0 at the zenith and nadir (u does
-    // not matter there).
-    float az = dir.x == 0.0 && dir.y == 0.0 ? 0.0 : atan(dir.x, dir.y);
-    vec2 uv = vec2(az * (0.5 / ATM_PI), v);
+    // From north through east (skyAtan2(): 0 at the zenith and nadir, where u does not matter).
+    vec2 uv = vec2(skyAtan2(dir.x, dir.y) * (0.5 / ATM_PI), v);
     return (texture(u_lossSmooth, uv).rgb + texture(u_lossMie, uv).rgb * miePhase(clamp(dot(dir, u_lossLight), -1.0, 1.0))) * u_lossE;
 }
 #endif
@@ -41,6 +41,7 @@ uniform mat3 u_toRgb;
 #else
 #define SKY_TO_RGB(x) (x)
 #endif
+
 
 // Cosine of the azimuth of `dir` measured from the light's vertical plane (0 when either is
 // vertical: every azimuth is then the same direction).
@@ -114,11 +115,10 @@ void main() {
     float v, vMoon;
 #ifdef SKY_ECLIPSE
     // A solar eclipse: the Sun's table over absolute azimuth (sky.eclipse_view_lut, bound on the
-    // Sun's units), u = az / 2 pi from north through east (atan(0, 0) is undefined: 0 at the
-    // zenith and nadir), v the sky view's latitude.
+    // Sun's units), u = az / 2 pi from north through east (skyAtan2(): 0 at the zenith and
+    // nadir), v the sky view's latitude.
     {
-        float az = dir.x == 0.0 && dir.y == 0.0 ? 0.0 : atan(dir.x, dir.y);
-        vec2 uvE = vec2(az * (0.5 / ATM_PI), skyViewUvS(u_sH, mu, 1.0, u_lutSize).y);
+        vec2 uvE = vec2(skyAtan2(dir.x, dir.y) * (0.5 / ATM_PI), skyViewUvS(u_sH, mu, 1.0, u_lutSize).y);
         v = uvE.y;
 #ifdef SKY_BAKED_PHASE
         L = texture(u_sunSmooth, uvE).rgb * (u_sunE * u_invScale);  // the total table (sky.eclipse_view_total_lut)
@@ -159,5 +159,11 @@ void main() {
 #ifdef SKY_SPECTRAL
     T = vec3(1.0);
 #endif
+#ifdef SKY_MULTIPLY
+    // Night without the Moon (L = 0): blended as dst = 0 src + T dst (sky.night_multiply), the
+    // transmittance as the one output, clamped as welkin_output() clamps it.
+    welkin_radiance = vec4(clamp(T, vec3(0.0), vec3(1.0)), 1.0);
+#else
     welkin_output(L, T);
+#endif
 }

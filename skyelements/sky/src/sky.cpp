@@ -49,6 +49,7 @@ Sky::Sky(const SkyOptions& options, bool force) : SkyElement("sky"), options_(op
     // `--var` sets them before the first frame (the generators declare them too, alike).
     option(skykeys::keyframeBudget, kKeyframeBudgetDefault);
     option(skykeys::keyframeCache, true);
+    option(skyNightMultiply, true);
     setAttenuatesBehind(true);  // its transmittance output: stars and planets drawn before it
     reads(keys::sunDirection);
     reads(keys::moonDirection);
@@ -112,16 +113,19 @@ void Sky::doInit(InitContext& ctx) {
         for (int t = 0; t < 2; ++t)
             for (int baked = 0; baked < 2; ++baked)
                 nightPrograms_[moon][t][baked] = gl::ProjectionPrograms(recipe(false, moon == 1, t == 1, baked == 1, false, 0, false, false, true));
+    for (int baked = 0; baked < 2; ++baked)
+        nightMultiplyPrograms_[baked] = gl::ProjectionPrograms(recipe(false, false, true, baked == 1, false, 0, false, false, true, true));
     marchBands_ = 0;
     ubo_ = gl::Buffer(sizeof(AtmosphereBlock));
 }
 
 gl::ProgramBuilder Sky::recipe(bool perPixel, bool moon, bool transmittance, bool baked, bool spectral, int shBands, bool shadow,
-                               bool eclipse, bool noSun) {
+                               bool eclipse, bool noSun, bool multiply) {
     gl::ProgramBuilder b(std::string(perPixel ? "Sky (per pixel)" : "Sky") + (moon ? " + Moon" : "") +
                          (transmittance ? "" : " (nothing behind)") + (baked ? " (baked phase)" : "") + (spectral ? " spectral" : "") +
-                         (shadow ? " (shadowed)" : "") + (eclipse ? " (eclipse)" : "") + (noSun ? " (night)" : ""));
+                         (shadow ? " (shadowed)" : "") + (eclipse ? " (eclipse)" : "") + (noSun ? " (night)" : "") + (multiply ? " (multiply)" : ""));
     if (noSun) b.define("SKY_NO_SUN");
+    if (multiply) b.define("SKY_MULTIPLY");
     if (eclipse) b.define(perPixel ? "ATM_ECLIPSE" : "SKY_ECLIPSE");
     b.define("ATM_USE_TRANSMITTANCE");
     if (moon) b.define("SKY_MOON");
@@ -218,9 +222,12 @@ void Sky::doRender(const FrameContext& ctx) {
     // Night: below kSkySunNightAltitudeRad (-21 deg) the Sun's sky-view LUT is 0 everywhere
     // (measured, skyelements/sky/README.md): the LUT path skips its term (the Moon's stays).
     sunTerm_ = perPixel_ || eclipse || shadow || unit(v.get(keys::sunDirection)).z > std::sin(kSkySunNightAltitudeRad);
+    // Night without the Moon over something: no radiance, the pass only multiplies by T.
+    nightMultiply_ = !perPixel_ && !sunTerm_ && !moon && !ctx.nothingBehind && v.getOr(skyNightMultiply, true);
     if (!perPixel_ || !sp) {
         const gl::Program& p = perPixel_ ? (eclipseMarch ? marchEclipsePrograms_[moon].get(proj) : marchPrograms_[moon][shadow].get(proj))
                                : eclipse ? eclipsePrograms_[moon][ctx.nothingBehind ? 0 : 1][q.bakedMiePhase].get(proj)
+                               : nightMultiply_ ? nightMultiplyPrograms_[q.bakedMiePhase].get(proj)
                                : !sunTerm_ ? nightPrograms_[moon][ctx.nothingBehind ? 0 : 1][q.bakedMiePhase].get(proj)
                                          : lutPrograms_[moon][ctx.nothingBehind ? 0 : 1][q.bakedMiePhase][shadow].get(proj);
         setUniforms(p, sunE, moonE);
@@ -229,6 +236,9 @@ void Sky::doRender(const FrameContext& ctx) {
         // clear), so the pass writes without reading the target (~0.8 of a trivial pass on
         // llvmpipe; README "Cost"). The processor restores its blend state for the next element.
         if (ctx.nothingBehind) glDisable(GL_BLEND);
+        // dst = 0 src + T dst (the general blend's dst = L + T dst with L = 0: the same values,
+        // without the second source; README "The Sky's pass at twilight and at night").
+        if (nightMultiply_) glBlendFuncSeparate(GL_ZERO, GL_SRC_COLOR, GL_ZERO, GL_ONE);
         if (eclipse && !perPixel_) {
             // With the phase baked in, one fetch of the total table (as the ordinary sky view).
             glBindTextureUnit(gl::binding::kSunViewLut, v.get(q.bakedMiePhase ? skykeys::eclipseViewTotalLut : skykeys::eclipseViewLut).id);
@@ -308,6 +318,7 @@ void Sky::doRelease() {
         for (auto& col : row)
             for (auto& p : col) p.releasePrograms();
     for (auto& p : marchEclipsePrograms_) p.releasePrograms();
+    for (auto& p : nightMultiplyPrograms_) p.releasePrograms();
     ubo_ = {};
     luts_.releaseGl();
 }
@@ -320,7 +331,8 @@ void Sky::doStats(nlohmann::json& root) const {
     root["sky"]["per_pixel"] = perPixel_;
     root["sky"]["shadowed"] = shadowed_;
     root["sky"]["eclipse"] = eclipse_;
-    root["sky"]["sun_term"] = sunTerm_;  // false: the Sun below kSkySunNightAltitudeRad, its term skipped
+    root["sky"]["sun_term"] = sunTerm_;
+    root["sky"]["night_multiply"] = nightMultiply_;  // the pass only multiplied by T (sky.night_multiply)  // false: the Sun below kSkySunNightAltitudeRad, its term skipped
 }
 
 }  // namespace welkin::elements

@@ -50,6 +50,13 @@ namespace welkin::elements {
 /// photometry (sky.zenith_luminance, ...) is unchanged.
 inline constexpr double kSkySunNightAltitudeRad = -21.0 * 3.14159265358979323846 / 180.0;
 
+/// At night without the Moon's term the Sky adds no radiance: its pass only multiplies what is
+/// behind it by the transmittance (blend dst x T instead of the dual-source dst = L + T dst with
+/// L = 0: the same values, ~0.1-0.25 of a trivial fullscreen pass less on llvmpipe;
+/// skyelements/sky/README.md). false: the general dual-source pass (tests compare the two).
+inline const Key<bool> skyNightMultiply{"sky.night_multiply",
+                                        "at night without the Moon, the pass only multiplies what is behind by T (false: the general blended pass)"};
+
 struct SkyOptions {
     int quality = -1;   ///< -1: render.quality; else 0 low, 1 medium, 2 high, 3 reference
     bool moon = true;   ///< the Moon as a second light
@@ -101,7 +108,7 @@ private:
     /// shBands: SkyQuality::shBands (read by the per-pixel march only).
     /// shadow: subtract sky.shadow_loss_lut (the direct light's shadow, e.g. the clouds').
     static gl::ProgramBuilder recipe(bool perPixel, bool moon, bool transmittance, bool baked, bool spectral, int shBands, bool shadow,
-                                     bool eclipse = false, bool noSun = false);
+                                     bool eclipse = false, bool noSun = false, bool multiply = false);
 
     SkyOptions options_;
     generators::SkyLuts luts_;
@@ -116,12 +123,15 @@ private:
     gl::ProjectionPrograms eclipsePrograms_[2][2][2], marchEclipsePrograms_[2];  // eclipse: [moon][transmittance][baked phase]
     // Night, the Sun's term skipped (SKY_NO_SUN): [moon][transmittance][baked phase], LUT path only.
     gl::ProjectionPrograms nightPrograms_[2][2][2];
+    // Night without the Moon over something (sky.night_multiply): [baked phase], SKY_MULTIPLY.
+    gl::ProjectionPrograms nightMultiplyPrograms_[2];
     int marchBands_ = 0;
     gl::Buffer ubo_;
     AerialPerspective aerial_;  // applyToScene()'s air pass
     bool perPixel_ = false;
     bool shadowed_ = false;
     bool sunTerm_ = true;    // the last frame drew the Sun's term (false: night, kSkySunNightAltitudeRad)
+    bool nightMultiply_ = false;  // the last frame's pass only multiplied by T (sky.night_multiply)
     bool eclipse_ = false;   // the last frame drew the eclipse's table  // the last frame subtracted sky.shadow_loss_lut
     double zenith_ = 0, global_ = 0, direct_ = 0, diffuse_ = 0;
 };
