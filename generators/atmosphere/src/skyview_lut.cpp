@@ -202,6 +202,7 @@ void SkyViewLut::releaseGl() {
     wholeScratch_ = {};
     showFbo_ = {};
     shownOnce_ = false;
+    shownBlack_ = false;
     blendProg_ = {};
     toLogProg_ = {};
     keyframes_.reset();
@@ -446,7 +447,7 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
     // do but publish until the light comes back. The Sun's grid tables are kept for its return (the Moon's
     // are forgotten: it comes back at another phase).
     const bool dark = muS_ < kDarkBelowCosZenith || (light_ == Light::Moon && !vars.get(skykeys::moonLit));
-    if (resized) darkShown_ = false;
+    if (resized) darkShown_ = false, shownBlack_ = false;
     if (dark) {
         if (!darkShown_) {
             const float zero[4] = {0, 0, 0, 1};
@@ -455,6 +456,7 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
             glClearNamedFramebufferfv(showFbo_.id(), GL_COLOR, 2, zero);
         }
         darkShown_ = true;
+        shownBlack_ = true;
         // The next lit run starts from a table at its exact elevation (interactive: the grid built
         // at load is kept for the Moon's return, as the Sun's).
         if (light_ == Light::Moon && !gridAtLoad) keyframes_.reset();
@@ -507,7 +509,9 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
         // 2 x kMoonDaylightMixEvery runs behind its light; a still Moon is shown whole after the
         // next two). Keeps the Moon's mix out of most running frames and out of a jump's frame
         // (issue 22 items 4-5).
-        const bool moonPaced = light_ == Light::Moon && interactive && !spectral_ && shownOnce_ && vars.getOr(skykeys::sunCosZenith, -1.0) > 0.0;
+        // (Paced too when the Moon comes up or becomes lit, from the black table it showed.)
+        const bool moonPaced = light_ == Light::Moon && interactive && !spectral_ && (shownOnce_ || shownBlack_) &&
+                               vars.getOr(skykeys::sunCosZenith, -1.0) > 0.0;
         if (!moonPaced) pacedGen_[0] = pacedGen_[1] = planGen_ = 0, pacedRuns_ = 0;
         if (moonPaced) {
             if (!plan_.unchanged) ++planGen_;

@@ -351,6 +351,7 @@ private:
     LightKeyframes::Plan plan_;
     bool shownOnce_ = false;  // the shown table holds a mix (Plan::unchanged may keep it)
     bool darkShown_ = false;  // the shown table is black (the light far below the horizon)
+    bool shownBlack_ = false;  // the shown table was cleared black since it was allocated (valid content)
     std::vector<uint64_t> validFor_;  // input versions the keyframes were built with
     double viewTH_ = -1.0;
     uint64_t viewTVersion_ = 0;
