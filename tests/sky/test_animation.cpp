@@ -792,7 +792,9 @@ TEST_CASE("Sky animation: interactive: the grid at load, time starts and jumps b
         rig.vars.set(generators::skykeys::aerialVolume, false);
         rig.vars.set(keys::interactive, interactive);
     };
-    AnimRig a(6.0);
+    // 5 parts a table in the preset, so 20 interactive parts of 38.4 texels of the 32-texel rows:
+    // parts that begin and end inside rows (the exact table's check below).
+    AnimRig a(6.0, 1.0, 5);
     setUp(a, true);
     // The Moon up and lit (30 deg, a quarter of a lux): its exact table is built after a jump too.
     a.vars.set(keys::moonDirection, directionFromAzAlt(4.0, 30 * kDeg));
@@ -821,7 +823,7 @@ TEST_CASE("Sky animation: interactive: the grid at load, time starts and jumps b
     // from the cache (bit-identical tables) and mixes the whole table every frame: the half of a's
     // table mixed in a frame equals c's table of that frame, the other half c's table of the
     // frame before (exactly one frame behind), bit for bit.
-    AnimRig c(6.0);
+    AnimRig c(6.0, 1.0, 5);
     setUp(c, false);
     c.runAll();
     CHECK(c.luts.sunView->cacheReads() == grid);
@@ -873,15 +875,25 @@ TEST_CASE("Sky animation: interactive: the grid at load, time starts and jumps b
     CHECK(chunks == 0);
     CHECK(a.luts.sunView->lastPlan().cubic);
     // At rest, its exact table follows after the rest rule, one chunk per frame (the budget of a
-    // frame with time stopped; interactive, a table has 4x the preset's chunks), and is then
-    // shown alone.
-    CHECK(ka.options().chunks == SkyViewLut::kInteractiveChunkFactor * a.q.keyframeChunks);
+    // frame with time stopped; interactive, a table has at least 4x the preset's chunks, more for
+    // a large table: SkyViewLut::interactiveChunks), and is then shown alone.
+    CHECK(ka.options().chunks == SkyViewLut::interactiveChunks(a.q));
+    CHECK(ka.options().chunks == SkyViewLut::kInteractiveChunkFactor * a.q.keyframeChunks);  // tiny: 32 x 24 x 12 is below 20 parts' work
+    CHECK((a.q.skyViewW * a.q.skyViewH) % ka.options().chunks != 0);  // parts end inside rows
+    {
+        // Larger tables get more parts (issue 22 item 4: a part ~0.2 ms at medium): 192 at medium,
+        // 911 at high (ceil(256 x 192 x 64 / 3456)).
+        CHECK(SkyViewLut::interactiveChunks(SkyQuality::preset(1)) == 192);
+        CHECK(SkyViewLut::interactiveChunks(SkyQuality::preset(2)) == 911);
+    }
     // The Moon jumps with it (a new time moves both); its exact table waits for the Sun's
     // (issue 22 item 5: both were built a part each in the same frames), so no frame builds a
     // part of both, and it is complete after the Sun's (work counted from the plans).
     a.vars.set(keys::moonDirection, directionFromAzAlt(4.5, 40 * kDeg));
     int moonChunks = 0, both = 0, moonRun = a.luts.moonView->runCount();
-    for (int i = 0; i < 20 + 2 * ka.options().chunks + 5; ++i) {
+    const int moonMixesBefore = a.luts.moonView->halfMixes();
+    const int restRuns = 20 + 2 * ka.options().chunks + 2 * SkyViewLut::kMoonDaylightMixEvery + 5;
+    for (int i = 0; i < restRuns; ++i) {
         const int before = chunks;
         a.runAll(), count(a);
         const auto& mp = a.luts.moonView->lastPlan();
@@ -897,9 +909,29 @@ TEST_CASE("Sky animation: interactive: the grid at load, time starts and jumps b
     CHECK(moonChunks == a.luts.moonView->keyframes().options().chunks);
     CHECK(a.luts.moonView->lastPlan().exact);
     CHECK(both == 0);
+    // The Sun up, the Moon's mix is paced: a half every kMoonDaylightMixEvery runs at most (the
+    // jump's frame and the frames of its exact table's parts mix nothing of it).
+    CHECK(a.luts.moonView->halfMixes() - moonMixesBefore <= restRuns / SkyViewLut::kMoonDaylightMixEvery + 1);
+    CHECK(a.luts.moonView->halfMixes() - moonMixesBefore >= 2);
+    // The exact table built in parts (texel runs crossing rows, one a frame) is bit for bit the
+    // table a non-interactive twin builds whole at its first run at the same elevation.
+    {
+        AnimRig d(27.0, 1.0, 5);
+        setUp(d, false);
+        d.vars.set(keys::moonDirection, directionFromAzAlt(4.5, 40 * kDeg));
+        d.vars.set(lightkeys::moonIlluminance, glm::dvec3(0.25));
+        d.runAll();
+        REQUIRE(d.luts.sunView->lastPlan().exact);
+        REQUIRE(d.luts.sunView->lastPlan().chunkEnd - d.luts.sunView->lastPlan().chunkBegin == d.luts.sunView->keyframes().options().chunks);
+        CHECK(pixels(a.luts.sunView->totalTexture()) == pixels(d.luts.sunView->totalTexture()));
+        CHECK(pixels(a.luts.sunView->smoothTexture()) == pixels(d.luts.sunView->smoothTexture()));
+        // The Moon's too, its paced halves both mixed for its exact table.
+        REQUIRE(d.luts.moonView->lastPlan().exact);
+        CHECK(pixels(a.luts.moonView->totalTexture()) == pixels(d.luts.moonView->totalTexture()));
+    }
 
     // A second interactive processor on the same machine reads the grid and builds none.
-    AnimRig b(6.0);
+    AnimRig b(6.0, 1.0, 5);
     setUp(b, true);
     b.runAll();
     CHECK(b.luts.sunView->loadBuiltTables() == 0);

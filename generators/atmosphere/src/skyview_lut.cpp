@@ -10,6 +10,7 @@
 #include <epoxy/gl.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -201,6 +202,7 @@ void SkyViewLut::releaseGl() {
     wholeScratch_ = {};
     showFbo_ = {};
     shownOnce_ = false;
+    shownBlack_ = false;
     blendProg_ = {};
     toLogProg_ = {};
     keyframes_.reset();
@@ -209,6 +211,14 @@ void SkyViewLut::releaseGl() {
     staleHalf_ = -1;
     viewTH_ = -1.0;
     releaseCommon();
+}
+
+int SkyViewLut::interactiveChunks(const SkyQuality& q) {
+    const long work = long(std::max(1, q.skyViewW)) * std::max(1, q.skyViewH) * std::max(1, q.skyViewSteps);
+    const long byWork = (work + kInteractivePartWork - 1) / kInteractivePartWork;
+    // At most one texel a part.
+    return int(std::min<long>(long(std::max(1, q.skyViewW)) * std::max(1, q.skyViewH),
+                              std::max<long>(long(std::max(1, q.keyframeChunks)) * kInteractiveChunkFactor, byWork)));
 }
 
 void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
@@ -240,10 +250,10 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
     // "While time runs").
     const bool interactive = vars.getOr(keys::interactive, false);
     const bool gridAtLoad = interactive && !spectral_ && q_.keyframePrefill;
-    // (Interactive: a table in 4x as many parts; what is built over frames is then only the exact
-    // table of a resting light (the grid is whole from the first run), a part a frame within the
-    // 3-still-frame target at 512x256: ~0.75 ms at medium, quiet.)
-    const int chunks = spectral_ ? 1 : std::max(1, q_.keyframeChunks) * (gridAtLoad ? kInteractiveChunkFactor : 1);
+    // (Interactive: a table in many more parts (interactiveChunks); what is built over frames is
+    // then only the exact table of a resting light (the grid is whole from the first run), a part
+    // a frame within the 3-still-frame target at 512x256: ~0.2 ms at medium, quiet.)
+    const int chunks = spectral_ ? 1 : gridAtLoad ? interactiveChunks(q_) : std::max(1, q_.keyframeChunks);
     // Interactive, the Moon's exact table waits for the Sun's: after a jump both lights come to
     // rest in the same frame, and their exact tables were built a part each in the same frames
     // (6.5 still frames in welkin bench all's jump column, issue 22 item 5); the Moon's rest rule
@@ -334,9 +344,25 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
         }
         return sc;
     };
-    // Rows [y0, y1) of slot `s`'s table at cos zenith `muS`, into the scratch of its kind
-    // (whole: built in this run); `complete`: the table is whole now, packed into the slot.
-    auto buildRows = [&](int s, double muS, int y0, int y1, bool complete, bool whole) {
+    // Texels [t0, t1) (row order, rows from the bottom) of slot `s`'s table at cos zenith `muS`,
+    // into the scratch of its kind (whole: built in this run), drawn through at most three
+    // scissor rectangles (a partial first row, whole rows, a partial last row); `complete`: the
+    // table is whole now, packed into the slot.
+    auto buildRows = [&](int s, double muS, long t0, long t1, bool complete, bool whole) {
+        const long W = q_.skyViewW;
+        std::array<glm::ivec4, 3> rects{};  // x, y, width, height
+        int nRects = 0;
+        if (t1 > t0) {
+            const long ya = t0 / W, xa = t0 % W, yb = t1 / W, xb = t1 % W;  // [ya, xa] .. [yb, xb) exclusive
+            if (ya == yb) {
+                rects[size_t(nRects++)] = glm::ivec4(xa, ya, xb - xa, 1);
+            } else {
+                long yFull = ya;
+                if (xa > 0) rects[size_t(nRects++)] = glm::ivec4(xa, ya, W - xa, 1), ++yFull;
+                if (yb > yFull) rects[size_t(nRects++)] = glm::ivec4(0, yFull, W, yb - yFull);
+                if (xb > 0) rects[size_t(nRects++)] = glm::ivec4(0, yb, xb, 1);
+            }
+        }
         const skykeys::TextureList T = vars.get(skykeys::transmittanceLuts), MS = vars.get(skykeys::multiScatteringLuts),
                                    SH = vars.get(skykeys::shLuts);
         const int K = triples();
@@ -344,7 +370,6 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
             throw Error("SkyViewLut: input LUTs for " + std::to_string(T->size()) + " triples, expected " + std::to_string(K));
         Scratch& sc = scratch(whole ? wholeScratch_ : chunkScratch_);
         glEnable(GL_SCISSOR_TEST);
-        glScissor(0, y0, q_.skyViewW, y1 - y0);
         for (int k = 0; k < K; ++k) {
             const gl::Framebuffer& fb = spectral_ ? fboK_ : sc.fbo;
             useTriple(k);
@@ -362,7 +387,11 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
             prog_.set("u_size", glm::ivec2(q_.skyViewW, q_.skyViewH));
             prog_.set("u_scale", float(kLutScale));
             prog_.set("u_angular", float(light_ == Light::Sun ? model_.sunAngularRadius : kMoonAngularRadius));
-            fullscreen();
+            for (int r = 0; r < nRects; ++r) {
+                const glm::ivec4& R = rects[size_t(r)];
+                glScissor(R.x, R.y, R.z, R.w);
+                fullscreen();
+            }
             if (spectral_) {
                 glDisable(GL_SCISSOR_TEST);
                 combine(smoothK_, sc.smooth, k);
@@ -407,7 +436,7 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
             const int s = keyframes_.preload(k);
             if (s < 0) break;  // no slot left
             allocateSlots();
-            buildRows(s, std::sin(grid[size_t(k)]), 0, q_.skyViewH, true, true);
+            buildRows(s, std::sin(grid[size_t(k)]), 0, long(q_.skyViewW) * q_.skyViewH, true, true);
             writeToCache(s);
             ++loadBuilt_;
         }
@@ -418,7 +447,7 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
     // do but publish until the light comes back. The Sun's grid tables are kept for its return (the Moon's
     // are forgotten: it comes back at another phase).
     const bool dark = muS_ < kDarkBelowCosZenith || (light_ == Light::Moon && !vars.get(skykeys::moonLit));
-    if (resized) darkShown_ = false;
+    if (resized) darkShown_ = false, shownBlack_ = false;
     if (dark) {
         if (!darkShown_) {
             const float zero[4] = {0, 0, 0, 1};
@@ -427,6 +456,7 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
             glClearNamedFramebufferfv(showFbo_.id(), GL_COLOR, 2, zero);
         }
         darkShown_ = true;
+        shownBlack_ = true;
         // The next lit run starts from a table at its exact elevation (interactive: the grid built
         // at load is kept for the Moon's return, as the Sun's).
         if (light_ == Light::Moon && !gridAtLoad) keyframes_.reset();
@@ -444,9 +474,11 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
         plan_ = keyframes_.plan(muS_);
         allocateSlots();
         if (plan_.build >= 0) {
-            // This run's rows of the table (scissored), chunk c of n: rows [c H / n, (c + 1) H / n).
+            // This run's texels of the table (scissored), chunk c of n: texels [c W H / n, (c + 1) W H / n)
+            // in row order (whole rows [c H / n, (c + 1) H / n) when n divides H).
             const int n = ko.chunks;
-            buildRows(plan_.build, plan_.buildMuS, plan_.chunkBegin * q_.skyViewH / n, plan_.chunkEnd * q_.skyViewH / n, plan_.chunkEnd == n,
+            const long WH = long(q_.skyViewW) * q_.skyViewH;
+            buildRows(plan_.build, plan_.buildMuS, plan_.chunkBegin * WH / n, plan_.chunkEnd * WH / n, plan_.chunkEnd == n,
                       plan_.chunkBegin == 0 && plan_.chunkEnd == n);
             if (plan_.chunkEnd == n) writeToCache(plan_.build);
         }
@@ -454,7 +486,7 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
         // queued when the light first moved, each built whole now (else plan() spreads them).
         for (LightKeyframes::Prefill pf = keyframes_.nextPrefill(); pf.slot >= 0; pf = keyframes_.nextPrefill()) {
             allocateSlots();
-            buildRows(pf.slot, pf.muS, 0, q_.skyViewH, true, true);
+            buildRows(pf.slot, pf.muS, 0, long(q_.skyViewW) * q_.skyViewH, true, true);
             writeToCache(pf.slot);
         }
         // The shown table: the plan's slots mixed with its weights (the Mie phase applied at the
@@ -470,7 +502,33 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
         // what a running frame adds at small frame sizes); the lag is measured in skyelements/sky/README.md.
         const int H = q_.skyViewH;
         int y0 = 0, y1 = H;
-        if (plan_.unchanged && shownOnce_) {
+        // Interactive, the Moon while the Sun is above the horizon: the Moon's sky is then below
+        // ~1e-4 of the Sun's (a full Moon's sky ~0.01-0.05 cd/m^2 against >= 100s of cd/m^2 at
+        // sunrise), so its mix is paced, not skipped: one half of the table every
+        // kMoonDaylightMixEvery runs, alternately, a jump included (each half at most
+        // 2 x kMoonDaylightMixEvery runs behind its light; a still Moon is shown whole after the
+        // next two). Keeps the Moon's mix out of most running frames and out of a jump's frame
+        // (issue 22 items 4-5).
+        // (Paced too when the Moon comes up or becomes lit, from the black table it showed.)
+        const bool moonPaced = light_ == Light::Moon && interactive && !spectral_ && (shownOnce_ || shownBlack_) &&
+                               vars.getOr(skykeys::sunCosZenith, -1.0) > 0.0;
+        if (!moonPaced) pacedGen_[0] = pacedGen_[1] = planGen_ = 0, pacedRuns_ = 0;
+        if (moonPaced) {
+            if (!plan_.unchanged) ++planGen_;
+            if (staleHalf_ >= 0) pacedGen_[staleHalf_] = planGen_ + 1;  // a half left behind before pacing began
+            staleHalf_ = -1;
+            const bool owed = pacedGen_[0] != planGen_ || pacedGen_[1] != planGen_;
+            if (!owed || ++pacedRuns_ < kMoonDaylightMixEvery) {
+                if (owed || keyframes_.pending()) runAgain();
+                return;
+            }
+            pacedRuns_ = 0;
+            const int half = pacedGen_[nextHalf_] != planGen_ ? nextHalf_ : nextHalf_ ^ 1;
+            nextHalf_ = half ^ 1;
+            pacedGen_[half] = planGen_;
+            y0 = half * (H / 2), y1 = y0 + H / 2;
+            ++halfMixes_;
+        } else if (plan_.unchanged && shownOnce_) {
             if (staleHalf_ < 0) {
                 if (keyframes_.pending()) runAgain();
                 return;
@@ -511,7 +569,7 @@ void SkyViewLut::doRun(SkyVars& vars, const Logger& log) {
         if (part) glEnable(GL_SCISSOR_TEST), glScissor(0, y0, q_.skyViewW, y1 - y0);
         fullscreen();
         if (part) glDisable(GL_SCISSOR_TEST);
-        if (keyframes_.pending() || staleHalf_ >= 0) runAgain();
+        if (keyframes_.pending() || staleHalf_ >= 0 || (moonPaced && (pacedGen_[0] != planGen_ || pacedGen_[1] != planGen_))) runAgain();
     }
     if (light_ == Light::Sun) {
         // The view-transmittance row (view_transmittance.glsl), from the RGB (or, in spectral

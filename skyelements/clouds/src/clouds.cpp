@@ -425,29 +425,54 @@ void Clouds::computePhotometry(const FrameContext& ctx) {
             if (std::abs(a[c] - b[c]) > 0.01 * std::max(std::abs(b[c]), 1e-12)) return true;
         return false;
     };
-    const PhotometryLast& l = photometryLast_;
-    const bool onlyMoving = photometry_.valid && in == photometryInputs_;
-    ++photometryAge_;
-    if (onlyMoving && !moved(sunDir, l.sunDir) && !moved(moonDir, l.moonDir) && !changed(sunE, l.sunE) && !changed(moonE, l.moonE) &&
-        !changed(skyE, l.skyE) && glm::length(offset - l.offset) <= 156.0)
-        return;
-    // Real time (the direction cache's path: welkin view, a game loop): what only the lights'
-    // motion, their illuminances and the wind ask for is redone at most every kPhotometryFrames
-    // frames (time at 600x moved the Sun beyond 5e-4 rad every frame, and the pass with its
-    // read-backs cost a running frame as much as the still frame at 512x256); a light that jumped
-    // by more than 0.5 deg (a new time: the cache refills whole too) is redone at once. The lag:
-    // at most kPhotometryFrames frames of the light's motion (1.6 deg of the Sun at 1440x).
-    auto jumped = [](glm::dvec3 a, glm::dvec3 b) {
-        const double la = glm::length(a), lb = glm::length(b);
-        return la > 0 && lb > 0 ? glm::dot(a / la, b / lb) < std::cos(0.5 * kPi / 180) : la != lb;
-    };
     const SkyVars& cv = ctx.vars;
     const bool realtime = cv.has(cloudelemkeys::reprojection) ? cv.get(cloudelemkeys::reprojection) : cv.getOr(keys::interactive, false);
-    if (onlyMoving && realtime && photometryAge_ < kPhotometryFrames && !jumped(sunDir, l.sunDir) && !jumped(moonDir, l.moonDir)) return;
-    photometryAge_ = 0;
-    ++photometryRuns_;
-    photometryInputs_ = in;
-    photometryLast_ = {sunDir, moonDir, sunE, moonE, skyE, offset};
+    // Real time with a photometry of the same layer to show: a refresh is spread over frames, one
+    // stats pass a frame (staged_); a change of the layer's inputs (which refills the direction
+    // cache whole too) computes it whole, and meanwhile restarts one under way.
+    const bool spread = realtime && photometry_.valid && in == photometryInputs_;
+    PhotometryStaged& st = staged_;
+    if (st.next > 0 && !spread) st.next = 0;
+    if (st.next == 0) {
+        const PhotometryLast& l = photometryLast_;
+        const bool onlyMoving = photometry_.valid && in == photometryInputs_;
+        ++photometryAge_;
+        if (onlyMoving && !moved(sunDir, l.sunDir) && !moved(moonDir, l.moonDir) && !changed(sunE, l.sunE) && !changed(moonE, l.moonE) &&
+            !changed(skyE, l.skyE) && glm::length(offset - l.offset) <= 156.0)
+            return;
+        // Real time (the direction cache's path: welkin view, a game loop): what only the lights'
+        // motion, their illuminances and the wind ask for is redone at most every kPhotometryFrames
+        // frames (time at 600x moved the Sun beyond 5e-4 rad every frame, and the pass with its
+        // read-backs cost a running frame as much as the still frame at 512x256); a light that jumped
+        // by more than 0.5 deg (a new time: the cache refills whole too) is redone at once. The lag:
+        // at most kPhotometryFrames frames of the light's motion (1.6 deg of the Sun at 1440x), and
+        // the refresh's passes are then spread over the next frames (one more frame on the ground,
+        // two from a height).
+        auto jumped = [](glm::dvec3 a, glm::dvec3 b) {
+            const double la = glm::length(a), lb = glm::length(b);
+            return la > 0 && lb > 0 ? glm::dot(a / la, b / lb) < std::cos(0.5 * kPi / 180) : la != lb;
+        };
+        if (onlyMoving && realtime && photometryAge_ < kPhotometryFrames && !jumped(sunDir, l.sunDir) && !jumped(moonDir, l.moonDir)) return;
+        photometryAge_ = 0;
+        ++photometryRuns_;
+        photometryInputs_ = in;
+        photometryLast_ = {sunDir, moonDir, sunE, moonE, skyE, offset};
+        // The ground under the clouds, per channel: direct (the lights' beams through the clouds) +
+        // the clear sky's diffuse light through them + the clouds' own light, which depends on the
+        // ground's light reflected into their bases. The clouds' radiance is linear in groundE, so two
+        // passes on the ground (groundE 0 and the clear sky's global light) give the fixed point
+        // G = D + E_d T + pi (L0 + b G) exactly: G = (D + E_d T + pi L0) / (1 - pi b).
+        // (Taken at the refresh's first frame: a refresh spread over frames uses them throughout.)
+        st.diffuseE = v.getOr(skykeys::diffuseIrradiance, glm::dvec3(0.0));
+        auto beam = [&](const Key<glm::dvec3>& e, const Key<glm::dvec3>& t, glm::dvec3 dir) {
+            const double mu = glm::length(dir) > 0 ? glm::normalize(dir).z : 0.0;
+            return v.getOr(e, glm::dvec3(0.0)) * v.getOr(t, glm::dvec3(0.0)) * std::max(mu, 0.0);
+        };
+        st.sunD = beam(lightkeys::sunIlluminance, lightkeys::sunTransmittance, sunDir);
+        st.moonD = beam(lightkeys::moonIlluminance, lightkeys::moonTransmittance, moonDir);
+        st.clearG = st.diffuseE + st.sunD + st.moonD;
+        st.hObs = std::max(v.getOr(keys::observerHeight, 0.0), 0.0);
+    }
 
     GLint prevFbo = 0, prevViewport[4];
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &prevFbo);
@@ -458,13 +483,16 @@ void Clouds::computePhotometry(const FrameContext& ctx) {
     glDisable(GL_BLEND);
     setUniforms(statsProgram_, ctx);
     statsProgram_.set("u_statsN", kStatsN);
+    auto restore = [&] {
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(prevFbo));
+        glViewport(prevViewport[0], prevViewport[1], prevViewport[2], prevViewport[3]);
+        if (blend) glEnable(GL_BLEND);
+    };
     // One pass: the clouds' mean radiance (per channel) and transmittance over the cosine-weighted
     // directions from height h, the ground lit by groundE; and the transmittances to the lights.
-    struct Pass {
-        glm::dvec3 meanL{0.0};
-        double meanT = 0, sunT = 1, moonT = 1;
-    };
+    using Pass = PhotometryPass;
     auto pass = [&](double h, glm::dvec3 groundE) {
+        ++photometryPassesLast_;
         statsProgram_.set("u_h", float(h));
         statsProgram_.set("u_groundE", glm::vec3(groundE));
         ctx.drawFullscreen();
@@ -481,37 +509,51 @@ void Clouds::computePhotometry(const FrameContext& ctx) {
         r.moonT = px[size_t(4 * kStatsN * kStatsN + 4 + 3)];
         return r;
     };
-    // The ground under the clouds, per channel: direct (the lights' beams through the clouds) +
-    // the clear sky's diffuse light through them + the clouds' own light, which depends on the
-    // ground's light reflected into their bases. The clouds' radiance is linear in groundE, so two
-    // passes on the ground (groundE 0 and the clear sky's global light) give the fixed point
-    // G = D + E_d T + pi (L0 + b G) exactly: G = (D + E_d T + pi L0) / (1 - pi b).
-    const glm::dvec3 diffuseE = v.getOr(skykeys::diffuseIrradiance, glm::dvec3(0.0));
-    auto beam = [&](const Key<glm::dvec3>& e, const Key<glm::dvec3>& t, glm::dvec3 dir) {
-        const double mu = glm::length(dir) > 0 ? glm::normalize(dir).z : 0.0;
-        return v.getOr(e, glm::dvec3(0.0)) * v.getOr(t, glm::dvec3(0.0)) * std::max(mu, 0.0);
+    auto fixedPoint = [&] {
+        glm::dvec3 ground(0.0);
+        for (int c = 0; c < 3; ++c) {
+            const double b = st.clearG[c] > 0 ? (st.p1.meanL[c] - st.p0.meanL[c]) / st.clearG[c] : 0.0;
+            const double num = st.sunD[c] * st.p0.sunT + st.moonD[c] * st.p0.moonT + st.diffuseE[c] * st.p0.meanT + kPi * st.p0.meanL[c];
+            ground[c] = std::max(num / std::max(1.0 - kPi * b, 1e-3), 0.0);  // pi b < 1: the loop's gain (albedo x the bases' reflection)
+        }
+        st.ground = ground;
     };
-    const glm::dvec3 sunD = beam(lightkeys::sunIlluminance, lightkeys::sunTransmittance, sunDir);
-    const glm::dvec3 moonD = beam(lightkeys::moonIlluminance, lightkeys::moonTransmittance, moonDir);
-    const glm::dvec3 clearG = diffuseE + sunD + moonD;
-    const Pass p0 = pass(0.0, glm::dvec3(0.0));
-    const Pass p1 = pass(0.0, clearG);
-    glm::dvec3 ground(0.0);
-    for (int c = 0; c < 3; ++c) {
-        const double b = clearG[c] > 0 ? (p1.meanL[c] - p0.meanL[c]) / clearG[c] : 0.0;
-        const double num = sunD[c] * p0.sunT + moonD[c] * p0.moonT + diffuseE[c] * p0.meanT + kPi * p0.meanL[c];
-        ground[c] = std::max(num / std::max(1.0 - kPi * b, 1e-3), 0.0);  // pi b < 1: the loop's gain (albedo x the bases' reflection)
-    }
-    groundE_ = ground;
     // The photometry at the observer: the same on the ground; from a height, one more pass there.
-    const double hObs = std::max(v.getOr(keys::observerHeight, 0.0), 0.0);
-    Pass at = p0;
-    at.meanL = p0.meanL + (p1.meanL - p0.meanL) * glm::dvec3(clearG.x > 0 ? ground.x / clearG.x : 0.0, clearG.y > 0 ? ground.y / clearG.y : 0.0,
-                                                            clearG.z > 0 ? ground.z / clearG.z : 0.0);
-    if (hObs > 1.0) at = pass(hObs, ground);
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(prevFbo));
-    glViewport(prevViewport[0], prevViewport[1], prevViewport[2], prevViewport[3]);
-    if (blend) glEnable(GL_BLEND);
+    auto onGround = [&] {
+        Pass at = st.p0;
+        const glm::dvec3 g = st.ground, cg = st.clearG;
+        at.meanL = st.p0.meanL + (st.p1.meanL - st.p0.meanL) * glm::dvec3(cg.x > 0 ? g.x / cg.x : 0.0, cg.y > 0 ? g.y / cg.y : 0.0,
+                                                                          cg.z > 0 ? g.z / cg.z : 0.0);
+        return at;
+    };
+    Pass at;
+    if (!spread) {
+        st.p0 = pass(0.0, glm::dvec3(0.0));
+        st.p1 = pass(0.0, st.clearG);
+        fixedPoint();
+        at = st.hObs > 1.0 ? pass(st.hObs, st.ground) : onGround();
+        st.next = 0;
+    } else if (st.next == 0) {
+        st.p0 = pass(0.0, glm::dvec3(0.0));
+        st.next = 1;
+        restore();
+        return;
+    } else if (st.next == 1) {
+        st.p1 = pass(0.0, st.clearG);
+        fixedPoint();
+        if (st.hObs > 1.0) {
+            st.next = 2;
+            restore();
+            return;
+        }
+        at = onGround();
+        st.next = 0;
+    } else {
+        at = pass(st.hObs, st.ground);
+        st.next = 0;
+    }
+    groundE_ = st.ground;
+    restore();
 
     // The clear sky behind the clouds is taken as uniform: its share is the clear diffuse
     // illuminance x the mean transmittance.
@@ -523,7 +565,7 @@ void Clouds::computePhotometry(const FrameContext& ctx) {
     ph.clearDiffuse = hv.z;
     ph.sunTransmittance = sunT;
     ph.moonTransmittance = moonT;
-    ph.groundLux = lum(ground);
+    ph.groundLux = lum(st.ground);
     v.set(keys::sunCloudTransmittance, std::clamp(sunT, 0.0, 1.0));
     v.set(keys::moonCloudTransmittance, std::clamp(moonT, 0.0, 1.0));
     ph.direct = hv.y * sunT;
@@ -536,6 +578,7 @@ void Clouds::doRender(const FrameContext& ctx) {
     SkyVars& v = ctx.vars;
     drew_ = false;
     cachePhasesLast_ = 0;
+    photometryPassesLast_ = 0;
     const double cov = v.get(ck::coverage), cir = v.get(ck::cirrusCoverage);
     if (cov <= 0.0 && cir <= 0.0) {
         // Nothing to draw: the clear sky's photometry stands.
@@ -603,6 +646,21 @@ void Clouds::renderCached(const FrameContext& ctx) {
         const glm::dvec3 last(cacheInputs_[in.size()], cacheInputs_[in.size() + 1], cacheInputs_[in.size() + 2]);
         jump = glm::dot(glm::normalize(sun), glm::normalize(last)) < std::cos(0.5 * kPi / 180);
     }
+    const gl::Program& show = cacheShow_.get(ctx.camera.projection);
+    auto draw = [&] {
+        show.use();
+        glBindTextureUnit(GLuint(cacheRadianceUnit_), cacheL_.id());
+        glBindTextureUnit(GLuint(cacheTransmittanceUnit_), cacheT_.id());
+        ctx.drawFullscreen();
+    };
+    if (jump && !whole && staged_.next > 0) {
+        // The photometry of the new light is being computed over frames (its ground light lights
+        // the bases in the march): the refill starts when it is complete (the next frame on the
+        // ground), the cache before the jump drawn meanwhile, nothing marched in this frame. The
+        // jump is seen again then (the cache's inputs keep the old light).
+        draw();
+        return;
+    }
     in.insert(in.end(), {sun.x, sun.y, sun.z});
     cacheInputs_ = in;
     auto makeCache = [w, h](gl::Texture2D& L, gl::Texture2D& T) {
@@ -651,11 +709,7 @@ void Clouds::renderCached(const FrameContext& ctx) {
     } else {
         cachePhase_ = (cachePhase_ + 1) % (n * n);
     }
-    const gl::Program& show = cacheShow_.get(ctx.camera.projection);
-    show.use();
-    glBindTextureUnit(GLuint(cacheRadianceUnit_), cacheL_.id());
-    glBindTextureUnit(GLuint(cacheTransmittanceUnit_), cacheT_.id());
-    ctx.drawFullscreen();
+    draw();
 }
 
 void Clouds::doResize(int, int) {}

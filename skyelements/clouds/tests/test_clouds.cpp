@@ -721,7 +721,8 @@ TEST_CASE("Clouds: the real-time path's direction cache", "[gl][clouds]") {
             // Clouds::kPhotometryFrames frames, and the texels refreshed before it used the old
             // one: a cycle after that, every texel is fresh.
             Image img;
-            for (int i = 0; i < frames + elements::Clouds::kPhotometryFrames; ++i) img = s->render();
+            // (+1: the refresh's two passes are spread over two frames.)
+            for (int i = 0; i < frames + elements::Clouds::kPhotometryFrames + 1; ++i) img = s->render();
             auto fresh = scene(30, frames);
             fresh->p.vars().set(ck::weatherOffset, glm::dvec2(700, 300));
             CHECK(img.pixels == fresh->render().pixels);
@@ -753,6 +754,14 @@ TEST_CASE("Clouds: the real-time path's direction cache", "[gl][clouds]") {
             const std::vector<float> before = s->clouds->readCache(false);
             s->p.vars().set(keys::sunDirection, directionFromAzAlt(180 * kDeg, 40 * kDeg));
             const int refills = s->clouds->cacheJumpRefills();
+            // The jump's frame: the first of the photometry's two passes (spread over frames), and
+            // no phase marched (the refill waits for the new photometry, whose ground light lights
+            // the bases), the old cache drawn.
+            s->render();
+            CHECK(s->clouds->photometryPending());
+            CHECK(s->clouds->cachePhasesLastFrame() == 0);
+            CHECK(s->clouds->cacheJumpRefills() == refills);
+            CHECK(s->clouds->readCache(false) == before);
             for (int i = 0; i < frames; ++i) {
                 s->render();
                 CHECK(s->clouds->cachePhasesLastFrame() == 1);
@@ -799,6 +808,43 @@ TEST_CASE("Clouds: the real-time path's direction cache", "[gl][clouds]") {
             s->render();
         }
         CHECK(s->clouds->photometryRuns() == offline + 3);
+    }
+    SECTION("a jump: the photometry's passes one a frame, the result bit for bit a whole one's") {
+        // Issue 22 items 4-5: the photometry (two marches of the 16 x 16 hemisphere with their
+        // read-backs on the ground) was computed whole in the jump's frame, on top of the first
+        // phase of the cache's refill. Counted, not timed: in real time one pass a frame, the
+        // photometry before the jump shown until the second; then every field equals, bit for bit,
+        // that of a twin off the real-time path (clouds.reprojection false) that computed it whole
+        // in the jump's frame from the same inputs (time stopped).
+        auto s = scene(30, 64);
+        auto t = scene(30, 64);
+        t->p.vars().set(ek::reprojection, false);
+        for (int i = 0; i < 3; ++i) s->render(), t->render();
+        REQUIRE(s->clouds->photometry().valid);
+        const elements::Clouds::Photometry before = s->clouds->photometry();
+        s->p.vars().set(keys::sunDirection, directionFromAzAlt(180 * kDeg, 40 * kDeg));
+        t->p.vars().set(keys::sunDirection, directionFromAzAlt(180 * kDeg, 40 * kDeg));
+        s->render(), t->render();
+        CHECK(t->clouds->photometryPassesLastFrame() == 2);  // whole: the ground unlit, then lit
+        CHECK(s->clouds->photometryPassesLastFrame() == 1);
+        CHECK(s->clouds->photometryPending());
+        CHECK(s->clouds->photometry().global == before.global);  // the last complete one stands
+        CHECK(s->clouds->photometry().sunTransmittance == before.sunTransmittance);
+        s->render();
+        CHECK(s->clouds->photometryPassesLastFrame() == 1);
+        CHECK_FALSE(s->clouds->photometryPending());
+        const elements::Clouds::Photometry& a = s->clouds->photometry();
+        const elements::Clouds::Photometry& b = t->clouds->photometry();
+        CHECK(a.global != before.global);  // the jump shows
+        CHECK(a.global == b.global);
+        CHECK(a.direct == b.direct);
+        CHECK(a.diffuse == b.diffuse);
+        CHECK(a.sunTransmittance == b.sunTransmittance);
+        CHECK(a.moonTransmittance == b.moonTransmittance);
+        CHECK(a.groundLux == b.groundLux);
+        // Then nothing more while time stays stopped.
+        s->render();
+        CHECK(s->clouds->photometryPassesLastFrame() == 0);
     }
     SECTION("clouds.cache_frames must be a Bayer order") {
         SkyVars v = SkyVars::earth();

@@ -351,6 +351,7 @@ private:
     LightKeyframes::Plan plan_;
     bool shownOnce_ = false;  // the shown table holds a mix (Plan::unchanged may keep it)
     bool darkShown_ = false;  // the shown table is black (the light far below the horizon)
+    bool shownBlack_ = false;  // the shown table was cleared black since it was allocated (valid content)
     std::vector<uint64_t> validFor_;  // input versions the keyframes were built with
     double viewTH_ = -1.0;
     uint64_t viewTVersion_ = 0;
@@ -375,14 +376,32 @@ private:
     int nextHalf_ = 0;         // the half the next half mix does
     double lastMixMuS_ = 2.0;  // cos zenith of the last mix
     int halfMixes_ = 0;
+    // Interactive, the Moon while the Sun is up: its mix paced (kMoonDaylightMixEvery).
+    uint64_t planGen_ = 0;           // plans that changed the shown table since pacing began
+    uint64_t pacedGen_[2] = {0, 0};  // the plan each half was last mixed for
+    int pacedRuns_ = 0;              // runs since the last paced half mix
 
 public:
     /// A moving light's mix is done a half table per run (interactive) when the light has moved
     /// at most this far in elevation since the last mix (0.25 deg; time at 1440x moves the Sun
     /// by up to 0.2 deg per frame at 30 frames/s), rad.
     static constexpr double kHalfMixRad = 0.25 * 3.14159265358979323846 / 180.0;
-    /// Interactive: a table is built in SkyQuality::keyframeChunks x this many parts.
+    /// Interactive, the Moon while the Sun is above the horizon: one half of its table is mixed
+    /// every this many runs (its sky is then below ~1e-4 of the Sun's).
+    static constexpr int kMoonDaylightMixEvery = 4;
+    /// Interactive: a table is built in at least SkyQuality::keyframeChunks x this many parts.
     static constexpr int kInteractiveChunkFactor = 4;
+    /// Interactive: and in parts of at most this many texel-samples (texels x SkyQuality::skyViewSteps):
+    /// 108 texels at medium (192 parts of its 192x108x32), 54 at high (911 parts), so that a part
+    /// of a resting light's exact table (~0.2 ms at medium on llvmpipe, quiet) keeps the frame
+    /// within 3 still frames at 512x256 (issue 22 item 4).
+    static constexpr long kInteractivePartWork = 3456;
+    /// The parts of a table in an interactive session: max(keyframeChunks x kInteractiveChunkFactor,
+    /// ceil(W x H x steps / kInteractivePartWork)). Part c of n is the texels [c W H / n, (c + 1) W H / n)
+    /// in row order (rows from the bottom), so parts cross rows; the texels are the same whatever the
+    /// parts (each is computed from gl_FragCoord alone): a table built in parts is bit for bit the
+    /// table built whole.
+    static int interactiveChunks(const SkyQuality& q);
     /// Grid tables built whole at the first run of an interactive session (not in the disk cache).
     int loadBuiltTables() const { return loadBuilt_; }
     /// Runs whose mix covered only half of the table (interactive, a moving light).

@@ -231,12 +231,32 @@ private:
     } photometryLast_;
     int photometryAge_ = 0;   // frames since the last photometry pass
     int photometryRuns_ = 0;  // photometry passes since construction (tests count them)
+    // Real time: a photometry refresh spread over frames, one stats pass (a march of the 16 x 16
+    // hemisphere and its read-back) a frame: the ground with no light from below, the ground lit
+    // by the clear sky, then (an observer above 1 m) the observer's height. The photometry shown
+    // is the last complete one until the last pass (issue 22 items 4-5).
+    struct PhotometryPass {
+        glm::dvec3 meanL{0.0};
+        double meanT = 0, sunT = 1, moonT = 1;
+    };
+    struct PhotometryStaged {
+        int next = 0;  // the next pass: 0 none under way, 1 the ground lit by the clear sky, 2 at the observer's height
+        glm::dvec3 sunD{0.0}, moonD{0.0}, diffuseE{0.0}, clearG{0.0}, ground{0.0};
+        double hObs = 0;
+        PhotometryPass p0, p1;
+    } staged_;
+    int photometryPassesLast_ = 0;  // stats passes in the last render()
 public:
     /// Real time: a photometry pass that only the lights' motion, their illuminances or the wind
     /// asked for runs at most once in this many frames (skyelements/clouds/README.md, "Time running").
     static constexpr int kPhotometryFrames = 8;
-    /// Photometry passes run since construction.
+    /// Photometry passes run since construction (a refresh spread over frames counts once, at its start).
     int photometryRuns() const { return photometryRuns_; }
+    /// Stats passes (each a march of the photometry's hemisphere with a read-back) in the last
+    /// render(): 2 or 3 for a whole photometry, at most 1 in real time once one is valid.
+    int photometryPassesLastFrame() const { return photometryPassesLast_; }
+    /// Real time: a photometry refresh is under way (its passes spread over frames).
+    bool photometryPending() const { return staged_.next > 0; }
     /// The direction cache's work in the last render() (counted, not timed): Bayer phases of
     /// 1/cache_frames of its texels each that were marched (cache_frames: a whole fill; 1: the
     /// running refresh, or one phase of a refill after a jump; 0: no real-time path).
