@@ -5,8 +5,9 @@ layout(binding = WELKIN_BINDING_HALOS_TABLE) uniform sampler2D u_haloTable;  // 
 
 uniform vec3 u_light;        // unit vector to the light (Sun or Moon), ENU
 uniform vec3 u_E;            // the light's illuminance at the observer, lux per channel
-uniform vec3 u_lightX;       // unit horizontal vector towards the light's azimuth
+uniform vec3 u_lightX;       // unit horizontal vector towards the light's azimuth (turned by the table's lag)
 uniform vec3 u_lightY;       // up x u_lightX
+uniform vec3 u_lightZ;       // u_lightX x u_lightY: up, when the table holds the current light's elevation
 uniform float u_tauUser;     // vertical optical depth of the user's crystal layer
 uniform float u_tauCirrus;   // halos.cirrus_fraction x the cirrus' optical depth at density 1 (0: no cirrus)
 uniform float u_h;           // observer height above the ground, m
@@ -32,9 +33,12 @@ void main() {
     float slant = 1.0 / max(abs(dot(up, dir)), 0.1);
     float tauCirrus = u_tauCirrus > 0.0 ? u_tauCirrus * cirrusDensity(p.xy) : 0.0;
     float tau = (u_tauUser + tauCirrus) * slant;
-    // The table's coordinates: the direction's elevation and its azimuth from the light's.
-    float el = asin(clamp(dir.z, -1.0, 1.0));
-    float az = atan(abs(dot(dir, u_lightY)), dot(dir, u_lightX));
+    // The table's coordinates: the direction's elevation and its azimuth from the light's, in the
+    // table's frame (while a refill is under way turned about u_lightY by the table's lag in
+    // elevation, so that its light lands on the current one: Halos::doRender; else x, y, up).
+    vec3 q = vec3(dot(dir, u_lightX), dot(dir, u_lightY), dot(dir, u_lightZ));
+    float el = asin(clamp(q.z, -1.0, 1.0));
+    float az = atan(abs(q.y), q.x);
     vec3 phase = texture(u_haloTable, vec2(az / HALOS_PI, el / HALOS_PI + 0.5)).rgb;
     vec3 L = u_E * phase * (1.0 - exp(-tau));
     welkin_output(L, vec3(exp(-u_tauUser * slant)));

@@ -135,6 +135,8 @@ void Halos::doInit(InitContext& ctx) {
     mix_.clear();
     mixShift_.clear();
     tableElevation_ = -1.0;
+    tableBack_ = {};
+    tableBackRow_ = -1;
     octTable_ = {};
     octBack_ = {};
     octRemap_.clear();
@@ -147,6 +149,7 @@ void Halos::doRender(const FrameContext& ctx) {
     drew_ = false;
     grid_ = false;
     octRowsLast_ = 0;
+    tableRowsLast_ = 0;
     const SkyVars& v = ctx.vars;
     // The light: the Sun, or the Moon when the Sun gives no light at the observer.
     glm::dvec3 E = v.get(lk::sunIlluminance) * v.get(lk::sunTransmittance);
@@ -195,9 +198,11 @@ void Halos::doRender(const FrameContext& ctx) {
         octElevation_ = NAN;
     }
     if (!table_ || table_.width() != t.q.na || table_.height() != t.q.ne) {
-        table_ = gl::Texture2D(t.q.na, t.q.ne, GL_RGBA16F);
-        table_.setFilter(GL_LINEAR);
-        table_.setWrap(GL_CLAMP_TO_EDGE);
+        for (gl::Texture2D* tex : {&table_, &tableBack_}) {
+            *tex = gl::Texture2D(t.q.na, t.q.ne, GL_RGBA16F);
+            tex->setFilter(GL_LINEAR);
+            tex->setWrap(GL_CLAMP_TO_EDGE);
+        }
         tableElevation_ = -1.0;
     }
     const double layerH = v.getOr(ck::cirrusHeight, kDefaultLayerHeightM);
@@ -242,23 +247,7 @@ void Halos::doRender(const FrameContext& ctx) {
         grid_ = true;
         return;
     }
-    if (std::abs(el - tableElevation_) > kElevationTolerance) {
-        // The light's elevation between two slices (evenly over [0, 90] deg), on the CPU once per
-        // 0.02 deg of the light's motion, so that the pass makes one 2-D fetch.
-        const SliceBlend b = sliceBlend(t, el);
-        const std::size_t cells = std::size_t(t.q.ne) * std::size_t(t.q.na);
-        std::vector<glm::vec4> slice(cells);
-        for (int ie = 0; ie < t.q.ne; ++ie) {
-            const RowLerp r0 = rowLerp(t, ie + rowShift(t, ie, b.shift0)), r1 = rowLerp(t, ie + rowShift(t, ie, b.shift1));
-            const RowLerp q0 = rowLerp(t, ie + b.shift0), q1 = rowLerp(t, ie + b.shift1);
-            for (int ia = 0; ia < t.q.na; ++ia)
-                slice[std::size_t(ie) * std::size_t(t.q.na) + std::size_t(ia)] =
-                    (sampleRow(mix_, b.s0, r0, ia, t) + sampleRow(mixShift_, b.s0, q0, ia, t)) * (1.0f - b.a) +
-                    (sampleRow(mix_, b.s1, r1, ia, t) + sampleRow(mixShift_, b.s1, q1, ia, t)) * b.a;
-        }
-        table_.upload(GL_RGBA, GL_FLOAT, slice.data());
-        tableElevation_ = el;
-    }
+    updatePixelTable(el, v.getOr(keys::interactive, false) ? std::clamp(v.getOr(hk::tableSlices, hk::kTableSlicesDefault), 1, 64) : 1);
 
     const gl::Program& p = programs_.get(ctx.camera.projection);
     p.use();
@@ -272,8 +261,13 @@ void Halos::doRender(const FrameContext& ctx) {
     }
     p.set("u_light", glm::vec3(L));
     p.set("u_E", glm::vec3(E));
-    p.set("u_lightX", glm::vec3(lx));
+    // The table's frame turned onto the current light by its lag in elevation, as the grid's
+    // (0 once a refill completed at the current light: then exactly lx and up).
+    const double plag = tableElevation_ - el;
+    const glm::dvec3 pup(0.0, 0.0, 1.0);
+    p.set("u_lightX", glm::vec3(std::cos(plag) * lx - std::sin(plag) * pup));
     p.set("u_lightY", glm::vec3(ly));
+    p.set("u_lightZ", glm::vec3(std::sin(plag) * lx + std::cos(plag) * pup));
     p.set("u_tauUser", float(tauUser));
     p.set("u_tauCirrus", float(cirrus ? fraction * generators::kCirrusOpticalDepth : 0.0));
     p.set("u_h", float(h0));
@@ -406,6 +400,67 @@ void Halos::fillOctRows(gl::Texture2D& target, double el, int r0, int r1) {
     octRowsLast_ += r1 - r0;
 }
 
+// The per-pixel path's (azimuth, elevation) table, refilled over frames as the grid's
+// (updateOctTable: the same rules, in rows of the table): the mix or the table's size changed (no
+// elevation held) or slices 1: the whole table now; the light moved past the tolerance: a refill
+// into tableBack_, ne / slices rows a frame, made for where the light will be midway through its
+// turn on screen, restarted at a jump; the table drawn meanwhile is turned onto the light (doRender).
+void Halos::updatePixelTable(double el, int slices) {
+    const halos::HaloTables& t = *tables_;
+    const int ne = t.q.ne;
+    tableRowsLast_ = 0;
+    const double step = el - tableLastElevation_;
+    const bool jump = !(std::abs(step) <= kElevationJump);
+    tableLastElevation_ = el;
+    const auto t0 = std::chrono::steady_clock::now();
+    if (tableElevation_ < 0.0 || (slices <= 1 && std::abs(el - tableElevation_) > kElevationTolerance)) {
+        tableBackRow_ = -1;
+        fillPixelRows(table_, el, 0, ne);
+        tableElevation_ = el;
+        ++tableRefills_;
+    } else {
+        if (tableBackRow_ >= 0 && jump) tableBackRow_ = -1;  // superseded: restarted below at the new elevation
+        if (tableBackRow_ < 0 && std::abs(el - tableElevation_) > kElevationTolerance) {
+            tableBackRow_ = 0;
+            tableBackElevation_ = std::clamp(el + (jump ? 0.0 : 1.5 * slices * step), 0.0, 0.5 * M_PI);
+            ++tableRefills_;
+        }
+        if (tableBackRow_ < 0) return;
+        const int rows = (ne + slices - 1) / slices;
+        const int r1 = std::min(ne, tableBackRow_ + rows);
+        fillPixelRows(tableBack_, tableBackElevation_, tableBackRow_, r1);
+        tableBackRow_ = r1;
+        if (tableBackRow_ >= ne) {  // complete: drawn from this frame on
+            std::swap(table_, tableBack_);
+            tableElevation_ = tableBackElevation_;
+            tableBackRow_ = -1;
+        }
+    }
+    tableUpdateMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void Halos::fillPixelRows(gl::Texture2D& target, double el, int r0, int r1) {
+    // The light's elevation between two slices (evenly over [0, 90] deg): sliceBlend.
+    const halos::HaloTables& t = *tables_;
+    const SliceBlend b = sliceBlend(t, el);
+    const std::size_t na = std::size_t(t.q.na);
+    tableRows_.resize(std::size_t(r1 - r0) * na);
+    for (int ie = r0; ie < r1; ++ie) {
+        const RowLerp e0 = rowLerp(t, ie + rowShift(t, ie, b.shift0)), e1 = rowLerp(t, ie + rowShift(t, ie, b.shift1));
+        const RowLerp q0 = rowLerp(t, ie + b.shift0), q1 = rowLerp(t, ie + b.shift1);
+        for (int ia = 0; ia < t.q.na; ++ia)
+            tableRows_[std::size_t(ie - r0) * na + std::size_t(ia)] =
+                (sampleRow(mix_, b.s0, e0, ia, t) + sampleRow(mixShift_, b.s0, q0, ia, t)) * (1.0f - b.a) +
+                (sampleRow(mix_, b.s1, e1, ia, t) + sampleRow(mixShift_, b.s1, q1, ia, t)) * b.a;
+    }
+    // Inside a frame the pixel-store parameters are GL's defaults and no unpack buffer is bound
+    // (docs/writing-an-element.md): tightly packed rows.
+    glTextureSubImage2D(target.id(), 0, 0, r0, t.q.na, r1 - r0, GL_RGBA, GL_FLOAT, tableRows_.data());
+    tableRowsLast_ += r1 - r0;
+}
+
+std::vector<float> Halos::readPixelTable() const { return table_ ? table_.readRgbaFloat() : std::vector<float>{}; }
+
 std::vector<float> Halos::readGridTable() const { return octTable_ ? octTable_.readRgbaFloat() : std::vector<float>{}; }
 
 void Halos::doStats(nlohmann::json& root) const {
@@ -418,12 +473,18 @@ void Halos::doStats(nlohmann::json& root) const {
         root["halos"]["grid_table_update_ms"] = octUpdateMs_;
         root["halos"]["grid_table_rows_last_frame"] = octRowsLast_;
     }
+    if (tableElevation_ >= 0.0) {
+        root["halos"]["pixel_table_update_ms"] = tableUpdateMs_;
+        root["halos"]["pixel_table_rows_last_frame"] = tableRowsLast_;
+    }
 }
 
 void Halos::doRelease() {
     programs_.releasePrograms();
     gridPrograms_.releasePrograms();
     table_ = {};
+    tableBack_ = {};
+    tableBackRow_ = -1;
     octTable_ = {};
     octBack_ = {};
     octBackRow_ = -1;

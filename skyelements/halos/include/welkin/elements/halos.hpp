@@ -57,13 +57,14 @@ inline const Key<double> plateAspect{"halos.plate_aspect", Range{0.05, 1}, "plat
 inline const Key<double> columnAspect{"halos.column_aspect", Range{1, 8}, "columns' length along the c-axis over their diameter (also the random population's)"};
 inline const Key<double> tilt{"halos.tilt_rad", Range{0.1 * kDeg, 10 * kDeg}, "spread (Gaussian sigma) of the oriented crystals' axes about their preferred orientation"};
 inline const Key<std::string> tableQuality{"halos.table_quality", Choices{{"low", "default", "high"}}, "phase tables: low (CI tests), default, high (rays and resolution; skyelements/halos/README.md)"};
-/// Frames over which the real-time grid's table is re-interpolated to a moved light when
+/// Frames over which the element's table (the real-time grid's and the per-pixel pass') is
+/// re-interpolated to a moved light when
 /// render.interactive is on (time running, a jump of the time): a second table is filled
 /// 1/table_slices of its rows a frame while the one before is drawn, turned onto the current light
 /// (skyelements/halos/README.md, "Time running"). 1, or render.interactive off: the whole table in
 /// the frame the light moved past the tolerance.
 inline const Key<int> tableSlices{"halos.table_slices", Range{1, 64},
-                                  "frames over which the real-time grid's table follows a moved light (render.interactive; 1: at once)"};
+                                  "frames over which the halo table follows a moved light (render.interactive; 1: at once)"};
 inline constexpr int kTableSlicesDefault = 32;
 }  // namespace haloskeys
 
@@ -228,7 +229,21 @@ private:
     std::array<double, 4> mixed_{-1, -1, -1, -1};
     std::vector<glm::vec4> mix_;       // the plates' and Parry columns' part of the mix at every slice (HaloTables::mix)
     std::vector<glm::vec4> mixShift_;  // the columns' and random crystals' part
-    double tableElevation_ = -1.0;   // the light elevation table_ holds, rad
+    double tableElevation_ = -1.0;   // the light elevation table_ holds, rad (-1: none yet)
+    // The per-pixel path's table refilled over frames as the grid's (halos.table_slices): tableBack_
+    // filled ne / slices rows a frame for tableBackElevation_ while table_ is drawn, turned onto the
+    // light; swapped in when complete.
+    gl::Texture2D tableBack_;
+    double tableBackElevation_ = 0.0;
+    int tableBackRow_ = -1;              // the next row of tableBack_ to fill (-1: no refill in progress)
+    double tableLastElevation_ = -10.0;  // the light's elevation in the last frame drawn per pixel (a jump)
+    int tableRowsLast_ = 0;              // rows of the per-pixel table computed in the last frame
+    int tableRefills_ = 0;               // refills started (whole or spread)
+    std::vector<glm::vec4> tableRows_;   // the rows computed this frame (CPU), uploaded at once
+    double tableUpdateMs_ = 0.0;         // the last frame's work on the per-pixel table, CPU ms
+    void updatePixelTable(double elevationRad, int slices);
+    // Rows [r0, r1) of the per-pixel (azimuth, elevation) table at the light elevation `el`, into `target`.
+    void fillPixelRows(gl::Texture2D& target, double el, int r0, int r1);
     bool drew_ = false;
     // The grid path's table: for each of its N x N texels its place in the (azimuth, elevation)
     // table (fixed per table size), the layer's scattered
@@ -280,6 +295,15 @@ public:
     /// The drawn grid table's texels (RGBA16F read back as float, N x N; tests: a table filled
     /// over frames against one filled whole).
     std::vector<float> readGridTable() const;
+    /// The per-pixel path's (azimuth, elevation) table (every projection but the perspective grid's,
+    /// and cirrus): the same as the grid's, in rows of the table (ne a whole table, ne /
+    /// halos.table_slices rounded up a slice of a refill, 0 none), its rows, the light elevation
+    /// the drawn table holds (rad; -1: none yet) and its texels (RGBA16F read back as float, na x ne).
+    int pixelRowsLastFrame() const { return tableRowsLast_; }
+    int pixelRefills() const { return tableRefills_; }
+    int pixelTableRows() const { return table_ ? table_.height() : 0; }
+    double pixelTableElevation() const { return tableElevation_; }
+    std::vector<float> readPixelTable() const;
     /// A motion of the light's elevation from one frame to the next beyond which a refill in
     /// progress is restarted at the new elevation (a new time, not time running: at 1440x and 30
     /// frames/s the Sun's elevation moves at most 0.2 deg a frame): 1 deg.
