@@ -608,7 +608,8 @@ TEST_CASE("Halos: time running re-interpolates the per-pixel table over halos.ta
     CHECK(dr.lit > 20000);
     // Measured 2.6 % and 4.0 %: the turn is exact for the pattern, not for its bilinear
     // sampling in 1-deg (azimuth, elevation) bins, which the turn moves across (the halos' sharp
-    // inner edges). Bounds: ~2x and 1.5x.
+    // inner edges). Bounds: ~2x and 1.5x. Without the turn (the lagging table drawn as it is)
+    // the display and random frames differ by a mean of 23 % and 8.3 %: both checks fail.
     CHECK(dr.mean < 0.05);
     CHECK(dr.offFrac < 0.06);
 }
