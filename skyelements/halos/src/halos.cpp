@@ -134,22 +134,22 @@ void Halos::doInit(InitContext& ctx) {
     mixed_ = {-1, -1, -1, -1};
     mix_.clear();
     mixShift_.clear();
-    tableElevation_ = -1.0;
+    pix_.held = NAN;
     tableBack_ = {};
-    tableBackRow_ = -1;
+    pix_.backRow = -1;
     octTable_ = {};
     octBack_ = {};
     octRemap_.clear();
     octN_ = 0;
-    octElevation_ = NAN;
-    octBackRow_ = -1;
+    oct_.held = NAN;
+    oct_.backRow = -1;
 }
 
 void Halos::doRender(const FrameContext& ctx) {
     drew_ = false;
     grid_ = false;
-    octRowsLast_ = 0;
-    tableRowsLast_ = 0;
+    oct_.rowsLast = 0;
+    pix_.rowsLast = 0;
     const SkyVars& v = ctx.vars;
     // The light: the Sun, or the Moon when the Sun gives no light at the observer.
     glm::dvec3 E = v.get(lk::sunIlluminance) * v.get(lk::sunTransmittance);
@@ -194,8 +194,8 @@ void Halos::doRender(const FrameContext& ctx) {
         mixShift_ = part({0.0, w[1], w[2], 0.0});
         tables_ = &t;
         mixed_ = w;
-        tableElevation_ = -1.0;
-        octElevation_ = NAN;
+        pix_.held = NAN;
+        oct_.held = NAN;
     }
     if (!table_ || table_.width() != t.q.na || table_.height() != t.q.ne) {
         for (gl::Texture2D* tex : {&table_, &tableBack_}) {
@@ -203,7 +203,7 @@ void Halos::doRender(const FrameContext& ctx) {
             tex->setFilter(GL_LINEAR);
             tex->setWrap(GL_CLAMP_TO_EDGE);
         }
-        tableElevation_ = -1.0;
+        pix_.held = NAN;
     }
     const double layerH = v.getOr(ck::cirrusHeight, kDefaultLayerHeightM);
     const double h0 = v.getOr(keys::observerHeight, 0.0);
@@ -229,7 +229,7 @@ void Halos::doRender(const FrameContext& ctx) {
         // light, and what moves with it (the halos, the sundogs) stays around it while a refill is
         // under way; the exact elevation shift it stands in for differs by the lag times 1 - cos
         // of the angle from the light's vertical plane (skyelements/halos/README.md, "Time running").
-        const double lag = octElevation_ - el;
+        const double lag = oct_.held - el;
         const glm::dvec3 up(0.0, 0.0, 1.0);
         g.set("u_lightX", glm::vec3(std::cos(lag) * lx - std::sin(lag) * up));
         g.set("u_lightY", glm::vec3(ly));
@@ -263,7 +263,7 @@ void Halos::doRender(const FrameContext& ctx) {
     p.set("u_E", glm::vec3(E));
     // The table's frame turned onto the current light by its lag in elevation, as the grid's
     // (0 once a refill completed at the current light: then exactly lx and up).
-    const double plag = tableElevation_ - el;
+    const double plag = pix_.held - el;
     const glm::dvec3 pup(0.0, 0.0, 1.0);
     p.set("u_lightX", glm::vec3(std::cos(plag) * lx - std::sin(plag) * pup));
     p.set("u_lightY", glm::vec3(ly));
@@ -295,10 +295,46 @@ static glm::vec2 layerFactor(double mu, double tau, double h0, double layerH, do
     return {float(1.0 - t), float(t)};
 }
 
+// One frame of a table refilled over frames (the rules: updateOctTable's comment).
+template <class Fill>
+bool Halos::refillFrame(Refill& s, double el, bool whole, int slices, int n, Fill&& fill) {
+    s.rowsLast = 0;
+    const double step = el - s.lastElevation;
+    const bool jump = !(std::abs(step) <= kElevationJump);
+    s.lastElevation = el;
+    const auto t0 = std::chrono::steady_clock::now();
+    bool complete = false;
+    if (whole || std::isnan(s.held) || (slices <= 1 && std::abs(el - s.held) > kElevationTolerance)) {
+        s.backRow = -1;
+        fill(false, el, 0, n);
+        s.rowsLast = n;
+        s.held = el;
+        ++s.refills;
+    } else {
+        if (s.backRow >= 0 && jump) s.backRow = -1;  // superseded: restarted below at the new elevation
+        if (s.backRow < 0 && std::abs(el - s.held) > kElevationTolerance) {
+            s.backRow = 0;
+            s.backElevation = std::clamp(el + (jump ? 0.0 : 1.5 * slices * step), -0.5 * M_PI, 0.5 * M_PI);
+            ++s.refills;
+        }
+        if (s.backRow < 0) return false;
+        const int r1 = std::min(n, s.backRow + (n + slices - 1) / slices);
+        fill(true, s.backElevation, s.backRow, r1);
+        s.rowsLast = r1 - s.backRow;
+        s.backRow = r1;
+        if (s.backRow >= n) {  // complete: drawn from this frame on
+            s.held = s.backElevation;
+            s.backRow = -1;
+            complete = true;
+        }
+    }
+    s.updateMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return complete;
+}
+
 void Halos::updateOctTable(double el, double tauUser, double h0, double layerH, double R, int slices) {
     const halos::HaloTables& t = *tables_;
     const int N = int(std::lround(kOctScale * t.q.na));
-    octRowsLast_ = 0;
     if (N != octN_ || octRemap_.empty()) {
         // The octahedral half sky: texel (i, j) at (s, t) = 2 (i + 0.5, j + 0.5) / N - 1; the
         // direction (x, |y|, z) / (|x| + |y| + |z|) in the light's frame (x to the light's azimuth,
@@ -326,7 +362,7 @@ void Halos::updateOctTable(double el, double tauUser, double h0, double layerH, 
             tex->setFilter(GL_LINEAR);
             tex->setWrap(GL_CLAMP_TO_EDGE);
         }
-        octElevation_ = NAN;
+        oct_.held = NAN;
         octLayerKey_ = glm::dvec4(-1.0);
     }
     const glm::dvec4 layerKey(tauUser, h0, layerH, R);
@@ -346,34 +382,8 @@ void Halos::updateOctTable(double el, double tauUser, double h0, double layerH, 
     // refill's motion; with the light at rest the prediction is the light itself. A jump of the
     // light (kElevationJump in a frame: a new time) restarts a refill in progress at the new
     // elevation, predicting nothing.
-    const double step = el - octLastElevation_;
-    const bool jump = !(std::abs(step) <= kElevationJump);
-    octLastElevation_ = el;
-    const auto t0 = std::chrono::steady_clock::now();
-    if (layerChanged || std::isnan(octElevation_) || (slices <= 1 && std::abs(el - octElevation_) > kElevationTolerance)) {
-        octBackRow_ = -1;
-        fillOctRows(octTable_, el, 0, N);
-        octElevation_ = el;
-        ++octRefills_;
-    } else {
-        if (octBackRow_ >= 0 && jump) octBackRow_ = -1;  // superseded: restarted below at the new elevation
-        if (octBackRow_ < 0 && std::abs(el - octElevation_) > kElevationTolerance) {
-            octBackRow_ = 0;
-            octBackElevation_ = std::clamp(el + (jump ? 0.0 : 1.5 * slices * step), -0.5 * M_PI, 0.5 * M_PI);
-            ++octRefills_;
-        }
-        if (octBackRow_ < 0) return;
-        const int rows = (N + slices - 1) / slices;
-        const int r1 = std::min(N, octBackRow_ + rows);
-        fillOctRows(octBack_, octBackElevation_, octBackRow_, r1);
-        octBackRow_ = r1;
-        if (octBackRow_ >= N) {  // complete: drawn from this frame on
-            std::swap(octTable_, octBack_);
-            octElevation_ = octBackElevation_;
-            octBackRow_ = -1;
-        }
-    }
-    octUpdateMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    if (refillFrame(oct_, el, layerChanged, slices, N, [&](bool back, double e, int r0, int r1) { fillOctRows(back ? octBack_ : octTable_, e, r0, r1); }))
+        std::swap(octTable_, octBack_);
 }
 
 void Halos::fillOctRows(gl::Texture2D& target, double el, int r0, int r1) {
@@ -397,7 +407,6 @@ void Halos::fillOctRows(gl::Texture2D& target, double el, int r0, int r1) {
     // Inside a frame the pixel-store parameters are GL's defaults and no unpack buffer is bound
     // (docs/writing-an-element.md): tightly packed rows.
     glTextureSubImage2D(target.id(), 0, 0, r0, N, r1 - r0, GL_RGBA, GL_FLOAT, octRows_.data());
-    octRowsLast_ += r1 - r0;
 }
 
 // The per-pixel path's (azimuth, elevation) table, refilled over frames as the grid's
@@ -408,35 +417,8 @@ void Halos::fillOctRows(gl::Texture2D& target, double el, int r0, int r1) {
 void Halos::updatePixelTable(double el, int slices) {
     const halos::HaloTables& t = *tables_;
     const int ne = t.q.ne;
-    tableRowsLast_ = 0;
-    const double step = el - tableLastElevation_;
-    const bool jump = !(std::abs(step) <= kElevationJump);
-    tableLastElevation_ = el;
-    const auto t0 = std::chrono::steady_clock::now();
-    if (tableElevation_ < 0.0 || (slices <= 1 && std::abs(el - tableElevation_) > kElevationTolerance)) {
-        tableBackRow_ = -1;
-        fillPixelRows(table_, el, 0, ne);
-        tableElevation_ = el;
-        ++tableRefills_;
-    } else {
-        if (tableBackRow_ >= 0 && jump) tableBackRow_ = -1;  // superseded: restarted below at the new elevation
-        if (tableBackRow_ < 0 && std::abs(el - tableElevation_) > kElevationTolerance) {
-            tableBackRow_ = 0;
-            tableBackElevation_ = std::clamp(el + (jump ? 0.0 : 1.5 * slices * step), 0.0, 0.5 * M_PI);
-            ++tableRefills_;
-        }
-        if (tableBackRow_ < 0) return;
-        const int rows = (ne + slices - 1) / slices;
-        const int r1 = std::min(ne, tableBackRow_ + rows);
-        fillPixelRows(tableBack_, tableBackElevation_, tableBackRow_, r1);
-        tableBackRow_ = r1;
-        if (tableBackRow_ >= ne) {  // complete: drawn from this frame on
-            std::swap(table_, tableBack_);
-            tableElevation_ = tableBackElevation_;
-            tableBackRow_ = -1;
-        }
-    }
-    tableUpdateMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    if (refillFrame(pix_, el, false, slices, ne, [&](bool back, double e, int r0, int r1) { fillPixelRows(back ? tableBack_ : table_, e, r0, r1); }))
+        std::swap(table_, tableBack_);
 }
 
 void Halos::fillPixelRows(gl::Texture2D& target, double el, int r0, int r1) {
@@ -456,7 +438,6 @@ void Halos::fillPixelRows(gl::Texture2D& target, double el, int r0, int r1) {
     // Inside a frame the pixel-store parameters are GL's defaults and no unpack buffer is bound
     // (docs/writing-an-element.md): tightly packed rows.
     glTextureSubImage2D(target.id(), 0, 0, r0, t.q.na, r1 - r0, GL_RGBA, GL_FLOAT, tableRows_.data());
-    tableRowsLast_ += r1 - r0;
 }
 
 std::vector<float> Halos::readPixelTable() const { return table_ ? table_.readRgbaFloat() : std::vector<float>{}; }
@@ -470,12 +451,12 @@ void Halos::doStats(nlohmann::json& root) const {
     root["halos"]["table_from_cache"] = tables_->fromCache;
     if (octN_ > 0) {
         root["halos"]["grid_table_texels"] = octN_;
-        root["halos"]["grid_table_update_ms"] = octUpdateMs_;
-        root["halos"]["grid_table_rows_last_frame"] = octRowsLast_;
+        root["halos"]["grid_table_update_ms"] = oct_.updateMs;
+        root["halos"]["grid_table_rows_last_frame"] = oct_.rowsLast;
     }
-    if (tableElevation_ >= 0.0) {
-        root["halos"]["pixel_table_update_ms"] = tableUpdateMs_;
-        root["halos"]["pixel_table_rows_last_frame"] = tableRowsLast_;
+    if (!std::isnan(pix_.held)) {
+        root["halos"]["pixel_table_update_ms"] = pix_.updateMs;
+        root["halos"]["pixel_table_rows_last_frame"] = pix_.rowsLast;
     }
 }
 
@@ -484,19 +465,19 @@ void Halos::doRelease() {
     gridPrograms_.releasePrograms();
     table_ = {};
     tableBack_ = {};
-    tableBackRow_ = -1;
+    pix_.backRow = -1;
     octTable_ = {};
     octBack_ = {};
-    octBackRow_ = -1;
+    oct_.backRow = -1;
     octRemap_.clear();
     octLayer_.clear();
     octN_ = 0;
-    octElevation_ = NAN;
+    oct_.held = NAN;
     cloudUbo_ = {};
     tables_ = nullptr;
     mix_.clear();
     mixShift_.clear();
-    tableElevation_ = -1.0;
+    pix_.held = NAN;
 }
 
 }  // namespace welkin::elements

@@ -229,22 +229,32 @@ private:
     std::array<double, 4> mixed_{-1, -1, -1, -1};
     std::vector<glm::vec4> mix_;       // the plates' and Parry columns' part of the mix at every slice (HaloTables::mix)
     std::vector<glm::vec4> mixShift_;  // the columns' and random crystals' part
-    double tableElevation_ = -1.0;   // the light elevation table_ holds, rad (-1: none yet)
     // The per-pixel path's table refilled over frames as the grid's (halos.table_slices): tableBack_
-    // filled ne / slices rows a frame for tableBackElevation_ while table_ is drawn, turned onto the
+    // filled ne / slices rows a frame (pix_, below) while table_ is drawn, turned onto the
     // light; swapped in when complete.
     gl::Texture2D tableBack_;
-    double tableBackElevation_ = 0.0;
-    int tableBackRow_ = -1;              // the next row of tableBack_ to fill (-1: no refill in progress)
-    double tableLastElevation_ = -10.0;  // the light's elevation in the last frame drawn per pixel (a jump)
-    int tableRowsLast_ = 0;              // rows of the per-pixel table computed in the last frame
-    int tableRefills_ = 0;               // refills started (whole or spread)
     std::vector<glm::vec4> tableRows_;   // the rows computed this frame (CPU), uploaded at once
-    double tableUpdateMs_ = 0.0;         // the last frame's work on the per-pixel table, CPU ms
     void updatePixelTable(double elevationRad, int slices);
     // Rows [r0, r1) of the per-pixel (azimuth, elevation) table at the light elevation `el`, into `target`.
     void fillPixelRows(gl::Texture2D& target, double el, int r0, int r1);
     bool drew_ = false;
+    // A table refilled over frames (halos.table_slices; the grid's and the per-pixel path's):
+    // the light elevation the drawn one holds, the refill of the other in progress, work counted.
+    struct Refill {
+        double held = NAN;             // the light elevation the drawn table holds, rad (NaN: none: filled whole next)
+        double backElevation = 0.0;    // the one the other table is being filled for
+        int backRow = -1;              // the next row of the other table to fill (-1: no refill in progress)
+        double lastElevation = -10.0;  // the light's elevation in the last frame (a jump)
+        int rowsLast = 0;              // rows computed in the last frame
+        int refills = 0;               // refills started (whole or spread)
+        double updateMs = 0.0;         // the last frame's work on the table, CPU ms
+    };
+    Refill oct_, pix_;  // the grid's table, the per-pixel path's
+    // One frame of a table of n rows (halos.cpp); fill(back, el, r0, r1) computes rows [r0, r1) at
+    // the light elevation el into the drawn table (back false) or the other; returns true when the
+    // other is complete, to be swapped in.
+    template <class Fill>
+    static bool refillFrame(Refill& s, double el, bool whole, int slices, int n, Fill&& fill);
     // The grid path's table: for each of its N x N texels its place in the (azimuth, elevation)
     // table (fixed per table size), the layer's scattered
     // fraction and transmittance in its direction (per layer), and what it holds now.
@@ -257,16 +267,9 @@ private:
     std::vector<OctTexel> octRemap_;
     std::vector<glm::vec2> octLayer_;
     int octN_ = 0;
-    double octElevation_ = NAN;      // the light elevation octTable_ holds, rad (NaN: none yet)
-    double octBackElevation_ = 0.0;  // the one octBack_ is being filled for
-    int octBackRow_ = -1;            // the next row of octBack_ to fill (-1: no refill in progress)
-    double octLastElevation_ = -10.0;  // the light's elevation in the last frame drawn through the grid (a jump)
-    int octRowsLast_ = 0;            // rows of the grid's table computed in the last frame
-    int octRefills_ = 0;             // refills started (whole or spread)
     std::vector<glm::vec4> octRows_;  // the rows computed this frame (CPU), uploaded at once
     glm::dvec4 octLayerKey_{-1.0};  // tau, observer height, layer height, planet radius the layer holds
     bool forcePerPixel_ = false;
-    double octUpdateMs_ = 0.0;  // the last resampling of the grid path's table, CPU ms
     void updateOctTable(double elevationRad, double tauUser, double h0, double layerH, double R, int slices);
     // Rows [r0, r1) of the grid's table at the light elevation `el`, into `target`.
     void fillOctRows(gl::Texture2D& target, double el, int r0, int r1);
@@ -288,21 +291,21 @@ public:
     /// The grid's table: rows computed in the last render() (work counted, not timed: N a whole
     /// table, N / halos.table_slices rounded up a slice of a refill, 0 none), refills started so
     /// far, its size N, and the light elevation the drawn table holds (rad; NaN: none yet).
-    int gridRowsLastFrame() const { return octRowsLast_; }
-    int gridRefills() const { return octRefills_; }
+    int gridRowsLastFrame() const { return oct_.rowsLast; }
+    int gridRefills() const { return oct_.refills; }
     int gridTableSize() const { return octN_; }
-    double gridTableElevation() const { return octElevation_; }
+    double gridTableElevation() const { return oct_.held; }
     /// The drawn grid table's texels (RGBA16F read back as float, N x N; tests: a table filled
     /// over frames against one filled whole).
     std::vector<float> readGridTable() const;
     /// The per-pixel path's (azimuth, elevation) table (every projection but the perspective grid's,
     /// and cirrus): the same as the grid's, in rows of the table (ne a whole table, ne /
     /// halos.table_slices rounded up a slice of a refill, 0 none), its rows, the light elevation
-    /// the drawn table holds (rad; -1: none yet) and its texels (RGBA16F read back as float, na x ne).
-    int pixelRowsLastFrame() const { return tableRowsLast_; }
-    int pixelRefills() const { return tableRefills_; }
+    /// the drawn table holds (rad; NaN: none yet) and its texels (RGBA16F read back as float, na x ne).
+    int pixelRowsLastFrame() const { return pix_.rowsLast; }
+    int pixelRefills() const { return pix_.refills; }
     int pixelTableRows() const { return table_ ? table_.height() : 0; }
-    double pixelTableElevation() const { return tableElevation_; }
+    double pixelTableElevation() const { return pix_.held; }
     std::vector<float> readPixelTable() const;
     /// A motion of the light's elevation from one frame to the next beyond which a refill in
     /// progress is restarted at the new elevation (a new time, not time running: at 1440x and 30
