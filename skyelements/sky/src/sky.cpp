@@ -24,6 +24,8 @@ using namespace welkin::generators;
 namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr double kMoonAngularRadius = 0.0045;  // rad, mean (the Moon's share of the sky view)
+// Above this solar altitude the Moon's sky term is left out (README "The Moon's sky by day").
+constexpr double kMoonSkySunAltitudeRad = 6.0 * kPi / 180.0;
 }  // namespace
 
 void SkyOptions::validate() const {
@@ -50,6 +52,8 @@ Sky::Sky(const SkyOptions& options, bool force) : SkyElement("sky"), options_(op
     option(skykeys::keyframeBudget, kKeyframeBudgetDefault);
     option(skykeys::keyframeCache, true);
     option(skyNightMultiply, true);
+    option(skyPrebuildPrograms, true);
+    option(skyMoonByDay, false);
     setAttenuatesBehind(true);  // its transmittance output: stars and planets drawn before it
     reads(keys::sunDirection);
     reads(keys::moonDirection);
@@ -143,6 +147,11 @@ gl::ProgramBuilder Sky::recipe(bool perPixel, bool moon, bool transmittance, boo
     return b;
 }
 
+const gl::Program& Sky::program(gl::ProjectionPrograms& pp, Projection proj) {
+    if (built_.insert({&pp, int(proj)}).second) ++programBuilds_;
+    return pp.get(proj);
+}
+
 void Sky::doUpdate(const FrameContext& ctx) {
     SkyVars& v = ctx.vars;
     options_ = optionsFrom(v);
@@ -165,6 +174,13 @@ void Sky::doRender(const FrameContext& ctx) {
     perPixel_ = q.perPixel || h > m.topRadius - m.bottomRadius - 1.0;
     if (perPixel_ && marchBands_ != q.shBands) {
         marchBands_ = q.shBands;
+        for (auto it = built_.begin(); it != built_.end();) {  // remade below: their next use builds again
+            const auto* pp = it->first;
+            const bool march = (pp >= &marchPrograms_[0][0] && pp <= &marchPrograms_[1][1]) ||
+                               (pp >= &spectralPrograms_[0] && pp <= &spectralPrograms_[1]) ||
+                               (pp >= &marchEclipsePrograms_[0] && pp <= &marchEclipsePrograms_[1]);
+            it = march ? built_.erase(it) : std::next(it);
+        }
         for (int moon = 0; moon < 2; ++moon) {
             for (int sh = 0; sh < 2; ++sh)
                 marchPrograms_[moon][sh] = gl::ProjectionPrograms(recipe(true, moon == 1, true, false, false, marchBands_, sh == 1));
@@ -186,8 +202,12 @@ void Sky::doRender(const FrameContext& ctx) {
     glBindTextureUnit(gl::binding::kShLut, v.get(skykeys::shLut).id);
     auto unit = [](glm::dvec3 d) { return glm::length(d) > 0 ? glm::normalize(d) : glm::dvec3(0, 0, -1); };
     const glm::dvec3 moonE = options_.moon ? v.getOr(lightkeys::moonIlluminance, glm::dvec3(0.0)) : glm::dvec3(0.0);
-    // The Moon's term only while it gives light and is above -20 deg (its LUT is black below).
-    const bool moon = glm::length(moonE) > 0.0 && unit(v.get(keys::moonDirection)).z > -0.342;
+    // The Moon's term only while it gives light and is above -20 deg (its LUT is black below), and
+    // not while the Sun is up (above kMoonSkySunAltitudeRad): its sky is then below 1e-4 of the
+    // Sun's in every direction (measured, README "The Moon's sky by day"; test "Sky: by day the
+    // Moon's term is skipped").
+    moonDaySkipped_ = glm::length(moonE) > 0.0 && !v.getOr(skyMoonByDay, false) && unit(v.get(keys::sunDirection)).z > std::sin(kMoonSkySunAltitudeRad);
+    const bool moon = glm::length(moonE) > 0.0 && unit(v.get(keys::moonDirection)).z > -0.342 && !moonDaySkipped_;
     const glm::dvec3 sunE = v.getOr(lightkeys::sunIlluminance, m.solarIlluminance);
     const Projection proj = ctx.camera.projection;
     auto setUniforms = [&](const gl::Program& p, const glm::dvec3& eSun, const glm::dvec3& eMoon) {
@@ -224,12 +244,48 @@ void Sky::doRender(const FrameContext& ctx) {
     sunTerm_ = perPixel_ || eclipse || shadow || unit(v.get(keys::sunDirection)).z > std::sin(kSkySunNightAltitudeRad);
     // Night without the Moon over something: no radiance, the pass only multiplies by T.
     nightMultiply_ = !perPixel_ && !sunTerm_ && !moon && !ctx.nothingBehind && v.getOr(skyNightMultiply, true);
+    if (!perPixel_ && v.getOr(skyPrebuildPrograms, true)) {
+        // The variants this composition can switch to while only the lights move (the Moon on
+        // and off, night, night multiply, an eclipse), built and drawn once now, in its first
+        // frame: llvmpipe links a program at glLinkProgram and JITs its fragment code at the
+        // first draw with the frame's state (blend, target), which would otherwise fall into
+        // the frame after a time jump (README "No program builds after the first frame"). The
+        // draws are scissored to no pixel: they write nothing.
+        const int t = ctx.nothingBehind ? 0 : 1, bk = q.bakedMiePhase ? 1 : 0, sh = shadow ? 1 : 0;
+        if (warmed_.insert(((int(proj) * 2 + t) * 2 + bk) * 2 + sh).second) {
+            const GLboolean blend = glIsEnabled(GL_BLEND), scissor = glIsEnabled(GL_SCISSOR_TEST);
+            GLint f[4] = {}, box[4] = {};
+            glGetIntegerv(GL_BLEND_SRC_RGB, &f[0]);
+            glGetIntegerv(GL_BLEND_DST_RGB, &f[1]);
+            glGetIntegerv(GL_BLEND_SRC_ALPHA, &f[2]);
+            glGetIntegerv(GL_BLEND_DST_ALPHA, &f[3]);
+            glGetIntegerv(GL_SCISSOR_BOX, box);
+            glEnable(GL_SCISSOR_TEST);
+            glScissor(0, 0, 0, 0);
+            auto warm = [&](gl::ProjectionPrograms& pp, bool multiply) {
+                setUniforms(program(pp, proj), sunE, moonE);
+                if (t == 0) glDisable(GL_BLEND);
+                if (multiply) glBlendFuncSeparate(GL_ZERO, GL_SRC_COLOR, GL_ZERO, GL_ONE);
+                ctx.drawFullscreen();
+                if (blend) glEnable(GL_BLEND);
+                glBlendFuncSeparate(GLenum(f[0]), GLenum(f[1]), GLenum(f[2]), GLenum(f[3]));
+            };
+            for (int mo = 0; mo < 2; ++mo) {
+                warm(lutPrograms_[mo][t][bk][sh], false);
+                warm(nightPrograms_[mo][t][bk], false);
+                if (luts_.eclipse) warm(eclipsePrograms_[mo][t][bk], false);
+            }
+            if (t == 1 && v.getOr(skyNightMultiply, true)) warm(nightMultiplyPrograms_[bk], true);
+            if (!scissor) glDisable(GL_SCISSOR_TEST);
+            glScissor(box[0], box[1], box[2], box[3]);
+        }
+    }
     if (!perPixel_ || !sp) {
-        const gl::Program& p = perPixel_ ? (eclipseMarch ? marchEclipsePrograms_[moon].get(proj) : marchPrograms_[moon][shadow].get(proj))
-                               : eclipse ? eclipsePrograms_[moon][ctx.nothingBehind ? 0 : 1][q.bakedMiePhase].get(proj)
-                               : nightMultiply_ ? nightMultiplyPrograms_[q.bakedMiePhase].get(proj)
-                               : !sunTerm_ ? nightPrograms_[moon][ctx.nothingBehind ? 0 : 1][q.bakedMiePhase].get(proj)
-                                         : lutPrograms_[moon][ctx.nothingBehind ? 0 : 1][q.bakedMiePhase][shadow].get(proj);
+        const gl::Program& p = perPixel_ ? (eclipseMarch ? program(marchEclipsePrograms_[moon], proj) : program(marchPrograms_[moon][shadow], proj))
+                               : eclipse ? program(eclipsePrograms_[moon][ctx.nothingBehind ? 0 : 1][q.bakedMiePhase], proj)
+                               : nightMultiply_ ? program(nightMultiplyPrograms_[q.bakedMiePhase], proj)
+                               : !sunTerm_ ? program(nightPrograms_[moon][ctx.nothingBehind ? 0 : 1][q.bakedMiePhase], proj)
+                                         : program(lutPrograms_[moon][ctx.nothingBehind ? 0 : 1][q.bakedMiePhase][shadow], proj);
         setUniforms(p, sunE, moonE);
         // One draw over the processor's black target (nothing drawn before it: by day, or a scene
         // of the Sky alone): the blend dst = L + dst T gives L exactly (and the alpha 1 of the
@@ -275,13 +331,13 @@ void Sky::doRender(const FrameContext& ctx) {
     // behind the sky (black), the first draw would multiply black: skipped.
     if (!ctx.nothingBehind) {
         if (h <= m.topRadius - m.bottomRadius - 1.0) {
-            setUniforms(lutPrograms_[0][1][q.bakedMiePhase][0].get(proj), glm::dvec3(0.0), glm::dvec3(0.0));
+            setUniforms(program(lutPrograms_[0][1][q.bakedMiePhase][0], proj), glm::dvec3(0.0), glm::dvec3(0.0));
         } else {
-            setUniforms(marchPrograms_[0][0].get(proj), glm::dvec3(0.0), glm::dvec3(0.0));
+            setUniforms(program(marchPrograms_[0][0], proj), glm::dvec3(0.0), glm::dvec3(0.0));
         }
         ctx.drawFullscreen();
     }
-    const gl::Program& ps = spectralPrograms_[moon].get(proj);
+    const gl::Program& ps = program(spectralPrograms_[moon], proj);
     const skykeys::TextureList T = v.get(skykeys::transmittanceLuts), MS = v.get(skykeys::multiScatteringLuts),
                                SH = v.get(skykeys::shLuts);
     for (int k = 0; k < sp->triples(); ++k) {
@@ -318,7 +374,12 @@ void Sky::doRelease() {
         for (auto& col : row)
             for (auto& p : col) p.releasePrograms();
     for (auto& p : marchEclipsePrograms_) p.releasePrograms();
+    for (auto& row : nightPrograms_)
+        for (auto& col : row)
+            for (auto& p : col) p.releasePrograms();
     for (auto& p : nightMultiplyPrograms_) p.releasePrograms();
+    built_.clear();
+    warmed_.clear();
     ubo_ = {};
     luts_.releaseGl();
 }
@@ -332,6 +393,8 @@ void Sky::doStats(nlohmann::json& root) const {
     root["sky"]["shadowed"] = shadowed_;
     root["sky"]["eclipse"] = eclipse_;
     root["sky"]["sun_term"] = sunTerm_;
+    root["sky"]["moon_term_skipped_by_day"] = moonDaySkipped_;
+    root["sky"]["program_builds"] = programBuilds_;  // programs compiled and linked so far (programBuilds())
     root["sky"]["night_multiply"] = nightMultiply_;  // the pass only multiplied by T (sky.night_multiply)  // false: the Sun below kSkySunNightAltitudeRad, its term skipped
 }
 

@@ -34,6 +34,9 @@
 //
 // Observer heights below the ground are clamped to 0 m with a warning through the logger.
 #pragma once
+#include <set>
+#include <utility>
+
 #include <welkin/elements/aerial_perspective.hpp>
 #include <welkin/element.hpp>
 #include <welkin/generators/sky_luts.hpp>
@@ -56,6 +59,16 @@ inline constexpr double kSkySunNightAltitudeRad = -21.0 * 3.14159265358979323846
 /// skyelements/sky/README.md). false: the general dual-source pass (tests compare the two).
 inline const Key<bool> skyNightMultiply{"sky.night_multiply",
                                         "at night without the Moon, the pass only multiplies what is behind by T (false: the general blended pass)"};
+
+/// Build and draw once, in the first frame of each composition, every LUT-path program variant
+/// the Sky can switch to while the lights move, so that no later frame compiles one (a time
+/// jump that lights the Moon, nightfall; skyelements/sky/README.md). false: each variant is built
+/// at its first use (the state before; benches compare the two).
+inline const Key<bool> skyPrebuildPrograms{"sky.prebuild_programs",
+                                           "build and draw once, in the first frame, the program variants the lights can switch to (false: at first use)"};
+/// Draw the Moon's sky term while the Sun is up (its sky is then below 1e-4 of the Sun's:
+/// skyelements/sky/README.md). false (default): left out by day.
+inline const Key<bool> skyMoonByDay{"sky.moon_by_day", "draw the Moon's sky term while the Sun is up (false: left out, below 1e-4 of the Sun's sky)"};
 
 struct SkyOptions {
     int quality = -1;   ///< -1: render.quality; else 0 low, 1 medium, 2 high, 3 reference
@@ -94,6 +107,11 @@ public:
     bool shadowed() const { return shadowed_; }
     /// Whether the last frame drew a solar eclipse's sky (sky.eclipse_view_lut).
     bool eclipsed() const { return eclipse_; }
+    /// Programs compiled and linked so far (each variant once per projection). The LUT path's
+    /// variants a running sky can switch to (the Moon on and off, night, night multiply, eclipse)
+    /// are all built and drawn once in the first frame for its projection and composition, so the
+    /// count stays constant after it while only the lights move (skyelements/sky/README.md).
+    int programBuilds() const { return programBuilds_; }
 
 private:
     Sky(const SkyOptions& options, bool force);
@@ -125,12 +143,19 @@ private:
     gl::ProjectionPrograms nightPrograms_[2][2][2];
     // Night without the Moon over something (sky.night_multiply): [baked phase], SKY_MULTIPLY.
     gl::ProjectionPrograms nightMultiplyPrograms_[2];
+    // Every program use goes through program(): it counts the first use of each (variant,
+    // projection), which is when ProjectionPrograms compiles and links it.
+    const gl::Program& program(gl::ProjectionPrograms& pp, Projection proj);
+    std::set<std::pair<const gl::ProjectionPrograms*, int>> built_;
+    std::set<int> warmed_;  // (projection, transmittance, baked, shadow) combinations warmed
+    int programBuilds_ = 0;
     int marchBands_ = 0;
     gl::Buffer ubo_;
     AerialPerspective aerial_;  // applyToScene()'s air pass
     bool perPixel_ = false;
     bool shadowed_ = false;
     bool sunTerm_ = true;    // the last frame drew the Sun's term (false: night, kSkySunNightAltitudeRad)
+    bool moonDaySkipped_ = false;  // the last frame left the Moon's term out: the Sun up (kMoonSkySunAltitudeRad)
     bool nightMultiply_ = false;  // the last frame's pass only multiplied by T (sky.night_multiply)
     bool eclipse_ = false;   // the last frame drew the eclipse's table  // the last frame subtracted sky.shadow_loss_lut
     double zenith_ = 0, global_ = 0, direct_ = 0, diffuse_ = 0;
