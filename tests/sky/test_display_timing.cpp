@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 
 #include "elements_present.hpp"
+#include "cpu_timing.hpp"
 #include "gl_test_context.hpp"
 #include "uniform_field.hpp"
 
@@ -32,25 +33,6 @@
 using namespace welkin;
 
 namespace {
-[[maybe_unused]] double cpuMs() {  // unused where the case below is left out (no nightsky, stars or planet)
-    timespec t{};
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
-}
-[[maybe_unused]] double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
-}
-// Declares that it attenuates what is behind it (as the Sky does) and draws nothing.
-class Attenuator final : public SkyElement {
-public:
-    Attenuator() : SkyElement("attenuator") { setAttenuatesBehind(true); }
-
-private:
-    void doInit(InitContext&) override {}
-    void doRender(const FrameContext&) override { reportNothingDrawn(); }
-    void doRelease() override {}
-};
 // Draws nothing without saying so: the elements after it are composited as before this revision
 // (the Sky blended, with its transmittance, after a night sky that skipped its pass by day).
 class Silent final : public SkyElement {
@@ -98,7 +80,7 @@ TEST_CASE("Display timing: the night sky's fast paths, the Sky unblended by day,
             auto n = std::make_unique<elements::NightSky>();
             n->setFastPaths(fast);
             p.add(std::move(n));
-            p.add(std::make_unique<Attenuator>());  // under a Sky, without the Sky's cost
+            p.add(std::make_unique<test::Attenuator>());  // under a Sky, without the Sky's cost
         };
     };
     const char* kDay = "2026-06-21T10:00:00Z";
@@ -122,7 +104,7 @@ TEST_CASE("Display timing: the night sky's fast paths, the Sky unblended by day,
     std::vector<Row> rows;
     rows.push_back({"empty (clear, meter)", make(kNight, [](SkyProcessor&) {}), renderFrame, {}});
     rows.push_back({"trivial (uniform field)", make(kNight, [](SkyProcessor& p) { p.add(std::make_unique<test::UniformField>(glm::vec3(1e-3f))); }), renderFrame, {}});
-    rows.push_back({"attenuator alone", make(kNight, [](SkyProcessor& p) { p.add(std::make_unique<Attenuator>()); }), renderFrame, {}});
+    rows.push_back({"attenuator alone", make(kNight, [](SkyProcessor& p) { p.add(std::make_unique<test::Attenuator>()); }), renderFrame, {}});
     rows.push_back({"nightsky, general (before)", make(kNight, night(false)), renderFrame, {}});
     rows.push_back({"nightsky, fast paths (after)", make(kNight, night(true)), renderFrame, {}});
     rows.push_back({"day, default elements, the Sky blended (before)", make(kDay, [&](SkyProcessor& p) {
@@ -138,17 +120,17 @@ TEST_CASE("Display timing: the night sky's fast paths, the Sky unblended by day,
     for (int f = 0; f < 11; ++f)
         for (Row& r : rows) {
             glFinish();
-            const double t0 = cpuMs();
+            const double t0 = test::cpuMs();
             r.frame(*r.p);
             glFinish();
-            if (f >= 2) r.ms.push_back(cpuMs() - t0);  // 2 warm-up frames: programs, tables
+            if (f >= 2) r.ms.push_back(test::cpuMs() - t0);  // 2 warm-up frames: programs, tables
         }
-    const double empty = median(rows[0].ms), trivial = median(rows[1].ms) - empty, attenuator = median(rows[2].ms);
+    const double empty = test::medianOf(rows[0].ms), trivial = test::medianOf(rows[1].ms) - empty, attenuator = test::medianOf(rows[2].ms);
     std::printf("display timing, %dx%d, process CPU ms per frame (median of 9), trivial pass %.2f ms:\n", w, h, trivial);
     for (const Row& r : rows)
-        std::printf("  %-62s %8.2f ms = %6.2f x trivial\n", r.what.c_str(), median(r.ms), median(r.ms) / trivial);
-    std::printf("  nightsky pass (over the attenuator frame): general %.2f, fast %.2f x trivial\n", (median(rows[3].ms) - attenuator) / trivial,
-                (median(rows[4].ms) - attenuator) / trivial);
+        std::printf("  %-62s %8.2f ms = %6.2f x trivial\n", r.what.c_str(), test::medianOf(r.ms), test::medianOf(r.ms) / trivial);
+    std::printf("  nightsky pass (over the attenuator frame): general %.2f, fast %.2f x trivial\n", (test::medianOf(rows[3].ms) - attenuator) / trivial,
+                (test::medianOf(rows[4].ms) - attenuator) / trivial);
     CHECK(trivial > 0.0);
 }
 #endif

@@ -5,6 +5,7 @@
 // of a frame swings by 2-5x, the CPU time it uses much less.
 #include <catch2/catch.hpp>
 
+#include "cpu_timing.hpp"
 #include "gl_test_context.hpp"
 #include "uniform_field.hpp"
 
@@ -25,25 +26,6 @@
 using namespace welkin;
 
 namespace {
-double cpuMs() {
-    timespec t{};
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
-}
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
-}
-// Declares that it attenuates what is behind it (as the Sky does) and draws nothing.
-class Attenuator final : public SkyElement {
-public:
-    Attenuator() : SkyElement("attenuator") { setAttenuatesBehind(true); }
-
-private:
-    void doInit(InitContext&) override {}
-    void doRender(const FrameContext&) override {}
-    void doRelease() override {}
-};
 Camera issueView() {
     Camera cam;
     cam.projection = Projection::Perspective;
@@ -91,28 +73,28 @@ TEST_CASE("Night timing: cube map vs per-pixel lookup, Sky with and without the 
     // The night sky as under a Sky (FrameContext::attenuatedLater: no extinction of its own, the
     // default scene's case) without the Sky's cost: a later element that declares it attenuates
     // and draws nothing. The night sky's cost is the difference of these two frames.
-    ps.emplace_back("attenuator alone (draws nothing)", make([](SkyProcessor& p) { p.add(std::make_unique<Attenuator>()); }));
+    ps.emplace_back("attenuator alone (draws nothing)", make([](SkyProcessor& p) { p.add(std::make_unique<test::Attenuator>(false)); }));
     ps.emplace_back("nightsky per-pixel, attenuated later", make([](SkyProcessor& p) {
         auto n = std::make_unique<elements::NightSky>();
         n->setDirectLookup(true);
         p.add(std::move(n));
-        p.add(std::make_unique<Attenuator>());
+        p.add(std::make_unique<test::Attenuator>(false));
     }));
     std::vector<std::vector<double>> ms(ps.size());
     for (int f = 0; f < 9; ++f)
         for (size_t i = 0; i < ps.size(); ++i) {
-            const double t0 = cpuMs();
+            const double t0 = test::cpuMs();
             ps[i].second->renderFrame();
             glFinish();
-            if (f >= 2) ms[i].push_back(cpuMs() - t0);  // 2 warm-up frames: programs, tables, cubes
+            if (f >= 2) ms[i].push_back(test::cpuMs() - t0);  // 2 warm-up frames: programs, tables, cubes
         }
-    const double empty = median(ms[0]), trivial = median(ms[1]) - empty;
+    const double empty = test::medianOf(ms[0]), trivial = test::medianOf(ms[1]) - empty;
     std::printf("night timing, 1280x720, process CPU ms per frame (median of 7), trivial pass %.2f ms:\n", trivial);
     for (size_t i = 0; i < ps.size(); ++i)
-        std::printf("  %-55s %8.2f ms frame, %8.2f ms over the empty frame = %.2f x trivial\n", ps[i].first.c_str(), median(ms[i]), median(ms[i]) - empty,
-                    (median(ms[i]) - empty) / trivial);
+        std::printf("  %-55s %8.2f ms frame, %8.2f ms over the empty frame = %.2f x trivial\n", ps[i].first.c_str(), test::medianOf(ms[i]), test::medianOf(ms[i]) - empty,
+                    (test::medianOf(ms[i]) - empty) / trivial);
     const size_t n = ps.size();
-    std::printf("  nightsky attenuated later: %.2f ms = %.2f x trivial\n", median(ms[n - 1]) - median(ms[n - 2]),
-                (median(ms[n - 1]) - median(ms[n - 2])) / trivial);
+    std::printf("  nightsky attenuated later: %.2f ms = %.2f x trivial\n", test::medianOf(ms[n - 1]) - test::medianOf(ms[n - 2]),
+                (test::medianOf(ms[n - 1]) - test::medianOf(ms[n - 2])) / trivial);
     CHECK(trivial > 0.0);
 }

@@ -7,6 +7,7 @@
 // 1440x at 30 frames a second, each as a ratio to the still frame (alternated).
 #include <catch2/catch.hpp>
 
+#include "cpu_timing.hpp"
 #include "gl_test_context.hpp"
 
 #include <epoxy/gl.h>
@@ -25,24 +26,6 @@
 using namespace welkin;
 
 namespace {
-double cpuMs() {
-    timespec t{};
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
-}
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
-}
-class Attenuator final : public SkyElement {
-public:
-    Attenuator() : SkyElement("attenuator") { setAttenuatesBehind(true); }
-
-private:
-    void doInit(InitContext&) override {}
-    void doRender(const FrameContext&) override { reportNothingDrawn(); }
-    void doRelease() override {}
-};
 }  // namespace
 
 TEST_CASE("Display timing: the night sky's folded texture when time jumps and runs", "[.][display_timing]") {
@@ -64,16 +47,16 @@ TEST_CASE("Display timing: the night sky's folded texture when time jumps and ru
         auto n = std::make_unique<elements::NightSky>();
         n->setFoldBudget(int(budget));
         p->add(std::move(n));
-        p->add(std::make_unique<Attenuator>());
+        p->add(std::make_unique<test::Attenuator>());
         p->vars().set(keys::interactive, true);  // as welkin view
         return p;
     };
     auto timed = [](SkyProcessor& p) {
         glFinish();
-        const double a = cpuMs();
+        const double a = test::cpuMs();
         p.renderFrame();
         glFinish();
-        return cpuMs() - a;
+        return test::cpuMs() - a;
     };
     auto spread = make(elements::kNightFoldTexelsPerFrame), whole = make(0);
     std::vector<double> still;
@@ -81,7 +64,7 @@ TEST_CASE("Display timing: the night sky's folded texture when time jumps and ru
         const double a = timed(*spread), b = timed(*whole);
         if (f >= 2) still.push_back(0.5 * (a + b));
     }
-    const double s = median(still);
+    const double s = test::medianOf(still);
     // A jump of a day (the Sun moves ~1 deg): the spread rebuild's worst frame, and the whole one.
     double spreadMax = 0, wholeMax = 0;
     spread->setTime(t0.plusSeconds(86400));
@@ -115,10 +98,10 @@ TEST_CASE("Display timing: the night sky's folded texture when time jumps and ru
         }
         meanRun /= double(run.size());
         meanStop /= double(stop.size());
-        const double still = median(stop), worst = *std::max_element(run.begin(), run.end()), worstStill = *std::max_element(stop.begin(), stop.end());
+        const double still = test::medianOf(stop), worst = *std::max_element(run.begin(), run.end()), worstStill = *std::max_element(stop.begin(), stop.end());
         std::printf("  time at %.0fx, 300 frames alternated with a still processor: mean %.2f ms against %.2f (%.2f x), median %.2f against %.2f (%.2f x), "
                     "worst %.2f (%.2f x the still median; the still frames' worst %.2f, %.2f x)\n",
-                    rate, meanRun, meanStop, meanRun / meanStop, median(run), still, median(run) / still, worst, worst / still, worstStill, worstStill / still);
+                    rate, meanRun, meanStop, meanRun / meanStop, test::medianOf(run), still, test::medianOf(run) / still, worst, worst / still, worstStill, worstStill / still);
         CHECK(meanRun > 0.0);
     }
     CHECK(s > 0.0);

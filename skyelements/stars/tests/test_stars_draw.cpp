@@ -4,6 +4,7 @@
 // view goes: process CPU time per frame at 1280x720, each draw alternated in one process.
 #include <catch2/catch.hpp>
 
+#include "cpu_timing.hpp"
 #include "gl_test_context.hpp"
 #include "uniform_field.hpp"
 
@@ -55,15 +56,6 @@ std::unique_ptr<SkyProcessor> starsAt(const Camera& cam, bool instanced, double 
     return p;
 }
 
-[[maybe_unused]] double cpuMs() {
-    timespec t{};
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
-}
-[[maybe_unused]] double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
-}
 }  // namespace
 
 TEST_CASE("Stars: one indexed draw of 4 vertices per star gives the instanced draw's pixels", "[gl][stars]") {
@@ -113,16 +105,16 @@ TEST_CASE("Display timing: the Stars at the moonless view, instanced and single 
     for (int f = 0; f < 11; ++f)
         for (Row& r : rows) {
             glFinish();
-            const double t0 = cpuMs();
+            const double t0 = test::cpuMs();
             r.p->renderFrame();
             glFinish();
-            if (f >= 2) r.ms.push_back(cpuMs() - t0);
+            if (f >= 2) r.ms.push_back(test::cpuMs() - t0);
         }
-    const double e = median(rows[0].ms), t = median(rows[1].ms) - e;
+    const double e = test::medianOf(rows[0].ms), t = test::medianOf(rows[1].ms) - e;
     std::printf("stars timing, 1280x720, process CPU ms per frame over the empty frame (median of 9), trivial pass %.2f ms:\n", t);
     for (const Row& r : rows) {
         const int drawn = r.p->stats().contains("stars") ? r.p->stats()["stars"]["drawn"].get<int>() : 0;
-        std::printf("  %-40s %6d stars %8.2f ms = %6.2f x trivial\n", r.what.c_str(), drawn, median(r.ms) - e, (median(r.ms) - e) / t);
+        std::printf("  %-40s %6d stars %8.2f ms = %6.2f x trivial\n", r.what.c_str(), drawn, test::medianOf(r.ms) - e, (test::medianOf(r.ms) - e) / t);
     }
     CHECK(t > 0.0);
 }
