@@ -42,6 +42,43 @@ cpu::EclipseGeometry geometryOf(const SkyVars& v) {
             .sunPos = glm::normalize(v.get(keys::sunDirection)) * v.get(astro::keys::sunDistance), .sunRadius = kSunRadiusMeters};
 }
 
+// The eclipse sky's model (cpu::integrateEclipse with its multiple-scattering table, 128 steps)
+// beside the eclipse reference (atmosphere::eclipseReferenceRadiance, exact to order 2) for an
+// observer on the ground under `v`'s eclipse, in directions given from the Sun's azimuth. The
+// reference is coarse (seconds, not minutes): 24 view points, an 8 x 12 gather of 16 points,
+// 48 rings, the resolution every tolerance below was measured at.
+class EclipseComparison {
+public:
+    struct Point {
+        double model = 0, reference = 0, secondOrder = 0;  // luminance Y of each radiance, in the integrators' common unit
+    };
+    EclipseComparison(const SkyVars& v, const SkyModel& m, const Lut2D& T, const cpu::MsField& MS)
+        : m_(m), T_(T), MS_(MS), sun_(glm::normalize(v.get(keys::sunDirection))), g_(geometryOf(v)),
+          field_(cpu::eclipseMsTable(g_, kEclipseMsLengthMeters)), gm_(g_) {
+        gm_.ms = &field_;
+    }
+    EclipseComparison(const EclipseComparison&) = delete;  // gm_ points into field_
+    EclipseComparison& operator=(const EclipseComparison&) = delete;
+    // dazDeg: azimuth from the Sun's, degrees; altDeg: altitude, degrees.
+    Point at(double dazDeg, double altDeg) const {
+        const glm::dvec3 dir = directionFromAzAlt(std::atan2(sun_.x, sun_.y) + dazDeg * kDeg, altDeg * kDeg);
+        const atmosphere::EclipseReferenceOptions ro{.viewSteps = 24, .gatherZenith = 8, .gatherAzimuth = 12, .gatherSteps = 16, .rings = 48};
+        const atmosphere::EclipseReferenceRadiance r = atmosphere::eclipseReferenceRadiance(m_, T_, MS_, 0.0, dir, sun_, g_, ro);
+        const double model =
+            Y(cpu::radiance(m_, cpu::integrateEclipse(m_, T_, MS_, 0.0, dir, sun_, gm_, 128, false, m_.sunAngularRadius), glm::dot(dir, sun_)));
+        return {model, Y(r.radiance), Y(r.second)};
+    }
+
+private:
+    const SkyModel& m_;
+    const Lut2D& T_;
+    const cpu::MsField& MS_;
+    glm::dvec3 sun_;
+    cpu::EclipseGeometry g_;
+    cpu::EclipseMsTable field_;
+    cpu::EclipseGeometry gm_;
+};
+
 // The Sky element over the astronomy's keys at an instant (eclipses on or off), rendered to a
 // small equirectangular image.
 struct EclipseRig {
@@ -213,25 +250,15 @@ TEST_CASE("Eclipse sky: the multiple-scattering model against the eclipse refere
     const SkyQuality q = SkyQuality::preset(1);
     const Lut2D T = cpu::transmittanceLut(m, q);
     const cpu::MsField MS = cpu::msField(m, q, T);
-    const glm::dvec3 sun = glm::normalize(v.get(keys::sunDirection));
-    cpu::EclipseGeometry g = geometryOf(v);
-    const cpu::EclipseMsTable field = cpu::eclipseMsTable(g, kEclipseMsLengthMeters);
-    cpu::EclipseGeometry gm = g;
-    gm.ms = &field;
-    // A coarse reference (seconds, not minutes): 24 view points, an 8 x 12 gather of 16 points,
-    // 48 rings (the resolution the tolerance was measured at).
-    atmosphere::EclipseReferenceOptions ro{.viewSteps = 24, .gatherZenith = 8, .gatherAzimuth = 12, .gatherSteps = 16, .rings = 48};
-    const double sunAz = std::atan2(sun.x, sun.y);
+    const EclipseComparison cmp(v, m, T, MS);
     // Towards the Sun too (beneath it and 45 deg up): this aerosol scatters 23 % of the light at
     // the ground (the renderer's 86 %), so the weight along the axis keeps most of the kernel's
     // average there (cpu::eclipseMsAxisWeight); with sin(angle) alone the model gave 0.13 and 0.47
     // of the reference, measured now 0.89 and 0.70.
     for (auto [daz, alt] : {std::pair{0.0, 90.0}, std::pair{90.0, 45.0}, std::pair{180.0, 2.0}, std::pair{90.0, 2.0}, std::pair{0.0, 2.0},
                             std::pair{0.0, 45.0}}) {
-        const glm::dvec3 dir = directionFromAzAlt(sunAz + daz * kDeg, alt * kDeg);
-        const double ref = Y(atmosphere::eclipseReferenceRadiance(m, T, MS, 0.0, dir, sun, g, ro).radiance);
-        const double model = Y(cpu::radiance(m, cpu::integrateEclipse(m, T, MS, 0.0, dir, sun, gm, 128, false, m.sunAngularRadius),
-                                             glm::dot(dir, sun)));
+        const EclipseComparison::Point pt = cmp.at(daz, alt);
+        const double ref = pt.reference, model = pt.model;
         INFO("azimuth from the Sun " << daz << " deg, altitude " << alt << " deg: model " << model << ", reference " << ref);
         // Within kEclipseModelFactor (above); the old model gave 0 at the zenith (a factor of infinity).
         CHECK(model < ref * kEclipseModelFactor);
@@ -254,28 +281,19 @@ TEST_CASE("Eclipse sky: the model against the eclipse reference at totality on t
     const SkyQuality q = SkyQuality::preset(1);
     const Lut2D T = cpu::transmittanceLut(m, q);
     const cpu::MsField MS = cpu::msField(m, q, T);
-    const glm::dvec3 sun = glm::normalize(v.get(keys::sunDirection));
-    cpu::EclipseGeometry g = geometryOf(v);
-    const cpu::EclipseMsTable field = cpu::eclipseMsTable(g, kEclipseMsLengthMeters);
-    cpu::EclipseGeometry gm = g;
-    gm.ms = &field;
-    atmosphere::EclipseReferenceOptions ro{.viewSteps = 24, .gatherZenith = 8, .gatherAzimuth = 12, .gatherSteps = 16, .rings = 48};
-    const double sunAz = std::atan2(sun.x, sun.y);
+    const EclipseComparison cmp(v, m, T, MS);
     for (auto [daz, alt] : {std::pair{0.0, 2.0}, std::pair{0.0, 45.0}}) {
-        const glm::dvec3 dir = directionFromAzAlt(sunAz + daz * kDeg, alt * kDeg);
-        const atmosphere::EclipseReferenceRadiance r = atmosphere::eclipseReferenceRadiance(m, T, MS, 0.0, dir, sun, g, ro);
-        const double ref = Y(r.radiance);
-        const double model = Y(cpu::radiance(m, cpu::integrateEclipse(m, T, MS, 0.0, dir, sun, gm, 128, false, m.sunAngularRadius),
-                                             glm::dot(dir, sun)));
+        const EclipseComparison::Point pt = cmp.at(daz, alt);
+        const double ref = pt.reference, model = pt.model;
         INFO("azimuth from the Sun " << daz << " deg, altitude " << alt << " deg: model " << model << ", reference " << ref
-                                     << " (order 2: " << Y(r.second) / ref << " of it)");
+                                     << " (order 2: " << pt.secondOrder / ref << " of it)");
         // Measured 1.31 beneath the Sun and 1.10 at 45 deg (here, 128 steps, as the bench's 256);
         // kEclipseModelFactor, the stated accuracy at totality.
         CHECK(model < ref * kEclipseModelFactor);
         CHECK(model > ref / kEclipseModelFactor);
         // The reference there is exact where it matters: its second order, computed exactly,
         // carries most of the light beneath the Sun (measured 0.95; 0.79 on SkyModel::earthClear()).
-        if (alt < 10.0) CHECK(Y(r.second) > 0.75 * ref);
+        if (alt < 10.0) CHECK(pt.secondOrder > 0.75 * ref);
     }
 }
 
@@ -293,27 +311,18 @@ TEST_CASE("Eclipse sky: the model against the eclipse reference at totality on h
     const SkyQuality q = SkyQuality::preset(1);
     const Lut2D T = cpu::transmittanceLut(m, q);
     const cpu::MsField MS = cpu::msField(m, q, T);
-    const glm::dvec3 sun = glm::normalize(v.get(keys::sunDirection));
-    cpu::EclipseGeometry g = geometryOf(v);
-    const cpu::EclipseMsTable field = cpu::eclipseMsTable(g, kEclipseMsLengthMeters);
-    cpu::EclipseGeometry gm = g;
-    gm.ms = &field;
-    atmosphere::EclipseReferenceOptions ro{.viewSteps = 24, .gatherZenith = 8, .gatherAzimuth = 12, .gatherSteps = 16, .rings = 48};
-    const double sunAz = std::atan2(sun.x, sun.y);
+    const EclipseComparison cmp(v, m, T, MS);
     for (auto [daz, alt] : {std::pair{0.0, 90.0}, std::pair{0.0, 45.0}, std::pair{0.0, 2.0}}) {
-        const glm::dvec3 dir = directionFromAzAlt(sunAz + daz * kDeg, alt * kDeg);
-        const atmosphere::EclipseReferenceRadiance r = atmosphere::eclipseReferenceRadiance(m, T, MS, 0.0, dir, sun, g, ro);
-        const double ref = Y(r.radiance);
-        const double model = Y(cpu::radiance(m, cpu::integrateEclipse(m, T, MS, 0.0, dir, sun, gm, 128, false, m.sunAngularRadius),
-                                             glm::dot(dir, sun)));
+        const EclipseComparison::Point pt = cmp.at(daz, alt);
+        const double ref = pt.reference, model = pt.model;
         INFO("azimuth from the Sun " << daz << " deg, altitude " << alt << " deg: model " << model << ", reference " << ref
-                                     << " (order 2: " << Y(r.second) / ref << " of it)");
+                                     << " (order 2: " << pt.secondOrder / ref << " of it)");
         // Measured (bench, 256 steps) 1.00 at the zenith, 1.34 at 45 deg towards the Sun, 0.66 on
         // the horizon beneath it; kEclipseModelFactor, the stated accuracy at totality.
         CHECK(model < ref * kEclipseModelFactor);
         CHECK(model > ref / kEclipseModelFactor);
         // The reference beneath the Sun is its exact second order (measured 1.00 of it).
-        if (alt < 10.0) CHECK(Y(r.second) > 0.75 * ref);
+        if (alt < 10.0) CHECK(pt.secondOrder > 0.75 * ref);
     }
 }
 
@@ -356,23 +365,15 @@ TEST_CASE("Eclipse sky: the model against the eclipse reference in the partial p
     const SkyQuality q = SkyQuality::preset(1);
     const Lut2D T = cpu::transmittanceLut(m, q);
     const cpu::MsField MS = cpu::msField(m, q, T);
-    atmosphere::EclipseReferenceOptions ro{.viewSteps = 24, .gatherZenith = 8, .gatherAzimuth = 12, .gatherSteps = 16, .rings = 48};
     for (auto [iso, fraction] : {std::pair{"2026-08-12T18:27:39Z", 0.005}, std::pair{"2026-08-12T18:27:16Z", 0.01},
                                  std::pair{"2026-08-12T18:22:25Z", 0.1}}) {
         const SkyVars v = test::astronomyAt(iso, kLat, kLon);
         // The phase itself (the bisection's instants rounded to the second: 2 %).
         REQUIRE(v.get(keys::sunEclipseFraction) == Approx(fraction).epsilon(0.02));
-        const glm::dvec3 sun = glm::normalize(v.get(keys::sunDirection));
-        cpu::EclipseGeometry g = geometryOf(v);
-        const cpu::EclipseMsTable field = cpu::eclipseMsTable(g, kEclipseMsLengthMeters);
-        cpu::EclipseGeometry gm = g;
-        gm.ms = &field;
-        const double sunAz = std::atan2(sun.x, sun.y);
+        const EclipseComparison cmp(v, m, T, MS);
         for (auto [daz, alt] : {std::pair{0.0, 90.0}, std::pair{90.0, 45.0}, std::pair{0.0, 2.0}, std::pair{90.0, 2.0}}) {
-            const glm::dvec3 dir = directionFromAzAlt(sunAz + daz * kDeg, alt * kDeg);
-            const double ref = Y(atmosphere::eclipseReferenceRadiance(m, T, MS, 0.0, dir, sun, g, ro).radiance);
-            const double model = Y(cpu::radiance(m, cpu::integrateEclipse(m, T, MS, 0.0, dir, sun, gm, 128, false, m.sunAngularRadius),
-                                                 glm::dot(dir, sun)));
+            const EclipseComparison::Point pt = cmp.at(daz, alt);
+            const double ref = pt.reference, model = pt.model;
             INFO(iso << ", azimuth from the Sun " << daz << " deg, altitude " << alt << " deg: model " << model << ", reference " << ref);
             // Measured 0.99 to 1.04 at this test's quality 1 (0.91 to 1.59 at the default quality,
             // the bench's table, the largest on the horizon 90 deg from the Sun where the clear
