@@ -148,7 +148,7 @@ gl::ProgramBuilder Sky::recipe(bool perPixel, bool moon, bool transmittance, boo
 }
 
 const gl::Program& Sky::program(gl::ProjectionPrograms& pp, Projection proj) {
-    if (built_.insert({&pp, int(proj)}).second) ++programBuilds_;
+    if (!pp.built(proj)) ++programBuilds_;
     return pp.get(proj);
 }
 
@@ -174,13 +174,6 @@ void Sky::doRender(const FrameContext& ctx) {
     perPixel_ = q.perPixel || h > m.topRadius - m.bottomRadius - 1.0;
     if (perPixel_ && marchBands_ != q.shBands) {
         marchBands_ = q.shBands;
-        for (auto it = built_.begin(); it != built_.end();) {  // remade below: their next use builds again
-            const auto* pp = it->first;
-            const bool march = (pp >= &marchPrograms_[0][0] && pp <= &marchPrograms_[1][1]) ||
-                               (pp >= &spectralPrograms_[0] && pp <= &spectralPrograms_[1]) ||
-                               (pp >= &marchEclipsePrograms_[0] && pp <= &marchEclipsePrograms_[1]);
-            it = march ? built_.erase(it) : std::next(it);
-        }
         for (int moon = 0; moon < 2; ++moon) {
             for (int sh = 0; sh < 2; ++sh)
                 marchPrograms_[moon][sh] = gl::ProjectionPrograms(recipe(true, moon == 1, true, false, false, marchBands_, sh == 1));
@@ -378,7 +371,6 @@ void Sky::doRelease() {
         for (auto& col : row)
             for (auto& p : col) p.releasePrograms();
     for (auto& p : nightMultiplyPrograms_) p.releasePrograms();
-    built_.clear();
     warmed_.clear();
     ubo_ = {};
     luts_.releaseGl();
@@ -392,10 +384,10 @@ void Sky::doStats(nlohmann::json& root) const {
     root["sky"]["per_pixel"] = perPixel_;
     root["sky"]["shadowed"] = shadowed_;
     root["sky"]["eclipse"] = eclipse_;
-    root["sky"]["sun_term"] = sunTerm_;
+    root["sky"]["sun_term"] = sunTerm_;  // false: the Sun below kSkySunNightAltitudeRad, its term skipped
     root["sky"]["moon_term_skipped_by_day"] = moonDaySkipped_;
     root["sky"]["program_builds"] = programBuilds_;  // programs compiled and linked so far (programBuilds())
-    root["sky"]["night_multiply"] = nightMultiply_;  // the pass only multiplied by T (sky.night_multiply)  // false: the Sun below kSkySunNightAltitudeRad, its term skipped
+    root["sky"]["night_multiply"] = nightMultiply_;  // the pass only multiplied by T (sky.night_multiply)
 }
 
 }  // namespace welkin::elements

@@ -36,6 +36,12 @@ public:
     /// The program for `projection`, compiled on first use. Throws welkin::Error like
     /// ProgramBuilder::build() (naming the label, file and line), or if there is no recipe.
     const Program& get(Projection projection);
+    /// True when the program for `projection` is compiled (get() will not compile it); false for
+    /// a projection outside [0, 3].
+    bool built(Projection projection) const {
+        const int i = static_cast<int>(projection);
+        return i >= 0 && i < int(programs_.size()) && bool(programs_[i]);
+    }
     /// Compiles every variant now (e.g. to keep compilation out of timed frames).
     void buildAll();
     /// True once a recipe is set.

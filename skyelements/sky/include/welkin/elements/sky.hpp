@@ -143,10 +143,9 @@ private:
     gl::ProjectionPrograms nightPrograms_[2][2][2];
     // Night without the Moon over something (sky.night_multiply): [baked phase], SKY_MULTIPLY.
     gl::ProjectionPrograms nightMultiplyPrograms_[2];
-    // Every program use goes through program(): it counts the first use of each (variant,
-    // projection), which is when ProjectionPrograms compiles and links it.
+    // Every program use goes through program(): it counts the uses that find the (variant,
+    // projection) not yet built (ProjectionPrograms::built()), i.e. the ones that compile and link.
     const gl::Program& program(gl::ProjectionPrograms& pp, Projection proj);
-    std::set<std::pair<const gl::ProjectionPrograms*, int>> built_;
     std::set<int> warmed_;  // (projection, transmittance, baked, shadow) combinations warmed
     int programBuilds_ = 0;
     int marchBands_ = 0;
