@@ -2,6 +2,7 @@
 // CPU twin (both through the shared density, cloud_density.hpp), the geometry of a shadow, and
 // the limits (no cloud, overcast, the light at the horizon, the Moon at night), and the host's
 // GLSL lookup welkin_cloudShadow().
+#include <algorithm>
 #include <catch2/catch.hpp>
 
 #include "cloud_test_textures.hpp"
@@ -180,6 +181,21 @@ TEST_CASE("Cloud shadow: no clouds, overcast, light at the horizon, the Moon at 
         Scene s(testWeather(64, 20e3, 3000.0), 20e3, lightAt(0.7, 1.0), 0.0, 0.05);  // coverage 0
         s.vars.set(cloudkeys::shadowResolution, 32);
         for (float t : s.run()) REQUIRE(t == 1.0f);  // exp(-0): exactly 1
+        // The light moves with nothing to shadow (time running without clouds: the Rainbow's
+        // scene): the map of 1 is not drawn again, only the light is published; the end is what a
+        // whole build gives (1 everywhere), and a change of the layer still draws.
+        const unsigned id = s.vars.get(cloudkeys::shadowMap).id;
+        const uint64_t version = s.vars.version(cloudkeys::shadowMap);
+        s.vars.set(keys::sunDirection, lightAt(0.6, 1.2));
+        for (float t : s.run()) REQUIRE(t == 1.0f);
+        CHECK(s.vars.get(cloudkeys::shadowMap).id == id);
+        CHECK(s.vars.version(cloudkeys::shadowMap) != version);  // republished: readers see the new light
+        CHECK(glm::length(s.vars.get(cloudkeys::shadowLight) - lightAt(0.6, 1.2)) < 1e-12);
+        s.vars.set(cloudkeys::coverage, 1.0);  // clouds: drawn, some texel shadowed
+        const std::vector<float> cloudy = s.run();
+        CHECK(*std::min_element(cloudy.begin(), cloudy.end()) < 0.999f);
+        s.vars.set(cloudkeys::coverage, 0.0);  // and clear again: 1 everywhere, drawn
+        for (float t : s.run()) REQUIRE(t == 1.0f);
         Scene e(testWeather(64, 20e3, 0.0), 20e3, lightAt(0.7, 1.0), 1.0, 0.05);  // an empty map
         e.vars.set(cloudkeys::shadowResolution, 32);
         for (float t : e.run()) REQUIRE(t == 1.0f);

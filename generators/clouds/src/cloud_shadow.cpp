@@ -216,6 +216,14 @@ void CloudShadowMap::doRun(SkyVars& vars, const Logger&) {
         vars.publish(cloudkeys::shadowOffset, o);
         vars.publish(cloudkeys::shadowMap, g.tex.ref());
     };
+    if (clear && setup == g.setup) {
+        // Still nothing to shadow, and the shown map is already the map of 1 of this setup (a clear
+        // map is always drawn whole into it): only the light moved. Nothing to draw; the light
+        // published (the Rainbow, with no clouds, paid a clear of the whole map every frame in
+        // which the light moved 0.03 deg: 0.04 ms, 6 % of its still frame at 512x256).
+        publish(light, offset);
+        return;
+    }
     if (slices <= 1 || clear || setup != g.setup) {
         // Whole, now, into the shown map (the first build, a change of the layer, a render).
         g.slicing = false;

@@ -4,7 +4,8 @@
 // the curtain's): the display clips the mesh at the curtain's edges, and bilinear filtering there
 // then blends values of the curtain only, never a rim of "no rain".
 // Needs optics/mie_angle.glsl, cloud_shadow.glsl, rainbow_curtain.glsl, rainbow_polar.glsl.
-layout(local_size_x = 8, local_size_y = 8) in;
+// Workgroups of one row segment (64 x 1): a refill spread over frames fills any number of rows.
+layout(local_size_x = 64, local_size_y = 1) in;
 layout(binding = WELKIN_BINDING_LUT_IMAGE, rgba32f) writeonly uniform image2D u_cache;
 uniform ivec2 u_cacheSize;            // texels: u, psi
 uniform int u_rowOffset;              // first row (psi) of this dispatch (a refill spread over frames)

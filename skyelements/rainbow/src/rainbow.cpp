@@ -227,7 +227,7 @@ void Rainbow::doRender(const FrameContext& ctx) {
             cacheFill_.set("u_sinElHi", float(std::sin(std::max(el.hi - 1e-4, 0.5 * (el.lo + el.hi)))));
             cacheFill_.set("u_halfWidth", float(std::max(v.get(rainbowkeys::halfWidth) - 1e-4, 0.0)));
             glBindImageTexture(gl::binding::kLutImage, target.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-            glDispatchCompute(GLuint((kCacheU + 7) / 8), GLuint((y1 - y0 + 7) / 8), 1);
+            glDispatchCompute(GLuint((kCacheU + 63) / 64), GLuint(y1 - y0), 1);  // workgroups of 64 x 1 texels
             glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
             rowsLast_ += y1 - y0;
         };
@@ -238,7 +238,7 @@ void Rainbow::doRender(const FrameContext& ctx) {
         // a refill under way with the new light, spread the same way (the whole fill in the
         // jump's frame made it ~19x a still frame): the bows stay placed around the current
         // anti-light point, and the cache from before the jump is drawn until the new one is complete.
-        const int slices = std::clamp(v.getOr(rainbowkeys::cacheSlices, rainbowkeys::kCacheSlicesDefault), 1, 32);
+        const int slices = std::clamp(v.getOr(rainbowkeys::cacheSlices, rainbowkeys::kCacheSlicesDefault), 1, rainbowkeys::kCacheSlicesMax);
         const bool jump = glm::dot(L, lastLight_) < std::cos(kLightJump);  // since the last frame (the cache may lag more)
         lastLight_ = L;
         const bool whole = in != cacheInputs_;
@@ -267,7 +267,7 @@ void Rainbow::doRender(const FrameContext& ctx) {
                 backSkyColour_ = skyE;
             }
             if (backRow_ >= 0) {
-                const int rows = ((kCachePsi + slices - 1) / slices + 7) / 8 * 8;
+                const int rows = rowsPerSlice(slices);
                 const int y1 = std::min(backRow_ + rows, kCachePsi);
                 fillRows(back_, backRow_, y1, backLight_, backEColour_, backSkyColour_);
                 backRow_ = y1;
