@@ -134,6 +134,10 @@ void CloudShadowMap::doDeclare(SkyVars& vars) {
 
 glm::dvec3 CloudShadowMap::lightDirection(const SkyVars& vars) { return shadowLight(vars); }
 
+bool CloudShadowMap::nothingToShadow(const SkyVars& vars) {
+    return vars.getOr(cloudkeys::coverage, 0.0) <= 0.0 && vars.getOr(cloudkeys::cirrusCoverage, 0.0) <= 0.0;
+}
+
 void CloudShadowMap::doRun(SkyVars& vars, const Logger&) {
     const CloudLayerBlock block = CloudLayerBlock::from(vars);  // checks the layer (validateCloudLayer)
     const glm::dvec3 light = shadowLight(vars);
@@ -171,7 +175,7 @@ void CloudShadowMap::doRun(SkyVars& vars, const Logger&) {
     const bool hasClouds = weather.id && base.id;
     // Nothing to shadow (no cumulus, no cirrus: the clear preset, or no clouds at all): a map of
     // 1 without the march (what the march gives there, at no cost).
-    const bool clear = vars.getOr(cloudkeys::coverage, 0.0) <= 0.0 && vars.getOr(cloudkeys::cirrusCoverage, 0.0) <= 0.0;
+    const bool clear = nothingToShadow(vars);
     // Everything the map depends on but the light and the offsets (the wind): when only those
     // moved, the map may be rebuilt over several frames.
     std::vector<float> setup(block.radii, block.radii + 4);

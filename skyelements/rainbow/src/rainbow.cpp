@@ -150,7 +150,11 @@ void Rainbow::doRender(const FrameContext& ctx) {
 
     // The curtain's uniforms (rainbow_curtain.glsl), on the per-pixel program or the cache's fill.
     const glm::dvec3 skyE = v.has(generators::skykeys::diffuseIrradiance) ? v.get(generators::skykeys::diffuseIrradiance) : glm::dvec3(0.0);
-    const bool shadow = v.has(generators::cloudkeys::shadowMap) && v.get(generators::cloudkeys::shadowMap).id != 0;
+    // Nothing to shadow (no cloud coverage): the map is 1 everywhere, exactly, so the lookup (a fetch
+    // per texel of the cache's fill, per pixel of the per-pixel pass) and its rebuilds (a refill
+    // whenever the light moved 0.03 deg) are skipped; the pixels are the same.
+    const bool shadow = v.has(generators::cloudkeys::shadowMap) && v.get(generators::cloudkeys::shadowMap).id != 0 &&
+                        !generators::CloudShadowMap::nothingToShadow(v);
     glm::dvec2 axis(-L.x, -L.y);
     axis = glm::length(axis) > 1e-9 ? glm::normalize(axis) : glm::dvec2(0.0, 1.0);
     const glm::dvec3 ext = v.get(rk::extinction);

@@ -82,6 +82,9 @@ public:
     /// The two mapping uniforms: m0 = (shift x, shift y, 1 / extent, ground z in ENU), m1 =
     /// (light x, y, z, cloud base height above the ground), as cloud_shadow.glsl reads them.
     static void hostUniforms(const SkyVars& vars, float m0[4], float m1[4]);
+    /// True when there is nothing to shadow (no cumulus and no cirrus coverage: the clear preset, or
+    /// no clouds at all): the map is then 1 everywhere, exactly, and a reader may skip its lookup.
+    static bool nothingToShadow(const SkyVars& vars);
     /// The text of cloud_shadow.glsl (welkin_cloudShadow()), for a host's shader.
     static std::string_view hostGlsl();
     /// Parts of time-sliced rebuilds drawn so far (clouds.shadow_slices), for tests.
