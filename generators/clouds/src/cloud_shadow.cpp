@@ -224,7 +224,8 @@ void CloudShadowMap::doRun(SkyVars& vars, const Logger&) {
         // Still nothing to shadow, and the shown map is already the map of 1 of this setup (a clear
         // map is always drawn whole into it): only the light moved. Nothing to draw; the light
         // published (the Rainbow, with no clouds, paid a clear of the whole map every frame in
-        // which the light moved 0.03 deg: 0.04 ms, 6 % of its still frame at 512x256).
+        // which the light moved 0.03 deg: 0.04-0.05 ms in a per-part trace at load 6, against a
+        // still frame of 0.7 ms quiet at 512x256).
         publish(light, offset);
         return;
     }
