@@ -1,7 +1,8 @@
 // Hidden timing (not run by CI: `welkin_tests "[night_cells_timing]"`): what the night sky's pass
 // would cost drawn through a grid of screen cells instead of per pixel (issue 22 item 2; README
-// "Cost", "Cells"). Standalone passes at 1280x720 into RGBA32F, the issue's view (south, 30 deg
-// up, 60 deg field), a 2048x1024 RGBA32F equirectangular texture (the folded panorama's size and
+// "Cost", "the screen in cells instead of pixels"). Standalone passes at 1280x720 into RGBA32F,
+// the issue's view (south, 30 deg up, 60 deg field), a 2048x1024 RGBA32F equirectangular texture
+// (the folded panorama's size and
 // format, bilinear, level 0: the fast path's fixed level), each timed in process CPU time with
 // glFinish around it, the passes alternated for 15 rounds (median), as ratios to a trivial pass:
 //
