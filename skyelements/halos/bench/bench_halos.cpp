@@ -19,11 +19,13 @@
 #include <welkin/keys.hpp>
 #include <welkin/processor.hpp>
 
+#include <epoxy/gl.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -41,6 +43,7 @@ struct HalosBenchOptions {
     std::string accuracyQuality = "default";
     std::string passQuality = "default";
     bool accuracy = true;
+    double cellTolerance = elements::Halos::kCellTolerance;
     int exactFactor = 10;
 };
 
@@ -52,6 +55,7 @@ std::string fmtDeg(double d) {
 
 int run(const HalosBenchOptions& o) {
     if (o.repeats < 1 || o.repeats > 1000) throw Error("--repeats " + std::to_string(o.repeats) + " not in [1, 1000]");
+    if (!(o.cellTolerance > 0.0 && o.cellTolerance <= 1.0)) throw Error("--cell-tolerance " + std::to_string(o.cellTolerance) + " not in (0, 1]");
     if (o.exactFactor < 2 || o.exactFactor > 100) throw Error("--exact-factor " + std::to_string(o.exactFactor) + " not in [2, 100]");
     (void)elements::halos::HaloTables::quality(o.accuracyQuality);
     (void)elements::halos::HaloTables::quality(o.passQuality);
@@ -111,6 +115,7 @@ int run(const HalosBenchOptions& o) {
             p.vars().set(keys::sunDirection, directionFromAzAlt(M_PI, 20 * kDeg));
             p.vars().set(elements::haloskeys::opticalDepth, path == 2 ? 0.0 : 0.3);
             P.halos->setAdaptiveCells(path != 1);
+            P.halos->setCellTolerance(o.cellTolerance);
             P.halos->setForcePerPixel(path == 3);
             // The adaptive cells depend on the table (its grain is detail): the tables the
             // element draws by default (`--pass-quality`; from the disk cache after the first run).
@@ -183,6 +188,61 @@ int run(const HalosBenchOptions& o) {
     // exact table exceeds 10 % of its maximum (the halos themselves). The exact table has noise
     // of its own, 1/sqrt(factor) of the tables': the difference overstates the tables' error by
     // sqrt(1 + 1/factor) (5 % at 10).
+    // (2b) The same as work: the process's CPU time per frame (all threads, llvmpipe's too), which
+    // the other jobs on a loaded machine lengthen less than the wall time. Five processors, frames
+    // alternated: Z (the element with no crystals: skipped), Y (Z + the trivial pass), A (the
+    // trivial pass and the halo pass, adaptive cells), C (the same, every cell fetching), M (A with
+    // the camera moving: the cells' lists made in every frame). The halo pass's work is A - Y
+    // (C - Y, M - Y), the trivial pass's Y - Z; medians over the frames.
+    for (auto [w, h] : {std::pair{800, 450}, std::pair{1280, 720}}) {
+        auto make = [&](bool trivial, double tau, bool adaptive) {
+            auto p = std::make_unique<SkyProcessor>(SkyVars::earth(), log, ProcessorOptions{.timing = false, .astronomy = false});
+            Camera cam;
+            cam.projection = Projection::Perspective;
+            cam.azimuthRad = M_PI;
+            cam.altitudeRad = 30 * kDeg;
+            cam.verticalFovRad = 100 * kDeg;
+            cam.width = w;
+            cam.height = h;
+            p->setCamera(cam);
+            p->setExposure({.ev100 = 12});
+            if (trivial) p->add(std::make_unique<TrivialElement>());
+            auto e = std::make_unique<elements::Halos>();
+            e->setAdaptiveCells(adaptive);
+            e->setCellTolerance(o.cellTolerance);
+            p->add(std::move(e));
+            p->vars().set(keys::sunDirection, directionFromAzAlt(M_PI, 20 * kDeg));
+            p->vars().set(elements::haloskeys::opticalDepth, tau);
+            p->vars().set(elements::haloskeys::tableQuality, o.passQuality);
+            p->renderFrame();
+            p->renderFrame();
+            return p;
+        };
+        auto Z = make(false, 0.0, true), Y = make(true, 0.0, true), A = make(true, 0.3, true), C = make(true, 0.3, false), Mv = make(true, 0.3, true);
+        auto cpuMs = [] {
+            timespec ts{};
+            clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+            return 1e3 * double(ts.tv_sec) + 1e-6 * double(ts.tv_nsec);
+        };
+        std::vector<double> z, y, a, c, m;
+        for (int i = 0; i < 3 * o.repeats; ++i) {
+            Camera cam = Mv->camera();
+            cam.azimuthRad = M_PI + ((i % 2) ? 1e-4 : -1e-4);
+            Mv->setCamera(cam);
+            for (auto [proc, out] : {std::pair{Z.get(), &z}, std::pair{Y.get(), &y}, std::pair{A.get(), &a}, std::pair{C.get(), &c}, std::pair{Mv.get(), &m}}) {
+                glFinish();
+                const double t0 = cpuMs();
+                proc->renderFrame();
+                glFinish();
+                out->push_back(cpuMs() - t0);
+            }
+        }
+        const double triv = median(y) - median(z);
+        const std::string size = std::to_string(w) + "x" + std::to_string(h);
+        emit("work: halo pass, adaptive cells, CPU ms per frame", size, median(a) - median(y), triv, (median(a) - median(y)) / triv);
+        emit("work: halo pass, every cell fetching (before), CPU ms per frame", size, median(c) - median(y), triv, (median(c) - median(y)) / triv);
+        emit("work: halo pass, adaptive cells, camera moving, CPU ms per frame", size, median(m) - median(y), triv, (median(m) - median(y)) / triv);
+    }
     if (!o.accuracy) {
         std::printf("\ntarget: halo pass <= 1.5x the trivial pass: %s\n", met ? "met" : "NOT met");
         return 0;
@@ -302,6 +362,9 @@ bench::CommandBenchRegistrar reg({"halos", "halo table trace times, the halo pas
                        sub.add_option("--accuracy-quality", o->accuracyQuality, "the table quality whose accuracy is measured: low, default, high")
                            ->capture_default_str();
                        sub.add_option("--pass-quality", o->passQuality, "the tables the timed pass draws: low, default, high")->capture_default_str();
+                       sub.add_option("--cell-tolerance", o->cellTolerance,
+                                      "the adaptive cells' tolerance, a fraction of what the pixel shows, (0, 1] (Halos::kCellTolerance)")
+                           ->capture_default_str();
                        sub.add_option("--accuracy", o->accuracy, "measure the tables against the brute-force trace (minutes with default tables)")
                            ->capture_default_str();
                        sub.add_option("--exact-factor", o->exactFactor, "the brute-force trace's rays over the tables' rays per slice, [2, 100]")

@@ -1,10 +1,10 @@
-// The Halos element's adaptive cells (skyelements/halos/README.md, "Where the pass fetches"):
+// The Halos element's adaptive cells (skyelements/halos/README.md, "Adaptive cells"; off by default):
 // which parts of the real-time grid (halos_grid.vert.glsl) fetch the table per pixel and which
 // draw their corners' values interpolated. One invocation per 64-pixel cell tests the cell whole,
-// then, if it is not smooth, its quarters, then the sixteenths of those quarters that are not, and
-// lists the leaves: smooth ones in one list, those that fetch in the other (a cell or a quarter
-// with nothing smooth in it fetches whole), each with its indirect draw command (two draws: the
-// fragments never branch).
+// then, if it is not smooth, its quarters, and lists the pieces: smooth ones in one list, those
+// that fetch in the other (a cell with no smooth quarter fetches whole), each list with its
+// indirect draw command (two draws: the fragments never branch). (A further split into sixteenths
+// cost more than it saved on llvmpipe: skyelements/halos/README.md.)
 //
 // The test of a piece: its four corners' table values are what the smooth draw interpolates
 // (over the triangles (0,0)-(1,0)-(1,1) and (0,0)-(1,1)-(0,1), linearly in the pixel); at points
@@ -22,7 +22,7 @@ layout(binding = WELKIN_BINDING_HALOS_MEAN) uniform sampler2D u_mean;      // bl
 layout(binding = WELKIN_BINDING_HALOS_DETAIL) uniform sampler2D u_detail;  // block detail, M x M, texelFetch
 layout(std430, binding = WELKIN_BINDING_HALOS_CELLS) buffer HalosCells {
     uint u_draws[8];  // DrawArraysIndirectCommand x 2: [0..3] the smooth list's, [4..7] the fetching list's
-    uint u_leaves[];  // [0, u_listSize): the smooth leaves; [u_listSize, 2 u_listSize): those that fetch
+    uint u_leaves[];  // [0, u_listSize): the smooth pieces; [u_listSize, 2 u_listSize): those that fetch (5 cell + slot)
 };
 uniform ivec2 u_grid;      // cells across, down
 uniform float u_cellPx;    // cell size, pixels
@@ -82,52 +82,26 @@ void main() {
     if (cell >= uint(u_grid.x * u_grid.y)) return;
     vec2 size = welkin_viewport.xy;
     vec2 o = vec2(float(int(cell) % u_grid.x), float(int(cell) / u_grid.x)) * u_cellPx;
-    uint base = 21u * cell;
+    uint base = 5u * cell;
     if (smoothPiece(o, min(o + u_cellPx, size))) {
         emit(true, base);
         return;
     }
-    // Quarters, then sixteenths; pieces wholly outside the image are left out.
-    float h = 0.5 * u_cellPx, s = 0.25 * u_cellPx;
+    // The quarters (those wholly outside the image are left out); none smooth: the cell whole.
+    float h = 0.5 * u_cellPx;
     bool quarterSmooth[4];
-    uint subSmooth = 0u, subInside = 0u;
     bool any = false;
     for (int q = 0; q < 4; ++q) {
         vec2 qo = o + vec2(float(q & 1), float(q >> 1)) * h;
-        quarterSmooth[q] = false;
-        if (qo.x >= size.x || qo.y >= size.y) continue;
-        quarterSmooth[q] = smoothPiece(qo, min(qo + h, size));
+        quarterSmooth[q] = qo.x < size.x && qo.y < size.y && smoothPiece(qo, min(qo + h, size));
         any = any || quarterSmooth[q];
-        if (quarterSmooth[q]) continue;
-        for (int k = 0; k < 4; ++k) {
-            ivec2 sxy = ivec2((q & 1) * 2 + (k & 1), (q >> 1) * 2 + (k >> 1));
-            vec2 so = o + vec2(sxy) * s;
-            if (so.x >= size.x || so.y >= size.y) continue;
-            uint bit = 1u << uint(sxy.y * 4 + sxy.x);
-            subInside |= bit;
-            if (smoothPiece(so, min(so + s, size))) subSmooth |= bit;
-        }
     }
-    if (!any && subSmooth == 0u) {
+    if (!any) {
         emit(false, base);
         return;
     }
     for (int q = 0; q < 4; ++q) {
         vec2 qo = o + vec2(float(q & 1), float(q >> 1)) * h;
-        if (qo.x >= size.x || qo.y >= size.y) continue;
-        if (quarterSmooth[q]) {
-            emit(true, base + 1u + uint(q));
-            continue;
-        }
-        uint mask = 0u;
-        for (int k = 0; k < 4; ++k) mask |= 1u << uint(((q >> 1) * 2 + (k >> 1)) * 4 + (q & 1) * 2 + (k & 1));
-        if ((subSmooth & mask) == 0u) {
-            emit(false, base + 1u + uint(q));
-            continue;
-        }
-        for (int k = 0; k < 16; ++k) {
-            uint bit = 1u << uint(k);
-            if ((mask & subInside & bit) != 0u) emit((subSmooth & bit) != 0u, base + 5u + uint(k));
-        }
+        if (qo.x < size.x && qo.y < size.y) emit(quarterSmooth[q], base + 1u + uint(q));
     }
 }

@@ -8,9 +8,9 @@
 // the pixel, but muH is small, |muH| < 0.06 below 10 km: the interpolated |r| errs by < 0.2 %
 // over a cell, the cut by < 1e-4 rad).
 //
-// The pieces drawn (u_list 1): the leaves that halos_cells.comp.glsl listed for this draw, each a
-// whole cell (slot 0), a quarter of one (slots 1-4) or a sixteenth (slots 5-20), two triangles a
-// leaf (vertex id = 6 leaf + corner). Built twice: without HALOS_SMOOTH for the leaves that fetch
+// The pieces drawn (u_list 1): those that halos_cells.comp.glsl listed for this draw, each a
+// whole cell (slot 0) or a quarter of one (slots 1-4), two triangles a piece (vertex id = 6 entry
+// + corner; an entry is 5 cell + slot). Built twice: without HALOS_SMOOTH for the leaves that fetch
 // the table per pixel (halos_grid.frag.glsl: the vertex passes the ray), with it for the smooth
 // ones, where the vertex fetches the table and the pixels interpolate its value
 // (halos_smooth.frag.glsl). u_list 0: every cell whole, in order (the grid before the adaptive
@@ -26,7 +26,7 @@ uniform int u_list;         // 1: the leaves of the list at u_listOffset; 0: eve
 uniform uint u_listOffset;  // the list's first entry in u_leaves
 layout(std430, binding = WELKIN_BINDING_HALOS_CELLS) readonly buffer HalosCells {
     uint u_draws[8];        // the two lists' indirect draw commands (halos_cells.comp.glsl)
-    uint u_leaves[];        // leaf = 21 cell + slot
+    uint u_leaves[];        // 5 cell + slot
 };
 #ifdef HALOS_SMOOTH
 layout(binding = WELKIN_BINDING_HALOS_TABLE) uniform sampler2D u_haloTable;
@@ -37,15 +37,12 @@ noperspective out vec3 v_r;  // (x, y, z) of the unnormalised view ray in the li
 
 void main() {
     const vec2 corners[6] = vec2[6](vec2(0, 0), vec2(1, 0), vec2(1, 1), vec2(0, 0), vec2(1, 1), vec2(0, 1));
-    uint leaf = u_list != 0 ? u_leaves[u_listOffset + uint(gl_VertexID) / 6u] : 21u * (uint(gl_VertexID) / 6u);
-    uint cell = leaf / 21u, slot = leaf % 21u;
+    uint entry = u_list != 0 ? u_leaves[u_listOffset + uint(gl_VertexID) / 6u] : 5u * (uint(gl_VertexID) / 6u);
+    uint cell = entry / 5u, slot = entry % 5u;
     ivec2 c = ivec2(int(cell) % u_grid.x, int(cell) / u_grid.x);
     float side = u_cellPx;
     vec2 offset = vec2(0.0);
-    if (slot >= 5u) {
-        side = 0.25 * u_cellPx;
-        offset = vec2(float((slot - 5u) & 3u), float((slot - 5u) >> 2u)) * side;
-    } else if (slot >= 1u) {
+    if (slot >= 1u) {
         side = 0.5 * u_cellPx;
         offset = vec2(float((slot - 1u) & 1u), float((slot - 1u) >> 1u)) * side;
     }

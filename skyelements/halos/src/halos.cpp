@@ -259,10 +259,10 @@ void Halos::doRender(const FrameContext& ctx) {
         if (ctx.emptyVao) ctx.emptyVao->bind();
         glEnable(GL_CLIP_DISTANCE0);
         if (adaptive_) {
-            // The adaptive cells: the lists of leaves (halos_cells.comp.glsl), made again only when
-            // what they depend on changed, then two indirect draws, the smooth leaves and those
-            // that fetch.
-            const uint32_t listSize = uint32_t(16 * gx * gy);
+            // The adaptive cells (off by default: skyelements/halos/README.md): the lists of pieces
+            // (halos_cells.comp.glsl), made again only when what they depend on changed, then two
+            // indirect draws, the pieces drawn from their corners and those that fetch.
+            const uint32_t listSize = uint32_t(4 * gx * gy);  // a cell lists at most its 4 quarters
             if (!cellBuf_ || listSize_ != listSize) {
                 cellBuf_ = gl::Buffer(32 + 2 * std::size_t(listSize) * 4);
                 listSize_ = listSize;
@@ -571,13 +571,9 @@ Halos::CellCounts Halos::readCellCounts(const Camera& cam) const {
     c.fetchLeaves = int(buf[4] / 6);
     for (int list = 0; list < 2; ++list)
         for (int i = 0; i < (list == 0 ? c.smoothLeaves : c.fetchLeaves); ++i) {
-            const uint32_t leaf = buf[8 + std::size_t(list) * listSize_ + std::size_t(i)], cell = leaf / 21, slot = leaf % 21;
+            const uint32_t entry = buf[8 + std::size_t(list) * listSize_ + std::size_t(i)], cell = entry / 5, slot = entry % 5;
             int side = kGridCellPx, ox = 0, oy = 0;
-            if (slot >= 5) {
-                side = kGridCellPx / 4;
-                ox = int((slot - 5) & 3) * side;
-                oy = int((slot - 5) >> 2) * side;
-            } else if (slot >= 1) {
+            if (slot >= 1) {
                 side = kGridCellPx / 2;
                 ox = int((slot - 1) & 1) * side;
                 oy = int((slot - 1) >> 1) * side;

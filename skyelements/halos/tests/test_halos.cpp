@@ -727,14 +727,14 @@ TEST_CASE("Halos: the adaptive cells draw what every cell fetching draws, within
 }
 #endif
 TEST_CASE("Halos: the adaptive cells' bound holds where pieces interpolate the sky, still and with time running", "[gl][halos]") {
-    // The bound's mechanism where it lets pieces of the sky interpolate: a tolerance 75 x the
-    // default (30 % of the halo light and the sky's floor: the low tables' grain, ~1 ray per bin
+    // The bound's mechanism where it lets pieces of the sky interpolate: a tolerance 125 x the
+    // default (50 % of the halo light and the sky's floor: the low tables' grain, ~1 ray per bin
     // in places, passes it in part of the sky) and random crystals only (the 22 and 46 deg halos),
     // the halos alone (no sky: the difference is the halo light's own). Still, and with time
     // running (render.interactive, the Sun rising 0.07 deg a frame as at 600x: the table refilled
     // over halos.table_slices frames, its maps with it, and drawn turned onto the light).
     test::glContext();
-    constexpr double kTol = 0.3;
+    constexpr double kTol = 0.5;
     auto scene = [](bool adaptive, bool interactive) {
         auto s = std::make_unique<CellScene>(adaptive, interactive, false);
         s->p.vars().set(hk::preset, std::string("random"));
@@ -778,11 +778,13 @@ TEST_CASE("Halos: the adaptive cells' bound holds where pieces interpolate the s
             const double skySmooth = double(cells.smoothPixels - ground) / double(sky);
             INFO(when << ": sky pixels " << sky << ", interpolated " << skySmooth << "; largest difference " << worst << " of the bound, " << over
                       << " channels over it");
-            CHECK(skySmooth > 0.2);
+            // Measured: still 45 % of the sky interpolated, time running 48 %, after the jump 43 %;
+            // with the maps left unswapped (those of the table before the jump, tried once) 21 %
+            // after the jump: their detail lies elsewhere, so the pieces fail.
+            CHECK(skySmooth > 0.3);
             // The bound is checked at points one block of the maps apart (4 texels, 1.4 deg with
             // these tables) and the detail between them bounded by the dilated detail map: it holds
-            // at every pixel (measured: still 42 % of the sky interpolated, the largest difference
-            // 0.77 of the bound; time running 51 % and 0.71; after the jump 37 % and 0.67).
+            // at every pixel (measured: the largest difference 0.64, 0.63 and 0.62 of the bound).
             CHECK(over == 0);
         };
         if (!interactive) {

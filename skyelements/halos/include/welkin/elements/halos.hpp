@@ -275,7 +275,7 @@ private:
     // false) or the one being filled, and what of its maps they complete (updateOctMaps).
     void fillOctRows(bool back, double el, int r0, int r1);
 
-    // The adaptive cells (skyelements/halos/README.md, "Where the pass fetches"). Made with the
+    // The adaptive cells (skyelements/halos/README.md, "Adaptive cells"). Made with the
     // grid's table, as its rows are filled (so a refill spread over frames spreads them too): the
     // table's means over blocks of kMapBlock^2 texels (M x M, M = N / kMapBlock) and per block the
     // largest |table - bilinear mean| over the block and its eight neighbours, per channel; drawn
@@ -287,11 +287,11 @@ private:
     int mapMeanRows_ = 0, mapDevRows_ = 0, mapDetailRows_ = 0;
     void updateOctMaps(bool back, int r0, int r1);
     // The cells' lists (halos_cells.comp.glsl): two indirect draw commands, then the two lists of
-    // leaves; rebuilt only when what they depend on changed (the view, the table's frame, the
-    // drawn table, the layer's horizon).
+    // pieces; rebuilt only when what they depend on changed (the view, the table's frame, the
+    // drawn table, the layer's horizon, the tolerance).
     gl::Buffer cellBuf_;
     uint32_t listSize_ = 0;
-    bool adaptive_ = true;
+    bool adaptive_ = false;
     double cellTolerance_ = kCellTolerance;
     uint64_t octVersion_ = 0;  // bumped whenever the drawn grid table (and its maps) changes
     std::vector<double> cellsKey_;
@@ -323,12 +323,16 @@ public:
     /// channels' wavelengths (Hansen & Travis 1974: 0.063, 0.098, 0.193 at 612, 549, 465 nm).
     /// Checked against the Sky element's own sky in the tests.
     static constexpr std::array<double, 3> kSkyFloor{0.0035, 0.0053, 0.0095};
-    /// Tests and benchmarks: every cell fetches per pixel (false: the grid before the adaptive cells).
+    /// The adaptive cells on (off by default: with the traced tables' Monte-Carlo grain, tens of
+    /// per cent from texel to texel, no piece of a lit sky passes kCellTolerance, so they cost
+    /// their tests and two draws and save nothing; skyelements/halos/README.md, "Adaptive cells").
+    /// Off: every cell fetches per pixel, one draw.
     void setAdaptiveCells(bool on) { adaptive_ = on; }
     /// Tests and benchmarks: another tolerance than kCellTolerance (> 0).
     void setCellTolerance(double t) { cellTolerance_ = t; }
-    /// What the last grid frame drew, read back from the GPU (a stall: tests and benchmarks only):
-    /// the pixels drawn from their corners, the pixels that fetch, the leaves of each list.
+    /// What the last grid frame drew with the adaptive cells, read back from the GPU (a stall:
+    /// tests and benchmarks only): the pixels drawn from their corners, the pixels that fetch
+    /// (below the horizon too: clipped there), the pieces of each list.
     struct CellCounts {
         long smoothPixels = 0, fetchPixels = 0;
         int smoothLeaves = 0, fetchLeaves = 0;
