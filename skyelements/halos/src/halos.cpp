@@ -234,6 +234,7 @@ void Halos::doRender(const FrameContext& ctx) {
         // and one fetch of the octahedral table, which holds the layer's scattered fraction and
         // transmittance too; the horizon is a clip distance.
         const int slices = v.getOr(keys::interactive, false) ? std::clamp(v.getOr(hk::tableSlices, hk::kTableSlicesDefault), 1, 64) : 1;
+        if (adaptive_ && !frontMaps_) oct_.held = NAN;  // the adaptive cells turned on: the table and its maps whole now
         updateOctTable(el, tauUser, h0, layerH, R, slices);
         const int gx = (ctx.camera.width + kGridCellPx - 1) / kGridCellPx, gy = (ctx.camera.height + kGridCellPx - 1) / kGridCellPx;
         // The table's frame turned about the light's horizontal normal by its lag in elevation
@@ -471,6 +472,7 @@ void Halos::updateOctTable(double el, double tauUser, double h0, double layerH, 
         std::swap(octTable_, octBack_);
         std::swap(octMean_, octMeanBack_);
         std::swap(octDetail_, octDetailBack_);
+        std::swap(frontMaps_, backMaps_);
         ++octVersion_;
     }
 }
@@ -497,8 +499,16 @@ void Halos::fillOctRows(bool back, double el, int r0, int r1) {
     // Inside a frame the pixel-store parameters are GL's defaults and no unpack buffer is bound
     // (docs/writing-an-element.md): tightly packed rows.
     glTextureSubImage2D(target.id(), 0, 0, r0, N, r1 - r0, GL_RGBA, GL_FLOAT, octRows_.data());
-    std::copy(octRows_.begin(), octRows_.end(), octCpu_.begin() + std::ptrdiff_t(k0));
-    updateOctMaps(back, r0, r1);
+    // The adaptive cells' maps, only while they are on (a table filled without them, or from a row
+    // other than the first after they were turned on, has none: doRender fills it whole again).
+    bool& maps = back ? backMaps_ : frontMaps_;
+    if (adaptive_ && (r0 == 0 || maps)) {
+        std::copy(octRows_.begin(), octRows_.end(), octCpu_.begin() + std::ptrdiff_t(k0));
+        updateOctMaps(back, r0, r1);
+        maps = true;
+    } else {
+        maps = false;
+    }
     if (!back) ++octVersion_;
 }
 

@@ -285,6 +285,7 @@ private:
     int meanUnit_ = 0, detailUnit_ = 0, cellsSsbo_ = 0;
     std::vector<glm::vec4> octCpu_, blkMean_, blkDev_, blkDetail_;
     int mapMeanRows_ = 0, mapDevRows_ = 0, mapDetailRows_ = 0;
+    bool frontMaps_ = false, backMaps_ = false;  // the drawn table's maps / the one being filled's are whole (made while on)
     void updateOctMaps(bool back, int r0, int r1);
     // The cells' lists (halos_cells.comp.glsl): two indirect draw commands, then the two lists of
     // pieces; rebuilt only when what they depend on changed (the view, the table's frame, the
