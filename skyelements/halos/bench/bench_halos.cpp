@@ -4,8 +4,9 @@
 // towards the Sun 20 deg up; a crystal layer of optical depth 0.3, the common preset): the
 // element's render time against a trivial element (constant radiance through the same composite
 // contract) drawn before it in the same frames; "x trivial" is the median of per-frame ratios.
-// Also with no crystals (the element skips its draw) and through the per-pixel path. Target: pass
-// <= 1.5x trivial. (3) Accuracy of one quality's tables (default: `default`) against the slow
+// Also with no crystals (the element skips its draw), through the per-pixel path, and with the
+// adaptive cells (off by default; `--cell-tolerance`), also as the process's CPU work. Target: the
+// pass as drawn by default <= 1.5x trivial. (3) Accuracy of one quality's tables (default: `default`) against the slow
 // exact path, the brute-force trace (every Fresnel branch followed with its weight) with 10x the
 // rays, at the light elevation midway between two slices (below).
 #include "bench_util.hpp"
@@ -19,11 +20,13 @@
 #include <welkin/keys.hpp>
 #include <welkin/processor.hpp>
 
+#include <epoxy/gl.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -39,6 +42,9 @@ struct HalosBenchOptions {
     std::string csv = "bench_halos.csv";
     std::string qualities = "low,default";
     std::string accuracyQuality = "default";
+    std::string passQuality = "low";  // every cell fetching costs the same with any tables; the adaptive cells do not
+    bool accuracy = true;
+    double cellTolerance = elements::Halos::kCellTolerance;
     int exactFactor = 10;
 };
 
@@ -50,8 +56,10 @@ std::string fmtDeg(double d) {
 
 int run(const HalosBenchOptions& o) {
     if (o.repeats < 1 || o.repeats > 1000) throw Error("--repeats " + std::to_string(o.repeats) + " not in [1, 1000]");
+    if (!(o.cellTolerance > 0.0 && o.cellTolerance <= 1.0)) throw Error("--cell-tolerance " + std::to_string(o.cellTolerance) + " not in (0, 1]");
     if (o.exactFactor < 2 || o.exactFactor > 100) throw Error("--exact-factor " + std::to_string(o.exactFactor) + " not in [2, 100]");
     (void)elements::halos::HaloTables::quality(o.accuracyQuality);
+    (void)elements::halos::HaloTables::quality(o.passQuality);
     for (const std::string& q : splitList(o.qualities)) (void)elements::halos::HaloTables::quality(q);
     checkOutputDirectory("--csv", o.csv);
     Logger log;
@@ -73,11 +81,25 @@ int run(const HalosBenchOptions& o) {
                                           " elevations, " + std::to_string(q.raysPerSlice) + " rays each)",
              t.buildSeconds, NAN, NAN);
     }
-    // (2) Per frame.
+    // (2) Per frame, four processors rendered in turn, frame after frame (so the machine's load
+    // falls on all alike): the real-time grid with its adaptive cells (off by default), the grid
+    // fetching in every cell (the default), no crystals, the per-pixel path.
     bool met = true;
     for (auto [w, h] : {std::pair{800, 450}, std::pair{1280, 720}}) {
-        for (int path = 0; path < 3; ++path) {
-            SkyProcessor p(SkyVars::earth(), log, ProcessorOptions{.timing = true, .astronomy = false});
+        struct Path {
+            const char* what;
+            std::unique_ptr<SkyProcessor> p;
+            elements::Halos* halos = nullptr;
+            std::vector<double> ms, tms, ratio;
+        };
+        std::vector<Path> paths;
+        for (int path = 0; path < 4; ++path) {
+            Path P{path == 0   ? "halo pass, crystal layer tau 0.3, adaptive cells (off by default), ms"
+                   : path == 1 ? "halo pass, crystal layer tau 0.3, ms"  // every cell fetching: the default (row named as before)
+                   : path == 2 ? "halo pass, no crystals (skipped), ms"
+                               : "halo pass, per-pixel path (offline: fisheye, equirect, cirrus), ms",
+                   std::make_unique<SkyProcessor>(SkyVars::earth(), log, ProcessorOptions{.timing = true, .astronomy = false})};
+            SkyProcessor& p = *P.p;
             Camera cam;
             cam.projection = Projection::Perspective;
             cam.azimuthRad = M_PI;
@@ -89,17 +111,59 @@ int run(const HalosBenchOptions& o) {
             p.setExposure({.ev100 = 12});
             p.add(std::make_unique<TrivialElement>());
             auto e = std::make_unique<elements::Halos>();
-            elements::Halos* halos = e.get();
+            P.halos = e.get();
             p.add(std::move(e));
             p.vars().set(keys::sunDirection, directionFromAzAlt(M_PI, 20 * kDeg));
-            p.vars().set(elements::haloskeys::opticalDepth, path == 1 ? 0.0 : 0.3);
-            halos->setForcePerPixel(path == 2);
-            p.vars().set(elements::haloskeys::tableQuality, std::string("low"));  // the pass's cost does not depend on it
-            p.renderFrame();  // tables, programs
+            p.vars().set(elements::haloskeys::opticalDepth, path == 2 ? 0.0 : 0.3);
+            P.halos->setAdaptiveCells(path != 1);
+            P.halos->setCellTolerance(o.cellTolerance);
+            P.halos->setForcePerPixel(path == 3);
+            // The adaptive cells depend on the table (its grain is detail): `--pass-quality default`
+            // for the tables the element draws by default (from the disk cache after the first run).
+            p.vars().set(elements::haloskeys::tableQuality, o.passQuality);
+            p.renderFrame();  // tables, programs, the cells' lists
+            paths.push_back(std::move(P));
+        }
+        for (int i = 0; i < o.repeats; ++i)
+            for (Path& P : paths) {
+                P.p->renderFrame();
+                const nlohmann::json j = P.p->stats();
+                double renderMs = 0, t = NAN;
+                for (const auto& el : j["elements"]) {
+                    if (el["name"] == "halos") renderMs = el["render_ms"].get<double>();
+                    if (el["name"] == "trivial") t = el["render_ms"].get<double>();
+                }
+                P.ms.push_back(renderMs);
+                P.tms.push_back(t);
+                P.ratio.push_back(renderMs / t);
+            }
+        const std::string size = std::to_string(w) + "x" + std::to_string(h);
+        for (std::size_t k = 0; k < paths.size(); ++k) {
+            Path& P = paths[k];
+            const double r = median(P.ratio);
+            std::string note = P.halos->drewLastFrame() ? "" : ", not drawn";
+            if (k == 0 && P.halos->gridLastFrame()) {
+                const auto c = P.halos->readCellCounts(P.p->camera());
+                char b[200];
+                std::snprintf(b, sizeof b, ", %.1f %% of the drawn pixels fetch (%d pieces fetch, %d smooth)",
+                              100.0 * double(c.fetchPixels) / double(std::max(c.fetchPixels + c.smoothPixels, 1L)), c.fetchLeaves, c.smoothLeaves);
+                note += b;
+            }
+            emit(P.what, size + note, median(P.ms), median(P.tms), r);
+            if (k == 1 && r > 1.5) met = false;
+        }
+        // The cells' lists are made once for a still view; what making them costs (a moving
+        // camera or light makes them every frame): the element with the cells' lists made anew
+        // in each frame, as the same median ratio.
+        {
+            Path& P = paths[0];
             std::vector<double> ms, tms, ratio;
             for (int i = 0; i < o.repeats; ++i) {
-                p.renderFrame();
-                const nlohmann::json j = p.stats();
+                Camera cam = P.p->camera();
+                cam.azimuthRad = M_PI + ((i % 2) ? 1e-4 : -1e-4);  // a camera that moves: new lists
+                P.p->setCamera(cam);
+                P.p->renderFrame();
+                const nlohmann::json j = P.p->stats();
                 double renderMs = 0, t = NAN;
                 for (const auto& el : j["elements"]) {
                     if (el["name"] == "halos") renderMs = el["render_ms"].get<double>();
@@ -109,13 +173,7 @@ int run(const HalosBenchOptions& o) {
                 tms.push_back(t);
                 ratio.push_back(renderMs / t);
             }
-            const std::string size = std::to_string(w) + "x" + std::to_string(h);
-            const double r = median(ratio);
-            emit(path == 0   ? "halo pass, crystal layer tau 0.3, ms"
-                 : path == 1 ? "halo pass, no crystals (skipped), ms"
-                             : "halo pass, per-pixel path (offline: fisheye, equirect, cirrus), ms",
-                 size + (halos->drewLastFrame() ? "" : ", not drawn"), median(ms), median(tms), r);
-            if (path == 0 && r > 1.5) met = false;
+            emit("halo pass, adaptive cells, camera moving (the cells' lists made in every frame), ms", size, median(ms), median(tms), median(ratio));
         }
     }
     // (3) Accuracy of the tables of one quality (`--accuracy-quality`) against the slow exact
@@ -128,6 +186,65 @@ int run(const HalosBenchOptions& o) {
     // exact table exceeds 10 % of its maximum (the halos themselves). The exact table has noise
     // of its own, 1/sqrt(factor) of the tables': the difference overstates the tables' error by
     // sqrt(1 + 1/factor) (5 % at 10).
+    // (2b) The same as work: the process's CPU time per frame (all threads, llvmpipe's too), which
+    // the other jobs on a loaded machine lengthen less than the wall time. Five processors, frames
+    // alternated: Z (the element with no crystals: skipped), Y (Z + the trivial pass), A (the
+    // trivial pass and the halo pass, adaptive cells), C (the same, every cell fetching), M (A with
+    // the camera moving: the cells' lists made in every frame). The halo pass's work is A - Y
+    // (C - Y, M - Y), the trivial pass's Y - Z; medians over the frames.
+    for (auto [w, h] : {std::pair{800, 450}, std::pair{1280, 720}}) {
+        auto make = [&](bool trivial, double tau, bool adaptive) {
+            auto p = std::make_unique<SkyProcessor>(SkyVars::earth(), log, ProcessorOptions{.timing = false, .astronomy = false});
+            Camera cam;
+            cam.projection = Projection::Perspective;
+            cam.azimuthRad = M_PI;
+            cam.altitudeRad = 30 * kDeg;
+            cam.verticalFovRad = 100 * kDeg;
+            cam.width = w;
+            cam.height = h;
+            p->setCamera(cam);
+            p->setExposure({.ev100 = 12});
+            if (trivial) p->add(std::make_unique<TrivialElement>());
+            auto e = std::make_unique<elements::Halos>();
+            e->setAdaptiveCells(adaptive);
+            e->setCellTolerance(o.cellTolerance);
+            p->add(std::move(e));
+            p->vars().set(keys::sunDirection, directionFromAzAlt(M_PI, 20 * kDeg));
+            p->vars().set(elements::haloskeys::opticalDepth, tau);
+            p->vars().set(elements::haloskeys::tableQuality, o.passQuality);
+            p->renderFrame();
+            p->renderFrame();
+            return p;
+        };
+        auto Z = make(false, 0.0, true), Y = make(true, 0.0, true), A = make(true, 0.3, true), C = make(true, 0.3, false), Mv = make(true, 0.3, true);
+        auto cpuMs = [] {
+            timespec ts{};
+            clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+            return 1e3 * double(ts.tv_sec) + 1e-6 * double(ts.tv_nsec);
+        };
+        std::vector<double> z, y, a, c, m;
+        for (int i = 0; i < 3 * o.repeats; ++i) {
+            Camera cam = Mv->camera();
+            cam.azimuthRad = M_PI + ((i % 2) ? 1e-4 : -1e-4);
+            Mv->setCamera(cam);
+            for (auto [proc, out] : {std::pair{Z.get(), &z}, std::pair{Y.get(), &y}, std::pair{A.get(), &a}, std::pair{C.get(), &c}, std::pair{Mv.get(), &m}}) {
+                glFinish();
+                const double t0 = cpuMs();
+                proc->renderFrame();
+                glFinish();
+                out->push_back(cpuMs() - t0);
+            }
+        }
+        const double triv = median(y) - median(z);
+        const std::string size = std::to_string(w) + "x" + std::to_string(h);
+        emit("work: halo pass, adaptive cells, CPU ms per frame", size, median(a) - median(y), triv, (median(a) - median(y)) / triv);
+        emit("work: halo pass, every cell fetching (the default), CPU ms per frame", size, median(c) - median(y), triv, (median(c) - median(y)) / triv);
+        emit("work: halo pass, adaptive cells, camera moving, CPU ms per frame", size, median(m) - median(y), triv, (median(m) - median(y)) / triv);
+    }
+    if (!o.accuracy) {
+        std::printf("\ntarget: halo pass <= 1.5x the trivial pass: %s\n", met ? "met" : "NOT met");
+        return 0;
+    }
     using namespace elements::halos;
     const HaloTables::Quality aq = HaloTables::quality(o.accuracyQuality);
     const double step = 90.0 / (aq.slices - 1);
@@ -242,6 +359,12 @@ bench::CommandBenchRegistrar reg({"halos", "halo table trace times, the halo pas
                        sub.add_option("--qualities", o->qualities, "comma list of table qualities to trace: low, default, high")->capture_default_str();
                        sub.add_option("--accuracy-quality", o->accuracyQuality, "the table quality whose accuracy is measured: low, default, high")
                            ->capture_default_str();
+                       sub.add_option("--pass-quality", o->passQuality, "the tables the timed pass draws: low, default, high (the adaptive cells depend on them)")->capture_default_str();
+                       sub.add_option("--cell-tolerance", o->cellTolerance,
+                                      "the adaptive cells' tolerance, a fraction of what the pixel shows, (0, 1] (Halos::kCellTolerance)")
+                           ->capture_default_str();
+                       sub.add_option("--accuracy", o->accuracy, "measure the tables against the brute-force trace (minutes with default tables)")
+                           ->capture_default_str();
                        sub.add_option("--exact-factor", o->exactFactor, "the brute-force trace's rays over the tables' rays per slice, [2, 100]")
                            ->capture_default_str();
                        return [o]() { return run(*o); };
@@ -250,7 +373,8 @@ bench::CommandBenchRegistrar reg({"halos", "halo table trace times, the halo pas
                    {{.element = "halos",
                      .title = "Halos: crystal tables by quality, the pass, and accuracy",
                      .what = "The crystal populations' ray trace at each table quality (rays traced: the tables' size as work), the "
-                             "halo pass against a trivial pass timed alternately with it, and the tables against a brute-force trace "
+                             "halo pass against a trivial pass timed alternately with it (every cell fetching, the default, and the "
+                             "adaptive cells; also as the process's CPU work), and the tables against a brute-force trace "
                              "with four times the rays.",
                      .args = {"--qualities", "low,default", "--repeats", "5"},
                      .quickArgs = {"--qualities", "low", "--repeats", "1", "--accuracy-quality", "low", "--exact-factor", "2"},

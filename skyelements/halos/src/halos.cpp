@@ -114,6 +114,9 @@ void Halos::doInit(InitContext& ctx) {
     validateOptions(ctx.vars);
     addGenerator(generators::AtmosphereLights::obtain(ctx.vars));
     tableUnit_ = textureUnit("HALOS_TABLE");  // the table's own unit: WELKIN_BINDING_HALOS_TABLE
+    meanUnit_ = textureUnit("HALOS_MEAN");    // the adaptive cells' maps (halos_cells.comp.glsl)
+    detailUnit_ = textureUnit("HALOS_DETAIL");
+    cellsSsbo_ = storageBuffer("HALOS_CELLS");  // their lists of leaves and draw commands
     programs_ = gl::ProjectionPrograms(gl::ProgramBuilder("Halos")
                                            .bindings(bindings())
                                            .fullscreenVertex()
@@ -127,8 +130,22 @@ void Halos::doInit(InitContext& ctx) {
                                                .vertex("halos/halos_grid.vert.glsl", embedded::halos_shaders("halos_grid.vert.glsl"))
                                                .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
                                                .fragment("halos/halos_grid.frag.glsl", embedded::halos_shaders("halos_grid.frag.glsl")));
+    smoothPrograms_ = gl::ProjectionPrograms(gl::ProgramBuilder("Halos grid, smooth leaves")
+                                                 .bindings(bindings())
+                                                 .define("HALOS_SMOOTH")
+                                                 .vertex("engine/camera.glsl", gl::engineShader("camera.glsl"))
+                                                 .vertex("halos/halos_grid.vert.glsl", embedded::halos_shaders("halos_grid.vert.glsl"))
+                                                 .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
+                                                 .fragment("halos/halos_smooth.frag.glsl", embedded::halos_shaders("halos_smooth.frag.glsl")));
+    cellPrograms_ = gl::ProjectionPrograms(gl::ProgramBuilder("Halos cells")
+                                               .bindings(bindings())
+                                               .compute("engine/camera.glsl", gl::engineShader("camera.glsl"))
+                                               .compute("halos/halos_cells.comp.glsl", embedded::halos_shaders("halos_cells.comp.glsl")));
     programs_.get(Projection::Perspective);  // shader errors surface in init()
     gridPrograms_.get(Projection::Perspective);
+    smoothPrograms_.get(Projection::Perspective);
+    cellPrograms_.get(Projection::Perspective);
+    cellsKey_.clear();
     table_ = {};
     tables_ = nullptr;
     mixed_ = {-1, -1, -1, -1};
@@ -217,13 +234,9 @@ void Halos::doRender(const FrameContext& ctx) {
         // and one fetch of the octahedral table, which holds the layer's scattered fraction and
         // transmittance too; the horizon is a clip distance.
         const int slices = v.getOr(keys::interactive, false) ? std::clamp(v.getOr(hk::tableSlices, hk::kTableSlicesDefault), 1, 64) : 1;
+        if (adaptive_ && !frontMaps_) oct_.held = NAN;  // the adaptive cells turned on: the table and its maps whole now
         updateOctTable(el, tauUser, h0, layerH, R, slices);
-        const gl::Program& g = gridPrograms_.get(ctx.camera.projection);
-        g.use();
-        glBindTextureUnit(GLuint(tableUnit_), octTable_.id());
         const int gx = (ctx.camera.width + kGridCellPx - 1) / kGridCellPx, gy = (ctx.camera.height + kGridCellPx - 1) / kGridCellPx;
-        g.set("u_grid", glm::ivec2(gx, gy));
-        g.set("u_cellPx", float(kGridCellPx));
         // The table's frame turned about the light's horizontal normal by its lag in elevation
         // (0 once a refill completed at the current light): the table's light lands on the current
         // light, and what moves with it (the halos, the sundogs) stays around it while a refill is
@@ -231,17 +244,80 @@ void Halos::doRender(const FrameContext& ctx) {
         // of the angle from the light's vertical plane (skyelements/halos/README.md, "Time running").
         const double lag = oct_.held - el;
         const glm::dvec3 up(0.0, 0.0, 1.0);
-        g.set("u_lightX", glm::vec3(std::cos(lag) * lx - std::sin(lag) * up));
-        g.set("u_lightY", glm::vec3(ly));
-        g.set("u_lightZ", glm::vec3(std::sin(lag) * lx + std::cos(lag) * up));
-        g.set("u_E", glm::vec3(E));
+        const glm::vec3 fx(std::cos(lag) * lx - std::sin(lag) * up), fy(ly), fz(std::sin(lag) * lx + std::cos(lag) * up);
         // Under the layer the ground hides it below the horizon (mu < muH); above it, nothing does.
         const double r = R + h0;
         const double muH = h0 < layerH ? -std::sqrt(std::max(1.0 - R * R / (r * r), 0.0)) : -2.0;
-        g.set("u_muHorizon", float(muH));
+        auto setCommon = [&](const gl::Program& g) {
+            g.set("u_grid", glm::ivec2(gx, gy));
+            g.set("u_cellPx", float(kGridCellPx));
+            g.set("u_lightX", fx);
+            g.set("u_lightY", fy);
+            g.set("u_lightZ", fz);
+            g.set("u_muHorizon", float(muH));
+        };
+        glBindTextureUnit(GLuint(tableUnit_), octTable_.id());
         if (ctx.emptyVao) ctx.emptyVao->bind();
         glEnable(GL_CLIP_DISTANCE0);
-        glDrawArrays(GL_TRIANGLES, 0, GLsizei(6 * gx * gy));
+        if (adaptive_) {
+            // The adaptive cells (off by default: skyelements/halos/README.md): the lists of pieces
+            // (halos_cells.comp.glsl), made again only when what they depend on changed, then two
+            // indirect draws, the pieces drawn from their corners and those that fetch.
+            const uint32_t listSize = uint32_t(4 * gx * gy);  // a cell lists at most its 4 quarters
+            if (!cellBuf_ || listSize_ != listSize) {
+                cellBuf_ = gl::Buffer(32 + 2 * std::size_t(listSize) * 4);
+                listSize_ = listSize;
+                cellsKey_.clear();
+            }
+            cellBuf_.bindBase(GL_SHADER_STORAGE_BUFFER, GLuint(cellsSsbo_));
+            std::vector<double> key = {double(gx), double(gy), muH, cellTolerance_, double(octVersion_), fx.x, fx.y, fx.z, fy.x, fy.y, fz.x, fz.y, fz.z,
+                                       double(ctx.camera.width), double(ctx.camera.height)};
+            for (const glm::dvec2 px : {glm::dvec2(0.0), glm::dvec2(ctx.camera.width, 0.0), glm::dvec2(0.0, ctx.camera.height)}) {
+                const glm::dvec3 d = ctx.camera.directionAt(px).value_or(glm::dvec3(0.0));
+                key.insert(key.end(), {d.x, d.y, d.z});
+            }
+            if (key != cellsKey_) {
+                const auto t0 = std::chrono::steady_clock::now();
+                const uint32_t header[8] = {0, 1, 0, 0, 0, 1, 0, 0};  // DrawArraysIndirectCommand x 2, counts 0
+                cellBuf_.update(header, sizeof header);
+                const gl::Program& c = cellPrograms_.get(ctx.camera.projection);
+                c.use();
+                setCommon(c);
+                c.set("u_mapSize", octN_ / kMapBlock);
+                glUniform1ui(glGetUniformLocation(c.id(), "u_listSize"), listSize);
+                c.set("u_rel", float(cellTolerance_));
+                c.set("u_floor", glm::vec3(kSkyFloor[0], kSkyFloor[1], kSkyFloor[2]));
+                glBindTextureUnit(GLuint(meanUnit_), octMean_.id());
+                glBindTextureUnit(GLuint(detailUnit_), octDetail_.id());
+                glDispatchCompute(GLuint((gx * gy + 15) / 16), 1, 1);
+                glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+                cellsKey_ = std::move(key);
+                cellsMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+            } else {
+                cellsMs_ = 0.0;
+            }
+            // The host's indirect buffer binding is not among what the processor saves: kept here.
+            GLint hostIndirect = 0;
+            glGetIntegerv(GL_DRAW_INDIRECT_BUFFER_BINDING, &hostIndirect);
+            glBindBuffer(GL_DRAW_INDIRECT_BUFFER, cellBuf_.id());
+            for (int list = 0; list < 2; ++list) {
+                const gl::Program& g = (list == 0 ? smoothPrograms_ : gridPrograms_).get(ctx.camera.projection);
+                g.use();
+                setCommon(g);
+                g.set("u_E", glm::vec3(E));
+                g.set("u_list", 1);
+                glUniform1ui(glGetUniformLocation(g.id(), "u_listOffset"), list == 0 ? 0u : listSize);
+                glDrawArraysIndirect(GL_TRIANGLES, reinterpret_cast<const void*>(std::uintptr_t(16 * list)));
+            }
+            glBindBuffer(GL_DRAW_INDIRECT_BUFFER, GLuint(hostIndirect));
+        } else {
+            const gl::Program& g = gridPrograms_.get(ctx.camera.projection);
+            g.use();
+            setCommon(g);
+            g.set("u_E", glm::vec3(E));
+            g.set("u_list", 0);
+            glDrawArrays(GL_TRIANGLES, 0, GLsizei(6 * gx * gy));
+        }
         glDisable(GL_CLIP_DISTANCE0);
         drew_ = true;
         grid_ = true;
@@ -362,6 +438,16 @@ void Halos::updateOctTable(double el, double tauUser, double h0, double layerH, 
             tex->setFilter(GL_LINEAR);
             tex->setWrap(GL_CLAMP_TO_EDGE);
         }
+        const int M = N / kMapBlock;  // N = kOctScale x 180, 256 or 512: a multiple of kMapBlock
+        for (gl::Texture2D* tex : {&octMean_, &octMeanBack_, &octDetail_, &octDetailBack_}) {
+            *tex = gl::Texture2D(M, M, GL_RGBA16F);
+            tex->setFilter(GL_LINEAR);  // the detail is read with texelFetch
+            tex->setWrap(GL_CLAMP_TO_EDGE);
+        }
+        octCpu_.assign(std::size_t(N) * std::size_t(N), glm::vec4(0.0f));
+        blkMean_.assign(std::size_t(M) * std::size_t(M), glm::vec4(0.0f));
+        blkDev_ = blkMean_;
+        blkDetail_ = blkMean_;
         oct_.held = NAN;
         octLayerKey_ = glm::dvec4(-1.0);
     }
@@ -382,11 +468,17 @@ void Halos::updateOctTable(double el, double tauUser, double h0, double layerH, 
     // refill's motion; with the light at rest the prediction is the light itself. A jump of the
     // light (kElevationJump in a frame: a new time) restarts a refill in progress at the new
     // elevation, predicting nothing.
-    if (refillFrame(oct_, el, layerChanged, slices, N, [&](bool back, double e, int r0, int r1) { fillOctRows(back ? octBack_ : octTable_, e, r0, r1); }))
+    if (refillFrame(oct_, el, layerChanged, slices, N, [&](bool back, double e, int r0, int r1) { fillOctRows(back, e, r0, r1); })) {
         std::swap(octTable_, octBack_);
+        std::swap(octMean_, octMeanBack_);
+        std::swap(octDetail_, octDetailBack_);
+        std::swap(frontMaps_, backMaps_);
+        ++octVersion_;
+    }
 }
 
-void Halos::fillOctRows(gl::Texture2D& target, double el, int r0, int r1) {
+void Halos::fillOctRows(bool back, double el, int r0, int r1) {
+    gl::Texture2D& target = back ? octBack_ : octTable_;
     const halos::HaloTables& t = *tables_;
     const int N = octN_;
     // The light's elevation between two slices (as the per-pixel path's table), resampled.
@@ -407,6 +499,100 @@ void Halos::fillOctRows(gl::Texture2D& target, double el, int r0, int r1) {
     // Inside a frame the pixel-store parameters are GL's defaults and no unpack buffer is bound
     // (docs/writing-an-element.md): tightly packed rows.
     glTextureSubImage2D(target.id(), 0, 0, r0, N, r1 - r0, GL_RGBA, GL_FLOAT, octRows_.data());
+    // The adaptive cells' maps, only while they are on (a table filled without them, or from a row
+    // other than the first after they were turned on, has none: doRender fills it whole again).
+    bool& maps = back ? backMaps_ : frontMaps_;
+    if (adaptive_ && (r0 == 0 || maps)) {
+        std::copy(octRows_.begin(), octRows_.end(), octCpu_.begin() + std::ptrdiff_t(k0));
+        updateOctMaps(back, r0, r1);
+        maps = true;
+    } else {
+        maps = false;
+    }
+    if (!back) ++octVersion_;
+}
+
+// The adaptive cells' maps of the table being filled, as far as its rows [0, r1) allow (rows
+// [r0, r1) new; r0 = 0 starts a table): the means of the blocks whose rows are all there; the
+// deviation |table - mean| of a block's texels from the means interpolated bilinearly between
+// block centres (GL_LINEAR's rule, as halos_cells.comp.glsl reads them), largest per channel,
+// once the block rows around it have their means; the detail, the largest deviation over the
+// block and its eight neighbours, once those have theirs. The rows done are uploaded at once.
+void Halos::updateOctMaps(bool back, int r0, int r1) {
+    const int N = octN_, B = kMapBlock, M = N / B;
+    if (r0 == 0) mapMeanRows_ = mapDevRows_ = mapDetailRows_ = 0;
+    const bool complete = r1 >= N;
+    const auto at = [M](std::vector<glm::vec4>& m, int i, int j) -> glm::vec4& { return m[std::size_t(j) * std::size_t(M) + std::size_t(i)]; };
+    const int meanTo = complete ? M : r1 / B;
+    for (int J = mapMeanRows_; J < meanTo; ++J)
+        for (int I = 0; I < M; ++I) {
+            glm::vec4 sum(0.0f);
+            for (int y = J * B; y < (J + 1) * B; ++y)
+                for (int x = I * B; x < (I + 1) * B; ++x) sum += octCpu_[std::size_t(y) * std::size_t(N) + std::size_t(x)];
+            at(blkMean_, I, J) = sum / float(B * B);
+        }
+    const int devTo = complete ? M : std::max(meanTo - 1, mapDevRows_);
+    for (int J = mapDevRows_; J < devTo; ++J)
+        for (int I = 0; I < M; ++I) {
+            glm::vec4 dev(0.0f);
+            for (int y = J * B; y < (J + 1) * B; ++y) {
+                const float fy = std::clamp((y + 0.5f) / B - 0.5f, 0.0f, float(M - 1));
+                const int j0 = std::min(int(fy), M - 1), j1 = std::min(j0 + 1, M - 1);
+                const float wy = fy - float(j0);
+                for (int x = I * B; x < (I + 1) * B; ++x) {
+                    const float fx = std::clamp((x + 0.5f) / B - 0.5f, 0.0f, float(M - 1));
+                    const int i0 = std::min(int(fx), M - 1), i1 = std::min(i0 + 1, M - 1);
+                    const float wx = fx - float(i0);
+                    const glm::vec4 mean = (at(blkMean_, i0, j0) * (1.0f - wx) + at(blkMean_, i1, j0) * wx) * (1.0f - wy) +
+                                           (at(blkMean_, i0, j1) * (1.0f - wx) + at(blkMean_, i1, j1) * wx) * wy;
+                    dev = glm::max(dev, glm::abs(octCpu_[std::size_t(y) * std::size_t(N) + std::size_t(x)] - mean));
+                }
+            }
+            at(blkDev_, I, J) = dev;
+        }
+    const int detailTo = complete ? M : std::max(devTo - 1, mapDetailRows_);
+    for (int J = mapDetailRows_; J < detailTo; ++J)
+        for (int I = 0; I < M; ++I) {
+            glm::vec4 d(0.0f);
+            for (int b = std::max(J - 1, 0); b <= std::min(J + 1, M - 1); ++b)
+                for (int a = std::max(I - 1, 0); a <= std::min(I + 1, M - 1); ++a) d = glm::max(d, at(blkDev_, a, b));
+            at(blkDetail_, I, J) = d;
+        }
+    gl::Texture2D& mean = back ? octMeanBack_ : octMean_;
+    gl::Texture2D& detail = back ? octDetailBack_ : octDetail_;
+    if (meanTo > mapMeanRows_)
+        glTextureSubImage2D(mean.id(), 0, 0, mapMeanRows_, M, meanTo - mapMeanRows_, GL_RGBA, GL_FLOAT,
+                            blkMean_.data() + std::size_t(mapMeanRows_) * std::size_t(M));
+    if (detailTo > mapDetailRows_)
+        glTextureSubImage2D(detail.id(), 0, 0, mapDetailRows_, M, detailTo - mapDetailRows_, GL_RGBA, GL_FLOAT,
+                            blkDetail_.data() + std::size_t(mapDetailRows_) * std::size_t(M));
+    mapMeanRows_ = std::max(mapMeanRows_, meanTo);
+    mapDevRows_ = std::max(mapDevRows_, devTo);
+    mapDetailRows_ = std::max(mapDetailRows_, detailTo);
+}
+
+Halos::CellCounts Halos::readCellCounts(const Camera& cam) const {
+    CellCounts c;
+    if (!cellBuf_ || !grid_) return c;
+    std::vector<uint32_t> buf(cellBuf_.size() / 4);
+    glGetNamedBufferSubData(cellBuf_.id(), 0, GLsizeiptr(cellBuf_.size()), buf.data());
+    const int gx = (cam.width + kGridCellPx - 1) / kGridCellPx;
+    c.smoothLeaves = int(buf[0] / 6);
+    c.fetchLeaves = int(buf[4] / 6);
+    for (int list = 0; list < 2; ++list)
+        for (int i = 0; i < (list == 0 ? c.smoothLeaves : c.fetchLeaves); ++i) {
+            const uint32_t entry = buf[8 + std::size_t(list) * listSize_ + std::size_t(i)], cell = entry / 5, slot = entry % 5;
+            int side = kGridCellPx, ox = 0, oy = 0;
+            if (slot >= 1) {
+                side = kGridCellPx / 2;
+                ox = int((slot - 1) & 1) * side;
+                oy = int((slot - 1) >> 1) * side;
+            }
+            const int x0 = int(cell) % gx * kGridCellPx + ox, y0 = int(cell) / gx * kGridCellPx + oy;
+            const long area = long(std::max(std::min(x0 + side, cam.width) - x0, 0)) * long(std::max(std::min(y0 + side, cam.height) - y0, 0));
+            (list == 0 ? c.smoothPixels : c.fetchPixels) += area;
+        }
+    return c;
 }
 
 // The per-pixel path's (azimuth, elevation) table, refilled over frames as the grid's
@@ -453,6 +639,8 @@ void Halos::doStats(nlohmann::json& root) const {
         root["halos"]["grid_table_texels"] = octN_;
         root["halos"]["grid_table_update_ms"] = oct_.updateMs;
         root["halos"]["grid_table_rows_last_frame"] = oct_.rowsLast;
+        root["halos"]["grid_adaptive_cells"] = adaptive_;
+        root["halos"]["grid_cells_ms"] = cellsMs_;
     }
     if (!std::isnan(pix_.held)) {
         root["halos"]["pixel_table_update_ms"] = pix_.updateMs;
@@ -463,6 +651,16 @@ void Halos::doStats(nlohmann::json& root) const {
 void Halos::doRelease() {
     programs_.releasePrograms();
     gridPrograms_.releasePrograms();
+    smoothPrograms_.releasePrograms();
+    cellPrograms_.releasePrograms();
+    octMean_ = {};
+    octMeanBack_ = {};
+    octDetail_ = {};
+    octDetailBack_ = {};
+    octCpu_.clear();
+    cellBuf_ = {};
+    listSize_ = 0;
+    cellsKey_.clear();
     table_ = {};
     tableBack_ = {};
     pix_.backRow = -1;

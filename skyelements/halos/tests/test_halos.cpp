@@ -4,9 +4,13 @@
 // with the Sun's elevation, the circumzenithal arc only below 32.2 deg, nothing without crystals.
 #include <catch2/catch.hpp>
 
+#include "elements_present.hpp"
 #include "gl_test_context.hpp"
 
 #include <welkin/elements/halos.hpp>
+#include <welkin/elements/registry.hpp>
+#include <welkin/eye.hpp>
+#include <welkin/image.hpp>
 #include <welkin/generators/lights.hpp>
 #include <welkin/keys.hpp>
 #include <welkin/processor.hpp>
@@ -612,4 +616,200 @@ TEST_CASE("Halos: time running re-interpolates the per-pixel table over halos.ta
     // the display and random frames differ by a mean of 23 % and 8.3 %: both checks fail.
     CHECK(dr.mean < 0.05);
     CHECK(dr.offFrac < 0.06);
+}
+
+namespace {
+// The adaptive cells' scene: the Sky (quality low) behind the halos, a perspective view towards
+// the Sun 20 deg up (100 deg field, 480 x 320: the 22 and 46 deg halos, the sundogs, the parhelic
+// circle, the tangent and circumzenithal arcs, the horizon), the `display` mix (every population)
+// in a layer of optical depth 0.3, the `low` tables (the grainiest: their grain counts as
+// detail); the CLI's default exposure (automatic: the frame's log-average, the eye's adaptation off).
+struct CellScene {
+    SkyProcessor p{SkyVars::earth(), Logger(), ProcessorOptions{.astronomy = false}};
+    elements::Halos* halos = nullptr;
+    Camera cam;
+    explicit CellScene(bool adaptive, bool interactive = false, bool withSky = true) {
+        cam.projection = Projection::Perspective;
+        cam.azimuthRad = M_PI;
+        cam.altitudeRad = 25.0 * kDeg;
+        cam.verticalFovRad = 100.0 * kDeg;
+        cam.width = 480;
+        cam.height = 320;
+        p.setCamera(cam);
+        p.setExposure({.automatic = true});
+        p.vars().set(eye::keys::adaptation, false);
+#ifdef WELKIN_HAS_ELEMENT_sky
+        if (withSky) {
+            p.add(elements::makeElement("sky"));
+            p.vars().setFromString("sky.quality", "low");
+        }
+#else
+        (void)withSky;
+#endif
+        auto e = std::make_unique<elements::Halos>();
+        halos = e.get();
+        halos->setAdaptiveCells(adaptive);
+        p.add(std::move(e));
+        p.vars().set(hk::tableQuality, std::string("low"));
+        p.vars().set(hk::preset, std::string("display"));
+        p.vars().set(hk::opticalDepth, 0.3);
+        p.vars().set(keys::interactive, interactive);
+        p.vars().set(keys::moonDirection, glm::dvec3(0, 0, -1));
+    }
+    void render(double azRad, double altRad) {
+        p.vars().set(keys::sunDirection, directionFromAzAlt(azRad, altRad));
+        p.renderFrame();
+    }
+};
+// Largest and mean difference of two tone-mapped images (8-bit codes, every channel).
+struct CodeDiff {
+    double worst = 0, mean = 0;
+};
+CodeDiff compareCodes(const Image& a, const Image& b) {
+    CodeDiff d;
+    for (std::size_t i = 0; i < a.pixels.size(); ++i) {
+        const double c = std::abs(double(a.pixels[i]) - double(b.pixels[i])) * 255.0;
+        d.worst = std::max(d.worst, c);
+        d.mean += c;
+    }
+    d.mean /= double(a.pixels.size());
+    return d;
+}
+}  // namespace
+
+#ifdef WELKIN_HAS_ELEMENT_sky
+TEST_CASE("Halos: the adaptive cells draw what every cell fetching draws, within an 8-bit code", "[gl][halos]") {
+    // Issue 21 item 4: the grid's pieces where the table is smooth draw their corners' values
+    // interpolated (no fetch per pixel), the rest fetch; the image must not show where.
+    test::glContext();
+    CellScene a(true), b(false);
+    a.render(M_PI, 20.0 * kDeg);
+    b.render(M_PI, 20.0 * kDeg);
+    REQUIRE(a.halos->gridLastFrame());
+    REQUIRE(b.halos->gridLastFrame());
+    const Image la = a.p.readToneMapped(), lb = b.p.readToneMapped();
+    const Image ha = a.p.readHdr(), hb = b.p.readHdr();
+    // The exposure both metered (the log-average of nearly the same frame).
+    CHECK(a.p.lastEv100() == Approx(b.p.lastEv100()).margin(0.01));
+    // Work counted: the share of the drawn pixels that fetch. With the default tolerance every
+    // piece of this sky fetches: the tables' Monte-Carlo grain varies the halo light by tens of
+    // per cent from texel to texel (a block's range is 0.56 of its mean in the median with the
+    // default tables, more with these), far above 0.4 %; the pieces drawn from their corners
+    // are those below the horizon (clipped: no fragments). (The mechanism where pieces of the sky
+    // interpolate: the next test.)
+    const auto cells = a.halos->readCellCounts(a.cam);
+    const double fetchShare = double(cells.fetchPixels) / double(cells.fetchPixels + cells.smoothPixels);
+    // Displayed: every pixel within one 8-bit code of the every-cell image (the smooth pieces'
+    // bound is 0.4 % of what the pixel shows, Halos::kCellTolerance: under half a code at the
+    // sRGB curve's steepest relative slope, 112 codes per unit of ln L at white; the pieces must
+    // also cover the image exactly once), and the mean far below it (measured 1.5e-5: a few
+    // pixels one code apart where the exposure's meter rounds differently).
+    const CodeDiff d = compareCodes(la, lb);
+    // Radiance: the largest relative difference over the pixels, against the bound's 0.4 %.
+    double worstRel = 0;
+    int sky = 0;
+    for (int y = 0; y < a.cam.height; ++y)
+        for (int x = 0; x < a.cam.width; ++x)
+            for (int c = 0; c < 3; ++c) {
+                const double va = ha.at(x, y, c), vb = hb.at(x, y, c);
+                if (vb <= 0.0) continue;
+                worstRel = std::max(worstRel, std::abs(va - vb) / vb);
+                if (c == 0) ++sky;
+            }
+    INFO(cells.fetchPixels << " pixels fetch, " << cells.smoothPixels << " interpolate (" << cells.fetchLeaves << " and " << cells.smoothLeaves
+                           << " pieces): fetch share " << fetchShare << "; 8-bit difference largest " << d.worst << ", mean " << d.mean
+                           << "; radiance largest relative " << worstRel << " over " << sky << " pixels");
+    CHECK(cells.smoothPixels > 0);
+    CHECK(cells.fetchPixels > 0);
+    CHECK(d.worst <= 1.0);
+    CHECK(d.mean < 0.01);
+    CHECK(worstRel < 0.008);
+}
+#endif
+TEST_CASE("Halos: the adaptive cells' bound holds where pieces interpolate the sky, still and with time running", "[gl][halos]") {
+    // The bound's mechanism where it lets pieces of the sky interpolate: a tolerance 125 x the
+    // default (50 % of the halo light and the sky's floor: the low tables' grain, ~1 ray per bin
+    // in places, passes it in part of the sky) and random crystals only (the 22 and 46 deg halos),
+    // the halos alone (no sky: the difference is the halo light's own). Still, and with time
+    // running (render.interactive, the Sun rising 0.07 deg a frame as at 600x: the table refilled
+    // over halos.table_slices frames, its maps with it, and drawn turned onto the light).
+    test::glContext();
+    constexpr double kTol = 0.5;
+    auto scene = [](bool adaptive, bool interactive) {
+        auto s = std::make_unique<CellScene>(adaptive, interactive, false);
+        s->p.vars().set(hk::preset, std::string("random"));
+        s->halos->setCellTolerance(kTol);
+        return s;
+    };
+    for (bool interactive : {false, true}) {
+        auto a = scene(true, interactive), b = scene(false, interactive);
+        double az = M_PI, alt = 20.0 * kDeg;
+        a->render(az, alt);
+        b->render(az, alt);
+        // Time running: 40 frames, past one refill's swap and into the next refill.
+        for (int i = 0; interactive && i < 40; ++i) {
+            alt += 0.07 * kDeg;
+            a->render(az, alt);
+            b->render(az, alt);
+        }
+        auto check = [&](const char* when) {
+            const Image ha = a->p.readHdr(), hb = b->p.readHdr();
+            const glm::dvec3 E = a->p.vars().get(generators::lightkeys::sunIlluminance) * a->p.vars().get(generators::lightkeys::sunTransmittance);
+            const auto cells = a->halos->readCellCounts(a->cam);
+            // Pixels drawn from their corners above the horizon: the smooth pixels less the ground's.
+            long ground = 0, over = 0, sky = 0;
+            double worst = 0;
+            for (int y = 0; y < a->cam.height; ++y)
+                for (int x = 0; x < a->cam.width; ++x) {
+                    if (hb.at(x, y, 1) <= 0.0f) {
+                        ++ground;
+                        continue;
+                    }
+                    ++sky;
+                    for (int c = 0; c < 3; ++c) {
+                        // The bound, kTol x (the interpolation + the sky's floor x the transmittance <= 1),
+                        // in terms of the fetched value F: |F - lin| <= t (lin + f) gives t / (1 - t) (F + f).
+                        const double bound = kTol / (1.0 - kTol) * (hb.at(x, y, c) + elements::Halos::kSkyFloor[std::size_t(c)] * E[c]);
+                        const double d = std::abs(double(ha.at(x, y, c)) - hb.at(x, y, c));
+                        worst = std::max(worst, d / bound);
+                        if (d > bound) ++over;
+                    }
+                }
+            const double skySmooth = double(cells.smoothPixels - ground) / double(sky);
+            INFO(when << ": sky pixels " << sky << ", interpolated " << skySmooth << "; largest difference " << worst << " of the bound, " << over
+                      << " channels over it");
+            // Measured: still 45 % of the sky interpolated, time running 48 %, after the jump 43 %;
+            // with the maps left unswapped (those of the table before the jump, tried once) 21 %
+            // after the jump: their detail lies elsewhere, so the pieces fail.
+            CHECK(skySmooth > 0.3);
+            // The bound is checked at points one block of the maps apart (4 texels, 1.4 deg with
+            // these tables) and the detail between them bounded by the dilated detail map: it holds
+            // at every pixel (measured: the largest difference 0.64, 0.63 and 0.62 of the bound).
+            CHECK(over == 0);
+        };
+        if (!interactive) {
+            check("still");
+            // Turned on after frames drawn without them (their maps were not made): the next
+            // frame makes the table and its maps whole, and lists the same pieces.
+            const auto ca = a->halos->readCellCounts(a->cam);
+            b->halos->setAdaptiveCells(true);
+            b->render(az, alt);
+            const auto cb = b->halos->readCellCounts(b->cam);
+            CHECK(cb.smoothPixels == ca.smoothPixels);
+            CHECK(cb.smoothLeaves == ca.smoothLeaves);
+            continue;
+        }
+        REQUIRE(a->halos->gridRefills() >= 2);
+        REQUIRE(a->halos->gridTableElevation() != std::asin(glm::normalize(directionFromAzAlt(az, alt)).z));  // drawn turned
+        check("time running, a refill under way");
+        // A jump of 15 deg: the refill restarts there and the table (with its maps) is swapped in
+        // 32 frames later; maps left from the table before would put its halos 15 deg away.
+        alt += 15.0 * kDeg;
+        for (int i = 0; i < hk::kTableSlicesDefault + 1; ++i) {
+            a->render(az, alt);
+            b->render(az, alt);
+        }
+        REQUIRE(a->halos->gridTableElevation() == std::asin(glm::normalize(directionFromAzAlt(az, alt)).z));
+        check("after a jump");
+    }
 }

@@ -219,7 +219,7 @@ private:
     void doRelease() override;
     void doStats(nlohmann::json& root) const override;
 
-    gl::ProjectionPrograms programs_, gridPrograms_;
+    gl::ProjectionPrograms programs_, gridPrograms_, smoothPrograms_, cellPrograms_;
     gl::Texture2D table_;            // the mix at the light's elevation (azimuth x elevation), 1/sr (per-pixel path)
     gl::Texture2D octTable_;         // the grid path's table (octahedral half-sphere, the layer baked in): drawn
     gl::Texture2D octBack_;          // the one being filled over frames (halos.table_slices), swapped in when complete
@@ -271,8 +271,32 @@ private:
     glm::dvec4 octLayerKey_{-1.0};  // tau, observer height, layer height, planet radius the layer holds
     bool forcePerPixel_ = false;
     void updateOctTable(double elevationRad, double tauUser, double h0, double layerH, double R, int slices);
-    // Rows [r0, r1) of the grid's table at the light elevation `el`, into `target`.
-    void fillOctRows(gl::Texture2D& target, double el, int r0, int r1);
+    // Rows [r0, r1) of the grid's table at the light elevation `el`, into the drawn table (back
+    // false) or the one being filled, and what of its maps they complete (updateOctMaps).
+    void fillOctRows(bool back, double el, int r0, int r1);
+
+    // The adaptive cells (skyelements/halos/README.md, "Adaptive cells"). Made with the
+    // grid's table, as its rows are filled (so a refill spread over frames spreads them too): the
+    // table's means over blocks of kMapBlock^2 texels (M x M, M = N / kMapBlock) and per block the
+    // largest |table - bilinear mean| over the block and its eight neighbours, per channel; drawn
+    // and being filled, swapped with the table. The CPU copy of the table being filled, its block
+    // rows done so far (means, deviations, detail), the per-block deviation.
+    gl::Texture2D octMean_, octMeanBack_, octDetail_, octDetailBack_;
+    int meanUnit_ = 0, detailUnit_ = 0, cellsSsbo_ = 0;
+    std::vector<glm::vec4> octCpu_, blkMean_, blkDev_, blkDetail_;
+    int mapMeanRows_ = 0, mapDevRows_ = 0, mapDetailRows_ = 0;
+    bool frontMaps_ = false, backMaps_ = false;  // the drawn table's maps / the one being filled's are whole (made while on)
+    void updateOctMaps(bool back, int r0, int r1);
+    // The cells' lists (halos_cells.comp.glsl): two indirect draw commands, then the two lists of
+    // pieces; rebuilt only when what they depend on changed (the view, the table's frame, the
+    // drawn table, the layer's horizon, the tolerance).
+    gl::Buffer cellBuf_;
+    uint32_t listSize_ = 0;
+    bool adaptive_ = false;
+    double cellTolerance_ = kCellTolerance;
+    uint64_t octVersion_ = 0;  // bumped whenever the drawn grid table (and its maps) changes
+    std::vector<double> cellsKey_;
+    double cellsMs_ = 0.0;
 
 public:
     /// The light's motion in elevation (rad) that re-interpolates the table between its slices
@@ -286,6 +310,35 @@ public:
     /// azimuth bins (an octahedral map of the half sky y >= 0 in the light's frame, finer than
     /// the source's bins so that the resampling keeps most of its detail: skyelements/halos/README.md).
     static constexpr double kOctScale = 2.0;
+    /// The adaptive cells' maps: one block per kMapBlock^2 texels of the grid's table.
+    static constexpr int kMapBlock = 4;
+    /// A piece of the grid is drawn from its corners' values (no fetch per pixel) where the
+    /// difference from the per-pixel fetch is bounded by kCellTolerance x what the pixel shows
+    /// (the halo light and, under it, a lower bound of the clear sky's light: kSkyFloor),
+    /// per colour channel and in the transmittance (skyelements/halos/README.md).
+    static constexpr double kCellTolerance = 0.004;
+    /// A lower bound of the clear sky's radiance above the horizon over the illuminance (at the
+    /// observer) of the light that makes it, per channel (1/sr): single Rayleigh scattering by the
+    /// zenith column (the shortest) at 90 deg from the light (the phase function's least, 3 / (16
+    /// pi)), tau_R exp(-tau_R) 3 / (16 pi), with the sea-level Rayleigh optical depth at the
+    /// channels' wavelengths (Hansen & Travis 1974: 0.063, 0.098, 0.193 at 612, 549, 465 nm).
+    /// Checked against the Sky element's own sky in the tests.
+    static constexpr std::array<double, 3> kSkyFloor{0.0035, 0.0053, 0.0095};
+    /// The adaptive cells on (off by default: with the traced tables' Monte-Carlo grain, tens of
+    /// per cent from texel to texel, no piece of a lit sky passes kCellTolerance, so they cost
+    /// their tests and two draws and save nothing; skyelements/halos/README.md, "Adaptive cells").
+    /// Off: every cell fetches per pixel, one draw.
+    void setAdaptiveCells(bool on) { adaptive_ = on; }
+    /// Tests and benchmarks: another tolerance than kCellTolerance (> 0).
+    void setCellTolerance(double t) { cellTolerance_ = t; }
+    /// What the last grid frame drew with the adaptive cells, read back from the GPU (a stall:
+    /// tests and benchmarks only): the pixels drawn from their corners, the pixels that fetch
+    /// (below the horizon too: clipped there), the pieces of each list.
+    struct CellCounts {
+        long smoothPixels = 0, fetchPixels = 0;
+        int smoothLeaves = 0, fetchLeaves = 0;
+    };
+    CellCounts readCellCounts(const Camera& camera) const;
     /// True if the last render() drew through the grid.
     bool gridLastFrame() const { return grid_; }
     /// The grid's table: rows computed in the last render() (work counted, not timed: N a whole
