@@ -27,11 +27,10 @@ double Y(const glm::dvec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.
 constexpr const char* kTotality = "2026-08-12T18:29:00Z";  // mid-totality near Burgos (the astronomy: fraction 0)
 constexpr double kLat = 42.34, kLon = -3.70;
 // The multiple-scattering model's stated accuracy against the eclipse reference at totality: a
-// factor. Measured with this test's coarse reference (docs/eclipse.md, "Accuracy"): 0.66 to 1.31
-// in eight directions at the bench's quality (welkin bench eclipse), 0.56 to 0.76 over the zenith,
-// 45 deg across and the horizon opposite the Sun at this test's quality 1 (its coarser clear
-// multiple-scattering field moves the reference); 2 leaves room for that while the isotropic
-// factor it replaced (0.41 at 45 deg across at this quality, L = 30 km) fails.
+// factor. Measured with this test's coarse reference (docs/eclipse.md, "Accuracy", "One model at
+// three places"): 0.97 to 1.54 in eight directions over Burgos on the renderer's air (welkin bench
+// eclipse), 0.69 to 1.03 on SkyModel::earthClear(), this case's model; 2 leaves room for the
+// atmospheres while the isotropic factor it replaced (0.41 at 45 deg across, L = 30 km) fails.
 // (The horizon beneath the Sun is left out here: on this case's SkyModel::earthClear() the model
 // is 0.13 of the reference there, its axis weight fitted to the renderer's more forward-scattering
 // aerosol; the next case checks it on the renderer's atmosphere. docs/eclipse.md "Accuracy".)
