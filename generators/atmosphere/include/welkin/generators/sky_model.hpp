@@ -382,8 +382,8 @@ EclipseMsTable eclipseMsTable(const EclipseGeometry& g, double lengthMeters, int
 /// integrate() for the Sun at unit ENU `sunDir`, along unit ENU `viewDir` from the observer at
 /// height h (inside the atmosphere), every point seeing the Moon's shadow: single scattering and
 /// the directly lit ground by eclipseAt().x, the sky's light on the ground by eclipseAt().y, orders
-/// >= 2 by x + (y - x) sin(angle of viewDir to the Sun) (docs/eclipse.md). Twin of
-/// integrateScattering() with ATM_ECLIPSE.
+/// >= 2 by x + (y - x) w, w the weight of eclipseMsWeight() for this ray (or g.msWeightOverride)
+/// (docs/eclipse.md). Twin of integrateScattering() with ATM_ECLIPSE.
 Scattering integrateEclipse(const SkyModel& m, const Lut2D& T, const MsField& MS, double h, const glm::dvec3& viewDir,
                             const glm::dvec3& sunDir, const EclipseGeometry& g, int steps, bool quadratic, double lightAngularRadius,
                             int groundMode = -1);
