@@ -353,31 +353,50 @@ real atm_eclForwardShare(real forward, real sM, real sR) { return min(1.0, forwa
 real atm_eclMsAxisWeight(real nu, real F) { return 1.0 - F * (1.0 - sqrt(max(1.0 - nu * nu, 0.0))); }
 // Hazy air (docs/eclipse.md, "Hazy air"): H = atm_eclHaze(sM) is 0 up to 1.1 x the aerosol's
 // scattering at the ground of Atmosphere::earthClear() (7.5e-5 /m, green: kEclipseHazeClearMie)
-// and 1 from 4 x it (aerosol optical depth 0.4, Atmosphere::earthHazy()). There the aerosol's
-// horizontal extinction length (~3 km) is far shorter than the umbra's radius, and the light of
-// the sunlit ring reaches the shadowed air through the haze mostly by the aerosol's forward peak,
-// so it keeps the ring's direction: a ray looking across the axis, towards the ring, gathers more
-// of it, one looking up or along the axis less. With H the weight becomes w' * mix(1, R, H):
-// - w' = 1 - F' (1 - s): towards the Sun (nu > 0) F' = max(F, H) and s = sin(angle)^(1 + 0.5 H)
-//   (kEclipseHazeSunwardPower: the shadowed air runs along the axis to the top of the atmosphere
-//   towards the Sun, into the ground away from it); away from the Sun as before.
-// - R: the ring's gather, 0.645 (kEclipseHazeRingShare: the share of the kernel's light that
-//   reaches the shadowed air at all) times the mean of a Henyey-Greenstein lobe of asymmetry 0.4
-//   (kEclipseHazeRingG: the forward peak smoothed by the ring's spread in azimuth and height) at
-//   the view's cosines +-cosRing with the two horizontal directions across the axis,
-//   cosRing = cos(elevation) |sin(azimuth from the Sun)|, times 4 pi.
-// The constants are fitted on earthHazy() at totality over Burgos (docs/eclipse.md). C++:
+// and 1 from 4 x it (aerosol optical depth 0.4, Atmosphere::earthHazy()).
+// The weight at every Sun's elevation (docs/eclipse.md, "One model at three places"): the fit at
+// Burgos alone (Sun 8 deg up) stood in for the shadow's geometry on the air, which the Sun's
+// elevation sets. X = 1 / max(muS, 0.05), the air mass of the shadowed column along the axis
+// towards the Sun and the umbra's elongation on the ground (Burgos 7, Reykjavik 2.4, Luxor 1.0):
+// - G = 1 - exp(-10 (X - 1)) (kEclipseColumnRate): how much of the clear sky's light gathered near
+//   the axis came along that column. With the Sun near the zenith the column is the ~1 air mass
+//   above the point, and the light a ray gathers even towards the Sun comes from the sunlit air
+//   around the umbra (G -> 0); ~15 deg off the zenith the column is long enough to carry it all
+//   (Burgos, Reykjavik: G = 1). The axis' share becomes Fe G, Fe the forward share F.
+// - Towards the Sun (nu > 0) the shadow's dark footprint lies along the Sun's azimuth, X times as
+//   long as wide, so its far end is seen ~X times lower than the umbra's width: s is the lesser of
+//   sin(angle to the Sun) and the view's offset from that footprint, sqrt(cosRing^2 +
+//   (0.34 mu X)^2) (kEclipseFootprintMu), raised to 0.91 (1 + 0.31 H) (kEclipseSunwardPower,
+//   kEclipseHazeSunwardPower), and Fe = max(F, H). Away from the Sun the axis runs into the
+//   ground: Fe = 0.54 F (kEclipseAntisolarShare), s = sin(angle).
+// - E = (X - 1)^2 / ((X - 1)^2 + 5.9^2) (kEclipseRingElongation): how much of the sunlit ring lies
+//   across the axis rather than all around (the umbra round on the air with the Sun at the
+//   zenith): the hazy ring's directional lobe is scaled by it.
+// w' = max(1 - Fe G (1 - s), 0); with haze the ring's gather R = 0.42 (kEclipseHazeRingShare) x
+// mix(1, the mean of a Henyey-Greenstein lobe of asymmetry 0.4 (kEclipseHazeRingG) at the view's
+// cosines +-cosRing with the two horizontal directions across the axis, x 4 pi, E); the weight
+// is w' mix(1, R, H). The constants are fitted at once at Burgos, Reykjavik and Luxor (totality
+// and the partial phases, on Atmosphere::earthClear() and earthHazy(); docs/eclipse.md). C++:
 // cpu::eclipseMsWeight().
 real atm_eclHaze(real sM) { return clamp((sM / 7.5e-5 - 1.1) / 2.9, 0.0, 1.0); }
 real atm_eclHgLobe(real c, real g) {
     real d = max(1.0 + g * g - 2.0 * g * c, 1e-12);
     return (1.0 - g * g) / (d * sqrt(d));
 }
-real atm_eclMsWeight(real nu, real cosRing, real F, real H) {
+real atm_eclMsWeight(real nu, real mu, real muS, real cosRing, real F, real H) {
+    real X = 1.0 / max(muS, 0.05);
+    real G = 1.0 - exp(-10.0 * (X - 1.0));
+    real E = (X - 1.0) * (X - 1.0) / ((X - 1.0) * (X - 1.0) + 5.9 * 5.9);
     real s = sqrt(max(1.0 - nu * nu, 0.0));
-    if (nu > 0.0 && H > 0.0) s = pow(max(s, 1e-6), 1.0 + 0.5 * H);
-    real w = 1.0 - (nu > 0.0 ? max(F, H) : F) * (1.0 - s);
-    real R = 0.645 * 0.5 * (atm_eclHgLobe(cosRing, 0.4) + atm_eclHgLobe(-cosRing, 0.4));
+    real Fe = 0.54 * F;
+    if (nu > 0.0) {
+        real off = 0.34 * mu * X;
+        s = min(s, sqrt(cosRing * cosRing + off * off));
+        s = pow(max(s, 1e-6), 0.91 * (1.0 + 0.31 * H));
+        Fe = max(F, H);
+    }
+    real w = max(1.0 - Fe * G * (1.0 - s), 0.0);
+    real R = 0.42 * (1.0 + (0.5 * (atm_eclHgLobe(cosRing, 0.4) + atm_eclHgLobe(-cosRing, 0.4)) - 1.0) * E);
     return w * mix(1.0, R, H);
 }
 // cosRing for a view of cosines mu (to the zenith) and nu (to the Sun), the Sun's muS.

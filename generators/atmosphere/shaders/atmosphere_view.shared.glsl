@@ -148,7 +148,7 @@ Scattering integrateScattering(real h, real mu, real muS, real nu, real maxDista
     // (Only an eclipse's march reads it: the ordinary sky's rays skip it.)
     real eclAxis = 1.0;
     if (atm_eclipseMarch())
-        eclAxis = atm_eclMsWeight(nu, atm_eclCosRing(mu, muS, nu),
+        eclAxis = atm_eclMsWeight(nu, mu, muS, atm_eclCosRing(mu, muS, nu),
                                   atm_eclForwardShare(atm_shFactorsLo().w, atm_scatteringMie(0.0).y, atm_scatteringRayleigh(0.0).y),
                                   atm_eclHaze(atm_scatteringMie(0.0).y));
     for (int k = 0; k < steps && d > 0.0; ++k) {

@@ -71,6 +71,11 @@ struct SkyMarch : SkyModelAccess {
     vec3 atm_shGroundAt(real muS) const { return atm_groundSkyAt(muS); }
     bool atm_eclipseMarch() const { return eclipse != nullptr; }
     vec2 atm_eclipseAlong(real t) const { return generators::cpu::eclipseAt(*eclipse, t * eclView); }
+    // The weight, unless the geometry forces it (EclipseGeometry::msWeightOverride: model fitting).
+    real atm_eclMsWeight(real nu, real mu, real muS, real cosRing, real F, real H) const {
+        return eclipse && eclipse->msWeightOverride >= 0.0 ? eclipse->msWeightOverride
+                                                           : atmosphere_shared::atm_eclMsWeight(nu, mu, muS, cosRing, F, H);
+    }
 #define ATM_USE_TRANSMITTANCE
 #define ATM_MARCH_INCIDENT
 #include "atmosphere_march.shared.glsl"
@@ -648,10 +653,10 @@ double eclipseMsAxisWeight(const SkyModel& m, double forward, double nu) {
     return shared::atm_eclMsAxisWeight(nu, shared::atm_eclForwardShare(forward, m.scatteringMie(0.0).g, m.scatteringRayleigh(0.0).g));
 }
 
-double eclipseMsWeight(const SkyModel& m, double forward, double nu, double cosRing) {
+double eclipseMsWeight(const SkyModel& m, double forward, double nu, double mu, double muS, double cosRing) {
     // The shader's text, at the ground's scattering in green (as the view march reads it).
     const double sM = m.scatteringMie(0.0).g, sR = m.scatteringRayleigh(0.0).g;
-    return shared::atm_eclMsWeight(nu, cosRing, shared::atm_eclForwardShare(forward, sM, sR), shared::atm_eclHaze(sM));
+    return shared::atm_eclMsWeight(nu, mu, muS, cosRing, shared::atm_eclForwardShare(forward, sM, sR), shared::atm_eclHaze(sM));
 }
 
 double eclipseHaze(const SkyModel& m) { return shared::atm_eclHaze(m.scatteringMie(0.0).g); }

@@ -53,6 +53,7 @@ struct EclipseBenchOptions {
     int quality = -1;     // the sky quality of the accuracy part (-1: the processor's)
     int cycleFrames = 0;  // > 0: time every frame of this many at --seconds-per-frame, by kind
     std::string sweep;  // comma list of multiple-scattering kernel lengths L (km) to compare (model tuning)
+    std::string dump;  // append one CSV row per phase and direction (model fitting: the model is linear in its weight)
     std::string place = "burgos";  // burgos, reykjavik, luxor: the place and its mid-totality (docs/eclipse.md)
 };
 
@@ -266,6 +267,9 @@ int run(const EclipseBenchOptions& o) {
     for (size_t i = 0; i < lengths.size(); ++i) std::printf("---|");
     std::printf("\n");
     double worst = 0.0, worstRatio = 1.0;
+    std::FILE* dump = o.dump.empty() ? nullptr : std::fopen(o.dump.c_str(), "a");
+    if (!o.dump.empty() && !dump) throw Error("--dump " + o.dump + ": cannot open for appending");
+    const char* atmName = o.plainModel ? "hillaire" : o.hazy ? "hazy" : "renderer";
     for (const Phase& ph : phases) {
         const SkyVars v = astronomyAt(ph.t);
         const glm::dvec3 sun = glm::normalize(v.get(keys::sunDirection));
@@ -275,8 +279,10 @@ int run(const EclipseBenchOptions& o) {
         cpu::EclipseGeometry gm = g;
         gm.ms = &field;
         const double sunAz = std::atan2(sun.x, sun.y);
-        for (auto [daz, alt] : {std::pair{0.0, 90.0}, std::pair{0.0, 45.0}, std::pair{90.0, 45.0}, std::pair{180.0, 45.0},
-                                std::pair{0.0, 2.0}, std::pair{90.0, 2.0}, std::pair{180.0, 2.0}, std::pair{270.0, 2.0}}) {
+        std::vector<std::pair<double, double>> dirs = {{0.0, 90.0}, {0.0, 45.0}, {90.0, 45.0}, {180.0, 45.0},
+                                                       {0.0, 2.0}, {90.0, 2.0}, {180.0, 2.0}, {270.0, 2.0}};
+        if (dump) dirs.insert(dirs.end(), {{0.0, 15.0}, {90.0, 15.0}, {180.0, 15.0}, {45.0, 30.0}, {135.0, 30.0}, {0.0, 70.0}, {180.0, 70.0}});
+        for (auto [daz, alt] : dirs) {
             const glm::dvec3 dir = directionFromAzAlt(sunAz + daz * kDeg, alt * kDeg);
             atmosphere::EclipseReferenceOptions ro = refOptions;
             const atmosphere::EclipseReferenceRadiance rr = atmosphere::eclipseReferenceRadiance(m, T, MS, 0.0, dir, sun, g, ro);
@@ -302,11 +308,30 @@ int run(const EclipseBenchOptions& o) {
             }
             std::printf("\n");
             std::fflush(stdout);
+            if (dump) {
+                // The model's radiance at the weights 0 and 1 (it is linear in the weight), and the
+                // distance along the view to the first point with 1 % of the Sun visible.
+                cpu::EclipseGeometry g0 = gm, g1 = gm;
+                g0.msWeightOverride = 0.0;
+                g1.msWeightOverride = 1.0;
+                const double a0 = Y(cpu::radiance(m, cpu::integrateEclipse(m, T, MS, 0.0, dir, sun, g0, 256, false, m.sunAngularRadius), nu));
+                const double a1 = Y(cpu::radiance(m, cpu::integrateEclipse(m, T, MS, 0.0, dir, sun, g1, 256, false, m.sunAngularRadius), nu));
+                double edge = -1.0;
+                for (double t = 0.0; t < 2000e3; t += 500.0)
+                    if (cpu::eclipseAt(g, t * dir).x > 0.01) { edge = t; break; }
+                const double tEdge = Y(cpu::integrate(m, T, MS, 0.0, dir.z, sun.z, nu, edge < 0.0 ? 1e30 : std::max(edge, 1.0), 256, false,
+                                                      m.sunAngularRadius).transmittance);
+                std::fprintf(dump, "%s,%s,%s,%.6f,%.1f,%.1f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6f,%.6f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", o.place.c_str(), atmName,
+                             ph.name.c_str(), v.get(keys::sunEclipseFraction), daz, alt, ref, a0, a1, model, refClear, modelClear, sun.z, nu,
+                             edge, m.scatteringMie(0.0).g, m.scatteringRayleigh(0.0).g, Y(rr.second), Y(rr.higher), Y(rr.single), tEdge);
+                std::fflush(dump);
+            }
             const double r = model / ref;
             worst = std::max(worst, std::abs(std::log(r)));
             if (std::abs(std::log(r)) >= std::abs(std::log(worstRatio))) worstRatio = r;
         }
     }
+    if (dump) std::fclose(dump);
     std::printf("\nlargest model / reference factor: %.3f (|ln| %.2f)\n", worstRatio, worst);
     return 0;
 }
@@ -322,6 +347,7 @@ bench::CommandBenchRegistrar reg({"eclipse", "the solar eclipse's sky: frame cos
                    "also time every frame of this many at --seconds-per-frame, paired with a normal frame and classified by the "
                    "eclipse table's work in it (0: off; 300 covers a rebuild at real time), [0, 100000]")
         ->capture_default_str();
+    sub.add_option("--dump", o->dump, "append a CSV row per phase and direction of the accuracy part (model fitting; more directions)");
     sub.add_option("--place", o->place, "burgos, reykjavik or luxor: the place and its mid-totality (docs/eclipse.md)")->capture_default_str();
     sub.add_option("--hazy", o->hazy, "the accuracy part on Atmosphere::earthHazy() (AOD 0.4 at 550 nm, g 0.75)")->capture_default_str();
     sub.add_option("--plain-model", o->plainModel,

@@ -27,11 +27,10 @@ double Y(const glm::dvec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.
 constexpr const char* kTotality = "2026-08-12T18:29:00Z";  // mid-totality near Burgos (the astronomy: fraction 0)
 constexpr double kLat = 42.34, kLon = -3.70;
 // The multiple-scattering model's stated accuracy against the eclipse reference at totality: a
-// factor. Measured with this test's coarse reference (docs/eclipse.md, "Accuracy"): 0.66 to 1.31
-// in eight directions at the bench's quality (welkin bench eclipse), 0.56 to 0.76 over the zenith,
-// 45 deg across and the horizon opposite the Sun at this test's quality 1 (its coarser clear
-// multiple-scattering field moves the reference); 2 leaves room for that while the isotropic
-// factor it replaced (0.41 at 45 deg across at this quality, L = 30 km) fails.
+// factor. Measured with this test's coarse reference (docs/eclipse.md, "Accuracy", "One model at
+// three places"): 0.97 to 1.54 in eight directions over Burgos on the renderer's air (welkin bench
+// eclipse), 0.69 to 1.03 on SkyModel::earthClear(), this case's model; 2 leaves room for the
+// atmospheres while the isotropic factor it replaced (0.41 at 45 deg across, L = 30 km) fails.
 // (The horizon beneath the Sun is left out here: on this case's SkyModel::earthClear() the model
 // is 0.13 of the reference there, its axis weight fitted to the renderer's more forward-scattering
 // aerosol; the next case checks it on the renderer's atmosphere. docs/eclipse.md "Accuracy".)
@@ -287,8 +286,9 @@ TEST_CASE("Eclipse sky: the model against the eclipse reference at totality on t
         const double ref = pt.reference, model = pt.model;
         INFO("azimuth from the Sun " << daz << " deg, altitude " << alt << " deg: model " << model << ", reference " << ref
                                      << " (order 2: " << pt.secondOrder / ref << " of it)");
-        // Measured 1.31 beneath the Sun and 1.10 at 45 deg (here, 128 steps, as the bench's 256);
-        // kEclipseModelFactor, the stated accuracy at totality.
+        // Measured 1.21 beneath the Sun and 1.15 at 45 deg (here, 128 steps, as the bench's 256;
+        // 1.31 and 1.10 with the weight fitted at Burgos alone); kEclipseModelFactor, the stated
+        // accuracy at totality.
         CHECK(model < ref * kEclipseModelFactor);
         CHECK(model > ref / kEclipseModelFactor);
         // The reference there is exact where it matters: its second order, computed exactly,
@@ -307,7 +307,7 @@ TEST_CASE("Eclipse sky: the model against the eclipse reference at totality on h
     SkyVars v = test::astronomyAt(kTotality, kLat, kLon);
     v.set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(atmosphere::Atmosphere::earthHazy()));
     const SkyModel m = SkyModel::fromVars(v);
-    REQUIRE(cpu::eclipseHaze(m) == Approx(1.0));  // the haze's terms fully on: this is the case they were fitted on
+    REQUIRE(cpu::eclipseHaze(m) == Approx(1.0));  // the haze's terms fully on
     const SkyQuality q = SkyQuality::preset(1);
     const Lut2D T = cpu::transmittanceLut(m, q);
     const cpu::MsField MS = cpu::msField(m, q, T);
@@ -317,8 +317,9 @@ TEST_CASE("Eclipse sky: the model against the eclipse reference at totality on h
         const double ref = pt.reference, model = pt.model;
         INFO("azimuth from the Sun " << daz << " deg, altitude " << alt << " deg: model " << model << ", reference " << ref
                                      << " (order 2: " << pt.secondOrder / ref << " of it)");
-        // Measured (bench, 256 steps) 1.00 at the zenith, 1.34 at 45 deg towards the Sun, 0.66 on
-        // the horizon beneath it; kEclipseModelFactor, the stated accuracy at totality.
+        // Measured (here and the bench) 0.81 at the zenith, 1.27 at 45 deg towards the Sun, 0.74 on
+        // the horizon beneath it (the weight fitted on the three places; 1.00, 1.34, 0.66 with its
+        // haze terms fitted here alone); kEclipseModelFactor, the stated accuracy at totality.
         CHECK(model < ref * kEclipseModelFactor);
         CHECK(model > ref / kEclipseModelFactor);
         // The reference beneath the Sun is its exact second order (measured 1.00 of it).
@@ -342,19 +343,125 @@ TEST_CASE("Eclipse sky: the multiple-scattering weight on hazy air, and none of 
     const double ratio = hazy.scatteringMie(0.0).g / cpu::kEclipseHazeClearMie;
     CHECK(cpu::eclipseHaze(hazy) == Approx(std::clamp((ratio - 1.1) / 2.9, 0.0, 1.0)).margin(1e-12));
     CHECK(ratio == Approx(4.0).epsilon(0.01));  // AOD 0.4 against 0.1, the same scale height
-    // Clear air: the full weight is the axis weight, whatever cosRing (rounding only, 1e-12).
-    for (double nu : {-0.9, 0.0, 0.5, 0.99})
-        for (double cr : {0.0, 0.7, 1.0}) CHECK(cpu::eclipseMsWeight(clear, 0.187, nu, cr) == Approx(cpu::eclipseMsAxisWeight(clear, 0.187, nu)).margin(1e-12));
-    // Hazy air (H = 1): R = share x the mean of the HG lobe (asymmetry G) at +-cosRing, x 4 pi.
-    const double G = cpu::kEclipseHazeRingG, A = cpu::kEclipseHazeRingShare;
-    auto lobe = [&](double c) { return (1 - G * G) / std::pow(1 + G * G - 2 * G * c, 1.5); };
+    // The Sun's elevation's terms (docs/eclipse.md, "One model at three places"), for a Sun at
+    // muS: X = 1 / muS, the column's share G and the umbra's elongation E.
+    auto G = [](double muS) { return 1.0 - std::exp(-cpu::kEclipseColumnRate * (1.0 / muS - 1.0)); };
+    auto E = [](double muS) {
+        const double x = 1.0 / muS - 1.0;
+        return x * x / (x * x + cpu::kEclipseRingElongation * cpu::kEclipseRingElongation);
+    };
+    // Clear air, the Sun low (G = 1 to 1e-12 at 10 deg): away from the Sun the axis weight with
+    // F x kEclipseAntisolarShare; across the axis (nu = 0) 1 whatever cosRing; the literals against
+    // the constants to rounding (1e-12).
+    const double low = std::sin(10 * kDeg), F = 1.0;  // Atmosphere::earthClear(): the forward share clamps to 1
+    REQUIRE(G(low) == Approx(1.0).margin(1e-12));
+    for (double cr : {0.0, 0.7, 1.0}) CHECK(cpu::eclipseMsWeight(clear, 0.187, 0.0, 0.3, low, cr) == Approx(1.0).margin(1e-12));
+    CHECK(cpu::eclipseMsWeight(clear, 0.187, -0.5, 0.3, low, 0.0) ==
+          Approx(1.0 - cpu::kEclipseAntisolarShare * F * (1.0 - std::sqrt(0.75))).margin(1e-12));
+    // Towards the Sun, 60 deg from it in its vertical at 60 deg elevation: s = sin(60 deg) (the
+    // footprint's offset, 0.34 x 0.87 x 5.8 = 1.7, is larger), raised to kEclipseSunwardPower.
+    const double s60 = std::pow(std::sqrt(0.75), cpu::kEclipseSunwardPower);
+    CHECK(cpu::eclipseMsWeight(clear, 0.187, 0.5, std::sin(60 * kDeg), low, 0.0) == Approx(1.0 - F * (1.0 - s60)).margin(1e-12));
+    // On the horizon beneath the Sun: the footprint's offset, 0.34 x mu x X, not sin(angle).
+    const double mu2 = std::sin(2 * kDeg), off = cpu::kEclipseFootprintMu * mu2 / low;
+    CHECK(cpu::eclipseMsWeight(clear, 0.187, std::cos(8 * kDeg), mu2, low, 0.0) ==
+          Approx(std::pow(off, cpu::kEclipseSunwardPower)).margin(1e-12));
+    // The Sun at the zenith: no column (G = 0), the weight 1 even looking at the Sun.
+    CHECK(cpu::eclipseMsWeight(clear, 0.187, 1.0, 1.0, 1.0, 0.0) == Approx(1.0).margin(1e-12));
+    // Hazy air (H = 1), the Sun at 10 deg: R = share x mix(1, the mean of the HG lobe (asymmetry
+    // G) at +-cosRing x 4 pi, E).
+    const double g = cpu::kEclipseHazeRingG, A = cpu::kEclipseHazeRingShare;
+    auto lobe = [&](double c) { return (1 - g * g) / std::pow(1 + g * g - 2 * g * c, 1.5); };
+    auto R = [&](double cr, double muS) { return A * (1.0 + (0.5 * (lobe(cr) + lobe(-cr)) - 1.0) * E(muS)); };
     // Across the axis, horizontal (nu = 0, cosRing = 1): w' = 1, the ring's lobe at 0 and 180 deg.
-    CHECK(cpu::eclipseMsWeight(hazy, 0.187, 0.0, 1.0) == Approx(A * 0.5 * (lobe(1.0) + lobe(-1.0))).epsilon(1e-9));
-    // 60 deg towards the Sun, in the plane of the axis (cosRing = 0): F' = 1, s = sin^(1 + power).
-    const double s60 = std::pow(std::sqrt(0.75), 1.0 + cpu::kEclipseHazeSunwardPower);
-    CHECK(cpu::eclipseMsWeight(hazy, 0.187, 0.5, 0.0) == Approx(s60 * A * lobe(0.0)).epsilon(1e-9));
-    // 60 deg away from the Sun: the axis weight as on clear air, times R.
-    CHECK(cpu::eclipseMsWeight(hazy, 0.187, -0.5, 0.0) == Approx(cpu::eclipseMsAxisWeight(hazy, 0.187, -0.5) * A * lobe(0.0)).epsilon(1e-9));
+    CHECK(cpu::eclipseMsWeight(hazy, 0.187, 0.0, 0.0, low, 1.0) == Approx(R(1.0, low)).epsilon(1e-9));
+    // 60 deg towards the Sun in its vertical: F' = 1, s = sin^(power (1 + haze power)).
+    const double s60h = std::pow(std::sqrt(0.75), cpu::kEclipseSunwardPower * (1.0 + cpu::kEclipseHazeSunwardPower));
+    CHECK(cpu::eclipseMsWeight(hazy, 0.187, 0.5, std::sin(60 * kDeg), low, 0.0) == Approx(s60h * R(0.0, low)).epsilon(1e-9));
+    // The Sun at the zenith: the umbra round on the air, no ring direction (E = 0): R = share.
+    CHECK(cpu::eclipseMsWeight(hazy, 0.187, 0.0, 0.0, 1.0, 1.0) == Approx(A).epsilon(1e-9));
+}
+
+// The places of docs/eclipse.md at mid-totality (welkin astro --events) and the Sun's elevation
+// there: Burgos 8.3 deg, Reykjavik 24.6 deg, Luxor 81.8 deg.
+struct EclipsePlace {
+    const char* name;
+    double lat, lon;
+    const char* mid;
+};
+constexpr EclipsePlace kPlaces[3] = {{"Burgos", kLat, kLon, kTotality},
+                                     {"Reykjavik", 64.15, -21.94, "2026-08-12T17:48:36Z"},
+                                     {"Luxor", 25.69, 32.64, "2027-08-02T10:05:13Z"}};
+
+TEST_CASE("Eclipse sky: the model against the eclipse reference at Burgos, Reykjavik and Luxor", "[cpu][eclipse]") {
+    // One weight at every Sun's elevation (docs/eclipse.md, "One model at three places"): at the
+    // three places' mid-totality, on the atmosphere the renderer draws and on hazy air, the zenith,
+    // 45 deg towards and away from the Sun and the horizon (2 deg) beneath and opposite it. The
+    // weight fitted at Burgos alone gave 6.55 x the reference on Reykjavik's horizon beneath the
+    // Sun and 0.154 x at Luxor's zenith on the renderer's air, 20.2 x and 0.082 x on hazy air
+    // (welkin bench eclipse --coarse true --place ...): this case failed there.
+    const bool hazy = GENERATE(false, true);
+    INFO((hazy ? "Atmosphere::earthHazy()" : "Atmosphere::earthClear()"));
+    SkyVars v0 = test::astronomyAt(kTotality, kLat, kLon);
+    v0.set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(hazy ? atmosphere::Atmosphere::earthHazy()
+                                                                                          : atmosphere::Atmosphere::earthClear()));
+    const SkyModel m = SkyModel::fromVars(v0);
+    const SkyQuality q = SkyQuality::preset(1);
+    const Lut2D T = cpu::transmittanceLut(m, q);
+    const cpu::MsField MS = cpu::msField(m, q, T);
+    // The stated accuracy (docs/eclipse.md): on the renderer's air measured 0.80-1.54 over these
+    // 15 points (here 0.81-1.54, the largest on Burgos' horizon opposite the Sun; the bench's 256
+    // steps give the same to 1 %), 1.6; on hazy air 0.54-1.95 (the largest on Luxor's horizon
+    // opposite the Sun, where the clear model alone is 1.08 x the reference), 2.0 (the worst the
+    // issue accepts).
+    const double factor = hazy ? 2.0 : 1.6;
+    for (const EclipsePlace& pl : kPlaces) {
+        const SkyVars v = test::astronomyAt(pl.mid, pl.lat, pl.lon);
+        REQUIRE(v.get(keys::sunEclipseFraction) == 0.0);  // total there
+        const EclipseComparison cmp(v, m, T, MS);
+        for (auto [daz, alt] : {std::pair{0.0, 90.0}, std::pair{0.0, 45.0}, std::pair{180.0, 45.0}, std::pair{0.0, 2.0}, std::pair{180.0, 2.0}}) {
+            const EclipseComparison::Point pt = cmp.at(daz, alt);
+            INFO(pl.name << ", azimuth from the Sun " << daz << " deg, altitude " << alt << " deg: model " << pt.model << ", reference "
+                         << pt.reference << " (" << pt.model / pt.reference << ")");
+            std::printf("%s %s az %+.0f alt %.0f: model / reference %.3f\n", hazy ? "hazy" : "clear", pl.name, daz, alt, pt.model / pt.reference);
+            CHECK(pt.model < pt.reference * factor);
+            CHECK(pt.model > pt.reference / factor);
+        }
+    }
+}
+
+TEST_CASE("Eclipse sky: the model against the eclipse reference in the 99 % phase at Burgos, Reykjavik and Luxor", "[cpu][eclipse]") {
+    // The instant 1 % of the Sun is left before second contact at each place (bisection on the
+    // astronomy's sun.eclipse_fraction), the renderer's air, the same five directions.
+    SkyVars v0 = test::astronomyAt(kTotality, kLat, kLon);
+    v0.set(atmosphere::kAtmosphere, std::make_shared<const atmosphere::Atmosphere>(atmosphere::Atmosphere::earthClear()));
+    const SkyModel m = SkyModel::fromVars(v0);
+    const SkyQuality q = SkyQuality::preset(1);
+    const Lut2D T = cpu::transmittanceLut(m, q);
+    const cpu::MsField MS = cpu::msField(m, q, T);
+    for (const EclipsePlace& pl : kPlaces) {
+        const UtcInstant mid = UtcInstant::parse(pl.mid);
+        double a = -1800.0, b = 0.0;  // seconds from mid-totality
+        for (int i = 0; i < 30; ++i) {
+            const double c = 0.5 * (a + b);
+            const SkyVars vc = test::astronomyAt(mid.plusSeconds(c).toIso().c_str(), pl.lat, pl.lon);
+            (vc.get(keys::sunEclipseFraction) > 0.01 ? a : b) = c;
+        }
+        const SkyVars v = test::astronomyAt(mid.plusSeconds(a).toIso().c_str(), pl.lat, pl.lon);
+        // The phase itself (the instant rounded to the second by toIso(): 5 %).
+        REQUIRE(v.get(keys::sunEclipseFraction) == Approx(0.01).epsilon(0.05));
+        const EclipseComparison cmp(v, m, T, MS);
+        for (auto [daz, alt] : {std::pair{0.0, 90.0}, std::pair{0.0, 45.0}, std::pair{180.0, 45.0}, std::pair{0.0, 2.0}, std::pair{180.0, 2.0}}) {
+            const EclipseComparison::Point pt = cmp.at(daz, alt);
+            INFO(pl.name << " at 99 %, azimuth from the Sun " << daz << " deg, altitude " << alt << " deg: model " << pt.model
+                         << ", reference " << pt.reference);
+            std::printf("99 %% %s az %+.0f alt %.0f: model / reference %.3f\n", pl.name, daz, alt, pt.model / pt.reference);
+            // Measured 0.92-1.33 (the bench; the largest at Luxor's horizon opposite the Sun, where
+            // the clear model alone is 1.13 x the reference); 1.5.
+            CHECK(pt.model < pt.reference * 1.5);
+            CHECK(pt.model > pt.reference / 1.5);
+        }
+    }
 }
 
 TEST_CASE("Eclipse sky: the model against the eclipse reference in the partial phases (90 %, 99 %, 99.5 %)", "[cpu][eclipse]") {

@@ -301,11 +301,15 @@ double eclipseMsAxisWeight(const SkyModel& m, double forwardFraction, double nu)
 /// the literal 0.16; a test checks the two agree.)
 inline constexpr double kEclipseForwardShare = 0.16;
 
-/// The full weight along a view ray (docs/eclipse.md, "Hazy air"): eclipseMsAxisWeight() on clear
-/// air; on hazy air (eclipseHaze() H > 0) the sunward half's sine raised to 1 + 0.5 H with
-/// F' = max(F, H) there, times mix(1, R, H), R the sunlit ring's directional gather at `cosRing`
-/// (cos(elevation) |sin(azimuth from the Sun)|, in [0, 1]). Runs atm_eclMsWeight().
-double eclipseMsWeight(const SkyModel& m, double forwardFraction, double nu, double cosRing);
+/// The full weight along a view ray at cosines `nu` (to the Sun), `mu` (to the zenith) with the
+/// Sun at `muS` (docs/eclipse.md, "One model at three places"): the axis' share F x G(the Sun's
+/// elevation) (the shadowed column along the axis: 0 with the Sun at the zenith, 1 from ~15 deg
+/// off it), towards the Sun the lesser of sin(angle) and the view's offset from the umbra's
+/// footprint along the Sun's azimuth; on hazy air (eclipseHaze() H > 0) the sunward power
+/// raised and F' = max(F, H) there, times mix(1, R, H), R the sunlit ring's directional gather at
+/// `cosRing` (cos(elevation) |sin(azimuth from the Sun)|, in [0, 1]), its lobe scaled by the
+/// umbra's elongation on the air. Runs atm_eclMsWeight().
+double eclipseMsWeight(const SkyModel& m, double forwardFraction, double nu, double mu, double muS, double cosRing);
 /// How hazy the air is for the eclipse's weight, in [0, 1]: 0 up to 1.1 x kEclipseHazeClearMie
 /// (the aerosol's scattering at the ground, green, 1/m), 1 from 4 x. Runs atm_eclHaze().
 double eclipseHaze(const SkyModel& m);
@@ -313,10 +317,22 @@ double eclipseHaze(const SkyModel& m);
 /// 7.514e-5 /m), rounded: the haze measure's unit. The shared text writes the literals of these
 /// constants; a test checks they agree.
 inline constexpr double kEclipseHazeClearMie = 7.5e-5;
-/// The sunward sine's extra power at H = 1.
-inline constexpr double kEclipseHazeSunwardPower = 0.5;
+/// The rate at which the shadowed column along the axis (air mass X = 1 / sin(the Sun's
+/// elevation)) takes the light gathered near the axis: G = 1 - exp(-rate (X - 1)).
+inline constexpr double kEclipseColumnRate = 10.0;
+/// The umbra's elongation at which the hazy ring's lobe is half on: E = (X-1)^2 / ((X-1)^2 + this^2).
+inline constexpr double kEclipseRingElongation = 5.9;
+/// Towards the Sun: the weight of the view's cosine to the zenith in its offset from the umbra's
+/// footprint along the Sun's azimuth, sqrt(cosRing^2 + (this mu X)^2), X = 1 / max(muS, 0.05).
+inline constexpr double kEclipseFootprintMu = 0.34;
+/// Towards the Sun: the power of s (times 1 + kEclipseHazeSunwardPower H).
+inline constexpr double kEclipseSunwardPower = 0.91;
+/// The sunward power's extra factor at H = 1.
+inline constexpr double kEclipseHazeSunwardPower = 0.31;
+/// Away from the Sun: the axis' share is this x F (the axis runs into the ground).
+inline constexpr double kEclipseAntisolarShare = 0.54;
 /// The share of the kernel's light that reaches the shadowed hazy air (R averaged over the sphere).
-inline constexpr double kEclipseHazeRingShare = 0.645;
+inline constexpr double kEclipseHazeRingShare = 0.42;
 /// The asymmetry of the ring's smoothed lobe.
 inline constexpr double kEclipseHazeRingG = 0.4;
 
@@ -345,6 +361,9 @@ struct EclipseGeometry {
     glm::dvec3 sunPos{0.0};     ///< the Sun's centre
     double sunRadius = 6.957e8;     ///< m
     const EclipseMsTable* ms = nullptr;  ///< the multiple-scattering field (null: orders >= 2 take the point's own fraction)
+    /// >= 0: the orders >= 2's weight w along the ray forced to this value instead of the model's
+    /// (fitting: the radiance is linear in w, so two marches give it for every w). CPU only.
+    double msWeightOverride = -1.0;
 };
 /// Visible fraction of a limb-darkened disk (u = 0.6) of angular radius rs behind a dark disk of
 /// radius ro, centres d apart (rad), [0, 1]: the rings the dark disk's limb does not cut in closed
@@ -363,8 +382,8 @@ EclipseMsTable eclipseMsTable(const EclipseGeometry& g, double lengthMeters, int
 /// integrate() for the Sun at unit ENU `sunDir`, along unit ENU `viewDir` from the observer at
 /// height h (inside the atmosphere), every point seeing the Moon's shadow: single scattering and
 /// the directly lit ground by eclipseAt().x, the sky's light on the ground by eclipseAt().y, orders
-/// >= 2 by x + (y - x) sin(angle of viewDir to the Sun) (docs/eclipse.md). Twin of
-/// integrateScattering() with ATM_ECLIPSE.
+/// >= 2 by x + (y - x) w, w the weight of eclipseMsWeight() for this ray (or g.msWeightOverride)
+/// (docs/eclipse.md). Twin of integrateScattering() with ATM_ECLIPSE.
 Scattering integrateEclipse(const SkyModel& m, const Lut2D& T, const MsField& MS, double h, const glm::dvec3& viewDir,
                             const glm::dvec3& sunDir, const EclipseGeometry& g, int steps, bool quadratic, double lightAngularRadius,
                             int groundMode = -1);
