@@ -51,6 +51,22 @@ float cld_lightDepth(vec3 p, vec3 l, int n) { return cloudDepthAlong(p, l, n, CL
 // behind an isolated cumulus counts as clear (exact in a uniform deck, as the light march).
 float cld_backDepth(vec3 p, vec3 l) { return cloudDepthAlong(p, -l, u_backSamples, CLD_MARCH_MAX_M) * cld_shape.z * CLD_W_DRAINE; }
 
+// Scaled optical depth across the cloud through p, perpendicular to the light l: the same march
+// both ways along the horizontal direction normal to l (east-west when l is at the zenith), each
+// with u_backSamples steps over at most 3 km. With cld_backDepth it gives the depth to the far
+// side that the diffusion sees (cld_finiteBackDepth: a cumulus' light leaks out of its sides).
+float cld_widthDepth(vec3 p, vec3 l) {
+    vec3 up = normalize(p + vec3(0.0, 0.0, cld_radii.x));
+    vec3 s = cross(l, up);
+    float n = length(s);
+    s = n > 1e-4 ? s / n : normalize(cross(up, vec3(0.0, 1.0, 0.0)));
+    return (cloudDepthAlong(p, s, u_backSamples, CLD_MARCH_MAX_M) + cloudDepthAlong(p, -s, u_backSamples, CLD_MARCH_MAX_M)) * cld_shape.z * CLD_W_DRAINE;
+}
+// The lights' source per lux at p (cld_lightTransferTable with the finite cloud's depth to its far side).
+float cld_lightSource(vec3 p, vec3 dir, vec3 l) {
+    return cld_lightTransferTable(dot(dir, l), dir.z, cld_lightDepth(p, l, u_lightSamples), cld_finiteBackDepth(cld_backDepth(p, l), cld_widthDepth(p, l)), l.z);
+}
+
 // Transmittance of the air between the observer (h, mu) and the point at distance d along the
 // ray, from the transmittance LUT: the ratio of the two paths to the top of the atmosphere (rays
 // that reach the ground are reversed: the ratio of the paths from the far end upwards).
@@ -73,11 +89,11 @@ vec3 cld_source(vec3 p, float hp, vec3 dir, float sigmaT) {
     vec3 S = vec3(0.0);
     if (any(greaterThan(u_sunE, vec3(0.0)))) {
         vec3 E = cld_lightAt(p, hp, u_sunDir, u_sunE);
-        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightTransferTable(dot(dir, u_sunDir), dir.z, cld_lightDepth(p, u_sunDir, u_lightSamples), cld_backDepth(p, u_sunDir), u_sunDir.z);
+        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightSource(p, dir, u_sunDir);
     }
     if (any(greaterThan(u_moonE, vec3(0.0)))) {
         vec3 E = cld_lightAt(p, hp, u_moonDir, u_moonE);
-        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightTransferTable(dot(dir, u_moonDir), dir.z, cld_lightDepth(p, u_moonDir, u_lightSamples), cld_backDepth(p, u_moonDir), u_moonDir.z);
+        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightSource(p, dir, u_moonDir);
     }
     // Ambient (skyelements/clouds/README.md, "Ambient"): the clear sky's diffuse light from above the layer and
     // the ground's from below it (the atmosphere's ground albedo, the Sky's and the path tracer's,
