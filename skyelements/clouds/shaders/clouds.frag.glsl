@@ -62,10 +62,15 @@ float cld_widthDepth(vec3 p, vec3 l) {
     s = n > 1e-4 ? s / n : normalize(cross(up, vec3(0.0, 1.0, 0.0)));
     return (cloudDepthAlong(p, s, u_backSamples, CLD_MARCH_MAX_M) + cloudDepthAlong(p, -s, u_backSamples, CLD_MARCH_MAX_M)) * cld_shape.z * CLD_W_DRAINE;
 }
-// The lights' source per lux at p (cld_lightTransferTable with the finite cloud's depth to its far side).
-float cld_lightSource(vec3 p, vec3 dir, vec3 l) {
-    return cld_lightTransferTable(dot(dir, l), dir.z, cld_lightDepth(p, l, u_lightSamples), cld_finiteBackDepth(cld_backDepth(p, l), cld_widthDepth(p, l)), l.z);
+// The lights' source per lux at p (cld_lightTransferTable with the finite cloud's depth to its far
+// side); tauW: cld_widthDepth for this light (the march refreshes it every CLD_WIDTH_EVERY samples).
+float cld_lightSource(vec3 p, vec3 dir, vec3 l, float tauW) {
+    return cld_lightTransferTable(dot(dir, l), dir.z, cld_lightDepth(p, l, u_lightSamples), cld_finiteBackDepth(cld_backDepth(p, l), tauW), l.z);
 }
+// The width through a cumulus changes over hundreds of metres: the view march measures it again
+// every CLD_WIDTH_EVERY cloud samples and where it enters cloud after clear air (its cost, six
+// density samples a light, then weighs ~1/4 of the light marches').
+const int CLD_WIDTH_EVERY = 4;
 
 // Transmittance of the air between the observer (h, mu) and the point at distance d along the
 // ray, from the transmittance LUT: the ratio of the two paths to the top of the atmosphere (rays
@@ -85,15 +90,15 @@ vec3 cld_airTransmittance(float mu, float d) {
 }
 
 // In-scattered source of one sample (cd/m^2 per m) at p with extinction sigmaT (albedo 1).
-vec3 cld_source(vec3 p, float hp, vec3 dir, float sigmaT) {
+vec3 cld_source(vec3 p, float hp, vec3 dir, float sigmaT, vec2 tauW) {
     vec3 S = vec3(0.0);
     if (any(greaterThan(u_sunE, vec3(0.0)))) {
         vec3 E = cld_lightAt(p, hp, u_sunDir, u_sunE);
-        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightSource(p, dir, u_sunDir);
+        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightSource(p, dir, u_sunDir, tauW.x);
     }
     if (any(greaterThan(u_moonE, vec3(0.0)))) {
         vec3 E = cld_lightAt(p, hp, u_moonDir, u_moonE);
-        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightSource(p, dir, u_moonDir);
+        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightSource(p, dir, u_moonDir, tauW.y);
     }
     // Ambient (skyelements/clouds/README.md, "Ambient"): the clear sky's diffuse light from above the layer and
     // the ground's from below it (the atmosphere's ground albedo, the Sky's and the path tracer's,
@@ -127,13 +132,24 @@ bool cld_cumulus(vec3 dir, vec2 px, out vec3 L, out float T, out float dMean) {
     float t = t0 + dt * cld_dither(px);
     vec3 o = vec3(0.0, 0.0, u_h);
     float wSum = 0.0;
+    // the cloud's width across each light (cld_widthDepth), measured again every CLD_WIDTH_EVERY cloud samples
+    vec2 tauW = vec2(0.0);
+    int sinceW = 0;
+    bool wasClear = true;
+    bool sunUp = any(greaterThan(u_sunE, vec3(0.0))), moonUp = any(greaterThan(u_moonE, vec3(0.0)));
     for (int i = 0; i < u_samples; ++i, t += dt) {
         vec3 p = o + dir * t;
         float d = cloudDensity(p, CLOUD_LOD_FULL);
-        if (d <= 0.0) continue;
+        if (d <= 0.0) { wasClear = true; continue; }
+        if (wasClear || sinceW >= CLD_WIDTH_EVERY) {
+            tauW = vec2(sunUp ? cld_widthDepth(p, u_sunDir) : 0.0, moonUp ? cld_widthDepth(p, u_moonDir) : 0.0);
+            sinceW = 0;
+            wasClear = false;
+        }
+        ++sinceW;
         float sigmaT = d * sigma;
         float hp = cloudAltitude(p);
-        vec3 S = cld_source(p, hp, dir, sigmaT);
+        vec3 S = cld_source(p, hp, dir, sigmaT, tauW);
         float Ts = exp(-sigmaT * dt);
         // Hillaire 2016 energy-conserving step: int_0^dt S e^(-sigmaT s) ds = (S - S Ts) / sigmaT
         L += T * (S - S * Ts) / sigmaT;
