@@ -51,6 +51,27 @@ float cld_lightDepth(vec3 p, vec3 l, int n) { return cloudDepthAlong(p, l, n, CL
 // behind an isolated cumulus counts as clear (exact in a uniform deck, as the light march).
 float cld_backDepth(vec3 p, vec3 l) { return cloudDepthAlong(p, -l, u_backSamples, CLD_MARCH_MAX_M) * cld_shape.z * CLD_W_DRAINE; }
 
+// Scaled optical depth across the cloud through p, perpendicular to the light l: the same march
+// both ways along the horizontal direction normal to l (east-west when l is at the zenith), each
+// with u_backSamples steps over at most 3 km. With cld_backDepth it gives the depth to the far
+// side that the diffusion sees (cld_finiteBackDepth: a cumulus' light leaks out of its sides).
+float cld_widthDepth(vec3 p, vec3 l) {
+    vec3 up = normalize(p + vec3(0.0, 0.0, cld_radii.x));
+    vec3 s = cross(l, up);
+    float n = length(s);
+    s = n > 1e-4 ? s / n : normalize(cross(up, vec3(0.0, 1.0, 0.0)));
+    return (cloudDepthAlong(p, s, u_backSamples, CLD_MARCH_MAX_M) + cloudDepthAlong(p, -s, u_backSamples, CLD_MARCH_MAX_M)) * cld_shape.z * CLD_W_DRAINE;
+}
+// The lights' source per lux at p (cld_lightTransferTable with the finite cloud's depth to its far
+// side); tauW: cld_widthDepth for this light (the march refreshes it every CLD_WIDTH_EVERY samples).
+float cld_lightSource(vec3 p, vec3 dir, vec3 l, float tauW) {
+    return cld_lightTransferTable(dot(dir, l), dir.z, cld_lightDepth(p, l, u_lightSamples), cld_finiteBackDepth(cld_backDepth(p, l), tauW), l.z);
+}
+// The width through a cumulus changes over hundreds of metres: the view march measures it again
+// every CLD_WIDTH_EVERY cloud samples and where it enters cloud after clear air: its six density
+// samples a light then cost ~1.5 a cloud sample, against the light marches' 9 (6 + 3) at the default.
+const int CLD_WIDTH_EVERY = 4;
+
 // Transmittance of the air between the observer (h, mu) and the point at distance d along the
 // ray, from the transmittance LUT: the ratio of the two paths to the top of the atmosphere (rays
 // that reach the ground are reversed: the ratio of the paths from the far end upwards).
@@ -69,15 +90,15 @@ vec3 cld_airTransmittance(float mu, float d) {
 }
 
 // In-scattered source of one sample (cd/m^2 per m) at p with extinction sigmaT (albedo 1).
-vec3 cld_source(vec3 p, float hp, vec3 dir, float sigmaT) {
+vec3 cld_source(vec3 p, float hp, vec3 dir, float sigmaT, vec2 tauW) {
     vec3 S = vec3(0.0);
     if (any(greaterThan(u_sunE, vec3(0.0)))) {
         vec3 E = cld_lightAt(p, hp, u_sunDir, u_sunE);
-        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightTransferTable(dot(dir, u_sunDir), dir.z, cld_lightDepth(p, u_sunDir, u_lightSamples), cld_backDepth(p, u_sunDir), u_sunDir.z);
+        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightSource(p, dir, u_sunDir, tauW.x);
     }
     if (any(greaterThan(u_moonE, vec3(0.0)))) {
         vec3 E = cld_lightAt(p, hp, u_moonDir, u_moonE);
-        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightTransferTable(dot(dir, u_moonDir), dir.z, cld_lightDepth(p, u_moonDir, u_lightSamples), cld_backDepth(p, u_moonDir), u_moonDir.z);
+        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightSource(p, dir, u_moonDir, tauW.y);
     }
     // Ambient (skyelements/clouds/README.md, "Ambient"): the clear sky's diffuse light from above the layer and
     // the ground's from below it (the atmosphere's ground albedo, the Sky's and the path tracer's,
@@ -111,13 +132,24 @@ bool cld_cumulus(vec3 dir, vec2 px, out vec3 L, out float T, out float dMean) {
     float t = t0 + dt * cld_dither(px);
     vec3 o = vec3(0.0, 0.0, u_h);
     float wSum = 0.0;
+    // the cloud's width across each light (cld_widthDepth), measured again every CLD_WIDTH_EVERY cloud samples
+    vec2 tauW = vec2(0.0);
+    int sinceW = 0;
+    bool wasClear = true;
+    bool sunUp = any(greaterThan(u_sunE, vec3(0.0))), moonUp = any(greaterThan(u_moonE, vec3(0.0)));
     for (int i = 0; i < u_samples; ++i, t += dt) {
         vec3 p = o + dir * t;
         float d = cloudDensity(p, CLOUD_LOD_FULL);
-        if (d <= 0.0) continue;
+        if (d <= 0.0) { wasClear = true; continue; }
+        if (wasClear || sinceW >= CLD_WIDTH_EVERY) {
+            tauW = vec2(sunUp ? cld_widthDepth(p, u_sunDir) : 0.0, moonUp ? cld_widthDepth(p, u_moonDir) : 0.0);
+            sinceW = 0;
+            wasClear = false;
+        }
+        ++sinceW;
         float sigmaT = d * sigma;
         float hp = cloudAltitude(p);
-        vec3 S = cld_source(p, hp, dir, sigmaT);
+        vec3 S = cld_source(p, hp, dir, sigmaT, tauW);
         float Ts = exp(-sigmaT * dt);
         // Hillaire 2016 energy-conserving step: int_0^dt S e^(-sigmaT s) ds = (S - S Ts) / sigmaT
         L += T * (S - S * Ts) / sigmaT;

@@ -55,6 +55,15 @@ real cld_lightTransfer(real nu, real tauL, real tauB, real muL) {
     return cld_scaledPhase(nu) * exp(-tauL) + cld_forwardTransfer(nu, tauL) + cld_lightDiffusion(nu, tauL, tauB, muL);
 }
 
+// The depth to the far side that the diffusion term sees in a cloud of finite width (C++:
+// cloudcpu::finiteBackDepth): tauB, the scaled depth to the cloud's far side along the light's
+// axis, combined harmonically with tauWidth, the scaled depth across the cloud through the sample
+// perpendicular to the light (both ways, horizontal): tauB tauWidth / (tauB + tauWidth). The
+// light that diffuses into a cumulus leaks out through its sides as well as its far face, so the
+// cumulus reflects and diffuses like a slab no thicker along the light than it is wide; in a deck
+// (tauWidth >> tauB) it is tauB. No fitted constant (skyelements/clouds/README.md, "Finite clouds").
+real cld_finiteBackDepth(real tauB, real tauWidth) { return tauB * tauWidth / max(tauB + tauWidth, 1e-9); }
+
 // The diffusion term's angular correction (C++: cloudcpu::diffusionShape): the transfer table
 // cld_msTable (clouds_transfer_table.shared.glsl, written by `welkin bench cloud-table`) holds,
 // for a slab of optical depth tauAxis along the light's axis (unscaled; nodes 1, 2, 4 ... 256)

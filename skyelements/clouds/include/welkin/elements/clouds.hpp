@@ -133,6 +133,13 @@ double diffusionShape(double muV, double tauAxis, double muL);
 /// What the march uses: lightTransfer() with its diffusion term times
 /// diffusionShape(muV, (tauL + tauB) / w_D, muL); muV the view ray's cos(zenith).
 double lightTransferTable(double nu, double muV, double tauL, double tauB, double muL);
+/// The depth to the far side for a cloud of finite width (scaled optical depths >= 0): tauB, the
+/// depth to the cloud's far side along the light's axis, and tauWidth, the depth across the cloud
+/// through the sample perpendicular to the light (horizontal, both ways), combined harmonically,
+/// tauB tauWidth / (tauB + tauWidth): the light diffusing in a cumulus leaks out through its sides
+/// too. In a deck (tauWidth >> tauB) it is tauB; 0 where either is 0. What the march passes to
+/// lightTransferTable() as tauB (skyelements/clouds/README.md, "Finite clouds").
+double finiteBackDepth(double tauB, double tauWidth);
 /// The transfer table's 9 x 5 x 17 values, [tauAxis][muL][muV] (diffusionShape()'s nodes).
 const double* diffusionShapeTable();
 inline constexpr int kShapeTauN = 9, kShapeMuLN = 5, kShapeMuVN = 17;
