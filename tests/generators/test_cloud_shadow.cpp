@@ -186,13 +186,18 @@ TEST_CASE("Cloud shadow: no clouds, overcast, light at the horizon, the Moon at 
         // whole build gives (1 everywhere), and a change of the layer still draws.
         const unsigned id = s.vars.get(cloudkeys::shadowMap).id;
         const uint64_t version = s.vars.version(cloudkeys::shadowMap);
+        const int builds = s.gen->wholeBuilds(), parts = s.gen->slicesBuilt();
+        REQUIRE(builds >= 1);
         s.vars.set(keys::sunDirection, lightAt(0.6, 1.2));
         for (float t : s.run()) REQUIRE(t == 1.0f);
+        CHECK(s.gen->wholeBuilds() == builds);  // not drawn again: neither whole ...
+        CHECK(s.gen->slicesBuilt() == parts);   // ... nor in parts
         CHECK(s.vars.get(cloudkeys::shadowMap).id == id);
         CHECK(s.vars.version(cloudkeys::shadowMap) != version);  // republished: readers see the new light
         CHECK(glm::length(s.vars.get(cloudkeys::shadowLight) - lightAt(0.6, 1.2)) < 1e-12);
         s.vars.set(cloudkeys::coverage, 1.0);  // clouds: drawn, some texel shadowed
         const std::vector<float> cloudy = s.run();
+        CHECK(s.gen->wholeBuilds() == builds + 1);  // the layer changed: a whole build
         CHECK(*std::min_element(cloudy.begin(), cloudy.end()) < 0.999f);
         s.vars.set(cloudkeys::coverage, 0.0);  // and clear again: 1 everywhere, drawn
         for (float t : s.run()) REQUIRE(t == 1.0f);

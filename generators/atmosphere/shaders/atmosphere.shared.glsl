@@ -361,8 +361,8 @@ real atm_eclMsAxisWeight(real nu, real F) { return 1.0 - F * (1.0 - sqrt(max(1.0
 // - G = 1 - exp(-10 (X - 1)) (kEclipseColumnRate): how much of the clear sky's light gathered near
 //   the axis came along that column. With the Sun near the zenith the column is the ~1 air mass
 //   above the point, and the light a ray gathers even towards the Sun comes from the sunlit air
-//   around the umbra (G -> 0); ~15 deg off the zenith the column is long enough to carry it all
-//   (Burgos, Reykjavik: G = 1). The axis' share becomes Fe G, Fe the forward share F.
+//   around the umbra (G -> 0); G = 0.30 at 15 deg off the zenith and >= 0.95 from 40 deg off
+//   (the Sun <= 50 deg up), where the column carries nearly all of it (Burgos, Reykjavik: G = 1). The axis' share becomes Fe G, Fe the forward share F.
 // - Towards the Sun (nu > 0) the shadow's dark footprint lies along the Sun's azimuth, X times as
 //   long as wide, so its far end is seen ~X times lower than the umbra's width: s is the lesser of
 //   sin(angle to the Sun) and the view's offset from that footprint, sqrt(cosRing^2 +

@@ -235,6 +235,7 @@ void CloudShadowMap::doRun(SkyVars& vars, const Logger&) {
         g.setup = setup;
         g.ubo = gl::Buffer(sizeof block, &block);
         draw(g.fbo, g.ubo, light, 0, n);
+        ++wholeBuilds_;
         publish(light, offset);
         return;
     }

@@ -108,7 +108,8 @@ TEST_CASE("welkin bench cloud-reference: a cumulus seen from above is as bright 
     // the cloud pixels against the path tracer's. Before the finite cloud's depth to its far side
     // (cloudcpu::finiteBackDepth: the light diffusing in a cumulus leaks out of its sides) the
     // real-time cumulus was 1.40x the reference (its diffusion that of a slab as deep as the
-    // cumulus along the light, 9,290 against 13,021 cd/m^2 at 64 paths; README "Finite clouds").
+    // cumulus along the light: reference 9,290, real time 13,021 cd/m^2 at 64 paths; README
+    // "Finite clouds").
     const std::string dir = welkin::test::scratchDir("bench_cloud_reference_from_above");
     const auto r = welkin::test::runCli("bench cloud-reference --scenes cumulus-from-above --width 40 --height 22 --paths 32 --truncate-deg 3 --cost-size '' --csv '" + dir + "/a.csv'");
     INFO(r.output);
@@ -118,8 +119,9 @@ TEST_CASE("welkin bench cloud-reference: a cumulus seen from above is as bright 
     REQUIRE(ref > 0.0);
     // Tolerance 0.8-1.2x: the reference's noise at 32 paths is ~25 % a pixel, ~3 % in the mean of
     // its 66 cloud pixels; the rest is the transport's own error on this scene (the slab-fitted
-    // diffusion, the ambient's uniform hemispheres). Measured 2026-11-27: 9,283 against 9,591
-    // cd/m^2 (0.97; 1.00 at 64 paths, README). Fails at the former transport's 1.40. About 13 s.
+    // diffusion, the ambient's uniform hemispheres). Measured 2026-11-27: real time 9,283,
+    // reference 9,591 cd/m^2 (0.97; 1.00 at 64 paths, README). Fails at the former transport's
+    // 1.40. About 13 s.
     CHECK(rt / ref > 0.8);
     CHECK(rt / ref < 1.2);
 }

@@ -78,6 +78,8 @@ void main() {
 
 TEST_CASE("Night sky timing: per pixel, per-vertex mapping, per-vertex colour on a grid of cells", "[.][night_cells_timing]") {
     test::glContext();
+    GLint viewport0[4];
+    glGetIntegerv(GL_VIEWPORT, viewport0);  // restored at the end: the context is shared
     constexpr int W = 1280, H = 720;
     constexpr double kDeg = std::numbers::pi / 180.0;
     // The texture: random texels in [0.5, 1.5] (its detail at every texel), RGBA32F, bilinear.
@@ -206,10 +208,11 @@ TEST_CASE("Night sky timing: per pixel, per-vertex mapping, per-vertex colour on
             p.ms.push_back(test::cpuMs() - t0);
         }
     const double ref = test::medianOf(passes[0].ms);
+    REQUIRE(ref > 0.0);  // the trivial pass measured: the ratios below are meaningful
     std::printf("night sky cells, 1280x720, process CPU ms (median of 15, alternated), x trivial pass:\n");
     for (auto& p : passes) {
         const double m = test::medianOf(p.ms);
         std::printf("  %-55s %7.3f ms  %5.2f\n", p.name.c_str(), m, m / ref);
-        CHECK(m > 0.0);
     }
+    glViewport(viewport0[0], viewport0[1], viewport0[2], viewport0[3]);
 }

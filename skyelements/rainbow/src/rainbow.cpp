@@ -47,6 +47,8 @@ Rainbow::Rainbow() : SkyElement("rainbow") {
     reads(rk::extinction);
     reads(generators::skykeys::diffuseIrradiance);
     reads(ck::cloudType);
+    reads(ck::coverage);        // CloudShadowMap::nothingToShadow(): no lookup without clouds
+    reads(ck::cirrusCoverage);
 }
 
 bool Rainbow::bowPossible(double lightElevation, double observerHeightM, double curtainDistanceM) {

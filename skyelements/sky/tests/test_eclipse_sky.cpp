@@ -366,6 +366,16 @@ TEST_CASE("Eclipse sky: the multiple-scattering weight on hazy air, and none of 
     const double mu2 = std::sin(2 * kDeg), off = cpu::kEclipseFootprintMu * mu2 / low;
     CHECK(cpu::eclipseMsWeight(clear, 0.187, std::cos(8 * kDeg), mu2, low, 0.0) ==
           Approx(std::pow(off, cpu::kEclipseSunwardPower)).margin(1e-12));
+    // Off saturation, where the column's rate shows (kEclipseColumnRate, the shared text's literal
+    // 10): the Sun 80 deg up, X = 1.0154, G = 1 - exp(-0.154) = 0.143 (to the printed digits);
+    // away from the Sun the axis weight with F x kEclipseAntisolarShare x G.
+    const double high = std::sin(80 * kDeg);
+    REQUIRE(G(high) == Approx(0.143).margin(0.001));
+    CHECK(cpu::eclipseMsWeight(clear, 0.187, -0.5, 0.3, high, 0.0) ==
+          Approx(1.0 - cpu::kEclipseAntisolarShare * F * G(high) * (1.0 - std::sqrt(0.75))).margin(1e-12));
+    // The Sun at or below the horizon: X clamps at 1 / 0.05 (the weight as at muS = 0.05).
+    CHECK(cpu::eclipseMsWeight(clear, 0.187, 0.5, 0.3, -0.1, 0.2) ==
+          Approx(cpu::eclipseMsWeight(clear, 0.187, 0.5, 0.3, 0.05, 0.2)).margin(1e-15));
     // The Sun at the zenith: no column (G = 0), the weight 1 even looking at the Sun.
     CHECK(cpu::eclipseMsWeight(clear, 0.187, 1.0, 1.0, 1.0, 0.0) == Approx(1.0).margin(1e-12));
     // Hazy air (H = 1), the Sun at 10 deg: R = share x mix(1, the mean of the HG lobe (asymmetry

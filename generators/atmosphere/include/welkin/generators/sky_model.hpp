@@ -303,8 +303,8 @@ inline constexpr double kEclipseForwardShare = 0.16;
 
 /// The full weight along a view ray at cosines `nu` (to the Sun), `mu` (to the zenith) with the
 /// Sun at `muS` (docs/eclipse.md, "One model at three places"): the axis' share F x G(the Sun's
-/// elevation) (the shadowed column along the axis: 0 with the Sun at the zenith, 1 from ~15 deg
-/// off it), towards the Sun the lesser of sin(angle) and the view's offset from the umbra's
+/// elevation) (the shadowed column along the axis: 0 with the Sun at the zenith, 0.30 at 15 deg
+/// off it, >= 0.95 from 40 deg off, i.e. the Sun <= 50 deg up), towards the Sun the lesser of sin(angle) and the view's offset from the umbra's
 /// footprint along the Sun's azimuth; on hazy air (eclipseHaze() H > 0) the sunward power
 /// raised and F' = max(F, H) there, times mix(1, R, H), R the sunlit ring's directional gather at
 /// `cosRing` (cos(elevation) |sin(azimuth from the Sun)|, in [0, 1]), its lobe scaled by the

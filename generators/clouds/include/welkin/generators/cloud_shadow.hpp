@@ -89,6 +89,8 @@ public:
     static std::string_view hostGlsl();
     /// Parts of time-sliced rebuilds drawn so far (clouds.shadow_slices), for tests.
     int slicesBuilt() const { return slicesBuilt_; }
+    /// Whole maps drawn so far (the first build, a change of the layer, a render), for tests.
+    int wholeBuilds() const { return wholeBuilds_; }
 
 private:
     void doRun(SkyVars& vars, const Logger& log) override;
@@ -100,6 +102,7 @@ private:
     glm::dvec3 lastLight_{0.0, 0.0, 1.0};
     int lastSteps_ = 0;
     int slicesBuilt_ = 0;
+    int wholeBuilds_ = 0;
 };
 
 }  // namespace welkin::generators

@@ -50,11 +50,11 @@ inline const Key<bool> directionCache{"rain.direction_cache",
 /// the bows never lag; only the curtain's light path does (measured in skyelements/rainbow/README.md). 1: the
 /// whole cache in the frame the light moved past the tolerance. A jump of the light (more than
 /// Rainbow::kLightJump), a change of the rain or the curtain, and the first frame fill it whole.
-inline const Key<int> cacheSlices{"rain.cache_slices", Range{1, 64},
-                                  "frames over which the direction cache is refilled while the light moves (1: at once)"};
 /// 64: 4 rows of kCachePsi a frame (32, 8 rows, until 2026-11-27 evening: a frame at 512x256 then
 /// cost 1.5-1.7 still frames; skyelements/rainbow/README.md "Time running fast").
 inline constexpr int kCacheSlicesDefault = 64, kCacheSlicesMax = 64;
+inline const Key<int> cacheSlices{"rain.cache_slices", Range{1, kCacheSlicesMax},
+                                  "frames over which the direction cache is refilled while the light moves (1: at once)"};
 }  // namespace rainbowkeys
 
 class Rainbow final : public SkyElement {
@@ -77,8 +77,12 @@ public:
     int cacheFills() const { return cacheFills_; }
     /// Rows of the direction cache (of kCachePsi) filled by the last render() (work counted).
     int cacheRowsLastFrame() const { return rowsLast_; }
-    /// Rows of the direction cache a frame fills while a refill is spread over `slices` frames.
-    static constexpr int rowsPerSlice(int slices) { return (kCachePsi + slices - 1) / slices; }
+    /// Rows of the direction cache a frame fills while a refill is spread over `slices` frames,
+    /// `slices` in [1, rainbowkeys::kCacheSlicesMax] (clamped to it, as the key's value is).
+    static constexpr int rowsPerSlice(int slices) {
+        const int n = slices < 1 ? 1 : (slices > rainbowkeys::kCacheSlicesMax ? rainbowkeys::kCacheSlicesMax : slices);
+        return (kCachePsi + n - 1) / n;
+    }
     /// A refill spread over frames is in progress.
     bool refilling() const { return backRow_ >= 0; }
 
