@@ -365,8 +365,9 @@ BudgetTable measureBudget(int w, int h, const DisplayBenchOptions& o, std::strin
         so.apply(sky);
         TrivialPass trivial(w, h);
         // The displayed frame as welkin view draws it: renderFrame() (the HDR composite and the
-        // eye's meter), then the tone map into the display (here an RGBA8 target of the size).
-        gl::Texture2D display(w, h, GL_RGBA8);
+        // eye's meter), then the tone map into the display: here an SRGB8_ALPHA8 target of the
+        // size, as welkin view's sRGB-capable window (the framebuffer encodes on write, docs/eye.md).
+        gl::Texture2D display(w, h, GL_SRGB8_ALPHA8);
         gl::Framebuffer displayFbo = gl::Framebuffer::create();
         displayFbo.attach(GL_COLOR_ATTACHMENT0, display);
         displayFbo.checkComplete("bench display's display target");
