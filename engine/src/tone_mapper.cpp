@@ -173,7 +173,10 @@ void ToneMapper::advance(const HdrSource& hdr, const ToneSettings& s, const gl::
         ++advances_;
         // The state's texel into a buffer, fenced: previousExposure() reads it in a later frame
         // once the fence has signalled (no wait). An older copy not read yet is dropped.
-        if (!readbackBuffer_) glCreateBuffers(1, &readbackBuffer_), glNamedBufferStorage(readbackBuffer_, 4 * sizeof(float), nullptr, 0);
+        if (!readbackBuffer_) {
+            glCreateBuffers(1, &readbackBuffer_);
+            glNamedBufferStorage(readbackBuffer_, 4 * sizeof(float), nullptr, 0);
+        }
         if (readbackFence_) glDeleteSync(GLsync(readbackFence_));
         glBindBuffer(GL_PIXEL_PACK_BUFFER, readbackBuffer_);
         glGetTextureImage(state_[current_].id(), 0, GL_RGBA, GL_FLOAT, GLsizei(4 * sizeof(float)), nullptr);

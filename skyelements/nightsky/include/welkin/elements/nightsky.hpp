@@ -45,6 +45,9 @@
 //    and its build to the first frame, so the direct lookup is the default.
 //  - Cost: the pass is skipped when a Sky's zenith luminance exceeds 1e5 x the night sky's (its
 //    pixels would change by < 1e-5 relative).
+//  - Cost: in displayed frames (render.interactive) the pass is also skipped where the previous
+//    frame's exposure (keys::exposurePrevious) cannot show it: eye::displaySlopeBound() x exposure
+//    x 2 x radianceBound() under half an 8-bit code (twilight; nightsky.skip_invisible, README).
 //  - Published: nightsky.background_cd_m2, the zenith luminance of all four terms; Stars adds it
 //    to the Sky's zenith luminance for its limiting magnitude (instead of its own floor).
 #pragma once
