@@ -469,6 +469,7 @@ int run(const FrameBenchOptions& o) {
                 {"floor: copy texelFetch RGBA16F -> RGBA8", pass(ldrFbo, copy, half.texture.id(), false)},
                 {"floor: copy texelFetch RGBA32F -> RGBA32F", pass(floatOut.fbo, fetchNoScale, trivialTarget.id(), false)},
                 {"floor: tone map (automatic exposure) into RGBA8", [&] { sky.toneMapInto(ldrFbo.id()); }},
+                {"floor: tone map (automatic exposure) into SRGB8_ALPHA8 (encoded on write)", [&] { sky.toneMapInto(srgb8.fbo.id()); }},
                 {"floor: tone map (automatic exposure) into RGBA32F", [&] { sky.toneMapInto(floatOut.fbo.id()); }},
                 {"floor: additive blended pass RGBA32F (ONE, ONE)", blendedPass(false)},
                 {"floor: dual-source blended pass RGBA32F (welkin_output)", blendedPass(true)},

@@ -13,6 +13,7 @@
 #include <epoxy/gl.h>
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -181,6 +182,9 @@ int run(const ViewOptions& o) {
         }
         sky.renderFrame();
         sky.toneMapInto(0);
+        if (frame == 0)  // the window's sRGB-capable framebuffer encodes the tone map's output (docs/eye.md)
+            std::printf("welkin view: the window encodes sRGB on write: %s\n",
+                        sky.stats()["tonemap_srgb_target"].get<bool>() ? "yes" : "no (the tone map encodes)");
         if (panel.visible) panel.draw(sky, c, s.camera, log);
         ++frame;
         bool done = o.frames > 0 && frame >= o.frames;

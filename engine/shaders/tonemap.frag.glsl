@@ -22,6 +22,8 @@ flat in float v_exposure;  // the exposure of adapt.frag.glsl's state, read once
 //   WELKIN_TONEMAP_AUTO     defined: the exposure of the eye's state (v_exposure); else u_exposure
 //   WELKIN_TONEMAP_CURVE    0 ACES fit, 1 Hable, 2 Reinhard on luminance, 3 none (clip)
 //   WELKIN_TONEMAP_MESOPIC  defined: per-pixel mesopic colour
+//   WELKIN_TONEMAP_SRGB_TARGET defined: the target encodes sRGB on write (GL_FRAMEBUFFER_SRGB):
+//                           the display-linear value out, no encoding here
 uniform float u_exposure;        // manual: scene cd/m^2 -> display value before the curve
 // The mesopic weight's ramp in log2 of the luminance: t = log2(Y) k - c is (log10 Y - log10
 // eye.scotopic_cd_m2) / (log10 eye.photopic_cd_m2 - log10 eye.scotopic_cd_m2), one multiply-add
@@ -86,5 +88,10 @@ void main() {
 #else
     float exposure = u_exposure;
 #endif
+#ifdef WELKIN_TONEMAP_SRGB_TARGET
+    // An sRGB target with GL_FRAMEBUFFER_SRGB (ToneMapper::display): the encoding on write.
+    o_color = vec4(welkin_curve(L * exposure), 1.0);
+#else
     o_color = vec4(welkin_srgbEncodeFast(welkin_curve(L * exposure)), 1.0);
+#endif
 }

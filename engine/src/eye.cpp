@@ -40,6 +40,7 @@ double smoothstep(double a, double b, double x) {
 void declareKeys(SkyVars& v) {
     v.declare(welkin::keys::exposureEv100, 15.0);
     v.declare(welkin::keys::exposureAuto, false);
+    v.declare(::welkin::keys::exposurePrevious, 0.0);  // written by SkyProcessor each frame (publishPreviousExposure)
     v.declare(keys::compensation, 0.0);
     v.declare(keys::curve, 0);
     v.declare(keys::adaptation, true);
@@ -132,6 +133,57 @@ glm::dvec3 hable(glm::dvec3 x) {
 glm::dvec3 reinhardLuminance(glm::dvec3 x) {
     const double Y = color::luminance(x);
     return glm::clamp(x / (1.0 + Y), 0.0, 1.0);
+}
+
+namespace {
+// The mesopic map's largest Jacobian row sum (infinity norm) over non-negative linear sRGB
+// colours, by forward differences (the direction an added radiance moves a pixel) on a grid:
+// chromaticities r + g + b = 1 in steps of 1/48, the luminance at 33 places of the rod weight's
+// ramp (the Jacobian depends on the chromaticity and the place in the ramp only: V' is
+// homogeneous of degree 1, the weight's derivative in Y is its derivative in log Y over Y).
+double mesopicJacobianBound(double lo, double hi, glm::dvec2 rodXy) {
+    constexpr int kN = 48, kT = 32;
+    double best = 1.0;  // the photopic end: the identity
+    for (int i = 0; i <= kN; ++i)
+        for (int j = 0; i + j <= kN; ++j) {
+            const glm::dvec3 chroma(double(i) / kN, double(j) / kN, double(kN - i - j) / kN);
+            const double Yc = color::luminance(chroma);
+            for (int k = 0; k <= kT; ++k) {
+                const double lY = std::log10(lo) + (std::log10(hi) - std::log10(lo)) * double(k) / kT;
+                const glm::dvec3 c = chroma * (std::pow(10.0, lY) / Yc);
+                const glm::dvec3 m0 = mesopicColor(c, lo, hi, rodXy);
+                glm::dmat3 J(0.0);
+                for (int s = 0; s < 3; ++s) {
+                    glm::dvec3 cs = c;
+                    const double h = 1e-7 * (c.r + c.g + c.b);
+                    cs[s] += h;
+                    J[s] = (mesopicColor(cs, lo, hi, rodXy) - m0) / h;  // column s: d M / d c_s
+                }
+                for (int r = 0; r < 3; ++r) best = std::max(best, std::abs(J[0][r]) + std::abs(J[1][r]) + std::abs(J[2][r]));
+            }
+        }
+    return best;
+}
+}  // namespace
+
+double displaySlopeBound(int curve, bool mesopic, double lo, double hi, glm::dvec2 rodXy) {
+    // The curves' largest slope of srgbEncode(curve(x)) over x >= 0 (sampled every 1e-6 below 0.2
+    // and in steps of 1e-4 relative above: ACES 3.8383 at x = 0.0146, Hable 9.9038 at x = 0.0041,
+    // where each meets the sRGB encoding's linear segment), rounded up; Reinhard on luminance:
+    // its Jacobian's row sums are 1 / (1 + Y) + x_i / (1 + Y)^2 <= 2 where x_i / (1 + Y) <= 1
+    // (unclipped), times the encoding's 12.92; none: the encoding's 12.92.
+    static constexpr double kCurveSlope[4] = {3.85, 9.91, 2.0 * 12.92, 12.92};
+    const double s = kCurveSlope[std::clamp(curve, 0, 3)];
+    if (!mesopic) return s;
+    if (!(lo > 0.0 && hi > lo)) throw Error("eye::displaySlopeBound(): mesopic limits " + shown(lo) + ", " + shown(hi) + " not 0 < lo < hi");
+    struct Memo {
+        double lo = 0, hi = 0;
+        glm::dvec2 xy{0.0};
+        double g = 0;
+    };
+    static thread_local Memo memo;
+    if (memo.g == 0 || memo.lo != lo || memo.hi != hi || memo.xy != rodXy) memo = {lo, hi, rodXy, 1.1 * mesopicJacobianBound(lo, hi, rodXy)};
+    return s * memo.g;
 }
 
 double srgbEncode(double x) { return x < 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055; }

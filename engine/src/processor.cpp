@@ -297,12 +297,35 @@ void SkyProcessor::uploadCamera(const HostDepth* depth) {
     cameraUbo_.update(&block, sizeof block);
 }
 
+void SkyProcessor::publishPreviousExposure() {
+    // keys::exposurePrevious: the exposure the previous frame was shown with, for elements that
+    // skip what cannot show (docs/eye.md). Manual: this frame's own. Automatic: the eye's state
+    // of the frame before, only while frames follow each other (0 < dt <= 1 s: the state then
+    // moves by 1 - exp(-dt / eye.cone_time_s) of its log distance to the new frame's target, 22 %
+    // at 0.1 s and the default 0.4 s), else 0 (unknown).
+    // Only for displayed frames (render.interactive: welkin view, a game loop): an offline frame's
+    // HDR image (an EXR, readHdr()) keeps every term.
+    constexpr double kMaxDt = 1.0;
+    double e = 0.0;
+    if (!vars_->getOr(keys::interactive, false)) {
+        e = 0.0;
+    } else if (!vars_->getOr(keys::exposureAuto, false)) {
+        e = eye::exposureFromEv100(vars_->getOr(keys::exposureEv100, 15.0));
+    } else if (lastFrameSeconds_) {
+        const double dt = seconds() - *lastFrameSeconds_;
+        const std::optional<double> previous = toneMapper_->previousExposure();
+        if (dt > 0.0 && dt <= kMaxDt && previous && std::isfinite(*previous) && *previous > 0.0) e = *previous;
+    }
+    vars_->set(keys::exposurePrevious, e);
+}
+
 void SkyProcessor::update() { update(nullptr); }
 
 void SkyProcessor::update(const HostDepth* depth) {
     HostStateScope host(hostGuardDepth_, log_, options_.validation, "SkyProcessor::update()");
     init();
     deriveVariables();
+    publishPreviousExposure();
     uploadCamera(depth);
     runGenerators();
     FrameContext ctx = frameContext();

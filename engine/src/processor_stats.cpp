@@ -1,4 +1,5 @@
 // SkyProcessor::stats(): the --stats JSON (inputs, per element and generator cost).
+#include "tone_mapper.hpp"
 #include <welkin/processor.hpp>
 
 #include <nlohmann/json.hpp>
@@ -56,6 +57,7 @@ nlohmann::json SkyProcessor::stats() const {
     j["frame_ms"] = frameMs_;
     j["generators_ms"] = generatorsMs_;
     j["tonemap_ms"] = toneMapMs_;
+    j["tonemap_srgb_target"] = toneMapper_->lastSrgbTarget();  // the last display pass let the target encode sRGB (GL_FRAMEBUFFER_SRGB)
     j["apply_to_scene_ms"] = sceneMs_;  // the last applyToScene(), every element's passes
     if (camera_.host) {
         const glm::dvec3 e = camera_.eyeEnuMeters();

@@ -78,11 +78,12 @@ void ToneMapper::init() {
     stateValid_ = false;
 }
 
-gl::Program& ToneMapper::toneMapProgram(bool rgba32fImage, bool automatic, bool mesopic, int curve) {
+gl::Program& ToneMapper::toneMapProgram(bool rgba32fImage, bool automatic, bool mesopic, int curve, bool srgbTarget) {
     curve = std::clamp(curve, 0, 3);
-    gl::Program& p = toneMap_[size_t(rgba32fImage) | size_t(automatic) << 1 | size_t(mesopic) << 2 | size_t(curve) << 3];
+    gl::Program& p = toneMap_[size_t(rgba32fImage) | size_t(automatic) << 1 | size_t(mesopic) << 2 | size_t(curve) << 3 | size_t(srgbTarget) << 5];
     if (!p) {
         gl::ProgramBuilder b("SkyProcessor tone map");
+        if (srgbTarget) b.define("WELKIN_TONEMAP_SRGB_TARGET");
         if (rgba32fImage) b.define("WELKIN_TONEMAP_IMAGE");
         if (automatic) b.define("WELKIN_TONEMAP_AUTO");
         if (mesopic) b.define("WELKIN_TONEMAP_MESOPIC");
@@ -95,6 +96,12 @@ gl::Program& ToneMapper::toneMapProgram(bool rgba32fImage, bool automatic, bool 
 }
 
 void ToneMapper::release() {
+    if (readbackFence_) glDeleteSync(GLsync(readbackFence_));
+    readbackFence_ = nullptr;
+    if (readbackBuffer_) glDeleteBuffers(1, &readbackBuffer_);
+    readbackBuffer_ = 0;
+    readbackValue_.reset();
+    readbackValueFor_ = readbackFor_ = -1;
     if (linearSampler_) glDeleteSamplers(1, &linearSampler_);
     linearSampler_ = 0;
     logLum_ = {};
@@ -163,8 +170,60 @@ void ToneMapper::advance(const HdrSource& hdr, const ToneSettings& s, const gl::
         glDrawArrays(GL_TRIANGLES, 0, 3);
         current_ = next;
         stateValid_ = true;
+        ++advances_;
+        // The state's texel into a buffer, fenced: previousExposure() reads it in a later frame
+        // once the fence has signalled (no wait). An older copy not read yet is dropped.
+        if (!readbackBuffer_) {
+            glCreateBuffers(1, &readbackBuffer_);
+            glNamedBufferStorage(readbackBuffer_, 4 * sizeof(float), nullptr, 0);
+        }
+        if (readbackFence_) glDeleteSync(GLsync(readbackFence_));
+        glBindBuffer(GL_PIXEL_PACK_BUFFER, readbackBuffer_);
+        glGetTextureImage(state_[current_].id(), 0, GL_RGBA, GL_FLOAT, GLsizei(4 * sizeof(float)), nullptr);
+        glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+        readbackFence_ = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+        readbackFor_ = advances_;
     }
 }
+
+std::optional<double> ToneMapper::previousExposure() {
+    if (readbackFence_) {
+        const GLenum r = glClientWaitSync(GLsync(readbackFence_), 0, 0);
+        if (r == GL_ALREADY_SIGNALED || r == GL_CONDITION_SATISFIED) {
+            float t[4] = {0, 0, 0, 0};
+            glGetNamedBufferSubData(readbackBuffer_, 0, sizeof t, t);
+            glDeleteSync(GLsync(readbackFence_));
+            readbackFence_ = nullptr;
+            readbackValue_ = double(t[2]);
+            readbackValueFor_ = readbackFor_;
+        }
+    }
+    if (!stateValid_ || !lastAutomatic_ || readbackValueFor_ != advances_) return std::nullopt;
+    return readbackValue_;
+}
+
+namespace {
+// Whether the bound draw framebuffer's first draw buffer encodes sRGB on write (an SRGB8_ALPHA8
+// attachment, or a window's sRGB-capable default framebuffer). A default framebuffer without a
+// surface (headless) or no draw buffer: false.
+bool drawTargetIsSrgb(unsigned framebuffer) {
+    if (glCheckNamedFramebufferStatus(framebuffer, GL_DRAW_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) return false;
+    GLint buffer = GL_NONE;
+    glGetIntegerv(GL_DRAW_BUFFER0, &buffer);
+    if (buffer == GL_NONE) return false;
+    GLenum attachment = GLenum(buffer);
+    if (framebuffer == 0) {
+        if (attachment == GL_BACK || attachment == GL_FRONT_AND_BACK) attachment = GL_BACK_LEFT;
+        else if (attachment == GL_FRONT || attachment == GL_LEFT) attachment = GL_FRONT_LEFT;
+        else if (attachment == GL_RIGHT) attachment = GL_FRONT_RIGHT;
+    }
+    GLint type = GL_NONE, encoding = GL_LINEAR;
+    glGetNamedFramebufferAttachmentParameteriv(framebuffer, attachment, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
+    if (type == GL_NONE) return false;
+    glGetNamedFramebufferAttachmentParameteriv(framebuffer, attachment, GL_FRAMEBUFFER_ATTACHMENT_COLOR_ENCODING, &encoding);
+    return encoding == GL_SRGB;
+}
+}  // namespace
 
 void ToneMapper::display(const HdrSource& hdr, unsigned framebuffer, const ToneSettings& s, const gl::Buffer& cameraUbo,
                          const gl::VertexArray& vao) {
@@ -179,7 +238,13 @@ void ToneMapper::display(const HdrSource& hdr, unsigned framebuffer, const ToneS
     else
         glBindTextureUnit(gl::binding::kHdrTexture, hdr.texture);
     state_[current_].bind(gl::binding::kEyeStateTexture);
-    gl::Program& program = toneMapProgram(hdr.rgba32f, s.automatic, s.mesopic, s.curve);
+    // An sRGB target encodes on write (GL_FRAMEBUFFER_SRGB, restored after the draw): the program
+    // leaves its own encoding out (docs/eye.md "The sRGB encoding on write").
+    const bool srgbTarget = drawTargetIsSrgb(framebuffer);
+    lastSrgbTarget_ = srgbTarget;
+    const GLboolean wasSrgb = glIsEnabled(GL_FRAMEBUFFER_SRGB);
+    if (srgbTarget != bool(wasSrgb)) (srgbTarget ? glEnable : glDisable)(GL_FRAMEBUFFER_SRGB);
+    gl::Program& program = toneMapProgram(hdr.rgba32f, s.automatic, s.mesopic, s.curve, srgbTarget);
     program.use();
     if (!s.automatic) program.set("u_exposure", float(eye::exposureFromEv100(s.ev100)));
     if (s.mesopic) {
@@ -188,6 +253,7 @@ void ToneMapper::display(const HdrSource& hdr, unsigned framebuffer, const ToneS
         program.set("u_rodColor", glm::vec3(eye::rodColor(s.rodXy) / eye::scotopicPerPhotopicWhite()));
     }
     glDrawArrays(GL_TRIANGLES, 0, 3);
+    if (srgbTarget != bool(wasSrgb)) (wasSrgb ? glEnable : glDisable)(GL_FRAMEBUFFER_SRGB);
 }
 
 glm::vec4 ToneMapper::readState() const {

@@ -68,12 +68,22 @@ public:
                  std::optional<double> dt);
     void display(const HdrSource& hdr, unsigned framebuffer, const ToneSettings& settings, const gl::Buffer& cameraUbo,
                  const gl::VertexArray& vao);
+    /// Whether the last display() wrote an sRGB-encoding target through GL_FRAMEBUFFER_SRGB (the
+    /// window's sRGB-capable framebuffer, an SRGB8_ALPHA8 texture) instead of encoding in the shader.
+    bool lastSrgbTarget() const { return lastSrgbTarget_; }
     /// The settings of the last advance() (or run()).
     const ToneSettings& lastSettings() const { return lastSettings_; }
     /// The meter of the last run no longer describes the frame (the target was resized).
     void invalidateMeter() { meterValid_ = false; }
     /// Forgets the adaptation state: the next automatic frame starts in the steady state.
-    void resetAdaptation() { stateValid_ = false; }
+    void resetAdaptation() {
+        stateValid_ = false;
+        readbackValue_.reset();
+    }
+    /// The automatic exposure the last advance() wrote, when its read-back (a copy into a buffer
+    /// queued by that advance(), fenced) has arrived; nullopt while it has not, before the first
+    /// automatic advance() and after resetAdaptation(). Never waits for the GPU.
+    std::optional<double> previousExposure();
     /// EV100 of the last run (manual, or the adapted exposure: reads the state's texel back).
     double lastEv100() const;
     /// The adaptation state of the last automatic run (cd/m^2, scotopic cd/m^2; reads it back).
@@ -90,15 +100,23 @@ private:
     int current_ = 0;
     /// The tone map's program for these settings, built on first use (the settings are compiled
     /// in: engine/shaders/tonemap.frag.glsl).
-    gl::Program& toneMapProgram(bool rgba32fImage, bool automatic, bool mesopic, int curve);
-    std::array<gl::Program, 32> toneMap_;  // by rgba32fImage | automatic << 1 | mesopic << 2 | curve << 3
+    gl::Program& toneMapProgram(bool rgba32fImage, bool automatic, bool mesopic, int curve, bool srgbTarget = false);
+    std::array<gl::Program, 64> toneMap_;  // by rgba32fImage | automatic << 1 | mesopic << 2 | curve << 3 | srgbTarget << 5
     gl::Program logLumProgram_, adaptProgram_;
     unsigned linearSampler_ = 0;  // GL sampler object: bilinear, clamped (the meter's fetches)
     bool meterValid_ = false;  // logLum_ holds the last frame's meter
     bool stateValid_ = false;  // state_[current_] holds an adaptation
     bool lastAutomatic_ = false;
+    bool lastSrgbTarget_ = false;
     ToneSettings lastSettings_;
     double lastManualEv100_ = 15.0;
+    // previousExposure(): the state's texel copied into a buffer after each automatic advance(),
+    // with a fence; the value is kept only for the advance() that queued it (readbackFor_).
+    unsigned readbackBuffer_ = 0;
+    void* readbackFence_ = nullptr;  // GLsync
+    long long advances_ = 0, readbackFor_ = -1;
+    std::optional<double> readbackValue_;
+    long long readbackValueFor_ = -1;
 };
 
 }  // namespace welkin

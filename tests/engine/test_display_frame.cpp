@@ -13,8 +13,10 @@
 #include <welkin/processor.hpp>
 
 #include <epoxy/gl.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <vector>
 
@@ -116,5 +118,60 @@ TEST_CASE("The displayed frame: readToneMapped() draws renderFrame()'s tone map 
         const Image next = p.readToneMapped();
         if (!automatic) CHECK(maxDifference(next, first) > 0.3);  // the new exposure shows from the next frame
         else CHECK(maxDifference(next, first) <= tolerance);       // the automatic exposure ignores ev100
+    }
+}
+
+TEST_CASE("The displayed frame: into an sRGB target the framebuffer encodes on write, within one 8-bit code of the shader's encoding",
+          "[gl][tonemap][display]") {
+    test::glContext();
+    const int w = 96, h = 24;
+    // The raw stored bytes of an RGBA8-class texture, bottom row first (a view as RGBA8: no sRGB
+    // decoding on the read).
+    auto rawBytes = [](const gl::Texture2D& t) {
+        GLuint view = 0;
+        glGenTextures(1, &view);
+        glTextureView(view, GL_TEXTURE_2D, t.id(), GL_RGBA8, 0, 1, 0, 1);
+        std::vector<unsigned char> out(size_t(t.width()) * t.height() * 4);
+        glPixelStorei(GL_PACK_ALIGNMENT, 1);
+        glGetTextureImage(view, 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(out.size()), out.data());
+        glDeleteTextures(1, &view);
+        return out;
+    };
+    for (bool automatic : {false, true}) {
+        CAPTURE(automatic);
+        SkyProcessor p;
+        Camera cam;
+        cam.width = w;
+        cam.height = h;
+        p.setCamera(cam);
+        p.setAnimationTime(0.0);
+        p.setExposure({.automatic = automatic, .ev100 = 3.0});
+        p.add(std::make_unique<Ramp>());
+        gl::Texture2D linear(w, h, GL_RGBA8), srgb(w, h, GL_SRGB8_ALPHA8);
+        auto linearFbo = gl::Framebuffer::create(), srgbFbo = gl::Framebuffer::create();
+        linearFbo.attach(GL_COLOR_ATTACHMENT0, linear);
+        srgbFbo.attach(GL_COLOR_ATTACHMENT0, srgb);
+        p.renderFrame();
+        p.toneMapInto(linearFbo.id());
+        CHECK_FALSE(p.stats()["tonemap_srgb_target"].get<bool>());  // RGBA8: the shader encodes
+        p.toneMapInto(srgbFbo.id());
+        CHECK(p.stats()["tonemap_srgb_target"].get<bool>());  // SRGB8_ALPHA8: the framebuffer does
+        CHECK_FALSE(glIsEnabled(GL_FRAMEBUFFER_SRGB));        // and the state is as it was
+        const std::vector<unsigned char> a = rawBytes(linear), b = rawBytes(srgb);
+        int maxCodes = 0, lo = 255, hi = 0;
+        size_t differing = 0;
+        for (size_t i = 0; i < a.size(); ++i) {
+            if (i % 4 == 3) continue;
+            maxCodes = std::max(maxCodes, std::abs(int(a[i]) - int(b[i])));
+            differing += a[i] != b[i];
+            lo = std::min(lo, int(b[i])), hi = std::max(hi, int(b[i]));
+        }
+        std::printf("tone map into SRGB8_ALPHA8 (encoded on write) against RGBA8 (encoded in the shader): max %d codes, %zu of %zu values differ\n",
+                    maxCodes, differing, a.size() / 4 * 3);
+        CHECK(lo == 0);  // the ramp spans black to white: the comparison covers every code range
+        CHECK(hi == 255);
+        // The shader's encoding is within 6e-6 of the standard (docs/eye.md); the driver's
+        // conversion on write rounds its own way: one code apart at most.
+        CHECK(maxCodes <= 1);
     }
 }

@@ -14,6 +14,7 @@
 #include <epoxy/gl.h>
 
 #include <algorithm>
+#include <random>
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -346,4 +347,64 @@ TEST_CASE("Eye: the keys are the settings (--var), the camera model stays availa
     CHECK((a == Approx(eye::Defaults::adaptationMin).epsilon(1e-6) || a == Approx(adaptedBefore).epsilon(1e-6)));
     CHECK_THROWS_WITH(p.vars().setFromString("exposure.curve", "4"), Catch::Contains("'4' is not one of aces, hable, reinhard, none"));
     CHECK_THROWS_WITH(p.vars().setFromString("eye.rod_time_s", "-1"), Catch::Contains("not in [0, 3600]"));
+}
+
+TEST_CASE("Eye: the display's slope bound (what an element under it cannot show) holds and is tight", "[cpu][eye][tonemap]") {
+    // Each curve through the sRGB encoding, sampled densely: the largest slope stays under the
+    // bound and within 1 % of it (the bound is the sampled maximum rounded up).
+    auto display = [](int curve, double x) {
+        const glm::dvec3 v(x);
+        const double c = curve == 0 ? eye::acesFit(v).x : curve == 1 ? eye::hable(v).x : std::clamp(x, 0.0, 1.0);
+        return eye::srgbEncode(c);
+    };
+    for (int curve : {0, 1, 3}) {
+        double best = 0.0;
+        for (double x = 0.0; x < 0.05; x += 2e-6) best = std::max(best, (display(curve, x + 2e-6) - display(curve, x)) / 2e-6);
+        for (double x = 0.05; x < 100.0; x *= 1.0005) best = std::max(best, (display(curve, x * 1.0005) - display(curve, x)) / (x * 0.0005));
+        const double bound = eye::displaySlopeBound(curve, false, 1e-3, 3.0, {0.25, 0.25});
+        CAPTURE(curve, best, bound);
+        CHECK(best <= bound * (1.0 + 1e-9));  // 1e-9: the difference quotient's rounding on the linear segment (12.92 exactly)
+        CHECK(best >= 0.99 * bound);
+    }
+    // Reinhard on luminance, one channel raised: no displayed channel moves by more than the bound.
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    {
+        const double bound = eye::displaySlopeBound(2, false, 1e-3, 3.0, {0.25, 0.25});
+        double best = 0.0;
+        for (int i = 0; i < 20000; ++i) {
+            const glm::dvec3 c = glm::dvec3(u(rng), u(rng), u(rng)) * std::pow(10.0, 4.0 * u(rng) - 3.0);
+            for (int k = 0; k < 3; ++k) {
+                glm::dvec3 d = c;
+                const double h = 1e-7 * (c.r + c.g + c.b + 1e-3);
+                d[k] += h;
+                const glm::dvec3 a = eye::reinhardLuminance(c), b = eye::reinhardLuminance(d);
+                for (int j = 0; j < 3; ++j) best = std::max(best, std::abs(eye::srgbEncode(b[j]) - eye::srgbEncode(a[j])) / h);
+            }
+        }
+        CAPTURE(best, bound);
+        CHECK(best <= bound);
+    }
+    // The mesopic colour: random non-negative colours over the whole ramp (1e-5 to 1e2 cd/m^2)
+    // plus a small non-negative radiance d: |M(c + d) - M(c)| <= |d| x the bound / the curve's slope.
+    const double lo = eye::Defaults::scotopicBelow, hi = eye::Defaults::photopicAbove;
+    const glm::dvec2 rod(eye::Defaults::rodX, eye::Defaults::rodY);
+    const double g = eye::displaySlopeBound(3, true, lo, hi, rod) / eye::displaySlopeBound(3, false, lo, hi, rod);
+    double best = 0.0;
+    for (int i = 0; i < 200000; ++i) {
+        glm::dvec3 c(u(rng), u(rng), u(rng));
+        if (i % 4 == 0) c[i / 4 % 3] = 0.0;  // the gamut's faces, where the Jacobian is largest
+        c *= std::pow(10.0, 7.0 * u(rng) - 5.0);
+        const glm::dvec3 d = glm::dvec3(u(rng), u(rng), u(rng)) * 1e-6 * (c.r + c.g + c.b);
+        const double dMax = std::max({d.r, d.g, d.b});
+        const glm::dvec3 m = eye::mesopicColor(c + d, lo, hi, rod) - eye::mesopicColor(c, lo, hi, rod);
+        best = std::max(best, std::max({std::abs(m.r), std::abs(m.g), std::abs(m.b)}) / dMax);
+    }
+    std::printf("eye: the mesopic map's largest growth %.3f, its bound %.3f (4.84 on a fine grid, x 1.1)\n", best, g);
+    CHECK(best <= g);
+    CHECK(best >= 0.6 * g);  // tight enough to be useful: random directions rarely hit the worst one
+    CHECK(g == Approx(1.1 * 4.84).epsilon(0.02));  // the grid's 4.84 (the README's figure), x 1.1
+    // Other limits: recomputed, and a wider ramp (a gentler weight) gives a smaller bound.
+    CHECK(eye::displaySlopeBound(3, true, 1e-5, 30.0, rod) < eye::displaySlopeBound(3, true, lo, hi, rod));
+    CHECK_THROWS_WITH(eye::displaySlopeBound(0, true, 3.0, 1e-3, rod), Catch::Contains("not 0 < lo < hi"));
 }

@@ -128,6 +128,18 @@ glm::dvec3 acesFit(glm::dvec3 x);
 glm::dvec3 hable(glm::dvec3 x);
 glm::dvec3 reinhardLuminance(glm::dvec3 x);
 
+/// A bound on how much the tone map's displayed value (sRGB-encoded, [0, 1]) can move when the
+/// exposed linear colour (cd/m^2 x exposure) grows by d in every channel at most, d >= 0: the
+/// displayed value moves by at most d x displaySlopeBound(...) in any channel (an element that
+/// adds less than 0.5 / 255 / (exposure x this) cd/m^2 changes no pixel by half an 8-bit code).
+/// The product of the display curve's largest slope through the sRGB encoding (`curve`, the
+/// exposure.curve levels: ACES fit 3.84, Hable 9.90, Reinhard on luminance <= 2 x 12.92, none
+/// 12.92; each rounded up) and, with the mesopic colour, the mesopic map's largest Jacobian row
+/// sum over non-negative colours and every luminance (4.84 at the default limits and rod hue;
+/// computed on a grid of chromaticities x rod weights, x 1.1 for between its nodes; cached for
+/// the last arguments). docs/eye.md "A bound for what an element cannot show".
+double displaySlopeBound(int curve, bool mesopic, double scotopicBelow, double photopicAbove, glm::dvec2 rodXy);
+
 /// The sRGB transfer function (IEC 61966-2-1), linear [0, 1] -> encoded [0, 1]: 12.92 x below
 /// 0.0031308, 1.055 x^(1/2.4) - 0.055 above.
 double srgbEncode(double linear);

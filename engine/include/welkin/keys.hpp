@@ -76,6 +76,19 @@ inline const Key<bool> interactive{"render.interactive", "frames shown one after
 inline const Key<bool> hostScene{"render.host_scene", "the host draws its own scene and asks for effects over it (SkyProcessor::applyToScene() sets it): the Sky builds its aerial-perspective volume"};
 /// Automatic exposure: the eye's adaptation to the scene (eye.adaptation, welkin/eye.hpp) or a camera's log-average.
 inline const Key<bool> exposureAuto{"exposure.auto", "automatic exposure: the eye's adaptation (eye.*) or a camera's log-average"};
+/// The exposure of the frame before this one: display value before the curve per cd/m^2
+/// (docs/eye.md, "A bound for what an element cannot show"). Written by SkyProcessor before the
+/// elements' update of every frame, only for displayed frames (render.interactive: welkin view, a
+/// game loop; an offline frame's HDR image keeps every term): with a manual exposure the frame's
+/// own, 1 / (1.2 x 2^EV100); with the automatic one the eye's state that the previous frame's
+/// tone map used, read back one frame late without waiting, and only while frames follow each
+/// other (the eye's state valid, the animation time advanced by 0 < dt <= 1 s since that frame,
+/// its read-back arrived); 0 (unknown) otherwise: not interactive, the first frame, a still
+/// render, after resetAdaptation(). An element may skip a pass whose largest radiance this
+/// exposure cannot show (eye::displaySlopeBound()): the displayed image moves by under half an
+/// 8-bit code, the HDR frame by that pass.
+inline const Key<double> exposurePrevious{"exposure.previous_scale", Range{0, 1e30},
+                                          "exposure of the previous frame, display value per cd/m^2 (0: unknown); elements skip what it cannot show"};
 /// The diffuse night sky's luminance at the zenith above the air, cd/m^2 (airglow, zodiacal
 /// light, Milky Way, light pollution): written by an element that draws it (nightsky), read by
 /// any that depends on the sky's darkness (the Stars' limiting magnitude).

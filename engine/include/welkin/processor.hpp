@@ -241,6 +241,7 @@ public:
 private:
     void ensureTargets();
     void deriveVariables();
+    void publishPreviousExposure();  ///< keys::exposurePrevious, before the elements' update
     void runGenerators();
     /// `clearedToBlack`: the target was just cleared to black (the first element has nothing behind it).
     /// `depth`: the host's depth for the elements (FrameContext::depth), or nullptr.

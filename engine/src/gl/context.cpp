@@ -189,6 +189,8 @@ std::unique_ptr<WindowContext> WindowContext::create(const ContextOptions& o, co
     glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
     glfwWindowHint(GLFW_OPENGL_DEBUG_CONTEXT, o.debug ? GLFW_TRUE : GLFW_FALSE);
     glfwWindowHint(GLFW_VISIBLE, o.visible ? GLFW_TRUE : GLFW_FALSE);
+    // sRGB-capable: the tone map then lets the framebuffer encode on write (docs/eye.md).
+    glfwWindowHint(GLFW_SRGB_CAPABLE, GLFW_TRUE);
     GLFWwindow* w = glfwCreateWindow(o.width, o.height, o.title.c_str(), nullptr, nullptr);
     if (!w) {
         const char* d = nullptr;

@@ -7,6 +7,7 @@
 #include <welkin/elements/nightsky.hpp>
 #include <welkin/embedded/nightsky_shaders.hpp>
 #include <welkin/error.hpp>
+#include <welkin/eye.hpp>
 #include <welkin/generators/atmosphere.hpp>
 #include <welkin/generators/sky_luts.hpp>
 #include <welkin/generators/sky_model.hpp>
@@ -162,6 +163,22 @@ double zodiacalTable(double dLambda, double beta) {
     return a + (b - a) * fr;
 }
 
+double zodiacalMaxBeyond(double minElongationRad) {
+    static const double kRowDeg[kZodiRows] = {0, 5, 10, 15, 20, 25, 30, 35, 40, 45, 60, 75, 90, 105, 120, 135, 150, 165, 180};
+    static const double kColDeg[kZodiCols] = {0, 5, 10, 15, 20, 25, 30, 45, 60, 75, 90};
+    const auto& t = zodiacalFilled();
+    double best = 0.0;
+    for (int i = 0; i + 1 < kZodiRows; ++i)
+        for (int j = 0; j + 1 < kZodiCols; ++j) {
+            // The cell's largest elongation is at its far corner (cos e = cos dl cos b, both in [0, 180] and [0, 90]).
+            const double far = std::acos(std::cos(kRowDeg[i + 1] * kDeg) * std::cos(kColDeg[j + 1] * kDeg));
+            if (far < minElongationRad) continue;
+            best = std::max({best, double(t[i * kZodiCols + j]), double(t[i * kZodiCols + j + 1]), double(t[(i + 1) * kZodiCols + j]),
+                             double(t[(i + 1) * kZodiCols + j + 1])});
+        }
+    return best;
+}
+
 double zodiacalUnitCdM2() {
     // Radiance R(l) = S(l) x 1e-11 / S(500 nm) W m^-2 sr^-1 nm^-1 (1e-8 per um at 500 nm), so
     // L = 683 integral R y dl = (the Sun's illuminance, lux) x 1e-11 / S(500 nm).
@@ -211,6 +228,15 @@ NightSky::NightSky() : SkyElement("nightsky") {
     reads(keys::observerHeight);
     reads(generators::skykeys::zenithLuminance);
     reads(keys::interactive);  // the folded texture's rebuild spread over frames (foldUpdate)
+    option(nightkeys::skipInvisible, true);
+    // The skip where the previous frame's exposure cannot show the pass (doRender).
+    reads(keys::exposurePrevious);
+    reads(keys::exposureAuto);
+    reads(eye::keys::curve);
+    reads(eye::keys::mesopic);
+    reads(eye::keys::scotopicBelow);
+    reads(eye::keys::photopicAbove);
+    reads(eye::keys::rodChromaticity);
     writes(nightkeys::background);
 }
 
@@ -220,6 +246,7 @@ void NightSky::loadMilkyWay(const std::string& path, const Logger& log) {
     mwPath_ = path;
     mwLoaded_ = false;
     mwCpu_.clear();
+    mwMax_ = glm::dvec3(0.0);
     mwTexture_ = gl::Texture2D();
     if (path.empty() || !std::filesystem::exists(path)) {
         log.warn("nightsky: Milky Way panorama '" + path + "' not found (stellarium-data); only its uniform floor is drawn");
@@ -272,6 +299,7 @@ void NightSky::loadMilkyWay(const std::string& path, const Logger& log) {
         for (int k = 0; k < 3; ++k) tex[4 * i + k] = float(rgb[3 * i + k] * f * kMwStorageScale);
         tex[4 * i + 3] = 1.f;
         mwCpu_[i] = float(Y[i] * f);
+        for (int k = 0; k < 3; ++k) mwMax_[k] = std::max(mwMax_[k], double(rgb[3 * i + k]) * f);
     }
     int levels = 1;
     while ((std::max(W, H) >> levels) > 0) ++levels;
@@ -566,13 +594,67 @@ void NightSky::updateExtinction(const SkyVars& v) {
     extinctionHeight_ = h;
 }
 
+double NightSky::radianceBound(const glm::dvec3& axisEnu, double coneHalfAngleRad, const SkyVars& v) const {
+    auto r2 = [](double h) {
+        const double r = kEarthRadiusM / (kEarthRadiusM + h);
+        return r * r;
+    };
+    // Van Rhijn's factor is largest at the horizon (cos z = 0; the shader's floor 1e-6 included).
+    auto horizon = [](double rr) { return 1.0 / std::sqrt(std::max(1.0 - rr, 1e-6)); };
+    glm::dvec3 L = zenith_.airglow * airglowColour() * horizon(r2(v.get(nightkeys::airglowHeight))) +
+                   zenith_.lightPollution * lightPollutionColour() * horizon(r2(kLightPollutionLayerM));
+    const double mwScale = v.get(nightkeys::milkyWayScale);
+    L += mwScale * (mwLoaded_ ? mwMax_ : glm::dvec3(0.0)) + mwScale * milkyWayFloorCdM2() * mwColour_;
+    double minElongation = 0.0;
+    if (coneHalfAngleRad < kPi && v.has(keys::sunDirection)) {
+        const glm::dvec3 sun = glm::normalize(v.get(keys::sunDirection)), axis = glm::normalize(axisEnu);
+        const double sunFromAxis = std::acos(std::clamp(glm::dot(sun, axis), -1.0, 1.0));
+        // 3 deg: the baked zodiacal table's bilinear footprint in the folded texture (1.4 deg texels),
+        // the Sun's refraction and parallax, the folded texture's lag (< 0.1 deg of longitude).
+        minElongation = sunFromAxis - coneHalfAngleRad - 3.0 * kDeg;
+    }
+    L += v.get(nightkeys::zodiacalScale) * zodiacalUnitCdM2() * zodiacalMaxBeyond(minElongation) * solarColour();
+    return std::max({L.r, L.g, L.b});
+}
+
 void NightSky::doRender(const FrameContext& ctx) {
     const SkyVars& v = ctx.vars;
     const double background = zenith_.airglow + zenith_.zodiacal + zenith_.milkyWay + zenith_.lightPollution;
     drawn_ = !(v.has(generators::skykeys::zenithLuminance) && v.get(generators::skykeys::zenithLuminance) > kSkipRatio * background);
+    skippedInvisible_ = false;
+    invisibleBoundCodes_ = 0.0;
     if (!drawn_) {
         reportNothingDrawn();
         return;
+    }
+    // Twilight: nothing of the pass can show. The displayed value moves by at most
+    // eye::displaySlopeBound() x exposure x the added radiance (any channel; the air's
+    // transmittance only lowers it), with the previous frame's exposure x 2 for the eye's step to
+    // this frame's (automatic exposure; a manual one is this frame's own, x 1). Under half an 8-bit
+    // code at every pixel, the pass is skipped (README "Twilight: the pass skipped where it cannot show").
+    const double exposure = v.getOr(keys::exposurePrevious, 0.0);
+    if (exposure > 0.0) {
+        const Camera& cam = ctx.camera;
+        // The camera's cone: a pinhole's half diagonal; any other projection the whole sky.
+        double cone = kPi;
+        glm::dvec3 axis(0.0, 0.0, 1.0);
+        if (cam.projection == Projection::Perspective && !cam.host) {
+            const double t = std::tan(0.5 * cam.verticalFovRad);
+            // Widened by 4 pixels at the centre (the widest there): the mip level's footprint.
+            cone = std::atan(t * std::hypot(1.0, double(cam.width) / double(cam.height))) + 4.0 * 2.0 * t / double(cam.height);
+            axis = cam.basis()[2];
+        }
+        const double growth = v.getOr(keys::exposureAuto, false) ? 2.0 : 1.0;
+        const bool mesopic = v.get(eye::keys::mesopic);
+        const double slope = eye::displaySlopeBound(eye::keys::curve.value(v), mesopic, v.get(eye::keys::scotopicBelow),
+                                                    v.get(eye::keys::photopicAbove), v.get(eye::keys::rodChromaticity));
+        invisibleBoundCodes_ = 255.0 * slope * exposure * growth * radianceBound(axis, cone, v);
+        if (v.get(nightkeys::skipInvisible) && invisibleBoundCodes_ < 0.5) {
+            skippedInvisible_ = true;
+            drawn_ = false;
+            reportNothingDrawn();
+            return;
+        }
     }
     if (direct_) foldUpdate(ctx);
     if (!direct_) {
@@ -670,6 +752,8 @@ void NightSky::doStats(nlohmann::json& root) const {
     j["zenith_mag_arcsec2"] = total > 0 ? surfaceBrightnessMag(total) : 99.0;
     j["milky_way_loaded"] = mwLoaded_;
     j["drawn"] = drawn_;
+    j["skipped_invisible"] = skippedInvisible_;      // skipped: the previous frame's exposure cannot show it
+    j["invisible_bound_codes"] = invisibleBoundCodes_;  // the most the pass could change a displayed pixel, 8-bit codes (0: no exposure known)
     j["milky_way_gain_cd_m2"] = mwGain_;  // cd/m^2 = gain x Y^0.5 + floor
     j["zodiacal_unit_cd_m2"] = zodiacalUnitCdM2();
     j["direct_lookup"] = direct_;  // true: the per-pixel reference path, else the ICRS cube map

@@ -63,6 +63,9 @@ struct Night {
         n = e.get();
         p.add(std::move(e));
         p.vars().set(keys::interactive, true);  // frames one after another: the rebuild may be spread
+        // Drawn whatever the exposure: at the default manual EV 15 the pass would be skipped as
+        // invisible (README "Twilight: the pass skipped where it cannot show"), and the fold with it.
+        p.vars().set(elements::nightkeys::skipInvisible, false);
     }
 };
 }  // namespace

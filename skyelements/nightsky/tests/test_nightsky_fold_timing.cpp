@@ -49,6 +49,7 @@ TEST_CASE("Display timing: the night sky's folded texture when time jumps and ru
         p->add(std::move(n));
         p->add(std::make_unique<test::Attenuator>());
         p->vars().set(keys::interactive, true);  // as welkin view
+        p->vars().set(elements::nightkeys::skipInvisible, false);  // drawn at the default manual EV 15 (README "Twilight")
         return p;
     };
     auto timed = [](SkyProcessor& p) {

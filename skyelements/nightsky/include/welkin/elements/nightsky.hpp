@@ -45,6 +45,9 @@
 //    and its build to the first frame, so the direct lookup is the default.
 //  - Cost: the pass is skipped when a Sky's zenith luminance exceeds 1e5 x the night sky's (its
 //    pixels would change by < 1e-5 relative).
+//  - Cost: in displayed frames (render.interactive) the pass is also skipped where the previous
+//    frame's exposure (keys::exposurePrevious) cannot show it: eye::displaySlopeBound() x exposure
+//    x 2 x radianceBound() under half an 8-bit code (twilight; nightsky.skip_invisible, README).
 //  - Published: nightsky.background_cd_m2, the zenith luminance of all four terms; Stars adds it
 //    to the Sky's zenith luminance for its limiting magnitude (instead of its own floor).
 #pragma once
@@ -74,6 +77,9 @@ inline const Key<double> airglowZenithMag{"nightsky.airglow_zenith_mag_arcsec2",
 inline const Key<double> airglowHeight{"nightsky.airglow_height_m", Range{1e4, 5e5}, "height of the airglow's emitting layer (van Rhijn's factor)"};
 inline const Key<double> zodiacalScale{"nightsky.zodiacal_scale", Range{0, 100}, "factor on the zodiacal light of Leinert 1998 Table 17 (0 off)", "1"};
 inline const Key<int> bortle{"nightsky.bortle", Range{1, 9}, "light pollution, Bortle class (1 a pristine sky, 9 an inner city)"};
+/// Skip the pass where the previous frame's exposure cannot show it (keys::exposurePrevious; README
+/// "Twilight: the pass skipped where it cannot show"); false: drawn whenever the Sky's zenith allows.
+inline const Key<bool> skipInvisible{"nightsky.skip_invisible", "skip the pass where the previous frame's exposure shows none of it (under half an 8-bit code at every pixel)"};
 /// Written by the element every frame (not an option): the engine's shared key.
 inline const Key<double>& background = welkin::keys::nightBackground;
 }  // namespace nightkeys
@@ -94,6 +100,11 @@ double zodiacalTable(double dLambdaRad, double betaRad);
 /// Luminance (cd/m^2) of one Table 17 unit of sunlight-coloured light (from the ASTM G-173 solar
 /// spectrum: 683 lm/W x integral S(l) y(l) dl / S(500 nm) x 1e-8 W m^-2 sr^-1 um^-1).
 double zodiacalUnitCdM2();
+/// The largest value of zodiacalTable() (Table 17 units) at any direction whose angle from the Sun
+/// is at least `minElongationRad` (<= 0: the whole sky): the largest corner of every bilinear cell
+/// that reaches that elongation (cos elongation = cos dLambda cos beta; a bilinear cell's largest
+/// value is at a corner).
+double zodiacalMaxBeyond(double minElongationRad);
 /// ICRS (J2000) -> galactic rotation (IAU 1958 system in ICRS axes: Hipparcos Catalogue, ESA 1997,
 /// vol. 1, sect. 1.5.3, eq. 1.5.11). Rows are the galactic x (to the centre), y (l = 90), z (NGP).
 glm::dmat3 icrsToGalactic();
@@ -200,6 +211,17 @@ public:
     const Zenith& zenith() const { return zenith_; }
     /// The last frame drew the pass (false when a Sky's zenith is over 1e5 x brighter: daylight).
     bool drawn() const { return drawn_; }
+    /// The last frame skipped the pass because the previous frame's exposure could not show it
+    /// (nightsky.skip_invisible), and that bound: the largest change the pass could have made to a
+    /// displayed pixel, in 8-bit codes (0 when unknown: no exposure published).
+    bool lastSkippedInvisible() const { return skippedInvisible_; }
+    double lastInvisibleBoundCodes() const { return invisibleBoundCodes_; }
+    /// An upper bound of the pass's radiance (cd/m^2, any channel, before the air's transmittance)
+    /// over the directions within `coneHalfAngleRad` of `axisEnu` (>= pi: the whole sky), from the
+    /// last update's terms: airglow and light pollution at the horizon (van Rhijn's largest), the
+    /// brightest panorama texel plus the floor, and the zodiacal light beyond the cone's smallest
+    /// elongation from the Sun (less 3 deg: the folded texture's zodiacal texels, refraction, its lag).
+    double radianceBound(const glm::dvec3& axisEnu, double coneHalfAngleRad, const SkyVars& vars) const;
 
 private:
     void doInit(InitContext& ctx) override;
@@ -259,6 +281,9 @@ private:
     double extinctionHeight_ = -1;
     Zenith zenith_;
     bool drawn_ = false;
+    glm::dvec3 mwMax_{0.0};  // the brightest panorama texel per channel, cd/m^2 (before the floor and scale)
+    bool skippedInvisible_ = false;
+    double invisibleBoundCodes_ = 0.0;
 };
 
 }  // namespace welkin::elements
