@@ -589,7 +589,7 @@ TEST_CASE("Halos: time running re-interpolates the grid's table over halos.table
     const Image exact = fresh.render(az, alt);
     const ImageDiff d = compareLit(g.s.p.readHdr(), exact);
     INFO("display mix: mean relative difference " << d.mean << ", pixels off by > 10 %: " << d.offFrac << " of " << d.lit);
-    CHECK(d.lit > 5000);
+    CHECK(d.lit > 4000);  // enough lit pixels to compare (4987 and 4588 with the denoised tables: the faint sky their grain lifted over 1 % of the maximum, 5000+ before, stays under it)
     // Measured 7.1 % and 28 % (lag -0.56 deg). Most of it is the `low` tables' Monte-Carlo grain
     // (60,000 rays a slice in 1-deg bins) and their 10-deg slices: a table half a degree away
     // samples other bins' noise and another blend of the two slices' sundogs, and 1-deg-wide arcs
@@ -691,7 +691,7 @@ TEST_CASE("Halos: time running re-interpolates the per-pixel table over halos.ta
     const Image exact = freshp->render(az, alt);
     const ImageDiff d = compareLit(g.s.p.readHdr(), exact);
     INFO("display mix: mean relative difference " << d.mean << ", pixels off by > 10 %: " << d.offFrac << " of " << d.lit);
-    CHECK(d.lit > 5000);
+    CHECK(d.lit > 4000);  // enough lit pixels to compare (4987 and 4588 with the denoised tables: the faint sky their grain lifted over 1 % of the maximum, 5000+ before, stays under it)
     // Measured 10.4 % and 38 % (lag 0.56 deg; the grid's 7.1 % and 28 %): the `low` tables'
     // Monte-Carlo grain in 1-deg bins and their 10-deg slices, which a table half a degree away
     // samples differently; the per-pixel pass filters the table once (the grid twice), so the grain
