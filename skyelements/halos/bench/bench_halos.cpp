@@ -288,8 +288,11 @@ int run(const HalosBenchOptions& o) {
     const Population pops[2] = {{Orientation::Plate, 0.2, 1.0 * kDeg}, {Orientation::Column, 2.0, 1.0 * kDeg}};
     const char* popName[2] = {"plates", "columns"};
     for (int k = 0; k < 2; ++k) {
-        const Phase2D a0 = traceOriented(pops[k], h0 * kDeg, aq.ne, aq.na, aq.raysPerSlice, 31 + uint64_t(k));
-        const Phase2D a1 = traceOriented(pops[k], h1 * kDeg, aq.ne, aq.na, aq.raysPerSlice, 41 + uint64_t(k));
+        // The slices as HaloTables::build makes them: traced, then denoised.
+        Phase2D a0 = traceOriented(pops[k], h0 * kDeg, aq.ne, aq.na, aq.raysPerSlice, 31 + uint64_t(k));
+        Phase2D a1 = traceOriented(pops[k], h1 * kDeg, aq.ne, aq.na, aq.raysPerSlice, 41 + uint64_t(k));
+        denoise(a0, aq.raysPerSlice);
+        denoise(a1, aq.raysPerSlice);
         Phase2D a0c = a0, a1c = a1;
         cutForward(a0c, h0);
         cutForward(a1c, h1);
@@ -310,8 +313,11 @@ int run(const HalosBenchOptions& o) {
                 tab.p[std::size_t(ie) * std::size_t(tab.na) + std::size_t(ia)] =
                     0.5 * (rowAt(a0c, ie + mirror(ie) * (h0 - hm) * rowsPerDeg, ia) + rowAt(a1c, ie + mirror(ie) * (h1 - hm) * rowsPerDeg, ia));
         Phase2D mid = traceOriented(pops[k], hm * kDeg, aq.ne, aq.na, aq.raysPerSlice, 51 + uint64_t(k));
+        Phase2D midDenoised = mid;
+        denoise(midDenoised, aq.raysPerSlice);
         Phase2D ex = traceOrientedExact(pops[k], hm * kDeg, aq.ne, aq.na, exactRays, 61 + uint64_t(k));
         cutForward(mid, hm);
+        cutForward(midDenoised, hm);
         cutForward(ex, hm);
         const std::string what = std::string("accuracy, ") + popName[k] + ": ";
         const std::string vs = at + " vs brute force " + std::to_string(exactRays) + " rays";
@@ -320,6 +326,10 @@ int run(const HalosBenchOptions& o) {
         emit(what + "L1(tables - exact) / L1(exact), the halos (> 10 % of max)", vs, l1(tab, ex, hm, true, false), NAN, NAN);
         emit(what + "L1(trace at that elevation - exact) / L1(exact), whole sphere (noise alone)", vs, l1(mid, ex, hm, false, false), NAN, NAN);
         emit(what + "L1(trace at that elevation - exact) / L1(exact), above the horizon (noise alone)", vs, l1(mid, ex, hm, false, true), NAN, NAN);
+        emit(what + "L1(trace at that elevation, denoised - exact) / L1(exact), whole sphere", vs, l1(midDenoised, ex, hm, false, false), NAN, NAN);
+        emit(what + "L1(trace at that elevation, denoised - exact) / L1(exact), above the horizon", vs, l1(midDenoised, ex, hm, false, true), NAN, NAN);
+        emit(what + "L1(trace at that elevation, denoised - exact) / L1(exact), the halos (> 10 % of max)", vs, l1(midDenoised, ex, hm, true, false), NAN, NAN);
+        emit(what + "L1(trace at that elevation - exact) / L1(exact), the halos (> 10 % of max) (noise alone)", vs, l1(mid, ex, hm, true, false), NAN, NAN);
         emit(what + "brute force trace time, s", std::to_string(exactRays) + " rays", ex.stats.seconds, NAN, NAN);
         if (k == 0) {
             emit("accuracy, plates: sundog crest azimuth, deg: tables", at + ", formula " + fmtDeg(parhelionAzimuthRad(iceRefractiveIndex(kChannelNm[1]), hm * kDeg) / kDeg),
@@ -330,18 +340,25 @@ int run(const HalosBenchOptions& o) {
     {
         // The random population's 1-D table against the same trace with factor x the rays (no
         // branch-following variant for random crystals: the noise alone).
-        const Phase1D a = traceRandom({Orientation::Random, 2.0, 0.0}, aq.bins, aq.raysRandom, 7777);
+        // The table as HaloTables::build makes it (denoised), and the raw trace.
+        const Phase1D raw = traceRandom({Orientation::Random, 2.0, 0.0}, aq.bins, aq.raysRandom, 7777);
+        Phase1D a = raw;
+        denoise(a, aq.raysRandom);
         const Phase1D ex = traceRandom({Orientation::Random, 2.0, 0.0}, aq.bins, uint64_t(o.exactFactor) * aq.raysRandom, 8888);
-        double diff = 0, norm = 0;
-        for (std::size_t i = 0; i < a.p.size(); ++i) {
-            const double th = (double(i) + 0.5) * a.binRad();
-            if (th < 1 * kDeg) continue;
-            const double omega = 2 * M_PI * std::sin(th) * a.binRad();
-            diff += std::abs(a.p[i].y - ex.p[i].y) * omega;
-            norm += ex.p[i].y * omega;
-        }
-        emit("accuracy, random: L1(table - trace with more rays) / L1", o.accuracyQuality + " table " + std::to_string(aq.raysRandom) + " vs " +
-                 std::to_string(uint64_t(o.exactFactor) * aq.raysRandom) + " rays", diff / norm, NAN, NAN);
+        auto l1r = [&](const Phase1D& t) {
+            double diff = 0, norm = 0;
+            for (std::size_t i = 0; i < t.p.size(); ++i) {
+                const double th = (double(i) + 0.5) * t.binRad();
+                if (th < 1 * kDeg) continue;
+                const double omega = 2 * M_PI * std::sin(th) * t.binRad();
+                diff += std::abs(t.p[i].y - ex.p[i].y) * omega;
+                norm += ex.p[i].y * omega;
+            }
+            return diff / norm;
+        };
+        const std::string vs1 = o.accuracyQuality + " table " + std::to_string(aq.raysRandom) + " vs " + std::to_string(uint64_t(o.exactFactor) * aq.raysRandom) + " rays";
+        emit("accuracy, random: L1(table, denoised - trace with more rays) / L1", vs1, l1r(a), NAN, NAN);
+        emit("accuracy, random: L1(raw trace - trace with more rays) / L1", vs1, l1r(raw), NAN, NAN);
     }
     std::printf("\ntarget: halo pass <= 1.5x the trivial pass: %s\n", met ? "met" : "NOT met");
     if (f) {

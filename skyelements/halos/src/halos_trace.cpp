@@ -461,6 +461,120 @@ Phase2D traceOrientedExact(const Population& pop, double h, int ne, int na, uint
     return out;
 }
 
+// --- Denoising ------------------------------------------------------------------------------------
+
+namespace {
+
+// Intersection-of-confidence-intervals windows over a grid of rows x cols bins (cols 1: 1-D),
+// omega(row) each bin's solid angle (sr), crystals = rays / 3 (each crystal's ray is deposited
+// once per channel). Windows are mirrored at the grid's edges (the tables are symmetric about the
+// light's vertical at azimuths 0 and pi; at the poles and at 0 and pi scattering angle the bins'
+// solid angle vanishes, so what the mirror adds there weighs little).
+void denoiseGrid(std::vector<glm::dvec3>& v, int rows, int cols, const std::vector<double>& omega, double crystals) {
+    constexpr double G = Denoise::kGamma, K = Denoise::kTargetRays;
+    if (crystals <= 0 || rows < 1 || cols < 1) return;
+    auto mirror = [](int i, int n) {
+        if (n == 1) return 0;
+        for (;;) {
+            if (i < 0) i = -i - 1;
+            else if (i >= n) i = 2 * n - 1 - i;
+            else return i;
+        }
+    };
+    glm::dvec3 before(0.0);
+    for (int i = 0; i < rows; ++i)
+        for (int j = 0; j < cols; ++j) before += v[std::size_t(i) * std::size_t(cols) + std::size_t(j)] * omega[std::size_t(i)];
+    const std::vector<glm::dvec3> in = v;
+    // Windows: the square (Chebyshev radius r <= kMaxRadius) and lines of 2r + 1 bins, r <=
+    // kMaxLine, along the rows (azimuth), the columns (elevation) and the two diagonals: the
+    // halos' arcs are ridges a bin or two wide, which a line along them averages and a square
+    // cannot. 1-D: the line alone. Each window's estimate is weighted by its inverse variance.
+    struct Dir {
+        int di, dj;  // (0, 0): the square
+        int R;
+    };
+    std::vector<Dir> dirs;
+    if (cols > 1) dirs = {{0, 0, Denoise::kMaxRadius}, {0, 1, Denoise::kMaxLine}, {1, 0, Denoise::kMaxLine}, {1, 1, Denoise::kMaxLine}, {1, -1, Denoise::kMaxLine}};
+    else dirs = {{1, 0, 2 * Denoise::kMaxLine}};
+    for (int i = 0; i < rows; ++i) {
+        for (int j = 0; j < cols; ++j) {
+            glm::dvec3 fused(0.0);
+            double fusedW = 0;
+            for (const Dir& d : dirs) {
+                glm::dvec3 s(0.0), lo(-1e300), hi(1e300), best(0.0);
+                double o = 0, bestVar = 0;
+                for (int r = 0; r <= d.R; ++r) {
+                    auto add = [&](int di, int dj) {
+                        const int a = mirror(i + di, rows), b = mirror(j + dj, cols);
+                        const double w = omega[std::size_t(a)];
+                        s += in[std::size_t(a) * std::size_t(cols) + std::size_t(b)] * w;
+                        o += w;
+                    };
+                    if (r == 0) add(0, 0);
+                    else if (d.di == 0 && d.dj == 0) {
+                        for (int di = -r; di <= r; ++di)
+                            for (int dj = -r; dj <= r; ++dj)
+                                if (std::max(std::abs(di), std::abs(dj)) == r) add(di, dj);
+                    } else {
+                        add(r * d.di, r * d.dj);
+                        add(-r * d.di, -r * d.dj);
+                    }
+                    if (o <= 0) {
+                        bestVar = 0;
+                        continue;
+                    }
+                    const glm::dvec3 m = s / o;
+                    bool ok = true;
+                    double nMin = 1e300;
+                    for (int c = 0; c < 3; ++c) {
+                        const double n = s[c] * crystals;  // rays in the window
+                        nMin = std::min(nMin, n);
+                        const double sigma = std::sqrt(std::max(n, 1.0)) / (crystals * o);
+                        lo[c] = std::max(lo[c], m[c] - G * sigma);
+                        hi[c] = std::min(hi[c], m[c] + G * sigma);
+                        ok = ok && lo[c] <= hi[c];
+                    }
+                    if (!ok) break;
+                    best = m;
+                    bestVar = std::max(s[1] * crystals, 1.0) / ((crystals * o) * (crystals * o));
+                    if (nMin >= K) break;
+                }
+                if (bestVar > 0) {
+                    fused += best / bestVar;
+                    fusedW += 1.0 / bestVar;
+                }
+            }
+            if (fusedW > 0) v[std::size_t(i) * std::size_t(cols) + std::size_t(j)] = fused / fusedW;
+        }
+    }
+    glm::dvec3 after(0.0);
+    for (int i = 0; i < rows; ++i)
+        for (int j = 0; j < cols; ++j) after += v[std::size_t(i) * std::size_t(cols) + std::size_t(j)] * omega[std::size_t(i)];
+    for (auto& x : v)
+        for (int c = 0; c < 3; ++c) x[c] *= after[c] > 0 ? before[c] / after[c] : 1.0;
+}
+
+}  // namespace
+
+void denoise(Phase2D& t, uint64_t rays) {
+    if (rays < 3) throw Error("halos: denoise needs rays >= 3");
+    std::vector<double> omega(std::size_t(t.ne));
+    for (int ie = 0; ie < t.ne; ++ie) {
+        const double e0 = -0.5 * M_PI + ie * M_PI / t.ne, e1 = e0 + M_PI / t.ne;
+        omega[std::size_t(ie)] = 2.0 * (M_PI / t.na) * (std::sin(e1) - std::sin(e0));
+    }
+    denoiseGrid(t.p, t.ne, t.na, omega, double(rays / 3));
+}
+
+void denoise(Phase1D& t, uint64_t rays) {
+    if (rays < 3) throw Error("halos: denoise needs rays >= 3");
+    const std::size_t B = t.p.size();
+    std::vector<double> omega(B);
+    const double db = t.binRad();
+    for (std::size_t k = 0; k < B; ++k) omega[k] = 2.0 * M_PI * (std::cos(double(k) * db) - std::cos(double(k + 1) * db));
+    denoiseGrid(t.p, int(B), 1, omega, double(rays / 3));
+}
+
 // --- The element's tables ------------------------------------------------------------------------
 
 HaloTables::Quality HaloTables::quality(const std::string& name) {
@@ -472,7 +586,7 @@ HaloTables::Quality HaloTables::quality(const std::string& name) {
 
 uint64_t HaloTables::hash() const {
     // FNV-1a over the inputs and the code version (bump kVersion when the trace changes).
-    constexpr uint64_t kVersion = 2;
+    constexpr uint64_t kVersion = 3;  // 3: the tables denoised before they are cached
     uint64_t h = 1469598103934665603ull;
     auto mixIn = [&](const void* d, std::size_t n) {
         const auto* b = static_cast<const unsigned char*>(d);
@@ -502,12 +616,14 @@ HaloTables HaloTables::build(const Quality& q, double plateAspect, double column
     for (int k = 0; k < 3; ++k) {
         dst[k]->resize(slice * std::size_t(q.slices));
         for (int s = 0; s < q.slices; ++s) {
-            const Phase2D p = traceOriented(pops[k], t.sliceElevationRad(s), q.ne, q.na, q.raysPerSlice, uint64_t(1000 * k + s + 1));
+            Phase2D p = traceOriented(pops[k], t.sliceElevationRad(s), q.ne, q.na, q.raysPerSlice, uint64_t(1000 * k + s + 1));
+            denoise(p, q.raysPerSlice);
             for (std::size_t i = 0; i < p.p.size(); ++i)
                 for (int c = 0; c < 3; ++c) (*dst[k])[std::size_t(s) * slice + i * 3 + std::size_t(c)] = float(p.p[i][c]);
         }
     }
-    const Phase1D r = traceRandom({Orientation::Random, columnAspect, 0.0}, q.bins, q.raysRandom, 7777);
+    Phase1D r = traceRandom({Orientation::Random, columnAspect, 0.0}, q.bins, q.raysRandom, 7777);
+    denoise(r, q.raysRandom);
     t.random.resize(std::size_t(q.bins) * 3);
     for (std::size_t i = 0; i < r.p.size(); ++i)
         for (int c = 0; c < 3; ++c) t.random[i * 3 + std::size_t(c)] = float(r.p[i][c]);

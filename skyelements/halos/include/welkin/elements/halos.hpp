@@ -157,6 +157,29 @@ Phase2D traceOriented(const Population& pop, double sunElevationRad, int ne, int
 Phase2D traceOrientedExact(const Population& pop, double sunElevationRad, int ne, int na, uint64_t rays, uint64_t seed,
                            int threads = 0);
 
+/// Denoising a traced table (skyelements/halos/README.md, "Denoised tables"), done by
+/// HaloTables::build before the tables are cached. Each bin's estimate is made over five kinds of
+/// window about it: a square of (2r + 1)^2 bins (r <= kMaxRadius) and lines of 2r + 1 bins
+/// (r <= kMaxLine) along the azimuth, the elevation and the two diagonals (the halos' arcs are
+/// ridges a bin or two wide, which a line along them averages and a square cannot). Each window
+/// grows while its mean stays consistent, within kGamma standard errors in every channel, with
+/// the means of all its smaller sizes (intersection of confidence intervals), and stops once it
+/// holds kTargetRays rays; the standard error is the rays' Poisson error, the table read as counts
+/// (p x the bin's solid angle x rays / 3 crystals). The windows' means are weighted by their
+/// inverse variance. A window stops where the table changes by more than its noise: the halos'
+/// edges, the sundogs and the arcs stay in place (within a bin) while the faint sky is averaged.
+/// Each channel is rescaled to its integral before (1). Deterministic; `rays` as given to the
+/// trace (>= 3; throws welkin::Error otherwise). The 1-D table: lines of up to 2 kMaxLine + 1 bins.
+struct Denoise {
+    static constexpr int kMaxRadius = 4;
+    static constexpr int kMaxLine = 8;
+    static constexpr double kGamma = 1.5;
+    static constexpr double kTargetRays = 10000.0;
+};
+void denoise(Phase2D& table, uint64_t rays);
+/// The same over the scattering angle (windows of 2r + 1 bins, r <= 2 kMaxLine).
+void denoise(Phase1D& table, uint64_t rays);
+
 /// The element's tables: the three oriented populations at `slices` light elevations evenly
 /// over [0, 90] deg, the random population's 1-D table.
 struct HaloTables {
