@@ -259,7 +259,10 @@ void Halos::doRender(const FrameContext& ctx) {
         glBindTextureUnit(GLuint(tableUnit_), octTable_.id());
         if (ctx.emptyVao) ctx.emptyVao->bind();
         glEnable(GL_CLIP_DISTANCE0);
-        if (adaptive_) {
+        // The adaptive cells need the drawn table's maps: a table swapped in this frame without
+        // them (the cells turned on while its refill was under way) is drawn by every cell
+        // fetching this once; the next frame fills table and maps whole (above).
+        if (adaptive_ && frontMaps_) {
             // The adaptive cells (off by default: skyelements/halos/README.md): the lists of pieces
             // (halos_cells.comp.glsl), made again only when what they depend on changed, then two
             // indirect draws, the pieces drawn from their corners and those that fetch.
@@ -475,6 +478,11 @@ void Halos::updateOctTable(double el, double tauUser, double h0, double layerH, 
         std::swap(frontMaps_, backMaps_);
         ++octVersion_;
     }
+}
+
+void Halos::setCellTolerance(double t) {
+    if (!(t > 0.0 && t <= 1.0)) throw Error("Halos::setCellTolerance(): " + std::to_string(t) + " not in (0, 1]");
+    cellTolerance_ = t;
 }
 
 void Halos::fillOctRows(bool back, double el, int r0, int r1) {

@@ -941,3 +941,13 @@ TEST_CASE("Halos: the adaptive cells' bound holds where pieces interpolate the s
         check("after a jump");
     }
 }
+
+TEST_CASE("Halos: setCellTolerance() takes a fraction in (0, 1], NaN refused", "[cpu][halos]") {
+    // A NaN tolerance would make every comparison in halos_cells.comp.glsl false, so every piece
+    // would count as smooth: refused at the API boundary, as are 0 (nothing smooth, a silent cost)
+    // and more than 1 (more than what the pixel shows).
+    elements::Halos h;
+    for (double bad : {std::nan(""), 0.0, -0.1, 1.5, HUGE_VAL}) CHECK_THROWS_WITH(h.setCellTolerance(bad), Catch::Contains("not in (0, 1]"));
+    CHECK_NOTHROW(h.setCellTolerance(elements::Halos::kCellTolerance));
+    CHECK_NOTHROW(h.setCellTolerance(1.0));
+}

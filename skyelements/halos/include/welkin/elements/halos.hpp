@@ -345,15 +345,17 @@ public:
     /// zenith column (the shortest) at 90 deg from the light (the phase function's least, 3 / (16
     /// pi)), tau_R exp(-tau_R) 3 / (16 pi), with the sea-level Rayleigh optical depth at the
     /// channels' wavelengths (Hansen & Travis 1974: 0.063, 0.098, 0.193 at 612, 549, 465 nm).
-    /// Checked against the Sky element's own sky in the tests.
+    /// A bound from that physics alone (aerosols and multiple scattering only add light); not
+    /// compared with the Sky element's rendered sky by a test.
     static constexpr std::array<double, 3> kSkyFloor{0.0035, 0.0053, 0.0095};
     /// The adaptive cells on (off by default: with the traced tables' Monte-Carlo grain, tens of
     /// per cent from texel to texel, no piece of a lit sky passes kCellTolerance, so they cost
     /// their tests and two draws and save nothing; skyelements/halos/README.md, "Adaptive cells").
     /// Off: every cell fetches per pixel, one draw.
     void setAdaptiveCells(bool on) { adaptive_ = on; }
-    /// Tests and benchmarks: another tolerance than kCellTolerance (> 0).
-    void setCellTolerance(double t) { cellTolerance_ = t; }
+    /// Tests and benchmarks: another tolerance than kCellTolerance, a fraction in (0, 1] (throws
+    /// welkin::Error outside it, NaN included).
+    void setCellTolerance(double t);
     /// What the last grid frame drew with the adaptive cells, read back from the GPU (a stall:
     /// tests and benchmarks only): the pixels drawn from their corners, the pixels that fetch
     /// (below the horizon too: clipped there), the pieces of each list.
