@@ -63,6 +63,17 @@ double maxDifference(const Image& img, const std::vector<float>& rgbaBottomUp) {
     return d;
 }
 
+// A processor drawing the Ramp alone into w x h, at EV100 3 (manual or automatic exposure).
+void setUpRamp(SkyProcessor& p, int w, int h, bool automatic) {
+    Camera cam;
+    cam.width = w;
+    cam.height = h;
+    p.setCamera(cam);
+    p.setAnimationTime(0.0);
+    p.setExposure({.automatic = automatic, .ev100 = 3.0});
+    p.add(std::make_unique<Ramp>());
+}
+
 double maxDifference(const Image& a, const Image& b) {
     double d = 0.0;
     for (size_t i = 0; i < a.pixels.size(); ++i) d = std::max(d, std::abs(double(a.pixels[i]) - b.pixels[i]));
@@ -77,13 +88,7 @@ TEST_CASE("The displayed frame: readToneMapped() draws renderFrame()'s tone map 
     for (bool automatic : {false, true}) {
         CAPTURE(automatic);
         SkyProcessor p;
-        Camera cam;
-        cam.width = w;
-        cam.height = h;
-        p.setCamera(cam);
-        p.setAnimationTime(0.0);
-        p.setExposure({.automatic = automatic, .ev100 = 3.0});
-        p.add(std::make_unique<Ramp>());
+        setUpRamp(p, w, h, automatic);
         gl::Texture2D shown(w, h, GL_RGBA8);
         auto fbo = gl::Framebuffer::create();
         fbo.attach(GL_COLOR_ATTACHMENT0, shown);
@@ -140,13 +145,7 @@ TEST_CASE("The displayed frame: into an sRGB target the framebuffer encodes on w
     for (bool automatic : {false, true}) {
         CAPTURE(automatic);
         SkyProcessor p;
-        Camera cam;
-        cam.width = w;
-        cam.height = h;
-        p.setCamera(cam);
-        p.setAnimationTime(0.0);
-        p.setExposure({.automatic = automatic, .ev100 = 3.0});
-        p.add(std::make_unique<Ramp>());
+        setUpRamp(p, w, h, automatic);
         gl::Texture2D linear(w, h, GL_RGBA8), srgb(w, h, GL_SRGB8_ALPHA8);
         auto linearFbo = gl::Framebuffer::create(), srgbFbo = gl::Framebuffer::create();
         linearFbo.attach(GL_COLOR_ATTACHMENT0, linear);

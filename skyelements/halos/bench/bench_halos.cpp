@@ -37,6 +37,18 @@ namespace {
 
 constexpr double kDeg = M_PI / 180;
 
+// The bench's view: perspective, towards the south 30 deg up, a 100 deg vertical field, w x h.
+Camera benchCamera(int w, int h) {
+    Camera cam;
+    cam.projection = Projection::Perspective;
+    cam.azimuthRad = M_PI;
+    cam.altitudeRad = 30 * kDeg;
+    cam.verticalFovRad = 100 * kDeg;
+    cam.width = w;
+    cam.height = h;
+    return cam;
+}
+
 struct HalosBenchOptions {
     int repeats = 10;
     std::string csv = "bench_halos.csv";
@@ -100,14 +112,7 @@ int run(const HalosBenchOptions& o) {
                                : "halo pass, per-pixel path (offline: fisheye, equirect, cirrus), ms",
                    std::make_unique<SkyProcessor>(SkyVars::earth(), log, ProcessorOptions{.timing = true, .astronomy = false})};
             SkyProcessor& p = *P.p;
-            Camera cam;
-            cam.projection = Projection::Perspective;
-            cam.azimuthRad = M_PI;
-            cam.altitudeRad = 30 * kDeg;
-            cam.verticalFovRad = 100 * kDeg;
-            cam.width = w;
-            cam.height = h;
-            p.setCamera(cam);
+            p.setCamera(benchCamera(w, h));
             p.setExposure({.ev100 = 12});
             p.add(std::make_unique<TrivialElement>());
             auto e = std::make_unique<elements::Halos>();
@@ -195,14 +200,7 @@ int run(const HalosBenchOptions& o) {
     for (auto [w, h] : {std::pair{800, 450}, std::pair{1280, 720}}) {
         auto make = [&](bool trivial, double tau, bool adaptive) {
             auto p = std::make_unique<SkyProcessor>(SkyVars::earth(), log, ProcessorOptions{.timing = false, .astronomy = false});
-            Camera cam;
-            cam.projection = Projection::Perspective;
-            cam.azimuthRad = M_PI;
-            cam.altitudeRad = 30 * kDeg;
-            cam.verticalFovRad = 100 * kDeg;
-            cam.width = w;
-            cam.height = h;
-            p->setCamera(cam);
+            p->setCamera(benchCamera(w, h));
             p->setExposure({.ev100 = 12});
             if (trivial) p->add(std::make_unique<TrivialElement>());
             auto e = std::make_unique<elements::Halos>();
