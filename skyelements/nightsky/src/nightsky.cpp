@@ -553,6 +553,13 @@ void NightSky::buildCube(const FrameContext& ctx, const NightCubeInputs& in, boo
 
 void NightSky::doUpdate(const FrameContext& ctx) {
     SkyVars& v = ctx.vars;
+    // The skip's slope bound (doRender) is computed once per mesopic setting and memoised (a few
+    // ms: a sampled Jacobian); asked in every frame, so that computation falls in the first frame
+    // rather than in the first frame where an exposure is known (time starting: it made that
+    // frame 5-10 still frames at 512x256, docs/BENCHMARKS.md).
+    if (v.get(nightkeys::skipInvisible) && v.get(eye::keys::mesopic))
+        (void)eye::displaySlopeBound(eye::keys::curve.value(v), true, v.get(eye::keys::scotopicBelow), v.get(eye::keys::photopicAbove),
+                                     v.get(eye::keys::rodChromaticity));
     if (v.get(nightkeys::milkyWayTexture) != mwPath_) loadMilkyWay(v.get(nightkeys::milkyWayTexture), ctx.log);
     // The four terms at the zenith (CPU twins of the shader), published for the stars.
     const glm::dmat3 R = v.getOr(astro::keys::starFrameRotation, glm::dmat3(1.0));
