@@ -24,6 +24,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <utility>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
@@ -36,6 +37,18 @@ namespace welkin::cli {
 namespace {
 
 constexpr double kDeg = M_PI / 180;
+
+// The halo pass's and the trivial pass's render times (ms) in the frame just rendered (NaN for
+// a trivial pass not in the frame).
+std::pair<double, double> passTimes(const SkyProcessor& p) {
+    const nlohmann::json j = p.stats();
+    double halos = 0, trivial = NAN;
+    for (const auto& el : j["elements"]) {
+        if (el["name"] == "halos") halos = el["render_ms"].get<double>();
+        if (el["name"] == "trivial") trivial = el["render_ms"].get<double>();
+    }
+    return {halos, trivial};
+}
 
 // The bench's view: perspective, towards the south 30 deg up, a 100 deg vertical field, w x h.
 Camera benchCamera(int w, int h) {
@@ -132,12 +145,7 @@ int run(const HalosBenchOptions& o) {
         for (int i = 0; i < o.repeats; ++i)
             for (Path& P : paths) {
                 P.p->renderFrame();
-                const nlohmann::json j = P.p->stats();
-                double renderMs = 0, t = NAN;
-                for (const auto& el : j["elements"]) {
-                    if (el["name"] == "halos") renderMs = el["render_ms"].get<double>();
-                    if (el["name"] == "trivial") t = el["render_ms"].get<double>();
-                }
+                const auto [renderMs, t] = passTimes(*P.p);
                 P.ms.push_back(renderMs);
                 P.tms.push_back(t);
                 P.ratio.push_back(renderMs / t);
@@ -168,12 +176,7 @@ int run(const HalosBenchOptions& o) {
                 cam.azimuthRad = M_PI + ((i % 2) ? 1e-4 : -1e-4);  // a camera that moves: new lists
                 P.p->setCamera(cam);
                 P.p->renderFrame();
-                const nlohmann::json j = P.p->stats();
-                double renderMs = 0, t = NAN;
-                for (const auto& el : j["elements"]) {
-                    if (el["name"] == "halos") renderMs = el["render_ms"].get<double>();
-                    if (el["name"] == "trivial") t = el["render_ms"].get<double>();
-                }
+                const auto [renderMs, t] = passTimes(*P.p);
                 ms.push_back(renderMs);
                 tms.push_back(t);
                 ratio.push_back(renderMs / t);
