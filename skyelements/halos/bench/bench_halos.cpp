@@ -6,10 +6,13 @@
 // contract) drawn before it in the same frames; "x trivial" is the median of per-frame ratios.
 // Also with no crystals (the element skips its draw), through the per-pixel path, and with the
 // adaptive cells (off by default; `--cell-tolerance`), also as the process's CPU work. Target: the
-// pass as drawn by default <= 1.5x trivial. (3) Accuracy of one quality's tables (default: `default`) against the slow
+// pass as drawn by default <= 1.5x trivial. `--sizes` sets the frames' sizes (800x450 and 1280x720 by
+// default); `--floors true` also times what cheaper displays would cost at least (Halos::setDisplayProbe:
+// bigger cells, a nearest-texel fetch, every piece from its corners; not image paths). (3) Accuracy of one quality's tables (default: `default`) against the slow
 // exact path, the brute-force trace (every Fresnel branch followed with its weight) with 10x the
 // rays, at the light elevation midway between two slices (below).
 #include "bench_util.hpp"
+#include "scene_options.hpp"
 
 #include <CLI/CLI.hpp>
 #include <welkin/bench.hpp>
@@ -71,7 +74,22 @@ struct HalosBenchOptions {
     bool accuracy = true;
     double cellTolerance = elements::Halos::kCellTolerance;
     int exactFactor = 10;
+    std::string sizes = "800x450,1280x720";  // the timed frames' sizes, WxH each
+    bool floors = false;                     // also what cheaper displays would cost at least (Halos::setDisplayProbe)
 };
+
+// The sizes of `--sizes` ("WxH,WxH"), each side in [16, 4096]; throws naming the option.
+std::vector<std::pair<int, int>> benchSizes(const std::string& list) {
+    std::vector<std::pair<int, int>> out;
+    for (const std::string& item : splitList(list)) {
+        int w = 0, h = 0;
+        parseSize(item, "--sizes", w, h);
+        if (w < 16 || h < 16 || w > 4096 || h > 4096) throw Error("--sizes " + item + ": each side not in [16, 4096]");
+        out.emplace_back(w, h);
+    }
+    if (out.empty()) throw Error("--sizes '" + list + "': no size (WxH,WxH...)");
+    return out;
+}
 
 std::string fmtDeg(double d) {
     char b[32];
@@ -86,6 +104,7 @@ int run(const HalosBenchOptions& o) {
     (void)elements::halos::HaloTables::quality(o.accuracyQuality);
     (void)elements::halos::HaloTables::quality(o.passQuality);
     for (const std::string& q : splitList(o.qualities)) (void)elements::halos::HaloTables::quality(q);
+    const std::vector<std::pair<int, int>> sizes = benchSizes(o.sizes);
     checkOutputDirectory("--csv", o.csv);
     Logger log;
     auto ctx = gl::HeadlessContext::create({}, log);
@@ -110,7 +129,7 @@ int run(const HalosBenchOptions& o) {
     // falls on all alike): the real-time grid with its adaptive cells (off by default), the grid
     // fetching in every cell (the default), no crystals, the per-pixel path.
     bool met = true;
-    for (auto [w, h] : {std::pair{800, 450}, std::pair{1280, 720}}) {
+    for (auto [w, h] : sizes) {
         struct Path {
             const char* what;
             std::unique_ptr<SkyProcessor> p;
@@ -200,7 +219,7 @@ int run(const HalosBenchOptions& o) {
     // trivial pass and the halo pass, adaptive cells), C (the same, every cell fetching), M (A with
     // the camera moving: the cells' lists made in every frame). The halo pass's work is A - Y
     // (C - Y, M - Y), the trivial pass's Y - Z; medians over the frames.
-    for (auto [w, h] : {std::pair{800, 450}, std::pair{1280, 720}}) {
+    for (auto [w, h] : sizes) {
         auto make = [&](bool trivial, double tau, bool adaptive) {
             auto p = std::make_unique<SkyProcessor>(SkyVars::earth(), log, ProcessorOptions{.timing = false, .astronomy = false});
             p->setCamera(benchCamera(w, h));
@@ -242,6 +261,68 @@ int run(const HalosBenchOptions& o) {
         emit("work: halo pass, every cell fetching (the default), CPU ms per frame", size, median(c) - median(y), triv, (median(c) - median(y)) / triv);
         emit("work: halo pass, adaptive cells, camera moving, CPU ms per frame", size, median(m) - median(y), triv, (median(m) - median(y)) / triv);
     }
+    // (2c) What cheaper displays would cost at least (`--floors`; skyelements/halos/README.md,
+    // "What any route costs at least"): the grid drawn by probes (Halos::setDisplayProbe) that are
+    // not image paths: fetching per pixel in bigger pieces, nearest-texel, or every piece from its
+    // corners (no fetch per pixel) in pieces of 64, 32 and 16 pixels. Work as in (2b): each
+    // processor's CPU time per frame less Y's (the trivial pass and the element with no
+    // crystals), over the trivial pass's work (Y - Z); frames alternated.
+    if (o.floors)
+        for (auto [w, h] : sizes) {
+            using Probe = elements::Halos::DisplayProbe;
+            struct Floor {
+                const char* what;
+                Probe probe;
+                int cellPx;
+            };
+            const Floor floors[] = {{"every cell fetching (the default display), 64-pixel cells", Probe::Fetch, 64},
+                                    {"fetching, 256-pixel cells", Probe::Fetch, 256},
+                                    {"nearest-texel fetch, 64-pixel cells", Probe::Nearest, 64},
+                                    {"every piece from its corners (no fetch per pixel), 64-pixel pieces", Probe::Corners, 64},
+                                    {"every piece from its corners, 32-pixel pieces", Probe::Corners, 32},
+                                    {"every piece from its corners, 16-pixel pieces", Probe::Corners, 16}};
+            auto make = [&](bool trivial, double tau, const Floor* fl) {
+                auto p = std::make_unique<SkyProcessor>(SkyVars::earth(), log, ProcessorOptions{.timing = false, .astronomy = false});
+                p->setCamera(benchCamera(w, h));
+                p->setExposure({.ev100 = 12});
+                if (trivial) p->add(std::make_unique<TrivialElement>());
+                auto e = std::make_unique<elements::Halos>();
+                if (fl) e->setDisplayProbe(fl->probe, fl->cellPx);
+                p->add(std::move(e));
+                p->vars().set(keys::sunDirection, directionFromAzAlt(M_PI, 20 * kDeg));
+                p->vars().set(elements::haloskeys::opticalDepth, tau);
+                p->vars().set(elements::haloskeys::tableQuality, o.passQuality);
+                p->renderFrame();
+                p->renderFrame();
+                return p;
+            };
+            auto Z = make(false, 0.0, nullptr), Y = make(true, 0.0, nullptr);
+            std::vector<std::unique_ptr<SkyProcessor>> P;
+            for (const Floor& fl : floors) P.push_back(make(true, 0.3, &fl));
+            auto cpuMs = [] {
+                timespec ts{};
+                clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+                return 1e3 * double(ts.tv_sec) + 1e-6 * double(ts.tv_nsec);
+            };
+            std::vector<double> z, y;
+            std::vector<std::vector<double>> t(P.size());
+            auto timeFrame = [&](SkyProcessor& proc, std::vector<double>& out) {
+                glFinish();
+                const double t0 = cpuMs();
+                proc.renderFrame();
+                glFinish();
+                out.push_back(cpuMs() - t0);
+            };
+            for (int i = 0; i < 3 * o.repeats; ++i) {
+                timeFrame(*Z, z);
+                timeFrame(*Y, y);
+                for (std::size_t k = 0; k < P.size(); ++k) timeFrame(*P[k], t[k]);
+            }
+            const double triv = median(y) - median(z);
+            const std::string size = std::to_string(w) + "x" + std::to_string(h);
+            for (std::size_t k = 0; k < P.size(); ++k)
+                emit(std::string("floor: ") + floors[k].what + ", CPU ms per frame", size, median(t[k]) - median(y), triv, (median(t[k]) - median(y)) / triv);
+        }
     if (!o.accuracy) {
         std::printf("\ntarget: halo pass <= 1.5x the trivial pass: %s\n", met ? "met" : "NOT met");
         return 0;
@@ -382,6 +463,10 @@ bench::CommandBenchRegistrar reg({"halos", "halo table trace times, the halo pas
                                       "the adaptive cells' tolerance, a fraction of what the pixel shows, (0, 1] (Halos::kCellTolerance)")
                            ->capture_default_str();
                        sub.add_option("--accuracy", o->accuracy, "measure the tables against the brute-force trace (minutes with default tables)")
+                           ->capture_default_str();
+                       sub.add_option("--sizes", o->sizes, "comma list of the timed frames' sizes, WxH (each side in [16, 4096])")->capture_default_str();
+                       sub.add_option("--floors", o->floors,
+                                      "also time what cheaper displays would cost at least: bigger cells, nearest-texel, every piece from its corners (not image paths)")
                            ->capture_default_str();
                        sub.add_option("--exact-factor", o->exactFactor, "the brute-force trace's rays over the tables' rays per slice, [2, 100]")
                            ->capture_default_str();

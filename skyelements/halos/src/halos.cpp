@@ -236,7 +236,9 @@ void Halos::doRender(const FrameContext& ctx) {
         const int slices = v.getOr(keys::interactive, false) ? std::clamp(v.getOr(hk::tableSlices, hk::kTableSlicesDefault), 1, 64) : 1;
         if (adaptive_ && !frontMaps_) oct_.held = NAN;  // the adaptive cells turned on: the table and its maps whole now
         updateOctTable(el, tauUser, h0, layerH, R, slices);
-        const int gx = (ctx.camera.width + kGridCellPx - 1) / kGridCellPx, gy = (ctx.camera.height + kGridCellPx - 1) / kGridCellPx;
+        // The pieces' side: kGridCellPx, or a probe's (setDisplayProbe: benchmarks, never with the adaptive cells).
+        const int cellPx = adaptive_ ? kGridCellPx : probeCellPx_;
+        const int gx = (ctx.camera.width + cellPx - 1) / cellPx, gy = (ctx.camera.height + cellPx - 1) / cellPx;
         // The table's frame turned about the light's horizontal normal by its lag in elevation
         // (0 once a refill completed at the current light): the table's light lands on the current
         // light, and what moves with it (the halos, the sundogs) stays around it while a refill is
@@ -250,7 +252,7 @@ void Halos::doRender(const FrameContext& ctx) {
         const double muH = h0 < layerH ? -std::sqrt(std::max(1.0 - R * R / (r * r), 0.0)) : -2.0;
         auto setCommon = [&](const gl::Program& g) {
             g.set("u_grid", glm::ivec2(gx, gy));
-            g.set("u_cellPx", float(kGridCellPx));
+            g.set("u_cellPx", float(cellPx));
             g.set("u_lightX", fx);
             g.set("u_lightY", fy);
             g.set("u_lightZ", fz);
@@ -314,12 +316,17 @@ void Halos::doRender(const FrameContext& ctx) {
             }
             glBindBuffer(GL_DRAW_INDIRECT_BUFFER, GLuint(hostIndirect));
         } else {
-            const gl::Program& g = gridPrograms_.get(ctx.camera.projection);
+            // Every cell whole, fetching per pixel (the default); a probe (setDisplayProbe) may read
+            // the table nearest-texel or draw every piece from its corners instead.
+            const bool corners = probe_ == DisplayProbe::Corners, nearest = probe_ == DisplayProbe::Nearest;
+            const gl::Program& g = (corners ? smoothPrograms_ : gridPrograms_).get(ctx.camera.projection);
             g.use();
             setCommon(g);
             g.set("u_E", glm::vec3(E));
             g.set("u_list", 0);
+            if (nearest) octTable_.setFilter(GL_NEAREST);
             glDrawArrays(GL_TRIANGLES, 0, GLsizei(6 * gx * gy));
+            if (nearest) octTable_.setFilter(GL_LINEAR);
         }
         glDisable(GL_CLIP_DISTANCE0);
         drew_ = true;
@@ -478,6 +485,12 @@ void Halos::updateOctTable(double el, double tauUser, double h0, double layerH, 
         std::swap(frontMaps_, backMaps_);
         ++octVersion_;
     }
+}
+
+void Halos::setDisplayProbe(DisplayProbe probe, int cellPx) {
+    if (cellPx < 8 || cellPx > 1024) throw Error("Halos::setDisplayProbe(): cellPx " + std::to_string(cellPx) + " not in [8, 1024]");
+    probe_ = probe;
+    probeCellPx_ = cellPx;
 }
 
 void Halos::setCellTolerance(double t) {

@@ -942,6 +942,110 @@ TEST_CASE("Halos: the adaptive cells' bound holds where pieces interpolate the s
     }
 }
 
+TEST_CASE("Halos: the display probes draw what they stand for: bigger cells, nearest texels, pieces from their corners", "[gl][halos]") {
+    // Issue 21 item 4: `welkin bench halos --floors` times what cheaper displays would cost at
+    // least (Halos::setDisplayProbe; skyelements/halos/README.md, "What any route costs at least").
+    // Its numbers mean something only if each probe draws what it stands for: checked here on the
+    // halos alone (no sky, `display` mix, `low` tables, 480 x 320, 100 deg towards the Sun 20 deg up).
+    test::glContext();
+    using Probe = elements::Halos::DisplayProbe;
+    // One element (its tables traced once), drawn in turn by each probe and back by the default.
+    CellScene s(false, false, false);
+    auto draw = [&](Probe probe, int cellPx) {
+        s.halos->setDisplayProbe(probe, cellPx);
+        s.render(M_PI, 20.0 * kDeg);
+        REQUIRE(s.halos->gridLastFrame());
+        return s.p.readHdr();
+    };
+    const Image fetch = draw(Probe::Fetch, elements::Halos::kGridCellPx);
+    const Image big = draw(Probe::Fetch, 256), nearest = draw(Probe::Nearest, 64), corners = draw(Probe::Corners, 64);
+    const Image corners32 = draw(Probe::Corners, 32);
+    const Image back = draw(Probe::Fetch, elements::Halos::kGridCellPx);
+    const Camera cam = s.cam;
+    const int W = cam.width, H = cam.height;
+    // Bigger cells fetch the same pixels: the ray passed by the vertices is affine in the pixel,
+    // so the cells only bound the work (the observer on the ground: the horizon's clip distance is
+    // exact too), the lit pixels counted alike. Equal to the interpolation's float rounding: over a
+    // 4 x bigger triangle the ray rounds differently by ~1e-6, which the steepest texel-to-texel
+    // steps of the low tables' grain turn into at most a few 1e-3 (measured 0.0029); bound 1 %.
+    double bigRel = 0;
+    long litFetch = 0, litBig = 0;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            const double a = fetch.at(x, y, 1), b = big.at(x, y, 1);
+            litFetch += a > 0;
+            litBig += b > 0;
+            if (a > 0) bigRel = std::max(bigRel, std::abs(b - a) / a);
+        }
+    CHECK(litFetch > W * H / 2);
+    CHECK(litBig == litFetch);
+    CHECK(bigRel < 0.01);
+    // Nearest texels: the same table, unfiltered. Off from the bilinear fetch by a fraction of
+    // the texel-to-texel steps (the low tables' grain: tens of per cent in places), so the mean
+    // relative difference lies between 0.1 % (it must differ: not the bilinear fetch again) and
+    // 15 % (it must be the same table: measured in the comment below).
+    double nearestMean = 0;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+            if (fetch.at(x, y, 1) > 0) nearestMean += std::abs(nearest.at(x, y, 1) - fetch.at(x, y, 1)) / fetch.at(x, y, 1);
+    nearestMean /= double(litFetch);
+    // Pieces from their corners: within a 64-pixel piece each pixel is the linear interpolation,
+    // over the piece's two triangles (split along the diagonal from its top-left corner), of the
+    // table at its four corners, which the fetching image gives as the mean of the four pixels
+    // around each corner (their centres half a pixel off it). Over the pieces wholly inside the
+    // image and above the horizon, the probe's image is near that interpolation and the fetching
+    // image is not (the halos vary within a piece: 64 pixels are 20 deg here).
+    auto vertexValue = [&](int X, int Y) {
+        return 0.25 * (fetch.at(X - 1, Y - 1, 1) + fetch.at(X, Y - 1, 1) + fetch.at(X - 1, Y, 1) + fetch.at(X, Y, 1));
+    };
+    double cornersErr = 0, fetchErr = 0;
+    long n = 0;
+    for (int cy = 1; 64 * (cy + 1) < H; ++cy)
+        for (int cx = 1; 64 * (cx + 1) < W; ++cx) {
+            const int X = 64 * cx, Y = 64 * cy;
+            bool lit = true;
+            for (int y = Y - 1; y <= Y + 64 && lit; ++y)
+                for (int x = X - 1; x <= X + 64 && lit; ++x) lit = fetch.at(x, y, 1) > 0;
+            if (!lit) continue;
+            const double c00 = vertexValue(X, Y), c10 = vertexValue(X + 64, Y), c01 = vertexValue(X, Y + 64), c11 = vertexValue(X + 64, Y + 64);
+            for (int y = Y; y < Y + 64; ++y)
+                for (int x = X; x < X + 64; ++x) {
+                    const double u = (x + 0.5 - X) / 64.0, v = (y + 0.5 - Y) / 64.0;
+                    const double ref = u >= v ? c00 + u * (c10 - c00) + v * (c11 - c10) : c00 + v * (c01 - c00) + u * (c11 - c01);
+                    cornersErr += std::abs(corners.at(x, y, 1) - ref) / ref;
+                    fetchErr += std::abs(fetch.at(x, y, 1) - ref) / ref;
+                    ++n;
+                }
+        }
+    REQUIRE(n > 0);
+    cornersErr /= double(n);
+    fetchErr /= double(n);
+    INFO("bigger cells: largest relative difference " << bigRel << "; nearest: mean relative difference " << nearestMean << "; " << n
+                                                      << " pixels in whole lit pieces: corners probe off the corners' interpolation by " << cornersErr
+                                                      << " (mean relative), the fetching image by " << fetchErr);
+    CHECK(nearestMean > 1e-3);
+    CHECK(nearestMean < 0.15);
+    // The corners' estimate from the pixels half a pixel away errs by the table's texel-to-texel
+    // grain over half a pixel (a few per cent at most); the structure inside a piece is tens of
+    // per cent.
+    CHECK(cornersErr < 0.05);
+    CHECK(fetchErr > 3.0 * cornersErr);
+    // The piece size is honoured: 32-pixel pieces interpolate over half the span, so they differ
+    // from the 64-pixel ones by a good part of the fetching image's 100 % and more (above) off
+    // the 64-pixel interpolation; bound: a mean relative difference over 10 % of the lit pixels'.
+    double piecesDiff = 0;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+            if (corners.at(x, y, 1) > 0) piecesDiff += std::abs(corners32.at(x, y, 1) - corners.at(x, y, 1)) / corners.at(x, y, 1);
+    piecesDiff /= double(litFetch);
+    INFO("32- against 64-pixel pieces: mean relative difference " << piecesDiff);
+    CHECK(piecesDiff > 0.1);
+    // Back to the default after the probes (the nearest filter restored): the first image bit for bit.
+    CHECK(back.pixels == fetch.pixels);
+    elements::Halos h;
+    for (int bad : {7, 0, -64, 1025}) CHECK_THROWS_WITH(h.setDisplayProbe(Probe::Fetch, bad), Catch::Contains("not in [8, 1024]"));
+}
+
 TEST_CASE("Halos: setCellTolerance() takes a fraction in (0, 1], NaN refused", "[cpu][halos]") {
     // A NaN tolerance would make every comparison in halos_cells.comp.glsl false, so every piece
     // would count as smooth: refused at the API boundary, as are 0 (nothing smooth, a silent cost)

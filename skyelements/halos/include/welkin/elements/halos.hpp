@@ -392,9 +392,21 @@ public:
     /// Tests and benchmarks: draw every view through the per-pixel pass (the offline path), to
     /// compare the grid with it.
     void setForcePerPixel(bool on) { forcePerPixel_ = on; }
+    /// Benchmarks and tests only, not an image path: what a cheaper real-time display would cost
+    /// at least on this machine (skyelements/halos/README.md, "What any route costs at least").
+    /// The grid (perspective, no cirrus, adaptive cells off) drawn in pieces of `cellPx` pixels
+    /// (kGridCellPx by default) either fetching the table per pixel (Fetch: the default display
+    /// when cellPx is kGridCellPx), fetching it nearest-texel (Nearest: no bilinear filter), or
+    /// from each piece's corners, interpolated, no fetch per pixel (Corners: every piece as the
+    /// adaptive cells' smooth ones, whatever the table; a halo narrower than a piece is smeared).
+    /// Throws welkin::Error for cellPx outside [8, 1024].
+    enum class DisplayProbe { Fetch, Nearest, Corners };
+    void setDisplayProbe(DisplayProbe probe, int cellPx = kGridCellPx);
 
 private:
     bool grid_ = false;
+    DisplayProbe probe_ = DisplayProbe::Fetch;
+    int probeCellPx_ = kGridCellPx;
 };
 
 }  // namespace welkin::elements
