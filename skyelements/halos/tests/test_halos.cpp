@@ -100,8 +100,8 @@ TEST_CASE("Halos: the traced sundogs follow Bravais' index as the Sun rises", "[
 TEST_CASE("Halos: the circumzenithal arc forms only with the Sun below 32.2 deg", "[cpu][halos]") {
     // Light within 60 deg of the Sun's azimuth and more than 25 deg above it (where the arc is:
     // 66 deg up at h = 20, 80 deg at 30), relative to all the plates' light.
-    auto czaShare = [](double h) {
-        const Phase2D p = traceOriented({Orientation::Plate, 0.2, 0.5 * kDeg}, h * kDeg, 90, 90, 60000, 9);
+    auto czaShare = [](double h, double tiltDeg = 0.5, uint64_t rays = 60000) {
+        const Phase2D p = traceOriented({Orientation::Plate, 0.2, tiltDeg * kDeg}, h * kDeg, 90, 90, rays, 9);
         double s = 0, all = 0;
         for (int ie = 0; ie < p.ne; ++ie) {
             const double e = p.elevationRad(ie), w = std::cos(e);
@@ -117,6 +117,18 @@ TEST_CASE("Halos: the circumzenithal arc forms only with the Sun below 32.2 deg"
     CHECK(at30 > 1e-4);  // fading towards the cut-off
     CHECK(at35 == 0.0);  // above it: no ray at all (no other plate path lights that part of the sky)
     CHECK(at40 == 0.0);
+    // The cut-off itself, bracketed to 1.5 deg about the green channel's 32.11 deg (n = 1.3105),
+    // with nearly untilted plates (0.1 deg, halos.tilt_rad's least) so that the tilt does not
+    // smear it: at 31.5 deg the arc still forms; at 33.0 deg none, since the Sun's radius
+    // (0.27 deg) and a tilt would have to lower the ray by 0.62 deg, over 6 sigma of the tilt.
+    // A cut-off moved by more than ~0.6 deg either way (a wrong index, a wrong face, the
+    // basal face's refraction mixed up) fails one of the two.
+    const double at315 = czaShare(31.5, 0.1, 600000), at33 = czaShare(33.0, 0.1, 600000);
+    INFO("arc's share of the plates' light: " << at315 << " at 31.5 deg, " << at33 << " at 33.0 deg");
+    CHECK(at315 > 0.0);
+    CHECK(at33 == 0.0);
+    CHECK(circumzenithalCutoffRad(kGreen) / kDeg > 31.5);  // the bracket holds the closed form
+    CHECK(circumzenithalCutoffRad(kGreen) / kDeg < 33.0);
 }
 
 TEST_CASE("Halos: the trace conserves energy and is deterministic", "[cpu][halos]") {
@@ -402,6 +414,17 @@ TEST_CASE("Halos: rendered sundogs move out with the Sun; the circumzenithal arc
     // The arc: 80 deg up at h = 30 (below the cut-off), none at 40 (above it).
     CHECK(czaLight(at30, 30) > 0.0);
     CHECK(czaLight(at40, 40) < 1e-3 * czaLight(at30, 30));
+    // ... and where the prism optics put it, close to the cut-off: up the Sun's meridian, its
+    // crest at sin e = sqrt(n^2 - cos^2 h), 79.6 deg at h = 30 (the arc climbs to the zenith as h
+    // nears 32.2 deg). 1 deg pixels and table bins, the plates' 1 deg tilt, the Sun's disk: 1.5 deg.
+    {
+        const double c = std::cos(30 * kDeg), expected = std::asin(std::sqrt(kGreen * kGreen - c * c)) / kDeg;
+        int best = 0;
+        for (int y = 0; y < 180; ++y)
+            if (rowAltDeg(y) > 60 && lum(at30, colOfAz(180), y) > lum(at30, colOfAz(180), best)) best = y;
+        INFO("circumzenithal arc's crest at altitude " << rowAltDeg(best) << ", formula " << expected);
+        CHECK(std::abs(rowAltDeg(best) - expected) < 1.5);
+    }
 }
 
 TEST_CASE("Halos: the perspective grid path puts the 22 deg halo where the per-pixel path does", "[gl][halos]") {
