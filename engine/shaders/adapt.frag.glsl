@@ -1,10 +1,9 @@
 // The eye's adaptation, one texel (docs/eye.md; CPU twin: welkin/eye.hpp, eye.cpp): reads the
-// meter's top mip (sum w ln Y, sum w, sum w ln V') and the previous state, writes
+// meter (meter.comp.glsl: one texel, the means of w ln Y, w and w ln V') and the previous state, writes
 // (cone adaptation cd/m^2, rod adaptation scotopic cd/m^2, exposure, 1). On the GPU so that the
 // tone map never waits for a read-back.
 layout(binding = WELKIN_BINDING_LOG_LUM_TEXTURE) uniform sampler2D u_logLum;
 layout(binding = WELKIN_BINDING_EYE_STATE_TEXTURE) uniform sampler2D u_previous;
-uniform int u_logLumLevel;    // last mip level of u_logLum
 uniform int u_steady;         // 1: no previous state, or a still render: jump to the target
 uniform float u_dt;           // seconds since the previous frame
 uniform float u_coneTime;     // eye.cone_time_s
@@ -29,7 +28,7 @@ float welkin_approach(float from, float to, float tau) {  // exponential in log 
 }
 
 void main() {
-    vec4 m = texelFetch(u_logLum, ivec2(0), u_logLumLevel);
+    vec4 m = texelFetch(u_logLum, ivec2(0), 0);
     vec2 target = m.y > 0.0 ? exp(vec2(m.x, m.z) / m.y) : vec2(u_min);
     vec4 previous = texelFetch(u_previous, ivec2(0), 0);
     bool finiteTarget = !isnan(target.x) && !isnan(target.y) && !isinf(target.x) && !isinf(target.y);

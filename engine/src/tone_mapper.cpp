@@ -13,10 +13,6 @@
 
 namespace welkin {
 
-namespace {
-constexpr int kLogLumSize = 128;  // log-luminance reduction resolution (power of two)
-}
-
 ToneSettings ToneSettings::fromVars(const SkyVars& v) {
     ToneSettings s;
     s.automatic = v.get(keys::exposureAuto);
@@ -48,11 +44,10 @@ ToneSettings ToneSettings::fromVars(const SkyVars& v) {
 void ToneMapper::init() {
     for (auto& p : toneMap_) p = {};
     toneMapProgram(true, false, true, 0);  // the default settings' program: a first frame's compile is not in its tone map
-    logLumProgram_ = gl::ProgramBuilder("SkyProcessor log luminance")
-                         .fullscreenVertex()
-                         .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
-                         .fragment("engine/loglum.frag.glsl", gl::engineShader("loglum.frag.glsl"))
-                         .build();
+    meterProgram_ = gl::ProgramBuilder("SkyProcessor eye meter")
+                        .compute("engine/camera.glsl", gl::engineShader("camera.glsl"))
+                        .compute("engine/meter.comp.glsl", gl::engineShader("meter.comp.glsl"))
+                        .build();
     adaptProgram_ = gl::ProgramBuilder("SkyProcessor eye adaptation")
                         .fullscreenVertex()
                         .fragment("engine/adapt.frag.glsl", gl::engineShader("adapt.frag.glsl"))
@@ -64,11 +59,8 @@ void ToneMapper::init() {
         stateFbo_[i].attach(GL_COLOR_ATTACHMENT0, state_[i]);
         stateFbo_[i].checkComplete("SkyProcessor eye state");
     }
-    const int levels = int(std::log2(kLogLumSize)) + 1;
-    logLum_ = gl::Texture2D(kLogLumSize, kLogLumSize, GL_RGBA32F, levels);
-    logLumFbo_ = gl::Framebuffer::create();
-    logLumFbo_.attach(GL_COLOR_ATTACHMENT0, logLum_);
-    logLumFbo_.checkComplete("SkyProcessor log luminance");
+    meter_ = gl::Texture2D(1, 1, GL_RGBA32F);
+    meter_.setFilter(GL_NEAREST);
     glCreateSamplers(1, &linearSampler_);
     glSamplerParameteri(linearSampler_, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glSamplerParameteri(linearSampler_, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
@@ -104,10 +96,9 @@ void ToneMapper::release() {
     readbackValueFor_ = readbackFor_ = -1;
     if (linearSampler_) glDeleteSamplers(1, &linearSampler_);
     linearSampler_ = 0;
-    logLum_ = {};
-    logLumFbo_ = {};
+    meter_ = {};
     for (auto& p : toneMap_) p = {};
-    logLumProgram_ = {};
+    meterProgram_ = {};
     adaptProgram_ = {};
     for (int i = 0; i < 2; ++i) {
         state_[i] = {};
@@ -118,14 +109,16 @@ void ToneMapper::release() {
 }
 
 void ToneMapper::meter(const HdrSource& hdr) {
-    logLumFbo_.bind();
-    glViewport(0, 0, kLogLumSize, kLogLumSize);
+    // One work group, the means over 128x128 samples (meter.comp.glsl; docs/eye.md: one group
+    // costs llvmpipe less than 4x4); the camera block gives the frame's size and projection (the
+    // weights outside a fisheye's circle).
     glBindTextureUnit(gl::binding::kHdrTexture, hdr.texture);
     glBindSampler(gl::binding::kHdrTexture, linearSampler_);  // each meter fetch averages 2x2 texels
-    logLumProgram_.use();
-    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindImageTexture(gl::binding::kMeterImage, meter_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    meterProgram_.use();
+    glDispatchCompute(1, 1, 1);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
     glBindSampler(gl::binding::kHdrTexture, 0);
-    logLum_.generateMipmaps();
     meterValid_ = true;
 }
 
@@ -152,10 +145,9 @@ void ToneMapper::advance(const HdrSource& hdr, const ToneSettings& s, const gl::
         const int next = 1 - current_;
         stateFbo_[next].bind();
         glViewport(0, 0, 1, 1);
-        logLum_.bind(gl::binding::kLogLumTexture);
+        meter_.bind(gl::binding::kLogLumTexture);
         state_[current_].bind(gl::binding::kEyeStateTexture);
         adaptProgram_.use();
-        adaptProgram_.set("u_logLumLevel", logLum_.levels() - 1);
         adaptProgram_.set("u_steady", steady ? 1 : 0);
         adaptProgram_.set("u_dt", float(dt && *dt > 0 ? *dt : 0.0));
         adaptProgram_.set("u_coneTime", float(s.coneTime));
