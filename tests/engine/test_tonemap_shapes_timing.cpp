@@ -314,6 +314,10 @@ TEST_CASE("Tone map timing: the meter as a mip chain or one compute dispatch", "
         readOne.set("u_n", n);
         glDrawArrays(GL_TRIANGLES, 0, 3);
     };
+    unsigned pack = 0;
+    glCreateBuffers(1, &pack);
+    glNamedBufferStorage(pack, 4 * sizeof(float), nullptr, 0);
+    GLsync fence = nullptr;
     std::vector<std::pair<const char*, std::function<void()>>> shapes = {
         {"128x128 fragment pass + mip chain + one-texel pass", [&] {
              chainFbo.bind();
@@ -332,6 +336,20 @@ TEST_CASE("Tone map timing: the meter as a mip chain or one compute dispatch", "
              glDispatchCompute(1, 1, 1);
              glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
              readInto(m1, 0, 1);
+         }},
+        {"one compute work group + one-texel pass + its texel packed into a buffer, fenced", [&] {
+             glBindTextureUnit(0, hdr.id());
+             glBindImageTexture(1, m1.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+             comp1.use();
+             glDispatchCompute(1, 1, 1);
+             glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+             readInto(m1, 0, 1);
+             // as ToneMapper::advance() copies the eye's state for previousExposure()
+             glBindBuffer(GL_PIXEL_PACK_BUFFER, pack);
+             glGetTextureImage(one.id(), 0, GL_RGBA, GL_FLOAT, GLsizei(4 * sizeof(float)), nullptr);
+             glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+             if (fence) glDeleteSync(fence);
+             fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
          }},
         {"4x4 compute work groups + one-texel pass (16 fetches)", [&] {
              glBindTextureUnit(0, hdr.id());
@@ -363,5 +381,7 @@ TEST_CASE("Tone map timing: the meter as a mip chain or one compute dispatch", "
     std::printf("the meter's shapes, medians of 41, ms (wall / process CPU):\n");
     for (size_t k = 0; k < shapes.size(); ++k)
         std::printf("  %-60s %5.3f / %5.3f\n", shapes[k].first, test::medianOf(wall[k]), test::medianOf(cpu[k]));
+    if (fence) glDeleteSync(fence);
+    glDeleteBuffers(1, &pack);
     CHECK(test::medianOf(wall[0]) > 0.0);  // the clock advanced
 }
