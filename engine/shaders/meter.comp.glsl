@@ -1,7 +1,9 @@
 // The eye's meter in one compute dispatch (docs/eye.md "The meter in one dispatch"): the weighted
 // log-averages of the HDR frame's photopic luminance Y and scotopic luminance V' (Larson et al.
 // 1997, the rods' adaptation; welkin/eye.hpp) over a 128x128 grid of bilinear samples, written as
-// (mean w ln Y, mean w, mean w ln V', 1) into a 1x1 RGBA32F image that adapt.frag.glsl reads.
+// (mean w ln Y, mean w, mean w ln V', 1) into a 1x1 RGBA32F image, then takes the eye's adaptation
+// step from it (welkin_adapt(), adapt.glsl, the chunk before this one) and writes the new state.
+// adapt.frag.glsl takes the step again from the stored means when a frame is tone-mapped twice.
 // w = 0 outside the camera's image (fisheye) and where nothing emits light (Y below 1e-7 cd/m^2,
 // far below the faintest night sky), so an empty background does not drag the exposure down.
 //
@@ -12,6 +14,8 @@
 layout(local_size_x = 16, local_size_y = 16) in;
 layout(binding = WELKIN_BINDING_HDR_TEXTURE) uniform sampler2D u_hdr;  // bilinear, clamped
 layout(binding = WELKIN_BINDING_METER_IMAGE, rgba32f) writeonly uniform image2D u_meter;
+layout(binding = WELKIN_BINDING_EYE_STATE_TEXTURE) uniform sampler2D u_previous;  // the state before
+layout(binding = WELKIN_TONEMAP_STATE_IMAGE, rgba32f) writeonly uniform image2D u_state;  // the new state (unit: ToneMapper)
 
 const int kGrid = 128;         // samples per side (ToneMapper's kMeterGrid)
 const int kPerInvocation = 8;  // kGrid / local size: each invocation sums an 8x8 block of samples
@@ -40,5 +44,11 @@ void main() {
         barrier();
         if (index < stride) s_sum[index] += s_sum[index + stride];
     }
-    if (index == 0u) imageStore(u_meter, ivec2(0), vec4(s_sum[0] / float(kGrid * kGrid), 1.0));
+    if (index == 0u) {
+        vec4 m = vec4(s_sum[0] / float(kGrid * kGrid), 1.0);
+        imageStore(u_meter, ivec2(0), m);
+        // The adaptation here rather than in a one-texel pass after it: that pass was a draw
+        // llvmpipe flushed and waited for (~0.1 ms a frame, docs/eye.md).
+        imageStore(u_state, ivec2(0), welkin_adapt(m, texelFetch(u_previous, ivec2(0), 0)));
+    }
 }

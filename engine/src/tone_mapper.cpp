@@ -13,6 +13,13 @@
 
 namespace welkin {
 
+namespace {
+// The image unit the meter's dispatch writes the eye's new state through (meter.comp.glsl's
+// WELKIN_TONEMAP_STATE_IMAGE): beside gl::binding::kMeterImage (1) and kHdrImage (0), below the
+// private ranges; bound only around that dispatch (the processor's state guard covers units 0-7).
+constexpr int kStateImageUnit = 2;
+}  // namespace
+
 ToneSettings ToneSettings::fromVars(const SkyVars& v) {
     ToneSettings s;
     s.automatic = v.get(keys::exposureAuto);
@@ -45,11 +52,14 @@ void ToneMapper::init() {
     for (auto& p : toneMap_) p = {};
     toneMapProgram(true, false, true, 0);  // the default settings' program: a first frame's compile is not in its tone map
     meterProgram_ = gl::ProgramBuilder("SkyProcessor eye meter")
+                        .define("WELKIN_TONEMAP_STATE_IMAGE", kStateImageUnit)
                         .compute("engine/camera.glsl", gl::engineShader("camera.glsl"))
+                        .compute("engine/adapt.glsl", gl::engineShader("adapt.glsl"))
                         .compute("engine/meter.comp.glsl", gl::engineShader("meter.comp.glsl"))
                         .build();
     adaptProgram_ = gl::ProgramBuilder("SkyProcessor eye adaptation")
                         .fullscreenVertex()
+                        .fragment("engine/adapt.glsl", gl::engineShader("adapt.glsl"))
                         .fragment("engine/adapt.frag.glsl", gl::engineShader("adapt.frag.glsl"))
                         .build();
     for (int i = 0; i < 2; ++i) {
@@ -108,16 +118,18 @@ void ToneMapper::release() {
     stateValid_ = false;
 }
 
-void ToneMapper::meter(const HdrSource& hdr) {
+void ToneMapper::meter(const HdrSource& hdr, int next) {
     // One work group, the means over 128x128 samples (meter.comp.glsl; docs/eye.md: one group
-    // costs llvmpipe less than 4x4); the camera block gives the frame's size and projection (the
-    // weights outside a fisheye's circle).
+    // costs llvmpipe less than 4x4) and the adaptation step into state_[next]; the camera block
+    // gives the frame's size and projection (the weights outside a fisheye's circle).
     glBindTextureUnit(gl::binding::kHdrTexture, hdr.texture);
     glBindSampler(gl::binding::kHdrTexture, linearSampler_);  // each meter fetch averages 2x2 texels
     glBindImageTexture(gl::binding::kMeterImage, meter_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(kStateImageUnit, state_[next].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    state_[current_].bind(gl::binding::kEyeStateTexture);
     meterProgram_.use();
     glDispatchCompute(1, 1, 1);
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
     glBindSampler(gl::binding::kHdrTexture, 0);
     meterValid_ = true;
 }
@@ -140,26 +152,35 @@ void ToneMapper::advance(const HdrSource& hdr, const ToneSettings& s, const gl::
     if (s.automatic) {
         // A new frame is metered; a second tone map of it only re-derives the exposure from the
         // state (dt = 0), so changed settings apply.
-        if (dt || !stateValid_ || !meterValid_) meter(hdr);
         const bool steady = !stateValid_ || (dt && *dt <= 0);
         const int next = 1 - current_;
-        stateFbo_[next].bind();
-        glViewport(0, 0, 1, 1);
-        meter_.bind(gl::binding::kLogLumTexture);
-        state_[current_].bind(gl::binding::kEyeStateTexture);
-        adaptProgram_.use();
-        adaptProgram_.set("u_steady", steady ? 1 : 0);
-        adaptProgram_.set("u_dt", float(dt && *dt > 0 ? *dt : 0.0));
-        adaptProgram_.set("u_coneTime", float(s.coneTime));
-        adaptProgram_.set("u_rodTime", float(s.rodTime));
-        adaptProgram_.set("u_min", float(s.adaptationMin));
-        adaptProgram_.set("u_max", float(s.adaptationMax));
-        adaptProgram_.set("u_eye", s.eye ? 1 : 0);
-        adaptProgram_.set("u_strength", float(s.strength));
-        adaptProgram_.set("u_compensation", float(s.compensationEv));
-        adaptProgram_.set("u_kTvi", float(eye::eyeExposureScale()));
-        adaptProgram_.set("u_kappa", float(eye::scotopicPerPhotopicWhite()));
-        glDrawArrays(GL_TRIANGLES, 0, 3);
+        auto setAdaptation = [&](gl::Program& p) {
+            p.use();
+            p.set("u_steady", steady ? 1 : 0);
+            p.set("u_dt", float(dt && *dt > 0 ? *dt : 0.0));
+            p.set("u_coneTime", float(s.coneTime));
+            p.set("u_rodTime", float(s.rodTime));
+            p.set("u_min", float(s.adaptationMin));
+            p.set("u_max", float(s.adaptationMax));
+            p.set("u_eye", s.eye ? 1 : 0);
+            p.set("u_strength", float(s.strength));
+            p.set("u_compensation", float(s.compensationEv));
+            p.set("u_kTvi", float(eye::eyeExposureScale()));
+            p.set("u_kappa", float(eye::scotopicPerPhotopicWhite()));
+        };
+        if (dt || !stateValid_ || !meterValid_) {
+            // The meter and the adaptation step in one dispatch (meter.comp.glsl).
+            setAdaptation(meterProgram_);
+            meter(hdr, next);
+        } else {
+            // The same frame again: the step from the stored meter, by the one-texel pass.
+            stateFbo_[next].bind();
+            glViewport(0, 0, 1, 1);
+            meter_.bind(gl::binding::kLogLumTexture);
+            state_[current_].bind(gl::binding::kEyeStateTexture);
+            setAdaptation(adaptProgram_);
+            glDrawArrays(GL_TRIANGLES, 0, 3);
+        }
         current_ = next;
         stateValid_ = true;
         ++advances_;

@@ -90,7 +90,7 @@ public:
     eye::Adaptation adaptation() const;
 
 private:
-    void meter(const HdrSource& hdr);
+    void meter(const HdrSource& hdr, int next);  // the meter and the adaptation step into state_[next]
     glm::vec4 readState() const;
 
     gl::Texture2D meter_;  // 1x1 RGBA32F: (mean w ln Y, mean w, mean w ln V', 1) of the last meter
