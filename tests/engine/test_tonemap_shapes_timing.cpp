@@ -337,6 +337,13 @@ TEST_CASE("Tone map timing: the meter as a mip chain or one compute dispatch", "
              glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
              readInto(m1, 0, 1);
          }},
+        {"one compute work group alone (no one-texel pass)", [&] {
+             glBindTextureUnit(0, hdr.id());
+             glBindImageTexture(1, m1.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+             comp1.use();
+             glDispatchCompute(1, 1, 1);
+             glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+         }},
         {"one compute work group + one-texel pass + its texel packed into a buffer, fenced", [&] {
              glBindTextureUnit(0, hdr.id());
              glBindImageTexture(1, m1.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
