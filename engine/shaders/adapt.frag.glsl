@@ -6,5 +6,5 @@ layout(binding = WELKIN_BINDING_LOG_LUM_TEXTURE) uniform sampler2D u_logLum;
 layout(binding = WELKIN_BINDING_EYE_STATE_TEXTURE) uniform sampler2D u_previous;
 in vec2 v_ndc;
 out vec4 o_state;
-// welkin_adapt() and its uniforms: adapt.glsl, the chunk before this one.
-void main() { o_state = welkin_adapt(texelFetch(u_logLum, ivec2(0), 0), texelFetch(u_previous, ivec2(0), 0)); }
+// welkin_eyeStep() and its uniforms: adapt.glsl, the chunk before this one.
+void main() { o_state = welkin_eyeStep(texelFetch(u_logLum, ivec2(0), 0), texelFetch(u_previous, ivec2(0), 0)); }

@@ -1,7 +1,7 @@
 // The eye's adaptation step (docs/eye.md; CPU twin: welkin/eye.hpp, eye.cpp), one text for its
 // two callers: the meter's compute pass (meter.comp.glsl, a metered frame: the means and the new
 // state in one dispatch) and the one-texel pass adapt.frag.glsl (a second tone map of the same
-// frame: the stored meter, the settings of the moment). welkin_adapt(m, previous) returns
+// frame: the stored meter, the settings of the moment). welkin_eyeStep(m, previous) returns
 // (cone adaptation cd/m^2, rod adaptation scotopic cd/m^2, exposure, 1).
 uniform int u_steady;         // 1: no previous state, or a still render: jump to the target
 uniform float u_dt;           // seconds since the previous frame
@@ -25,7 +25,7 @@ float welkin_approach(float from, float to, float tau) {  // exponential in log 
 }
 
 // The new state from the meter m (mean w ln Y, mean w, mean w ln V') and the previous state.
-vec4 welkin_adapt(vec4 m, vec4 previous) {
+vec4 welkin_eyeStep(vec4 m, vec4 previous) {
     vec2 target = m.y > 0.0 ? exp(vec2(m.x, m.z) / m.y) : vec2(u_min);
     bool finiteTarget = !isnan(target.x) && !isnan(target.y) && !isinf(target.x) && !isinf(target.y);
     if (!finiteTarget) target = u_steady != 0 ? vec2(u_min) : previous.xy;  // a frame of NaN meters nothing

@@ -2,7 +2,7 @@
 // log-averages of the HDR frame's photopic luminance Y and scotopic luminance V' (Larson et al.
 // 1997, the rods' adaptation; welkin/eye.hpp) over a 128x128 grid of bilinear samples, written as
 // (mean w ln Y, mean w, mean w ln V', 1) into a 1x1 RGBA32F image, then takes the eye's adaptation
-// step from it (welkin_adapt(), adapt.glsl, the chunk before this one) and writes the new state.
+// step from it (welkin_eyeStep(), adapt.glsl, the chunk before this one) and writes the new state.
 // adapt.frag.glsl takes the step again from the stored means when a frame is tone-mapped twice.
 // w = 0 outside the camera's image (fisheye) and where nothing emits light (Y below 1e-7 cd/m^2,
 // far below the faintest night sky), so an empty background does not drag the exposure down.
@@ -49,6 +49,6 @@ void main() {
         imageStore(u_meter, ivec2(0), m);
         // The adaptation here rather than in a one-texel pass after it: that pass was a draw
         // llvmpipe flushed and waited for (~0.1 ms a frame, docs/eye.md).
-        imageStore(u_state, ivec2(0), welkin_adapt(m, texelFetch(u_previous, ivec2(0), 0)));
+        imageStore(u_state, ivec2(0), welkin_eyeStep(m, texelFetch(u_previous, ivec2(0), 0)));
     }
 }
