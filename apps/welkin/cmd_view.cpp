@@ -160,6 +160,7 @@ int run(const ViewOptions& o) {
     sky.setAnimationTime(std::nullopt);  // the window animates with the wall clock
     auto last = std::chrono::steady_clock::now();
     int frame = 0;
+    std::string shownTitle;
     while (!ctx->shouldClose()) {
         ctx->pollEvents();
         auto now = std::chrono::steady_clock::now();
@@ -200,7 +201,10 @@ int run(const ViewOptions& o) {
         char title[160];
         std::snprintf(title, sizeof title, "welkin view  %s  x%g%s  fov %.1f", sky.time().toIso().c_str(), c.speed,
                       c.paused ? " (paused)" : "", s.camera.verticalFovRad / kDeg);
-        glfwSetWindowTitle(w, title);
+        if (title != shownTitle) {  // X11 properties and a flush per call: only when it changes (a still view: once)
+            glfwSetWindowTitle(w, title);
+            shownTitle = title;
+        }
         ctx->swapBuffers();
         if (done) break;
     }

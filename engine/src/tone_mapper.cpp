@@ -14,8 +14,11 @@
 namespace welkin {
 
 namespace {
-constexpr int kLogLumSize = 128;  // log-luminance reduction resolution (power of two)
-}
+// The image unit the meter's dispatch writes the eye's new state through (meter.comp.glsl's
+// WELKIN_TONEMAP_STATE_IMAGE): beside gl::binding::kMeterImage (1) and kHdrImage (0), below the
+// private ranges; bound only around that dispatch (the processor's state guard covers units 0-7).
+constexpr int kStateImageUnit = 2;
+}  // namespace
 
 ToneSettings ToneSettings::fromVars(const SkyVars& v) {
     ToneSettings s;
@@ -48,13 +51,15 @@ ToneSettings ToneSettings::fromVars(const SkyVars& v) {
 void ToneMapper::init() {
     for (auto& p : toneMap_) p = {};
     toneMapProgram(true, false, true, 0);  // the default settings' program: a first frame's compile is not in its tone map
-    logLumProgram_ = gl::ProgramBuilder("SkyProcessor log luminance")
-                         .fullscreenVertex()
-                         .fragment("engine/camera.glsl", gl::engineShader("camera.glsl"))
-                         .fragment("engine/loglum.frag.glsl", gl::engineShader("loglum.frag.glsl"))
-                         .build();
+    meterProgram_ = gl::ProgramBuilder("SkyProcessor eye meter")
+                        .define("WELKIN_TONEMAP_STATE_IMAGE", kStateImageUnit)
+                        .compute("engine/camera.glsl", gl::engineShader("camera.glsl"))
+                        .compute("engine/adapt.glsl", gl::engineShader("adapt.glsl"))
+                        .compute("engine/meter.comp.glsl", gl::engineShader("meter.comp.glsl"))
+                        .build();
     adaptProgram_ = gl::ProgramBuilder("SkyProcessor eye adaptation")
                         .fullscreenVertex()
+                        .fragment("engine/adapt.glsl", gl::engineShader("adapt.glsl"))
                         .fragment("engine/adapt.frag.glsl", gl::engineShader("adapt.frag.glsl"))
                         .build();
     for (int i = 0; i < 2; ++i) {
@@ -64,11 +69,8 @@ void ToneMapper::init() {
         stateFbo_[i].attach(GL_COLOR_ATTACHMENT0, state_[i]);
         stateFbo_[i].checkComplete("SkyProcessor eye state");
     }
-    const int levels = int(std::log2(kLogLumSize)) + 1;
-    logLum_ = gl::Texture2D(kLogLumSize, kLogLumSize, GL_RGBA32F, levels);
-    logLumFbo_ = gl::Framebuffer::create();
-    logLumFbo_.attach(GL_COLOR_ATTACHMENT0, logLum_);
-    logLumFbo_.checkComplete("SkyProcessor log luminance");
+    meter_ = gl::Texture2D(1, 1, GL_RGBA32F);
+    meter_.setFilter(GL_NEAREST);
     glCreateSamplers(1, &linearSampler_);
     glSamplerParameteri(linearSampler_, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glSamplerParameteri(linearSampler_, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
@@ -104,10 +106,9 @@ void ToneMapper::release() {
     readbackValueFor_ = readbackFor_ = -1;
     if (linearSampler_) glDeleteSamplers(1, &linearSampler_);
     linearSampler_ = 0;
-    logLum_ = {};
-    logLumFbo_ = {};
+    meter_ = {};
     for (auto& p : toneMap_) p = {};
-    logLumProgram_ = {};
+    meterProgram_ = {};
     adaptProgram_ = {};
     for (int i = 0; i < 2; ++i) {
         state_[i] = {};
@@ -117,15 +118,19 @@ void ToneMapper::release() {
     stateValid_ = false;
 }
 
-void ToneMapper::meter(const HdrSource& hdr) {
-    logLumFbo_.bind();
-    glViewport(0, 0, kLogLumSize, kLogLumSize);
+void ToneMapper::meter(const HdrSource& hdr, int next) {
+    // One work group, the means over 128x128 samples (meter.comp.glsl; docs/eye.md: one group
+    // costs llvmpipe less than 4x4) and the adaptation step into state_[next]; the camera block
+    // gives the frame's size and projection (the weights outside a fisheye's circle).
     glBindTextureUnit(gl::binding::kHdrTexture, hdr.texture);
     glBindSampler(gl::binding::kHdrTexture, linearSampler_);  // each meter fetch averages 2x2 texels
-    logLumProgram_.use();
-    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindImageTexture(gl::binding::kMeterImage, meter_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(kStateImageUnit, state_[next].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    state_[current_].bind(gl::binding::kEyeStateTexture);
+    meterProgram_.use();
+    glDispatchCompute(1, 1, 1);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
     glBindSampler(gl::binding::kHdrTexture, 0);
-    logLum_.generateMipmaps();
     meterValid_ = true;
 }
 
@@ -147,27 +152,35 @@ void ToneMapper::advance(const HdrSource& hdr, const ToneSettings& s, const gl::
     if (s.automatic) {
         // A new frame is metered; a second tone map of it only re-derives the exposure from the
         // state (dt = 0), so changed settings apply.
-        if (dt || !stateValid_ || !meterValid_) meter(hdr);
         const bool steady = !stateValid_ || (dt && *dt <= 0);
         const int next = 1 - current_;
-        stateFbo_[next].bind();
-        glViewport(0, 0, 1, 1);
-        logLum_.bind(gl::binding::kLogLumTexture);
-        state_[current_].bind(gl::binding::kEyeStateTexture);
-        adaptProgram_.use();
-        adaptProgram_.set("u_logLumLevel", logLum_.levels() - 1);
-        adaptProgram_.set("u_steady", steady ? 1 : 0);
-        adaptProgram_.set("u_dt", float(dt && *dt > 0 ? *dt : 0.0));
-        adaptProgram_.set("u_coneTime", float(s.coneTime));
-        adaptProgram_.set("u_rodTime", float(s.rodTime));
-        adaptProgram_.set("u_min", float(s.adaptationMin));
-        adaptProgram_.set("u_max", float(s.adaptationMax));
-        adaptProgram_.set("u_eye", s.eye ? 1 : 0);
-        adaptProgram_.set("u_strength", float(s.strength));
-        adaptProgram_.set("u_compensation", float(s.compensationEv));
-        adaptProgram_.set("u_kTvi", float(eye::eyeExposureScale()));
-        adaptProgram_.set("u_kappa", float(eye::scotopicPerPhotopicWhite()));
-        glDrawArrays(GL_TRIANGLES, 0, 3);
+        auto setAdaptation = [&](gl::Program& p) {
+            p.use();
+            p.set("u_steady", steady ? 1 : 0);
+            p.set("u_dt", float(dt && *dt > 0 ? *dt : 0.0));
+            p.set("u_coneTime", float(s.coneTime));
+            p.set("u_rodTime", float(s.rodTime));
+            p.set("u_min", float(s.adaptationMin));
+            p.set("u_max", float(s.adaptationMax));
+            p.set("u_eye", s.eye ? 1 : 0);
+            p.set("u_strength", float(s.strength));
+            p.set("u_compensation", float(s.compensationEv));
+            p.set("u_kTvi", float(eye::eyeExposureScale()));
+            p.set("u_kappa", float(eye::scotopicPerPhotopicWhite()));
+        };
+        if (dt || !stateValid_ || !meterValid_) {
+            // The meter and the adaptation step in one dispatch (meter.comp.glsl).
+            setAdaptation(meterProgram_);
+            meter(hdr, next);
+        } else {
+            // The same frame again: the step from the stored meter, by the one-texel pass.
+            stateFbo_[next].bind();
+            glViewport(0, 0, 1, 1);
+            meter_.bind(gl::binding::kLogLumTexture);
+            state_[current_].bind(gl::binding::kEyeStateTexture);
+            setAdaptation(adaptProgram_);
+            glDrawArrays(GL_TRIANGLES, 0, 3);
+        }
         current_ = next;
         stateValid_ = true;
         ++advances_;

@@ -1,9 +1,9 @@
 // ToneMapper (engine-private): the SkyProcessor's tone map (docs/eye.md). Exposure: manual EV100,
 // or automatic by the eye's adaptation (welkin/eye.hpp: Ferwerda's TVI, cone and rod states
-// adapting over time) or a camera's log-average, metered on the GPU into a 128x128 RGBA32F mip
-// chain of (w ln Y, w, w ln V'); the adaptation state is a 1x1 texture updated on the GPU
+// adapting over time) or a camera's log-average, metered on the GPU by one compute dispatch into
+// the means of (w ln Y, w, w ln V') over 128x128 samples (meter.comp.glsl); the adaptation state is a 1x1 texture updated on the GPU
 // (adapt.frag.glsl, ping-pong: nothing is read back per frame); then the per-pixel mesopic
-// colour, the display curve and the sRGB transfer function (tonemap.frag.glsl, loglum.frag.glsl).
+// colour, the display curve and the sRGB transfer function (tonemap.frag.glsl).
 //
 //   ToneMapper tm;
 //   tm.init();                                                      // needs a current context
@@ -90,11 +90,10 @@ public:
     eye::Adaptation adaptation() const;
 
 private:
-    void meter(const HdrSource& hdr);
+    void meter(const HdrSource& hdr, int next);  // the meter and the adaptation step into state_[next]
     glm::vec4 readState() const;
 
-    gl::Texture2D logLum_;
-    gl::Framebuffer logLumFbo_;
+    gl::Texture2D meter_;  // 1x1 RGBA32F: (mean w ln Y, mean w, mean w ln V', 1) of the last meter
     gl::Texture2D state_[2];  // (cone, rod, exposure, 1); state_[current_] is the latest
     gl::Framebuffer stateFbo_[2];
     int current_ = 0;
@@ -102,9 +101,9 @@ private:
     /// in: engine/shaders/tonemap.frag.glsl).
     gl::Program& toneMapProgram(bool rgba32fImage, bool automatic, bool mesopic, int curve, bool srgbTarget = false);
     std::array<gl::Program, 64> toneMap_;  // by rgba32fImage | automatic << 1 | mesopic << 2 | curve << 3 | srgbTarget << 5
-    gl::Program logLumProgram_, adaptProgram_;
+    gl::Program meterProgram_, adaptProgram_;
     unsigned linearSampler_ = 0;  // GL sampler object: bilinear, clamped (the meter's fetches)
-    bool meterValid_ = false;  // logLum_ holds the last frame's meter
+    bool meterValid_ = false;  // meter_ holds the last frame's meter
     bool stateValid_ = false;  // state_[current_] holds an adaptation
     bool lastAutomatic_ = false;
     bool lastSrgbTarget_ = false;

@@ -32,7 +32,7 @@ inline constexpr int kLightingSsbo = 2;       ///< SkyLighting's sums (SH partia
 
 // Texture units: the engine's tone map.
 inline constexpr int kHdrTexture = 0;     ///< the HDR frame read by the tone map and log-luminance passes
-inline constexpr int kLogLumTexture = 1;  ///< the log-luminance mip chain (automatic exposure)
+inline constexpr int kLogLumTexture = 1;  ///< the eye's meter, 1x1 (automatic exposure: meter.comp.glsl's means)
 inline constexpr int kEyeStateTexture = 2;  ///< the eye's adaptation state, 1x1 (engine/shaders/adapt.frag.glsl)
 // Texture units: the sky's LUTs, the same unit wherever a LUT is sampled.
 inline constexpr int kSunViewLut = 0;              ///< sky.sun_view_lut (or its total-phase variant)
@@ -83,6 +83,7 @@ inline constexpr int kSecondLutImage = 1;  ///< a second output (the aerial pers
 inline constexpr int kLightingOutputImage = 0;  ///< SkyLighting: the light map or specular mip a pass writes
 inline constexpr int kLightingSourceImage = 1;  ///< SkyLighting: the radiance cube level a pass reads
 inline constexpr int kHdrImage = 0;  ///< the tone map's read of an RGBA32F HDR frame (imageLoad: half a texelFetch's cost on llvmpipe)
+inline constexpr int kMeterImage = 1;  ///< the eye's meter, 1x1, written by its compute pass (engine/shaders/meter.comp.glsl)
 
 // The private ranges (inclusive): PrivateBindings (<welkin/gl/private_bindings.hpp>) assigns an
 // element's own bindings from them, and nothing in this table falls into them (checked below).
@@ -124,6 +125,7 @@ inline constexpr std::array kTable = {
     Entry{"WELKIN_BINDING_LIGHTING_SOURCE_IMAGE", kLightingSourceImage, Kind::ImageUnit},
     Entry{"WELKIN_BINDING_HDR_TEXTURE", kHdrTexture, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_HDR_IMAGE", kHdrImage, Kind::ImageUnit},
+    Entry{"WELKIN_BINDING_METER_IMAGE", kMeterImage, Kind::ImageUnit},
     Entry{"WELKIN_BINDING_LOG_LUM_TEXTURE", kLogLumTexture, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_EYE_STATE_TEXTURE", kEyeStateTexture, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_SUN_VIEW_LUT", kSunViewLut, Kind::TextureUnit},

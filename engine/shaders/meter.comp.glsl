@@ -1,0 +1,54 @@
+// The eye's meter in one compute dispatch (docs/eye.md "The meter in one dispatch"): the weighted
+// log-averages of the HDR frame's photopic luminance Y and scotopic luminance V' (Larson et al.
+// 1997, the rods' adaptation; welkin/eye.hpp) over a 128x128 grid of bilinear samples, written as
+// (mean w ln Y, mean w, mean w ln V', 1) into a 1x1 RGBA32F image, then takes the eye's adaptation
+// step from it (welkin_eyeStep(), adapt.glsl, the chunk before this one) and writes the new state.
+// adapt.frag.glsl takes the step again from the stored means when a frame is tone-mapped twice.
+// w = 0 outside the camera's image (fisheye) and where nothing emits light (Y below 1e-7 cd/m^2,
+// far below the faintest night sky), so an empty background does not drag the exposure down.
+//
+// The same samples and weights as the 128x128 fragment pass and its mip chain it replaces (each
+// grid point at the centre of a meter texel, the frame sampled bilinearly there), summed by one
+// work group instead of seven mip levels: on llvmpipe each mip level was a draw whose read of the
+// level before waited for it (~1 ms of wall clock a frame for ~0.3 ms of work).
+layout(local_size_x = 16, local_size_y = 16) in;
+layout(binding = WELKIN_BINDING_HDR_TEXTURE) uniform sampler2D u_hdr;  // bilinear, clamped
+layout(binding = WELKIN_BINDING_METER_IMAGE, rgba32f) writeonly uniform image2D u_meter;
+layout(binding = WELKIN_BINDING_EYE_STATE_TEXTURE) uniform sampler2D u_previous;  // the state before
+layout(binding = WELKIN_TONEMAP_STATE_IMAGE, rgba32f) writeonly uniform image2D u_state;  // the new state (unit: ToneMapper)
+
+const int kGrid = 128;         // samples per side (ToneMapper's kMeterGrid)
+const int kPerInvocation = 8;  // kGrid / local size: each invocation sums an 8x8 block of samples
+shared vec3 s_sum[256];
+
+vec3 welkin_logLumSample(vec2 uv) {
+    vec2 pixel = vec2(uv.x, 1.0 - uv.y) * welkin_viewport.xy;
+    vec3 dir;
+    vec3 c = textureLod(u_hdr, uv, 0.0).rgb;
+    float X = dot(c, vec3(0.4124, 0.3576, 0.1805));
+    float Y = dot(c, vec3(0.2126, 0.7152, 0.0722));
+    float Z = dot(c, vec3(0.0193, 0.1192, 0.9505));
+    float V = X > 0.0 ? Y * (1.33 * (1.0 + (Y + Z) / X) - 1.68) : 0.0;
+    float w = (welkin_viewDirection(pixel, dir) && Y > 1e-7) ? 1.0 : 0.0;
+    return vec3(w * log(max(Y, 1e-7)), w, w * log(max(V, 1e-7)));
+}
+
+void main() {
+    uint index = gl_LocalInvocationIndex;
+    ivec2 first = ivec2(gl_LocalInvocationID.xy) * kPerInvocation;
+    vec3 sum = vec3(0.0);
+    for (int j = 0; j < kPerInvocation; ++j)
+        for (int i = 0; i < kPerInvocation; ++i) sum += welkin_logLumSample((vec2(first + ivec2(i, j)) + 0.5) / float(kGrid));
+    s_sum[index] = sum;
+    for (uint stride = 128u; stride > 0u; stride >>= 1) {
+        barrier();
+        if (index < stride) s_sum[index] += s_sum[index + stride];
+    }
+    if (index == 0u) {
+        vec4 m = vec4(s_sum[0] / float(kGrid * kGrid), 1.0);
+        imageStore(u_meter, ivec2(0), m);
+        // The adaptation here rather than in a one-texel pass after it: that pass was a draw
+        // llvmpipe flushed and waited for (~0.1 ms a frame, docs/eye.md).
+        imageStore(u_state, ivec2(0), welkin_eyeStep(m, texelFetch(u_previous, ivec2(0), 0)));
+    }
+}
