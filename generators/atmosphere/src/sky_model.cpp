@@ -558,6 +558,17 @@ double EclipseMsTable::sample(const glm::dvec3& p) const {
     return (1 - fy) * ((1 - fx) * at(i0, j0) + fx * at(i0 + 1, j0)) + fy * ((1 - fx) * at(i0, j0 + 1) + fx * at(i0 + 1, j0 + 1));
 }
 
+double eclipseMsLength(const EclipseGeometry& g) {
+    // The umbra's cone (tangent to the Sun and the Moon on the same side) at the observer's
+    // distance behind the Moon along the axis, and the observer's distance from the axis.
+    const glm::dvec3 axis = glm::normalize(g.sunPos - g.moonPos);
+    const double behind = glm::dot(g.moonPos, axis);
+    const double umbra = g.moonRadius - behind * (g.sunRadius - g.moonRadius) / glm::length(g.sunPos - g.moonPos);
+    const double fromAxis = glm::length(g.moonPos - behind * axis);
+    const double edge = std::max(umbra - fromAxis, kEclipseMsEdgeMinMeters);
+    return kEclipseMsLengthMeters * std::pow(edge / kEclipseMsEdgeMeters, kEclipseMsEdgePower);
+}
+
 EclipseMsTable eclipseMsTable(const EclipseGeometry& g, double lengthMeters, int n, double halfExtentMeters, double verticalMeters) {
     if (!(lengthMeters > 0.0) || n < 8 || !(halfExtentMeters > 0.0)) throw Error("eclipseMsTable: length, n or extent out of range");
     EclipseMsTable t;
