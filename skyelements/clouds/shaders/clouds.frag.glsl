@@ -75,8 +75,11 @@ float cld_lightSource(vec3 p, vec3 dir, vec3 l, float tauW) {
     return cld_lightTransferTable(dot(dir, l), dir.z, cld_lightDepth(p, l, u_lightSamples), cld_finiteBackDepth(cld_backDepth(p, l), tauW), l.z);
 }
 // The width through a cumulus changes over hundreds of metres: the view march measures it again
-// every CLD_WIDTH_EVERY cloud samples and where it enters cloud after clear air: its six density
-// samples a light then cost ~1.5 a cloud sample, against the light marches' 9 (6 + 3) at the default.
+// every CLD_WIDTH_EVERY cloud samples and where it enters cloud after clear air. On a GPU whose
+// SIMD group shares the schedule that is ~1.5 density samples a cloud sample; on llvmpipe, which
+// runs a branch's body whenever it is reached (masked), its six cost at every sample, against the
+// light marches' 9 (6 + 3): measured, a group of lanes taking it in turn, every 8th sample or a
+// per-lane step count of 0 cost the same or more (skyelements/clouds/README.md, "The march's cost").
 const int CLD_WIDTH_EVERY = 4;
 
 // Transmittance of the air between the observer (h, mu) and the point at distance d along the
