@@ -19,8 +19,15 @@ uniform float u_maxDistance; // longest march through the shell (m): beyond, the
 uniform float u_cirrusTau;   // vertical optical depth of cirrus at relative density 1
 
 const float CLD_PI = 3.14159265358979;
-// Sun's angular radius (the transmittance's smooth horizon); the Moon's is nearly the same.
-const float CLD_LIGHT_RADIUS = 0.00465;
+// CLD_LIGHT_RADIUS: the Sun's angular radius (the transmittance's smooth horizon; the Moon's is
+// nearly the same) and CLD_LIGHTS (bit 0 the Sun, bit 1 the Moon: the lights the march computes,
+// Clouds::marchedLights; a light outside it lights no cloud or is dropped against the Sun): from
+// clouds.cpp as defines. A variant per set of lights, not a uniform condition: a SIMD machine runs
+// a branch whenever one lane takes it, and llvmpipe runs every branch (masked), so a light
+// switched off by a uniform still cost its march (38 % of a daytime frame with the Moon's).
+#ifndef CLD_LIGHTS
+#define CLD_LIGHTS 3
+#endif
 
 // The droplets' phase functions and the light transfer (cld_hg, cld_draine, cld_scaledPhase,
 // cld_lightTransfer, cld_ambientTransfer): clouds_transfer.shared.glsl, which clouds.cpp compiles
@@ -68,8 +75,11 @@ float cld_lightSource(vec3 p, vec3 dir, vec3 l, float tauW) {
     return cld_lightTransferTable(dot(dir, l), dir.z, cld_lightDepth(p, l, u_lightSamples), cld_finiteBackDepth(cld_backDepth(p, l), tauW), l.z);
 }
 // The width through a cumulus changes over hundreds of metres: the view march measures it again
-// every CLD_WIDTH_EVERY cloud samples and where it enters cloud after clear air: its six density
-// samples a light then cost ~1.5 a cloud sample, against the light marches' 9 (6 + 3) at the default.
+// every CLD_WIDTH_EVERY cloud samples and where it enters cloud after clear air. On a GPU whose
+// SIMD group shares the schedule that is ~1.5 density samples a cloud sample; on llvmpipe, which
+// runs a branch's body whenever it is reached (masked), its six cost at every sample, against the
+// light marches' 9 (6 + 3): measured, a group of lanes taking it in turn, every 8th sample or a
+// per-lane step count of 0 cost the same or more (skyelements/clouds/README.md, "The march's cost").
 const int CLD_WIDTH_EVERY = 4;
 
 // Transmittance of the air between the observer (h, mu) and the point at distance d along the
@@ -92,14 +102,18 @@ vec3 cld_airTransmittance(float mu, float d) {
 // In-scattered source of one sample (cd/m^2 per m) at p with extinction sigmaT (albedo 1).
 vec3 cld_source(vec3 p, float hp, vec3 dir, float sigmaT, vec2 tauW) {
     vec3 S = vec3(0.0);
+#if (CLD_LIGHTS & 1) != 0
     if (any(greaterThan(u_sunE, vec3(0.0)))) {
         vec3 E = cld_lightAt(p, hp, u_sunDir, u_sunE);
         if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightSource(p, dir, u_sunDir, tauW.x);
     }
+#endif
+#if (CLD_LIGHTS & 2) != 0
     if (any(greaterThan(u_moonE, vec3(0.0)))) {
         vec3 E = cld_lightAt(p, hp, u_moonDir, u_moonE);
         if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightSource(p, dir, u_moonDir, tauW.y);
     }
+#endif
     // Ambient (skyelements/clouds/README.md, "Ambient"): the clear sky's diffuse light from above the layer and
     // the ground's from below it (the atmosphere's ground albedo, the Sky's and the path tracer's,
     // x the global illuminance under the clouds, which the
@@ -142,7 +156,12 @@ bool cld_cumulus(vec3 dir, vec2 px, out vec3 L, out float T, out float dMean) {
         float d = cloudDensity(p, CLOUD_LOD_FULL);
         if (d <= 0.0) { wasClear = true; continue; }
         if (wasClear || sinceW >= CLD_WIDTH_EVERY) {
-            tauW = vec2(sunUp ? cld_widthDepth(p, u_sunDir) : 0.0, moonUp ? cld_widthDepth(p, u_moonDir) : 0.0);
+#if (CLD_LIGHTS & 1) != 0
+            if (sunUp) tauW.x = cld_widthDepth(p, u_sunDir);
+#endif
+#if (CLD_LIGHTS & 2) != 0
+            if (moonUp) tauW.y = cld_widthDepth(p, u_moonDir);
+#endif
             sinceW = 0;
             wasClear = false;
         }

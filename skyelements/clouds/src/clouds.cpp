@@ -77,6 +77,8 @@ constexpr float kCirrusTau = 0.3f;
 // ~60 km the air between hides cumulus almost entirely (horizontal transmittance at 550 nm of a
 // clear atmosphere over 60 km: ~0.4 at sea level, the haze fade does the rest).
 constexpr float kMaxDistance = 60000.f;
+// The Sun's angular radius (rad; the Moon's is nearly the same): the transmittance's smoothed horizon (CLD_LIGHT_RADIUS).
+constexpr double kLightRadius = 0.00465;
 
 const std::vector<CloudPreset>& presets() {
     // Heights and coverages: fair-weather cumulus bases ~1-2 km, tops 2-3 km in mid-latitude
@@ -193,6 +195,11 @@ double integrateStep(double source, double sigmaT, double dt) {
 }
 int backSamples(int lightSamples) { return std::max(2, (lightSamples + 1) / 2); }
 double twoStreamTransmission(double tau, double g) { return 1.0 / (1.0 + 0.75 * (1.0 - g) * tau); }
+double lightDarkElevation(double planetRadiusM, double observerM, double layerTopM, double radius) {
+    const double R = planetRadiusM;
+    const double thetaTop = std::acos(R / (R + std::max(layerTopM, 0.0))), thetaObs = std::acos(R / (R + std::max(observerM, 0.0)));
+    return -(std::asin(std::min(std::sin(thetaTop) + radius, 1.0)) + thetaObs + thetaTop) - 1e-3;
+}
 }  // namespace cloudcpu
 
 Clouds::Clouds() : SkyElement("clouds") {
@@ -306,8 +313,10 @@ void Clouds::doInit(InitContext& ctx) {
     // The direction cache as its display pass samples it (the real-time path): units of its own.
     cacheRadianceUnit_ = textureUnit("CLOUD_CACHE_RADIANCE");
     cacheTransmittanceUnit_ = textureUnit("CLOUD_CACHE_TRANSMITTANCE");
-    programs_ = gl::ProjectionPrograms(recipe(false, false));
-    statsProgram_ = recipe(true, false).build();
+    for (int lights = 0; lights < 4; ++lights) {
+        programs_[size_t(lights)] = gl::ProjectionPrograms(recipe(false, false, lights));
+        statsProgram_[size_t(lights)] = {};
+    }
     atmUbo_ = gl::Buffer(sizeof(AtmosphereBlock));
     cloudUbo_ = gl::Buffer(sizeof(CloudLayerBlock));
     statsTex_ = gl::Texture2D(kStatsN, kStatsN + 1, GL_RGBA32F);
@@ -317,9 +326,10 @@ void Clouds::doInit(InitContext& ctx) {
     photometryInputs_.clear();
 }
 
-gl::ProgramBuilder Clouds::recipe(bool stats, bool cacheFill) const {
+gl::ProgramBuilder Clouds::recipe(bool stats, bool cacheFill, int lights) const {
     gl::ProgramBuilder b(stats ? "Clouds (photometry)" : cacheFill ? "Clouds (cache fill)" : "Clouds");
     b.define("ATM_USE_TRANSMITTANCE");
+    b.define("CLD_LIGHTS", lights).define("CLD_LIGHT_RADIUS", kLightRadius);
     using namespace cloudcpu;  // the light transfer's constants, one source for GLSL and C++
     b.define("CLD_G_PEAK", kDropletGPeak).define("CLD_G_DRAINE", kDropletGDraine).define("CLD_ALPHA_DRAINE", kDropletAlphaDraine);
     b.define("CLD_W_DRAINE", kDropletWDraine).define("CLD_MS_S", kMsS).define("CLD_MS_K", kMsK).define("CLD_MS_Z", kMsZ);
@@ -375,7 +385,8 @@ void Clouds::setUniforms(const gl::Program& p, const FrameContext& ctx) const {
     glm::dvec3 moonE = v.getOr(lightkeys::moonIlluminance, glm::dvec3(0.0));
     // The Moon's light march only when it matters: by day the full Moon (0.25 lux) is 1e-5 of
     // the Sun's light at the observer; below 1e-4 of the sunlight it is dropped (invisible under
-    // any exposure), which halves the cost of a daytime frame with the Moon up.
+    // any exposure), and marchedLights leaves its code out of the program (a uniform branch still
+    // cost its march on llvmpipe: 38 % of a daytime frame).
     const double sunAtObs = lum(sunE * v.getOr(lightkeys::sunTransmittance, glm::dvec3(1.0)));
     const double moonAtObs = lum(moonE * v.getOr(lightkeys::moonTransmittance, glm::dvec3(1.0)));
     if (moonAtObs < 1e-4 * sunAtObs) moonE = glm::dvec3(0.0);
@@ -390,6 +401,21 @@ void Clouds::setUniforms(const gl::Program& p, const FrameContext& ctx) const {
     p.set("u_backSamples", backSamples(v.get(cloudelemkeys::lightSamples)));
     p.set("u_maxDistance", kMaxDistance);
     p.set("u_cirrusTau", kCirrusTau);
+}
+
+int Clouds::marchedLights(const SkyVars& v) const {
+    const glm::dvec3 sunE = v.getOr(lightkeys::sunIlluminance, glm::dvec3(0.0)), moonE = v.getOr(lightkeys::moonIlluminance, glm::dvec3(0.0));
+    const double sunAtObs = lum(sunE * v.getOr(lightkeys::sunTransmittance, glm::dvec3(1.0)));
+    const double moonAtObs = lum(moonE * v.getOr(lightkeys::moonTransmittance, glm::dvec3(1.0)));
+    const CloudLayerBlock cb = CloudLayerBlock::from(v);
+    const double R = cb.radii[0];
+    // the observer's height or the photometry pass' (0): the larger reaches further
+    const double dark = lightDarkElevation(R, std::max(v.getOr(keys::observerHeight, 0.0), 0.0), double(cb.radii[2]) - R, double(kLightRadius));
+    auto lights = [&](glm::dvec3 d) { return glm::length(d) > 0 && std::asin(std::clamp(glm::normalize(d).z, -1.0, 1.0)) > dark; };
+    int m = 0;
+    if (lum(sunE) > 0 && lights(v.get(keys::sunDirection))) m |= 1;
+    if (lum(moonE) > 0 && !(moonAtObs < 1e-4 * sunAtObs) && lights(v.get(keys::moonDirection))) m |= 2;
+    return m;
 }
 
 namespace {
@@ -482,8 +508,11 @@ void Clouds::computePhotometry(const FrameContext& ctx) {
     statsFbo_.bind();
     glViewport(0, 0, kStatsN, kStatsN + 1);
     glDisable(GL_BLEND);
-    setUniforms(statsProgram_, ctx);
-    statsProgram_.set("u_statsN", kStatsN);
+    const int lights = marchedLights(v);
+    gl::Program& statsProgram = statsProgram_[size_t(lights)];
+    if (!statsProgram) statsProgram = recipe(true, false, lights).build();
+    setUniforms(statsProgram, ctx);
+    statsProgram.set("u_statsN", kStatsN);
     auto restore = [&] {
         glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(prevFbo));
         glViewport(prevViewport[0], prevViewport[1], prevViewport[2], prevViewport[3]);
@@ -494,8 +523,8 @@ void Clouds::computePhotometry(const FrameContext& ctx) {
     using Pass = PhotometryPass;
     auto pass = [&](double h, glm::dvec3 groundE) {
         ++photometryPassesLast_;
-        statsProgram_.set("u_h", float(h));
-        statsProgram_.set("u_groundE", glm::vec3(groundE));
+        statsProgram.set("u_h", float(h));
+        statsProgram.set("u_groundE", glm::vec3(groundE));
         ctx.drawFullscreen();
         const std::vector<float> px = statsTex_.readRgbaFloat();
         // Cosine-weighted directions: E = pi x mean radiance.
@@ -592,13 +621,12 @@ void Clouds::doRender(const FrameContext& ctx) {
     }
     bindResources(ctx);
     computePhotometry(ctx);
-    const gl::Program& p = programs_.get(ctx.camera.projection);
-    setUniforms(p, ctx);
+    const int lights = marchedLights(v);
     const bool realtime = v.has(cloudelemkeys::reprojection) ? v.get(cloudelemkeys::reprojection) : v.getOr(keys::interactive, false);
     if (realtime) {
         renderCached(ctx);
     } else {
-        const gl::Program& p = programs_.get(ctx.camera.projection);
+        const gl::Program& p = programs_[size_t(lights)].get(ctx.camera.projection);
         setUniforms(p, ctx);
         ctx.drawFullscreen();
     }
@@ -619,8 +647,10 @@ void Clouds::doRender(const FrameContext& ctx) {
 void Clouds::renderCached(const FrameContext& ctx) {
     SkyVars& v = ctx.vars;
     const int w = v.get(cloudelemkeys::cacheWidth), h = std::max(w / 2, 2);
-    if (!cacheFill_) {
-        cacheFill_ = recipe(false, true).build();
+    const int lights = marchedLights(v);
+    gl::Program& cacheFill = cacheFill_[size_t(lights)];
+    if (!cacheFill) cacheFill = recipe(false, true, lights).build();
+    if (!cacheShow_) {
         cacheShow_ = gl::ProjectionPrograms(gl::ProgramBuilder("Clouds (cache display)")
                                                 .bindings(bindings())
                                                 .define("CLOUDS_CACHE_SHOW")
@@ -691,10 +721,10 @@ void Clouds::renderCached(const FrameContext& ctx) {
     }
     const bool back = backPhase_ >= 0;
     const int phase = all ? -1 : back ? backPhase_ : cachePhase_;
-    setUniforms(cacheFill_, ctx);
-    cacheFill_.set("u_cacheSize", glm::ivec2(w, h));
-    cacheFill_.set("u_phase", phase);
-    cacheFill_.set("u_cacheBits", bits);
+    setUniforms(cacheFill, ctx);
+    cacheFill.set("u_cacheSize", glm::ivec2(w, h));
+    cacheFill.set("u_phase", phase);
+    cacheFill.set("u_cacheBits", bits);
     glBindImageTexture(gl::binding::kLutImage, (back ? backL_ : cacheL_).id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     glBindImageTexture(gl::binding::kSecondLutImage, (back ? backT_ : cacheT_).id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     const int cw = all ? w : (w + n - 1) / n, ch = all ? h : (h + n - 1) / n;
@@ -740,16 +770,16 @@ void Clouds::doApplyToScene(const FrameContext& ctx, ScenePass pass) {
 
 void Clouds::doRelease() {
     scenePass_ = {};
-    programs_.releasePrograms();
+    for (auto& p : programs_) p.releasePrograms();
     cacheShow_.releasePrograms();
-    cacheFill_ = {};
+    for (auto& p : cacheFill_) p = {};
     cacheL_ = {};
     cacheT_ = {};
     backL_ = {};
     backT_ = {};
     backPhase_ = -1;
     cacheInputs_.clear();
-    statsProgram_ = {};
+    for (auto& p : statsProgram_) p = {};
     atmUbo_ = {};
     cloudUbo_ = {};
     statsTex_ = {};

@@ -14,6 +14,7 @@
 #include <welkin/generators/atmosphere.hpp>
 #include <welkin/generators/cloud_keys.hpp>
 #include <welkin/generators/reference_clouds.hpp>
+#include <welkin/generators/sky_model.hpp>
 #include <welkin/gl/objects.hpp>
 #include <welkin/keys.hpp>
 #include <welkin/processor.hpp>
@@ -390,6 +391,48 @@ TEST_CASE("Clouds: the finite cloud's depth to its far side", "[cpu][clouds]") {
     const double cumulus = welkin::elements::cloudcpu::lightTransferTable(nu, muV, tauL, finiteBackDepth(20.0, 10.0), muL);
     INFO("deck " << deck << ", cumulus " << cumulus << " 1/sr");
     CHECK(cumulus < deck);
+}
+
+TEST_CASE("Clouds: a light below lightDarkElevation lights no point of the layer the march reaches", "[cpu][clouds]") {
+    // The bound that drops a light's march from the shader (Clouds' CLD_LIGHTS variants): below
+    // it the atmosphere's transmittance to the light (the CPU twin of the shader's, with its
+    // smoothed horizon) must be exactly 0 at every point of the layer on every view ray from the
+    // observer that misses the ground, or the variant would drop light. Checked by brute force:
+    // rays every 0.25 deg of elevation from the observer's horizon (-dip) up and 8 azimuths, points
+    // every 250 m to 500 km. And not vacuous: 0.6 deg above the bound some point is lit (from above
+    // the layer 3.4 deg: there the march stops where the ray first leaves the layer, short of the
+    // farthest points the bound allows for).
+    namespace gc = welkin::generators::cpu;
+    const welkin::generators::SkyModel m;
+    const welkin::generators::Lut2D T = gc::transmittanceLut(m, welkin::generators::SkyQuality::tiny());
+    const double R = m.bottomRadius, radius = 0.00465;
+    struct Case { double hObs, bottom, top, slack; };
+    for (const Case c : {Case{0.0, 1000.0, 3000.0, 0.01}, Case{2000.0, 1500.0, 9000.0, 0.01}, Case{10000.0, 1000.0, 3000.0, 0.06}}) {
+        const double dark = welkin::elements::cloudcpu::lightDarkElevation(R, c.hObs, c.top, radius);
+        const double dipObs = std::acos(R / (R + c.hObs));
+        auto litPoints = [&](double elevation) {
+            const glm::dvec3 l(0.0, std::cos(elevation), std::sin(elevation));  // towards the north
+            int lit = 0;
+            for (int ia = 0; ia < 8; ++ia)
+                for (double el = -dipObs + 1e-5; el < 0.5 * std::numbers::pi; el += 0.25 * std::numbers::pi / 180.0) {
+                    const double az = ia * std::numbers::pi / 4.0;
+                    const glm::dvec3 d(std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el));
+                    for (double t = 0.0; t < 5e5; t += 250.0) {
+                        const glm::dvec3 q = glm::dvec3(0.0, 0.0, R + c.hObs) + t * d;  // from the planet's centre
+                        const double a = glm::length(q) - R;
+                        if (a < 0.0 || a > c.top + 2e4) break;  // the ground, or far above the layer
+                        if (a < c.bottom || a > c.top) continue;
+                        const double muS = glm::dot(glm::normalize(q), l);
+                        if (gc::transmittanceToLight(m, T, a, muS, radius).y > 0.0) ++lit;
+                    }
+                }
+            return lit;
+        };
+        INFO("observer " << c.hObs << " m, layer " << c.bottom << "-" << c.top << " m, dark below " << dark * 180.0 / std::numbers::pi << " deg");
+        CHECK(dark < 0.0);
+        CHECK(litPoints(dark) == 0);
+        CHECK(litPoints(dark + c.slack) > 0);
+    }
 }
 
 TEST_CASE("Clouds: the real-time ambient transfer of a slab against adding-doubling", "[cpu][clouds]") {

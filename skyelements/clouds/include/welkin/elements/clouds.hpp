@@ -181,6 +181,17 @@ int backSamples(int lightSamples);
 /// observable consequences", Am. J. Phys. 55, 524: T = 1 / (1 + 0.75 (1 - g) tau) at normal
 /// incidence, diffuse illumination).
 double twoStreamTransmission(double tau, double g);
+/// The elevation (rad, < 0) below which a light of angular radius `radius` (rad) lights no point
+/// of a cumulus layer whose top is `layerTopM` above a planet of radius `planetRadiusM` that the
+/// view march from height `observerM` (m, >= 0) reaches: the atmosphere's transmittance to a
+/// light is exactly 0 at radius r once the light's cos(zenith) is below -sqrt(r^2 - R^2)/r -
+/// (R/r) radius (atm_lightAboveHorizon's smoothed horizon), at most -sin(theta_top) - radius in
+/// the layer (theta_x = acos(R / (R + x)), the horizon's dip at height x); a straight ray that
+/// misses the ground reaches points at central angles up to theta_obs + theta_top from the
+/// observer, whose zenith tilts by as much. So: -(asin(sin(theta_top) + radius) + theta_obs +
+/// theta_top) less 1e-3 rad for float rounding. Below it the light's march is dropped from the
+/// shader (Clouds' CLD_LIGHTS variants): its term was exactly zero.
+double lightDarkElevation(double planetRadiusM, double observerM, double layerTopM, double radius);
 }  // namespace cloudcpu
 
 class Clouds final : public SkyElement {
@@ -220,12 +231,19 @@ private:
     void bindResources(const FrameContext& ctx);
     void setUniforms(const gl::Program& p, const FrameContext& ctx) const;
     void computePhotometry(const FrameContext& ctx);
-    gl::ProgramBuilder recipe(bool stats, bool reproject) const;
+    gl::ProgramBuilder recipe(bool stats, bool reproject, int lights) const;
+    /// The lights the march computes (CLD_LIGHTS: bit 0 the Sun, bit 1 the Moon): those that light
+    /// the layer (cloudcpu::lightDarkElevation) and, for the Moon, carry at least 1e-4 of the
+    /// Sun's light at the observer (setUniforms zeroes it otherwise).
+    int marchedLights(const SkyVars& v) const;
     void renderCached(const FrameContext& ctx);
 
     generators::SkyLuts luts_;
-    gl::ProjectionPrograms programs_;
-    gl::Program statsProgram_;
+    // One program per CLD_LIGHTS variant (marchedLights), compiled on first use: a SIMD machine
+    // runs a branch whenever one lane takes it (llvmpipe runs every branch), so a light switched
+    // off by a uniform still cost its march; a variant without it costs nothing.
+    std::array<gl::ProjectionPrograms, 4> programs_;
+    std::array<gl::Program, 4> statsProgram_;
     gl::Buffer atmUbo_, cloudUbo_;
     gl::Texture2D statsTex_;
     gl::Framebuffer statsFbo_;
@@ -283,7 +301,7 @@ private:
     gl::Program scenePass_;  // applyToScene()'s shadow pass
     gl::Texture2D cacheL_, cacheT_;
     int cacheRadianceUnit_ = 0, cacheTransmittanceUnit_ = 0;  // private texture units (SkyElement::textureUnit)
-    gl::Program cacheFill_;
+    std::array<gl::Program, 4> cacheFill_;
     gl::ProjectionPrograms cacheShow_;
     int cachePhase_ = 0;
     std::vector<double> cacheInputs_;
