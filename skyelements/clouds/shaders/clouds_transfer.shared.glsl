@@ -55,6 +55,22 @@ real cld_lightTransfer(real nu, real tauL, real tauB, real muL) {
     return cld_scaledPhase(nu) * exp(-tauL) + cld_forwardTransfer(nu, tauL) + cld_lightDiffusion(nu, tauL, tauB, muL);
 }
 
+// The cosine between the light and the normal of the cloud face through which it entered (C++:
+// cloudcpu::litFaceCosine), from the sample's scaled depths towards the sky above it (tauUp, marched
+// through the cloud's own density) and towards the light (tauL): in a deck lit at muL the two are
+// in the ratio tauUp = muL tauL, so the ratio gives muL back; where the light entered a cumulus
+// through a side facing it, the cloud above the sample is deeper than the light's path in
+// (tauUp > tauL) and the face's cosine is 1. Clamped to [muL, 1] (0/0, the lit top itself, gives
+// muL). The face is remembered over about one transport optical depth of the light's path, s_L =
+// CLD_MS_S tauL: deeper, the diffuse light has come in through every face the light reaches and
+// the slab's muL stands (weight e^(-s_L)). It replaces the light's cos(zenith) where the slab
+// solution has it (the diffusion term's muL^q, the table's muL). No fitted constant
+// (skyelements/clouds/README.md, "The lit face").
+real cld_litFaceCosine(real tauUp, real tauL, real muL) {
+    real m = max(muL, 0.0);
+    return mix(m, clamp(tauUp / max(tauL, 1e-6), m, 1.0), exp(-CLD_MS_S * tauL));
+}
+
 // The depth to the far side that the diffusion term sees in a cloud of finite width (C++:
 // cloudcpu::finiteBackDepth): tauB, the scaled depth to the cloud's far side along the light's
 // axis, combined harmonically with tauWidth, the scaled depth across the cloud through the sample

@@ -187,6 +187,7 @@ double lightTransferTable(double nu, double muV, double tauL, double tauB, doubl
 }
 const double* diffusionShapeTable() { return &transfer::cld_msTable[0]; }
 double finiteBackDepth(double tauB, double tauWidth) { return transfer::cld_finiteBackDepth(tauB, tauWidth); }
+double litFaceCosine(double tauUp, double tauL, double muL) { return transfer::cld_litFaceCosine(tauUp, tauL, muL); }
 double integrateStep(double source, double sigmaT, double dt) {
     if (sigmaT <= 0) return source * dt;
     return (source - source * std::exp(-sigmaT * dt)) / sigmaT;

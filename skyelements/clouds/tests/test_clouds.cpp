@@ -392,6 +392,36 @@ TEST_CASE("Clouds: the finite cloud's depth to its far side", "[cpu][clouds]") {
     CHECK(cumulus < deck);
 }
 
+TEST_CASE("Clouds: the lit face's cosine", "[cpu][clouds]") {
+    using welkin::elements::cloudcpu::litFaceCosine;
+    using welkin::elements::cloudcpu::kDiffusionS;
+    // A deck lit at muL: the depth to the sky above is muL times the depth towards the light, and
+    // the slab's own muL comes back at every depth (the deck's transport, checked against
+    // adding-doubling above, is unchanged). Tolerance: rounding only.
+    for (double muL : {0.2, 0.5, 0.9})
+        for (double tauL : {0.0, 0.3, 4.0, 40.0}) CHECK(litFaceCosine(muL * tauL, tauL, muL) == Approx(muL).epsilon(1e-12));
+    // The side of a cumulus facing a low Sun, at its lit face: far more cloud above than along the
+    // light, the face's cosine 1 (within the memory's e^(-s_L): 1 - 0.7 (1 - e^(-0.0028)) here).
+    CHECK(litFaceCosine(5.0, 0.01, 0.3) == Approx(1.0).margin(2e-3));
+    // Deep inside (the light's path 40 scaled depths, 11 transport depths) the face is forgotten:
+    // within (1 - muL) e^(-s_L) = 1e-5 of muL.
+    CHECK(litFaceCosine(100.0, 40.0, 0.5) == Approx(0.5).margin(0.5 * std::exp(-kDiffusionS * 40.0) + 1e-12));
+    // Never outside [muL, 1]; a light below the horizon gives no negative cosine.
+    for (double up : {0.0, 0.1, 1.0, 10.0})
+        for (double tl : {0.0, 0.1, 1.0, 10.0}) {
+            const double m = litFaceCosine(up, tl, 0.4);
+            CHECK(m >= 0.4 - 1e-12);
+            CHECK(m <= 1.0 + 1e-12);
+        }
+    CHECK(litFaceCosine(1.0, 1.0, -0.2) >= 0.0);
+    // Through the transport: the side facing the light diffuses more than the slab's oblique face
+    // (the muL^q of the diffusion term; the path tracer's cumulus-side, README "The lit face").
+    const double side = welkin::elements::cloudcpu::lightTransferTable(0.0, 0.4, 1.0, 8.0, litFaceCosine(6.0, 1.0, 0.5));
+    const double slab = welkin::elements::cloudcpu::lightTransferTable(0.0, 0.4, 1.0, 8.0, 0.5);
+    INFO("side " << side << ", slab " << slab << " 1/sr");
+    CHECK(side > slab);
+}
+
 TEST_CASE("Clouds: the real-time ambient transfer of a slab against adding-doubling", "[cpu][clouds]") {
     using namespace elements::cloudcpu;
     // The forward share of the scaled phase (the constant the ambient's single scattering uses):

@@ -140,6 +140,13 @@ double lightTransferTable(double nu, double muV, double tauL, double tauB, doubl
 /// too. In a deck (tauWidth >> tauB) it is tauB; 0 where either is 0. What the march passes to
 /// lightTransferTable() as tauB (skyelements/clouds/README.md, "Finite clouds").
 double finiteBackDepth(double tauB, double tauWidth);
+/// The cosine between the light and the normal of the cloud face it entered through: the scaled
+/// depth to the sky above the sample, tauUp (marched through the density), over the scaled depth
+/// towards the light, tauL, clamped to [max(muL, 0), 1] (in a deck tauUp = muL tauL: muL; a side
+/// facing the light: 1), blended back to muL by e^(-kDiffusionS tauL) (the face is remembered over
+/// about one transport optical depth). What the march passes to lightTransferTable() as muL
+/// (skyelements/clouds/README.md, "The lit face").
+double litFaceCosine(double tauUp, double tauL, double muL);
 /// The transfer table's 9 x 5 x 17 values, [tauAxis][muL][muV] (diffusionShape()'s nodes).
 const double* diffusionShapeTable();
 inline constexpr int kShapeTauN = 9, kShapeMuLN = 5, kShapeMuVN = 17;
