@@ -66,8 +66,9 @@ float cld_widthDepth(vec3 p, vec3 l) {
 // side); tauW: cld_widthDepth for this light (the march refreshes it every CLD_WIDTH_EVERY samples).
 // tauUp: the scaled depth to the sky above p (cld_verticalDepths), for the lit face's cosine.
 float cld_lightSource(vec3 p, vec3 dir, vec3 l, float tauW, float tauUp) {
-    float tauL = cld_lightDepth(p, l, u_lightSamples);
-    return cld_lightTransferTable(dot(dir, l), dir.z, tauL, cld_finiteBackDepth(cld_backDepth(p, l), tauW), cld_litFaceCosine(tauUp, tauL, l.z));
+    float tauL = cld_lightDepth(p, l, u_lightSamples), tauB = cld_backDepth(p, l);
+    return cld_lightTransferTable(dot(dir, l), dir.z, tauL, cld_finiteBackDepth(tauB, tauW), cld_litFaceCosine(tauUp, tauL, l.z),
+                                  cld_deckness(tauW, tauL + tauB));
 }
 // Scaled optical depths from p to the sky above it and to the air below it, through the cloud's own
 // density (cloudDepthAlong up and down, u_backSamples steps over at most 3 km each, to the shell's

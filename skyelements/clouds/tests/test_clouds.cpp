@@ -422,6 +422,31 @@ TEST_CASE("Clouds: the lit face's cosine", "[cpu][clouds]") {
     CHECK(side > slab);
 }
 
+TEST_CASE("Clouds: the transfer table's depth where the cloud is a deck", "[cpu][clouds]") {
+    using namespace welkin::elements::cloudcpu;
+    // deckness: 0 for a cloud no wider than it is deep along the light, -> 1 for a sheet far wider,
+    // squared (the measure of the README); rounding-level tolerances.
+    CHECK(deckness(5.0, 5.0) == 0.0);
+    CHECK(deckness(2.0, 5.0) == 0.0);
+    CHECK(deckness(15.0, 5.0) == Approx(0.25).epsilon(1e-12));
+    CHECK(deckness(1e8, 5.0) == Approx(1.0).epsilon(1e-6));
+    CHECK(deckness(0.0, 0.0) == 0.0);
+    // The depth read: a cumulus' at the face the light leaves by towards the view, a deck's at the
+    // sample's own depth tauL / (tauL + tauB).
+    CHECK(tableDepth(0.5, 1.0, 3.0, 0.0) == 1.0);
+    CHECK(tableDepth(-0.5, 1.0, 3.0, 0.0) == 0.0);
+    CHECK(tableDepth(0.0, 1.0, 3.0, 0.0) == Approx(0.5).epsilon(1e-12));
+    CHECK(tableDepth(0.5, 1.0, 3.0, 1.0) == Approx(0.25).epsilon(1e-12));
+    // Inside a thick deck lit from overhead (tau 80 along the axis), at mid-depth, looking 7 deg up:
+    // the table at the depth is adding-doubling's internal radiance over the diffusion form's,
+    // above the far face's value (the diffusion form's light deep inside is ~0.5x adding-doubling's,
+    // README "Depth inside a deck").
+    const double inside = lightTransferTable(0.125, 0.125, 20.0, 20.0, 1.0, 1.0);
+    const double face = lightTransferTable(0.125, 0.125, 20.0, 20.0, 1.0, 0.0);
+    INFO("inside " << inside << ", face " << face << " 1/sr");
+    CHECK(inside > 1.2 * face);
+}
+
 TEST_CASE("Clouds: the real-time ambient transfer of a slab against adding-doubling", "[cpu][clouds]") {
     using namespace elements::cloudcpu;
     // The forward share of the scaled phase (the constant the ambient's single scattering uses):
