@@ -557,6 +557,20 @@ std::vector<double> diffusionShapeTableComputed() {
                 for (int k = 0; k < kShapeMuVN; ++k) {
                     double x = 1.0;
                     bool found = false;
+                    // A face's node for the light leaving by it (the lit face looking down, the far
+                    // one looking up: what a cumulus reads, cld_tableDepth with deck 0) falls back
+                    // along muV only, else 1, as the face-only table did: the same values.
+                    const int mid = kShapeMuVN / 2;
+                    const bool face = (m == 0 && k <= mid) || (m == kShapeDepthN - 1 && k >= mid);
+                    if (face) {
+                        // each candidate node at its own exit face (horizontal: the node itself)
+                        auto fm = [&](int kk) { return kk < mid ? 0 : (kk > mid ? kShapeDepthN - 1 : m); };
+                        for (int d = 0; d < kShapeMuVN && !found; ++d) {
+                            if (k - d >= 0 && ok[fm(k - d)][k - d]) x = v[fm(k - d)][k - d], found = true;
+                            else if (k + d < kShapeMuVN && ok[fm(k + d)][k + d]) x = v[fm(k + d)][k + d], found = true;
+                        }
+                        found = true;
+                    }
                     for (int d = 0; d < kShapeDepthN && !found; ++d) {
                         if (m - d >= 0 && ok[m - d][k]) x = v[m - d][k], found = true;
                         else if (m + d < kShapeDepthN && ok[m + d][k]) x = v[m + d][k], found = true;
