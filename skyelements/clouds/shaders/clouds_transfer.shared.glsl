@@ -117,7 +117,7 @@ real cld_deckness(real tauWidth, real tauAxis) {
 // sample's own, tauL / (tauL + tauB) (inside a deck the light at the sample's depth, not its
 // face's, is what the view ray collects); in a cumulus (deck = 0) the face the light leaves by
 // towards the view: the far one (1) looking up, the lit one (0) looking down, blended across the
-// horizontal over one node of muV (+-1/8). (skyelements/clouds/README.md, "Depth inside a deck".)
+// horizontal over one node of muV (+-1/8). (skyelements/clouds/README.md, "The transfer table".)
 real cld_tableDepth(real muV, real tauL, real tauB, real deck) {
     real face = clamp(0.5 + 4.0 * muV, 0.0, 1.0);
     return mix(face, tauL / max(tauL + tauB, 1e-9), deck);

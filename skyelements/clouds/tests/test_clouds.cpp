@@ -440,7 +440,7 @@ TEST_CASE("Clouds: the transfer table's depth where the cloud is a deck", "[cpu]
     // Inside a thick deck lit from overhead (tau 80 along the axis), at mid-depth, looking 7 deg up:
     // the table at the depth is adding-doubling's internal radiance over the diffusion form's,
     // above the far face's value (the diffusion form's light deep inside is ~0.5x adding-doubling's,
-    // README "Depth inside a deck").
+    // README "The transfer table").
     const double inside = lightTransferTable(0.125, 0.125, 20.0, 20.0, 1.0, 1.0);
     const double face = lightTransferTable(0.125, 0.125, 20.0, 20.0, 1.0, 0.0);
     INFO("inside " << inside << ", face " << face << " 1/sr");

@@ -139,7 +139,7 @@ double lightTransferTable(double nu, double muV, double tauL, double tauB, doubl
 /// How much the cloud around a sample is a deck, in [0, 1]: (tauWidth - tauAxis) / (tauWidth +
 /// tauAxis) clamped, tauWidth the scaled depth across the cloud (finiteBackDepth()'s), tauAxis the
 /// scaled depth along the light's axis through the sample (tauL + tauB): 0 for a cloud no wider than
-/// it is deep along the light, -> 1 for a sheet far wider (skyelements/clouds/README.md, "Depth inside a deck").
+/// it is deep along the light, -> 1 for a sheet far wider (skyelements/clouds/README.md, "The transfer table").
 double deckness(double tauWidth, double tauAxis);
 /// The depth fraction (0 the lit face, 1 the far one) at which lightTransferTable() reads the
 /// table: mix(face, tauL / (tauL + tauB), deck), face = clamp(0.5 + 4 muV, 0, 1) (the far face
