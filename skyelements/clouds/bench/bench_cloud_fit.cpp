@@ -477,22 +477,27 @@ int run(const FitOptions& o) {
 struct ShapeParts {
     double low = 0, multi = 0;
 };
-ShapeParts modelParts(double tau, double mu0, double muV) {
+// The model's azimuth-averaged radiance at scaled depth fraction `depthFrac` of the slab,
+// travelling along -view (muV > 0: downwards, the light from the layers above; < 0: upwards):
+// its formal solution from the slab's face to the depth, 96 layers.
+ShapeParts modelParts(double tau, double mu0, double muV, double depthFrac) {
     const LightTransferConstants c = elements::cloudcpu::kLightTransferFit;
     cloudfit::gFit = c;
     namespace tr = glsl::dp::cloud_fit_transfer;
     const int n = 96, nf = 24;
-    const double ts = kDropletWDraine * tau, dt = ts / n, mv = std::abs(muV), st = std::sqrt(1.0 - muV * muV);
+    const double ts = kDropletWDraine * tau, td = depthFrac * ts, mv = std::abs(muV), st = std::sqrt(1.0 - muV * muV);
     const glm::dvec3 sun(std::sqrt(1.0 - mu0 * mu0), 0.0, mu0);
     const bool below = muV > 0;
+    const double a = below ? 0.0 : td, b = below ? td : ts, dt = (b - a) / n;  // the layers that send light to the depth
     ShapeParts p;
+    if (dt <= 0.0) return p;
     for (int jf = 0; jf < nf; ++jf) {
         const double phi = (jf + 0.5) * std::numbers::pi / nf;
         const glm::dvec3 view(st * std::cos(phi), st * std::sin(phi), muV);
         const double nu = glm::dot(view, sun);
         for (int i = 0; i < n; ++i) {
-            const double t = (i + 0.5) * dt;
-            const double near = below ? ts - (i + 1) * dt : i * dt;
+            const double t = a + (i + 0.5) * dt;
+            const double near = below ? td - (a + (i + 1) * dt) : a + i * dt - td;  // from the depth to the layer's near side
             const double w = std::exp(-near / mv) * (1.0 - std::exp(-dt / mv)) / nf;
             const double tl = t / mu0, tb = (ts - t) / mu0;
             p.low += (tr::cld_scaledPhase(nu) * std::exp(-tl) + tr::cld_forwardTransfer(nu, tl)) * w;
@@ -511,46 +516,71 @@ double interpolateMu(const std::vector<double>& mu, const std::vector<double>& v
 }
 }  // namespace
 std::vector<double> diffusionShapeTableComputed() {
+    using elements::cloudcpu::kShapeDepthN;
     using elements::cloudcpu::kShapeMuLN;
     using elements::cloudcpu::kShapeMuVN;
     using elements::cloudcpu::kShapeTauN;
     const cloudref::TabulatedPhase mie = cloudref::cloudDropletPhase();
     const std::vector<double> moments = cloudref::phaseMoments(mie, 65);
-    std::vector<double> table(size_t(kShapeTauN * kShapeMuLN * kShapeMuVN));
+    std::vector<double> table(size_t(kShapeTauN * kShapeMuLN * kShapeDepthN * kShapeMuVN));
     for (int i = 0; i < kShapeTauN; ++i)
         for (int j = 0; j < kShapeMuLN; ++j) {
             const double tauAxis = std::exp2(double(i)), mu0 = 0.2 + 0.2 * j, tau = tauAxis * mu0;
-            const cloudref::SlabSolution ad = cloudref::addingDoubling(tau, 1.0, moments, mu0, 32);
             // The ratio where the diffusion term carries the light (the model's low orders under
             // half of adding-doubling's radiance, its diffusion over a quarter); elsewhere (towards
             // the light, where adding-doubling's delta-M moved the peak into the direct beam and
-            // the low orders dominate, and in thin slabs) the nearest such node's along muV, or 1.
-            auto ratio = [&](double muV, bool& ok) {
-                const ShapeParts p = modelParts(tau, mu0, muV);
-                const double L = interpolateMu(ad.mu, muV > 0 ? ad.transmittedRadiance : ad.reflectedRadiance, std::abs(muV));
-                ok = p.low < 0.5 * L && p.multi > 0.25 * L;
-                return std::clamp((L - p.low) / std::max(p.multi, 1e-30), 0.25, 4.0);
-            };
-            double v[kShapeMuVN];
-            bool ok[kShapeMuVN];
-            for (int k = 0; k < kShapeMuVN; ++k) {
-                const double muV = -1.0 + 2.0 * k / (kShapeMuVN - 1);
-                if (std::abs(muV) < 0.05) {
-                    bool a, b;
-                    v[k] = 0.5 * (ratio(0.05, a) + ratio(-0.05, b));
-                    ok[k] = a && b;
-                } else {
-                    v[k] = ratio(muV, ok[k]);
+            // the low orders dominate; thin slabs; the light going down at the lit face, where
+            // there is none yet) the nearest such node's along the depth, else along muV, else 1.
+            double v[kShapeDepthN][kShapeMuVN];
+            bool ok[kShapeDepthN][kShapeMuVN];
+            for (int m = 0; m < kShapeDepthN; ++m) {
+                const double frac = double(m) / (kShapeDepthN - 1);
+                const cloudref::SlabInternal in = cloudref::addingDoublingInternal(tau, 1.0, moments, mu0, frac * tau, 32);
+                auto ratio = [&](double muV, bool& good) {
+                    const ShapeParts p = modelParts(tau, mu0, muV, frac);
+                    const double L = interpolateMu(in.mu, muV > 0 ? in.down : in.up, std::abs(muV));
+                    good = L > 0.0 && p.low < 0.5 * L && p.multi > 0.25 * L;
+                    return std::clamp((L - p.low) / std::max(p.multi, 1e-30), 0.25, 4.0);
+                };
+                for (int k = 0; k < kShapeMuVN; ++k) {
+                    const double muV = -1.0 + 2.0 * k / (kShapeMuVN - 1);
+                    if (std::abs(muV) < 0.05) {
+                        bool a, b;
+                        v[m][k] = 0.5 * (ratio(0.05, a) + ratio(-0.05, b));
+                        ok[m][k] = a && b;
+                    } else {
+                        v[m][k] = ratio(muV, ok[m][k]);
+                    }
                 }
             }
-            for (int k = 0; k < kShapeMuVN; ++k) {
-                double x = 1.0;
-                for (int d = 0; d < kShapeMuVN; ++d) {
-                    if (k - d >= 0 && ok[k - d]) { x = v[k - d]; break; }
-                    if (k + d < kShapeMuVN && ok[k + d]) { x = v[k + d]; break; }
+            for (int m = 0; m < kShapeDepthN; ++m)
+                for (int k = 0; k < kShapeMuVN; ++k) {
+                    double x = 1.0;
+                    bool found = false;
+                    // A face's node for the light leaving by it (the lit face looking down, the far
+                    // one looking up: what a cumulus reads, cld_tableDepth with deck 0) falls back
+                    // along muV only, else 1, as the face-only table did: the same values.
+                    const int mid = kShapeMuVN / 2;
+                    const bool face = (m == 0 && k <= mid) || (m == kShapeDepthN - 1 && k >= mid);
+                    if (face) {
+                        // each candidate node at its own exit face (horizontal: the node itself)
+                        auto fm = [&](int kk) { return kk < mid ? 0 : (kk > mid ? kShapeDepthN - 1 : m); };
+                        for (int d = 0; d < kShapeMuVN && !found; ++d) {
+                            if (k - d >= 0 && ok[fm(k - d)][k - d]) x = v[fm(k - d)][k - d], found = true;
+                            else if (k + d < kShapeMuVN && ok[fm(k + d)][k + d]) x = v[fm(k + d)][k + d], found = true;
+                        }
+                        found = true;
+                    }
+                    for (int d = 0; d < kShapeDepthN && !found; ++d) {
+                        if (m - d >= 0 && ok[m - d][k]) x = v[m - d][k], found = true;
+                        else if (m + d < kShapeDepthN && ok[m + d][k]) x = v[m + d][k], found = true;
+                    }
+                    for (int d = 1; d < kShapeMuVN && !found; ++d) {
+                        if (k - d >= 0 && ok[m][k - d]) x = v[m][k - d], found = true;
+                        else if (k + d < kShapeMuVN && ok[m][k + d]) x = v[m][k + d], found = true;
+                    }
+                    table[size_t(((i * kShapeMuLN + j) * kShapeDepthN + m) * kShapeMuVN + k)] = x;
                 }
-                table[size_t((i * kShapeMuLN + j) * kShapeMuVN + k)] = x;
-            }
         }
     return table;
 }
@@ -574,13 +604,16 @@ int runTable(const TableOptions& o) {
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::printf("welkin bench cloud-table: %zu values in [%.3f, %.3f], %.1f s; largest difference from the committed table %.2e\n", t.size(), lo, hi, secs, maxDiff);
     using elements::cloudcpu::kShapeMuVN;
-    std::printf("\n| tauAxis | muL | muV -1 ... 1 (every second node) |\n|---|---|---|\n");
+    using elements::cloudcpu::kShapeDepthN;
+    std::printf("\n| tauAxis | muL | depth | muV -1 ... 1 (every second node) |\n|---|---|---|---|\n");
     for (int i = 0; i < elements::cloudcpu::kShapeTauN; i += 2)
-        for (int j = 0; j < elements::cloudcpu::kShapeMuLN; j += 2) {
-            std::printf("| %g | %.1f |", std::exp2(double(i)), 0.2 + 0.2 * j);
-            for (int k = 0; k < kShapeMuVN; k += 2) std::printf(" %.2f", t[size_t((i * elements::cloudcpu::kShapeMuLN + j) * kShapeMuVN + k)]);
-            std::printf(" |\n");
-        }
+        for (int j = 0; j < elements::cloudcpu::kShapeMuLN; j += 2)
+            for (int m = 0; m < kShapeDepthN; m += 2) {
+                std::printf("| %g | %.1f | %.2f |", std::exp2(double(i)), 0.2 + 0.2 * j, double(m) / (kShapeDepthN - 1));
+                for (int k = 0; k < kShapeMuVN; k += 2)
+                    std::printf(" %.2f", t[size_t(((i * elements::cloudcpu::kShapeMuLN + j) * kShapeDepthN + m) * kShapeMuVN + k)]);
+                std::printf(" |\n");
+            }
     if (o.check) {
         // The committed file holds 5 decimals.
         if (maxDiff > 2e-5) throw Error("bench cloud-table: the committed table differs from the computed one by " + std::to_string(maxDiff));
@@ -591,9 +624,10 @@ int runTable(const TableOptions& o) {
     std::string txt =
         "// Generated by `welkin bench cloud-table` (skyelements/clouds/bench/bench_cloud_fit.cpp): do not edit.\n"
         "// The diffusion term's angular correction, cld_diffusionShape (clouds_transfer.shared.glsl):\n"
-        "// [tauAxis 1, 2, 4 ... 256][muL 0.2, 0.4 ... 1][muV -1, -0.875 ... 1], 9 x 5 x 17: adding-doubling's\n"
-        "// multiply scattered radiance over the diffusion term's (skyelements/clouds/README.md, \"Transfer table\").\n"
-        "const real cld_msTable[765] = ARRAY_OF(real, 765)\n";
+        "// [tauAxis 1, 2, 4 ... 256][muL 0.2, 0.4 ... 1][depth 0, 0.25 ... 1 of the slab][muV -1, -0.875 ... 1],\n"
+        "// 9 x 5 x 5 x 17: adding-doubling's multiply scattered radiance over the diffusion term's\n"
+        "// (skyelements/clouds/README.md, \"The transfer table\").\n"
+        "const real cld_msTable[3825] = ARRAY_OF(real, 3825)\n";
     char buf[32];
     for (size_t q = 0; q < t.size(); ++q) {
         if (q % 17 == 0) txt += "    ";

@@ -71,8 +71,18 @@ float cld_widthDepth(vec3 p, vec3 l) {
 }
 // The lights' source per lux at p (cld_lightTransferTable with the finite cloud's depth to its far
 // side); tauW: cld_widthDepth for this light (the march refreshes it every CLD_WIDTH_EVERY samples).
-float cld_lightSource(vec3 p, vec3 dir, vec3 l, float tauW) {
-    return cld_lightTransferTable(dot(dir, l), dir.z, cld_lightDepth(p, l, u_lightSamples), cld_finiteBackDepth(cld_backDepth(p, l), tauW), l.z);
+// tauUp: the scaled depth to the sky above p (cld_verticalDepths), for the lit face's cosine.
+float cld_lightSource(vec3 p, vec3 dir, vec3 l, float tauW, float tauUp) {
+    float tauL = cld_lightDepth(p, l, u_lightSamples), tauB = cld_backDepth(p, l);
+    return cld_lightTransferTable(dot(dir, l), dir.z, tauL, cld_finiteBackDepth(tauB, tauW), cld_litFaceCosine(tauUp, tauL, l.z),
+                                  cld_deckness(tauW, tauL + tauB));
+}
+// Scaled optical depths from p to the sky above it and to the air below it, through the cloud's own
+// density (cloudDepthAlong up and down, u_backSamples steps over at most 3 km each, to the shell's
+// exit): the ambient's hemispheres and the lit face's cosine. Exact in a deck, as the light march.
+vec2 cld_verticalDepths(vec3 p) {
+    vec3 up = normalize(p + vec3(0.0, 0.0, cld_radii.x));
+    return vec2(cloudDepthAlong(p, up, u_backSamples, CLD_MARCH_MAX_M), cloudDepthAlong(p, -up, u_backSamples, CLD_MARCH_MAX_M)) * cld_shape.z * CLD_W_DRAINE;
 }
 // The width through a cumulus changes over hundreds of metres: the view march measures it again
 // every CLD_WIDTH_EVERY cloud samples and where it enters cloud after clear air. On a GPU whose
@@ -100,18 +110,18 @@ vec3 cld_airTransmittance(float mu, float d) {
 }
 
 // In-scattered source of one sample (cd/m^2 per m) at p with extinction sigmaT (albedo 1).
-vec3 cld_source(vec3 p, float hp, vec3 dir, float sigmaT, vec2 tauW) {
+vec3 cld_source(vec3 p, float hp, vec3 dir, float sigmaT, vec2 tauW, vec2 tauV) {
     vec3 S = vec3(0.0);
 #if (CLD_LIGHTS & 1) != 0
     if (any(greaterThan(u_sunE, vec3(0.0)))) {
         vec3 E = cld_lightAt(p, hp, u_sunDir, u_sunE);
-        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightSource(p, dir, u_sunDir, tauW.x);
+        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightSource(p, dir, u_sunDir, tauW.x, tauV.x);
     }
 #endif
 #if (CLD_LIGHTS & 2) != 0
     if (any(greaterThan(u_moonE, vec3(0.0)))) {
         vec3 E = cld_lightAt(p, hp, u_moonDir, u_moonE);
-        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightSource(p, dir, u_moonDir, tauW.y);
+        if (any(greaterThan(E, vec3(0.0)))) S += E * cld_lightSource(p, dir, u_moonDir, tauW.y, tauV.x);
     }
 #endif
     // Ambient (skyelements/clouds/README.md, "Ambient"): the clear sky's diffuse light from above the layer and
@@ -119,10 +129,11 @@ vec3 cld_source(vec3 p, float hp, vec3 dir, float sigmaT, vec2 tauW) {
     // x the global illuminance under the clouds, which the
     // photometry pass solves for: the ground is lit by what came through them), each a uniform
     // hemisphere carried into the cloud by cld_ambientTransfer through the vertical optical depths
-    // to the layer's top and bottom (the local extinction over the distances: exact in a deck).
+    // tauV to the sky above and the air below, marched through the cloud's density
+    // (cld_verticalDepths; exact in a deck). Until 2026-11-27 evening: the local extinction over the
+    // distances to the layer's top and bottom, which counted the clear air over a cumulus as cloud.
     vec3 up = normalize(p + vec3(0.0, 0.0, cld_radii.x));
-    float layerTop = cld_radii.z - cld_radii.x, layerBottom = cld_radii.y - cld_radii.x;
-    float tauUp = sigmaT * max(layerTop - hp, 0.0), tauDown = sigmaT * max(hp - layerBottom, 0.0);
+    float tauUp = tauV.x, tauDown = tauV.y;
     float nuUp = dot(dir, up);
     S += u_ambientE * cld_ambientTransfer(nuUp, tauUp, tauDown);
     S += atm_groundAlbedoRgb() * u_groundE * cld_ambientTransfer(-nuUp, tauDown, tauUp);
@@ -148,6 +159,8 @@ bool cld_cumulus(vec3 dir, vec2 px, out vec3 L, out float T, out float dMean) {
     float wSum = 0.0;
     // the cloud's width across each light (cld_widthDepth), measured again every CLD_WIDTH_EVERY cloud samples
     vec2 tauW = vec2(0.0);
+    vec2 tauVRef = vec2(0.0);  // the vertical depths (cld_verticalDepths), marched with tauW
+    float hRef = 0.0;
     int sinceW = 0;
     bool wasClear = true;
     bool sunUp = any(greaterThan(u_sunE, vec3(0.0))), moonUp = any(greaterThan(u_moonE, vec3(0.0)));
@@ -155,6 +168,8 @@ bool cld_cumulus(vec3 dir, vec2 px, out vec3 L, out float T, out float dMean) {
         vec3 p = o + dir * t;
         float d = cloudDensity(p, CLOUD_LOD_FULL);
         if (d <= 0.0) { wasClear = true; continue; }
+        float sigmaT = d * sigma;
+        float hp = cloudAltitude(p);
         if (wasClear || sinceW >= CLD_WIDTH_EVERY) {
 #if (CLD_LIGHTS & 1) != 0
             if (sunUp) tauW.x = cld_widthDepth(p, u_sunDir);
@@ -162,13 +177,17 @@ bool cld_cumulus(vec3 dir, vec2 px, out vec3 L, out float T, out float dMean) {
 #if (CLD_LIGHTS & 2) != 0
             if (moonUp) tauW.y = cld_widthDepth(p, u_moonDir);
 #endif
+            tauVRef = cld_verticalDepths(p);
+            hRef = hp;
             sinceW = 0;
             wasClear = false;
         }
         ++sinceW;
-        float sigmaT = d * sigma;
-        float hp = cloudAltitude(p);
-        vec3 S = cld_source(p, hp, dir, sigmaT, tauW);
+        // the vertical depths held since they were marched, carried to this sample's height by its
+        // own extinction (first order: exact in a deck's linear profile over the step)
+        float dz = hp - hRef;
+        vec2 tauV = max(tauVRef + vec2(-sigmaT * dz, sigmaT * dz), vec2(0.0));
+        vec3 S = cld_source(p, hp, dir, sigmaT, tauW, tauV);
         float Ts = exp(-sigmaT * dt);
         // Hillaire 2016 energy-conserving step: int_0^dt S e^(-sigmaT s) ds = (S - S Ts) / sigmaT
         L += T * (S - S * Ts) / sigmaT;

@@ -55,6 +55,22 @@ real cld_lightTransfer(real nu, real tauL, real tauB, real muL) {
     return cld_scaledPhase(nu) * exp(-tauL) + cld_forwardTransfer(nu, tauL) + cld_lightDiffusion(nu, tauL, tauB, muL);
 }
 
+// The cosine between the light and the normal of the cloud face through which it entered (C++:
+// cloudcpu::litFaceCosine), from the sample's scaled depths towards the sky above it (tauUp, marched
+// through the cloud's own density) and towards the light (tauL): in a deck lit at muL the two are
+// in the ratio tauUp = muL tauL, so the ratio gives muL back; where the light entered a cumulus
+// through a side facing it, the cloud above the sample is deeper than the light's path in
+// (tauUp > tauL) and the face's cosine is 1. Clamped to [muL, 1] (0/0, the lit top itself, gives
+// muL). The face is remembered over about one transport optical depth of the light's path, s_L =
+// CLD_MS_S tauL: deeper, the diffuse light has come in through every face the light reaches and
+// the slab's muL stands (weight e^(-s_L)). It replaces the light's cos(zenith) where the slab
+// solution has it (the diffusion term's muL^q, the table's muL). No fitted constant
+// (skyelements/clouds/README.md, "The lit face").
+real cld_litFaceCosine(real tauUp, real tauL, real muL) {
+    real m = max(muL, 0.0);
+    return mix(m, clamp(tauUp / max(tauL, 1e-6), m, 1.0), exp(-CLD_MS_S * tauL));
+}
+
 // The depth to the far side that the diffusion term sees in a cloud of finite width (C++:
 // cloudcpu::finiteBackDepth): tauB, the scaled depth to the cloud's far side along the light's
 // axis, combined harmonically with tauWidth, the scaled depth across the cloud through the sample
@@ -67,27 +83,50 @@ real cld_finiteBackDepth(real tauB, real tauWidth) { return tauB * tauWidth / ma
 // The diffusion term's angular correction (C++: cloudcpu::diffusionShape): the transfer table
 // cld_msTable (clouds_transfer_table.shared.glsl, written by `welkin bench cloud-table`) holds,
 // for a slab of optical depth tauAxis along the light's axis (unscaled; nodes 1, 2, 4 ... 256)
-// lit at cos(zenith) muL (nodes 0.2, 0.4 ... 1), the ratio of adding-doubling's azimuth-averaged
-// multiply scattered radiance (its diffuse radiance less this model's single scattering and
-// forward orders) to the diffusion term's, by the view ray's cos(zenith) muV (17 nodes on
-// [-1, 1]: > 0 looking up, the transmitted light; < 0 looking down, the reflected). Trilinear,
-// clamped at the table's edges.
-real cld_msTableAt(int i, int j, int k) { return cld_msTable[(i * 5 + j) * 17 + k]; }
-real cld_diffusionShape(real muV, real tauAxis, real muL) {
+// lit at cos(zenith) muL (nodes 0.2, 0.4 ... 1), at the depth fraction depthFrac from its lit
+// face (nodes 0, 0.25 ... 1), the ratio of adding-doubling's azimuth-averaged multiply scattered
+// radiance there (its diffuse radiance less this model's single scattering and forward orders)
+// to the diffusion term's, by the view ray's cos(zenith) muV (17 nodes on [-1, 1]: > 0 looking up,
+// the light going down; < 0 looking down). Quadrilinear, clamped at the table's edges.
+real cld_msTableAt(int i, int j, int m, int k) { return cld_msTable[((i * 5 + j) * 5 + m) * 17 + k]; }
+real cld_msTableMuV(int i, int j, int m, int k, real fz) { return mix(cld_msTableAt(i, j, m, k), cld_msTableAt(i, j, m, k + 1), fz); }
+real cld_msTableIJ(int i, int j, int m, int k, real fw, real fz) {
+    return mix(cld_msTableMuV(i, j, m, k, fz), cld_msTableMuV(i, j, m + 1, k, fz), fw);
+}
+real cld_diffusionShape(real muV, real tauAxis, real muL, real depthFrac) {
     real x = clamp(log2(max(tauAxis, 1.0)), 0.0, 8.0);
     real y = clamp((muL - 0.2) / 0.2, 0.0, 4.0);
+    real d = clamp(depthFrac * 4.0, 0.0, 4.0);
     real z = clamp((muV + 1.0) * 8.0, 0.0, 16.0);
-    int i = int(floor(min(x, 7.0))), j = int(floor(min(y, 3.0))), k = int(floor(min(z, 15.0)));
-    real fx = x - real(i), fy = y - real(j), fz = z - real(k);
-    real a = mix(mix(cld_msTableAt(i, j, k), cld_msTableAt(i, j, k + 1), fz), mix(cld_msTableAt(i, j + 1, k), cld_msTableAt(i, j + 1, k + 1), fz), fy);
-    real b = mix(mix(cld_msTableAt(i + 1, j, k), cld_msTableAt(i + 1, j, k + 1), fz), mix(cld_msTableAt(i + 1, j + 1, k), cld_msTableAt(i + 1, j + 1, k + 1), fz), fy);
+    int i = int(floor(min(x, 7.0))), j = int(floor(min(y, 3.0))), m = int(floor(min(d, 3.0))), k = int(floor(min(z, 15.0)));
+    real fx = x - real(i), fy = y - real(j), fw = d - real(m), fz = z - real(k);
+    real a = mix(cld_msTableIJ(i, j, m, k, fw, fz), cld_msTableIJ(i, j + 1, m, k, fw, fz), fy);
+    real b = mix(cld_msTableIJ(i + 1, j, m, k, fw, fz), cld_msTableIJ(i + 1, j + 1, m, k, fw, fz), fy);
     return mix(a, b, fx);
 }
+// How much the cloud around a sample is a deck (C++: cloudcpu::deckness), in [0, 1]: its scaled
+// depth across, tauWidth (both ways, perpendicular to the light), against its scaled depth along
+// the light's axis through the sample, tauAxis = tauL + tauB: (tauWidth - tauAxis) /
+// (tauWidth + tauAxis), 0 for a cloud no wider than it is deep along the light (a cumulus), -> 1
+// for a sheet far wider. No fitted constant.
+real cld_deckness(real tauWidth, real tauAxis) {
+    real x = clamp((tauWidth - tauAxis) / max(tauWidth + tauAxis, 1e-9), 0.0, 1.0);
+    return x * x;
+}
+// The depth fraction at which the table is read (C++: cloudcpu::tableDepth): in a deck, the
+// sample's own, tauL / (tauL + tauB) (inside a deck the light at the sample's depth, not its
+// face's, is what the view ray collects); in a cumulus (deck = 0) the face the light leaves by
+// towards the view: the far one (1) looking up, the lit one (0) looking down, blended across the
+// horizontal over one node of muV (+-1/8). (skyelements/clouds/README.md, "The transfer table".)
+real cld_tableDepth(real muV, real tauL, real tauB, real deck) {
+    real face = clamp(0.5 + 4.0 * muV, 0.0, 1.0);
+    return mix(face, tauL / max(tauL + tauB, 1e-9), deck);
+}
 // The lights' transfer with the table's correction (C++: cloudcpu::lightTransferTable): what the
-// march uses. muV: the view ray's cos(zenith).
-real cld_lightTransferTable(real nu, real muV, real tauL, real tauB, real muL) {
+// march uses. muV: the view ray's cos(zenith); deck: cld_deckness (0 a cumulus, 1 a wide deck).
+real cld_lightTransferTable(real nu, real muV, real tauL, real tauB, real muL, real deck) {
     return cld_scaledPhase(nu) * exp(-tauL) + cld_forwardTransfer(nu, tauL)
-           + cld_lightDiffusion(nu, tauL, tauB, muL) * cld_diffusionShape(muV, (tauL + tauB) / CLD_W_DRAINE, muL);
+           + cld_lightDiffusion(nu, tauL, tauB, muL) * cld_diffusionShape(muV, (tauL + tauB) / CLD_W_DRAINE, muL, cld_tableDepth(muV, tauL, tauB, deck));
 }
 
 // The ambient light's transfer (C++: cloudcpu::ambientTransfer), per lux of horizontal

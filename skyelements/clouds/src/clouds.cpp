@@ -183,12 +183,17 @@ double lightTransfer(double nu, double tauL, double tauB, double muL) { return t
 double ambientTransfer(double nu, double tauN, double tauF) { return transfer::cld_ambientTransfer(nu, tauN, tauF); }
 double forwardTransfer(double nu, double tauL) { return transfer::cld_forwardTransfer(nu, tauL); }
 double lightDiffusion(double nu, double tauL, double tauB, double muL) { return transfer::cld_lightDiffusion(nu, tauL, tauB, muL); }
-double diffusionShape(double muV, double tauAxis, double muL) { return transfer::cld_diffusionShape(muV, tauAxis, muL); }
-double lightTransferTable(double nu, double muV, double tauL, double tauB, double muL) {
-    return transfer::cld_lightTransferTable(nu, muV, tauL, tauB, muL);
+double diffusionShape(double muV, double tauAxis, double muL, double depthFrac) {
+    return transfer::cld_diffusionShape(muV, tauAxis, muL, depthFrac);
 }
+double lightTransferTable(double nu, double muV, double tauL, double tauB, double muL, double deck) {
+    return transfer::cld_lightTransferTable(nu, muV, tauL, tauB, muL, deck);
+}
+double deckness(double tauWidth, double tauAxis) { return transfer::cld_deckness(tauWidth, tauAxis); }
+double tableDepth(double muV, double tauL, double tauB, double deck) { return transfer::cld_tableDepth(muV, tauL, tauB, deck); }
 const double* diffusionShapeTable() { return &transfer::cld_msTable[0]; }
 double finiteBackDepth(double tauB, double tauWidth) { return transfer::cld_finiteBackDepth(tauB, tauWidth); }
+double litFaceCosine(double tauUp, double tauL, double muL) { return transfer::cld_litFaceCosine(tauUp, tauL, muL); }
 double integrateStep(double source, double sigmaT, double dt) {
     if (sigmaT <= 0) return source * dt;
     return (source - source * std::exp(-sigmaT * dt)) / sigmaT;

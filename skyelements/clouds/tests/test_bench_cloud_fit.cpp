@@ -113,14 +113,14 @@ TEST_CASE("welkin bench cloud-table: the committed transfer table is adding-doub
     INFO(r.output);
     REQUIRE(r.status == 0);
     CHECK(r.output.find("the committed table matches") != std::string::npos);
-    // Writing: the file is the GLSL subset's constant array of 765 values.
+    // Writing: the file is the GLSL subset's constant array of 3825 values.
     const std::string dir = welkin::test::scratchDir("bench_cloud_table");
     const auto w = welkin::test::runCli("bench cloud-table --out '" + dir + "/t.glsl'");
     REQUIRE(w.status == 0);
     std::ifstream f(dir + "/t.glsl");
     std::stringstream ss;
     ss << f.rdbuf();
-    CHECK(ss.str().find("const real cld_msTable[765] = ARRAY_OF(real, 765)") != std::string::npos);
+    CHECK(ss.str().find("const real cld_msTable[3825] = ARRAY_OF(real, 3825)") != std::string::npos);
     // A bad output path is a one-line error.
     const auto failures = welkin::test::badOptionFailures("bench cloud-table", {{"--out /nonexistent-dir/t.glsl", "--out: cannot write"}});
     std::string report;

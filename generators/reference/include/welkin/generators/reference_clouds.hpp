@@ -281,6 +281,15 @@ struct SlabSolution {
     /// side, transmitted from the other. The delta-M peak is in the direct beam, not here.
     std::vector<double> mu, reflectedRadiance, transmittedRadiance;
 };
+/// The azimuth-averaged diffuse radiance inside the same slab at optical depth `depth` in
+/// [0, tau] from the lit top (1/sr per unit irradiance normal to the beam), at the Gauss-Legendre
+/// cosines `mu`: `down` travelling downwards (away from the lit side), `up` upwards. The adding
+/// equations between the layers above and below the depth, each doubled as addingDoubling().
+/// At depth tau, `down` is addingDoubling()'s transmitted radiance; at 0, `up` its reflected.
+struct SlabInternal {
+    std::vector<double> mu, down, up;
+};
+SlabInternal addingDoublingInternal(double tau, double albedo, const std::vector<double>& moments, double mu0, double depth, int streams = 32);
 /// Legendre moments chi_l (l = 0..n-1, chi_0 = 1) of any phase function, by the midpoint rule in
 /// cos(theta) over `steps` intervals (4e5 resolve the droplets' diffraction peak).
 std::vector<double> phaseMoments(const PhaseFunction& phase, int n, int steps = 400000);

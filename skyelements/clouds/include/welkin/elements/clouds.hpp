@@ -123,16 +123,28 @@ double scaledPhase(double nu);
 double lightTransfer(double nu, double tauL, double tauB, double muL);
 /// lightTransfer()'s diffusion term alone (1/sr per lux and per unit scaled extinction).
 double lightDiffusion(double nu, double tauL, double tauB, double muL);
-/// The transfer table's correction of the diffusion term's angular shape (dimensionless, ~0.3-3):
-/// the ratio of a slab's multiply scattered radiance (adding-doubling's, azimuth-averaged) to the
-/// diffusion term's, trilinear in log2 tauAxis (the slab's unscaled optical depth along the
-/// light's axis, 1-256, clamped), muL (0.2-1, clamped) and the view ray's cos(zenith) muV in
-/// [-1, 1] (> 0 looking up: the transmitted light). Written by `welkin bench cloud-table`
+/// The transfer table's correction of the diffusion term's angular shape (dimensionless, 0.25-4):
+/// the ratio of a slab's multiply scattered radiance at a depth inside it (adding-doubling's,
+/// azimuth-averaged) to the diffusion term's, quadrilinear in log2 tauAxis (the slab's unscaled
+/// optical depth along the light's axis, 1-256, clamped), muL (0.2-1, clamped), depthFrac (the
+/// depth from the lit face over the slab's, tauL / (tauL + tauB), [0, 1]) and the view ray's
+/// cos(zenith) muV in [-1, 1] (> 0 looking up: the light going down). Written by `welkin bench cloud-table`
 /// (clouds_transfer_table.shared.glsl; skyelements/clouds/README.md, "Transfer table").
-double diffusionShape(double muV, double tauAxis, double muL);
+double diffusionShape(double muV, double tauAxis, double muL, double depthFrac);
 /// What the march uses: lightTransfer() with its diffusion term times
-/// diffusionShape(muV, (tauL + tauB) / w_D, muL); muV the view ray's cos(zenith).
-double lightTransferTable(double nu, double muV, double tauL, double tauB, double muL);
+/// diffusionShape(muV, (tauL + tauB) / w_D, muL, tableDepth(muV, tauL, tauB, deck)); muV the view
+/// ray's cos(zenith), deck in [0, 1] (deckness(): 0 a cumulus, the table at the face the light
+/// leaves by; 1 a wide deck, at the sample's own depth).
+double lightTransferTable(double nu, double muV, double tauL, double tauB, double muL, double deck = 0.0);
+/// How much the cloud around a sample is a deck, in [0, 1]: (tauWidth - tauAxis) / (tauWidth +
+/// tauAxis) clamped, tauWidth the scaled depth across the cloud (finiteBackDepth()'s), tauAxis the
+/// scaled depth along the light's axis through the sample (tauL + tauB): 0 for a cloud no wider than
+/// it is deep along the light, -> 1 for a sheet far wider (skyelements/clouds/README.md, "The transfer table").
+double deckness(double tauWidth, double tauAxis);
+/// The depth fraction (0 the lit face, 1 the far one) at which lightTransferTable() reads the
+/// table: mix(face, tauL / (tauL + tauB), deck), face = clamp(0.5 + 4 muV, 0, 1) (the far face
+/// looking up, the lit one looking down).
+double tableDepth(double muV, double tauL, double tauB, double deck);
 /// The depth to the far side for a cloud of finite width (scaled optical depths >= 0): tauB, the
 /// depth to the cloud's far side along the light's axis, and tauWidth, the depth across the cloud
 /// through the sample perpendicular to the light (horizontal, both ways), combined harmonically,
@@ -140,9 +152,16 @@ double lightTransferTable(double nu, double muV, double tauL, double tauB, doubl
 /// too. In a deck (tauWidth >> tauB) it is tauB; 0 where either is 0. What the march passes to
 /// lightTransferTable() as tauB (skyelements/clouds/README.md, "Finite clouds").
 double finiteBackDepth(double tauB, double tauWidth);
-/// The transfer table's 9 x 5 x 17 values, [tauAxis][muL][muV] (diffusionShape()'s nodes).
+/// The cosine between the light and the normal of the cloud face it entered through: the scaled
+/// depth to the sky above the sample, tauUp (marched through the density), over the scaled depth
+/// towards the light, tauL, clamped to [max(muL, 0), 1] (in a deck tauUp = muL tauL: muL; a side
+/// facing the light: 1), blended back to muL by e^(-kDiffusionS tauL) (the face is remembered over
+/// about one transport optical depth). What the march passes to lightTransferTable() as muL
+/// (skyelements/clouds/README.md, "The lit face").
+double litFaceCosine(double tauUp, double tauL, double muL);
+/// The transfer table's 9 x 5 x 5 x 17 values, [tauAxis][muL][depth][muV] (diffusionShape()'s nodes).
 const double* diffusionShapeTable();
-inline constexpr int kShapeTauN = 9, kShapeMuLN = 5, kShapeMuVN = 17;
+inline constexpr int kShapeTauN = 9, kShapeMuLN = 5, kShapeDepthN = 5, kShapeMuVN = 17;
 /// The forward-peaked low orders of lightTransfer() (1/sr per lux and per unit scaled
 /// extinction): sum over m = 0..4 of w_m tauL^m e^(-tauL) / m! HG(nu, g_m), the light scattered m
 /// times at small angles on its way in (Poisson's share at scaled depth tauL >= 0) sent towards
