@@ -354,30 +354,28 @@ real atm_eclMsAxisWeight(real nu, real F) { return 1.0 - F * (1.0 - sqrt(max(1.0
 // Hazy air (docs/eclipse.md, "Hazy air"): H = atm_eclHaze(sM) is 0 up to 1.1 x the aerosol's
 // scattering at the ground of Atmosphere::earthClear() (7.5e-5 /m, green: kEclipseHazeClearMie)
 // and 1 from 4 x it (aerosol optical depth 0.4, Atmosphere::earthHazy()).
-// The weight at every Sun's elevation (docs/eclipse.md, "One model at three places"): the fit at
-// Burgos alone (Sun 8 deg up) stood in for the shadow's geometry on the air, which the Sun's
-// elevation sets. X = 1 / max(muS, 0.05), the air mass of the shadowed column along the axis
-// towards the Sun and the umbra's elongation on the ground (Burgos 7, Reykjavik 2.4, Luxor 1.0):
-// - G = 1 - exp(-10 (X - 1)) (kEclipseColumnRate): how much of the clear sky's light gathered near
-//   the axis came along that column. With the Sun near the zenith the column is the ~1 air mass
-//   above the point, and the light a ray gathers even towards the Sun comes from the sunlit air
-//   around the umbra (G -> 0); G = 0.30 at 15 deg off the zenith and >= 0.95 from 40 deg off
-//   (the Sun <= 50 deg up), where the column carries nearly all of it (Burgos, Reykjavik: G = 1). The axis' share becomes Fe G, Fe the forward share F.
+// The weight at every Sun's elevation (docs/eclipse.md, "One model at three places", refitted on
+// a ring of directions: "The ring of directions"). X = 1 / max(muS, 0.05), the air mass of the
+// shadowed column along the axis towards the Sun and the umbra's elongation on the ground
+// (Burgos 7, Reykjavik 2.4, Luxor 1.0):
+// - G = 1 - exp(-23.6 (X - 1)) (kEclipseColumnRate): how much of the clear sky's light gathered
+//   near the axis came along that column: 0.22 with the Sun 81.8 deg up (Luxor), >= 0.99 with
+//   the Sun below 56 deg.
 // - Towards the Sun (nu > 0) the shadow's dark footprint lies along the Sun's azimuth, X times as
-//   long as wide, so its far end is seen ~X times lower than the umbra's width: s is the lesser of
-//   sin(angle to the Sun) and the view's offset from that footprint, sqrt(cosRing^2 +
-//   (0.34 mu X)^2) (kEclipseFootprintMu), raised to 0.91 (1 + 0.31 H) (kEclipseSunwardPower,
-//   kEclipseHazeSunwardPower), and Fe = max(F, H). Away from the Sun the axis runs into the
-//   ground: Fe = 0.54 F (kEclipseAntisolarShare), s = sin(angle).
-// - E = (X - 1)^2 / ((X - 1)^2 + 5.9^2) (kEclipseRingElongation): how much of the sunlit ring lies
-//   across the axis rather than all around (the umbra round on the air with the Sun at the
-//   zenith): the hazy ring's directional lobe is scaled by it.
-// w' = max(1 - Fe G (1 - s), 0); with haze the ring's gather R = 0.42 (kEclipseHazeRingShare) x
-// mix(1, the mean of a Henyey-Greenstein lobe of asymmetry 0.4 (kEclipseHazeRingG) at the view's
-// cosines +-cosRing with the two horizontal directions across the axis, x 4 pi, E); the weight
-// is w' mix(1, R, H). The constants are fitted at once at Burgos, Reykjavik and Luxor (totality
-// and the partial phases, on Atmosphere::earthClear() and earthHazy(); docs/eclipse.md). C++:
-// cpu::eclipseMsWeight().
+//   long as wide: s is the lesser of sin(angle to the Sun) and the view's offset from that
+//   footprint, sqrt(cosRing^2 + (0.47 mu X)^2) (kEclipseFootprintMu), raised to 0.85 (1 + 0.40 H)
+//   (kEclipseSunwardPower, kEclipseHazeSunwardPower); the axis' share is max(F, H) G, and
+//   w' = max(1 - max(F, H) G (1 - s), 0). Away from the Sun (the axis runs into the ground) w' = 1:
+//   the refit on the ring put the share there at 0 (it was 0.54 F).
+// - E = (X - 1)^2 / ((X - 1)^2 + 2.26^2) (kEclipseRingElongation): how much of the sunlit ring lies
+//   across the axis rather than all around: the hazy ring's directional lobe is scaled by it.
+// With haze the ring's gather R = 0.50 (kEclipseHazeRingShare) x mix(1, the mean of a
+// Henyey-Greenstein lobe of asymmetry 0.4 (kEclipseHazeRingG) at the view's cosines +-cosRing
+// with the two horizontal directions across the axis, x 4 pi, E); and every view takes the low
+// views' gain (kEclipseLowView*). The weight is w' mix(1, R, H) x gain. The constants are fitted
+// at once at Burgos, Reykjavik and Luxor (29 directions, totality and the partial phases, on
+// Atmosphere::earthClear() and earthHazy(); docs/eclipse.md) with the kernel's length
+// cpu::eclipseMsLength(). C++: cpu::eclipseMsWeight().
 real atm_eclHaze(real sM) { return clamp((sM / 7.5e-5 - 1.1) / 2.9, 0.0, 1.0); }
 real atm_eclHgLobe(real c, real g) {
     real d = max(1.0 + g * g - 2.0 * g * c, 1e-12);
@@ -385,19 +383,22 @@ real atm_eclHgLobe(real c, real g) {
 }
 real atm_eclMsWeight(real nu, real mu, real muS, real cosRing, real F, real H) {
     real X = 1.0 / max(muS, 0.05);
-    real G = 1.0 - exp(-10.0 * (X - 1.0));
-    real E = (X - 1.0) * (X - 1.0) / ((X - 1.0) * (X - 1.0) + 5.9 * 5.9);
-    real s = sqrt(max(1.0 - nu * nu, 0.0));
-    real Fe = 0.54 * F;
+    real G = 1.0 - exp(-23.6 * (X - 1.0));
+    real E = (X - 1.0) * (X - 1.0) / ((X - 1.0) * (X - 1.0) + 2.26 * 2.26);
+    real w = 1.0;
     if (nu > 0.0) {
-        real off = 0.34 * mu * X;
+        real s = sqrt(max(1.0 - nu * nu, 0.0));
+        real off = 0.47 * mu * X;
         s = min(s, sqrt(cosRing * cosRing + off * off));
-        s = pow(max(s, 1e-6), 0.91 * (1.0 + 0.31 * H));
-        Fe = max(F, H);
+        s = pow(max(s, 1e-6), 0.85 * (1.0 + 0.40 * H));
+        w = max(1.0 - max(F, H) * G * (1.0 - s), 0.0);
     }
-    real w = max(1.0 - Fe * G * (1.0 - s), 0.0);
-    real R = 0.42 * (1.0 + (0.5 * (atm_eclHgLobe(cosRing, 0.4) + atm_eclHgLobe(-cosRing, 0.4)) - 1.0) * E);
-    return w * mix(1.0, R, H);
+    real R = 0.50 * (1.0 + (0.5 * (atm_eclHgLobe(cosRing, 0.4) + atm_eclHgLobe(-cosRing, 0.4)) - 1.0) * E);
+    // The low views' gain (docs/eclipse.md, "The ring of directions"): x = mu / 0.34, the gain
+    // 1 + 0.88 (1 - 0.23 H) (x e^(1 - x))^2.1, 1.88 at 20 deg up on clear air.
+    real x = max(mu, 0.0) / 0.34;
+    real low = 1.0 + 0.88 * (1.0 - 0.23 * H) * pow(x * exp(1.0 - x), 2.1);
+    return w * mix(1.0, R, H) * low;
 }
 // cosRing for a view of cosines mu (to the zenith) and nu (to the Sun), the Sun's muS.
 real atm_eclCosRing(real mu, real muS, real nu) {

@@ -158,7 +158,7 @@ Scattering integrateScattering(real h, real mu, real muS, real nu, real maxDista
         if (atm_eclipseMarch()) {
             vec2 ecl = atm_eclipseAlong(t);
             q.Tl *= ecl.x;
-            q.ms *= mix(ecl.x, ecl.y, eclAxis);
+            q.ms *= max(mix(ecl.x, ecl.y, eclAxis), 0.0);  // the weight may exceed 1 (low views' gain): never negative
         }
         o.smooth_ += thrD * (q.sR * q.Tl * phaseR + q.ms) * q.seg;
         o.mieNoPhase += thrD * q.sM * q.Tl * q.seg;

@@ -201,7 +201,7 @@ void EclipseSkyLut::doRun(SkyVars& vars, const Logger&) {
         building_ = now;
         const cpu::EclipseGeometry g{.moonPos = now.moonPos, .moonRadius = astro::keys::kMoonRadiusMeters,
                                      .sunPos = now.sunDir * now.sunDist, .sunRadius = kSunRadiusMeters};
-        buildingMs_ = cpu::eclipseMsTable(g, kEclipseMsLengthMeters);
+        buildingMs_ = cpu::eclipseMsTable(g, cpu::eclipseMsLength(g));
         const int n = buildingMs_.n;
         if (!backMsTex_ || backMsTex_.width() != n) {
             backMsTex_ = gl::Texture2D(n, n, GL_R32F);

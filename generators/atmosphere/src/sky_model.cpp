@@ -558,6 +558,17 @@ double EclipseMsTable::sample(const glm::dvec3& p) const {
     return (1 - fy) * ((1 - fx) * at(i0, j0) + fx * at(i0 + 1, j0)) + fy * ((1 - fx) * at(i0, j0 + 1) + fx * at(i0 + 1, j0 + 1));
 }
 
+double eclipseMsLength(const EclipseGeometry& g) {
+    // The umbra's cone (tangent to the Sun and the Moon on the same side) at the observer's
+    // distance behind the Moon along the axis, and the observer's distance from the axis.
+    const glm::dvec3 axis = glm::normalize(g.sunPos - g.moonPos);
+    const double behind = glm::dot(g.moonPos, axis);
+    const double umbra = g.moonRadius - behind * (g.sunRadius - g.moonRadius) / glm::length(g.sunPos - g.moonPos);
+    const double fromAxis = glm::length(g.moonPos - behind * axis);
+    const double edge = std::max(umbra - fromAxis, kEclipseMsEdgeMinMeters);
+    return kEclipseMsLengthMeters * std::pow(edge / kEclipseMsEdgeMeters, kEclipseMsEdgePower);
+}
+
 EclipseMsTable eclipseMsTable(const EclipseGeometry& g, double lengthMeters, int n, double halfExtentMeters, double verticalMeters) {
     if (!(lengthMeters > 0.0) || n < 8 || !(halfExtentMeters > 0.0)) throw Error("eclipseMsTable: length, n or extent out of range");
     EclipseMsTable t;
@@ -597,29 +608,32 @@ EclipseMsTable eclipseMsTable(const EclipseGeometry& g, double lengthMeters, int
     // The kernel: the air around a point lies in the horizontal layer (isotropic there, radial mass
     // beyond r ~ exp(-r / L): second-order light from a layer falls as exp(-r / L) / r per unit
     // area) and spreads `verticalMeters` in height. Four Gaussians whose mass beyond r follows
-    // exp(-r / L) within 25 % out to r = 10 L (a least-squares fit of the tail in ratio). Projected
+    // exp(-r / L) within 25 % out to r = 10 L (a least-squares fit of the tail in ratio; three here,
+    // a fourth of sigma 4.5 L and weight 0.0007, on a grid 4 times coarser: at full resolution it
+    // was ~half of the blur's taps, the table's cost on the CPU in the first band's frame;
+    // docs/eclipse.md "Frame cost"). Projected
     // onto the plane: a horizontal displacement h maps to (h.e1, h.e2), a vertical one to (0, up.e2).
-    constexpr double kSigma[4] = {0.35, 1.0, 2.2, 4.5}, kWeight[4] = {0.4256, 0.4770, 0.0967, 0.0007};
+    constexpr double kSigma[3] = {0.35, 1.0, 2.2}, kWeight[3] = {0.4256, 0.4770, 0.0967};
     const glm::dvec3 hAcross = glm::normalize(glm::cross(up, t.e1));
     const double h2 = std::abs(glm::dot(hAcross, t.e2)), u2 = std::abs(glm::dot(up, t.e2));
-    auto blur1 = [&](const std::vector<double>& in, std::vector<double>& out, double sigmaTexels, bool alongRows) {
+    auto blur1 = [&](const std::vector<double>& in, std::vector<double>& out, double sigmaTexels, bool alongRows, int N) {
         if (sigmaTexels < 0.25) {
             out = in;
             return;
         }
-        const int R = std::min(int(std::ceil(3.0 * sigmaTexels)), n - 1);
+        const int R = std::min(int(std::ceil(3.0 * sigmaTexels)), N - 1);
         std::vector<double> w(size_t(2 * R + 1)), cum(size_t(2 * R + 2), 0.0);
         for (int k = -R; k <= R; ++k) w[size_t(k + R)] = std::exp(-0.5 * (k / sigmaTexels) * (k / sigmaTexels));
         for (int k = 0; k <= 2 * R; ++k) cum[size_t(k) + 1] = cum[size_t(k)] + w[size_t(k)];
         // Each output texel: the taps inside the grid (k in [lo, hi]), renormalised at the grid's
         // edge by their summed weight; a line at a time, contiguous (the columns' pass reads the
         // transposed stride), no test per tap.
-        const size_t along = alongRows ? 1 : size_t(n), across = alongRows ? size_t(n) : 1;
-        for (int line = 0; line < n; ++line) {
+        const size_t along = alongRows ? 1 : size_t(N), across = alongRows ? size_t(N) : 1;
+        for (int line = 0; line < N; ++line) {
             const double* src = in.data() + size_t(line) * across;
             double* dst = out.data() + size_t(line) * across;
-            for (int i = 0; i < n; ++i) {
-                const int lo = std::max(-R, -i), hi = std::min(R, n - 1 - i);
+            for (int i = 0; i < N; ++i) {
+                const int lo = std::max(-R, -i), hi = std::min(R, N - 1 - i);
                 double sum = 0.0;
                 const double* wk = w.data() + (lo + R);
                 const double* s = src + size_t(i + lo) * along;
@@ -629,11 +643,36 @@ EclipseMsTable eclipseMsTable(const EclipseGeometry& g, double lengthMeters, int
         }
     };
     std::vector<double> b(size_t(n) * n);
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < 3; ++k) {
         const double s = kSigma[k] * lengthMeters;
-        blur1(f, tmp, s / texel, true);
-        blur1(tmp, b, std::hypot(s * h2, verticalMeters * u2) / texel, false);
+        blur1(f, tmp, s / texel, true, n);
+        blur1(tmp, b, std::hypot(s * h2, verticalMeters * u2) / texel, false, n);
         for (size_t i = 0; i < acc.size(); ++i) acc[i] += kWeight[k] * b[i];
+    }
+    // The fourth, widest Gaussian (sigma 4.5 L: >= 14 texels at L >= 30 km) on the grid averaged
+    // over blocks of c x c texels, blurred there and interpolated back bilinearly (a 1/c^2 of its
+    // taps; its weight is 0.07 % of the kernel, so the block's error is far below the model's).
+    {
+        constexpr double kSigma4 = 4.5, kWeight4 = 0.0007;
+        const int c = n % 4 == 0 ? 4 : 1, m = n / c;
+        std::vector<double> fc(size_t(m) * m, 0.0), tc(size_t(m) * m), bc(size_t(m) * m);
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) fc[size_t(j / c) * m + size_t(i / c)] += f[size_t(j) * n + i] / double(c * c);
+        const double s = kSigma4 * lengthMeters, texelC = texel * c;
+        blur1(fc, tc, s / texelC, true, m);
+        blur1(tc, bc, std::hypot(s * h2, verticalMeters * u2) / texelC, false, m);
+        for (int j = 0; j < n; ++j) {
+            const double y = std::clamp((j + 0.5) / c - 0.5, 0.0, m - 1.0);
+            const int j0 = std::min(int(y), std::max(m - 2, 0)), j1 = std::min(j0 + 1, m - 1);
+            const double fy = y - j0;
+            for (int i = 0; i < n; ++i) {
+                const double x = std::clamp((i + 0.5) / c - 0.5, 0.0, m - 1.0);
+                const int i0 = std::min(int(x), std::max(m - 2, 0)), i1 = std::min(i0 + 1, m - 1);
+                const double fx = x - i0;
+                auto at = [&](int ii, int jj) { return bc[size_t(jj) * m + size_t(ii)]; };
+                acc[size_t(j) * n + i] += kWeight4 * ((1 - fy) * ((1 - fx) * at(i0, j0) + fx * at(i1, j0)) + fy * ((1 - fx) * at(i0, j1) + fx * at(i1, j1)));
+            }
+        }
     }
     // D, faded to 0 over the outer 15 % of the grid (where the renormalised blur is biased).
     t.d.resize(size_t(n) * n);

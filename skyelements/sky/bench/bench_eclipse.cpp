@@ -49,11 +49,13 @@ struct EclipseBenchOptions {
     bool cost = true;     // false: skip the frame cost (accuracy only)
     bool coarse = false;  // the reference at the [eclipse] test's resolution (seconds) instead of its defaults (minutes)
     bool plainModel = false;
-    bool hazy = false;  // the accuracy part on Atmosphere::earthHazy()  // the accuracy part on SkyModel::earthClear() (the [eclipse] tests' CPU cases)
+    bool hazy = false;
+    bool ring = false;  // the accuracy part in the fit set's directions (a ring every 45 deg at 2, 15, 45 deg; as --dump)  // the accuracy part on Atmosphere::earthHazy()  // the accuracy part on SkyModel::earthClear() (the [eclipse] tests' CPU cases)
     int quality = -1;     // the sky quality of the accuracy part (-1: the processor's)
     int cycleFrames = 0;  // > 0: time every frame of this many at --seconds-per-frame, by kind
     std::string sweep;  // comma list of multiple-scattering kernel lengths L (km) to compare (model tuning)
     std::string dump;  // append one CSV row per phase and direction (model fitting: the model is linear in its weight)
+    std::string dumpLengths;  // comma list of kernel lengths L (km) whose w = 1 model the dump also writes (fitting L)
     std::string place = "burgos";  // burgos, reykjavik, luxor: the place and its mid-totality (docs/eclipse.md)
 };
 
@@ -218,7 +220,7 @@ int run(const EclipseBenchOptions& o) {
         const generators::cpu::EclipseGeometry gb{.moonPos = vb.get(astro::keys::moonPosition), .moonRadius = astro::keys::kMoonRadiusMeters,
                                       .sunPos = glm::normalize(vb.get(keys::sunDirection)) * vb.get(astro::keys::sunDistance),
                                       .sunRadius = generators::kSunRadiusMeters};
-        const double fieldMs = medianMs(9, [&] { (void)generators::cpu::eclipseMsTable(gb, generators::kEclipseMsLengthMeters); });
+        const double fieldMs = medianMs(9, [&] { (void)generators::cpu::eclipseMsTable(gb, generators::cpu::eclipseMsLength(gb)); });
         std::printf("the field's CPU table (cpu::eclipseMsTable, 128 x 128): %.2f ms (median of 9)\n\n", fieldMs);
     }
     if (!o.accuracy) return 0;
@@ -257,10 +259,10 @@ int run(const EclipseBenchOptions& o) {
     std::printf("the aerosol's scattering at the ground (green) %.4g 1/m, Rayleigh's %.4g 1/m\n", m.scatteringMie(0.0).g, m.scatteringRayleigh(0.0).g);
     atmosphere::EclipseReferenceOptions refOptions;
     if (o.coarse) refOptions = {.viewSteps = 24, .gatherZenith = 8, .gatherAzimuth = 12, .gatherSteps = 16, .rings = 48};
-    std::printf("reference: eclipseReferenceRadiance (%s); model: cpu::integrateEclipse, 256 steps, L = %.0f km; sky quality %d; %s\n\n",
-                o.coarse ? "the [eclipse] test's resolution" : "defaults", kEclipseMsLengthMeters / 1e3, quality,
+    std::printf("reference: eclipseReferenceRadiance (%s); model: cpu::integrateEclipse, 256 steps, L = cpu::eclipseMsLength() (per phase); sky quality %d; %s\n\n",
+                o.coarse ? "the [eclipse] test's resolution" : "defaults", quality,
                 o.plainModel ? "SkyModel::earthClear()" : o.hazy ? "Atmosphere::earthHazy()" : "the renderer's atmosphere");
-    std::printf("| phase (UTC, sun.eclipse_fraction) | direction (az from the Sun, alt) | reference (cd/m^2 per lx) | model / ref. | "
+    std::printf("| phase (UTC, sun.eclipse_fraction, L km) | direction (az from the Sun, alt) | reference (cd/m^2 per lx) | model / ref. | "
                 "ref., no eclipse | model / ref., no eclipse | eclipse / no eclipse (ref.) | ref. order 1 / 2 / >= 3 (share) | ref. clear >= 3 |");
     for (double L : lengths) std::printf(" L = %.0f km |", L / 1e3);
     std::printf("\n|---|---|---|---|---|---|---|---|---|");
@@ -270,18 +272,41 @@ int run(const EclipseBenchOptions& o) {
     std::FILE* dump = o.dump.empty() ? nullptr : std::fopen(o.dump.c_str(), "a");
     if (!o.dump.empty() && !dump) throw Error("--dump " + o.dump + ": cannot open for appending");
     const char* atmName = o.plainModel ? "hillaire" : o.hazy ? "hazy" : "renderer";
+    std::vector<std::pair<std::string, std::vector<double>>> summary;  // per phase: |ln(model / reference)| of every direction
     for (const Phase& ph : phases) {
+        std::vector<double>& phaseLn = summary.emplace_back(ph.name, std::vector<double>{}).second;
         const SkyVars v = astronomyAt(ph.t);
         const glm::dvec3 sun = glm::normalize(v.get(keys::sunDirection));
         cpu::EclipseGeometry g{.moonPos = v.get(astro::keys::moonPosition), .moonRadius = astro::keys::kMoonRadiusMeters,
                                .sunPos = sun * v.get(astro::keys::sunDistance), .sunRadius = kSunRadiusMeters};
-        const cpu::EclipseMsTable field = cpu::eclipseMsTable(g, kEclipseMsLengthMeters);
+        const cpu::EclipseMsTable field = cpu::eclipseMsTable(g, cpu::eclipseMsLength(g));
         cpu::EclipseGeometry gm = g;
         gm.ms = &field;
         const double sunAz = std::atan2(sun.x, sun.y);
         std::vector<std::pair<double, double>> dirs = {{0.0, 90.0}, {0.0, 45.0}, {90.0, 45.0}, {180.0, 45.0},
                                                        {0.0, 2.0}, {90.0, 2.0}, {180.0, 2.0}, {270.0, 2.0}};
-        if (dump) dirs.insert(dirs.end(), {{0.0, 15.0}, {90.0, 15.0}, {180.0, 15.0}, {45.0, 30.0}, {135.0, 30.0}, {0.0, 70.0}, {180.0, 70.0}});
+        // The fit set: the eight directions above, a ring every 45 deg of azimuth at 2 deg (the
+        // horizon), 15 and 45 deg, and 30 and 70 deg in a few azimuths (docs/eclipse.md, "The ring").
+        if (dump || o.ring) {
+            for (double alt : {2.0, 15.0, 45.0})
+                for (double daz = 0.0; daz < 359.0; daz += 45.0)
+                    if (std::find(dirs.begin(), dirs.end(), std::pair{daz, alt}) == dirs.end()) dirs.push_back({daz, alt});
+            dirs.insert(dirs.end(), {{45.0, 30.0}, {135.0, 30.0}, {0.0, 70.0}, {180.0, 70.0}});
+        }
+        std::vector<double> dumpL;
+        for (size_t a = 0, b; a < o.dumpLengths.size(); a = b + 1) {
+            b = o.dumpLengths.find(',', a);
+            if (b == std::string::npos) b = o.dumpLengths.size();
+            dumpL.push_back(std::stod(o.dumpLengths.substr(a, b - a)) * 1e3);
+        }
+        std::vector<cpu::EclipseMsTable> dumpFields;
+        for (double L : dumpL) dumpFields.push_back(cpu::eclipseMsTable(g, L));
+        // The shadow's geometry at the observer: the umbra's radius on the plane perpendicular to the
+        // axis through the observer (negative: antumbra) and the observer's distance from the axis.
+        const glm::dvec3 axis = glm::normalize(g.sunPos - g.moonPos);
+        const double zBehind = glm::dot(g.moonPos, axis);
+        const double umbraR = g.moonRadius - zBehind * (g.sunRadius - g.moonRadius) / glm::length(g.sunPos - g.moonPos);
+        const double axisDist = glm::length(g.moonPos - glm::dot(g.moonPos, axis) * axis);
         for (auto [daz, alt] : dirs) {
             const glm::dvec3 dir = directionFromAzAlt(sunAz + daz * kDeg, alt * kDeg);
             atmosphere::EclipseReferenceOptions ro = refOptions;
@@ -296,8 +321,8 @@ int run(const EclipseBenchOptions& o) {
             far.moonPos = -g.moonPos;  // the Moon on the far side: no shadow
             const double modelClear =
                 Y(cpu::radiance(m, cpu::integrateEclipse(m, T, MS, 0.0, dir, sun, far, 256, false, m.sunAngularRadius), nu));
-            std::printf("| %s (%s, %.4f) | %+.0f, %.0f deg | %.3g | %.3f | %.3g | %.3f | %.2e |", ph.name.c_str(), ph.t.toIso().c_str(),
-                        v.get(keys::sunEclipseFraction), daz, alt, ref, model / ref, refClear, modelClear / refClear, ref / refClear);
+            std::printf("| %s (%s, %.4f, %.1f) | %+.0f, %.0f deg | %.3g | %.3f | %.3g | %.3f | %.2e |", ph.name.c_str(), ph.t.toIso().c_str(),
+                        v.get(keys::sunEclipseFraction), cpu::eclipseMsLength(g) / 1e3, daz, alt, ref, model / ref, refClear, modelClear / refClear, ref / refClear);
             std::printf(" %.2f / %.2f / %.2f | %.3g |", Y(rr.single) / ref, Y(rr.second) / ref, Y(rr.higher) / ref, Y(rc.higher));
             for (double L : lengths) {
                 const cpu::EclipseMsTable fl = cpu::eclipseMsTable(g, L);
@@ -321,17 +346,32 @@ int run(const EclipseBenchOptions& o) {
                     if (cpu::eclipseAt(g, t * dir).x > 0.01) { edge = t; break; }
                 const double tEdge = Y(cpu::integrate(m, T, MS, 0.0, dir.z, sun.z, nu, edge < 0.0 ? 1e30 : std::max(edge, 1.0), 256, false,
                                                       m.sunAngularRadius).transmittance);
-                std::fprintf(dump, "%s,%s,%s,%.6f,%.1f,%.1f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6f,%.6f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", o.place.c_str(), atmName,
+                std::fprintf(dump, "%s,%s,%s,%.6f,%.1f,%.1f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6f,%.6f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g", o.place.c_str(), atmName,
                              ph.name.c_str(), v.get(keys::sunEclipseFraction), daz, alt, ref, a0, a1, model, refClear, modelClear, sun.z, nu,
-                             edge, m.scatteringMie(0.0).g, m.scatteringRayleigh(0.0).g, Y(rr.second), Y(rr.higher), Y(rr.single), tEdge);
+                             edge, m.scatteringMie(0.0).g, m.scatteringRayleigh(0.0).g, Y(rr.second), Y(rr.higher), Y(rr.single), tEdge, umbraR, axisDist);
+                // Then, per --dump-lengths L, the model at w = 1 with that kernel length.
+                for (const cpu::EclipseMsTable& fl : dumpFields) {
+                    cpu::EclipseGeometry gl = g;
+                    gl.ms = &fl;
+                    gl.msWeightOverride = 1.0;
+                    std::fprintf(dump, ",%.6g", Y(cpu::radiance(m, cpu::integrateEclipse(m, T, MS, 0.0, dir, sun, gl, 256, false, m.sunAngularRadius), nu)));
+                }
+                std::fprintf(dump, "\n");
                 std::fflush(dump);
             }
             const double r = model / ref;
+            phaseLn.push_back(std::abs(std::log(r)));
             worst = std::max(worst, std::abs(std::log(r)));
             if (std::abs(std::log(r)) >= std::abs(std::log(worstRatio))) worstRatio = r;
         }
     }
     if (dump) std::fclose(dump);
+    for (const auto& [name, ls] : summary) {
+        std::vector<double> sorted = ls;
+        std::sort(sorted.begin(), sorted.end());
+        std::printf("%s: %zu directions, the factor (exp |ln(model / reference)|): worst %.2f, median %.2f\n", name.c_str(), sorted.size(),
+                    std::exp(sorted.back()), std::exp(sorted[sorted.size() / 2]));
+    }
     std::printf("\nlargest model / reference factor: %.3f (|ln| %.2f)\n", worstRatio, worst);
     return 0;
 }
@@ -348,7 +388,10 @@ bench::CommandBenchRegistrar reg({"eclipse", "the solar eclipse's sky: frame cos
                    "eclipse table's work in it (0: off; 300 covers a rebuild at real time), [0, 100000]")
         ->capture_default_str();
     sub.add_option("--dump", o->dump, "append a CSV row per phase and direction of the accuracy part (model fitting; more directions)");
+    sub.add_option("--dump-lengths", o->dumpLengths, "with --dump: also the model at w = 1 for these kernel lengths L, km (comma list)");
     sub.add_option("--place", o->place, "burgos, reykjavik or luxor: the place and its mid-totality (docs/eclipse.md)")->capture_default_str();
+    sub.add_option("--ring", o->ring, "the accuracy part in the fit set's 29 directions (a ring every 45 deg of azimuth at 2, 15 and 45 deg, the zenith, 30 and 70 deg), with the worst and median factor per phase")
+        ->capture_default_str();
     sub.add_option("--hazy", o->hazy, "the accuracy part on Atmosphere::earthHazy() (AOD 0.4 at 550 nm, g 0.75)")->capture_default_str();
     sub.add_option("--plain-model", o->plainModel,
                    "the accuracy part on SkyModel::earthClear() (no atmosphere key: the [eclipse] tests' CPU cases) instead of the renderer's atmosphere")

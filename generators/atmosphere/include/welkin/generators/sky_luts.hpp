@@ -441,10 +441,6 @@ private:
     int progBands_ = 0;  // SkyQuality::shBands prog_ was compiled for
 };
 
-/// The eclipse's multiple-scattering kernel length L, m (cpu::EclipseMsTable: the air around a
-/// point weighted so that the mass beyond r falls as exp(-r / L)). Calibrated against the eclipse
-/// reference at Burgos' totality (docs/eclipse.md, "Accuracy").
-inline constexpr double kEclipseMsLengthMeters = 36e3;
 /// The eclipse table is rebuilt when the shadow's axis has moved this far across the observer's
 /// air since the last build (m; ~2 s of the shadow's motion): at >= 60 km, where the horizon sees
 /// the umbra's edge, that is <= 2 deg, about one texel of the table's azimuth.

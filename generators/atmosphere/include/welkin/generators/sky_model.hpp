@@ -303,12 +303,13 @@ inline constexpr double kEclipseForwardShare = 0.16;
 
 /// The full weight along a view ray at cosines `nu` (to the Sun), `mu` (to the zenith) with the
 /// Sun at `muS` (docs/eclipse.md, "One model at three places"): the axis' share F x G(the Sun's
-/// elevation) (the shadowed column along the axis: 0 with the Sun at the zenith, 0.30 at 15 deg
-/// off it, >= 0.95 from 40 deg off, i.e. the Sun <= 50 deg up), towards the Sun the lesser of sin(angle) and the view's offset from the umbra's
+/// elevation) (the shadowed column along the axis: 0 with the Sun at the zenith, 0.22 with it 81.8 deg
+/// up, >= 0.99 below 56 deg), towards the Sun the lesser of sin(angle) and the view's offset from the umbra's
 /// footprint along the Sun's azimuth; on hazy air (eclipseHaze() H > 0) the sunward power
 /// raised and F' = max(F, H) there, times mix(1, R, H), R the sunlit ring's directional gather at
 /// `cosRing` (cos(elevation) |sin(azimuth from the Sun)|, in [0, 1]), its lobe scaled by the
-/// umbra's elongation on the air. Runs atm_eclMsWeight().
+/// umbra's elongation on the air; away from the Sun no axis term (w' = 1); times the low views' gain
+/// (kEclipseLowView*, larger than 1: the orders >= 2 take max(mix(f, f + D, w), 0)). Runs atm_eclMsWeight().
 double eclipseMsWeight(const SkyModel& m, double forwardFraction, double nu, double mu, double muS, double cosRing);
 /// How hazy the air is for the eclipse's weight, in [0, 1]: 0 up to 1.1 x kEclipseHazeClearMie
 /// (the aerosol's scattering at the ground, green, 1/m), 1 from 4 x. Runs atm_eclHaze().
@@ -319,22 +320,31 @@ double eclipseHaze(const SkyModel& m);
 inline constexpr double kEclipseHazeClearMie = 7.5e-5;
 /// The rate at which the shadowed column along the axis (air mass X = 1 / sin(the Sun's
 /// elevation)) takes the light gathered near the axis: G = 1 - exp(-rate (X - 1)).
-inline constexpr double kEclipseColumnRate = 10.0;
+inline constexpr double kEclipseColumnRate = 23.6;
 /// The umbra's elongation at which the hazy ring's lobe is half on: E = (X-1)^2 / ((X-1)^2 + this^2).
-inline constexpr double kEclipseRingElongation = 5.9;
+inline constexpr double kEclipseRingElongation = 2.26;
 /// Towards the Sun: the weight of the view's cosine to the zenith in its offset from the umbra's
 /// footprint along the Sun's azimuth, sqrt(cosRing^2 + (this mu X)^2), X = 1 / max(muS, 0.05).
-inline constexpr double kEclipseFootprintMu = 0.34;
+inline constexpr double kEclipseFootprintMu = 0.47;
 /// Towards the Sun: the power of s (times 1 + kEclipseHazeSunwardPower H).
-inline constexpr double kEclipseSunwardPower = 0.91;
+inline constexpr double kEclipseSunwardPower = 0.85;
 /// The sunward power's extra factor at H = 1.
-inline constexpr double kEclipseHazeSunwardPower = 0.31;
-/// Away from the Sun: the axis' share is this x F (the axis runs into the ground).
-inline constexpr double kEclipseAntisolarShare = 0.54;
+inline constexpr double kEclipseHazeSunwardPower = 0.40;
 /// The share of the kernel's light that reaches the shadowed hazy air (R averaged over the sphere).
-inline constexpr double kEclipseHazeRingShare = 0.42;
+inline constexpr double kEclipseHazeRingShare = 0.50;
 /// The asymmetry of the ring's smoothed lobe.
 inline constexpr double kEclipseHazeRingG = 0.4;
+/// The low views' gain (docs/eclipse.md, "The ring of directions"): the weight times
+/// 1 + gain (1 + haze H) (x e^(1 - x))^power, x = mu / kEclipseLowViewMu: views some 20 deg up
+/// gather the bright horizon's ring through the forward scattering more than the kernel's average
+/// gives (largest at mu = kEclipseLowViewMu, 1 at the horizon's rim and near the zenith).
+inline constexpr double kEclipseLowViewGain = 0.88;
+/// The low views' gain's extra factor at H = 1 (less on hazy air).
+inline constexpr double kEclipseLowViewHaze = -0.23;
+/// The view's sine of elevation where the low views' gain peaks.
+inline constexpr double kEclipseLowViewMu = 0.34;
+/// The low views' gain's power (its width in elevation).
+inline constexpr double kEclipseLowViewPower = 2.1;
 
 /// The eclipse's multiple-scattering field (docs/eclipse.md, "Multiple scattering"): in the
 /// plane through the observer perpendicular to the shadow's axis (unit basis e1, horizontal, and
@@ -365,6 +375,22 @@ struct EclipseGeometry {
     /// (fitting: the radiance is linear in w, so two marches give it for every w). CPU only.
     double msWeightOverride = -1.0;
 };
+/// The multiple-scattering kernel's length L for the geometry `g` (m; docs/eclipse.md, "The
+/// kernel's length"): kEclipseMsLengthMeters x (e / kEclipseMsEdgeMeters)^kEclipseMsEdgePower, e the
+/// observer's distance inside the umbra's edge on the plane perpendicular to the shadow's axis (the
+/// umbra's radius there minus the observer's distance from the axis), at least
+/// kEclipseMsEdgeMinMeters (the partial phases, outside the umbra). The kernel's tail is not
+/// exp(-r / L): the nearer the sunlit air, the shorter the exponential that matches it.
+/// Burgos 31 km (e = 46 km), Reykjavik 28 km (9 km), Luxor 33 km (114 km), partial phases 24 km.
+double eclipseMsLength(const EclipseGeometry& g);
+/// L at kEclipseMsEdgeMeters inside the umbra's edge, m.
+inline constexpr double kEclipseMsLengthMeters = 31.5e3;
+/// The edge distance of the reference length, m.
+inline constexpr double kEclipseMsEdgeMeters = 50e3;
+/// How L grows with the distance from the umbra's edge.
+inline constexpr double kEclipseMsEdgePower = 0.07;
+/// The least edge distance L uses (outside the umbra: the partial phases, annular), m.
+inline constexpr double kEclipseMsEdgeMinMeters = 1e3;
 /// Visible fraction of a limb-darkened disk (u = 0.6) of angular radius rs behind a dark disk of
 /// radius ro, centres d apart (rad), [0, 1]: the rings the dark disk's limb does not cut in closed
 /// form, the cut band with `rings` nodes (24: the GPU's; within 0.1 % of the fraction itself, thin
@@ -374,7 +400,7 @@ double eclipseFraction(double rs, double ro, double d, int rings = 24);
 /// model's factor clamp(x + g.ms->sample(p), 0, 1). Twin of atm_eclipseAt().
 glm::dvec2 eclipseAt(const EclipseGeometry& g, const glm::dvec3& p, int rings = 24);
 /// Builds the multiple-scattering field for the geometry `g` (its `ms` is ignored): kernel length
-/// `lengthMeters` (L, > 0; kEclipseMsLengthMeters), `n` x `n` texels (>= 8) over +- `halfExtentMeters`
+/// `lengthMeters` (L, > 0; eclipseMsLength(g)), `n` x `n` texels (>= 8) over +- `halfExtentMeters`
 /// around the shadow's axis. `verticalMeters`: the spread of the air around a point in height (the
 /// kernel's extent across the horizontal layer), m.
 EclipseMsTable eclipseMsTable(const EclipseGeometry& g, double lengthMeters, int n = 128, double halfExtentMeters = 600e3,
