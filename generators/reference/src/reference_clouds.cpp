@@ -650,136 +650,57 @@ std::vector<double> hgMoments(double g, int n) {
     return m;
 }
 
-SlabSolution addingDoubling(double tau, double albedo, const std::vector<double>& moments, double mu0, int N) {
-    if (!(tau >= 0.0 && tau <= 1e4)) throw Error("cloudref::addingDoubling: tau must be in [0, 1e4]");
-    if (!(albedo >= 0.0 && albedo <= 1.0)) throw Error("cloudref::addingDoubling: albedo must be in [0, 1]");
-    if (!(mu0 > 0.0 && mu0 <= 1.0)) throw Error("cloudref::addingDoubling: mu0 must be in (0, 1]");
-    if (N < 2 || N > 128) throw Error("cloudref::addingDoubling: streams must be in [2, 128]");
-    if (moments.empty() || std::abs(moments[0] - 1.0) > 1e-12) throw Error("cloudref::addingDoubling: moments[0] must be 1");
-    SlabSolution out;
-    out.directTransmission = std::exp(-tau / mu0);
-    if (tau == 0.0) {
-        out.transmission = 1.0;
-        return out;
-    }
-    const int L = 2 * N;  // terms kept: degree <= 2N - 1, integrated exactly by N nodes per hemisphere
-    const double f = moments.size() > size_t(L) ? moments[size_t(L)] : 0.0;  // delta-M fraction
-    std::vector<double> chi(size_t(L), 0.0);
-    for (int l = 0; l < L && size_t(l) < moments.size(); ++l) chi[size_t(l)] = (moments[size_t(l)] - f) / (1.0 - f);
-    const double tauS = (1.0 - albedo * f) * tau, omega = albedo * (1.0 - f) / (1.0 - albedo * f);
+namespace {
 
-    std::vector<double> mu, w;
-    gaussLegendre01(N, mu, w);
-    // Legendre polynomials at +-mu_i and mu0: P[l][i].
-    auto legendre = [&](double x) {
+// The N-stream adding-doubling shared by addingDoubling() and addingDoublingInternal(): the
+// delta-M scaled phase (f the forward peak's fraction, the moment of order 2N; chi the truncated
+// moments; omega the scaled albedo; scale the depth's factor 1 - albedo f), Gauss-Legendre streams
+// mu, w on (0, 1], the Legendre polynomials at the streams (Pm) and at mu0 (P0).
+struct Streams {
+    int N, L;
+    double f, omega, scale;
+    std::vector<double> chi, mu, w, P0;
+    std::vector<std::vector<double>> Pm;
+    Mat I;  // the N x N identity
+
+    Streams(double albedo, const std::vector<double>& moments, double mu0, int n) : N(n), L(2 * n) {
+        f = moments.size() > size_t(L) ? moments[size_t(L)] : 0.0;  // terms kept: degree <= 2N - 1, exact with N nodes per hemisphere
+        chi.assign(size_t(L), 0.0);
+        for (int l = 0; l < L && size_t(l) < moments.size(); ++l) chi[size_t(l)] = (moments[size_t(l)] - f) / (1.0 - f);
+        scale = 1.0 - albedo * f;
+        omega = albedo * (1.0 - f) / (1.0 - albedo * f);
+        gaussLegendre01(N, mu, w);
+        Pm.resize(size_t(N));
+        for (int i = 0; i < N; ++i) Pm[size_t(i)] = legendre(mu[size_t(i)]);
+        P0 = legendre(mu0);
+        I.assign(size_t(N) * N, 0.0);
+        for (int i = 0; i < N; ++i) I[size_t(i) * N + i] = 1.0;
+        mu0_ = mu0;
+    }
+    std::vector<double> legendre(double x) const {
         std::vector<double> P(static_cast<size_t>(L));
         P[0] = 1.0;
         if (L > 1) P[1] = x;
         for (int l = 2; l < L; ++l) P[size_t(l)] = ((2.0 * l - 1.0) * x * P[size_t(l) - 1] - (l - 1.0) * P[size_t(l) - 2]) / l;
         return P;
-    };
-    std::vector<std::vector<double>> Pm(static_cast<size_t>(N));
-    for (int i = 0; i < N; ++i) Pm[size_t(i)] = legendre(mu[size_t(i)]);
-    const std::vector<double> P0 = legendre(mu0);
-    // p0(a, b) with P_l(-x) = (-1)^l P_l(x).
-    auto p0 = [&](const std::vector<double>& A, const std::vector<double>& B, bool opposite) {
+    }
+    // The azimuth-averaged phase between two directions given by their Legendre values; opposite:
+    // one of them in the other hemisphere (P_l(-x) = (-1)^l P_l(x)).
+    double p0(const std::vector<double>& A, const std::vector<double>& B, bool opposite) const {
         double s = 0.0;
         for (int l = 0; l < L; ++l) s += (2.0 * l + 1.0) * chi[size_t(l)] * A[size_t(l)] * B[size_t(l)] * ((opposite && (l & 1)) ? -1.0 : 1.0);
         return s;
-    };
-    int doublings = 0;
-    double delta = tauS;
-    while (delta > 1e-9) {
-        delta *= 0.5;
-        ++doublings;
     }
-    Mat R(size_t(N) * N), T(size_t(N) * N);
-    std::vector<double> r(static_cast<size_t>(N)), t(static_cast<size_t>(N));
-    for (int i = 0; i < N; ++i) {
-        const double mi = mu[size_t(i)];
-        for (int j = 0; j < N; ++j) {
-            const double k = omega * delta / (2.0 * mi) * w[size_t(j)];
-            R[size_t(i) * N + j] = k * p0(Pm[size_t(i)], Pm[size_t(j)], true);
-            T[size_t(i) * N + j] = k * p0(Pm[size_t(i)], Pm[size_t(j)], false) + (i == j ? std::exp(-delta / mi) : 0.0);
-        }
-        r[size_t(i)] = omega * delta / (4.0 * kPi * mi) * p0(Pm[size_t(i)], P0, true);
-        t[size_t(i)] = omega * delta / (4.0 * kPi * mi) * p0(Pm[size_t(i)], P0, false);
-    }
-    double e = std::exp(-delta / mu0);
-    Mat I(size_t(N) * N, 0.0);
-    for (int i = 0; i < N; ++i) I[size_t(i) * N + i] = 1.0;
-    for (int k = 0; k < doublings; ++k) {
-        Mat RR = matMul(R, R, N);
-        for (size_t q = 0; q < RR.size(); ++q) RR[q] = I[q] - RR[q];
-        const Mat Q = matInverse(RR, N);
-        std::vector<double> Rr = matVec(R, r, N);
-        std::vector<double> src(static_cast<size_t>(N));
-        for (int i = 0; i < N; ++i) src[size_t(i)] = t[size_t(i)] + e * Rr[size_t(i)];
-        const std::vector<double> D = matVec(Q, src, N);
-        std::vector<double> U = matVec(R, D, N);
-        for (int i = 0; i < N; ++i) U[size_t(i)] += e * r[size_t(i)];
-        const std::vector<double> TU = matVec(T, U, N), TD = matVec(T, D, N);
-        for (int i = 0; i < N; ++i) {
-            r[size_t(i)] += TU[size_t(i)];
-            t[size_t(i)] = TD[size_t(i)] + e * t[size_t(i)];
-        }
-        const Mat QT = matMul(Q, T, N);
-        const Mat TRQT = matMul(matMul(T, R, N), QT, N);
-        for (size_t q = 0; q < R.size(); ++q) R[q] += TRQT[q];
-        T = matMul(T, QT, N);
-        e *= e;
-    }
-    double up = 0.0, down = 0.0;
-    for (int i = 0; i < N; ++i) {
-        up += 2.0 * kPi * w[size_t(i)] * mu[size_t(i)] * r[size_t(i)];
-        down += 2.0 * kPi * w[size_t(i)] * mu[size_t(i)] * t[size_t(i)];
-    }
-    out.reflection = up / mu0;
-    out.transmission = down / mu0 + e;  // e: the scaled problem's direct beam (includes the peak)
-    out.mu = mu;
-    out.reflectedRadiance = r;
-    out.transmittedRadiance = t;
-    return out;
-}
-
-SlabInternal addingDoublingInternal(double tau, double albedo, const std::vector<double>& moments, double mu0, double depth, int N) {
-    if (!(tau > 0.0 && tau <= 1e4)) throw Error("cloudref::addingDoublingInternal: tau must be in (0, 1e4]");
-    if (!(depth >= 0.0 && depth <= tau)) throw Error("cloudref::addingDoublingInternal: depth must be in [0, tau]");
-    if (!(albedo >= 0.0 && albedo <= 1.0)) throw Error("cloudref::addingDoublingInternal: albedo must be in [0, 1]");
-    if (!(mu0 > 0.0 && mu0 <= 1.0)) throw Error("cloudref::addingDoublingInternal: mu0 must be in (0, 1]");
-    if (N < 2 || N > 128) throw Error("cloudref::addingDoublingInternal: streams must be in [2, 128]");
-    if (moments.empty() || std::abs(moments[0] - 1.0) > 1e-12) throw Error("cloudref::addingDoublingInternal: moments[0] must be 1");
-    const int L = 2 * N;
-    const double f = moments.size() > size_t(L) ? moments[size_t(L)] : 0.0;
-    std::vector<double> chi(size_t(L), 0.0);
-    for (int l = 0; l < L && size_t(l) < moments.size(); ++l) chi[size_t(l)] = (moments[size_t(l)] - f) / (1.0 - f);
-    const double scale = 1.0 - albedo * f, omega = albedo * (1.0 - f) / (1.0 - albedo * f);
-    std::vector<double> mu, w;
-    gaussLegendre01(N, mu, w);
-    auto legendre = [&](double x) {
-        std::vector<double> P(static_cast<size_t>(L));
-        P[0] = 1.0;
-        if (L > 1) P[1] = x;
-        for (int l = 2; l < L; ++l) P[size_t(l)] = ((2.0 * l - 1.0) * x * P[size_t(l) - 1] - (l - 1.0) * P[size_t(l) - 2]) / l;
-        return P;
-    };
-    std::vector<std::vector<double>> Pm(static_cast<size_t>(N));
-    for (int i = 0; i < N; ++i) Pm[size_t(i)] = legendre(mu[size_t(i)]);
-    const std::vector<double> P0 = legendre(mu0);
-    auto p0 = [&](const std::vector<double>& A, const std::vector<double>& B, bool opposite) {
-        double s = 0.0;
-        for (int l = 0; l < L; ++l) s += (2.0 * l + 1.0) * chi[size_t(l)] * A[size_t(l)] * B[size_t(l)] * ((opposite && (l & 1)) ? -1.0 : 1.0);
-        return s;
-    };
-    Mat I(size_t(N) * N, 0.0);
-    for (int i = 0; i < N; ++i) I[size_t(i) * N + i] = 1.0;
+    // A homogeneous layer: reflection and transmission matrices between the streams, the direct
+    // beam's diffuse reflection r and transmission t (radiance per unit incident flux), and the
+    // direct beam's own transmission e.
     struct Layer {
         Mat R, T;
         std::vector<double> r, t;
         double e = 1.0;
     };
-    // A homogeneous layer of scaled optical depth ts: doubled from a first-order thin layer, as addingDoubling.
-    auto build = [&](double ts) {
+    // The layer of scaled optical depth ts: a first-order thin layer (depth below 1e-9) doubled.
+    Layer build(double ts) const {
         Layer y;
         y.R.assign(size_t(N) * N, 0.0);
         y.T = I;
@@ -804,7 +725,7 @@ SlabInternal addingDoublingInternal(double tau, double albedo, const std::vector
             y.r[size_t(i)] = omega * delta / (4.0 * kPi * mi) * p0(Pm[size_t(i)], P0, true);
             y.t[size_t(i)] = omega * delta / (4.0 * kPi * mi) * p0(Pm[size_t(i)], P0, false);
         }
-        double e = std::exp(-delta / mu0);
+        double e = std::exp(-delta / mu0_);
         for (int k = 0; k < doublings; ++k) {
             Mat RR = matMul(R, R, N);
             for (size_t q = 0; q < RR.size(); ++q) RR[q] = I[q] - RR[q];
@@ -828,19 +749,63 @@ SlabInternal addingDoublingInternal(double tau, double albedo, const std::vector
         }
         y.e = e;
         return y;
-    };
+    }
+
+private:
+    double mu0_;
+};
+
+}  // namespace
+
+SlabSolution addingDoubling(double tau, double albedo, const std::vector<double>& moments, double mu0, int N) {
+    if (!(tau >= 0.0 && tau <= 1e4)) throw Error("cloudref::addingDoubling: tau must be in [0, 1e4]");
+    if (!(albedo >= 0.0 && albedo <= 1.0)) throw Error("cloudref::addingDoubling: albedo must be in [0, 1]");
+    if (!(mu0 > 0.0 && mu0 <= 1.0)) throw Error("cloudref::addingDoubling: mu0 must be in (0, 1]");
+    if (N < 2 || N > 128) throw Error("cloudref::addingDoubling: streams must be in [2, 128]");
+    if (moments.empty() || std::abs(moments[0] - 1.0) > 1e-12) throw Error("cloudref::addingDoubling: moments[0] must be 1");
+    SlabSolution out;
+    out.directTransmission = std::exp(-tau / mu0);
+    if (tau == 0.0) {
+        out.transmission = 1.0;
+        return out;
+    }
+    const Streams st(albedo, moments, mu0, N);
+    const Streams::Layer y = st.build(st.scale * tau);
+    const std::vector<double>&mu = st.mu, &w = st.w, &r = y.r, &t = y.t;
+    const double e = y.e;
+    double up = 0.0, down = 0.0;
+    for (int i = 0; i < N; ++i) {
+        up += 2.0 * kPi * w[size_t(i)] * mu[size_t(i)] * r[size_t(i)];
+        down += 2.0 * kPi * w[size_t(i)] * mu[size_t(i)] * t[size_t(i)];
+    }
+    out.reflection = up / mu0;
+    out.transmission = down / mu0 + e;  // e: the scaled problem's direct beam (includes the peak)
+    out.mu = mu;
+    out.reflectedRadiance = r;
+    out.transmittedRadiance = t;
+    return out;
+}
+
+SlabInternal addingDoublingInternal(double tau, double albedo, const std::vector<double>& moments, double mu0, double depth, int N) {
+    if (!(tau > 0.0 && tau <= 1e4)) throw Error("cloudref::addingDoublingInternal: tau must be in (0, 1e4]");
+    if (!(depth >= 0.0 && depth <= tau)) throw Error("cloudref::addingDoublingInternal: depth must be in [0, tau]");
+    if (!(albedo >= 0.0 && albedo <= 1.0)) throw Error("cloudref::addingDoublingInternal: albedo must be in [0, 1]");
+    if (!(mu0 > 0.0 && mu0 <= 1.0)) throw Error("cloudref::addingDoublingInternal: mu0 must be in (0, 1]");
+    if (N < 2 || N > 128) throw Error("cloudref::addingDoublingInternal: streams must be in [2, 128]");
+    if (moments.empty() || std::abs(moments[0] - 1.0) > 1e-12) throw Error("cloudref::addingDoublingInternal: moments[0] must be 1");
+    const Streams st(albedo, moments, mu0, N);
     // The layers above and below the depth; at the interface (the adding equations) the light going
     // down D = (1 - R_A R_B)^-1 (t_A + e_A R_A r_B) and up U = R_B D + e_A r_B (a homogeneous layer
     // reflects alike from both sides).
-    const Layer A = build(scale * depth), B = build(scale * (tau - depth));
+    const Streams::Layer A = st.build(st.scale * depth), B = st.build(st.scale * (tau - depth));
     Mat RR = matMul(A.R, B.R, N);
-    for (size_t q = 0; q < RR.size(); ++q) RR[q] = I[q] - RR[q];
+    for (size_t q = 0; q < RR.size(); ++q) RR[q] = st.I[q] - RR[q];
     const Mat Q = matInverse(RR, N);
     const std::vector<double> Rr = matVec(A.R, B.r, N);
     std::vector<double> src(static_cast<size_t>(N));
     for (int i = 0; i < N; ++i) src[size_t(i)] = A.t[size_t(i)] + A.e * Rr[size_t(i)];
     SlabInternal out;
-    out.mu = mu;
+    out.mu = st.mu;
     out.down = matVec(Q, src, N);
     out.up = matVec(B.R, out.down, N);
     for (int i = 0; i < N; ++i) out.up[size_t(i)] += A.e * B.r[size_t(i)];
