@@ -379,6 +379,16 @@ void Clouds::bindResources(const FrameContext& ctx) {
     glBindTextureUnit(gl::binding::kCloudCurlNoise, v.get(ck::curlNoise).id);
 }
 
+namespace {
+// The Moon's light below 1e-4 of the Sun's at the observer (setUniforms: dropped, and its march
+// left out of the program by marchedLights).
+bool moonNegligible(const SkyVars& v) {
+    const double sunAtObs = lum(v.getOr(lightkeys::sunIlluminance, glm::dvec3(0.0)) * v.getOr(lightkeys::sunTransmittance, glm::dvec3(1.0)));
+    const double moonAtObs = lum(v.getOr(lightkeys::moonIlluminance, glm::dvec3(0.0)) * v.getOr(lightkeys::moonTransmittance, glm::dvec3(1.0)));
+    return moonAtObs < 1e-4 * sunAtObs;
+}
+}  // namespace
+
 void Clouds::setUniforms(const gl::Program& p, const FrameContext& ctx) const {
     const SkyVars& v = ctx.vars;
     auto unit = [](glm::dvec3 d) { return glm::length(d) > 0 ? glm::normalize(d) : glm::dvec3(0, 0, -1); };
@@ -392,9 +402,7 @@ void Clouds::setUniforms(const gl::Program& p, const FrameContext& ctx) const {
     // the Sun's light at the observer; below 1e-4 of the sunlight it is dropped (invisible under
     // any exposure), and marchedLights leaves its code out of the program (a uniform branch still
     // cost its march on llvmpipe: 38 % of a daytime frame).
-    const double sunAtObs = lum(sunE * v.getOr(lightkeys::sunTransmittance, glm::dvec3(1.0)));
-    const double moonAtObs = lum(moonE * v.getOr(lightkeys::moonTransmittance, glm::dvec3(1.0)));
-    if (moonAtObs < 1e-4 * sunAtObs) moonE = glm::dvec3(0.0);
+    if (moonNegligible(v)) moonE = glm::dvec3(0.0);
     p.set("u_sunE", glm::vec3(sunE));
     p.set("u_moonE", glm::vec3(moonE));
     const glm::dvec3 diffuse = v.getOr(skykeys::diffuseIrradiance, glm::dvec3(0.0));
@@ -410,8 +418,6 @@ void Clouds::setUniforms(const gl::Program& p, const FrameContext& ctx) const {
 
 int Clouds::marchedLights(const SkyVars& v) const {
     const glm::dvec3 sunE = v.getOr(lightkeys::sunIlluminance, glm::dvec3(0.0)), moonE = v.getOr(lightkeys::moonIlluminance, glm::dvec3(0.0));
-    const double sunAtObs = lum(sunE * v.getOr(lightkeys::sunTransmittance, glm::dvec3(1.0)));
-    const double moonAtObs = lum(moonE * v.getOr(lightkeys::moonTransmittance, glm::dvec3(1.0)));
     const CloudLayerBlock cb = CloudLayerBlock::from(v);
     const double R = cb.radii[0];
     // the observer's height or the photometry pass' (0): the larger reaches further
@@ -419,7 +425,7 @@ int Clouds::marchedLights(const SkyVars& v) const {
     auto lights = [&](glm::dvec3 d) { return glm::length(d) > 0 && std::asin(std::clamp(glm::normalize(d).z, -1.0, 1.0)) > dark; };
     int m = 0;
     if (lum(sunE) > 0 && lights(v.get(keys::sunDirection))) m |= 1;
-    if (lum(moonE) > 0 && !(moonAtObs < 1e-4 * sunAtObs) && lights(v.get(keys::moonDirection))) m |= 2;
+    if (lum(moonE) > 0 && !moonNegligible(v) && lights(v.get(keys::moonDirection))) m |= 2;
     return m;
 }
 
