@@ -31,6 +31,7 @@
 #include <cmath>
 #include <cstdio>
 #include <ctime>
+#include <functional>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -219,22 +220,29 @@ int run(const HalosBenchOptions& o) {
     // trivial pass and the halo pass, adaptive cells), C (the same, every cell fetching), M (A with
     // the camera moving: the cells' lists made in every frame). The halo pass's work is A - Y
     // (C - Y, M - Y), the trivial pass's Y - Z; medians over the frames.
+    // A processor with the trivial pass or not and the halos at optical depth tau, the element
+    // configured by `setup` before it is added; two frames rendered (tables, programs).
+    auto makeWith = [&](int w, int h, bool trivial, double tau, const std::function<void(elements::Halos&)>& setup) {
+        auto p = std::make_unique<SkyProcessor>(SkyVars::earth(), log, ProcessorOptions{.timing = false, .astronomy = false});
+        p->setCamera(benchCamera(w, h));
+        p->setExposure({.ev100 = 12});
+        if (trivial) p->add(std::make_unique<TrivialElement>());
+        auto e = std::make_unique<elements::Halos>();
+        setup(*e);
+        p->add(std::move(e));
+        p->vars().set(keys::sunDirection, directionFromAzAlt(M_PI, 20 * kDeg));
+        p->vars().set(elements::haloskeys::opticalDepth, tau);
+        p->vars().set(elements::haloskeys::tableQuality, o.passQuality);
+        p->renderFrame();
+        p->renderFrame();
+        return p;
+    };
     for (auto [w, h] : sizes) {
         auto make = [&](bool trivial, double tau, bool adaptive) {
-            auto p = std::make_unique<SkyProcessor>(SkyVars::earth(), log, ProcessorOptions{.timing = false, .astronomy = false});
-            p->setCamera(benchCamera(w, h));
-            p->setExposure({.ev100 = 12});
-            if (trivial) p->add(std::make_unique<TrivialElement>());
-            auto e = std::make_unique<elements::Halos>();
-            e->setAdaptiveCells(adaptive);
-            e->setCellTolerance(o.cellTolerance);
-            p->add(std::move(e));
-            p->vars().set(keys::sunDirection, directionFromAzAlt(M_PI, 20 * kDeg));
-            p->vars().set(elements::haloskeys::opticalDepth, tau);
-            p->vars().set(elements::haloskeys::tableQuality, o.passQuality);
-            p->renderFrame();
-            p->renderFrame();
-            return p;
+            return makeWith(w, h, trivial, tau, [&](elements::Halos& e) {
+                e.setAdaptiveCells(adaptive);
+                e.setCellTolerance(o.cellTolerance);
+            });
         };
         auto Z = make(false, 0.0, true), Y = make(true, 0.0, true), A = make(true, 0.3, true), C = make(true, 0.3, false), Mv = make(true, 0.3, true);
         auto cpuMs = [] {
@@ -282,19 +290,9 @@ int run(const HalosBenchOptions& o) {
                                     {"every piece from its corners, 32-pixel pieces", Probe::Corners, 32},
                                     {"every piece from its corners, 16-pixel pieces", Probe::Corners, 16}};
             auto make = [&](bool trivial, double tau, const Floor* fl) {
-                auto p = std::make_unique<SkyProcessor>(SkyVars::earth(), log, ProcessorOptions{.timing = false, .astronomy = false});
-                p->setCamera(benchCamera(w, h));
-                p->setExposure({.ev100 = 12});
-                if (trivial) p->add(std::make_unique<TrivialElement>());
-                auto e = std::make_unique<elements::Halos>();
-                if (fl) e->setDisplayProbe(fl->probe, fl->cellPx);
-                p->add(std::move(e));
-                p->vars().set(keys::sunDirection, directionFromAzAlt(M_PI, 20 * kDeg));
-                p->vars().set(elements::haloskeys::opticalDepth, tau);
-                p->vars().set(elements::haloskeys::tableQuality, o.passQuality);
-                p->renderFrame();
-                p->renderFrame();
-                return p;
+                return makeWith(w, h, trivial, tau, [&](elements::Halos& e) {
+                    if (fl) e.setDisplayProbe(fl->probe, fl->cellPx);
+                });
             };
             auto Z = make(false, 0.0, nullptr), Y = make(true, 0.0, nullptr);
             std::vector<std::unique_ptr<SkyProcessor>> P;
