@@ -23,6 +23,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <numbers>
 
 namespace welkin::glsl::dp::nightsky_vanrhijn_shared {
@@ -229,6 +230,9 @@ NightSky::NightSky() : SkyElement("nightsky") {
     reads(generators::skykeys::zenithLuminance);
     reads(keys::interactive);  // the folded texture's rebuild spread over frames (foldUpdate)
     option(nightkeys::skipInvisible, true);
+    // The pass's image kept and reused while nothing it reads changed (doRender).
+    option(nightkeys::reuse, true);
+    option(nightkeys::reuseTolerancePx, 0.05);
     // The skip where the previous frame's exposure cannot show the pass (doRender).
     reads(keys::exposurePrevious);
     reads(keys::exposureAuto);
@@ -630,7 +634,9 @@ void NightSky::doRender(const FrameContext& ctx) {
     drawn_ = !(v.has(generators::skykeys::zenithLuminance) && v.get(generators::skykeys::zenithLuminance) > kSkipRatio * background);
     skippedInvisible_ = false;
     invisibleBoundCodes_ = 0.0;
+    lastReused_ = false;
     if (!drawn_) {
+        kept_.valid = last_.valid = false;  // a skipped frame: the next drawn one starts afresh
         reportNothingDrawn();
         return;
     }
@@ -659,6 +665,7 @@ void NightSky::doRender(const FrameContext& ctx) {
         if (v.get(nightkeys::skipInvisible) && invisibleBoundCodes_ < 0.5) {
             skippedInvisible_ = true;
             drawn_ = false;
+            kept_.valid = last_.valid = false;
             reportNothingDrawn();
             return;
         }
@@ -689,19 +696,21 @@ void NightSky::doRender(const FrameContext& ctx) {
         const double r = kEarthRadiusM / (kEarthRadiusM + h);
         return float(r * r);
     };
-    p.set("u_airglow", glm::vec3(zenith_.airglow * airglowColour()));
-    p.set("u_airglowR2", r2(v.get(nightkeys::airglowHeight)));
-    p.set("u_lp", glm::vec3(zenith_.lightPollution * lightPollutionColour()));
-    p.set("u_lpR2", r2(kLightPollutionLayerM));
+    const glm::vec3 airglow(zenith_.airglow * airglowColour()), lp(zenith_.lightPollution * lightPollutionColour());
+    const float airglowR2 = r2(v.get(nightkeys::airglowHeight)), lpR2 = r2(kLightPollutionLayerM);
+    const float texelsPerRadU = float(direct_ ? mwW_ / (2.0 * kPi) : (mwW_ > 0 ? mwW_ / (2.0 * kPi) : kNightCubeSize / 2.0));
+    p.set("u_airglow", airglow);
+    p.set("u_airglowR2", airglowR2);
+    p.set("u_lp", lp);
+    p.set("u_lpR2", lpR2);
+    // Direct: the folded texture (the Milky Way, its floor and the zodiacal light), one fetch.
+    // Cubes: the panorama's density, not the cube's (N / 2 = 512 texels/rad at a face's centre):
+    // the cube's level 0 is used wherever the panorama's level 0 was (its finer texels add no
+    // detail, its level 1 would blur it), mipmapping starts where the panorama's did.
+    p.set("u_texelsPerRad", texelsPerRadU);
     if (direct_) {
-        // The folded texture (the Milky Way, its floor and the zodiacal light), one fetch.
-        p.set("u_texelsPerRad", float(mwW_ / (2.0 * kPi)));
         fold_[foldFront_].bind(milkyWayUnit_);
     } else {
-        // The panorama's density, not the cube's (N / 2 = 512 texels/rad at a face's centre): the
-        // cube's level 0 is used wherever the panorama's level 0 was (its finer texels add no
-        // detail, its level 1 would blur it), mipmapping starts where the panorama's did.
-        p.set("u_texelsPerRad", float(mwW_ > 0 ? mwW_ / (2.0 * kPi) : kNightCubeSize / 2.0));
         cube_.bind(milkyWayUnit_);
         zodiCube_.bind(zodiacalUnit_);
     }
@@ -709,6 +718,73 @@ void NightSky::doRender(const FrameContext& ctx) {
         updateExtinction(v);
         glProgramUniform3fv(p.id(), p.location("u_ext"), kTableN, extinction_.data());
     }
+
+    // Image reuse (README "Reusing the image"): in displayed frames, as the first pass over the
+    // processor's black target, the image is the pass's alone; while every input is the same and
+    // the sky's rotation moved no screen direction by nightsky.reuse_tolerance_px, the kept image
+    // is copied in place of the draw. Not in welkin render (every frame complete, no memory paid),
+    // not over a host's target (renderInto: something may be behind), not on the cube path.
+    const bool reuseWanted = direct_ && v.get(nightkeys::reuse) && v.getOr(keys::interactive, false);
+    if (!reuseWanted) reuseForget();  // frees the kept texture
+    GLint target = 0, targetW = 0, targetH = 0, targetFormat = 0;
+    bool eligible = reuseWanted && ctx.nothingBehind && cam.projection != Projection::CubeFace;
+    if (eligible) {
+        // The draw target: level 0 of a 2D texture of the camera's size (the processor's HDR
+        // target; a lighting cube face or a renderbuffer is not kept).
+        GLint fbo = 0, type = 0, level = -1, kind = 0;
+        glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &fbo);
+        if (fbo != 0) glGetNamedFramebufferAttachmentParameteriv(GLuint(fbo), GL_COLOR_ATTACHMENT0, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
+        if (type == GL_TEXTURE) {
+            glGetNamedFramebufferAttachmentParameteriv(GLuint(fbo), GL_COLOR_ATTACHMENT0, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME, &target);
+            glGetNamedFramebufferAttachmentParameteriv(GLuint(fbo), GL_COLOR_ATTACHMENT0, GL_FRAMEBUFFER_ATTACHMENT_TEXTURE_LEVEL, &level);
+            glGetTextureParameteriv(GLuint(target), GL_TEXTURE_TARGET, &kind);
+        }
+        eligible = type == GL_TEXTURE && level == 0 && kind == GL_TEXTURE_2D;
+        if (eligible) {
+            glGetTextureLevelParameteriv(GLuint(target), 0, GL_TEXTURE_WIDTH, &targetW);
+            glGetTextureLevelParameteriv(GLuint(target), 0, GL_TEXTURE_HEIGHT, &targetH);
+            glGetTextureLevelParameteriv(GLuint(target), 0, GL_TEXTURE_INTERNAL_FORMAT, &targetFormat);
+            eligible = targetW == cam.width && targetH == cam.height;
+        }
+    }
+    std::vector<unsigned char> inputs;
+    if (eligible) {
+        // Everything the pass reads but the sky's rotation, compared byte for byte: the target,
+        // the program variant (extinction, level of detail), the folded texture and its version
+        // (a spread rebuild swaps it), the uniforms, the extinction table when compiled in, and
+        // the camera block the shader reads (time zeroed: the pass does not read it).
+        auto put = [&inputs](const void* data, size_t n) {
+            const auto* b = static_cast<const unsigned char*>(data);
+            inputs.insert(inputs.end(), b, b + n);
+        };
+        const GLint ids[] = {target, targetW, targetH, targetFormat, GLint(p.id()), GLint(fold_[foldFront_].id()), foldBuilds_, foldFront_,
+                             ctx.attenuatedLater ? 1 : 0, lod0 ? 1 : 0};
+        put(ids, sizeof ids);
+        put(&airglow, sizeof airglow);
+        put(&airglowR2, sizeof airglowR2);
+        put(&lp, sizeof lp);
+        put(&lpR2, sizeof lpR2);
+        put(&texelsPerRadU, sizeof texelsPerRadU);
+        if (!ctx.attenuatedLater) put(extinction_.data(), extinction_.size() * sizeof(float));
+        const CameraBlock block = makeCameraBlock(cam, 0.0);
+        put(&block, sizeof block);
+    }
+    const double tolerancePx = v.get(nightkeys::reuseTolerancePx);
+    auto close = [&](const glm::dmat3& kept) {
+        if (kept == R) return true;
+        if (!(tolerancePx > 0.0)) return false;
+        const double pxPerRad = maxPixelsPerRadian(cam);
+        return std::isfinite(pxPerRad) && rotationAngle(kept, R) * pxPerRad < tolerancePx;
+    };
+    if (eligible && kept_.valid && kept_.bytes == inputs && close(kept_.rotation) && keptImage_.id() != 0) {
+        glCopyImageSubData(keptImage_.id(), GL_TEXTURE_2D, 0, 0, 0, 0, GLuint(target), GL_TEXTURE_2D, 0, 0, 0, 0, targetW, targetH, 1);
+        lastReused_ = true;
+        lastUnblended_ = false;
+        ++reuseHits_;
+        last_ = {std::move(inputs), R, true};
+        return;
+    }
+
     // Filtering across the cube's faces (global state: restored after the draw).
     const GLboolean seamless = glIsEnabled(GL_TEXTURE_CUBE_MAP_SEAMLESS);
     if (!direct_ && !seamless) glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
@@ -720,6 +796,61 @@ void NightSky::doRender(const FrameContext& ctx) {
     if (lastUnblended_) glDisable(GL_BLEND);
     ctx.drawFullscreen();
     if (!direct_ && !seamless) glDisable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
+    if (!eligible) return;
+    // Kept only when the previous frame's pass had the same inputs (a still or slowly turning
+    // sky): a turning camera or fast time would pay the copy every frame for nothing.
+    if (last_.valid && last_.bytes == inputs && close(last_.rotation)) {
+        if (keptImage_.id() == 0 || keptImage_.width() != targetW || keptImage_.height() != targetH || keptImage_.internalFormat() != unsigned(targetFormat))
+            keptImage_ = gl::Texture2D(targetW, targetH, unsigned(targetFormat));
+        glCopyImageSubData(GLuint(target), GL_TEXTURE_2D, 0, 0, 0, 0, keptImage_.id(), GL_TEXTURE_2D, 0, 0, 0, 0, targetW, targetH, 1);
+        kept_ = {inputs, R, true};
+        ++reuseKeeps_;
+    }
+    last_ = {std::move(inputs), R, true};
+}
+
+void NightSky::reuseForget() {
+    keptImage_ = gl::Texture2D();
+    kept_ = ReuseInputs{};
+    last_ = ReuseInputs{};
+}
+
+size_t NightSky::reuseBytes() const {
+    if (keptImage_.id() == 0) return 0;
+    const size_t texel = keptImage_.internalFormat() == GL_RGBA32F ? 16 : keptImage_.internalFormat() == GL_RGBA16F ? 8 : 4;
+    return size_t(keptImage_.width()) * size_t(keptImage_.height()) * texel;
+}
+
+double NightSky::rotationAngle(const glm::dmat3& a, const glm::dmat3& b) {
+    // b = D a with D a rotation by t: b - a = (D - I) a, whose singular values are 2 sin(t/2)
+    // twice and 0, so its Frobenius norm is 2 sqrt(2) sin(t/2); a unit direction moves by the
+    // chord 2 sin(t/2), an angle t (exact to rounding for small t, unlike acos of the trace).
+    double f2 = 0.0;
+    for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r) f2 += (b[c][r] - a[c][r]) * (b[c][r] - a[c][r]);
+    return 2.0 * std::asin(std::min(1.0, std::sqrt(f2) / (2.0 * std::sqrt(2.0))));
+}
+
+double NightSky::maxPixelsPerRadian(const Camera& cam) {
+    // 1 % margin: a direction near the edge moved by the rotation may pass where the scale is a
+    // little larger (over the ~1e-4 rad the tolerance allows, a pinhole's f / cos^2 grows < 1e-3).
+    constexpr double kMargin = 1.01;
+    if (cam.projection == Projection::Perspective) {
+        // A pinhole's scale f / cos^2(off-axis angle) is largest at the point farthest from the
+        // principal point: a corner of the image (any host's off-axis projection too).
+        double best = 0.0;
+        for (const glm::dvec2 c : {glm::dvec2(0, 0), glm::dvec2(cam.width, 0), glm::dvec2(0, cam.height), glm::dvec2(cam.width, cam.height)}) {
+            const auto d = cam.directionAt(c);
+            const auto s = d ? cam.pixelScale(*d) : std::nullopt;
+            if (!s) return std::numeric_limits<double>::infinity();
+            best = std::max(best, (*s)[1]);
+        }
+        return kMargin * best;
+    }
+    // The fisheye: R / (pi/2) px/rad radially, R theta / ((pi/2) sin theta) along the azimuth,
+    // largest at the horizon: R = min(size) / 2.
+    if (cam.projection == Projection::Fisheye) return kMargin * 0.5 * std::min(cam.width, cam.height);
+    return std::numeric_limits<double>::infinity();  // equirect (unbounded at the poles), cube faces
 }
 
 void NightSky::doRelease() {
@@ -746,6 +877,7 @@ void NightSky::doRelease() {
     mwLoaded_ = false;
     mwPath_.clear();
     extinction_.clear();
+    reuseForget();
 }
 
 void NightSky::doStats(nlohmann::json& root) const {
@@ -771,6 +903,10 @@ void NightSky::doStats(nlohmann::json& root) const {
     j["zodiacal_cube_build_ms"] = zodiCubeBuildMs_;
     j["fold_builds"] = foldBuilds_;            // the folded texture (per-pixel path): first build and rebuilds
     j["fold_in_progress"] = foldStage_ >= 0;   // a rebuild spread over frames is under way
+    j["reused"] = lastReused_;                 // the last frame copied the kept image instead of drawing
+    j["reuse_hits"] = reuseHits_;              // frames that copied it (since init)
+    j["reuse_keeps"] = reuseKeeps_;            // drawn frames whose image was kept
+    j["reuse_bytes"] = reuseBytes();           // the kept texture (one target-size RGBA32F image; 0: none held)
 }
 
 }  // namespace welkin::elements

@@ -80,6 +80,15 @@ inline const Key<int> bortle{"nightsky.bortle", Range{1, 9}, "light pollution, B
 /// Skip the pass where the previous frame's exposure cannot show it (keys::exposurePrevious; README
 /// "Twilight: the pass skipped where it cannot show"); false: drawn whenever the Sky's zenith allows.
 inline const Key<bool> skipInvisible{"nightsky.skip_invisible", "skip the pass where the previous frame's exposure shows none of it (under half an 8-bit code at every pixel)"};
+/// Reuse the pass's image in displayed frames (render.interactive) whose inputs did not change
+/// enough to change it (README "Reusing the image"): the first pass over the processor's black
+/// target keeps its HDR output in a texture of the target's size and format (one more target:
+/// 14.7 MB at 1280x720, 33 MB at 1920x1080), copied back (glCopyImageSubData) in place of the draw.
+inline const Key<bool> reuse{"nightsky.reuse", "reuse the pass's kept image in displayed frames (render.interactive) while its inputs are unchanged and the sky turned by less than nightsky.reuse_tolerance_px"};
+/// How far the sky's rotation (time) may have moved any screen direction since the kept image,
+/// pixels, for the image to be reused; 0: only when the rotation is identical. Other inputs
+/// (camera, keys, exposure skip, the folded panorama's version) must be identical.
+inline const Key<double> reuseTolerancePx{"nightsky.reuse_tolerance_px", Range{0, 2}, "the sky's rotation since the kept image, in pixels at the screen's largest scale, under which the kept image is reused (0: identical rotation only)", "px"};
 /// Written by the element every frame (not an option): the engine's shared key.
 inline const Key<double>& background = welkin::keys::nightBackground;
 }  // namespace nightkeys
@@ -201,6 +210,19 @@ public:
     glm::vec3 foldFloor() const { return foldFloor_; }
     float foldMilkyWayScale() const { return foldMwScale_; }
 
+    /// Image reuse (nightsky.reuse, README "Reusing the image"): whether the last frame copied
+    /// the kept image instead of drawing; frames that copied, frames whose drawn image was kept
+    /// (since init); the kept texture's bytes (0 when none is held).
+    bool lastReused() const { return lastReused_; }
+    int reuseHits() const { return reuseHits_; }
+    int reuseKeeps() const { return reuseKeeps_; }
+    size_t reuseBytes() const;
+    /// The angle (rad) by which the rotation `a` -> `b` (ICRS -> ENU) moves a direction at most,
+    /// and the most pixels one radian moves a direction anywhere in the camera's image (a pinhole:
+    /// at a corner; a fisheye: along the horizon; +inf where unbounded: equirect, cube faces).
+    static double rotationAngle(const glm::dmat3& a, const glm::dmat3& b);
+    static double maxPixelsPerRadian(const Camera& camera);
+
     /// The Milky Way panorama was found and loaded (after init).
     bool milkyWayLoaded() const { return mwLoaded_; }
     /// The calibration: cd/m^2 = gain x Y^0.5 + floor (Y the texture's linear luminance).
@@ -284,6 +306,18 @@ private:
     glm::dvec3 mwMax_{0.0};  // the brightest panorama texel per channel, cd/m^2 (before the floor and scale)
     bool skippedInvisible_ = false;
     double invisibleBoundCodes_ = 0.0;
+    // Image reuse: the inputs (every uniform, texture and camera value the pass reads, as bytes,
+    // and the sky's rotation) of the kept image and of the last frame's pass.
+    struct ReuseInputs {
+        std::vector<unsigned char> bytes;
+        glm::dmat3 rotation{1.0};
+        bool valid = false;
+    };
+    ReuseInputs kept_, last_;
+    gl::Texture2D keptImage_;
+    bool lastReused_ = false;
+    int reuseHits_ = 0, reuseKeeps_ = 0;
+    void reuseForget();
 };
 
 }  // namespace welkin::elements
