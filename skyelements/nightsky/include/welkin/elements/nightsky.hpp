@@ -48,6 +48,12 @@
 //  - Cost: in displayed frames (render.interactive) the pass is also skipped where the previous
 //    frame's exposure (keys::exposurePrevious) cannot show it: eye::displaySlopeBound() x exposure
 //    x 2 x radianceBound() under half an 8-bit code (twilight; nightsky.skip_invisible, README).
+//  - Cost: in displayed frames (render.interactive) the pass's image, drawn first over the
+//    processor's black target, is kept (one target-size RGBA32F texture) and copied back with
+//    glCopyImageSubData in later frames whose inputs are the same byte for byte (camera, keys,
+//    uniforms, program variant, the folded panorama's version) and whose sky rotation moved no
+//    screen direction by nightsky.reuse_tolerance_px (0.05 px: at 1280x720 and 60 deg a redraw
+//    every ~0.46 s of real time); nightsky.reuse false turns it off (README "Reusing the image").
 //  - Published: nightsky.background_cd_m2, the zenith luminance of all four terms; Stars adds it
 //    to the Sky's zenith luminance for its limiting magnitude (instead of its own floor).
 #pragma once
