@@ -16,6 +16,7 @@
 #include <welkin/processor.hpp>
 
 #include <epoxy/gl.h>
+#include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -281,4 +282,51 @@ TEST_CASE("NightSky: no reuse over a host's target, in offline frames or with th
         CHECK(s.n->reuseKeeps() == 0);
         CHECK(s.n->reuseBytes() == 0);
     }
+}
+
+TEST_CASE("NightSky: the reuse's largest pixels per radian bounds the camera's scale over the image", "[cpu][nightsky]") {
+    // Camera::pixelScale (the projection's own Jacobian) sampled over a 65 x 65 grid of pixel
+    // positions, edges and corners included: never above the bound, and the bound not loose
+    // (within its 1 % margin of the largest sample, which a pinhole has at a corner).
+    auto sampled = [](const Camera& c) {
+        double best = 0.0;
+        for (int j = 0; j <= 64; ++j)
+            for (int i = 0; i <= 64; ++i) {
+                const auto d = c.directionAt({c.width * i / 64.0, c.height * j / 64.0});
+                if (!d) continue;
+                if (const auto s = c.pixelScale(*d)) best = std::max(best, (*s)[1]);
+            }
+        return best;
+    };
+    const glm::dvec3 fwd = glm::normalize(glm::dvec3(0.4, 0.3, -1.0));
+    const glm::dmat4 hostView = glm::lookAt(glm::dvec3(0.0), fwd, glm::dvec3(0, 1, 0));
+    const Camera host = Camera::fromViewProjection(hostView, glm::frustum(-0.3, 0.7, -0.2, 0.4, 0.5, 100.0), enuFromYUp(), 640, 384);
+    Camera wide = view();
+    wide.verticalFovRad = 120 * kDeg;
+    Camera bench = view();
+    bench.verticalFovRad = 60 * kDeg;
+    bench.width = 1280;
+    bench.height = 720;
+    for (const Camera& c : {view(), wide, bench, host}) {
+        const double bound = elements::NightSky::maxPixelsPerRadian(c), seen = sampled(c);
+        CAPTURE(c.width, c.height, c.verticalFovRad, bool(c.host), bound, seen);
+        CHECK(seen <= bound);
+        CHECK(seen >= bound / 1.01 * (1.0 - 1e-9));  // the corner is sampled: the bound is the largest scale
+    }
+    // bench display's view: f / cos^2 at the corner, 623.5 x 2.387 = 1488 px/rad.
+    CHECK(elements::NightSky::maxPixelsPerRadian(bench) / 1.01 == Approx(cornerPixelsPerRadian(bench)).epsilon(1e-9));
+    CHECK(cornerPixelsPerRadian(bench) == Approx(1488.3).epsilon(1e-4));
+    // The fisheye: largest along the horizon, R = min(size) / 2 (pixelScale at altitude 0).
+    const Camera fish = test::fisheye(512);
+    const double fb = elements::NightSky::maxPixelsPerRadian(fish);
+    CHECK(fb == Approx(1.01 * 256.0));
+    CHECK(sampled(fish) <= fb);
+    for (double az = 0; az < 360; az += 45) CHECK((*fish.pixelScale(directionFromAzAlt(az * kDeg, 0.0)))[1] == Approx(256.0).epsilon(1e-6));
+    // Equirect and cube faces: no bound (reused only at the identical rotation).
+    Camera eq = view();
+    eq.projection = Projection::Equirect;
+    CHECK(std::isinf(elements::NightSky::maxPixelsPerRadian(eq)));
+    Camera cube = view();
+    cube.projection = Projection::CubeFace;
+    CHECK(std::isinf(elements::NightSky::maxPixelsPerRadian(cube)));
 }
