@@ -280,7 +280,7 @@ int run(const HalosBenchOptions& o) {
         char share[120];
         std::snprintf(share, sizeof share, " (%.1f %% of the drawn pixels fetch)",
                       100.0 * double(cells.fetchPixels) / double(std::max(cells.fetchPixels + cells.smoothPixels, 1L)));
-        emit(std::string("work: halo pass, the default (adaptive cells, fine scale ") + std::to_string(o.fineScale) + ")" + share + ", CPU ms per frame", size, median(a) - median(y), triv,
+        emit(std::string("work: halo pass, adaptive cells, fine scale ") + std::to_string(o.fineScale) + (o.fineScale == elements::Halos::kFineScale ? " (the default)" : "") + share + ", CPU ms per frame", size, median(a) - median(y), triv,
              (median(a) - median(y)) / triv);
         if ((median(a) - median(y)) / triv > 1.5) met = false;
         emit("work: halo pass, adaptive cells, the fetching pieces bilinear (fine scale 0, the default), CPU ms per frame", size, median(b) - median(y), triv,

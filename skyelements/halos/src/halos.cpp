@@ -298,9 +298,9 @@ void Halos::doRender(const FrameContext& ctx) {
         lastKey_ = key;
         listsDrawn_ = adaptive_ && frontMaps_ && (rests || key == cellsKey_);
         if (listsDrawn_) {
-            // The adaptive cells (off by default: skyelements/halos/README.md): the lists of pieces
+            // The adaptive cells (on by default for a resting view: skyelements/halos/README.md, "The default display"): the lists of pieces
             // (halos_cells.comp.glsl), made again only when what they depend on changed, then two
-            // indirect draws, the pieces drawn from their corners and those that fetch.
+            // draws, the pieces drawn from their corners and those that fetch.
             const uint32_t listSize = uint32_t(4 * gx * gy);  // a cell lists at most its 4 quarters
             if (!cellBuf_ || listSize_ != listSize) {
                 cellBuf_ = gl::Buffer(32 + 2 * std::size_t(listSize) * 4);
@@ -323,17 +323,22 @@ void Halos::doRender(const FrameContext& ctx) {
                 glBindTextureUnit(GLuint(meanUnit_), octMean_.id());
                 glBindTextureUnit(GLuint(detailUnit_), octDetail_.id());
                 glDispatchCompute(GLuint((gx * gy + 15) / 16), 1, 1);
-                glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+                glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+                // The two lists' vertex counts read back once, here (a wait for the pass, once per
+                // resting view), so that each frame draws them with plain draws: an indirect draw
+                // makes llvmpipe finish the frame's queued work before it reads its command, a
+                // stall in every frame (measured: the wall time of the pass no better than every
+                // cell fetching at 1280 x 720, twice it at 512 x 256).
+                uint32_t counts[8] = {};
+                glGetNamedBufferSubData(cellBuf_.id(), 0, sizeof counts, counts);
+                listVertices_ = {counts[0], counts[4]};
                 cellsKey_ = key;
                 cellsMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
             } else {
                 cellsMs_ = 0.0;
             }
-            // The host's indirect buffer binding is not among what the processor saves: kept here.
-            GLint hostIndirect = 0;
-            glGetIntegerv(GL_DRAW_INDIRECT_BUFFER_BINDING, &hostIndirect);
-            glBindBuffer(GL_DRAW_INDIRECT_BUFFER, cellBuf_.id());
             for (int list = 0; list < 2; ++list) {
+                if (listVertices_[std::size_t(list)] == 0) continue;
                 const bool fine = list == 1 && fineScale_ > 0;
                 const gl::Program& g = (list == 0 ? smoothPrograms_ : fine ? finePrograms_ : gridPrograms_).get(ctx.camera.projection);
                 // The smooth pieces' vertices read the table bilinearly (what the cells' test
@@ -345,9 +350,8 @@ void Halos::doRender(const FrameContext& ctx) {
                 g.set("u_E", glm::vec3(E));
                 g.set("u_list", 1);
                 glUniform1ui(glGetUniformLocation(g.id(), "u_listOffset"), list == 0 ? 0u : listSize);
-                glDrawArraysIndirect(GL_TRIANGLES, reinterpret_cast<const void*>(std::uintptr_t(16 * list)));
+                glDrawArrays(GL_TRIANGLES, 0, GLsizei(listVertices_[std::size_t(list)]));
             }
-            glBindBuffer(GL_DRAW_INDIRECT_BUFFER, GLuint(hostIndirect));
         } else {
             cellsMs_ = 0.0;
             // Every cell whole, fetching per pixel (the cells off, or a view that moves); a probe (setDisplayProbe) may read

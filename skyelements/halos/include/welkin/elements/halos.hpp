@@ -332,6 +332,7 @@ private:
     std::vector<double> cellsKey_, lastKey_;  // what the lists were made for; what the last frame's view was
     bool restOnly_ = true;                    // lists made only for a view that rests a frame
     bool listsDrawn_ = false;                 // the last frame drew the two lists (false: every cell fetched)
+    std::array<uint32_t, 2> listVertices_{};  // the two lists' vertex counts (6 a piece), read back when made
     double cellsMs_ = 0.0;
 
 public:
