@@ -188,9 +188,9 @@ int run(const HalosBenchOptions& o) {
             }
             emit(P.what, size + note, median(P.ms), median(P.tms), r);
         }
-        // The cells' lists are made once for a still view; what making them costs (a moving
-        // camera or light makes them every frame): the element with the cells' lists made anew
-        // in each frame, as the same median ratio.
+        // The cells' lists are made once for a view at rest; a moving camera (or light) draws
+        // every cell fetching instead (Halos::setCellsAtRestOnly): the element with the camera
+        // moving in each frame, as the same median ratio.
         {
             Path& P = paths[0];
             std::vector<double> ms, tms, ratio;
@@ -204,7 +204,7 @@ int run(const HalosBenchOptions& o) {
                 tms.push_back(t);
                 ratio.push_back(renderMs / t);
             }
-            emit("halo pass, adaptive cells, camera moving (the cells' lists made in every frame), ms", size, median(ms), median(tms), median(ratio));
+            emit("halo pass, adaptive cells, camera moving (every cell fetching while the view moves), ms", size, median(ms), median(tms), median(ratio));
         }
     }
     // (3) Accuracy of the tables of one quality (`--accuracy-quality`) against the slow exact
@@ -220,11 +220,11 @@ int run(const HalosBenchOptions& o) {
     // (2b) The same as work: the process's CPU time per frame (all threads, llvmpipe's too), which
     // the other jobs on a loaded machine lengthen less than the wall time. Six processors, frames
     // alternated: Z (the element with no crystals: skipped), Y (Z + the trivial pass), A (the
-    // trivial pass and the halo pass as drawn by default: adaptive cells, fine table nearest), B (A
-    // with the fetching pieces reading the table bilinearly: fine scale 0), C (every cell fetching
-    // bilinearly: the display before), M (A with the camera moving: the cells' lists made in every
-    // frame). The halo pass's work is A - Y (B - Y, C - Y, M - Y), the trivial pass's Y - Z;
-    // medians over the frames. The target is judged on A.
+    // trivial pass and the halo pass, adaptive cells, the fetching pieces at `--fine-scale`), B (A
+    // with the fetching pieces reading the table bilinearly: fine scale 0, the default), C (every
+    // cell fetching bilinearly: the display before), M (A with the camera moving: every cell
+    // fetching while the view moves). The halo pass's work is A - Y (B - Y, C - Y, M - Y), the
+    // trivial pass's Y - Z; medians over the frames. The target is judged on A.
     // A processor with the trivial pass or not and the halos at optical depth tau, the element
     // configured by `setup` before it is added; two frames rendered (tables, programs).
     auto makeWith = [&](int w, int h, bool trivial, double tau, const std::function<void(elements::Halos&)>& setup) {
@@ -286,7 +286,7 @@ int run(const HalosBenchOptions& o) {
         emit("work: halo pass, adaptive cells, the fetching pieces bilinear (fine scale 0, the default), CPU ms per frame", size, median(b) - median(y), triv,
              (median(b) - median(y)) / triv);
         emit("work: halo pass, every cell fetching bilinearly (the display before), CPU ms per frame", size, median(c) - median(y), triv, (median(c) - median(y)) / triv);
-        emit("work: halo pass, adaptive cells, camera moving, CPU ms per frame", size, median(m) - median(y), triv, (median(m) - median(y)) / triv);
+        emit("work: halo pass, adaptive cells, camera moving (every cell fetching while it moves), CPU ms per frame", size, median(m) - median(y), triv, (median(m) - median(y)) / triv);
     }
     // (2c) What cheaper displays would cost at least (`--floors`; skyelements/halos/README.md,
     // "What any route costs at least"): the grid drawn by probes (Halos::setDisplayProbe) that are
@@ -302,7 +302,7 @@ int run(const HalosBenchOptions& o) {
                 Probe probe;
                 int cellPx;
             };
-            const Floor floors[] = {{"every cell fetching (the default display), 64-pixel cells", Probe::Fetch, 64},
+            const Floor floors[] = {{"every cell fetching (the display before; a moving view's), 64-pixel cells", Probe::Fetch, 64},
                                     {"fetching, 256-pixel cells", Probe::Fetch, 256},
                                     {"nearest-texel fetch, 64-pixel cells", Probe::Nearest, 64},
                                     {"the fine table (--fine-scale, else 2 x) nearest-texel, 64-pixel cells", Probe::Fine, 64},
