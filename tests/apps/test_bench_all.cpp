@@ -230,9 +230,13 @@ TEST_CASE("welkin bench all: an element's report table comes from its own bench'
     const double seconds = std::atof(cells[2].c_str());
     CHECK(seconds > 0.0);
     CHECK(std::isfinite(seconds));
-    CHECK(section.find("| halo pass, crystal layer tau 0.3, ms | 800x450 |") != std::string::npos);
+    // The default display (adaptive cells at rest, with its share of fetching pixels) and the
+    // display before it (every cell fetching), both at the bench's own 800x450.
+    CHECK(section.find("| halo pass, crystal layer tau 0.3 (the default: adaptive cells), ms | 800x450, ") != std::string::npos);
+    CHECK(section.find("| halo pass, crystal layer tau 0.3, every cell fetching bilinearly (the display before), ms | 800x450 |") != std::string::npos);
     // The command with the quick arguments, for anyone to repeat it.
-    CHECK(section.find("*`welkin bench halos --qualities low --repeats 1 --accuracy-quality low --exact-factor 2 --csv FILE`") != std::string::npos);
+    CHECK(section.find("*`welkin bench halos --qualities low --repeats 1 --accuracy-quality low --exact-factor 2 --pass-quality low --csv FILE`") !=
+          std::string::npos);
     // The default tables against the brute-force trace (here the low ones: --quick).
     CHECK(section.find("| accuracy, plates: L1(tables - exact) / L1(exact), whole sphere | low tables") != std::string::npos);
 }

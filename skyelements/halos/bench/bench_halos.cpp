@@ -4,9 +4,10 @@
 // towards the Sun 20 deg up; a crystal layer of optical depth 0.3, the common preset): the
 // element's render time against a trivial element (constant radiance through the same composite
 // contract) drawn before it in the same frames; "x trivial" is the median of per-frame ratios.
-// Also with no crystals (the element skips its draw), through the per-pixel path, and with the
-// adaptive cells (off by default; `--cell-tolerance`), also as the process's CPU work. Target: the
-// pass as drawn by default <= 1.5x trivial. `--sizes` sets the frames' sizes (800x450 and 1280x720 by
+// The default display (the adaptive cells, `--cell-tolerance`, their fetching pieces reading the
+// fine table nearest-texel, `--fine-scale`), every cell fetching bilinearly (the display before
+// 2026-11-28), no crystals (the element skips its draw) and the per-pixel path; also as the
+// process's CPU work. Target: the pass as drawn by default <= 1.5x trivial (CPU work). `--sizes` sets the frames' sizes (800x450 and 1280x720 by
 // default); `--floors true` also times what cheaper displays would cost at least (Halos::setDisplayProbe:
 // bigger cells, a nearest-texel fetch, every piece from its corners; not image paths). (3) Accuracy of one quality's tables (default: `default`) against the slow
 // exact path, the brute-force trace (every Fresnel branch followed with its weight) with 10x the
@@ -71,9 +72,10 @@ struct HalosBenchOptions {
     std::string csv = "bench_halos.csv";
     std::string qualities = "low,default";
     std::string accuracyQuality = "default";
-    std::string passQuality = "low";  // every cell fetching costs the same with any tables; the adaptive cells do not
+    std::string passQuality = "default";  // the tables the element draws by default (the adaptive cells depend on them)
     bool accuracy = true;
     double cellTolerance = elements::Halos::kCellTolerance;
+    int fineScale = elements::Halos::kFineScale;
     int exactFactor = 10;
     std::string sizes = "800x450,1280x720";  // the timed frames' sizes, WxH each
     bool floors = false;                     // also what cheaper displays would cost at least (Halos::setDisplayProbe)
@@ -101,6 +103,7 @@ std::string fmtDeg(double d) {
 int run(const HalosBenchOptions& o) {
     if (o.repeats < 1 || o.repeats > 1000) throw Error("--repeats " + std::to_string(o.repeats) + " not in [1, 1000]");
     if (!(o.cellTolerance > 0.0 && o.cellTolerance <= 1.0)) throw Error("--cell-tolerance " + std::to_string(o.cellTolerance) + " not in (0, 1]");
+    if (o.fineScale < 0 || o.fineScale > 4) throw Error("--fine-scale " + std::to_string(o.fineScale) + " not in [0, 4]");
     if (o.exactFactor < 2 || o.exactFactor > 100) throw Error("--exact-factor " + std::to_string(o.exactFactor) + " not in [2, 100]");
     (void)elements::halos::HaloTables::quality(o.accuracyQuality);
     (void)elements::halos::HaloTables::quality(o.passQuality);
@@ -139,8 +142,8 @@ int run(const HalosBenchOptions& o) {
         };
         std::vector<Path> paths;
         for (int path = 0; path < 4; ++path) {
-            Path P{path == 0   ? "halo pass, crystal layer tau 0.3, adaptive cells (off by default), ms"
-                   : path == 1 ? "halo pass, crystal layer tau 0.3, ms"  // every cell fetching: the default (row named as before)
+            Path P{path == 0   ? "halo pass, crystal layer tau 0.3 (the default: adaptive cells), ms"
+                   : path == 1 ? "halo pass, crystal layer tau 0.3, every cell fetching bilinearly (the display before), ms"
                    : path == 2 ? "halo pass, no crystals (skipped), ms"
                                : "halo pass, per-pixel path (offline: fisheye, equirect, cirrus), ms",
                    std::make_unique<SkyProcessor>(SkyVars::earth(), log, ProcessorOptions{.timing = true, .astronomy = false})};
@@ -155,6 +158,7 @@ int run(const HalosBenchOptions& o) {
             p.vars().set(elements::haloskeys::opticalDepth, path == 2 ? 0.0 : 0.3);
             P.halos->setAdaptiveCells(path != 1);
             P.halos->setCellTolerance(o.cellTolerance);
+            P.halos->setFineScale(o.fineScale);
             P.halos->setForcePerPixel(path == 3);
             // The adaptive cells depend on the table (its grain is detail): `--pass-quality default`
             // for the tables the element draws by default (from the disk cache after the first run).
@@ -183,11 +187,10 @@ int run(const HalosBenchOptions& o) {
                 note += b;
             }
             emit(P.what, size + note, median(P.ms), median(P.tms), r);
-            if (k == 1 && r > 1.5) met = false;
         }
-        // The cells' lists are made once for a still view; what making them costs (a moving
-        // camera or light makes them every frame): the element with the cells' lists made anew
-        // in each frame, as the same median ratio.
+        // The cells' lists are made once for a view at rest; a moving camera (or light) draws
+        // every cell fetching instead (Halos::setCellsAtRestOnly): the element with the camera
+        // moving in each frame, as the same median ratio.
         {
             Path& P = paths[0];
             std::vector<double> ms, tms, ratio;
@@ -201,7 +204,7 @@ int run(const HalosBenchOptions& o) {
                 tms.push_back(t);
                 ratio.push_back(renderMs / t);
             }
-            emit("halo pass, adaptive cells, camera moving (the cells' lists made in every frame), ms", size, median(ms), median(tms), median(ratio));
+            emit("halo pass, adaptive cells, camera moving (every cell fetching while the view moves), ms", size, median(ms), median(tms), median(ratio));
         }
     }
     // (3) Accuracy of the tables of one quality (`--accuracy-quality`) against the slow exact
@@ -215,11 +218,13 @@ int run(const HalosBenchOptions& o) {
     // of its own, 1/sqrt(factor) of the tables': the difference overstates the tables' error by
     // sqrt(1 + 1/factor) (5 % at 10).
     // (2b) The same as work: the process's CPU time per frame (all threads, llvmpipe's too), which
-    // the other jobs on a loaded machine lengthen less than the wall time. Five processors, frames
+    // the other jobs on a loaded machine lengthen less than the wall time. Six processors, frames
     // alternated: Z (the element with no crystals: skipped), Y (Z + the trivial pass), A (the
-    // trivial pass and the halo pass, adaptive cells), C (the same, every cell fetching), M (A with
-    // the camera moving: the cells' lists made in every frame). The halo pass's work is A - Y
-    // (C - Y, M - Y), the trivial pass's Y - Z; medians over the frames.
+    // trivial pass and the halo pass, adaptive cells, the fetching pieces at `--fine-scale`), B (A
+    // with the fetching pieces reading the table bilinearly: fine scale 0, the default), C (every
+    // cell fetching bilinearly: the display before), M (A with the camera moving: every cell
+    // fetching while the view moves). The halo pass's work is A - Y (B - Y, C - Y, M - Y), the
+    // trivial pass's Y - Z; medians over the frames. The target is judged on A.
     // A processor with the trivial pass or not and the halos at optical depth tau, the element
     // configured by `setup` before it is added; two frames rendered (tables, programs).
     auto makeWith = [&](int w, int h, bool trivial, double tau, const std::function<void(elements::Halos&)>& setup) {
@@ -238,24 +243,29 @@ int run(const HalosBenchOptions& o) {
         return p;
     };
     for (auto [w, h] : sizes) {
-        auto make = [&](bool trivial, double tau, bool adaptive) {
+        elements::Halos* last = nullptr;  // the element of the processor made last
+        auto make = [&](bool trivial, double tau, bool adaptive, int fine) {
             return makeWith(w, h, trivial, tau, [&](elements::Halos& e) {
+                last = &e;
                 e.setAdaptiveCells(adaptive);
                 e.setCellTolerance(o.cellTolerance);
+                e.setFineScale(fine);
             });
         };
-        auto Z = make(false, 0.0, true), Y = make(true, 0.0, true), A = make(true, 0.3, true), C = make(true, 0.3, false), Mv = make(true, 0.3, true);
+        auto Z = make(false, 0.0, true, o.fineScale), Y = make(true, 0.0, true, o.fineScale), A = make(true, 0.3, true, o.fineScale);
+        elements::Halos* aHalos = last;
+        auto B = make(true, 0.3, true, 0), C = make(true, 0.3, false, o.fineScale), Mv = make(true, 0.3, true, o.fineScale);
         auto cpuMs = [] {
             timespec ts{};
             clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
             return 1e3 * double(ts.tv_sec) + 1e-6 * double(ts.tv_nsec);
         };
-        std::vector<double> z, y, a, c, m;
+        std::vector<double> z, y, a, b, c, m;
         for (int i = 0; i < 3 * o.repeats; ++i) {
             Camera cam = Mv->camera();
             cam.azimuthRad = M_PI + ((i % 2) ? 1e-4 : -1e-4);
             Mv->setCamera(cam);
-            for (auto [proc, out] : {std::pair{Z.get(), &z}, std::pair{Y.get(), &y}, std::pair{A.get(), &a}, std::pair{C.get(), &c}, std::pair{Mv.get(), &m}}) {
+            for (auto [proc, out] : {std::pair{Z.get(), &z}, std::pair{Y.get(), &y}, std::pair{A.get(), &a}, std::pair{B.get(), &b}, std::pair{C.get(), &c}, std::pair{Mv.get(), &m}}) {
                 glFinish();
                 const double t0 = cpuMs();
                 proc->renderFrame();
@@ -265,9 +275,18 @@ int run(const HalosBenchOptions& o) {
         }
         const double triv = median(y) - median(z);
         const std::string size = std::to_string(w) + "x" + std::to_string(h);
-        emit("work: halo pass, adaptive cells, CPU ms per frame", size, median(a) - median(y), triv, (median(a) - median(y)) / triv);
-        emit("work: halo pass, every cell fetching (the default), CPU ms per frame", size, median(c) - median(y), triv, (median(c) - median(y)) / triv);
-        emit("work: halo pass, adaptive cells, camera moving, CPU ms per frame", size, median(m) - median(y), triv, (median(m) - median(y)) / triv);
+        A->renderFrame();  // the last frame drawn by A's element: the counts read back are its
+        const auto cells = aHalos->readCellCounts(A->camera());
+        char share[120];
+        std::snprintf(share, sizeof share, " (%.1f %% of the drawn pixels fetch)",
+                      100.0 * double(cells.fetchPixels) / double(std::max(cells.fetchPixels + cells.smoothPixels, 1L)));
+        emit(std::string("work: halo pass, adaptive cells, fine scale ") + std::to_string(o.fineScale) + (o.fineScale == elements::Halos::kFineScale ? " (the default)" : "") + share + ", CPU ms per frame", size, median(a) - median(y), triv,
+             (median(a) - median(y)) / triv);
+        if ((median(a) - median(y)) / triv > 1.5) met = false;
+        emit("work: halo pass, adaptive cells, the fetching pieces bilinear (fine scale 0, the default), CPU ms per frame", size, median(b) - median(y), triv,
+             (median(b) - median(y)) / triv);
+        emit("work: halo pass, every cell fetching bilinearly (the display before), CPU ms per frame", size, median(c) - median(y), triv, (median(c) - median(y)) / triv);
+        emit("work: halo pass, adaptive cells, camera moving (every cell fetching while it moves), CPU ms per frame", size, median(m) - median(y), triv, (median(m) - median(y)) / triv);
     }
     // (2c) What cheaper displays would cost at least (`--floors`; skyelements/halos/README.md,
     // "What any route costs at least"): the grid drawn by probes (Halos::setDisplayProbe) that are
@@ -283,14 +302,17 @@ int run(const HalosBenchOptions& o) {
                 Probe probe;
                 int cellPx;
             };
-            const Floor floors[] = {{"every cell fetching (the default display), 64-pixel cells", Probe::Fetch, 64},
+            const Floor floors[] = {{"every cell fetching (the display before; a moving view's), 64-pixel cells", Probe::Fetch, 64},
                                     {"fetching, 256-pixel cells", Probe::Fetch, 256},
                                     {"nearest-texel fetch, 64-pixel cells", Probe::Nearest, 64},
+                                    {"the fine table (--fine-scale, else 2 x) nearest-texel, 64-pixel cells", Probe::Fine, 64},
                                     {"every piece from its corners (no fetch per pixel), 64-pixel pieces", Probe::Corners, 64},
                                     {"every piece from its corners, 32-pixel pieces", Probe::Corners, 32},
                                     {"every piece from its corners, 16-pixel pieces", Probe::Corners, 16}};
             auto make = [&](bool trivial, double tau, const Floor* fl) {
                 return makeWith(w, h, trivial, tau, [&](elements::Halos& e) {
+                    e.setAdaptiveCells(false);  // the probes draw the grid without the adaptive cells
+                    e.setFineScale(o.fineScale > 0 ? o.fineScale : 2);  // the Fine probe's table: 2 x finer unless --fine-scale says
                     if (fl) e.setDisplayProbe(fl->probe, fl->cellPx);
                 });
             };
@@ -460,6 +482,9 @@ bench::CommandBenchRegistrar reg({"halos", "halo table trace times, the halo pas
                        sub.add_option("--cell-tolerance", o->cellTolerance,
                                       "the adaptive cells' tolerance, a fraction of what the pixel shows, (0, 1] (Halos::kCellTolerance)")
                            ->capture_default_str();
+                       sub.add_option("--fine-scale", o->fineScale,
+                                      "the fetching pieces' fine table, texels per grid-table texel and axis, [1, 4], or 0: the table bilinearly (Halos::kFineScale)")
+                           ->capture_default_str();
                        sub.add_option("--accuracy", o->accuracy, "measure the tables against the brute-force trace (minutes with default tables)")
                            ->capture_default_str();
                        sub.add_option("--sizes", o->sizes, "comma list of the timed frames' sizes, WxH (each side in [16, 4096])")->capture_default_str();
@@ -474,11 +499,11 @@ bench::CommandBenchRegistrar reg({"halos", "halo table trace times, the halo pas
                    {{.element = "halos",
                      .title = "Halos: crystal tables by quality, the pass, and accuracy",
                      .what = "The crystal populations' ray trace at each table quality (rays traced: the tables' size as work), the "
-                             "halo pass against a trivial pass timed alternately with it (every cell fetching, the default, and the "
-                             "adaptive cells; also as the process's CPU work), and the tables against a brute-force trace "
+                             "halo pass against a trivial pass timed alternately with it (the default display: adaptive cells and a fine "
+                             "table read nearest-texel; every cell fetching bilinearly, the display before; also as the process's CPU work), and the tables against a brute-force trace "
                              "with four times the rays.",
                      .args = {"--qualities", "low,default", "--repeats", "5"},
-                     .quickArgs = {"--qualities", "low", "--repeats", "1", "--accuracy-quality", "low", "--exact-factor", "2"},
+                     .quickArgs = {"--qualities", "low", "--repeats", "1", "--accuracy-quality", "low", "--exact-factor", "2", "--pass-quality", "low"},
                      .columns = {"what", "quality_or_size:quality, size or rays", "value", "trivial_ms:trivial pass ms", "ratio_trivial:x trivial pass"}}}});
 
 }  // namespace

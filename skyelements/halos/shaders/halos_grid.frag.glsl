@@ -7,10 +7,19 @@
 layout(binding = WELKIN_BINDING_HALOS_TABLE) uniform sampler2D u_haloTable;
 uniform vec3 u_E;           // the light's illuminance at the observer, lux per channel
 noperspective in vec3 v_r;
+#ifdef HALOS_FINE
+uniform int u_fineSize;     // the fine table's texels per side
+#endif
 
 void main() {
     vec3 a = abs(v_r);
     vec2 st = vec2(v_r.x + v_r.z, v_r.x - v_r.z) / (a.x + a.y + a.z);
+#ifdef HALOS_FINE
+    // The fine table (Halos::updateFineTable), its texel read without the sampler's filtering
+    // (the nearest one: the texel whose square holds the point).
+    vec4 t = texelFetch(u_haloTable, clamp(ivec2((st * 0.5 + 0.5) * float(u_fineSize)), ivec2(0), ivec2(u_fineSize - 1)), 0);
+#else
     vec4 t = textureLod(u_haloTable, st * 0.5 + 0.5, 0.0);
+#endif
     welkin_output(u_E * t.rgb, t.aaa);
 }

@@ -117,6 +117,7 @@ void Halos::doInit(InitContext& ctx) {
     meanUnit_ = textureUnit("HALOS_MEAN");    // the adaptive cells' maps (halos_cells.comp.glsl)
     detailUnit_ = textureUnit("HALOS_DETAIL");
     cellsSsbo_ = storageBuffer("HALOS_CELLS");  // their lists of leaves and draw commands
+    fineImage_ = imageUnit("HALOS_FINE");       // the fetching pieces' fine table, written (halos_fine.comp.glsl)
     programs_ = gl::ProjectionPrograms(gl::ProgramBuilder("Halos")
                                            .bindings(bindings())
                                            .fullscreenVertex()
@@ -126,6 +127,13 @@ void Halos::doInit(InitContext& ctx) {
                                            .fragment("halos/halos.frag.glsl", embedded::halos_shaders("halos.frag.glsl")));
     gridPrograms_ = gl::ProjectionPrograms(gl::ProgramBuilder("Halos grid")
                                                .bindings(bindings())
+                                               .vertex("engine/camera.glsl", gl::engineShader("camera.glsl"))
+                                               .vertex("halos/halos_grid.vert.glsl", embedded::halos_shaders("halos_grid.vert.glsl"))
+                                               .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
+                                               .fragment("halos/halos_grid.frag.glsl", embedded::halos_shaders("halos_grid.frag.glsl")));
+    finePrograms_ = gl::ProjectionPrograms(gl::ProgramBuilder("Halos grid, fine table")
+                                               .bindings(bindings())
+                                               .define("HALOS_FINE")
                                                .vertex("engine/camera.glsl", gl::engineShader("camera.glsl"))
                                                .vertex("halos/halos_grid.vert.glsl", embedded::halos_shaders("halos_grid.vert.glsl"))
                                                .fragment("engine/composite.glsl", gl::engineShader("composite.glsl"))
@@ -141,8 +149,15 @@ void Halos::doInit(InitContext& ctx) {
                                                .bindings(bindings())
                                                .compute("engine/camera.glsl", gl::engineShader("camera.glsl"))
                                                .compute("halos/halos_cells.comp.glsl", embedded::halos_shaders("halos_cells.comp.glsl")));
+    fineProgram_ = gl::ProgramBuilder("Halos fine table")
+                       .bindings(bindings())
+                       .compute("halos/halos_fine.comp.glsl", embedded::halos_shaders("halos_fine.comp.glsl"))
+                       .build();
+    octFine_ = {};
+    fineVersion_ = ~uint64_t(0);
     programs_.get(Projection::Perspective);  // shader errors surface in init()
     gridPrograms_.get(Projection::Perspective);
+    finePrograms_.get(Projection::Perspective);
     smoothPrograms_.get(Projection::Perspective);
     cellPrograms_.get(Projection::Perspective);
     cellsKey_.clear();
@@ -264,10 +279,28 @@ void Halos::doRender(const FrameContext& ctx) {
         // The adaptive cells need the drawn table's maps: a table swapped in this frame without
         // them (the cells turned on while its refill was under way) is drawn by every cell
         // fetching this once; the next frame fills table and maps whole (above).
+        // The cells' lists are made only for a view that rests: in a frame whose view, table,
+        // turn or horizon differ from the frame before's (a moving camera, time running) every
+        // cell fetches, as if the cells were off, so the lists' test is never paid per frame; the
+        // second frame of a resting view makes them (skyelements/halos/README.md, "The default
+        // display").
+        std::vector<double> key;
         if (adaptive_ && frontMaps_) {
-            // The adaptive cells (off by default: skyelements/halos/README.md): the lists of pieces
+            const int gxc = (ctx.camera.width + kGridCellPx - 1) / kGridCellPx, gyc = (ctx.camera.height + kGridCellPx - 1) / kGridCellPx;
+            key = {double(gxc), double(gyc), muH, cellTolerance_, double(octVersion_), fx.x, fx.y, fx.z, fy.x, fy.y, fz.x, fz.y, fz.z,
+                   double(ctx.camera.width), double(ctx.camera.height)};
+            for (const glm::dvec2 px : {glm::dvec2(0.0), glm::dvec2(ctx.camera.width, 0.0), glm::dvec2(0.0, ctx.camera.height)}) {
+                const glm::dvec3 d = ctx.camera.directionAt(px).value_or(glm::dvec3(0.0));
+                key.insert(key.end(), {d.x, d.y, d.z});
+            }
+        }
+        const bool rests = key == lastKey_ || !restOnly_;
+        lastKey_ = key;
+        listsDrawn_ = adaptive_ && frontMaps_ && (rests || key == cellsKey_);
+        if (listsDrawn_) {
+            // The adaptive cells (on by default for a resting view: skyelements/halos/README.md, "The default display"): the lists of pieces
             // (halos_cells.comp.glsl), made again only when what they depend on changed, then two
-            // indirect draws, the pieces drawn from their corners and those that fetch.
+            // draws, the pieces drawn from their corners and those that fetch.
             const uint32_t listSize = uint32_t(4 * gx * gy);  // a cell lists at most its 4 quarters
             if (!cellBuf_ || listSize_ != listSize) {
                 cellBuf_ = gl::Buffer(32 + 2 * std::size_t(listSize) * 4);
@@ -275,12 +308,7 @@ void Halos::doRender(const FrameContext& ctx) {
                 cellsKey_.clear();
             }
             cellBuf_.bindBase(GL_SHADER_STORAGE_BUFFER, GLuint(cellsSsbo_));
-            std::vector<double> key = {double(gx), double(gy), muH, cellTolerance_, double(octVersion_), fx.x, fx.y, fx.z, fy.x, fy.y, fz.x, fz.y, fz.z,
-                                       double(ctx.camera.width), double(ctx.camera.height)};
-            for (const glm::dvec2 px : {glm::dvec2(0.0), glm::dvec2(ctx.camera.width, 0.0), glm::dvec2(0.0, ctx.camera.height)}) {
-                const glm::dvec3 d = ctx.camera.directionAt(px).value_or(glm::dvec3(0.0));
-                key.insert(key.end(), {d.x, d.y, d.z});
-            }
+            if (fineScale_ > 0) updateFineTable();
             if (key != cellsKey_) {
                 const auto t0 = std::chrono::steady_clock::now();
                 const uint32_t header[8] = {0, 1, 0, 0, 0, 1, 0, 0};  // DrawArraysIndirectCommand x 2, counts 0
@@ -295,32 +323,48 @@ void Halos::doRender(const FrameContext& ctx) {
                 glBindTextureUnit(GLuint(meanUnit_), octMean_.id());
                 glBindTextureUnit(GLuint(detailUnit_), octDetail_.id());
                 glDispatchCompute(GLuint((gx * gy + 15) / 16), 1, 1);
-                glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
-                cellsKey_ = std::move(key);
+                glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+                // The two lists' vertex counts read back once, here (a wait for the pass, once per
+                // resting view), so that each frame draws them with plain draws: an indirect draw
+                // makes llvmpipe finish the frame's queued work before it reads its command, a
+                // stall in every frame (measured: the wall time of the pass no better than every
+                // cell fetching at 1280 x 720, twice it at 512 x 256).
+                uint32_t counts[8] = {};
+                glGetNamedBufferSubData(cellBuf_.id(), 0, sizeof counts, counts);
+                listVertices_ = {counts[0], counts[4]};
+                cellsKey_ = key;
                 cellsMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
             } else {
                 cellsMs_ = 0.0;
             }
-            // The host's indirect buffer binding is not among what the processor saves: kept here.
-            GLint hostIndirect = 0;
-            glGetIntegerv(GL_DRAW_INDIRECT_BUFFER_BINDING, &hostIndirect);
-            glBindBuffer(GL_DRAW_INDIRECT_BUFFER, cellBuf_.id());
             for (int list = 0; list < 2; ++list) {
-                const gl::Program& g = (list == 0 ? smoothPrograms_ : gridPrograms_).get(ctx.camera.projection);
+                if (listVertices_[std::size_t(list)] == 0) continue;
+                const bool fine = list == 1 && fineScale_ > 0;
+                const gl::Program& g = (list == 0 ? smoothPrograms_ : fine ? finePrograms_ : gridPrograms_).get(ctx.camera.projection);
+                // The smooth pieces' vertices read the table bilinearly (what the cells' test
+                // compared); the fetching pieces' pixels the fine table nearest-texel.
+                glBindTextureUnit(GLuint(tableUnit_), fine ? octFine_.id() : octTable_.id());
                 g.use();
+                if (fine) g.set("u_fineSize", octFine_.width());
                 setCommon(g);
                 g.set("u_E", glm::vec3(E));
                 g.set("u_list", 1);
                 glUniform1ui(glGetUniformLocation(g.id(), "u_listOffset"), list == 0 ? 0u : listSize);
-                glDrawArraysIndirect(GL_TRIANGLES, reinterpret_cast<const void*>(std::uintptr_t(16 * list)));
+                glDrawArrays(GL_TRIANGLES, 0, GLsizei(listVertices_[std::size_t(list)]));
             }
-            glBindBuffer(GL_DRAW_INDIRECT_BUFFER, GLuint(hostIndirect));
         } else {
-            // Every cell whole, fetching per pixel (the default); a probe (setDisplayProbe) may read
+            cellsMs_ = 0.0;
+            // Every cell whole, fetching per pixel (the cells off, or a view that moves); a probe (setDisplayProbe) may read
             // the table nearest-texel or draw every piece from its corners instead.
-            const bool corners = probe_ == DisplayProbe::Corners, nearest = probe_ == DisplayProbe::Nearest;
-            const gl::Program& g = (corners ? smoothPrograms_ : gridPrograms_).get(ctx.camera.projection);
+            const bool corners = probe_ == DisplayProbe::Corners, nearest = probe_ == DisplayProbe::Nearest, fine = probe_ == DisplayProbe::Fine;
+            if (fine) {
+                if (fineScale_ == 0) throw Error("Halos: DisplayProbe::Fine needs a fine scale > 0");
+                updateFineTable();
+                glBindTextureUnit(GLuint(tableUnit_), octFine_.id());
+            }
+            const gl::Program& g = (corners ? smoothPrograms_ : fine ? finePrograms_ : gridPrograms_).get(ctx.camera.projection);
             g.use();
+            if (fine) g.set("u_fineSize", octFine_.width());
             setCommon(g);
             g.set("u_E", glm::vec3(E));
             g.set("u_list", 0);
@@ -493,6 +537,34 @@ void Halos::setDisplayProbe(DisplayProbe probe, int cellPx) {
     probeCellPx_ = cellPx;
 }
 
+void Halos::setFineScale(int scale) {
+    if (scale < 0 || scale > 4) throw Error("Halos::setFineScale(): " + std::to_string(scale) + " not in [0, 4]");
+    fineScale_ = scale;
+}
+
+// The fine table (halos_fine.comp.glsl), made again whenever the drawn grid table changed (a
+// whole fill, a refill swapped in) or its scale did: one GPU pass over (fineScale_ N)^2 texels.
+void Halos::updateFineTable() {
+    const int F = fineScale_ * octN_;
+    if (!octFine_ || octFine_.width() != F) {
+        octFine_ = gl::Texture2D(F, F, GL_RGBA16F);
+        octFine_.setFilter(GL_NEAREST);
+        octFine_.setWrap(GL_CLAMP_TO_EDGE);
+        fineVersion_ = ~uint64_t(0);
+    }
+    if (fineVersion_ == octVersion_) return;
+    const auto t0 = std::chrono::steady_clock::now();
+    fineProgram_.use();
+    fineProgram_.set("u_size", F);
+    glBindTextureUnit(GLuint(tableUnit_), octTable_.id());
+    glBindImageTexture(GLuint(fineImage_), octFine_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    glDispatchCompute(GLuint((F + 7) / 8), GLuint((F + 7) / 8), 1);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+    fineVersion_ = octVersion_;
+    ++fineMade_;
+    fineMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
 void Halos::setCellTolerance(double t) {
     if (!(t > 0.0 && t <= 1.0)) throw Error("Halos::setCellTolerance(): " + std::to_string(t) + " not in (0, 1]");
     cellTolerance_ = t;
@@ -594,7 +666,14 @@ void Halos::updateOctMaps(bool back, int r0, int r1) {
 
 Halos::CellCounts Halos::readCellCounts(const Camera& cam) const {
     CellCounts c;
-    if (!cellBuf_ || !grid_) return c;
+    if (!grid_) return c;
+    if (!listsDrawn_) {  // every cell fetched (the cells off, or a view that moved)
+        const int gx = (cam.width + kGridCellPx - 1) / kGridCellPx, gy = (cam.height + kGridCellPx - 1) / kGridCellPx;
+        c.fetchLeaves = gx * gy;
+        c.fetchPixels = long(cam.width) * long(cam.height);
+        return c;
+    }
+    if (!cellBuf_) return c;
     std::vector<uint32_t> buf(cellBuf_.size() / 4);
     glGetNamedBufferSubData(cellBuf_.id(), 0, GLsizeiptr(cellBuf_.size()), buf.data());
     const int gx = (cam.width + kGridCellPx - 1) / kGridCellPx;
@@ -661,7 +740,10 @@ void Halos::doStats(nlohmann::json& root) const {
         root["halos"]["grid_table_update_ms"] = oct_.updateMs;
         root["halos"]["grid_table_rows_last_frame"] = oct_.rowsLast;
         root["halos"]["grid_adaptive_cells"] = adaptive_;
+        root["halos"]["grid_cells_drawn"] = listsDrawn_;
         root["halos"]["grid_cells_ms"] = cellsMs_;
+        root["halos"]["grid_fine_scale"] = adaptive_ ? fineScale_ : 0;
+        root["halos"]["grid_fine_table_ms"] = fineMs_;
     }
     if (!std::isnan(pix_.held)) {
         root["halos"]["pixel_table_update_ms"] = pix_.updateMs;
@@ -672,8 +754,12 @@ void Halos::doStats(nlohmann::json& root) const {
 void Halos::doRelease() {
     programs_.releasePrograms();
     gridPrograms_.releasePrograms();
+    finePrograms_.releasePrograms();
     smoothPrograms_.releasePrograms();
     cellPrograms_.releasePrograms();
+    fineProgram_ = {};
+    octFine_ = {};
+    fineVersion_ = ~uint64_t(0);
     octMean_ = {};
     octMeanBack_ = {};
     octDetail_ = {};
@@ -682,6 +768,8 @@ void Halos::doRelease() {
     cellBuf_ = {};
     listSize_ = 0;
     cellsKey_.clear();
+    lastKey_.clear();
+    listsDrawn_ = false;
     table_ = {};
     tableBack_ = {};
     pix_.backRow = -1;

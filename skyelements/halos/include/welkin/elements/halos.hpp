@@ -242,7 +242,7 @@ private:
     void doRelease() override;
     void doStats(nlohmann::json& root) const override;
 
-    gl::ProjectionPrograms programs_, gridPrograms_, smoothPrograms_, cellPrograms_;
+    gl::ProjectionPrograms programs_, gridPrograms_, finePrograms_, smoothPrograms_, cellPrograms_;
     gl::Texture2D table_;            // the mix at the light's elevation (azimuth x elevation), 1/sr (per-pixel path)
     gl::Texture2D octTable_;         // the grid path's table (octahedral half-sphere, the layer baked in): drawn
     gl::Texture2D octBack_;          // the one being filled over frames (halos.table_slices), swapped in when complete
@@ -315,10 +315,24 @@ private:
     // drawn table, the layer's horizon, the tolerance).
     gl::Buffer cellBuf_;
     uint32_t listSize_ = 0;
-    bool adaptive_ = false;
+    bool adaptive_ = true;
+    // The fetching pieces' table (halos_fine.comp.glsl): the drawn grid table resampled
+    // bilinearly on the GPU onto fineScale_ x its texels per axis whenever the drawn table
+    // changes (octVersion_), read nearest-texel; 0: the pieces fetch the table itself bilinearly.
+    gl::Program fineProgram_;
+    gl::Texture2D octFine_;
+    int fineImage_ = 0;
+    int fineScale_ = kFineScale;
+    uint64_t fineVersion_ = ~uint64_t(0);
+    int fineMade_ = 0;
+    double fineMs_ = 0.0;
+    void updateFineTable();
     double cellTolerance_ = kCellTolerance;
     uint64_t octVersion_ = 0;  // bumped whenever the drawn grid table (and its maps) changes
-    std::vector<double> cellsKey_;
+    std::vector<double> cellsKey_, lastKey_;  // what the lists were made for; what the last frame's view was
+    bool restOnly_ = true;                    // lists made only for a view that rests a frame
+    bool listsDrawn_ = false;                 // the last frame drew the two lists (false: every cell fetched)
+    std::array<uint32_t, 2> listVertices_{};  // the two lists' vertex counts (6 a piece), read back when made
     double cellsMs_ = 0.0;
 
 public:
@@ -338,8 +352,12 @@ public:
     /// A piece of the grid is drawn from its corners' values (no fetch per pixel) where the
     /// difference from the per-pixel fetch is bounded by kCellTolerance x what the pixel shows
     /// (the halo light and, under it, a lower bound of the clear sky's light: kSkyFloor),
-    /// per colour channel and in the transmittance (skyelements/halos/README.md).
-    static constexpr double kCellTolerance = 0.004;
+    /// per colour channel and in the transmittance (skyelements/halos/README.md). 10 %: a
+    /// smooth piece's pixel stays within 11 % (t / (1 - t)) of the fetched value, at most 13
+    /// 8-bit codes at the sRGB curve's steepest (117 codes per unit of ln L), inside the image
+    /// tests' 10 %; at 3 % the default tables' grain leaves too few pieces smooth to save
+    /// anything (0.004, half a code, until 2026-11-28, when the cells were off by default).
+    static constexpr double kCellTolerance = 0.1;
     /// A lower bound of the clear sky's radiance above the horizon over the illuminance (at the
     /// observer) of the light that makes it, per channel (1/sr): single Rayleigh scattering by the
     /// zenith column (the shortest) at 90 deg from the light (the phase function's least, 3 / (16
@@ -348,11 +366,32 @@ public:
     /// A bound from that physics alone (aerosols and multiple scattering only add light); not
     /// compared with the Sky element's rendered sky by a test.
     static constexpr std::array<double, 3> kSkyFloor{0.0035, 0.0053, 0.0095};
-    /// The adaptive cells on (off by default: with the traced tables' Monte-Carlo grain, tens of
-    /// per cent from texel to texel, no piece of a lit sky passes kCellTolerance, so they cost
-    /// their tests and two draws and save nothing; skyelements/halos/README.md, "Adaptive cells").
-    /// Off: every cell fetches per pixel, one draw.
+    /// The adaptive cells, on by default since 2026-11-28 (issue 21 item 4; skyelements/halos/README.md,
+    /// "The default display"): for a view that rests a frame, the pieces that pass the cells'
+    /// test (kCellTolerance) are drawn from their corners and the others fetch the table
+    /// bilinearly per pixel; a view that moves (or time running) draws every cell fetching.
+    /// Off: every cell fetches in every frame, one draw (the display before; setDisplayProbe's
+    /// probes draw only then).
     void setAdaptiveCells(bool on) { adaptive_ = on; }
+    /// The fetching pieces may read a copy of the grid's table kFineScale x finer per axis
+    /// instead (resampled bilinearly on the GPU each time the drawn table changes), nearest-texel
+    /// (setFineScale). Off by default (0): measured on llvmpipe, reading the 2 x finer copy (8 MB
+    /// of RGBA16F for the default tables, 4 x the table's 2 MB) nearest-texel costs nearly what
+    /// the bilinear fetch of the table costs (the memory it touches), and its image is further
+    /// from the per-pixel pass (skyelements/halos/README.md, "The default display").
+    static constexpr int kFineScale = 0;
+    /// Tests and benchmarks: the fine table's scale, 1-4 (1: a copy of the table itself, read
+    /// nearest), or 0: the fetching pieces fetch the table bilinearly (the default). Throws
+    /// welkin::Error outside [0, 4].
+    void setFineScale(int scale);
+    /// Fine tables made so far (each one GPU pass over its texels) and the CPU time of issuing
+    /// the last (ms; the GPU's work is in the element's render_ms with timing on).
+    int fineTablesMade() const { return fineMade_; }
+    /// Tests: make the cells' lists in every frame whose view changed too (false), not only for a
+    /// view that rests a frame (true, the default: a moving view draws every cell fetching).
+    void setCellsAtRestOnly(bool on) { restOnly_ = on; }
+    /// True if the last frame drew the adaptive cells' two lists (false: every cell fetched).
+    bool cellsDrawnLastFrame() const { return listsDrawn_; }
     /// Tests and benchmarks: another tolerance than kCellTolerance, a fraction in (0, 1] (throws
     /// welkin::Error outside it, NaN included).
     void setCellTolerance(double t);
@@ -400,7 +439,9 @@ public:
     /// from each piece's corners, interpolated, no fetch per pixel (Corners: every piece as the
     /// adaptive cells' smooth ones, whatever the table; a halo narrower than a piece is smeared).
     /// Throws welkin::Error for cellPx outside [8, 1024].
-    enum class DisplayProbe { Fetch, Nearest, Corners };
+    /// Fine: every piece reading the fine table nearest-texel (setFineScale, > 0), as the
+    /// default display's fetching pieces do.
+    enum class DisplayProbe { Fetch, Nearest, Corners, Fine };
     void setDisplayProbe(DisplayProbe probe, int cellPx = kGridCellPx);
 
 private:
