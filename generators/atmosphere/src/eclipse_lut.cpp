@@ -248,8 +248,13 @@ void EclipseSkyLut::doRun(SkyVars& vars, const Logger&) {
     auto startBuild = [&](bool whole) {
         buildBands_ = bandsPlanned;
         fieldPieces_ = whole ? 1 : piecesPlanned;
-        // Built for where the shadow will be when the table is shown.
-        building_ = whole ? now : ahead(leadRuns);
+        // Built for where the shadow will be when the table is shown; when the shadow moves more
+        // than kEclipseRebuildMeters in a rebuild's runs (the clock fast: rebuilds back to back,
+        // each table shown for one rebuild's runs), for the middle of the runs it will be shown
+        // in, so that it is half as far from the shadow at worst (ahead, then behind).
+        const double cycle = leadRuns + 1.0;
+        const bool backToBack = haveLast && !jumped && step * cycle > kEclipseRebuildMeters;
+        building_ = whole ? now : ahead(backToBack ? leadRuns + 0.5 * cycle : leadRuns);
         const cpu::EclipseGeometry g{.moonPos = building_.moonPos, .moonRadius = astro::keys::kMoonRadiusMeters,
                                      .sunPos = building_.sunDir * building_.sunDist, .sunRadius = kSunRadiusMeters};
         msBuilder_.emplace(g, cpu::eclipseMsLength(g));

@@ -459,13 +459,14 @@ inline constexpr int kEclipseTimeSlices = 32;
 inline constexpr double kEclipseBandPixelsPerTexel = 300.0;
 inline constexpr int kEclipseMaxTimeSlices = 512;
 /// While time runs, a rebuild's multiple-scattering field (cpu::EclipseMsTableBuilder) is built in
-/// runs of its own before the first band, each at most about a fifth of a frame: the table costs
-/// about what the ordinary sky's frame of ~34,000 pixels costs (2.4 ms of CPU against ~1.0 ms for
-/// 160 x 90 at load 8-9, docs/eclipse.md "Frame cost"), so EclipseSkyLut::fieldPiecesFor(pixels) =
+/// runs of its own before the first band, each at most about a tenth of a frame: the table costs
+/// about what the ordinary sky's frame of ~34,000 pixels costs (2.2 ms of CPU against 0.5-0.7 ms
+/// for 160 x 90, docs/eclipse.md "Frame cost"), so EclipseSkyLut::fieldPiecesFor(pixels) =
 /// ceil(kEclipseFieldPixels / pixels) pieces, at most kEclipseMaxFieldPieces (the builder's largest
-/// unit of work is ~4 % of the table): 12 at 160 x 90, 3 at 320 x 180, 1 (the table in the first
-/// band's run, as before) from 640 x 360 up.
-inline constexpr double kEclipseFieldPixels = 170e3;
+/// unit of work is ~4 % of the table): 24 at 160 x 90, 6 at 320 x 180, 2 at 640 x 360, 1 (the
+/// table in the first band's run, as before) at 1280 x 720. (A fifth of a frame, 170e3, measured
+/// 1.32x and 1.44x a normal frame at 160 x 90 and 320 x 180: too near the 1.5x target.)
+inline constexpr double kEclipseFieldPixels = 340e3;
 inline constexpr int kEclipseMaxFieldPieces = 24;
 /// The texture unit of the eclipse's multiple-scattering field (shares 9 with the SH pass's ground
 /// input and the clouds' shadow map, gl::binding: never bound together with them).
