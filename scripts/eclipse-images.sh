@@ -13,7 +13,7 @@
 # mid-totality fisheye is the page's eclipse_<place>_fisheye.png again, rendered by this script with
 # the maximum that the events give now; the older images are left alone).
 # Every render command is printed as it runs. ~25 s a place on llvmpipe (1 min 16 s in all,
-# 2026-11-27, 2 cores, load 7.8).
+# 2026-11-27, 2 cores, load 7.8; 2 min 13 s on 2026-11-28 00:32 UTC, load ~9).
 # Usage: scripts/eclipse-images.sh [BUILD_DIR]
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -23,8 +23,8 @@ cd "$here"
 
 offset_s=4     # seconds before C2 / after C3
 size=256x256
-sun_fov=2.0    # degrees: the Sun (0.53 deg) and the corona out to 3.8 solar radii at the sides; the
-               # corners (5.4 R_sun) stay inside the 6 R_sun where the corona's drawing ends
+sun_fov=2.0    # degrees: the Sun (0.53 deg) and the corona out to 3.8 solar radii at the sides, 5.4
+               # at the corners (the corona is drawn out to 30 R_sun since 2026-11-28)
 
 # place name, latitude, longitude, start of the day searched (UTC)
 places=(

@@ -42,6 +42,8 @@ void EclipseSkyLut::releaseGl() {
     prog_ = {};
     active_ = published_ = false;
     nextBand_ = -1;
+    msBuilder_.reset();
+    haveLast_ = false;
     releaseCommon();
 }
 
@@ -61,6 +63,11 @@ void EclipseSkyLut::bindMsField(const gl::Program& p) const {
     p.set("u_eclMsE2", glm::vec3(shownMs_.e2));
     p.set("u_eclMsCentre", glm::vec2(shownMs_.centre));
     p.set("u_eclMsHalf", msTex_ ? float(shownMs_.halfExtentMeters) : 0.0f);
+}
+
+int EclipseSkyLut::fieldPiecesFor(long pixels) {
+    if (pixels <= 0) return 1;
+    return int(std::clamp(std::ceil(kEclipseFieldPixels / double(pixels)), 1.0, double(kEclipseMaxFieldPieces)));
 }
 
 int EclipseSkyLut::bandsFor(long pixels, int W, int H) {
@@ -146,6 +153,8 @@ void EclipseSkyLut::doRun(SkyVars& vars, const Logger&) {
         active_ = false;
         published_ = true;
         nextBand_ = -1;
+        msBuilder_.reset();
+        haveLast_ = false;
         return;
     }
     const int W = 2 * q_.skyViewW, H = q_.skyViewH;
@@ -169,6 +178,7 @@ void EclipseSkyLut::doRun(SkyVars& vars, const Logger&) {
         backFbo_.checkComplete("EclipseSkyLut (back)");
         active_ = false;  // nothing shown yet: build whole
         nextBand_ = -1;
+        msBuilder_.reset();
     }
     if (!prog_ || progBands_ != q_.shBands) {
         progBands_ = q_.shBands;
@@ -190,18 +200,34 @@ void EclipseSkyLut::doRun(SkyVars& vars, const Logger&) {
     glBindTextureUnit(gl::binding::kMultiScatteringLut, (*MS)[0].id);
     glBindTextureUnit(gl::binding::kShLut, (*SH)[0].id);
     const Build now{.sunDir = sunDir, .moonPos = moonPos, .h = h, .sunDist = vars.getOr(astro::keys::sunDistance, 1.496e11)};
-    // How far the shadow has moved across the observer's air since the table shown was built: the
+    // How far the shadow has moved across the observer's air between two builds' geometries: the
     // axis' crossing, the Sun's turn seen at the farthest air (reach) and the observer's height.
-    auto moved = [&](const Build& b) {
-        const double axis = glm::length(axisCrossing(now.moonPos, now.sunDir * now.sunDist) - axisCrossing(b.moonPos, b.sunDir * b.sunDist));
-        const double turn = 2.0 * std::asin(std::min(0.5 * glm::length(now.sunDir - b.sunDir), 1.0)) * reach;
-        return axis + turn + std::abs(now.h - b.h);
+    auto movedBetween = [&](const Build& a, const Build& b) {
+        const double axis = glm::length(axisCrossing(a.moonPos, a.sunDir * a.sunDist) - axisCrossing(b.moonPos, b.sunDir * b.sunDist));
+        const double turn = 2.0 * std::asin(std::min(0.5 * glm::length(a.sunDir - b.sunDir), 1.0)) * reach;
+        return axis + turn + std::abs(a.h - b.h);
     };
-    auto startBuild = [&] {
-        building_ = now;
-        const cpu::EclipseGeometry g{.moonPos = now.moonPos, .moonRadius = astro::keys::kMoonRadiusMeters,
-                                     .sunPos = now.sunDir * now.sunDist, .sunRadius = kSunRadiusMeters};
-        buildingMs_ = cpu::eclipseMsTable(g, cpu::eclipseMsLength(g));
+    auto moved = [&](const Build& b) { return movedBetween(now, b); };
+    // Since the previous run: a jump of the clock (set, not running) beyond kEclipseJumpMeters, or
+    // the clock running (then the shadow's motion per run predicts where it will be).
+    const bool haveLast = haveLast_;
+    const double step = haveLast ? moved(last_) : 1e30;
+    const bool jumped = step > kEclipseJumpMeters;
+    const Build last = last_;
+    last_ = now;
+    haveLast_ = true;
+    // The geometry `runs` runs ahead, extrapolated linearly from the last run's motion (the clock
+    // running: the Moon's topocentric motion is smooth, its curvature over a minute ~0.1 km).
+    auto ahead = [&](double runs) {
+        if (jumped || !haveLast || !predict_) return now;
+        Build b = now;
+        b.moonPos = now.moonPos + (now.moonPos - last.moonPos) * runs;
+        b.sunDir = glm::normalize(now.sunDir + (now.sunDir - last.sunDir) * runs);
+        b.sunDist = now.sunDist + (now.sunDist - last.sunDist) * runs;
+        b.h = std::clamp(now.h + (now.h - last.h) * runs, 0.0, Ht);
+        return b;
+    };
+    auto uploadMs = [&] {
         const int n = buildingMs_.n;
         if (!backMsTex_ || backMsTex_.width() != n) {
             backMsTex_ = gl::Texture2D(n, n, GL_R32F);
@@ -209,9 +235,46 @@ void EclipseSkyLut::doRun(SkyVars& vars, const Logger&) {
             backMsTex_.setWrap(GL_CLAMP_TO_EDGE);
         }
         backMsTex_.upload(GL_RED, GL_FLOAT, buildingMs_.d.data());
+    };
+    // A rebuild: the multiple-scattering field's CPU table (in fieldPieces_ runs of its own when
+    // time runs, before the first band: docs/eclipse.md "Frame cost"), then the bands. `whole`:
+    // all of it now (nothing shown, or a jump).
+    const int bandsPlanned = explicitSlices_ ? std::clamp(slices_, 1, H) : bandsFor(framePixels_, W, H);
+    const int piecesPlanned = explicitFieldPieces_ > 0 ? explicitFieldPieces_ : fieldPiecesFor(framePixels_);
+    // The runs from a rebuild's start to the run that shows it: the field's runs (the last of them
+    // renders the first band when there is one piece), the bands (whole tiles), the swap's run.
+    const int tileCols = std::max(1, (bandsPlanned + H - 1) / H);
+    const double leadRuns = double((piecesPlanned > 1 ? piecesPlanned : 0) + tileCols * ((bandsPlanned + tileCols - 1) / tileCols));
+    auto startBuild = [&](bool whole) {
+        buildBands_ = bandsPlanned;
+        fieldPieces_ = whole ? 1 : piecesPlanned;
+        // Built for where the shadow will be when the table is shown; when the shadow moves more
+        // than kEclipseRebuildMeters in a rebuild's runs (the clock fast: rebuilds back to back,
+        // each table shown for one rebuild's runs), for the middle of the runs it will be shown
+        // in, so that it is half as far from the shadow at worst (ahead, then behind).
+        const double cycle = leadRuns + 1.0;
+        const bool backToBack = haveLast && !jumped && step * cycle > kEclipseRebuildMeters;
+        building_ = whole ? now : ahead(backToBack ? leadRuns + 0.5 * cycle : leadRuns);
+        const cpu::EclipseGeometry g{.moonPos = building_.moonPos, .moonRadius = astro::keys::kMoonRadiusMeters,
+                                     .sunPos = building_.sunDir * building_.sunDist, .sunRadius = kSunRadiusMeters};
+        msBuilder_.emplace(g, cpu::eclipseMsLength(g));
         nextBand_ = 0;
-        buildBands_ = explicitSlices_ ? std::clamp(slices_, 1, H) : bandsFor(framePixels_, W, H);
         largestBand_ = buildTexels_ = 0;
+    };
+    // One run's share of the field's table; true once it is finished (and uploaded).
+    auto advanceField = [&](bool all) {
+        if (!msBuilder_) return true;
+        if (all || fieldPieces_ <= 1) {
+            while (!msBuilder_->finished()) msBuilder_->step();
+        } else {
+            msBuilder_->advance(msBuilder_->totalWork() / fieldPieces_);
+            ++fieldRuns_;
+        }
+        if (!msBuilder_->finished()) return false;
+        buildingMs_ = msBuilder_->take();
+        msBuilder_.reset();
+        uploadMs();
+        return true;
     };
     bool swapped = false;
     auto finish = [&] {
@@ -227,17 +290,31 @@ void EclipseSkyLut::doRun(SkyVars& vars, const Logger&) {
         lastBuildTexels_ = buildTexels_;
     };
     const double motion = active_ ? moved(shown_) : 1e30;
-    if (!active_ || motion > kEclipseJumpMeters || (slices_ <= 1 && motion > kEclipseRebuildMeters)) {
+    if (!active_ || jumped || (slices_ <= 1 && motion > kEclipseRebuildMeters)) {
         // Nothing shown, or the shadow jumped (time set): the whole table now.
-        startBuild();
+        startBuild(true);
+        advanceField(true);
         renderBand(0, W, 0, H);
         ++rebuilds_;
         finish();
     } else {
-        if (nextBand_ < 0 && motion > kEclipseRebuildMeters) startBuild();
+        // A rebuild starts when the shadow has moved kEclipseRebuildMeters from the table shown, or
+        // will have by the time a rebuild started now could be shown (time running: the table
+        // shown then stays within ~kEclipseRebuildMeters of the shadow, however long a rebuild).
+        if (nextBand_ < 0 && std::max(motion, movedBetween(ahead(leadRuns), shown_)) > kEclipseRebuildMeters) startBuild(false);
         if (nextBand_ >= 0) {
             const int cols = std::max(1, (buildBands_ + H - 1) / H), n = cols * ((buildBands_ + cols - 1) / cols);
-            if (nextBand_ >= n) {
+            if (msBuilder_) {
+                // The field's table: one piece a run, no band with it (one piece: the whole table
+                // and the first band in the same run, as before).
+                const bool done = advanceField(false);
+                if (done && fieldPieces_ <= 1) {
+                    renderTile(nextBand_);
+                    ++rebuilds_;
+                    ++nextBand_;
+                }
+                runAgain();
+            } else if (nextBand_ >= n) {
                 // The last band was rendered in the previous run: show the new table now, in a
                 // run that renders no band (sampling a table in the frame that rendered it makes
                 // llvmpipe finish that band before the Sky pass can start: the swap frame cost
@@ -252,6 +329,7 @@ void EclipseSkyLut::doRun(SkyVars& vars, const Logger&) {
         }
     }
     active_ = true;
+    shownOffset_ = moved(shown_);
     if (swapped || !published_) {
         vars.publish(skykeys::eclipseViewLut, smooth_.ref());
         vars.publish(skykeys::eclipseViewMieLut, mie_.ref());

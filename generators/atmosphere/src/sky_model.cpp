@@ -569,42 +569,95 @@ double eclipseMsLength(const EclipseGeometry& g) {
     return kEclipseMsLengthMeters * std::pow(edge / kEclipseMsEdgeMeters, kEclipseMsEdgePower);
 }
 
-EclipseMsTable eclipseMsTable(const EclipseGeometry& g, double lengthMeters, int n, double halfExtentMeters, double verticalMeters) {
+// The field's arithmetic, in units of work (EclipseMsTableBuilder::step): the radial fraction in
+// chunks of kRadialChunk points, the grid of the fraction, each line of each of the three
+// Gaussians' two blur passes (the accumulation with the last column), the fourth Gaussian on the
+// coarse grid, D. eclipseMsTable() runs every unit at once, EclipseSkyLut a few per frame.
+namespace {
+constexpr int kMsRadial = 2048;
+constexpr int kMsRadialChunk = 64;
+constexpr int kMsGridChunk = 16;  // rows of the fraction's grid per unit
+constexpr double kMsSigma[3] = {0.35, 1.0, 2.2}, kMsWeight[3] = {0.4256, 0.4770, 0.0967};
+constexpr double kMsSigma4 = 4.5, kMsWeight4 = 0.0007;
+// One fraction on the radial grid, in blur taps (its share of the work; measured 2026-11-28:
+// a radial point ~0.55 us, a row tap ~1.1 ns on this machine, load 2-5).
+constexpr double kMsRadialTaps = 500.0;
+
+// The blur's taps for one sigma (texels): half-width R, weights and their running sum.
+struct MsKernel {
+    int R = -1;  // < 0: no blur (sigma < 0.25 texels): a copy
+    std::vector<double> w, cum;
+    MsKernel() = default;
+    MsKernel(double sigmaTexels, int N) {
+        if (sigmaTexels < 0.25) return;
+        R = std::min(int(std::ceil(3.0 * sigmaTexels)), N - 1);
+        w.resize(size_t(2 * R + 1));
+        cum.assign(size_t(2 * R + 2), 0.0);
+        for (int k = -R; k <= R; ++k) w[size_t(k + R)] = std::exp(-0.5 * (k / sigmaTexels) * (k / sigmaTexels));
+        for (int k = 0; k <= 2 * R; ++k) cum[size_t(k) + 1] = cum[size_t(k)] + w[size_t(k)];
+    }
+    // One line of the separable blur of the N x N grid `in` into `out` (alongRows: a row, else a
+    // column). Each output texel: the taps inside the grid (k in [lo, hi]), renormalised at the
+    // grid's edge by their summed weight; contiguous along the line (the columns' pass reads the
+    // transposed stride), no test per tap.
+    void line(const std::vector<double>& in, std::vector<double>& out, bool alongRows, int N, int ln) const {
+        const size_t along = alongRows ? 1 : size_t(N), across = alongRows ? size_t(N) : 1;
+        const double* src = in.data() + size_t(ln) * across;
+        double* dst = out.data() + size_t(ln) * across;
+        if (R < 0) {
+            for (int i = 0; i < N; ++i) dst[size_t(i) * along] = src[size_t(i) * along];
+            return;
+        }
+        for (int i = 0; i < N; ++i) {
+            const int lo = std::max(-R, -i), hi = std::min(R, N - 1 - i);
+            double sum = 0.0;
+            const double* wk = w.data() + (lo + R);
+            const double* s = src + size_t(i + lo) * along;
+            for (int k = 0; k <= hi - lo; ++k) sum += wk[k] * s[size_t(k) * along];
+            dst[size_t(i) * along] = sum / (cum[size_t(hi + R) + 1] - cum[size_t(lo + R)]);  // renormalised at the grid's edge
+        }
+    }
+    double taps(int N) const { return double(N) * double(R < 0 ? 1 : 2 * R + 1); }
+};
+}  // namespace
+
+struct EclipseMsTableBuilder::State {
+    EclipseGeometry g0;
+    double lengthMeters = 0, verticalMeters = 0, texel = 0, dRho = 0;
+    std::vector<double> radial, f, acc, tmp, b;
+    MsKernel rows[3], cols[3], rows4, cols4;
+};
+
+EclipseMsTableBuilder::EclipseMsTableBuilder(const EclipseGeometry& g, double lengthMeters, int n, double halfExtentMeters,
+                                             double verticalMeters)
+    : s_(std::make_unique<State>()) {
     if (!(lengthMeters > 0.0) || n < 8 || !(halfExtentMeters > 0.0)) throw Error("eclipseMsTable: length, n or extent out of range");
-    EclipseMsTable t;
-    t.n = n;
-    t.halfExtentMeters = halfExtentMeters;
+    State& s = *s_;
+    t_.n = n;
+    t_.halfExtentMeters = halfExtentMeters;
     // The shadow's axis: from the Moon's centre towards the Sun's.
     const glm::dvec3 a = glm::normalize(g.sunPos - g.moonPos), up(0.0, 0.0, 1.0);
     const glm::dvec3 c = glm::cross(a, up);
-    t.e1 = glm::length(c) > 1e-6 ? glm::normalize(c) : glm::dvec3(1.0, 0.0, 0.0);
-    t.e2 = glm::normalize(glm::cross(t.e1, a));
-    t.centre = {glm::dot(g.moonPos, t.e1), glm::dot(g.moonPos, t.e2)};
-    const double texel = 2.0 * halfExtentMeters / n;
-    std::vector<double> f(size_t(n) * n), acc(size_t(n) * n, 0.0), tmp(size_t(n) * n);
-    EclipseGeometry g0 = g;
-    g0.ms = nullptr;
+    t_.e1 = glm::length(c) > 1e-6 ? glm::normalize(c) : glm::dvec3(1.0, 0.0, 0.0);
+    t_.e2 = glm::normalize(glm::cross(t_.e1, a));
+    t_.centre = {glm::dot(g.moonPos, t_.e1), glm::dot(g.moonPos, t_.e2)};
+    s.g0 = g;
+    s.g0.ms = nullptr;
+    s.lengthMeters = lengthMeters;
+    s.verticalMeters = verticalMeters;
+    s.texel = 2.0 * halfExtentMeters / n;
     // The plane is perpendicular to the axis through the Sun's and the Moon's centres, so the
     // fraction on it depends only on the distance from the axis: evaluated on a radial grid of
-    // kRadial points out to the grid's corner (~0.4 km apart at the defaults) and interpolated
+    // kMsRadial points out to the grid's corner (~0.4 km apart at the defaults) and interpolated
     // linearly (the fraction rises from the umbra's edge as the crescent's width^1.5, so the
     // interpolation errs by < 1e-5 of the Sun's light; eight times fewer fraction evaluations
     // than one per texel: the table's cost on the CPU, docs/eclipse.md "Frame cost").
-    constexpr int kRadial = 2048;
-    const double rhoMax = halfExtentMeters * std::sqrt(2.0), dRho = rhoMax / (kRadial - 1);
-    std::vector<double> radial(kRadial);
-    for (int k = 0; k < kRadial; ++k) {
-        const glm::dvec2 q = t.centre + glm::dvec2(k * dRho, 0.0);
-        radial[size_t(k)] = eclipseAt(g0, q.x * t.e1 + q.y * t.e2).x;
-    }
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            const double x = std::min(std::hypot((i + 0.5) * texel - halfExtentMeters, (j + 0.5) * texel - halfExtentMeters) / dRho,
-                                      double(kRadial - 1));
-            const int k0 = std::min(int(x), kRadial - 2);
-            const double w = x - k0;
-            f[size_t(j) * n + i] = (1.0 - w) * radial[size_t(k0)] + w * radial[size_t(k0) + 1];
-        }
+    s.dRho = halfExtentMeters * std::sqrt(2.0) / (kMsRadial - 1);
+    s.radial.resize(kMsRadial);
+    s.f.resize(size_t(n) * n);
+    s.acc.assign(size_t(n) * n, 0.0);
+    s.tmp.resize(size_t(n) * n);
+    s.b.resize(size_t(n) * n);
     // The kernel: the air around a point lies in the horizontal layer (isotropic there, radial mass
     // beyond r ~ exp(-r / L): second-order light from a layer falls as exp(-r / L) / r per unit
     // area) and spreads `verticalMeters` in height. Four Gaussians whose mass beyond r follows
@@ -613,54 +666,92 @@ EclipseMsTable eclipseMsTable(const EclipseGeometry& g, double lengthMeters, int
     // was ~half of the blur's taps, the table's cost on the CPU in the first band's frame;
     // docs/eclipse.md "Frame cost"). Projected
     // onto the plane: a horizontal displacement h maps to (h.e1, h.e2), a vertical one to (0, up.e2).
-    constexpr double kSigma[3] = {0.35, 1.0, 2.2}, kWeight[3] = {0.4256, 0.4770, 0.0967};
-    const glm::dvec3 hAcross = glm::normalize(glm::cross(up, t.e1));
-    const double h2 = std::abs(glm::dot(hAcross, t.e2)), u2 = std::abs(glm::dot(up, t.e2));
-    auto blur1 = [&](const std::vector<double>& in, std::vector<double>& out, double sigmaTexels, bool alongRows, int N) {
-        if (sigmaTexels < 0.25) {
-            out = in;
-            return;
-        }
-        const int R = std::min(int(std::ceil(3.0 * sigmaTexels)), N - 1);
-        std::vector<double> w(size_t(2 * R + 1)), cum(size_t(2 * R + 2), 0.0);
-        for (int k = -R; k <= R; ++k) w[size_t(k + R)] = std::exp(-0.5 * (k / sigmaTexels) * (k / sigmaTexels));
-        for (int k = 0; k <= 2 * R; ++k) cum[size_t(k) + 1] = cum[size_t(k)] + w[size_t(k)];
-        // Each output texel: the taps inside the grid (k in [lo, hi]), renormalised at the grid's
-        // edge by their summed weight; a line at a time, contiguous (the columns' pass reads the
-        // transposed stride), no test per tap.
-        const size_t along = alongRows ? 1 : size_t(N), across = alongRows ? size_t(N) : 1;
-        for (int line = 0; line < N; ++line) {
-            const double* src = in.data() + size_t(line) * across;
-            double* dst = out.data() + size_t(line) * across;
-            for (int i = 0; i < N; ++i) {
-                const int lo = std::max(-R, -i), hi = std::min(R, N - 1 - i);
-                double sum = 0.0;
-                const double* wk = w.data() + (lo + R);
-                const double* s = src + size_t(i + lo) * along;
-                for (int k = 0; k <= hi - lo; ++k) sum += wk[k] * s[size_t(k) * along];
-                dst[size_t(i) * along] = sum / (cum[size_t(hi + R) + 1] - cum[size_t(lo + R)]);  // renormalised at the grid's edge
-            }
-        }
-    };
-    std::vector<double> b(size_t(n) * n);
+    const glm::dvec3 hAcross = glm::normalize(glm::cross(up, t_.e1));
+    const double h2 = std::abs(glm::dot(hAcross, t_.e2)), u2 = std::abs(glm::dot(up, t_.e2));
     for (int k = 0; k < 3; ++k) {
-        const double s = kSigma[k] * lengthMeters;
-        blur1(f, tmp, s / texel, true, n);
-        blur1(tmp, b, std::hypot(s * h2, verticalMeters * u2) / texel, false, n);
-        for (size_t i = 0; i < acc.size(); ++i) acc[i] += kWeight[k] * b[i];
+        const double sg = kMsSigma[k] * lengthMeters;
+        s.rows[k] = MsKernel(sg / s.texel, n);
+        s.cols[k] = MsKernel(std::hypot(sg * h2, verticalMeters * u2) / s.texel, n);
     }
-    // The fourth, widest Gaussian (sigma 4.5 L: >= 14 texels at L >= 30 km) on the grid averaged
-    // over blocks of c x c texels, blurred there and interpolated back bilinearly (a 1/c^2 of its
-    // taps; its weight is 0.07 % of the kernel, so the block's error is far below the model's).
-    {
-        constexpr double kSigma4 = 4.5, kWeight4 = 0.0007;
+    const int cblk = n % 4 == 0 ? 4 : 1, m = n / cblk;
+    const double s4 = kMsSigma4 * lengthMeters, texelC = s.texel * cblk;
+    s.rows4 = MsKernel(s4 / texelC, m);
+    s.cols4 = MsKernel(std::hypot(s4 * h2, verticalMeters * u2) / texelC, m);
+    // The units of work: radial chunks, grid chunks, 3 x (n row lines + n column lines), the
+    // fourth Gaussian, D.
+    units_ = kMsRadial / kMsRadialChunk + (n + kMsGridChunk - 1) / kMsGridChunk + 6 * n + 2;
+    for (int u = 0; u < units_; ++u) totalWork_ += unitWork(u);
+}
+
+EclipseMsTableBuilder::~EclipseMsTableBuilder() = default;
+EclipseMsTableBuilder::EclipseMsTableBuilder(EclipseMsTableBuilder&&) noexcept = default;
+EclipseMsTableBuilder& EclipseMsTableBuilder::operator=(EclipseMsTableBuilder&&) noexcept = default;
+
+double EclipseMsTableBuilder::unitWork(int u) const {
+    const State& s = *s_;
+    const int n = t_.n, nr = kMsRadial / kMsRadialChunk, ng = (n + kMsGridChunk - 1) / kMsGridChunk;
+    if (u < nr) return kMsRadialChunk * kMsRadialTaps;
+    u -= nr;
+    if (u < ng) return double(kMsGridChunk) * n * 2.0;
+    u -= ng;
+    if (u < 6 * n) {
+        const int k = u / (2 * n);
+        return (u % (2 * n) < n ? s.rows[k] : s.cols[k]).taps(n) + (u % (2 * n) == 2 * n - 1 ? double(n) * n : 0.0);
+    }
+    u -= 6 * n;
+    const int m = n % 4 == 0 ? n / 4 : n;
+    if (u == 0) return double(n) * n * 5.0 + double(m) * (s.rows4.taps(m) + s.cols4.taps(m));  // averaging, blur, bilinear back
+    return double(n) * n * 2.0;  // D
+}
+
+void EclipseMsTableBuilder::step() {
+    if (finished()) return;
+    State& s = *s_;
+    const int n = t_.n, nr = kMsRadial / kMsRadialChunk, ng = (n + kMsGridChunk - 1) / kMsGridChunk;
+    int u = next_++;
+    work_ += unitWork(u);
+    if (u < nr) {
+        for (int k = u * kMsRadialChunk; k < (u + 1) * kMsRadialChunk; ++k) {
+            const glm::dvec2 q = t_.centre + glm::dvec2(k * s.dRho, 0.0);
+            s.radial[size_t(k)] = eclipseAt(s.g0, q.x * t_.e1 + q.y * t_.e2).x;
+        }
+        return;
+    }
+    u -= nr;
+    if (u < ng) {
+        const double half = t_.halfExtentMeters;
+        for (int j = u * kMsGridChunk; j < std::min((u + 1) * kMsGridChunk, n); ++j)
+            for (int i = 0; i < n; ++i) {
+                const double x = std::min(std::hypot((i + 0.5) * s.texel - half, (j + 0.5) * s.texel - half) / s.dRho, double(kMsRadial - 1));
+                const int k0 = std::min(int(x), kMsRadial - 2);
+                const double w = x - k0;
+                s.f[size_t(j) * n + i] = (1.0 - w) * s.radial[size_t(k0)] + w * s.radial[size_t(k0) + 1];
+            }
+        return;
+    }
+    u -= ng;
+    if (u < 6 * n) {
+        const int k = u / (2 * n), l = u % (2 * n);
+        if (l < n) {
+            s.rows[k].line(s.f, s.tmp, true, n, l);
+        } else {
+            s.cols[k].line(s.tmp, s.b, false, n, l - n);
+            if (l == 2 * n - 1)
+                for (size_t i = 0; i < s.acc.size(); ++i) s.acc[i] += kMsWeight[k] * s.b[i];
+        }
+        return;
+    }
+    u -= 6 * n;
+    if (u == 0) {
+        // The fourth, widest Gaussian (sigma 4.5 L: >= 14 texels at L >= 30 km) on the grid averaged
+        // over blocks of c x c texels, blurred there and interpolated back bilinearly (a 1/c^2 of its
+        // taps; its weight is 0.07 % of the kernel, so the block's error is far below the model's).
         const int c = n % 4 == 0 ? 4 : 1, m = n / c;
         std::vector<double> fc(size_t(m) * m, 0.0), tc(size_t(m) * m), bc(size_t(m) * m);
         for (int j = 0; j < n; ++j)
-            for (int i = 0; i < n; ++i) fc[size_t(j / c) * m + size_t(i / c)] += f[size_t(j) * n + i] / double(c * c);
-        const double s = kSigma4 * lengthMeters, texelC = texel * c;
-        blur1(fc, tc, s / texelC, true, m);
-        blur1(tc, bc, std::hypot(s * h2, verticalMeters * u2) / texelC, false, m);
+            for (int i = 0; i < n; ++i) fc[size_t(j / c) * m + size_t(i / c)] += s.f[size_t(j) * n + i] / double(c * c);
+        for (int ln = 0; ln < m; ++ln) s.rows4.line(fc, tc, true, m, ln);
+        for (int ln = 0; ln < m; ++ln) s.cols4.line(tc, bc, false, m, ln);
         for (int j = 0; j < n; ++j) {
             const double y = std::clamp((j + 0.5) / c - 0.5, 0.0, m - 1.0);
             const int j0 = std::min(int(y), std::max(m - 2, 0)), j1 = std::min(j0 + 1, m - 1);
@@ -670,20 +761,37 @@ EclipseMsTable eclipseMsTable(const EclipseGeometry& g, double lengthMeters, int
                 const int i0 = std::min(int(x), std::max(m - 2, 0)), i1 = std::min(i0 + 1, m - 1);
                 const double fx = x - i0;
                 auto at = [&](int ii, int jj) { return bc[size_t(jj) * m + size_t(ii)]; };
-                acc[size_t(j) * n + i] += kWeight4 * ((1 - fy) * ((1 - fx) * at(i0, j0) + fx * at(i1, j0)) + fy * ((1 - fx) * at(i0, j1) + fx * at(i1, j1)));
+                s.acc[size_t(j) * n + i] += kMsWeight4 * ((1 - fy) * ((1 - fx) * at(i0, j0) + fx * at(i1, j0)) + fy * ((1 - fx) * at(i0, j1) + fx * at(i1, j1)));
             }
         }
+        return;
     }
     // D, faded to 0 over the outer 15 % of the grid (where the renormalised blur is biased).
-    t.d.resize(size_t(n) * n);
+    t_.d.resize(size_t(n) * n);
     for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
             const double e = std::max(std::abs((i + 0.5) / n - 0.5), std::abs((j + 0.5) / n - 0.5)) * 2.0;  // 0 centre, 1 edge
             const double fade = std::clamp((1.0 - e) / 0.15, 0.0, 1.0);
             const size_t k = size_t(j) * n + i;
-            t.d[k] = float((acc[k] - f[k]) * fade);
+            t_.d[k] = float((s.acc[k] - s.f[k]) * fade);
         }
-    return t;
+    s_.reset();  // the scratch grids are not needed any more
+}
+
+void EclipseMsTableBuilder::advance(double work) {
+    const double target = work_ + work;
+    while (!finished() && work_ < target) step();
+}
+
+EclipseMsTable EclipseMsTableBuilder::take() {
+    if (!finished()) throw Error("EclipseMsTableBuilder::take: the table is not finished");
+    return std::move(t_);
+}
+
+EclipseMsTable eclipseMsTable(const EclipseGeometry& g, double lengthMeters, int n, double halfExtentMeters, double verticalMeters) {
+    EclipseMsTableBuilder b(g, lengthMeters, n, halfExtentMeters, verticalMeters);
+    while (!b.finished()) b.step();
+    return b.take();
 }
 
 double eclipseMsAxisWeight(const SkyModel& m, double forward, double nu) {

@@ -693,6 +693,72 @@ TEST_CASE("Planet: the corona at totality follows its profile; the diamond ring 
     }
 }
 
+TEST_CASE("Planet: the corona's radiance is continuous and decreasing outward past 6 solar radii", "[gl][planet][eclipse]") {
+    // The profile: Baumbach's fit to 6 solar radii, the F corona's power law (r^-2.33 equatorial,
+    // r^-2.55 polar) beyond, faded to 0 at kCoronaExtentSolarRadii (planet_corona.shared.glsl).
+    // Continuous at 6 from both sides (the two sides' relative difference within 1e-9: double
+    // rounding of the same value), strictly decreasing out to the extent, 0 there.
+    for (double s : {0.0, 0.5, 1.0}) {
+        INFO("sin(position angle) " << s);
+        const double below = coronaRelativeRadiance(6.0 - 1e-9, 0.0, s), above = coronaRelativeRadiance(6.0 + 1e-9, 0.0, s);
+        CHECK(above == Approx(below).epsilon(1e-6));
+        CHECK(above > 5e-10);  // Baumbach's value at 6: 6.08e-10
+        double prev = coronaRelativeRadiance(5.0, 0.0, s);
+        bool decreasing = true;
+        for (double r = 5.01; r < kCoronaExtentSolarRadii - 1e-9; r += 0.01) {
+            const double b = coronaRelativeRadiance(r, 0.0, s);
+            decreasing = decreasing && b < prev && b > 0.0;
+            prev = b;
+        }
+        CHECK(decreasing);
+        CHECK(coronaRelativeRadiance(kCoronaExtentSolarRadii, 0.0, s) == 0.0);
+        // The power law's exponent beyond 6 (before the fade): -2.33 at the equator, -2.55 at the poles.
+        const double slope = std::log(coronaRelativeRadiance(16.0, 0.0, s) / coronaRelativeRadiance(8.0, 0.0, s)) / std::log(2.0);
+        CHECK(slope == Approx(-(2.33 + 0.22 * s * s)).margin(1e-9));
+    }
+    // Drawn: Luxor at mid-totality, a 20 deg view (3.4 px a solar radius) centred on the Sun; along
+    // the row through the centre (a radius: a straight line through a perspective view's centre is
+    // a great circle), each pixel from 4 to 28 solar radii is the disk's mean radiance x the profile
+    // at its exact radius (1 %: float arithmetic in the shader), between the equatorial and polar
+    // exponents' values (the row's position angle is the Sun's axis' business), so no step at 6
+    // (before: 0 beyond 6) and none at the quad's edge; and it decreases outward.
+    const astro::SolarEclipseLocal ecl = luxorTotality();
+    Scene s = planetAt(kLuxor, ecl.maximum.time);
+    s.p->vars().set(planetkeys::coronaFlattening, 0.0);
+    s.p->vars().set(planetkeys::earthshine, false);
+    s.p->update();
+    s.aim(s.p->vars().get(keys::sunDirection), 20.0, 256);
+    s.p->renderFrame();
+    const SkyVars& v = s.p->vars();
+    const Image img = s.p->readHdr();
+    const glm::dvec3 centre = glm::normalize(v.get(keys::sunDirection));
+    const double alpha = v.get(ak::sunAngularRadius);
+    const double mean = color::luminance(v.get(lk::sunDiskRadiance) * v.get(lk::sunTransmittance));
+    const glm::dvec2 c0 = *s.cam.pixelOf(centre);
+    const int y = int(c0.y);
+    double prev = 1e30, lastInside = 0.0, firstOutside = 0.0;
+    int checked = 0;
+    for (int x = int(c0.x) + 1; x < 256; ++x) {
+        const glm::dvec3 d = *s.cam.directionAt({x + 0.5, y + 0.5});
+        const double r = std::acos(std::clamp(glm::dot(d, centre), -1.0, 1.0)) / alpha;
+        if (r < 4.0 || r > 28.0) continue;
+        const double L = lum(img, x, y);
+        const double lo = mean * coronaRelativeRadiance(r, 0.0, 1.0), hi = mean * coronaRelativeRadiance(r, 0.0, 0.0);
+        INFO("pixel " << x << " at " << r << " solar radii: " << L << " cd/m^2, profile " << lo << " to " << hi);
+        CHECK(L >= 0.99 * lo);
+        CHECK(L <= 1.01 * hi);
+        CHECK(L < prev);
+        prev = L;
+        if (r < 6.0) lastInside = L;
+        if (r > 6.0 && firstOutside == 0.0) firstOutside = L;
+        ++checked;
+    }
+    std::printf("\ncorona across 6 solar radii (Luxor, mid-totality): %.4g then %.4g cd/m^2 (disk mean %.4g)\n", lastInside, firstOutside, mean);
+    CHECK(checked > 70);
+    // Across 6: one pixel (0.3 solar radii) apart, the profile falls by (6.3 / 6)^-2.5 ~ 0.89.
+    CHECK(firstOutside > 0.8 * lastInside);
+}
+
 TEST_CASE("Planet: Baily's beads: light through the limb's valleys before C2, none at mid-totality", "[gl][planet][eclipse]") {
     // The profile: RMS 1.2 km, extremes about the +-2" (+-3.7 km) of the measured profiles
     // (+-4.5 km allowed: the random profile's own extremes), deterministic.

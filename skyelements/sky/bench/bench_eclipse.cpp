@@ -56,7 +56,9 @@ struct EclipseBenchOptions {
     std::string sweep;  // comma list of multiple-scattering kernel lengths L (km) to compare (model tuning)
     std::string dump;  // append one CSV row per phase and direction (model fitting: the model is linear in its weight)
     std::string dumpLengths;  // comma list of kernel lengths L (km) whose w = 1 model the dump also writes (fitting L)
-    std::string place = "burgos";  // burgos, reykjavik, luxor: the place and its mid-totality (docs/eclipse.md)
+    std::string place = "burgos";
+    double startSeconds = 0.0;  // the timed frames start this far from the place's mid-totality (s)
+    bool predict = true;        // the table built for where the shadow will be when shown  // burgos, reykjavik, luxor: the place and its mid-totality (docs/eclipse.md)
 };
 
 // The places of docs/eclipse.md and their mid-totality: latitude, longitude (deg), instant.
@@ -96,12 +98,14 @@ int run(const EclipseBenchOptions& o) {
     else if (o.place == "reykjavik") gPlace = {64.15, -21.94, "2026-08-12T17:48:36Z"};
     else if (o.place == "luxor") gPlace = {25.69, 32.64, "2027-08-02T10:05:13Z"};
     else throw Error("--place " + o.place + " not one of burgos, reykjavik, luxor");
-    const UtcInstant t0 = UtcInstant::parse(gPlace.mid);
+    if (!(std::abs(o.startSeconds) <= 7200.0)) throw Error("--start-seconds not in [-7200, 7200]");
+    const UtcInstant t0 = UtcInstant::parse(gPlace.mid).plusSeconds(o.startSeconds);
     auto makeProcessor = [&](bool eclipses) {
         auto p = std::make_unique<SkyProcessor>(SkyVars::earth(), log, ProcessorOptions{.timing = false});
         p->setObserver({.latitudeRad = gPlace.latDeg * kDeg, .longitudeRad = gPlace.lonDeg * kDeg, .heightMeters = 0});
         p->setTime(t0);
         p->vars().set(astro::keys::eclipses, eclipses);
+        generators::SkyLuts::obtain(p->vars()).eclipse->setPredict(o.predict);
         Camera cam;
         cam.projection = Projection::Perspective;
         cam.width = o.width;
@@ -157,10 +161,11 @@ int run(const EclipseBenchOptions& o) {
             clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
             return 1e3 * double(ts.tv_sec) + 1e-6 * double(ts.tv_nsec);
         };
-        Cat cats[4] = {{"no band (the shadow moved < 2 km)"}, {"first band of a rebuild (+ the field's CPU table)"}, {"later band"},
-                       {"the swap (the new table shown; the irradiance pass)"}};
+        Cat cats[5] = {{"no band (the shadow moved < 2 km)"}, {"first band of a rebuild (+ the field's CPU table if in one piece)"}, {"later band"},
+                       {"the swap (the new table shown; the irradiance pass)"}, {"a piece of the field's CPU table (no band)"}};
         int fa = 0, fb = 0;
-        bool inBuild = false;
+        bool bandInBuild = false;
+        std::vector<double> offsets;  // the shown table's distance from the frame's shadow, m
         struct Outlier {
             double cpuRatio;
             int frame, kind;
@@ -176,7 +181,7 @@ int run(const EclipseBenchOptions& o) {
             glFinish();
             auto t1 = std::chrono::steady_clock::now();
             const double u1 = cpuMs();
-            const int r0 = lutOf(*b)->rebuilds();
+            const int r0 = lutOf(*b)->rebuilds(), p0 = lutOf(*b)->fieldRuns();
             const uint32_t id0 = b->vars().get(generators::skykeys::eclipseViewLut).id;
             b->setTime(t0Cycle(t0, o.secondsPerFrame, ++fb));
             b->renderFrame();
@@ -184,8 +189,11 @@ int run(const EclipseBenchOptions& o) {
             auto t2 = std::chrono::steady_clock::now();
             const double u2 = cpuMs();
             const bool band = lutOf(*b)->rebuilds() != r0, swapped = b->vars().get(generators::skykeys::eclipseViewLut).id != id0;
-            const int k = swapped ? 3 : !band ? 0 : !inBuild ? 1 : 2;
-            inBuild = lutOf(*b)->building();
+            const bool piece = lutOf(*b)->fieldRuns() != p0;
+            const int k = swapped ? 3 : band ? (bandInBuild ? 2 : 1) : piece ? 4 : 0;
+            if (band) bandInBuild = true;
+            if (swapped) bandInBuild = false;
+            offsets.push_back(lutOf(*b)->shownOffsetMeters());
             const double msA = std::chrono::duration<double, std::milli>(t1 - c0).count(), msB = std::chrono::duration<double, std::milli>(t2 - t1).count();
             cats[k].normal.push_back(msA);
             cats[k].eclipse.push_back(msB);
@@ -209,6 +217,9 @@ int run(const EclipseBenchOptions& o) {
                         median(c.cpuRatio), cmx);
         }
         std::printf("\nlargest median ratio of a kind of frame: %.2f; target <= 1.5x: %s\n", worst, worst <= 1.5 ? "met" : "NOT met");
+        std::printf("bands per rebuild %d, the field's pieces %d; the table shown against the frame's shadow: median %.2f km, max %.2f km\n",
+                    lutOf(*b)->bandsPerRebuild(), lutOf(*b)->fieldPiecesPerRebuild(), median(offsets) * 1e-3,
+                    *std::max_element(offsets.begin(), offsets.end()) * 1e-3);
         // The pairs whose eclipse frame took the most CPU time against its normal frame.
         std::sort(outliers.begin(), outliers.end(), [](const Outlier& x, const Outlier& y) { return x.cpuRatio > y.cpuRatio; });
         std::printf("\n| largest CPU-time ratios: frame | kind | CPU ms normal / eclipse | wall ms normal / eclipse |\n|---|---|---|---|\n");
@@ -389,6 +400,10 @@ bench::CommandBenchRegistrar reg({"eclipse", "the solar eclipse's sky: frame cos
         ->capture_default_str();
     sub.add_option("--dump", o->dump, "append a CSV row per phase and direction of the accuracy part (model fitting; more directions)");
     sub.add_option("--dump-lengths", o->dumpLengths, "with --dump: also the model at w = 1 for these kernel lengths L, km (comma list)");
+    sub.add_option("--start-seconds", o->startSeconds, "the timed frames start this far from the place's mid-totality, s, [-7200, 7200] (Burgos' C2 is -46)")
+        ->capture_default_str();
+    sub.add_option("--predict", o->predict, "build each table for where the shadow will be when it is shown (false: where it was when the rebuild began)")
+        ->capture_default_str();
     sub.add_option("--place", o->place, "burgos, reykjavik or luxor: the place and its mid-totality (docs/eclipse.md)")->capture_default_str();
     sub.add_option("--ring", o->ring, "the accuracy part in the fit set's 29 directions (a ring every 45 deg of azimuth at 2, 15 and 45 deg, the zenith, 30 and 70 deg), with the worst and median factor per phase")
         ->capture_default_str();

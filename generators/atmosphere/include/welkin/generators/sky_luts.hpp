@@ -446,8 +446,9 @@ private:
 /// the umbra's edge, that is <= 2 deg, about one texel of the table's azimuth.
 inline constexpr double kEclipseRebuildMeters = 2e3;
 /// Rebuilds of the eclipse table are spread over this many frames (rows in bands), the old table
-/// shown meanwhile; a jump of the shadow by more than kEclipseJumpMeters (time set, not running)
-/// rebuilds it whole at once.
+/// shown meanwhile; a jump of the shadow by more than kEclipseJumpMeters between two runs (time
+/// set, not running) rebuilds it whole at once. (Before 2026-11-28 the jump was measured from the
+/// table shown, so time running at 60x, ~1 km a frame, rebuilt it whole every ~50 frames.)
 inline constexpr int kEclipseTimeSlices = 32;
 /// With the frame's size known (EclipseSkyLut::setFramePixels: the Sky element sets it), the bands
 /// are made thinner on small frames so that a band costs at most about half a frame: a band
@@ -457,6 +458,16 @@ inline constexpr int kEclipseTimeSlices = 32;
 /// kEclipseMaxTimeSlices bands (tiles of rows and, beyond the table's height, of columns).
 inline constexpr double kEclipseBandPixelsPerTexel = 300.0;
 inline constexpr int kEclipseMaxTimeSlices = 512;
+/// While time runs, a rebuild's multiple-scattering field (cpu::EclipseMsTableBuilder) is built in
+/// runs of its own before the first band, each at most about a tenth of a frame: the table costs
+/// about what the ordinary sky's frame of ~34,000 pixels costs (2.2 ms of CPU against 0.5-0.7 ms
+/// for 160 x 90, docs/eclipse.md "Frame cost"), so EclipseSkyLut::fieldPiecesFor(pixels) =
+/// ceil(kEclipseFieldPixels / pixels) pieces, at most kEclipseMaxFieldPieces (the builder's largest
+/// unit of work is ~4 % of the table): 24 at 160 x 90, 6 at 320 x 180, 2 at 640 x 360, 1 (the
+/// table in the first band's run, as before) at 1280 x 720. (A fifth of a frame, 170e3, measured
+/// 1.32x and 1.44x a normal frame at 160 x 90 and 320 x 180: too near the 1.5x target.)
+inline constexpr double kEclipseFieldPixels = 340e3;
+inline constexpr int kEclipseMaxFieldPieces = 24;
 /// The texture unit of the eclipse's multiple-scattering field (shares 9 with the SH pass's ground
 /// input and the clouds' shadow map, gl::binding: never bound together with them).
 inline constexpr int kEclipseMsFieldUnit = 9;
@@ -467,8 +478,9 @@ inline constexpr double kSunRadiusMeters = 6.957e8;
 /// sky-view ray crosses (the Sun-Moon separation seen from the observer below the sum of their
 /// radii plus the parallax of the farthest such air), the Sun's sky over the whole circle of
 /// azimuth with every ray's points seeing their own Sun and Moon (eclipse_lut.glsl), rebuilt when
-/// the shadow has moved kEclipseRebuildMeters (in kEclipseTimeSlices bands over as many runs, the
-/// previous table shown meanwhile); publishes skykeys::eclipseViewLut (id 0 otherwise: nothing runs on the GPU). RGB mode only
+/// the shadow has moved kEclipseRebuildMeters (its multiple-scattering field in fieldPiecesFor()
+/// runs, then bandsFor() bands over as many runs, the previous table shown meanwhile; built for
+/// the shadow's position extrapolated to the run that will show it); publishes skykeys::eclipseViewLut (id 0 otherwise: nothing runs on the GPU). RGB mode only
 /// (spectral mode: the ordinary sky view). Inputs: the Sun's direction and distance,
 /// moon.position_m, astro.eclipses.
 class EclipseSkyLut final : public SkyGenerator {
@@ -503,6 +515,23 @@ public:
     void setFramePixels(long pixels) { framePixels_ = pixels; }
     /// The bands a rebuild of a W x H table takes for a frame of `pixels` (0: kEclipseTimeSlices).
     static int bandsFor(long pixels, int W, int H);
+    /// The runs a rebuild's multiple-scattering field takes for a frame of `pixels` (0: 1), before
+    /// the first band (kEclipseFieldPixels); 1: built in the first band's run.
+    static int fieldPiecesFor(long pixels);
+    /// Fixes the field's runs per rebuild (> 0; 0: fieldPiecesFor() the frame's pixels).
+    void setFieldPieces(int n) { explicitFieldPieces_ = std::max(n, 0); }
+    /// The field's runs of the rebuild in progress or the last one, and the runs spent on it so far
+    /// (bench and tests); whether the rebuild in progress is still building its field.
+    int fieldPiecesPerRebuild() const { return fieldPieces_; }
+    int fieldRuns() const { return fieldRuns_; }
+    bool buildingField() const { return msBuilder_.has_value(); }
+    /// While time runs, a rebuild is built for the geometry it will be shown at (the shadow's
+    /// motion per run, extrapolated over the rebuild's runs; default on). Off: the geometry of the
+    /// run that starts it (the table then lags the shadow by the rebuild's runs).
+    void setPredict(bool on) { predict_ = on; }
+    /// How far the shadow of the table shown after the last run is from the run's own shadow, m
+    /// (the table's lag or lead; the kEclipseRebuildMeters measure).
+    double shownOffsetMeters() const { return shownOffset_; }
     /// The bands of the rebuild in progress or the last one, and the largest band's texels.
     int bandsPerRebuild() const { return buildBands_; }
     long largestBandTexels() const { return largestBand_; }
@@ -523,8 +552,12 @@ private:
         glm::dvec3 sunDir{0.0}, moonPos{0.0};
         double h = 0.0, sunDist = 1.496e11;
     };
-    Build shown_, building_;
+    Build shown_, building_, last_;
+    bool haveLast_ = false, predict_ = true;
+    double shownOffset_ = 0.0;
     cpu::EclipseMsTable shownMs_, buildingMs_;
+    std::optional<cpu::EclipseMsTableBuilder> msBuilder_;  // the field of the rebuild in progress, while not finished
+    int fieldPieces_ = 1, explicitFieldPieces_ = 0, fieldRuns_ = 0;
     int nextBand_ = -1;  // the next band of the build in progress; -1 none
     int slices_ = kEclipseTimeSlices, rebuilds_ = 0;
     bool explicitSlices_ = false;

@@ -27,6 +27,7 @@
 
 #include <array>
 #include <functional>
+#include <memory>
 #include <vector>
 
 namespace welkin::generators {
@@ -405,6 +406,45 @@ glm::dvec2 eclipseAt(const EclipseGeometry& g, const glm::dvec3& p, int rings = 
 /// kernel's extent across the horizontal layer), m.
 EclipseMsTable eclipseMsTable(const EclipseGeometry& g, double lengthMeters, int n = 128, double halfExtentMeters = 600e3,
                               double verticalMeters = 4e3);
+/// eclipseMsTable() in pieces, so that EclipseSkyLut can spread the table's CPU work over frames
+/// (docs/eclipse.md, "Frame cost"): the same arithmetic in the same order in units of work (a
+/// chunk of the radial fraction, of the fraction's grid, one line of one blur pass, the fourth
+/// Gaussian, D), so the finished table is bit for bit eclipseMsTable()'s (which runs this).
+///
+///     cpu::EclipseMsTableBuilder b(g, cpu::eclipseMsLength(g));
+///     while (!b.finished()) b.advance(b.totalWork() / 8);  // e.g. an eighth a frame
+///     cpu::EclipseMsTable t = b.take();
+class EclipseMsTableBuilder {
+public:
+    /// The arguments as eclipseMsTable()'s (same ranges; throws on the same).
+    EclipseMsTableBuilder(const EclipseGeometry& g, double lengthMeters, int n = 128, double halfExtentMeters = 600e3,
+                          double verticalMeters = 4e3);
+    ~EclipseMsTableBuilder();
+    EclipseMsTableBuilder(EclipseMsTableBuilder&&) noexcept;
+    EclipseMsTableBuilder& operator=(EclipseMsTableBuilder&&) noexcept;
+    /// The whole table's work and the work done so far, in blur taps (a radial fraction counted as
+    /// ~500 taps: their CPU time's ratio).
+    double totalWork() const { return totalWork_; }
+    double workDone() const { return work_; }
+    /// Units of work: all, and done.
+    int units() const { return units_; }
+    int unitsDone() const { return next_; }
+    bool finished() const { return next_ >= units_; }
+    /// One unit of work (nothing once finished).
+    void step();
+    /// Units until at least `work` more is done or the table is finished.
+    void advance(double work);
+    /// The finished table (throws if not finished); the builder is spent.
+    EclipseMsTable take();
+
+private:
+    struct State;
+    double unitWork(int u) const;
+    std::unique_ptr<State> s_;
+    EclipseMsTable t_;
+    int units_ = 0, next_ = 0;
+    double totalWork_ = 0, work_ = 0;
+};
 /// integrate() for the Sun at unit ENU `sunDir`, along unit ENU `viewDir` from the observer at
 /// height h (inside the atmosphere), every point seeing the Moon's shadow: single scattering and
 /// the directly lit ground by eclipseAt().x, the sky's light on the ground by eclipseAt().y, orders

@@ -104,14 +104,18 @@ inline constexpr const char* kMoonTexturePath = "/usr/share/stellarium/textures/
 inline constexpr const char* kMoonNormalsPath = "/usr/share/stellarium/textures/moon_normals.png";
 
 /// The K+F corona's radiance over the mean radiance of the solar disk at `rSolarRadii` (>= 1) from
-/// the Sun's centre, in the solar equator's direction: Baumbach's (1937) fit as given in Allen's
-/// Astrophysical Quantities (4th ed., 14.5), 1e-6 (0.0532 r^-2.5 + 1.425 r^-7 + 2.565 r^-17):
-/// 1.3e-6 at 1.1, 1.05e-7 at 1.5, 1.2e-8 at 2 solar radii. Towards the poles r is stretched by
-/// 1 + flattening sin^2(position angle from the equator) (planet.corona_flattening).
+/// the Sun's centre, in the solar equator's direction: out to 6 solar radii Baumbach's (1937) fit as
+/// given in Allen's Astrophysical Quantities (4th ed., 14.5), 1e-6 (0.0532 r^-2.5 + 1.425 r^-7 +
+/// 2.565 r^-17): 1.3e-6 at 1.1, 1.05e-7 at 1.5, 1.2e-8 at 2, 6.0e-10 at 6 solar radii; beyond, the
+/// F corona's measured power law (Lamy et al. 2022: r^-2.33 along the equator, r^-2.55 towards the
+/// poles) continuing it from its value at 6, faded to 0 between 20 and kCoronaExtentSolarRadii
+/// (planet_corona.shared.glsl). Towards the poles r is stretched by 1 + flattening sin^2(position
+/// angle from the equator) (planet.corona_flattening).
 double coronaRelativeRadiance(double rSolarRadii, double flattening = 0.0, double sinFromEquator = 0.0);
-/// Radius, in solar radii, out to which the corona is drawn (its radiance there ~1e-10 of the
-/// disk's, below the darkest totality sky near the Sun).
-inline constexpr double kCoronaExtentSolarRadii = 6.0;
+/// Radius, in solar radii, out to which the corona is drawn (the profile reaches 0 there, faded
+/// from 20 solar radii, where it is 3.7e-11 of the disk's radiance: below the totality sky near
+/// the Sun, docs/eclipse.md "The corona's edge").
+inline constexpr double kCoronaExtentSolarRadii = 30.0;
 /// The diamond ring: while 0 < sun.eclipse_fraction < this, the last sliver of photosphere also
 /// spreads kDiamondGlare of its light into a Gaussian glare of sigma = the Sun's radius (the eye's
 /// or the lens' veiling glare: an assumed, not a measured, PSF).
