@@ -1,9 +1,10 @@
 // The eye's meter in one compute dispatch (docs/eye.md "The meter in one dispatch"): the weighted
 // log-averages of the HDR frame's photopic luminance Y and scotopic luminance V' (Larson et al.
-// 1997, the rods' adaptation; welkin/eye.hpp) over a 128x128 grid of bilinear samples spread over several work groups, written as
+// 1997, the rods' adaptation; welkin/eye.hpp) over a 128x128 grid of bilinear samples (several work groups, below), written as
 // (mean w ln Y, mean w, mean w ln V', 1) into a 1x1 RGBA32F image, then takes the eye's adaptation
 // step from it (welkin_eyeStep(), adapt.glsl, the chunk before this one) and writes the new state.
-// adapt.frag.glsl takes the step again from the stored means when a frame is tone-mapped twice.
+// adapt.frag.glsl takes the step again from the stored means when a frame is tone-mapped again
+// with other settings (with the same ones ToneMapper skips it: the step would write the same texel).
 // w = 0 outside the camera's image (fisheye) and where nothing emits light (Y below 1e-7 cd/m^2,
 // far below the faintest night sky), so an empty background does not drag the exposure down.
 //

@@ -170,7 +170,7 @@ void ToneMapper::advance(const HdrSource& hdr, const ToneSettings& s, const gl::
     lastSettings_ = s;
     if (s.automatic) {
         // A new frame is metered; a second tone map of it only re-derives the exposure from the
-        // state (dt = 0), so changed settings apply.
+        // state (dt = 0), so changed settings apply, and with unchanged settings does nothing.
         const bool steady = !stateValid_ || (dt && *dt <= 0);
         const int next = 1 - current_;
         auto setAdaptation = [&](gl::Program& p) {
