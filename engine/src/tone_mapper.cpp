@@ -18,6 +18,10 @@ namespace {
 // WELKIN_TONEMAP_STATE_IMAGE): beside gl::binding::kMeterImage (1) and kHdrImage (0), below the
 // private ranges; bound only around that dispatch (the processor's state guard covers units 0-7).
 constexpr int kStateImageUnit = 2;
+// The meter's work groups (meter.comp.glsl): llvmpipe runs each on one of its threads; 256 must be
+// a multiple (16 rows of 16 invocations split between them). The means do not depend on it.
+constexpr int kMeterGroups = 4;
+static_assert(16 % kMeterGroups == 0);
 }  // namespace
 
 ToneSettings ToneSettings::fromVars(const SkyVars& v) {
@@ -53,6 +57,7 @@ void ToneMapper::init() {
     toneMapProgram(true, false, true, 0);  // the default settings' program: a first frame's compile is not in its tone map
     meterProgram_ = gl::ProgramBuilder("SkyProcessor eye meter")
                         .define("WELKIN_TONEMAP_STATE_IMAGE", kStateImageUnit)
+                        .define("WELKIN_METER_GROUPS", kMeterGroups)
                         .compute("engine/camera.glsl", gl::engineShader("camera.glsl"))
                         .compute("engine/adapt.glsl", gl::engineShader("adapt.glsl"))
                         .compute("engine/meter.comp.glsl", gl::engineShader("meter.comp.glsl"))
@@ -71,6 +76,11 @@ void ToneMapper::init() {
     }
     meter_ = gl::Texture2D(1, 1, GL_RGBA32F);
     meter_.setFilter(GL_NEAREST);
+    // The meter's block sums and its count of groups done, zeroed (the last group resets it).
+    if (meterBlocks_) glDeleteBuffers(1, &meterBlocks_);
+    glCreateBuffers(1, &meterBlocks_);
+    const std::vector<unsigned char> zeros((4 + 256 * 4) * sizeof(float), 0);
+    glNamedBufferStorage(meterBlocks_, GLsizeiptr(zeros.size()), zeros.data(), 0);
     glCreateSamplers(1, &linearSampler_);
     glSamplerParameteri(linearSampler_, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glSamplerParameteri(linearSampler_, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
@@ -106,6 +116,8 @@ void ToneMapper::release() {
     readbackValueFor_ = readbackFor_ = -1;
     if (linearSampler_) glDeleteSamplers(1, &linearSampler_);
     linearSampler_ = 0;
+    if (meterBlocks_) glDeleteBuffers(1, &meterBlocks_);
+    meterBlocks_ = 0;
     meter_ = {};
     for (auto& p : toneMap_) p = {};
     meterProgram_ = {};
@@ -119,19 +131,26 @@ void ToneMapper::release() {
 }
 
 void ToneMapper::meter(const HdrSource& hdr, int next) {
-    // One work group, the means over 128x128 samples (meter.comp.glsl; docs/eye.md: one group
-    // costs llvmpipe less than 4x4) and the adaptation step into state_[next]; the camera block
-    // gives the frame's size and projection (the weights outside a fisheye's circle).
+    // kMeterGroups work groups, the means over 128x128 samples (meter.comp.glsl) and the
+    // adaptation step into state_[next]; the camera block gives the frame's size and projection
+    // (the weights outside a fisheye's circle).
     glBindTextureUnit(gl::binding::kHdrTexture, hdr.texture);
     glBindSampler(gl::binding::kHdrTexture, linearSampler_);  // each meter fetch averages 2x2 texels
     glBindImageTexture(gl::binding::kMeterImage, meter_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glBindImageTexture(kStateImageUnit, state_[next].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     state_[current_].bind(gl::binding::kEyeStateTexture);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::binding::kMeterSsbo, meterBlocks_);
     meterProgram_.use();
-    glDispatchCompute(1, 1, 1);
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    glDispatchCompute(1, GLuint(kMeterGroups), 1);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
     glBindSampler(gl::binding::kHdrTexture, 0);
     meterValid_ = true;
+}
+
+bool ToneMapper::sameStep(const ToneSettings& a, const ToneSettings& b) {
+    // The settings welkin_eyeStep() reads (adapt.glsl's uniforms).
+    return a.automatic == b.automatic && a.eye == b.eye && a.adaptationMin == b.adaptationMin && a.adaptationMax == b.adaptationMax &&
+           a.coneTime == b.coneTime && a.rodTime == b.rodTime && a.strength == b.strength && a.compensationEv == b.compensationEv;
 }
 
 void ToneMapper::run(const HdrSource& hdr, unsigned framebuffer, const ToneSettings& s, const gl::Buffer& cameraUbo,
@@ -151,7 +170,7 @@ void ToneMapper::advance(const HdrSource& hdr, const ToneSettings& s, const gl::
     lastSettings_ = s;
     if (s.automatic) {
         // A new frame is metered; a second tone map of it only re-derives the exposure from the
-        // state (dt = 0), so changed settings apply.
+        // state (dt = 0), so changed settings apply, and with unchanged settings does nothing.
         const bool steady = !stateValid_ || (dt && *dt <= 0);
         const int next = 1 - current_;
         auto setAdaptation = [&](gl::Program& p) {
@@ -168,6 +187,14 @@ void ToneMapper::advance(const HdrSource& hdr, const ToneSettings& s, const gl::
             p.set("u_kTvi", float(eye::eyeExposureScale()));
             p.set("u_kappa", float(eye::scotopicPerPhotopicWhite()));
         };
+        if (!dt && stateValid_ && meterValid_ && sameStep(s, stepSettings_)) {
+            // A second tone map of the frame with the settings its step used: that step again
+            // (dt = 0 keeps the cone and rod states, the exposure follows from them by the same
+            // settings) would write the same texel. Nothing to draw: the one-texel pass cost
+            // llvmpipe a draw the display pass then waited for (docs/eye.md, session 21).
+            return;
+        }
+        stepSettings_ = s;
         if (dt || !stateValid_ || !meterValid_) {
             // The meter and the adaptation step in one dispatch (meter.comp.glsl).
             setAdaptation(meterProgram_);

@@ -1,6 +1,6 @@
 // ToneMapper (engine-private): the SkyProcessor's tone map (docs/eye.md). Exposure: manual EV100,
 // or automatic by the eye's adaptation (welkin/eye.hpp: Ferwerda's TVI, cone and rod states
-// adapting over time) or a camera's log-average, metered on the GPU by one compute dispatch into
+// adapting over time) or a camera's log-average, metered on the GPU by one compute dispatch (several work groups) into
 // the means of (w ln Y, w, w ln V') over 128x128 samples (meter.comp.glsl); the adaptation state is a 1x1 texture updated on the GPU
 // (adapt.frag.glsl, ping-pong: nothing is read back per frame); then the per-pixel mesopic
 // colour, the display curve and the sRGB transfer function (tonemap.frag.glsl).
@@ -102,12 +102,15 @@ private:
     gl::Program& toneMapProgram(bool rgba32fImage, bool automatic, bool mesopic, int curve, bool srgbTarget = false);
     std::array<gl::Program, 64> toneMap_;  // by rgba32fImage | automatic << 1 | mesopic << 2 | curve << 3 | srgbTarget << 5
     gl::Program meterProgram_, adaptProgram_;
-    unsigned linearSampler_ = 0;  // GL sampler object: bilinear, clamped (the meter's fetches)
+    unsigned linearSampler_ = 0;
+    unsigned meterBlocks_ = 0;  // GL buffer: the meter's work groups' block sums and counter (meter.comp.glsl)  // GL sampler object: bilinear, clamped (the meter's fetches)
     bool meterValid_ = false;  // meter_ holds the last frame's meter
     bool stateValid_ = false;  // state_[current_] holds an adaptation
     bool lastAutomatic_ = false;
     bool lastSrgbTarget_ = false;
     ToneSettings lastSettings_;
+    ToneSettings stepSettings_;  // the settings of the adaptation step that wrote state_[current_]
+    static bool sameStep(const ToneSettings& a, const ToneSettings& b);
     double lastManualEv100_ = 15.0;
     // previousExposure(): the state's texel copied into a buffer after each automatic advance(),
     // with a fence; the value is kept only for the advance() that queued it (readbackFor_).

@@ -302,6 +302,19 @@ TEST_CASE("Eye: the adaptation follows the frames' animation time; a still rende
         fbo.attach(GL_COLOR_ATTACHMENT0, target);
         p.toneMapInto(fbo.id());
         CHECK(p.adaptationLuminance() == a);
+        // With the frame's own settings it takes no step at all (ToneMapper::advance() skips
+        // it); that is exact because a step with no time passed writes the same texel: one with
+        // other settings, then one with the frame's settings again, gives the state and the
+        // exposure back bit for bit.
+        const double ev = p.lastEv100();
+        p.vars().set(eye::keys::compensation, 1.0);
+        p.toneMapInto(fbo.id());
+        CHECK(p.lastEv100() == Approx(ev - 1.0).margin(1e-5));  // the key applies: one stop more light (float exp2)
+        CHECK(p.adaptationLuminance() == a);
+        p.vars().set(eye::keys::compensation, 0.0);
+        p.toneMapInto(fbo.id());
+        CHECK(p.lastEv100() == ev);
+        CHECK(p.adaptationLuminance() == a);
     }
     // Long after (30 rod time constants, e^-30): the still render's exposure.
     p.setAnimationTime(10.0 + tc + 30 * tr);

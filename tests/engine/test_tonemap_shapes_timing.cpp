@@ -13,6 +13,7 @@
 
 #include <welkin/gl/objects.hpp>
 #include <welkin/gl/shader.hpp>
+#include <welkin/keys.hpp>
 #include <welkin/processor.hpp>
 
 #include <nlohmann/json.hpp>
@@ -391,4 +392,217 @@ TEST_CASE("Tone map timing: the meter as a mip chain or one compute dispatch", "
     if (fence) glDeleteSync(fence);
     glDeleteBuffers(1, &pack);
     CHECK(test::medianOf(wall[0]) > 0.0);  // the clock advanced
+}
+
+// The meter spread over several work groups (issue 22, session 21): one work group runs on one of
+// llvmpipe's threads; G groups of 256/G invocations each sum the same 8x8 sample blocks as the one
+// group's invocations (invocation k of the 16x16 grid, wherever it runs), write them to a buffer,
+// and the last group to finish (an atomic counter) reduces the 256 block sums by the one group's
+// tree, in its order: the same float sums. Against one group, wall clock and CPU, alternated.
+TEST_CASE("Tone map timing: the meter over several work groups", "[.][tonemap_timing]") {
+    test::glContext();
+    const int w = 1280, h = 720;
+    auto vao = gl::VertexArray::create();
+    gl::Texture2D hdr(w, h, GL_RGBA32F), m1(1, 1, GL_RGBA32F);
+    hdr.setFilter(GL_LINEAR);
+    auto hdrFbo = gl::Framebuffer::create();
+    hdrFbo.attach(GL_COLOR_ATTACHMENT0, hdr);
+    auto fill = gl::ProgramBuilder("fill").fullscreenVertex().fragment("fill.frag", kFillFrag).build();
+    const std::string sample =
+        "vec3 logLum(vec2 uv) {\n"
+        "  vec3 c = textureLod(u_hdr, uv, 0.0).rgb;\n"
+        "  float X = dot(c, vec3(0.4124, 0.3576, 0.1805)); float Y = dot(c, vec3(0.2126, 0.7152, 0.0722));\n"
+        "  float Z = dot(c, vec3(0.0193, 0.1192, 0.9505));\n"
+        "  float V = X > 0.0 ? Y * (1.33 * (1.0 + (Y + Z) / X) - 1.68) : 0.0;\n"
+        "  float wt = Y > 1e-7 ? 1.0 : 0.0;\n"
+        "  return vec3(wt * log(max(Y, 1e-7)), wt, wt * log(max(V, 1e-7)));\n}\n";
+    auto program = [&](int groups, int per) {
+        const int rows = 16 / groups;
+        const std::string n = std::to_string(groups), p = std::to_string(per);
+        return gl::ProgramBuilder("meter groups")
+            .compute("meter_groups.comp",
+                     "layout(local_size_x = 16, local_size_y = " + std::to_string(rows) + ") in;\n"
+                     "layout(binding = 0) uniform sampler2D u_hdr; layout(binding = 1, rgba32f) writeonly uniform image2D u_m;\n"
+                     "layout(std430, binding = 4) coherent buffer Partials { uint counter; uint pad[3]; vec4 partial[256]; };\n"
+                     "shared vec3 s[256]; shared bool s_last;\n" + sample +
+                     "void main() {\n"
+                     "  uint k = gl_GlobalInvocationID.y * 16u + gl_GlobalInvocationID.x; vec3 sum = vec3(0.0);\n"
+                     "  ivec2 f = ivec2(gl_GlobalInvocationID.xy) * " + p + ";\n"
+                     "  for (int j = 0; j < " + p + "; ++j) for (int i = 0; i < " + p + "; ++i) sum += logLum((vec2(f + ivec2(i, j)) + 0.5) / " + std::to_string(16 * per) + ".0);\n"
+                     "  uint l = gl_LocalInvocationIndex; const uint size = " + std::to_string(16 * rows) + "u;\n"
+                     "#if " + n + " == 1\n"
+                     "  s[k] = sum;\n"
+                     "#else\n"
+                     "  partial[k] = vec4(sum, 0.0);\n"
+                     "  memoryBarrierBuffer(); barrier();\n"
+                     "  if (l == 0u) s_last = atomicAdd(counter, 1u) == " + n + "u - 1u;\n"
+                     "  barrier();\n"
+                     "  if (!s_last) return;\n"
+                     "  memoryBarrierBuffer();\n"
+                     "  for (uint i = l; i < 256u; i += size) s[i] = partial[i].xyz;\n"
+                     "#endif\n"
+                     "  for (uint st = 128u; st > 0u; st >>= 1) { barrier(); for (uint i = l; i < st; i += size) s[i] += s[i + st]; }\n"
+                     "  if (l == 0u) {\n"
+                     "#if " + n + " != 1\n    counter = 0u;\n#endif\n"
+                     "    imageStore(u_m, ivec2(0), vec4(s[0] / 16384.0, 1.0)); }\n"
+                     "}\n")
+            .build();
+    };
+    unsigned ssbo = 0;
+    glCreateBuffers(1, &ssbo);
+    std::vector<unsigned char> zeros(16 + 256 * 16, 0);
+    glNamedBufferStorage(ssbo, GLsizeiptr(zeros.size()), zeros.data(), 0);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, ssbo);
+    struct Shape {
+        std::string what;
+        gl::Program p;
+        int groups;
+    };
+    std::vector<Shape> shapes;
+    shapes.push_back({"1 group of 16x16, 8x8 samples each (today)", program(1, 8), 1});
+    shapes.push_back({"2 groups of 16x8, the last reduces", program(2, 8), 2});
+    shapes.push_back({"4 groups of 16x4, the last reduces", program(4, 8), 4});
+    shapes.push_back({"8 groups of 16x2, the last reduces", program(8, 8), 8});
+    shapes.push_back({"16 groups of 16x1, the last reduces", program(16, 8), 16});
+    const size_t exactShapes = shapes.size();
+    shapes.push_back({"64x64 samples: 1 group", program(1, 4), 1});
+    shapes.push_back({"64x64 samples: 2 groups", program(2, 4), 2});
+    shapes.push_back({"64x64 samples: 4 groups", program(4, 4), 4});
+    auto run = [&](Shape& s) {
+        glBindTextureUnit(0, hdr.id());
+        glBindImageTexture(1, m1.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        s.p.use();
+        glDispatchCompute(1, GLuint(s.groups), 1);
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    };
+    hdrFbo.bind();
+    glViewport(0, 0, w, h);
+    vao.bind();
+    fill.use();
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    std::vector<std::vector<float>> results;
+    for (auto& s : shapes) {
+        run(s);
+        results.push_back(m1.readRgbaFloat());
+    }
+    for (size_t k = 1; k < exactShapes; ++k)
+        for (int c = 0; c < 3; ++c) CHECK(results[k][size_t(c)] == results[0][size_t(c)]);  // the same sums in the same order
+    std::printf("64x64 against 128x128 on this frame: mean ln Y %.6f against %.6f\n", results[exactShapes][0] / results[exactShapes][1], results[0][0] / results[0][1]);  // the same sums in the same order
+    auto trivial = gl::ProgramBuilder("trivial")
+                       .fullscreenVertex()
+                       .fragment("trivial.frag", "out vec4 o; void main() { o = vec4(gl_FragCoord.xy * 1e-3, 1.0, 1.0); }")
+                       .build();
+    gl::Texture2D scratch(w, h, GL_RGBA32F);
+    auto scratchFbo = gl::Framebuffer::create();
+    scratchFbo.attach(GL_COLOR_ATTACHMENT0, scratch);
+    std::vector<std::vector<double>> wall(shapes.size() + 1), cpu(shapes.size() + 1);
+    for (int round = 0; round < 41; ++round)
+        for (size_t k = 0; k <= shapes.size(); ++k) {
+            hdrFbo.bind();
+            glViewport(0, 0, w, h);
+            vao.bind();
+            fill.use();
+            glDrawArrays(GL_TRIANGLES, 0, 3);
+            glFinish();
+            const auto t0 = std::chrono::steady_clock::now();
+            const double c0 = test::cpuMs();
+            if (k == shapes.size()) {
+                scratchFbo.bind();
+                trivial.use();
+                glDrawArrays(GL_TRIANGLES, 0, 3);
+            } else {
+                run(shapes[k]);
+            }
+            glFinish();
+            cpu[k].push_back(test::cpuMs() - c0);
+            wall[k].push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+        }
+    const double tw = test::medianOf(wall.back()), tc = test::medianOf(cpu.back());
+    std::printf("the meter over work groups, medians of 41, ms wall / CPU (x trivial pass %.3f / %.3f ms):\n", tw, tc);
+    for (size_t k = 0; k < shapes.size(); ++k)
+        std::printf("  %-50s %6.3f / %6.3f   (%5.2f / %5.2f)\n", shapes[k].what.c_str(), test::medianOf(wall[k]), test::medianOf(cpu[k]),
+                    test::medianOf(wall[k]) / tw, test::medianOf(cpu[k]) / tc);
+    glDeleteBuffers(1, &ssbo);
+    CHECK(tw > 0.0);  // the clock advanced
+}
+
+// `welkin bench display`'s "tone map" row as it measures it (wall clock between glFinish: the
+// processor's tonemap_ms of renderFrame(), the eye's meter, plus that of toneMapInto() into an
+// SRGB8_ALPHA8 target, the displayed pass), with the trivial pass timed in the same rounds, and
+// the bare floor (a copy imageLoad RGBA32F -> SRGB8_ALPHA8) beside it; process CPU too.
+TEST_CASE("Tone map timing: bench display's tone map row and its parts", "[.][tonemap_timing]") {
+    test::glContext();
+    const int w = 1280, h = 720;
+    SkyProcessor p(SkyVars::earth(), Logger(), ProcessorOptions{.timing = true, .astronomy = false});
+    Camera cam;
+    cam.width = w;
+    cam.height = h;
+    p.setCamera(cam);
+    p.emplace<test::UniformField>(glm::vec3(2e-2f, 3e-2f, 4e-2f));  // mesopic: the mesopic colour's whole arithmetic runs
+    p.setExposure({.automatic = true});
+    p.vars().set(keys::interactive, true);
+    auto vao = gl::VertexArray::create();
+    gl::Texture2D scratch(w, h, GL_RGBA32F), srgb(w, h, GL_SRGB8_ALPHA8), srgb2(w, h, GL_SRGB8_ALPHA8);
+    auto scratchFbo = gl::Framebuffer::create(), srgbFbo = gl::Framebuffer::create(), srgb2Fbo = gl::Framebuffer::create();
+    scratchFbo.attach(GL_COLOR_ATTACHMENT0, scratch);
+    srgbFbo.attach(GL_COLOR_ATTACHMENT0, srgb);
+    srgb2Fbo.attach(GL_COLOR_ATTACHMENT0, srgb2);
+    auto trivial = gl::ProgramBuilder("trivial")
+                       .fullscreenVertex()
+                       .fragment("trivial.frag", "out vec4 o; void main() { o = vec4(gl_FragCoord.xy * 1e-3, 1.0, 1.0); }")
+                       .build();
+    auto copy = gl::ProgramBuilder("copy")
+                    .fullscreenVertex()
+                    .fragment("copy.frag", "layout(binding = WELKIN_BINDING_HDR_IMAGE, rgba32f) readonly uniform image2D u_hdrImage;\n"
+                                           "out vec4 o; void main() { o = vec4(imageLoad(u_hdrImage, ivec2(gl_FragCoord.xy)).rgb * 1e-3, 1.0); }")
+                    .build();
+    double seconds = 0;
+    for (int i = 0; i < 3; ++i) {
+        p.setAnimationTime(seconds += 1.0 / 30.0);
+        p.renderFrame();
+        p.toneMapInto(srgbFbo.id());
+    }
+    std::vector<double> trivialWall, trivialCpu, meterWall, displayWall, rowCpu, copyWall, copyCpu;
+    for (int round = 0; round < 31; ++round) {
+        for (int k = 0; k < 2; ++k) {
+            glFinish();
+            auto t0 = std::chrono::steady_clock::now();
+            double c0 = test::cpuMs();
+            (k == 0 ? scratchFbo : srgb2Fbo).bind();
+            glViewport(0, 0, w, h);
+            vao.bind();
+            if (k == 0) {
+                trivial.use();
+            } else {
+                glBindImageTexture(0, p.hdrTexture().id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+                glEnable(GL_FRAMEBUFFER_SRGB);
+                copy.use();
+            }
+            glDrawArrays(GL_TRIANGLES, 0, 3);
+            glFinish();
+            if (k == 1) glDisable(GL_FRAMEBUFFER_SRGB);
+            (k == 0 ? trivialCpu : copyCpu).push_back(test::cpuMs() - c0);
+            (k == 0 ? trivialWall : copyWall).push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+        }
+        p.setAnimationTime(seconds += 1.0 / 30.0);
+        p.renderFrame();
+        const double meter = p.stats()["tonemap_ms"].get<double>();
+        glFinish();
+        const double c0 = test::cpuMs();
+        p.toneMapInto(srgbFbo.id());
+        rowCpu.push_back(test::cpuMs() - c0);
+        meterWall.push_back(meter);
+        displayWall.push_back(p.stats()["tonemap_ms"].get<double>());
+    }
+    const double tw = test::medianOf(trivialWall), tc = test::medianOf(trivialCpu);
+    std::vector<double> row;
+    for (size_t i = 0; i < meterWall.size(); ++i) row.push_back(meterWall[i] + displayWall[i]);
+    std::printf("bench display's tone map row, 1280x720, medians of 31: trivial pass %.3f ms wall, %.3f ms CPU\n", tw, tc);
+    std::printf("  meter (renderFrame's tonemap_ms, wall)        %6.3f ms = %5.2f x trivial\n", test::medianOf(meterWall), test::medianOf(meterWall) / tw);
+    std::printf("  display (toneMapInto's tonemap_ms, wall)      %6.3f ms = %5.2f x trivial\n", test::medianOf(displayWall), test::medianOf(displayWall) / tw);
+    std::printf("  the row (meter + display, wall)               %6.3f ms = %5.2f x trivial\n", test::medianOf(row), test::medianOf(row) / tw);
+    std::printf("  toneMapInto (CPU)                             %6.3f ms = %5.2f x trivial CPU\n", test::medianOf(rowCpu), test::medianOf(rowCpu) / tc);
+    std::printf("  floor: copy imageLoad -> SRGB8 (wall / CPU)   %6.3f / %6.3f ms = %5.2f / %5.2f x trivial\n", test::medianOf(copyWall),
+                test::medianOf(copyCpu), test::medianOf(copyWall) / tw, test::medianOf(copyCpu) / tc);
+    CHECK(tw > 0.0);  // the clock advanced
 }

@@ -29,6 +29,7 @@ inline constexpr int kCloudUbo = 2;       ///< the cloud layer's block (generato
 inline constexpr int kSkyIrradianceSsbo = 0;  ///< SkyIrradiance's result (generators/atmosphere/shaders/sky_irradiance.glsl)
 inline constexpr int kWeatherShapesSsbo = 1;  ///< the weather map's cloud shapes (generators/clouds/shaders/weather_map.*.glsl)
 inline constexpr int kLightingSsbo = 2;       ///< SkyLighting's sums (SH partials, axis lights; engine/shaders/lighting_*.comp.glsl)
+inline constexpr int kMeterSsbo = 3;          ///< the eye's meter: its work groups' block sums and counter (engine/shaders/meter.comp.glsl)
 
 // Texture units: the engine's tone map.
 inline constexpr int kHdrTexture = 0;     ///< the HDR frame read by the tone map and log-luminance passes
@@ -120,6 +121,7 @@ inline constexpr std::array kTable = {
     Entry{"WELKIN_BINDING_SKY_IRRADIANCE_SSBO", kSkyIrradianceSsbo, Kind::StorageBuffer},
     Entry{"WELKIN_BINDING_WEATHER_SHAPES_SSBO", kWeatherShapesSsbo, Kind::StorageBuffer},
     Entry{"WELKIN_BINDING_LIGHTING_SSBO", kLightingSsbo, Kind::StorageBuffer},
+    Entry{"WELKIN_BINDING_METER_SSBO", kMeterSsbo, Kind::StorageBuffer},
     Entry{"WELKIN_BINDING_LIGHTING_CUBE", kLightingCube, Kind::TextureUnit},
     Entry{"WELKIN_BINDING_LIGHTING_OUTPUT_IMAGE", kLightingOutputImage, Kind::ImageUnit},
     Entry{"WELKIN_BINDING_LIGHTING_SOURCE_IMAGE", kLightingSourceImage, Kind::ImageUnit},
