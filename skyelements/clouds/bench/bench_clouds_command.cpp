@@ -22,8 +22,10 @@
 #include "plot.hpp"
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 #include <welkin/bench.hpp>
 #include <welkin/csv.hpp>
+#include <welkin/elements/clouds.hpp>
 #include <welkin/elements/registry.hpp>
 #include <welkin/error.hpp>
 #include <welkin/gl/context.hpp>
@@ -34,6 +36,8 @@
 #include <welkin/processor.hpp>
 
 #include <epoxy/gl.h>
+
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <cmath>
@@ -66,6 +70,7 @@ struct CloudsBenchOptions {
     double latDeg = 35.9, lonDeg = 14.5;
     std::string time = "2026-06-21T08:00:00Z";  // Malta, mid-morning: the Sun ~55 deg up in the east
     int skyShadowRepeats = 9;  // alternated frame pairs of the sky-shadow rows (0: none)
+    bool breakdown = false;    // after each moving row: where its frames' time goes (instrumented)
 };
 
 
@@ -156,6 +161,124 @@ ShadowRow skyShadowRow(const CloudsBenchOptions& o, const Observer& observer, co
     return r;
 }
 
+// The process' CPU time (user + system, every thread), ms: llvmpipe's work whatever the load beside it.
+double cpuMs() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return 1e3 * (double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec));
+}
+
+// Where a moving frame's time goes (--breakdown): the moving row's sequence (the same warm-up,
+// camera, time and animation steps) on a processor with timing on (glFinish around every
+// element's and generator's call, so each includes its GPU work; the frame itself is then a little
+// dearer than the untimed row's). Per frame: each generator's time on the frames it ran, each
+// element's render, the tone map; the clouds' render split by what it did in that frame (a
+// photometry pass or not: Clouds::photometryPassesLastFrame). Means over the frames.
+void breakdownRow(const CloudsBenchOptions& o, const Observer& observer, const UtcInstant& start, const Camera& cam, const std::string& samples,
+                  const std::string& sizeName, const Logger& log) {
+    auto p = std::make_unique<SkyProcessor>(SkyVars::earth(), log, ProcessorOptions{.timing = true});
+    p->setObserver(observer);
+    p->setTime(start);
+    p->setCamera(cam);
+    p->setExposure({.automatic = true});
+    p->setAnimationTime(0.0);
+    for (const std::string& n : elements::expandElementList("default,clouds")) p->add(elements::makeElement(n));
+    if (!o.preset.empty()) p->vars().setFromString("clouds.preset", o.preset);
+    p->vars().setFromString("clouds.samples", samples);
+    p->vars().setFromString("clouds.reprojection", "true");
+    auto* clouds = dynamic_cast<const elements::Clouds*>(p->find("clouds"));
+    if (!clouds) throw Error("bench clouds --breakdown: no clouds element");
+    int frame = 0;
+    auto step = [&] {
+        Camera c = cam;
+        c.azimuthRad = 0.5 * kDeg * frame;
+        p->setCamera(c);
+        p->setTime(start.plusSeconds(2.0 * frame));
+        p->setAnimationTime(frame / 30.0);
+    };
+    for (; frame < o.warmup; ++frame) {
+        step();
+        p->renderFrame();
+    }
+    struct Acc {
+        double ms = 0;
+        int frames = 0;
+    };
+    std::vector<std::pair<std::string, Acc>> gens, els;  // in first-seen order
+    auto acc = [](std::vector<std::pair<std::string, Acc>>& v, const std::string& name) -> Acc& {
+        for (auto& [n, a] : v)
+            if (n == name) return a;
+        v.push_back({name, {}});
+        return v.back().second;
+    };
+    std::vector<std::pair<std::string, int>> lastRuns;  // each generator's runs before the frame
+    const nlohmann::json warm = p->stats();
+    for (const auto& g : warm["generators"]) lastRuns.push_back({g["name"].get<std::string>(), g["runs"].get<int>()});
+    double frameMs = 0, genMs = 0, toneMs = 0;
+    Acc cloudsPhot, cloudsPlain;
+    std::vector<double> quietCpu;  // process CPU time (every thread: llvmpipe's) of the frames without a rebuild
+    // the rebuilds that the Sun's motion triggers (the shadow map, the sky's shadow table)
+    auto a_every = [](const std::string& name, int) { return name == "clouds.shadow_map" || name == "sky.shadow_loss"; };
+    const int frames = o.movingFrames;
+    for (int r = 0; r < frames; ++r, ++frame) {
+        step();
+        const double cpu0 = cpuMs();
+        frameMs += medianMs(1, [&] { p->renderFrame(); });
+        const double cpu = cpuMs() - cpu0;
+        const nlohmann::json j = p->stats();
+        bool quiet = clouds->photometryPassesLastFrame() == 0;  // a frame that ran no generator but those of every frame, no photometry
+        genMs += j.value("generators_ms", 0.0);
+        toneMs += j.value("tonemap_ms", 0.0);
+        for (const auto& g : j["generators"]) {
+            const std::string name = g["name"];
+            const int runs = g["runs"];
+            int before = 0;
+            bool seen = false;
+            for (auto& [n, k] : lastRuns)
+                if (n == name) before = k, k = runs, seen = true;
+            if (!seen) lastRuns.push_back({name, runs});
+            if (runs > before && a_every(name, r)) quiet = false;
+            if (runs > before) {
+                Acc& a = acc(gens, name);
+                a.ms += g["last_ms"].get<double>();
+                ++a.frames;
+            }
+        }
+        if (quiet) quietCpu.push_back(cpu);
+        for (const auto& e : j["elements"]) {
+            const std::string name = e["name"];
+            Acc& a = acc(els, name);
+            const double ms = e["render_ms"].get<double>();
+            a.ms += ms;
+            ++a.frames;
+            if (name == "clouds") {
+                Acc& c = clouds->photometryPassesLastFrame() > 0 ? cloudsPhot : cloudsPlain;
+                c.ms += ms;
+                ++c.frames;
+            }
+        }
+    }
+    const double n = std::max(frames, 1);
+    std::printf("\n  %s moving, instrumented (glFinish around every call), %d frames: frame %.1f ms on average; generators %.1f, tone map %.1f\n",
+                sizeName.c_str(), frames, frameMs / n, genMs / n, toneMs / n);
+    std::printf("  | part | frames that ran it | ms when it ran | ms per frame (mean over all frames) |\n  |---|---|---|---|\n");
+    for (const auto& [name, a] : gens)
+        if (a.frames > 0 && a.ms > 0.05 * a.frames)
+            std::printf("  | generator %s | %d | %.1f | %.2f |\n", name.c_str(), a.frames, a.ms / a.frames, a.ms / n);
+    for (const auto& [name, a] : els)
+        std::printf("  | element %s, render | %d | %.1f | %.2f |\n", name.c_str(), a.frames, a.ms / std::max(a.frames, 1), a.ms / n);
+    if (cloudsPhot.frames > 0)
+        std::printf("  | clouds render with a photometry pass | %d | %.1f | %.2f |\n", cloudsPhot.frames, cloudsPhot.ms / cloudsPhot.frames, cloudsPhot.ms / n);
+    if (cloudsPlain.frames > 0)
+        std::printf("  | clouds render without (the cache's phase and display) | %d | %.1f | %.2f |\n", cloudsPlain.frames,
+                    cloudsPlain.ms / cloudsPlain.frames, cloudsPlain.ms / n);
+    if (!quietCpu.empty())
+        std::printf("  frames without a rebuild or a photometry pass: %zu, process CPU time (all threads) per frame: median %.1f ms\n", quietCpu.size(),
+                    median(quietCpu));
+    std::fflush(stdout);
+    p->release();
+}
+
 int run(const CloudsBenchOptions& o) {
     if (o.skyShadowRepeats < 0 || o.skyShadowRepeats > 1000)
         throw Error("--sky-shadow-repeats " + std::to_string(o.skyShadowRepeats) + " not in [0, 1000]");
@@ -224,6 +347,7 @@ int run(const CloudsBenchOptions& o) {
         auto timeRow = [&](const std::string& mode, int n, bool reproj, int frames, bool moving) {
             if (n > 0 || !moving) setClouds(n, reproj);
             std::vector<double> ms, tms, sms, rt, rs;
+            double cpuSky = 0, cpuClouds = 0;  // process CPU time (every thread: llvmpipe's), ms
             int frame = 0;
             auto step = [&](SkyProcessor& p) {
                 if (!moving) return;
@@ -245,9 +369,13 @@ int run(const CloudsBenchOptions& o) {
             for (int r = 0; r < frames; ++r, ++frame) {
                 const double t = medianMs(1, [&] { trivial.draw(); });
                 step(*sky);
+                double c0 = cpuMs();
                 const double s = medianMs(1, [&] { sky->renderFrame(); });
+                cpuSky += cpuMs() - c0;
                 step(*clouds);
+                c0 = cpuMs();
                 const double f = medianMs(1, [&] { clouds->renderFrame(); });
+                cpuClouds += cpuMs() - c0;
                 ms.push_back(f), tms.push_back(t), sms.push_back(s), rt.push_back(f / t), rs.push_back(f / s);
             }
             double rms = NAN;
@@ -265,6 +393,10 @@ int run(const CloudsBenchOptions& o) {
             else
                 rows.push_back({sizeName, mode, n, reproj, median(ms), median(tms), median(sms), median(rt), median(rs), rms});
             const Row& q = rows.back();
+            if (moving && frames > 0)
+                std::printf("  %s moving, CPU time (the process, every thread; the load beside it hardly changes it): frame with clouds %.1f ms, "
+                            "sky frame %.1f ms: x sky %.2f\n",
+                            sizeName.c_str(), cpuClouds / frames, cpuSky / frames, cpuClouds / std::max(cpuSky, 1e-9));
             std::printf("  %s %s samples %s reprojection %s: %.1f ms, x trivial %.1f, x sky %.2f, rms %.4f\n", q.size.c_str(), q.mode.c_str(),
                         n > 0 ? std::to_string(n).c_str() : ("preset " + defaultSamples).c_str(), reproj ? "on" : "off", q.ms, q.ratioTrivial,
                         q.ratioSky, q.rmsRel);
@@ -277,6 +409,7 @@ int run(const CloudsBenchOptions& o) {
             clouds->vars().setFromString("clouds.samples", defaultSamples);
             clouds->vars().setFromString("clouds.reprojection", "true");
             timeRow("moving", 0, true, o.movingFrames, true);
+            if (o.breakdown) breakdownRow(o, observer, start, cam, defaultSamples, sizeName, log);
         }
         sky->release();
         clouds->release();
@@ -334,6 +467,8 @@ bench::CommandBenchRegistrar reg({"clouds", "cost and error of the clouds by sam
     sub.add_option("--preset", o->preset, "clouds.preset (empty: the element's default)")->capture_default_str();
     sub.add_option("--sky-shadow-repeats", o->skyShadowRepeats, "alternated frame pairs timing clouds.sky_shadow off/on (0: none), [0, 1000]")
         ->capture_default_str();
+    sub.add_flag("--breakdown", o->breakdown,
+                 "after each moving row: the same frames instrumented (glFinish around every element and generator): where the time goes");
     sub.add_option("--time", o->time, "ISO 8601 instant (Malta)")->capture_default_str();
     sub.add_option("--csv", o->csv, "write the rows as CSV (empty: none)")->capture_default_str();
     sub.add_option("--plot", o->plot, "PNG plot drawn from the CSV by scripts/plots/plot_bench_clouds.py (empty: none)")->capture_default_str();

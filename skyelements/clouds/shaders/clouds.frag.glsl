@@ -84,12 +84,11 @@ vec2 cld_verticalDepths(vec3 p) {
     vec3 up = normalize(p + vec3(0.0, 0.0, cld_radii.x));
     return vec2(cloudDepthAlong(p, up, u_backSamples, CLD_MARCH_MAX_M), cloudDepthAlong(p, -up, u_backSamples, CLD_MARCH_MAX_M)) * cld_shape.z * CLD_W_DRAINE;
 }
-// The width through a cumulus changes over hundreds of metres: the view march measures it again
-// every CLD_WIDTH_EVERY cloud samples and where it enters cloud after clear air. On a GPU whose
-// SIMD group shares the schedule that is ~1.5 density samples a cloud sample; on llvmpipe, which
-// runs a branch's body whenever it is reached (masked), its six cost at every sample, against the
-// light marches' 9 (6 + 3): measured, a group of lanes taking it in turn, every 8th sample or a
-// per-lane step count of 0 cost the same or more (skyelements/clouds/README.md, "The march's cost").
+// The width through a cumulus and the vertical depths change over hundreds of metres: the view
+// march measures them once per block of CLD_WIDTH_EVERY samples, at the block's first sample in
+// cloud (cld_cumulus). Outside any condition that varies per sample, so that llvmpipe, which runs a
+// branch's body whenever it is reached (masked), pays their twelve density look-ups once a block
+// rather than at every sample (skyelements/clouds/README.md, "A moving frame's cost").
 const int CLD_WIDTH_EVERY = 4;
 
 // Transmittance of the air between the observer (h, mu) and the point at distance d along the
@@ -154,48 +153,66 @@ bool cld_cumulus(vec3 dir, vec2 px, out vec3 L, out float T, out float dMean) {
     if (t1 <= t0) return false;
     float sigma = cld_shape.z * CLD_W_DRAINE;  // delta-M scaled extinction
     float dt = (t1 - t0) / float(u_samples);
-    float t = t0 + dt * cld_dither(px);
+    float tDither = t0 + dt * cld_dither(px);
     vec3 o = vec3(0.0, 0.0, u_h);
     float wSum = 0.0;
-    // the cloud's width across each light (cld_widthDepth), measured again every CLD_WIDTH_EVERY cloud samples
-    vec2 tauW = vec2(0.0);
-    vec2 tauVRef = vec2(0.0);  // the vertical depths (cld_verticalDepths), marched with tauW
-    float hRef = 0.0;
-    int sinceW = 0;
-    bool wasClear = true;
+    // The march in blocks of CLD_WIDTH_EVERY samples. Each block first finds its first sample in
+    // cloud (a density look-up per sample) and marches there, once for the block, the cloud's width
+    // across each light (cld_widthDepth) and the vertical depths to the sky above and the air below
+    // (cld_verticalDepths); its samples then use them, the vertical depths carried to each sample's
+    // height by its own extinction. Until 2026-11-28 the same refresh (at the first cloud sample
+    // after clear air and every CLD_WIDTH_EVERY cloud samples) sat under a condition inside the
+    // sample loop, and llvmpipe, which runs a branch's body whenever it is reached (masked), paid
+    // the twelve density look-ups at every sample: in blocks the march's samples cost 0.85x
+    // (skyelements/clouds/README.md, "A moving frame's cost").
+    vec2 tauW = vec2(0.0);     // the width's scaled depths (Sun, Moon)
+    vec2 tauVRef = vec2(0.0);  // the vertical depths (up, down) at the block's reference sample
+    float hRef = 0.0;          // its altitude
     bool sunUp = any(greaterThan(u_sunE, vec3(0.0))), moonUp = any(greaterThan(u_moonE, vec3(0.0)));
-    for (int i = 0; i < u_samples; ++i, t += dt) {
-        vec3 p = o + dir * t;
-        float d = cloudDensity(p, CLOUD_LOD_FULL);
-        if (d <= 0.0) { wasClear = true; continue; }
-        float sigmaT = d * sigma;
-        float hp = cloudAltitude(p);
-        if (wasClear || sinceW >= CLD_WIDTH_EVERY) {
+    bool done = false;
+    for (int i0 = 0; i0 < u_samples && !done; i0 += CLD_WIDTH_EVERY) {
+        float tb = tDither + dt * float(i0);
+        float tRef = tb;
+        bool found = false;
+        for (int k = 0; k < CLD_WIDTH_EVERY; ++k) {
+            float tk = tb + dt * float(k);
+            bool c = i0 + k < u_samples && cloudDensity(o + dir * tk, CLOUD_LOD_FULL) > 0.0;
+            tRef = c && !found ? tk : tRef;
+            found = found || c;
+        }
+        if (found) {
+            vec3 pr = o + dir * tRef;
 #if (CLD_LIGHTS & 1) != 0
-            if (sunUp) tauW.x = cld_widthDepth(p, u_sunDir);
+            if (sunUp) tauW.x = cld_widthDepth(pr, u_sunDir);
 #endif
 #if (CLD_LIGHTS & 2) != 0
-            if (moonUp) tauW.y = cld_widthDepth(p, u_moonDir);
+            if (moonUp) tauW.y = cld_widthDepth(pr, u_moonDir);
 #endif
-            tauVRef = cld_verticalDepths(p);
-            hRef = hp;
-            sinceW = 0;
-            wasClear = false;
+            tauVRef = cld_verticalDepths(pr);
+            hRef = cloudAltitude(pr);
         }
-        ++sinceW;
-        // the vertical depths held since they were marched, carried to this sample's height by its
-        // own extinction (first order: exact in a deck's linear profile over the step)
-        float dz = hp - hRef;
-        vec2 tauV = max(tauVRef + vec2(-sigmaT * dz, sigmaT * dz), vec2(0.0));
-        vec3 S = cld_source(p, hp, dir, sigmaT, tauW, tauV);
-        float Ts = exp(-sigmaT * dt);
-        // Hillaire 2016 energy-conserving step: int_0^dt S e^(-sigmaT s) ds = (S - S Ts) / sigmaT
-        L += T * (S - S * Ts) / sigmaT;
-        float w = T * (1.0 - Ts);
-        dMean += w * t;
-        wSum += w;
-        T *= Ts;
-        if (T < CLD_T_CUT) { T = 0.0; break; }
+        for (int k = 0; k < CLD_WIDTH_EVERY; ++k) {
+            if (i0 + k >= u_samples) break;
+            float t = tb + dt * float(k);
+            vec3 p = o + dir * t;
+            float d = cloudDensity(p, CLOUD_LOD_FULL);
+            if (d <= 0.0) continue;
+            float sigmaT = d * sigma;
+            float hp = cloudAltitude(p);
+            // the vertical depths carried from the block's reference to this sample's height by its
+            // own extinction (first order: exact in a deck's linear profile over the step)
+            float dz = hp - hRef;
+            vec2 tauV = max(tauVRef + vec2(-sigmaT * dz, sigmaT * dz), vec2(0.0));
+            vec3 S = cld_source(p, hp, dir, sigmaT, tauW, tauV);
+            float Ts = exp(-sigmaT * dt);
+            // Hillaire 2016 energy-conserving step: int_0^dt S e^(-sigmaT s) ds = (S - S Ts) / sigmaT
+            L += T * (S - S * Ts) / sigmaT;
+            float w = T * (1.0 - Ts);
+            dMean += w * t;
+            wSum += w;
+            T *= Ts;
+            if (T < CLD_T_CUT) { T = 0.0; done = true; break; }
+        }
     }
     dMean = wSum > 0.0 ? dMean / wSum : t0;
     return wSum > 0.0;

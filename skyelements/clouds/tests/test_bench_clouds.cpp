@@ -99,3 +99,35 @@ TEST_CASE("plot_bench_clouds.py draws a PNG from a bench clouds CSV", "[cpu][plo
     CHECK_FALSE(bad.drawn);
     CHECK(bad.message.find("exited with status 2") != std::string::npos);
 }
+
+TEST_CASE("welkin bench clouds --breakdown: a moving frame's parts and its CPU time", "[gl][cli][bench][slow]") {
+    if (!welkin::elements::findDescriptor("clouds")) FAIL("no clouds element in this build" << ": this test needs skyelements/clouds");
+    // 64x36, one warm-up frame (the cache's whole fill), two moving frames: the moving row and its
+    // instrumented repeat. Seconds on llvmpipe.
+    const auto r = runCli("bench clouds --sizes 64x36 --samples 4 --repeats 1 --warmup 1 --moving-frames 2 --reference-samples 8 "
+                          "--sky-shadow-repeats 0 --csv '' --plot '' --breakdown");
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    // The moving row's CPU line: at 64x36 the frame with clouds marches the cache's 2,048 rays a
+    // frame and the sky frame marches none, so its CPU time is the larger (by far: a fixed ray
+    // count against 2,304 pixels of table look-ups).
+    const size_t cpu = r.output.find("64x36 moving, CPU time");
+    REQUIRE(cpu != std::string::npos);
+    double withClouds = 0, sky = 0, ratio = 0;
+    REQUIRE(std::sscanf(r.output.c_str() + r.output.find("frame with clouds", cpu), "frame with clouds %lf ms, sky frame %lf ms: x sky %lf", &withClouds,
+                        &sky, &ratio) == 3);
+    CHECK(sky > 0.0);
+    CHECK(withClouds > sky);
+    // The ratio is of the unrounded times; the ms are printed with one decimal, so a sky frame of
+    // ~1 ms at this size recomputes it to within ~5 % (0.05 / 1) + the ratio's own 0.005: 10 %.
+    CHECK(std::abs(ratio - withClouds / sky) <= 0.1 * ratio + 0.005);
+    // The breakdown: the clouds' render timed on both frames (glFinish around it: > 0 ms), the
+    // Sky element's too, and the frames without a rebuild counted with their CPU time.
+    const size_t clouds = r.output.find("| element clouds, render | 2 | ");
+    REQUIRE(clouds != std::string::npos);
+    double ms = 0;
+    REQUIRE(std::sscanf(r.output.c_str() + clouds, "| element clouds, render | 2 | %lf |", &ms) == 1);
+    CHECK(ms > 0.0);
+    CHECK(r.output.find("| element sky, render | 2 | ") != std::string::npos);
+    CHECK(r.output.find("process CPU time (all threads) per frame: median") != std::string::npos);
+}
