@@ -32,6 +32,17 @@ using namespace welkin;
 namespace {
 // A night frame's radiance: every pixel a different colour, luminance from 1e-5 to 10 cd/m^2 (the
 // scotopic, mesopic and low photopic ranges: the mesopic colour's whole ramp).
+// The meter's per-sample work (log luminance, its weight, log scotopic luminance), shared by the
+// timing cases below.
+const char* kLogLumSample =
+    "vec3 logLum(vec2 uv) {\n"
+    "  vec3 c = textureLod(u_hdr, uv, 0.0).rgb;\n"
+    "  float X = dot(c, vec3(0.4124, 0.3576, 0.1805)); float Y = dot(c, vec3(0.2126, 0.7152, 0.0722));\n"
+    "  float Z = dot(c, vec3(0.0193, 0.1192, 0.9505));\n"
+    "  float V = X > 0.0 ? Y * (1.33 * (1.0 + (Y + Z) / X) - 1.68) : 0.0;\n"
+    "  float wt = Y > 1e-7 ? 1.0 : 0.0;\n"
+    "  return vec3(wt * log(max(Y, 1e-7)), wt, wt * log(max(V, 1e-7)));\n}\n";
+
 const char* kFillFrag =
     "out vec4 o;\n"
     "void main() {\n"
@@ -272,14 +283,7 @@ TEST_CASE("Tone map timing: the meter as a mip chain or one compute dispatch", "
     vao.bind();
     fill.use();
     glDrawArrays(GL_TRIANGLES, 0, 3);
-    const std::string sample =
-        "vec3 logLum(vec2 uv) {\n"
-        "  vec3 c = textureLod(u_hdr, uv, 0.0).rgb;\n"
-        "  float X = dot(c, vec3(0.4124, 0.3576, 0.1805)); float Y = dot(c, vec3(0.2126, 0.7152, 0.0722));\n"
-        "  float Z = dot(c, vec3(0.0193, 0.1192, 0.9505));\n"
-        "  float V = X > 0.0 ? Y * (1.33 * (1.0 + (Y + Z) / X) - 1.68) : 0.0;\n"
-        "  float wt = Y > 1e-7 ? 1.0 : 0.0;\n"
-        "  return vec3(wt * log(max(Y, 1e-7)), wt, wt * log(max(V, 1e-7)));\n}\n";
+    const std::string sample = kLogLumSample;
     auto frag = gl::ProgramBuilder("loglum")
                     .fullscreenVertex()
                     .fragment("loglum.frag", "layout(binding = 0) uniform sampler2D u_hdr; in vec2 v_ndc; out vec4 o;\n" + sample +
@@ -408,14 +412,7 @@ TEST_CASE("Tone map timing: the meter over several work groups", "[.][tonemap_ti
     auto hdrFbo = gl::Framebuffer::create();
     hdrFbo.attach(GL_COLOR_ATTACHMENT0, hdr);
     auto fill = gl::ProgramBuilder("fill").fullscreenVertex().fragment("fill.frag", kFillFrag).build();
-    const std::string sample =
-        "vec3 logLum(vec2 uv) {\n"
-        "  vec3 c = textureLod(u_hdr, uv, 0.0).rgb;\n"
-        "  float X = dot(c, vec3(0.4124, 0.3576, 0.1805)); float Y = dot(c, vec3(0.2126, 0.7152, 0.0722));\n"
-        "  float Z = dot(c, vec3(0.0193, 0.1192, 0.9505));\n"
-        "  float V = X > 0.0 ? Y * (1.33 * (1.0 + (Y + Z) / X) - 1.68) : 0.0;\n"
-        "  float wt = Y > 1e-7 ? 1.0 : 0.0;\n"
-        "  return vec3(wt * log(max(Y, 1e-7)), wt, wt * log(max(V, 1e-7)));\n}\n";
+    const std::string sample = kLogLumSample;
     auto program = [&](int groups, int per) {
         const int rows = 16 / groups;
         const std::string n = std::to_string(groups), p = std::to_string(per);

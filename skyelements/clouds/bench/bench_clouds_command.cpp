@@ -117,6 +117,24 @@ struct ShadowRow {
     double skyOffMs, skyOnMs, frameOffMs, frameOnMs, lossMs;
 };
 
+// A timed processor with the default elements and the clouds (the --preset if given), the
+// clouds' samples per ray and real-time path set; shared by the sky-shadow and breakdown rows.
+std::unique_ptr<SkyProcessor> timedCloudsProcessor(const CloudsBenchOptions& o, const Observer& observer, const UtcInstant& start,
+                                                   const Camera& cam, const std::string& samples, bool reprojection,
+                                                   const Logger& log) {
+    auto p = std::make_unique<SkyProcessor>(SkyVars::earth(), log, ProcessorOptions{.timing = true});
+    p->setObserver(observer);
+    p->setTime(start);
+    p->setCamera(cam);
+    p->setExposure({.automatic = true});
+    p->setAnimationTime(0.0);
+    for (const std::string& n : elements::expandElementList("default,clouds")) p->add(elements::makeElement(n));
+    if (!o.preset.empty()) p->vars().setFromString("clouds.preset", o.preset);
+    p->vars().setFromString("clouds.samples", samples);
+    p->vars().setFromString("clouds.reprojection", reprojection ? "true" : "false");
+    return p;
+}
+
 // The cost of the clouds' shadow on the sky at one size: the default elements plus the clouds (8
 // samples per ray, no reprojection), clouds.sky_shadow off and on, instrumented (the Sky element's
 // own pass bracketed by glFinish), frames alternated so both see the same load; and the loss
@@ -124,16 +142,7 @@ struct ShadowRow {
 ShadowRow skyShadowRow(const CloudsBenchOptions& o, const Observer& observer, const UtcInstant& start, const Camera& cam,
                        const std::string& sizeName, const Logger& log) {
     auto make = [&](bool shadow) {
-        auto p = std::make_unique<SkyProcessor>(SkyVars::earth(), log, ProcessorOptions{.timing = true});
-        p->setObserver(observer);
-        p->setTime(start);
-        p->setCamera(cam);
-        p->setExposure({.automatic = true});
-        p->setAnimationTime(0.0);
-        for (const std::string& n : elements::expandElementList("default,clouds")) p->add(elements::makeElement(n));
-        if (!o.preset.empty()) p->vars().setFromString("clouds.preset", o.preset);
-        p->vars().setFromString("clouds.samples", "8");
-        p->vars().setFromString("clouds.reprojection", "false");
+        auto p = timedCloudsProcessor(o, observer, start, cam, "8", false, log);
         p->vars().setFromString("clouds.sky_shadow", shadow ? "true" : "false");
         for (int i = 0; i < 2; ++i) p->renderFrame();  // warm-up: programs, tables
         return p;
@@ -176,16 +185,7 @@ double cpuMs() {
 // photometry pass or not: Clouds::photometryPassesLastFrame). Means over the frames.
 void breakdownRow(const CloudsBenchOptions& o, const Observer& observer, const UtcInstant& start, const Camera& cam, const std::string& samples,
                   const std::string& sizeName, const Logger& log) {
-    auto p = std::make_unique<SkyProcessor>(SkyVars::earth(), log, ProcessorOptions{.timing = true});
-    p->setObserver(observer);
-    p->setTime(start);
-    p->setCamera(cam);
-    p->setExposure({.automatic = true});
-    p->setAnimationTime(0.0);
-    for (const std::string& n : elements::expandElementList("default,clouds")) p->add(elements::makeElement(n));
-    if (!o.preset.empty()) p->vars().setFromString("clouds.preset", o.preset);
-    p->vars().setFromString("clouds.samples", samples);
-    p->vars().setFromString("clouds.reprojection", "true");
+    auto p = timedCloudsProcessor(o, observer, start, cam, samples, true, log);
     auto* clouds = dynamic_cast<const elements::Clouds*>(p->find("clouds"));
     if (!clouds) throw Error("bench clouds --breakdown: no clouds element");
     int frame = 0;
