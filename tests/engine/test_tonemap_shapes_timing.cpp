@@ -22,6 +22,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <cstdio>
 #include <functional>
 #include <string>
@@ -42,6 +43,19 @@ const char* kLogLumSample =
     "  float V = X > 0.0 ? Y * (1.33 * (1.0 + (Y + Z) / X) - 1.68) : 0.0;\n"
     "  float wt = Y > 1e-7 ? 1.0 : 0.0;\n"
     "  return vec3(wt * log(max(Y, 1e-7)), wt, wt * log(max(V, 1e-7)));\n}\n";
+
+// A timed processor (no astronomy) of w x h pixels drawing one uniform field (cd/m^2), with the
+// automatic exposure: what the meter's timing cases measure.
+std::unique_ptr<SkyProcessor> meteredProcessor(int w, int h, glm::vec3 field) {
+    auto p = std::make_unique<SkyProcessor>(SkyVars::earth(), Logger(), ProcessorOptions{.timing = true, .astronomy = false});
+    Camera cam;
+    cam.width = w;
+    cam.height = h;
+    p->setCamera(cam);
+    p->emplace<test::UniformField>(field);
+    p->setExposure({.automatic = true});
+    return p;
+}
 
 const char* kFillFrag =
     "out vec4 o;\n"
@@ -212,13 +226,8 @@ TEST_CASE("Tone map timing: the displayed pass against other shapes and the triv
 TEST_CASE("Tone map timing: the eye's meter in renderFrame()", "[.][tonemap_timing]") {
     test::glContext();
     const int w = 1280, h = 720;
-    SkyProcessor p(SkyVars::earth(), Logger(), ProcessorOptions{.timing = true, .astronomy = false});
-    Camera cam;
-    cam.width = w;
-    cam.height = h;
-    p.setCamera(cam);
-    p.emplace<test::UniformField>(glm::vec3(1e-3f));
-    p.setExposure({.automatic = true});
+    const auto held = meteredProcessor(w, h, glm::vec3(1e-3f));
+    SkyProcessor& p = *held;
     auto vao = gl::VertexArray::create();
     gl::Texture2D scratch(w, h, GL_RGBA32F);
     auto scratchFbo = gl::Framebuffer::create();
@@ -530,13 +539,8 @@ TEST_CASE("Tone map timing: the meter over several work groups", "[.][tonemap_ti
 TEST_CASE("Tone map timing: bench display's tone map row and its parts", "[.][tonemap_timing]") {
     test::glContext();
     const int w = 1280, h = 720;
-    SkyProcessor p(SkyVars::earth(), Logger(), ProcessorOptions{.timing = true, .astronomy = false});
-    Camera cam;
-    cam.width = w;
-    cam.height = h;
-    p.setCamera(cam);
-    p.emplace<test::UniformField>(glm::vec3(2e-2f, 3e-2f, 4e-2f));  // mesopic: the mesopic colour's whole arithmetic runs
-    p.setExposure({.automatic = true});
+    const auto held = meteredProcessor(w, h, glm::vec3(2e-2f, 3e-2f, 4e-2f));  // mesopic: the mesopic colour's whole arithmetic runs
+    SkyProcessor& p = *held;
     p.vars().set(keys::interactive, true);
     auto vao = gl::VertexArray::create();
     gl::Texture2D scratch(w, h, GL_RGBA32F), srgb(w, h, GL_SRGB8_ALPHA8), srgb2(w, h, GL_SRGB8_ALPHA8);
